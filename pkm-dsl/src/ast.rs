@@ -1,0 +1,131 @@
+//! The syntax tree of a mechanism description, as written (before any
+//! semantic check). Every name keeps its span for diagnostics.
+
+use crate::diagnostics::Span;
+
+/// A name with its place in the text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Name {
+    /// The name as written.
+    pub text: String,
+    /// Where it is written.
+    pub span: Span,
+}
+
+/// A relation between two axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RelationKind {
+    /// `∥` or `||`: parallel axes (or directions).
+    Parallel,
+    /// `⊥` or `_|_`: perpendicular axes.
+    Perpendicular,
+    /// `≡` or `==`: the same axis line (coaxial joints, a compound hinge).
+    Coaxial,
+}
+
+impl RelationKind {
+    /// The Unicode symbol of the relation.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            RelationKind::Parallel => "∥",
+            RelationKind::Perpendicular => "⊥",
+            RelationKind::Coaxial => "≡",
+        }
+    }
+}
+
+/// A whole mechanism description.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MechanismAst {
+    /// `mechanism NAME { … }`.
+    pub name: Name,
+    /// `title "…";`.
+    pub title: Option<String>,
+    /// `capabilities fk, ik;` (all such statements, in order).
+    pub capabilities: Vec<Name>,
+    /// `planar;`, if present.
+    pub planar: Option<Span>,
+    /// `link 1 "AB", 2 "BCD";`.
+    pub links: Vec<LinkDecl>,
+    /// `joint A = R(base, 1)*;`.
+    pub joints: Vec<JointDecl>,
+    /// Chains, at top level or inside branches.
+    pub chains: Vec<Chain>,
+    /// `branch NAME { … }` names; chains refer to them by index.
+    pub branches: Vec<Name>,
+    /// `platform = LINK;`.
+    pub platform: Option<Name>,
+    /// `point o on R4;`: the platform's base point lies on this joint's axis.
+    pub point: Option<(Name, Name)>,
+    /// `x ∥ P1 ∥ P2; R4 ⊥ R3; R3 ≡ R12;`.
+    pub relations: Vec<RelationStmt>,
+}
+
+/// `link NAME "description"`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LinkDecl {
+    /// The link's name.
+    pub name: Name,
+    /// Its description, if given.
+    pub description: Option<String>,
+}
+
+/// `joint NAME = KIND(link, link, …)*;`. More than two links make a compound
+/// hinge: k links on one axis, k − 1 joints.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JointDecl {
+    /// The joint's name.
+    pub name: Name,
+    /// The joint type as written (`R`, `P`, `Pa`, …).
+    pub kind: Name,
+    /// The links it connects.
+    pub links: Vec<Name>,
+    /// Marked `*`: an actuated joint.
+    pub actuated: bool,
+    /// The whole statement.
+    pub span: Span,
+}
+
+/// A joint inside a chain; its type is the prefix of its name (`R11`, `Pa`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChainJoint {
+    /// The joint's name.
+    pub name: Name,
+    /// Marked `*`.
+    pub actuated: bool,
+}
+
+/// What stands between two consecutive joints of a chain.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Connector {
+    /// `[name]`: the name of the link between the two joints.
+    pub label: Option<Name>,
+    /// `∥` or `⊥` between the two axes; `None` for `-`.
+    pub relation: Option<(RelationKind, Span)>,
+}
+
+/// A single open chain from link `start` to link `end`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Chain {
+    /// The branch that contains the chain, as an index into `branches`.
+    pub branch: Option<usize>,
+    /// First link.
+    pub start: Name,
+    /// Joints in order from `start`.
+    pub joints: Vec<ChainJoint>,
+    /// `connectors[i]` joins `joints[i]` and `joints[i + 1]`.
+    pub connectors: Vec<Connector>,
+    /// Last link.
+    pub end: Name,
+    /// The whole chain.
+    pub span: Span,
+}
+
+/// `a ∥ b ⊥ c;`: relations between consecutive names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RelationStmt {
+    /// The joints or frame axes related.
+    pub items: Vec<Name>,
+    /// `ops[i]` relates `items[i]` and `items[i + 1]`.
+    pub ops: Vec<(RelationKind, Span)>,
+}

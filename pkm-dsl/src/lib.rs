@@ -1,0 +1,14 @@
+//! # pkm-dsl
+//!
+//! The compiler behind `pkm::mechanism!`: the pest grammar of the mechanism
+//! language, its syntax tree, diagnostics, the POC topology analysis and the
+//! code generator. It is an ordinary library so that every stage can be unit
+//! tested on plain strings and [`proc_macro2::TokenStream`]s.
+#![deny(missing_docs)]
+
+pub mod ast;
+pub mod diagnostics;
+mod parser;
+
+pub use diagnostics::{Diagnostic, Diagnostics, Span};
+pub use parser::parse;

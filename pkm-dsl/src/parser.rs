@@ -1,0 +1,316 @@
+//! The pest parser: text to [`MechanismAst`]. Grammar errors become
+//! [`Diagnostic`]s with spans; nothing here panics on user input.
+
+use crate::ast::*;
+use crate::diagnostics::{Diagnostic, Span};
+use pest::iterators::Pair;
+use pest::Parser;
+
+#[derive(pest_derive::Parser)]
+#[grammar = "grammar.pest"]
+struct DslParser;
+
+/// Parses one mechanism description.
+///
+/// ```
+/// let ast = pkm_dsl::parse("mechanism four_bar { planar; base R1* - R2 - R3 - R4 base; }").unwrap();
+/// assert_eq!(ast.name.text, "four_bar");
+/// assert_eq!(ast.chains[0].joints.len(), 4);
+/// ```
+pub fn parse(source: &str) -> Result<MechanismAst, Diagnostic> {
+    let mut pairs = DslParser::parse(Rule::file, source).map_err(|e| grammar_error(source, e))?;
+    let file = pairs.next().expect("the file rule always yields one pair");
+    let mechanism = file.into_inner().next().expect("a file holds one mechanism");
+    Ok(build(mechanism))
+}
+
+fn grammar_error(source: &str, e: pest::error::Error<Rule>) -> Diagnostic {
+    let span = match e.location {
+        pest::error::InputLocation::Pos(p) => Span::new(p, next_char_end(source, p)),
+        pest::error::InputLocation::Span((s, t)) => Span::new(s, t),
+    };
+    let message = match &e.variant {
+        pest::error::ErrorVariant::ParsingError { positives, negatives } => {
+            let mut expected: Vec<&str> = positives.iter().map(|r| rule_name(*r)).collect();
+            expected.sort_unstable();
+            expected.dedup();
+            let found = source[span.start.min(source.len())..]
+                .chars()
+                .next()
+                .map_or("end of text".to_string(), |c| format!("`{c}`"));
+            if expected.is_empty() {
+                let unexpected: Vec<&str> = negatives.iter().map(|r| rule_name(*r)).collect();
+                format!("syntax error: unexpected {}", unexpected.join(", "))
+            } else {
+                format!("syntax error: expected {}, found {found}", join_or(&expected))
+            }
+        }
+        pest::error::ErrorVariant::CustomError { message } => message.clone(),
+    };
+    Diagnostic::new(span, message).label("here")
+}
+
+fn next_char_end(source: &str, p: usize) -> usize {
+    source.get(p..).and_then(|s| s.chars().next()).map_or(p, |c| p + c.len_utf8())
+}
+
+fn join_or(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [init @ .., last] => format!("{} or {}", init.join(", "), last),
+    }
+}
+
+fn rule_name(r: Rule) -> &'static str {
+    match r {
+        Rule::EOI => "end of text",
+        Rule::file | Rule::mechanism | Rule::kw_mechanism => "`mechanism NAME { … }`",
+        Rule::title_stmt | Rule::kw_title => "`title`",
+        Rule::capabilities_stmt | Rule::kw_capabilities => "`capabilities`",
+        Rule::planar_stmt | Rule::kw_planar => "`planar`",
+        Rule::link_stmt | Rule::kw_link => "`link`",
+        Rule::link_item => "a link",
+        Rule::joint_stmt | Rule::kw_joint => "`joint`",
+        Rule::branch_stmt | Rule::kw_branch => "`branch`",
+        Rule::platform_stmt | Rule::kw_platform => "`platform`",
+        Rule::point_stmt | Rule::kw_point => "`point`",
+        Rule::kw_on => "`on`",
+        Rule::chain => "a chain",
+        Rule::connector => "a relation (`∥`, `⊥`) or `-`",
+        Rule::label => "a link label `[name]`",
+        Rule::joint => "a joint",
+        Rule::actuated => "`*`",
+        Rule::relation_stmt => "a relation statement",
+        Rule::relation => "a relation",
+        Rule::parallel => "`∥`",
+        Rule::perpendicular => "`⊥`",
+        Rule::coaxial => "`≡`",
+        Rule::unrelated => "`-`",
+        Rule::name => "a name",
+        Rule::ident => "a name",
+        Rule::number => "a number",
+        Rule::string => "a string",
+        Rule::text => "text",
+        Rule::word_end => "the end of a word",
+        Rule::statement => "a statement",
+        Rule::WHITESPACE | Rule::COMMENT => "white space",
+    }
+}
+
+fn span_of(p: &Pair<Rule>) -> Span {
+    Span::new(p.as_span().start(), p.as_span().end())
+}
+
+fn name(p: Pair<Rule>) -> Name {
+    Name { text: p.as_str().to_string(), span: span_of(&p) }
+}
+
+fn string_text(p: Pair<Rule>) -> String {
+    p.into_inner().next().map(|t| t.as_str().to_string()).unwrap_or_default()
+}
+
+fn relation_kind(p: &Pair<Rule>) -> Option<RelationKind> {
+    match p.as_rule() {
+        Rule::parallel => Some(RelationKind::Parallel),
+        Rule::perpendicular => Some(RelationKind::Perpendicular),
+        Rule::coaxial => Some(RelationKind::Coaxial),
+        _ => None,
+    }
+}
+
+fn build(mechanism: Pair<Rule>) -> MechanismAst {
+    let mut inner = mechanism.into_inner();
+    let _kw = inner.next();
+    let mech_name = name(inner.next().expect("mechanism name"));
+    let mut ast = MechanismAst {
+        name: mech_name,
+        title: None,
+        capabilities: Vec::new(),
+        planar: None,
+        links: Vec::new(),
+        joints: Vec::new(),
+        chains: Vec::new(),
+        branches: Vec::new(),
+        platform: None,
+        point: None,
+        relations: Vec::new(),
+    };
+    for stmt in inner {
+        match stmt.as_rule() {
+            Rule::title_stmt => {
+                let s = stmt.into_inner().nth(1).expect("title string");
+                ast.title = Some(string_text(s));
+            }
+            Rule::capabilities_stmt => {
+                ast.capabilities.extend(stmt.into_inner().filter(|p| p.as_rule() == Rule::ident).map(name));
+            }
+            Rule::planar_stmt => ast.planar = Some(span_of(&stmt)),
+            Rule::link_stmt => {
+                for item in stmt.into_inner().filter(|p| p.as_rule() == Rule::link_item) {
+                    let mut it = item.into_inner();
+                    let n = name(it.next().expect("link name"));
+                    let description = it.next().map(string_text);
+                    ast.links.push(LinkDecl { name: n, description });
+                }
+            }
+            Rule::joint_stmt => {
+                let span = span_of(&stmt);
+                let mut it = stmt.into_inner().skip(1);
+                let jname = name(it.next().expect("joint name"));
+                let kind = name(it.next().expect("joint kind"));
+                let mut links = Vec::new();
+                let mut actuated = false;
+                for p in it {
+                    match p.as_rule() {
+                        Rule::name => links.push(name(p)),
+                        Rule::actuated => actuated = true,
+                        _ => {}
+                    }
+                }
+                ast.joints.push(JointDecl { name: jname, kind, links, actuated, span });
+            }
+            Rule::branch_stmt => {
+                let mut it = stmt.into_inner().skip(1);
+                let bname = name(it.next().expect("branch name"));
+                let index = ast.branches.len();
+                ast.branches.push(bname);
+                for c in it {
+                    ast.chains.push(chain(c, Some(index)));
+                }
+            }
+            Rule::platform_stmt => {
+                ast.platform = stmt.into_inner().nth(1).map(name);
+            }
+            Rule::point_stmt => {
+                let mut it = stmt.into_inner().filter(|p| p.as_rule() == Rule::ident);
+                let point = name(it.next().expect("point name"));
+                let joint = name(it.next().expect("point joint"));
+                ast.point = Some((point, joint));
+            }
+            Rule::chain => ast.chains.push(chain(stmt, None)),
+            Rule::relation_stmt => {
+                let mut items = Vec::new();
+                let mut ops = Vec::new();
+                for p in stmt.into_inner() {
+                    match relation_kind(&p) {
+                        Some(k) => ops.push((k, span_of(&p))),
+                        None => items.push(name(p)),
+                    }
+                }
+                ast.relations.push(RelationStmt { items, ops });
+            }
+            _ => {}
+        }
+    }
+    ast
+}
+
+fn chain(p: Pair<Rule>, branch: Option<usize>) -> Chain {
+    let span = span_of(&p);
+    let mut names = Vec::new();
+    let mut joints = Vec::new();
+    let mut connectors = Vec::new();
+    for q in p.into_inner() {
+        match q.as_rule() {
+            Rule::name => names.push(name(q)),
+            Rule::joint => {
+                let mut it = q.into_inner();
+                let n = name(it.next().expect("joint name"));
+                joints.push(ChainJoint { name: n, actuated: it.next().is_some() });
+            }
+            Rule::connector => {
+                let mut label = None;
+                let mut relation = None;
+                for c in q.into_inner() {
+                    match c.as_rule() {
+                        Rule::label => label = c.into_inner().next().map(name),
+                        _ => relation = relation_kind(&c).map(|k| (k, span_of(&c))),
+                    }
+                }
+                connectors.push(Connector { label, relation });
+            }
+            _ => {}
+        }
+    }
+    let mut names = names.into_iter();
+    let start = names.next().expect("chain start");
+    let end = names.next().expect("chain end");
+    Chain { branch, start, joints, connectors, end, span }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_err(source: &str, expected: &str) {
+        let d = parse(source).unwrap_err();
+        assert_eq!(d.render(source, "m.pkm"), expected);
+    }
+
+    #[test]
+    fn ascii_and_unicode_symbols_parse_alike() {
+        let u = parse("mechanism m { base P1* ⊥ R11 ∥ R12 - R13 base; x ∥ P1; R3 ≡ R12; }").unwrap();
+        let a = parse("mechanism m { base P1* _|_ R11 || R12 - R13 base; x || P1; R3 == R12; }").unwrap();
+        assert_eq!(u.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>(), vec![
+            Some(RelationKind::Perpendicular),
+            Some(RelationKind::Parallel),
+            None
+        ]);
+        assert_eq!(
+            u.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>(),
+            a.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>()
+        );
+        assert_eq!(u.relations[1].ops[0].0, RelationKind::Coaxial);
+        assert_eq!(a.relations[1].ops[0].0, RelationKind::Coaxial);
+    }
+
+    #[test]
+    fn labels_name_the_links_between_joints() {
+        let m = parse("mechanism m { base P1 ⊥ R11 [c1] ∥ R12 [c2] ∥ R13 ⊥ P2 base; c2 - R3 ⊥ R4 - platform; }").unwrap();
+        assert_eq!(m.chains[0].connectors[1].label.as_ref().unwrap().text, "c1");
+        assert_eq!(m.chains[1].start.text, "c2");
+        assert_eq!(m.chains[1].end.text, "platform");
+    }
+
+    #[test]
+    fn statements_of_every_kind() {
+        let m = parse(
+            r#"mechanism punch {
+                title "a punch";
+                capabilities: fk, ik;
+                planar;
+                link 1 "AB", 2;
+                joint A = R(base, 1)*;
+                joint G = R(4, 5, 7);
+                branch I { base R1 - R2 platform; }
+                platform = 7;
+                point o on A;
+            }"#,
+        )
+        .unwrap();
+        assert_eq!(m.title.as_deref(), Some("a punch"));
+        assert_eq!(m.capabilities.len(), 2);
+        assert!(m.planar.is_some());
+        assert_eq!(m.links[0].description.as_deref(), Some("AB"));
+        assert!(m.joints[0].actuated);
+        assert_eq!(m.joints[1].links.len(), 3);
+        assert_eq!(m.chains[0].branch, Some(0));
+        assert_eq!(m.platform.as_ref().unwrap().text, "7");
+        assert_eq!(m.point.as_ref().unwrap().1.text, "A");
+    }
+
+    #[test]
+    fn missing_connector_is_a_syntax_error() {
+        check_err(
+            "mechanism m { base R1 R2 base; }",
+            "error: syntax error: expected a relation (`∥`, `⊥`) or `-`, found `R`\n --> m.pkm:1:23\n  |\n1 | mechanism m { base R1 R2 base; }\n  |                       ^ here\n",
+        );
+    }
+
+    #[test]
+    fn unterminated_mechanism() {
+        let d = parse("mechanism m { base R1 - R2 base;").unwrap_err();
+        assert_eq!(d.span.unwrap().line_col("mechanism m { base R1 - R2 base;"), (1, 33));
+    }
+}

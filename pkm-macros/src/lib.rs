@@ -1,0 +1,1 @@
+//! The `mechanism!` macro (thin shell over pkm-dsl).

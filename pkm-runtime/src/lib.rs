@@ -1,0 +1,4 @@
+//! # pkm-runtime
+//!
+//! The small runtime of pkm: shared types that generated code refers to.
+#![deny(missing_docs)]

@@ -1,0 +1,2 @@
+//! pkm
+pub use pkm_runtime as runtime;
