@@ -47,17 +47,19 @@ pub struct Diagnostic {
     pub label: String,
     /// Further explanation lines (`= note: …`).
     pub notes: Vec<String>,
+    /// Other places that explain the error (`= note: first declared at m.pkm:3:5`).
+    pub related: Vec<(Span, String)>,
 }
 
 impl Diagnostic {
     /// An error at `span`.
     pub fn new(span: Span, message: impl Into<String>) -> Self {
-        Diagnostic { message: message.into(), span: Some(span), label: String::new(), notes: Vec::new() }
+        Diagnostic { message: message.into(), span: Some(span), label: String::new(), notes: Vec::new(), related: Vec::new() }
     }
 
     /// An error with no place in the text (for example an unreadable file).
     pub fn global(message: impl Into<String>) -> Self {
-        Diagnostic { message: message.into(), span: None, label: String::new(), notes: Vec::new() }
+        Diagnostic { message: message.into(), span: None, label: String::new(), notes: Vec::new(), related: Vec::new() }
     }
 
     /// Sets the label shown under the caret.
@@ -69,6 +71,12 @@ impl Diagnostic {
     /// Adds a note line.
     pub fn note(mut self, note: impl Into<String>) -> Self {
         self.notes.push(note.into());
+        self
+    }
+
+    /// Adds another place that explains the error.
+    pub fn also(mut self, span: Span, what: impl Into<String>) -> Self {
+        self.related.push((span, what.into()));
         self
     }
 
@@ -98,6 +106,10 @@ impl Diagnostic {
                 out.push_str(&self.label);
             }
             out.push('\n');
+        }
+        for (span, what) in &self.related {
+            let (line, col) = span.line_col(source);
+            out.push_str(&format!("  = note: {what} at {file}:{line}:{col}\n"));
         }
         for note in &self.notes {
             out.push_str(&format!("  = note: {note}\n"));

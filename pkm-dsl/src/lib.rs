@@ -12,3 +12,9 @@ mod parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
+pub mod model;
+pub mod screw;
+pub mod topology;
+pub mod report;
+
+pub use report::{analyze_source, Analysis};

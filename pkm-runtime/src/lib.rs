@@ -2,3 +2,6 @@
 //!
 //! The small runtime of pkm: shared types that generated code refers to.
 #![deny(missing_docs)]
+
+pub mod primitives;
+pub mod real;

@@ -1,0 +1,770 @@
+//! The semantic model: the mechanism as a graph of links and joints with its
+//! axis relations, built from the syntax tree with every check that needs no
+//! geometry. All errors are collected, not just the first.
+
+use crate::ast::{MechanismAst, Name, RelationKind};
+use crate::diagnostics::{Diagnostic, Diagnostics, Span};
+use std::collections::HashMap;
+
+/// The joint types of the POC literature.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum JointKind {
+    /// Revolute, f = 1.
+    R,
+    /// Prismatic, f = 1.
+    P,
+    /// Helical, f = 1.
+    H,
+    /// Cylindrical, f = 2.
+    C,
+    /// Universal (two perpendicular intersecting axes), f = 2.
+    U,
+    /// Spherical, f = 3.
+    S,
+    /// Parallelogram of four R joints, counted as one joint with one
+    /// translational DOF; its internal loop is not counted in v or Σξ.
+    Pa,
+}
+
+impl JointKind {
+    /// The type named by the prefix of a joint's name (`R11` → R, `Pa` → Pa).
+    pub fn from_name_prefix(name: &str) -> Option<JointKind> {
+        if name.starts_with("Pa") {
+            return Some(JointKind::Pa);
+        }
+        Self::from_symbol(name.get(..1)?)
+    }
+
+    /// The type written out in full (`R`, `P`, `H`, `C`, `U`, `S`, `Pa`).
+    pub fn from_symbol(s: &str) -> Option<JointKind> {
+        Some(match s {
+            "R" => JointKind::R,
+            "P" => JointKind::P,
+            "H" => JointKind::H,
+            "C" => JointKind::C,
+            "U" => JointKind::U,
+            "S" => JointKind::S,
+            "Pa" => JointKind::Pa,
+            _ => return None,
+        })
+    }
+
+    /// The joint's degree of freedom f.
+    pub fn dof(self) -> usize {
+        match self {
+            JointKind::R | JointKind::P | JointKind::H | JointKind::Pa => 1,
+            JointKind::C | JointKind::U => 2,
+            JointKind::S => 3,
+        }
+    }
+
+    /// The type's symbol.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            JointKind::R => "R",
+            JointKind::P => "P",
+            JointKind::H => "H",
+            JointKind::C => "C",
+            JointKind::U => "U",
+            JointKind::S => "S",
+            JointKind::Pa => "Pa",
+        }
+    }
+
+    /// Whether the joint has an axis direction that relations can refer to.
+    pub fn has_direction(self) -> bool {
+        self != JointKind::S
+    }
+
+    /// Whether the joint has a fixed axis line (so it can be coaxial with another).
+    pub fn has_axis_line(self) -> bool {
+        matches!(self, JointKind::R | JointKind::H | JointKind::C | JointKind::U)
+    }
+
+    /// Whether the joint rotates about its axis (its axis names a rotation).
+    pub fn is_rotational(self) -> bool {
+        matches!(self, JointKind::R | JointKind::H | JointKind::C | JointKind::U)
+    }
+}
+
+/// What a user can ask the compiler to generate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Capability {
+    /// Topology analysis only (always on).
+    Analysis,
+    /// Closed-form forward position solution.
+    Fk,
+    /// Closed-form inverse position solution.
+    Ik,
+    /// Output and input Jacobians.
+    Jacobian,
+    /// Velocities of points and links.
+    Velocity,
+    /// Accelerations of points and links.
+    Acceleration,
+    /// Workspace sweeps.
+    Workspace,
+    /// Inverse dynamics.
+    Dynamics,
+    /// Static stiffness.
+    Stiffness,
+}
+
+impl Capability {
+    /// Every capability with its DSL name.
+    pub const ALL: [(Capability, &'static str); 9] = [
+        (Capability::Analysis, "analysis"),
+        (Capability::Fk, "fk"),
+        (Capability::Ik, "ik"),
+        (Capability::Jacobian, "jacobian"),
+        (Capability::Velocity, "velocity"),
+        (Capability::Acceleration, "acceleration"),
+        (Capability::Workspace, "workspace"),
+        (Capability::Dynamics, "dynamics"),
+        (Capability::Stiffness, "stiffness"),
+    ];
+
+    /// The DSL name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(c, _)| *c == self).map_or("?", |(_, n)| n)
+    }
+}
+
+/// A rigid body of the mechanism. Link 0 is the base (frame).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Link {
+    /// Its name (`base`, `platform`, a label, or `J1/J2` for an anonymous link between two joints).
+    pub name: String,
+    /// Its description from a `link` statement.
+    pub description: Option<String>,
+    /// Where it is first named, if it is named.
+    pub span: Option<Span>,
+}
+
+/// A kinematic joint between two links.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    /// Its name.
+    pub name: String,
+    /// Its type.
+    pub kind: JointKind,
+    /// The two links it connects; the joint's motion is that of `links[1]` relative to `links[0]`.
+    pub links: [usize; 2],
+    /// Whether it is actuated.
+    pub actuated: bool,
+    /// Where it is declared.
+    pub span: Span,
+    /// The branch (limb) it belongs to.
+    pub branch: Option<usize>,
+}
+
+impl Joint {
+    /// The link at the other end from `link`.
+    pub fn other(&self, link: usize) -> usize {
+        if self.links[0] == link {
+            self.links[1]
+        } else {
+            self.links[0]
+        }
+    }
+}
+
+/// A branch (limb) from the base to the platform; it may contain loops (a hybrid branch).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Branch {
+    /// Its name.
+    pub name: String,
+    /// Its joints.
+    pub joints: Vec<usize>,
+    /// Where its name is written.
+    pub span: Span,
+}
+
+/// A direction that relations can refer to: a joint's axis, a frame axis, or
+/// the second axis of a U joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DirectionItem {
+    /// The axis (or sliding direction) of a joint.
+    Joint(usize),
+    /// Frame axis 0 = x, 1 = y, 2 = z.
+    Frame(usize),
+    /// The second axis of a U joint.
+    USecond(usize),
+}
+
+/// One declared (or implied) relation between two directions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relation {
+    /// Which relation.
+    pub kind: RelationKind,
+    /// Left side.
+    pub a: DirectionItem,
+    /// Right side.
+    pub b: DirectionItem,
+    /// Where it is written, if it is written (implied relations have none).
+    pub span: Option<Span>,
+}
+
+/// A mechanism ready for analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mechanism {
+    /// Its name.
+    pub name: String,
+    /// Its title.
+    pub title: Option<String>,
+    /// Declared `planar;`.
+    pub planar: bool,
+    /// Links; 0 is the base.
+    pub links: Vec<Link>,
+    /// Joints in declaration order, compound hinges expanded.
+    pub joints: Vec<Joint>,
+    /// Branches.
+    pub branches: Vec<Branch>,
+    /// The moving platform, if there is one.
+    pub platform: Option<usize>,
+    /// The joint on whose axis the platform's base point o lies, if chosen by the user.
+    pub base_point: Option<usize>,
+    /// Requested capabilities with where they are written.
+    pub capabilities: Vec<(Capability, Span)>,
+    /// Every relation, declared and implied.
+    pub relations: Vec<Relation>,
+    /// Whether frame axis x, y, z was tied to the mechanism by a relation.
+    pub frame_declared: [bool; 3],
+}
+
+impl Mechanism {
+    /// Σf over all joints.
+    pub fn total_dof(&self) -> usize {
+        self.joints.iter().map(|j| j.kind.dof()).sum()
+    }
+
+    /// Number of actuated joints.
+    pub fn actuator_count(&self) -> usize {
+        self.joints.iter().filter(|j| j.actuated).count()
+    }
+
+    /// Whether the capability was requested.
+    pub fn wants(&self, c: Capability) -> bool {
+        self.capabilities.iter().any(|(k, _)| *k == c)
+    }
+
+    /// The joint called `name`.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// The joints incident to each link.
+    pub fn incidence(&self) -> Vec<Vec<usize>> {
+        let mut inc = vec![Vec::new(); self.links.len()];
+        for (j, joint) in self.joints.iter().enumerate() {
+            inc[joint.links[0]].push(j);
+            inc[joint.links[1]].push(j);
+        }
+        inc
+    }
+}
+
+const BASE_ALIASES: [&str; 4] = ["base", "frame", "ground", "0"];
+const FRAME_AXES: [&str; 3] = ["x", "y", "z"];
+/// The most joints (and links) a mechanism may have: joint sets are bit masks.
+pub const MAX_JOINTS: usize = 64;
+
+struct Builder {
+    errors: Diagnostics,
+    links: Vec<Link>,
+    link_by_name: HashMap<String, usize>,
+    joints: Vec<Joint>,
+    joint_by_name: HashMap<String, usize>,
+    relations: Vec<Relation>,
+}
+
+impl Builder {
+    fn link(&mut self, name: &Name) -> usize {
+        let key = if BASE_ALIASES.contains(&name.text.as_str()) { "base".to_string() } else { name.text.clone() };
+        if let Some(&i) = self.link_by_name.get(&key) {
+            return i;
+        }
+        if FRAME_AXES.contains(&key.as_str()) {
+            self.errors.push(
+                Diagnostic::new(name.span, format!("`{}` names a frame axis and cannot name a link", name.text))
+                    .label("reserved name"),
+            );
+        }
+        self.links.push(Link { name: key.clone(), description: None, span: Some(name.span) });
+        self.link_by_name.insert(key, self.links.len() - 1);
+        self.links.len() - 1
+    }
+
+    fn anonymous_link(&mut self, after: &str, before: &str) -> usize {
+        self.links.push(Link { name: format!("{after}/{before}"), description: None, span: None });
+        self.links.len() - 1
+    }
+
+    fn add_joint(&mut self, name: &Name, kind: JointKind, links: [usize; 2], actuated: bool, branch: Option<usize>) {
+        if FRAME_AXES.contains(&name.text.as_str()) {
+            self.errors.push(
+                Diagnostic::new(name.span, format!("`{}` names a frame axis and cannot name a joint", name.text))
+                    .label("reserved name"),
+            );
+        }
+        if let Some(&first) = self.joint_by_name.get(&name.text) {
+            let first_span = self.joints[first].span;
+            self.errors.push(
+                Diagnostic::new(name.span, format!("joint `{}` is declared twice", name.text))
+                    .label("second declaration")
+                    .also(first_span, "first declared"),
+            );
+            return;
+        }
+        if links[0] == links[1] {
+            self.errors.push(
+                Diagnostic::new(name.span, format!("joint `{}` connects link `{}` to itself", name.text, self.links[links[0]].name))
+                    .label("a joint needs two different links"),
+            );
+        }
+        self.joint_by_name.insert(name.text.clone(), self.joints.len());
+        self.joints.push(Joint { name: name.text.clone(), kind, links, actuated, span: name.span, branch });
+    }
+
+    fn direction(&mut self, name: &Name) -> Option<DirectionItem> {
+        if let Some(i) = FRAME_AXES.iter().position(|a| *a == name.text) {
+            return Some(DirectionItem::Frame(i));
+        }
+        match self.joint_by_name.get(&name.text) {
+            Some(&j) => {
+                if !self.joints[j].kind.has_direction() {
+                    self.errors.push(
+                        Diagnostic::new(name.span, format!("joint `{}` is spherical and has no axis to relate", name.text))
+                            .label("S joint"),
+                    );
+                    return None;
+                }
+                Some(DirectionItem::Joint(j))
+            }
+            None => {
+                let mut d = Diagnostic::new(name.span, format!("unknown joint `{}`", name.text)).label("not declared");
+                if let Some(s) = suggest(&name.text, self.joint_by_name.keys().map(String::as_str)) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                self.errors.push(d);
+                None
+            }
+        }
+    }
+}
+
+/// The closest known name within edit distance 2, for "did you mean".
+pub fn suggest<'a>(name: &str, known: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    known.map(|k| (edit_distance(name, k), k)).filter(|(d, _)| *d <= 2).min().map(|(_, k)| k)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+/// Builds the semantic model from the syntax tree, collecting every error.
+pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
+    let mut b = Builder {
+        errors: Diagnostics::default(),
+        links: Vec::new(),
+        link_by_name: HashMap::new(),
+        joints: Vec::new(),
+        joint_by_name: HashMap::new(),
+        relations: Vec::new(),
+    };
+    b.link(&Name { text: "base".into(), span: Span::default() });
+    b.links[0].span = None;
+
+    let mut capabilities = Vec::new();
+    for c in &ast.capabilities {
+        match Capability::ALL.iter().find(|(_, n)| *n == c.text) {
+            Some((k, _)) => capabilities.push((*k, c.span)),
+            None => {
+                let names: Vec<&str> = Capability::ALL.iter().map(|(_, n)| *n).collect();
+                b.errors.push(
+                    Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
+                        .label("not a capability")
+                        .note(format!("known capabilities: {}", names.join(", "))),
+                );
+            }
+        }
+    }
+
+    // Explicit joints (planar link/joint lists); k links on one axis make k − 1 coaxial joints.
+    for decl in &ast.joints {
+        let Some(kind) = JointKind::from_symbol(&decl.kind.text) else {
+            b.errors.push(
+                Diagnostic::new(decl.kind.span, format!("unknown joint type `{}`", decl.kind.text))
+                    .label("expected R, P, H, C, U, S or Pa"),
+            );
+            continue;
+        };
+        let links: Vec<usize> = decl.links.iter().map(|l| b.link(l)).collect();
+        if links.len() > 2 && !kind.has_axis_line() {
+            b.errors.push(
+                Diagnostic::new(decl.kind.span, format!("a compound hinge needs an axis line; `{}` has none", decl.kind.text))
+                    .label("compound joints must be R, H, C or U"),
+            );
+            continue;
+        }
+        let first = b.joints.len();
+        for (k, &other) in links.iter().enumerate().skip(1) {
+            let n = if k == 1 { decl.name.clone() } else { Name { text: format!("{}.{}", decl.name.text, k), span: decl.name.span } };
+            b.add_joint(&n, kind, [links[0], other], decl.actuated && k == 1, None);
+            if k > 1 && b.joints.len() > first + k - 1 {
+                let j = b.joints.len() - 1;
+                b.relations.push(Relation {
+                    kind: RelationKind::Coaxial,
+                    a: DirectionItem::Joint(first),
+                    b: DirectionItem::Joint(j),
+                    span: None,
+                });
+            }
+        }
+    }
+
+    // Chains: joints in order, anonymous links between them unless labelled.
+    for chain in &ast.chains {
+        let start = b.link(&chain.start);
+        let end = b.link(&chain.end);
+        let mut prev_link = start;
+        let mut prev_joint: Option<usize> = None;
+        for (i, cj) in chain.joints.iter().enumerate() {
+            let Some(kind) = JointKind::from_name_prefix(&cj.name.text) else {
+                b.errors.push(
+                    Diagnostic::new(cj.name.span, format!("unknown joint type in `{}`", cj.name.text))
+                        .label("a joint's name starts with its type")
+                        .note("joint types: R, P, H, C, U, S and Pa (parallelogram)"),
+                );
+                continue;
+            };
+            let next_link = if i + 1 == chain.joints.len() {
+                end
+            } else {
+                let conn = &chain.connectors[i];
+                match &conn.label {
+                    Some(label) => b.link(label),
+                    None => b.anonymous_link(&cj.name.text, &chain.joints[i + 1].name.text),
+                }
+            };
+            let before = b.joints.len();
+            b.add_joint(&cj.name, kind, [prev_link, next_link], cj.actuated, chain.branch);
+            let this = if b.joints.len() > before { Some(before) } else { None };
+            if let (Some(p), Some(t), Some(conn)) = (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k])) {
+                if let Some((kind, span)) = conn.relation {
+                    b.relations.push(Relation { kind, a: DirectionItem::Joint(p), b: DirectionItem::Joint(t), span: Some(span) });
+                }
+            }
+            prev_joint = this;
+            prev_link = next_link;
+        }
+    }
+
+    for decl in &ast.links {
+        let i = b.link(&decl.name);
+        if decl.description.is_some() {
+            b.links[i].description.clone_from(&decl.description);
+        }
+    }
+
+    // Relation statements.
+    for stmt in &ast.relations {
+        let items: Vec<Option<DirectionItem>> = stmt.items.iter().map(|n| b.direction(n)).collect();
+        for (k, (kind, span)) in stmt.ops.iter().enumerate() {
+            if let (Some(a), Some(c)) = (items[k], items[k + 1]) {
+                b.relations.push(Relation { kind: *kind, a, b: c, span: Some(*span) });
+            }
+        }
+    }
+
+    let planar = ast.planar.is_some();
+    let mut frame_declared = [false; 3];
+    for r in &b.relations {
+        for item in [r.a, r.b] {
+            if let DirectionItem::Frame(i) = item {
+                frame_declared[i] = true;
+            }
+        }
+    }
+
+    // Implied relations: the frame is orthonormal, U axes are perpendicular,
+    // and a planar mechanism's rotations are about z and its slides lie in xy.
+    let implied = |kind, a, b| Relation { kind, a, b, span: None };
+    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(0), DirectionItem::Frame(1)));
+    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(1), DirectionItem::Frame(2)));
+    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(0), DirectionItem::Frame(2)));
+    for (j, joint) in b.joints.clone().iter().enumerate() {
+        if joint.kind == JointKind::U {
+            b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Joint(j), DirectionItem::USecond(j)));
+        }
+        if planar {
+            match joint.kind {
+                JointKind::R | JointKind::Pa => {
+                    b.relations.push(implied(RelationKind::Parallel, DirectionItem::Joint(j), DirectionItem::Frame(2)))
+                }
+                JointKind::P => {
+                    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Joint(j), DirectionItem::Frame(2)))
+                }
+                _ => b.errors.push(
+                    Diagnostic::new(joint.span, format!("joint `{}` ({}) cannot move in a plane", joint.name, joint.kind.symbol()))
+                        .label("planar mechanisms have R, P and Pa joints only"),
+                ),
+            }
+        }
+    }
+    if planar {
+        frame_declared[2] = true;
+    }
+
+    for r in &b.relations {
+        if r.kind == RelationKind::Coaxial {
+            for item in [r.a, r.b] {
+                if let DirectionItem::Joint(j) = item {
+                    let joint = &b.joints[j];
+                    if !joint.kind.has_axis_line() {
+                        b.errors.push(
+                            Diagnostic::new(r.span.unwrap_or(joint.span), format!("joint `{}` ({}) has no axis line to share", joint.name, joint.kind.symbol()))
+                                .label("coaxial joints must be R, H, C or U"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    check_relations(&b.joints, &b.relations, &mut b.errors);
+
+    let branches: Vec<Branch> = ast
+        .branches
+        .iter()
+        .enumerate()
+        .map(|(i, n)| Branch {
+            name: n.text.clone(),
+            joints: (0..b.joints.len()).filter(|&j| b.joints[j].branch == Some(i)).collect(),
+            span: n.span,
+        })
+        .collect();
+
+    let platform = match &ast.platform {
+        Some(n) => match b.link_by_name.get(&n.text) {
+            Some(&i) => Some(i),
+            None => {
+                b.errors.push(Diagnostic::new(n.span, format!("unknown link `{}`", n.text)).label("no joint touches it"));
+                None
+            }
+        },
+        None => b.link_by_name.get("platform").copied(),
+    };
+    if platform == Some(0) {
+        if let Some(n) = &ast.platform {
+            b.errors.push(Diagnostic::new(n.span, "the platform cannot be the base").label("the base"));
+        }
+    }
+
+    // Branches run from the base to the platform.
+    if !branches.is_empty() && platform.is_none() {
+        b.errors.push(
+            Diagnostic::new(branches[0].span, "branches need a platform")
+                .label("branch without a platform")
+                .note("name a link `platform`, or write `platform = LINK;`"),
+        );
+    }
+    if let Some(p) = platform {
+        for br in &branches {
+            if !connected(&b.joints, &br.joints, 0, p) {
+                b.errors.push(
+                    Diagnostic::new(br.span, format!("branch `{}` never reaches the platform `{}`", br.name, b.links[p].name))
+                        .label("a branch must connect the base to the platform"),
+                );
+            }
+        }
+    }
+
+    let base_point = ast.point.as_ref().and_then(|(_, jn)| match b.joint_by_name.get(&jn.text) {
+        Some(&j) => {
+            let joint = &b.joints[j];
+            if platform.is_some_and(|p| !joint.links.contains(&p)) {
+                b.errors.push(
+                    Diagnostic::new(jn.span, format!("joint `{}` does not touch the platform", jn.text))
+                        .label("the base point must lie on a platform joint"),
+                );
+            } else if matches!(joint.kind, JointKind::P | JointKind::Pa) {
+                b.errors.push(
+                    Diagnostic::new(jn.span, format!("joint `{}` ({}) has no axis line for the base point", jn.text, joint.kind.symbol()))
+                        .label("needs R, H, C, U or S"),
+                );
+            }
+            Some(j)
+        }
+        None => {
+            b.errors.push(Diagnostic::new(jn.span, format!("unknown joint `{}`", jn.text)).label("not declared"));
+            None
+        }
+    });
+
+    // Every link must hang in the mechanism: reached from the base, held by two joints.
+    if b.errors.is_empty() {
+        let all: Vec<usize> = (0..b.joints.len()).collect();
+        for (i, link) in b.links.iter().enumerate().skip(1) {
+            let degree = b.joints.iter().filter(|j| j.links.contains(&i)).count();
+            let span = link.span.unwrap_or_default();
+            if !connected(&b.joints, &all, 0, i) {
+                b.errors.push(
+                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name)).label("unreachable link"),
+                );
+            } else if degree < 2 {
+                let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
+                    .label("dangling link")
+                    .note("every link of a parallel mechanism lies on a loop");
+                if let Some(s) = suggest(&link.name, b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name)) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                b.errors.push(d);
+            }
+        }
+        if b.joints.is_empty() {
+            b.errors.push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
+        }
+        if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
+            b.errors.push(
+                Diagnostic::new(ast.name.span, format!("the mechanism has more than {MAX_JOINTS} joints or links"))
+                    .label("too large"),
+            );
+        }
+    }
+
+    let Builder { errors, links, joints, relations, .. } = b;
+    errors.into_result(Mechanism {
+        name: ast.name.text.clone(),
+        title: ast.title.clone(),
+        planar,
+        links,
+        joints,
+        branches,
+        platform,
+        base_point,
+        capabilities,
+        relations,
+        frame_declared,
+    })
+}
+
+fn connected(joints: &[Joint], subset: &[usize], from: usize, to: usize) -> bool {
+    let mut seen = vec![from];
+    let mut stack = vec![from];
+    while let Some(l) = stack.pop() {
+        if l == to {
+            return true;
+        }
+        for &j in subset {
+            let joint = &joints[j];
+            if joint.links.contains(&l) {
+                let o = joint.other(l);
+                if !seen.contains(&o) {
+                    seen.push(o);
+                    stack.push(o);
+                }
+            }
+        }
+    }
+    false
+}
+
+/// Union-find over direction items: parallel (and coaxial) relations merge classes.
+#[derive(Debug, Clone)]
+pub struct DirectionClasses {
+    items: Vec<DirectionItem>,
+    parent: Vec<usize>,
+}
+
+impl DirectionClasses {
+    /// The classes of every joint axis, U second axis and frame axis under `relations`.
+    pub fn new(joints: &[Joint], relations: &[Relation]) -> Self {
+        let mut items: Vec<DirectionItem> = (0..3).map(DirectionItem::Frame).collect();
+        for (j, joint) in joints.iter().enumerate() {
+            if joint.kind.has_direction() {
+                items.push(DirectionItem::Joint(j));
+            }
+            if joint.kind == JointKind::U {
+                items.push(DirectionItem::USecond(j));
+            }
+        }
+        let mut c = DirectionClasses { parent: (0..items.len()).collect(), items };
+        for r in relations {
+            if r.kind != RelationKind::Perpendicular {
+                if let (Some(a), Some(b)) = (c.index(r.a), c.index(r.b)) {
+                    let (ra, rb) = (c.find(a), c.find(b));
+                    c.parent[ra.max(rb)] = ra.min(rb);
+                }
+            }
+        }
+        c
+    }
+
+    /// The position of an item, if it has a direction.
+    pub fn index(&self, item: DirectionItem) -> Option<usize> {
+        self.items.iter().position(|i| *i == item)
+    }
+
+    /// The class (root index) of item number `i`.
+    pub fn find(&self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            i = self.parent[i];
+        }
+        i
+    }
+
+    /// The class of an item.
+    pub fn class_of(&self, item: DirectionItem) -> Option<usize> {
+        self.index(item).map(|i| self.find(i))
+    }
+
+    /// Every item.
+    pub fn items(&self) -> &[DirectionItem] {
+        &self.items
+    }
+}
+
+fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagnostics) {
+    let classes = DirectionClasses::new(joints, relations);
+    let item_name = |i: DirectionItem| match i {
+        DirectionItem::Joint(j) => joints[j].name.clone(),
+        DirectionItem::Frame(k) => FRAME_AXES[k].to_string(),
+        DirectionItem::USecond(j) => format!("{}'", joints[j].name),
+    };
+    for r in relations {
+        if r.kind != RelationKind::Perpendicular {
+            continue;
+        }
+        if classes.class_of(r.a).is_some() && classes.class_of(r.a) == classes.class_of(r.b) {
+            let msg = format!("`{} ⊥ {}` contradicts the other relations, which make them parallel", item_name(r.a), item_name(r.b));
+            let d = match r.span {
+                Some(s) => Diagnostic::new(s, msg).label("contradictory relation"),
+                None => {
+                    // An implied relation (planar, frame) was contradicted by a written one: point at that.
+                    let written = relations.iter().find(|q| {
+                        q.span.is_some()
+                            && q.kind != RelationKind::Perpendicular
+                            && [q.a, q.b].iter().any(|i| classes.class_of(*i) == classes.class_of(r.a))
+                    });
+                    match written.and_then(|q| q.span) {
+                        Some(s) => Diagnostic::new(s, msg).label("contradictory relation"),
+                        None => Diagnostic::global(msg),
+                    }
+                }
+            };
+            if !errors.0.iter().any(|e| e.span == d.span) {
+                errors.push(d);
+            }
+        }
+    }
+}

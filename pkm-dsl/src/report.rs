@@ -1,0 +1,116 @@
+//! The topology report: what `pkm analyze` prints and what the generated
+//! type's `REPORT` holds.
+
+use crate::model::Mechanism;
+use crate::topology::{delta_unicode, Topology};
+use std::fmt::Write;
+
+/// A mechanism together with its analysis.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// The semantic model.
+    pub mechanism: Mechanism,
+    /// The topology.
+    pub topology: Topology,
+}
+
+impl Analysis {
+    /// The joint names of a list of joint indices.
+    pub fn names(&self, joints: &[usize]) -> Vec<String> {
+        joints.iter().map(|&j| self.mechanism.joints[j].name.clone()).collect()
+    }
+
+    /// The platform's POC set in Unicode, or an empty string without a platform.
+    pub fn platform_poc(&self) -> String {
+        self.topology.platform_poc.as_ref().map(|p| p.unicode()).unwrap_or_default()
+    }
+
+    /// The human-readable report.
+    pub fn report(&self) -> String {
+        let m = &self.mechanism;
+        let t = &self.topology;
+        let mut s = String::new();
+        let _ = writeln!(s, "mechanism {}", m.name);
+        if let Some(title) = &m.title {
+            let _ = writeln!(s, "  {title}");
+        }
+        let _ = writeln!(
+            s,
+            "\nlinks n = {}, joints m = {}, loops v = m − n + 1 = {}, Σf = {}",
+            m.links.len(),
+            m.joints.len(),
+            t.loops,
+            t.total_f
+        );
+        let _ = writeln!(s, "\nPOC sets");
+        for (j, joint) in m.joints.iter().enumerate() {
+            let mark = if joint.actuated { "*" } else { "" };
+            let _ = writeln!(s, "  {:<8} {:<3} {}", format!("{}{mark}", joint.name), joint.kind.symbol(), t.joint_poc[j]);
+        }
+        for (b, br) in m.branches.iter().enumerate() {
+            if let Some(p) = t.branch_poc.get(b) {
+                let _ = writeln!(s, "  branch {:<5} M_b = {p}  (dim {})", br.name, p.dim);
+            }
+        }
+        if let Some(p) = &t.platform_poc {
+            let o = t.base_point.map(|j| format!(", o on {}", m.joints[j].name)).unwrap_or_default();
+            let _ = writeln!(s, "  platform     M_Pa = {p}  (dim {}{o})", p.dim);
+        }
+        let _ = writeln!(s, "\nordered single open chains");
+        for (j, soc) in t.socs.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "  SOC{} {{{}}}  {} → {}:  Σf = {}, I = {}, ξ_L{} = {}, Δ{} = {}",
+                j + 1,
+                soc.notation,
+                m.links[soc.ends[0]].name,
+                m.links[soc.ends[1]].name,
+                soc.dof,
+                soc.actuators,
+                j + 1,
+                soc.xi,
+                j + 1,
+                delta_unicode(soc.delta)
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nF = Σf − Σξ_L = {} − {} = {}",
+            t.total_f,
+            t.xi().iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" − "),
+            t.dof
+        );
+        for (k, skc) in t.skcs.iter().enumerate() {
+            let socs: Vec<String> = skc.socs.clone().map(|j| format!("SOC{}", j + 1)).collect();
+            let _ = writeln!(s, "SKC{}: {}, κ{} = {}", k + 1, socs.join(" + "), k + 1, skc.kappa);
+        }
+        let _ = writeln!(s, "κ = {}", t.kappa);
+        let _ = writeln!(s, "\n{}", t.expression);
+        if !t.decoupling.is_empty() {
+            let _ = writeln!(s, "\nmotion decoupling (outputs of the base point o and the platform's rotation)");
+            for d in &t.decoupling {
+                let _ = writeln!(s, "  {:<3} ← {}", d.output, self.names(&d.inputs).join(", "));
+            }
+        }
+        let _ = writeln!(
+            s,
+            "\ncross-check: ξ_L by the POC formula ({}) = ξ_L by the loop-closure rank ({})",
+            t.xi_by_poc_formula.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", "),
+            t.xi().iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+        );
+        s
+    }
+}
+
+/// Parses, builds and analyses a mechanism text.
+///
+/// ```
+/// let a = pkm_dsl::analyze_source("mechanism five_bar { planar; base R1* ∥ R2 ∥ R3 ∥ R4 ∥ R5* base; }").unwrap();
+/// assert_eq!(a.topology.dof, 2);
+/// ```
+pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
+    let ast = crate::parse(source)?;
+    let mechanism = crate::model::build(&ast)?;
+    let topology = crate::topology::analyze(&mechanism)?;
+    Ok(Analysis { mechanism, topology })
+}

@@ -1,0 +1,392 @@
+//! The numeric model behind the POC analysis: a generic instance of the
+//! mechanism (random axes that satisfy every declared ∥ / ⊥ / ≡ relation),
+//! the joint twists at that instant, and subspace ranks and kernels.
+//!
+//! A link's POC set at a generic configuration corresponds to its twist
+//! subspace V ⊂ se(3): union is the subspace sum, intersection the subspace
+//! intersection, and dim is the rank. Twists are written (ω; v) with v the
+//! velocity of the body point at the origin.
+
+use crate::diagnostics::Diagnostic;
+use crate::model::{DirectionClasses, DirectionItem, JointKind, Mechanism};
+use nalgebra::{DMatrix, Vector3, Vector6};
+
+/// Singular values below this fraction of the largest count as zero.
+pub const RANK_TOLERANCE: f64 = 1e-9;
+
+/// A deterministic generator (splitmix64), so every analysis is reproducible.
+#[derive(Debug, Clone)]
+pub struct SplitMix(u64);
+
+impl SplitMix {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        SplitMix(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [-1, 1).
+    pub fn symmetric(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// A random vector in the cube [-1, 1)³.
+    pub fn vector(&mut self) -> Vector3<f64> {
+        Vector3::new(self.symmetric(), self.symmetric(), self.symmetric())
+    }
+}
+
+/// One generic instance of a mechanism.
+#[derive(Debug, Clone)]
+pub struct Instance {
+    /// The unit vector of each direction item (indexed like [`DirectionClasses::items`]).
+    pub directions: Vec<Vector3<f64>>,
+    /// A point on each joint's axis (its centre for S and U joints).
+    pub points: Vec<Vector3<f64>>,
+    /// The twists each joint allows, f of them, motion of `links[1]` relative to `links[0]`.
+    pub twists: Vec<Vec<Vector6<f64>>>,
+    /// The frame axes x, y, z.
+    pub frame: [Vector3<f64>; 3],
+}
+
+fn twist(w: Vector3<f64>, v: Vector3<f64>) -> Vector6<f64> {
+    Vector6::new(w.x, w.y, w.z, v.x, v.y, v.z)
+}
+
+fn rotation_about(d: Vector3<f64>, p: Vector3<f64>) -> Vector6<f64> {
+    twist(d, p.cross(&d))
+}
+
+/// Builds a generic instance: random directions class by class, each made
+/// perpendicular to the classes it must be perpendicular to; random points,
+/// shared by coaxial joints.
+pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Result<Instance, Diagnostic> {
+    let mut rng = SplitMix::new(seed);
+    let n_items = classes.items().len();
+    let mut class_dir: Vec<Option<Vector3<f64>>> = vec![None; n_items];
+    // Perpendicular constraints between classes.
+    let mut perp: Vec<(usize, usize, Option<crate::Span>)> = Vec::new();
+    for r in &mech.relations {
+        if r.kind == crate::ast::RelationKind::Perpendicular {
+            if let (Some(a), Some(b)) = (classes.class_of(r.a), classes.class_of(r.b)) {
+                perp.push((a, b, r.span));
+            }
+        }
+    }
+    for i in 0..n_items {
+        let root = classes.find(i);
+        if class_dir[root].is_some() {
+            continue;
+        }
+        let mut basis: Vec<Vector3<f64>> = Vec::new();
+        let mut last_span = None;
+        for &(a, b, span) in &perp {
+            let other = if a == root { b } else if b == root { a } else { continue };
+            if let Some(d) = class_dir[other] {
+                last_span = span.or(last_span);
+                let mut u = d;
+                for e in &basis {
+                    u -= e * e.dot(&u);
+                }
+                if u.norm() > 1e-6 {
+                    basis.push(u.normalize());
+                }
+            }
+        }
+        if basis.len() >= 3 {
+            let msg = "a direction is required to be perpendicular to three independent directions";
+            return Err(match last_span {
+                Some(s) => Diagnostic::new(s, msg).label("over-constrained relation"),
+                None => Diagnostic::global(msg),
+            });
+        }
+        let mut dir = None;
+        for _ in 0..16 {
+            let mut u = rng.vector();
+            for e in &basis {
+                u -= e * e.dot(&u);
+            }
+            if u.norm() > 0.1 {
+                dir = Some(u.normalize());
+                break;
+            }
+        }
+        class_dir[root] = Some(dir.unwrap_or_else(|| basis[0].cross(&basis[basis.len() - 1]).normalize()));
+    }
+    let directions: Vec<Vector3<f64>> =
+        (0..n_items).map(|i| class_dir[classes.find(i)].unwrap_or_else(Vector3::x)).collect();
+    let dir_of = |item: DirectionItem| classes.index(item).map_or_else(Vector3::x, |i| directions[i]);
+
+    // Coaxial joints share one axis line.
+    let n = mech.joints.len();
+    let mut coaxial_root: Vec<usize> = (0..n).collect();
+    fn root(p: &[usize], mut i: usize) -> usize {
+        while p[i] != i {
+            i = p[i];
+        }
+        i
+    }
+    for r in &mech.relations {
+        if let (crate::ast::RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) = (r.kind, r.a, r.b) {
+            let (ra, rb) = (root(&coaxial_root, a), root(&coaxial_root, b));
+            coaxial_root[ra.max(rb)] = ra.min(rb);
+        }
+    }
+    let raw_points: Vec<Vector3<f64>> = (0..n).map(|_| rng.vector()).collect();
+    let points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();
+
+    let frame = [dir_of(DirectionItem::Frame(0)), dir_of(DirectionItem::Frame(1)), dir_of(DirectionItem::Frame(2))];
+    let twists = mech
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| {
+            let p = points[j];
+            let d = if joint.kind.has_direction() { dir_of(DirectionItem::Joint(j)) } else { Vector3::x() };
+            match joint.kind {
+                JointKind::R => vec![rotation_about(d, p)],
+                JointKind::P => vec![twist(Vector3::zeros(), d)],
+                JointKind::H => {
+                    let pitch = 0.2 + 0.4 * (rng.symmetric() + 1.0);
+                    vec![twist(d, p.cross(&d) + d * pitch)]
+                }
+                JointKind::C => vec![rotation_about(d, p), twist(Vector3::zeros(), d)],
+                JointKind::U => vec![rotation_about(d, p), rotation_about(dir_of(DirectionItem::USecond(j)), p)],
+                JointKind::S => vec![
+                    rotation_about(Vector3::x(), p),
+                    rotation_about(Vector3::y(), p),
+                    rotation_about(Vector3::z(), p),
+                ],
+                JointKind::Pa => {
+                    // The parallelogram's coupler translates along a circle in
+                    // the plane normal to its axes: generically any direction there.
+                    let mut t = rng.vector();
+                    t -= d * d.dot(&t);
+                    vec![twist(Vector3::zeros(), t.normalize())]
+                }
+            }
+        })
+        .collect();
+    Ok(Instance { directions, points, twists, frame })
+}
+
+/// The rank of a matrix, with [`RANK_TOLERANCE`] relative to its largest singular value.
+pub fn rank(m: &DMatrix<f64>) -> usize {
+    if m.nrows() == 0 || m.ncols() == 0 {
+        return 0;
+    }
+    let sv = m.clone().svd(false, false).singular_values;
+    let max = sv.iter().cloned().fold(0.0, f64::max);
+    if max == 0.0 {
+        return 0;
+    }
+    sv.iter().filter(|s| **s > RANK_TOLERANCE * max).count()
+}
+
+/// An orthonormal basis (columns) of the null space of `m`.
+pub fn null_space(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let cols = m.ncols();
+    if cols == 0 {
+        return DMatrix::zeros(0, 0);
+    }
+    // Pad to at least square so the thin SVD yields every right singular vector.
+    let rows = m.nrows().max(cols);
+    let mut a = DMatrix::zeros(rows, cols);
+    a.view_mut((0, 0), (m.nrows(), cols)).copy_from(m);
+    let svd = a.svd(false, true);
+    let v_t = svd.v_t.expect("requested V");
+    let max = svd.singular_values.iter().cloned().fold(0.0, f64::max);
+    let null: Vec<usize> =
+        (0..svd.singular_values.len()).filter(|&i| svd.singular_values[i] <= RANK_TOLERANCE * max.max(1e-300)).collect();
+    let mut n = DMatrix::zeros(cols, null.len());
+    for (k, &i) in null.iter().enumerate() {
+        n.set_column(k, &v_t.row(i).transpose());
+    }
+    n
+}
+
+/// The velocity equations of a sub-mechanism (a subset of joints): unknowns
+/// are the twists of the links it touches (the base's is zero) and the joint
+/// rates; each joint says `T_v − T_u − Σ s θ̇ = 0`. Its kernel is the
+/// sub-mechanism's instantaneous motion.
+#[derive(Debug, Clone)]
+pub struct VelocitySystem {
+    /// Column of each link's twist block (None for the base and untouched links).
+    pub link_col: Vec<Option<usize>>,
+    /// First column of each joint's rates (None for joints outside the subset).
+    pub joint_col: Vec<Option<usize>>,
+    /// The equations.
+    pub matrix: DMatrix<f64>,
+    /// Σf of the subset.
+    pub total_f: usize,
+}
+
+impl VelocitySystem {
+    /// The system of the joints in `mask`.
+    pub fn new(mech: &Mechanism, inst: &Instance, mask: u64) -> Self {
+        let joints: Vec<usize> = (0..mech.joints.len()).filter(|j| mask >> j & 1 == 1).collect();
+        let mut link_col = vec![None; mech.links.len()];
+        let mut cols = 0;
+        for &j in &joints {
+            for l in mech.joints[j].links {
+                if l != 0 && link_col[l].is_none() {
+                    link_col[l] = Some(cols);
+                    cols += 6;
+                }
+            }
+        }
+        let mut joint_col = vec![None; mech.joints.len()];
+        let mut total_f = 0;
+        for &j in &joints {
+            joint_col[j] = Some(cols);
+            cols += mech.joints[j].kind.dof();
+            total_f += mech.joints[j].kind.dof();
+        }
+        let mut matrix = DMatrix::zeros(6 * joints.len(), cols);
+        for (row, &j) in joints.iter().enumerate() {
+            let [u, v] = mech.joints[j].links;
+            for k in 0..6 {
+                if let Some(c) = link_col[v] {
+                    matrix[(6 * row + k, c + k)] += 1.0;
+                }
+                if let Some(c) = link_col[u] {
+                    matrix[(6 * row + k, c + k)] -= 1.0;
+                }
+            }
+            let c0 = joint_col[j].expect("joint in subset");
+            for (i, s) in inst.twists[j].iter().enumerate() {
+                for k in 0..6 {
+                    matrix[(6 * row + k, c0 + i)] = -s[k];
+                }
+            }
+        }
+        VelocitySystem { link_col, joint_col, matrix, total_f }
+    }
+
+    /// The rank of the loop-closure equations: Σf − (mobility).
+    pub fn loop_rank(&self) -> usize {
+        let nullity = self.matrix.ncols() - rank(&self.matrix);
+        self.total_f.saturating_sub(nullity)
+    }
+
+    /// The twists of link `b` relative to link `a` over the kernel `n` (6 × k).
+    pub fn relative_twists(&self, n: &DMatrix<f64>, a: usize, b: usize) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(6, n.ncols());
+        if let Some(c) = self.link_col[b] {
+            out += n.rows(c, 6);
+        }
+        if let Some(c) = self.link_col[a] {
+            out -= n.rows(c, 6);
+        }
+        out
+    }
+}
+
+/// Column-concatenates twist sets.
+pub fn hstack(parts: &[&DMatrix<f64>]) -> DMatrix<f64> {
+    let cols: usize = parts.iter().map(|p| p.ncols()).sum();
+    let mut m = DMatrix::zeros(6, cols);
+    let mut c = 0;
+    for p in parts {
+        m.view_mut((0, c), (6, p.ncols())).copy_from(p);
+        c += p.ncols();
+    }
+    m
+}
+
+/// The twists of a list of joints, as columns.
+pub fn joint_twists(inst: &Instance, joints: &[usize]) -> DMatrix<f64> {
+    let cols: Vec<Vector6<f64>> = joints.iter().flat_map(|&j| inst.twists[j].iter().copied()).collect();
+    if cols.is_empty() {
+        return DMatrix::zeros(6, 0);
+    }
+    DMatrix::from_iterator(6, cols.len(), cols.iter().flat_map(|c| c.iter().copied()))
+}
+
+/// Splits twists into the rotations (ω) and the velocities of point `o` (v + ω × o).
+pub fn at_point(twists: &DMatrix<f64>, o: &Vector3<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+    let k = twists.ncols();
+    let mut w = DMatrix::zeros(3, k);
+    let mut v = DMatrix::zeros(3, k);
+    for c in 0..k {
+        let om = Vector3::new(twists[(0, c)], twists[(1, c)], twists[(2, c)]);
+        let vo = Vector3::new(twists[(3, c)], twists[(4, c)], twists[(5, c)]) + om.cross(o);
+        w.set_column(c, &om);
+        v.set_column(c, &vo);
+    }
+    (w, v)
+}
+
+/// An orthonormal basis of the column space of a 3 × k matrix, by
+/// Gram–Schmidt with column pivoting. (nalgebra's SVD gave an inaccurate U
+/// for rank-deficient 3 × 3 input when V was not requested; this is simpler.)
+pub fn column_basis(m: &DMatrix<f64>) -> Vec<Vector3<f64>> {
+    let mut cols: Vec<Vector3<f64>> =
+        (0..m.ncols()).map(|c| Vector3::new(m[(0, c)], m[(1, c)], m[(2, c)])).collect();
+    let scale = cols.iter().map(|c| c.norm()).fold(0.0, f64::max);
+    let mut basis: Vec<Vector3<f64>> = Vec::new();
+    while basis.len() < 3 {
+        let Some((i, norm)) =
+            cols.iter().enumerate().map(|(i, c)| (i, c.norm())).max_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            break;
+        };
+        if norm <= RANK_TOLERANCE * 1e3 * scale || norm == 0.0 {
+            break;
+        }
+        let e = cols[i] / norm;
+        for c in &mut cols {
+            *c -= e * e.dot(c);
+        }
+        basis.push(e);
+    }
+    basis
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn null_space_of_a_wide_matrix() {
+        let m = DMatrix::from_row_slice(1, 3, &[1.0, 1.0, 0.0]);
+        let n = null_space(&m);
+        assert_eq!(n.ncols(), 2);
+        assert!((&m * &n).norm() < 1e-12);
+    }
+
+    #[test]
+    fn rank_counts_independent_columns() {
+        let m = DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 1.0, 1.0]);
+        assert_eq!(rank(&m), 2);
+        assert_eq!(rank(&DMatrix::zeros(3, 2)), 0);
+    }
+
+    #[test]
+    fn column_basis_of_a_rank_one_matrix_is_its_direction() {
+        let d = Vector3::new(-0.8026259498904428, 0.5924484177016449, -0.06925645764318233);
+        let m = DMatrix::from_iterator(3, 3, [d * 0.26, d * 0.11, d * -0.09].iter().flat_map(|c| c.iter().copied()));
+        let b = column_basis(&m);
+        assert_eq!(b.len(), 1);
+        assert!(b[0].cross(&d).norm() < 1e-15);
+    }
+
+    #[test]
+    fn splitmix_is_reproducible_and_in_range() {
+        let mut a = SplitMix::new(7);
+        let mut b = SplitMix::new(7);
+        for _ in 0..1000 {
+            let x = a.symmetric();
+            assert_eq!(x, b.symmetric());
+            assert!((-1.0..1.0).contains(&x));
+        }
+    }
+}

@@ -1,0 +1,165 @@
+//! The scalar abstraction the closed-form primitives are generic over.
+//!
+//! [`Real`] is deliberately tiny: exactly the operations the primitives in
+//! [`crate::primitives`] use, so that a forward-mode dual number (for
+//! automatic differentiation of generated solvers) can implement it later
+//! without dragging in a numeric-tower dependency. It is implemented here for
+//! `f64` only.
+//!
+//! Comparisons (`PartialOrd`) are used by the primitives only to choose a
+//! branch or classify a case, never to compute a value; a dual number should
+//! therefore compare by its primal (value) part.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real scalar: `f64`, or later a dual number wrapping one.
+///
+/// All methods mirror the inherent `f64` methods of the same name.
+///
+/// # Example
+///
+/// A function written once for every `Real`:
+///
+/// ```
+/// use pkm_runtime::real::Real;
+///
+/// fn hyp<T: Real>(a: T, b: T) -> T {
+///     (a * a + b * b).sqrt()
+/// }
+/// assert_eq!(hyp(3.0_f64, 4.0), 5.0);
+/// assert_eq!(<f64 as Real>::from_f64(2.5), 2.5);
+/// ```
+pub trait Real:
+    Copy
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Converts a constant (e.g. a tolerance) into this scalar type.
+    fn from_f64(x: f64) -> Self;
+
+    /// The additive identity, `0`.
+    fn zero() -> Self {
+        Self::from_f64(0.0)
+    }
+
+    /// The multiplicative identity, `1`.
+    fn one() -> Self {
+        Self::from_f64(1.0)
+    }
+
+    /// Machine epsilon of the underlying floating-point format (`f64::EPSILON`).
+    fn epsilon() -> Self;
+
+    /// Square root; the primitives call it only on non-negative arguments.
+    fn sqrt(self) -> Self;
+
+    /// Absolute value.
+    fn abs(self) -> Self;
+
+    /// Sine (argument in radians).
+    fn sin(self) -> Self;
+
+    /// Cosine (argument in radians).
+    fn cos(self) -> Self;
+
+    /// Four-quadrant arctangent of `self / x` (`self` is the ordinate `y`), in `[-π, π]`.
+    fn atan2(self, x: Self) -> Self;
+
+    /// `sqrt(self² + other²)` without undue overflow or underflow.
+    fn hypot(self, other: Self) -> Self;
+
+    /// Fused multiply-add `self * a + b` with a single rounding.
+    fn mul_add(self, a: Self, b: Self) -> Self;
+
+    /// `true` if the value is neither infinite nor NaN (for a dual number: all of its parts).
+    fn is_finite(self) -> bool;
+}
+
+impl Real for f64 {
+    #[inline]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+
+    #[inline]
+    fn zero() -> Self {
+        0.0
+    }
+
+    #[inline]
+    fn one() -> Self {
+        1.0
+    }
+
+    #[inline]
+    fn epsilon() -> Self {
+        f64::EPSILON
+    }
+
+    #[inline]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+
+    #[inline]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+
+    #[inline]
+    fn sin(self) -> Self {
+        f64::sin(self)
+    }
+
+    #[inline]
+    fn cos(self) -> Self {
+        f64::cos(self)
+    }
+
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+
+    #[inline]
+    fn hypot(self, other: Self) -> Self {
+        f64::hypot(self, other)
+    }
+
+    #[inline]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        f64::mul_add(self, a, b)
+    }
+
+    #[inline]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Real;
+
+    fn generic_ops<T: Real>(x: T) -> [T; 4] {
+        [x.sqrt(), x.abs(), x.hypot(T::one()), x.mul_add(x, -T::one())]
+    }
+
+    #[test]
+    fn f64_impl_matches_inherent_methods() {
+        assert_eq!(generic_ops(4.0_f64), [2.0, 4.0, 17.0_f64.sqrt(), 15.0]);
+        assert_eq!(<f64 as Real>::zero(), 0.0);
+        assert_eq!(<f64 as Real>::one(), 1.0);
+        assert_eq!(<f64 as Real>::epsilon(), f64::EPSILON);
+        assert_eq!(Real::atan2(1.0_f64, 1.0), core::f64::consts::FRAC_PI_4);
+        assert_eq!(Real::sin(0.0_f64), 0.0);
+        assert_eq!(Real::cos(0.0_f64), 1.0);
+        assert!(!Real::is_finite(f64::NAN));
+        assert!(!Real::is_finite(f64::INFINITY));
+        assert!(Real::is_finite(1.0_f64));
+    }
+}
