@@ -54,12 +54,24 @@ pub struct Diagnostic {
 impl Diagnostic {
     /// An error at `span`.
     pub fn new(span: Span, message: impl Into<String>) -> Self {
-        Diagnostic { message: message.into(), span: Some(span), label: String::new(), notes: Vec::new(), related: Vec::new() }
+        Diagnostic {
+            message: message.into(),
+            span: Some(span),
+            label: String::new(),
+            notes: Vec::new(),
+            related: Vec::new(),
+        }
     }
 
     /// An error with no place in the text (for example an unreadable file).
     pub fn global(message: impl Into<String>) -> Self {
-        Diagnostic { message: message.into(), span: None, label: String::new(), notes: Vec::new(), related: Vec::new() }
+        Diagnostic {
+            message: message.into(),
+            span: None,
+            label: String::new(),
+            notes: Vec::new(),
+            related: Vec::new(),
+        }
     }
 
     /// Sets the label shown under the caret.
@@ -90,7 +102,10 @@ impl Diagnostic {
             let pad = " ".repeat(gutter);
             let start_in_line = col - 1;
             let span_chars = source
-                .get(floor_char_boundary(source, span.start.min(source.len()))..floor_char_boundary(source, span.end.min(source.len())))
+                .get(
+                    floor_char_boundary(source, span.start.min(source.len()))
+                        ..floor_char_boundary(source, span.end.min(source.len())),
+                )
                 .map(|s| s.lines().next().unwrap_or("").chars().count())
                 .unwrap_or(0)
                 .max(1);
@@ -135,7 +150,11 @@ impl Diagnostics {
 
     /// Renders every error, separated by blank lines.
     pub fn render(&self, source: &str, file: &str) -> String {
-        self.0.iter().map(|d| d.render(source, file)).collect::<Vec<_>>().join("\n")
+        self.0
+            .iter()
+            .map(|d| d.render(source, file))
+            .collect::<Vec<_>>()
+            .join("\n")
     }
 
     /// `Ok(value)` when empty, the collected errors otherwise.
@@ -188,11 +207,19 @@ mod tests {
 
     #[test]
     fn columns_count_characters_not_bytes() {
-        check("a ∥ b", Span::new(6, 7), "error: bad thing\n --> m.pkm:1:5\n  |\n1 | a ∥ b\n  |     ^ here\n");
+        check(
+            "a ∥ b",
+            Span::new(6, 7),
+            "error: bad thing\n --> m.pkm:1:5\n  |\n1 | a ∥ b\n  |     ^ here\n",
+        );
     }
 
     #[test]
     fn span_at_end_of_text() {
-        check("ab", Span::new(2, 2), "error: bad thing\n --> m.pkm:1:3\n  |\n1 | ab\n  |   ^ here\n");
+        check(
+            "ab",
+            Span::new(2, 2),
+            "error: bad thing\n --> m.pkm:1:3\n  |\n1 | ab\n  |   ^ here\n",
+        );
     }
 }

@@ -13,8 +13,11 @@ mod parser;
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
 pub mod model;
+pub mod report;
 pub mod screw;
 pub mod topology;
-pub mod report;
 
 pub use report::{analyze_source, Analysis};
+mod codegen;
+
+pub use codegen::{check_capabilities, expand};

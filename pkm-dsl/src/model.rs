@@ -280,31 +280,49 @@ struct Builder {
 
 impl Builder {
     fn link(&mut self, name: &Name) -> usize {
-        let key = if BASE_ALIASES.contains(&name.text.as_str()) { "base".to_string() } else { name.text.clone() };
+        let key = if BASE_ALIASES.contains(&name.text.as_str()) {
+            "base".to_string()
+        } else {
+            name.text.clone()
+        };
         if let Some(&i) = self.link_by_name.get(&key) {
             return i;
         }
         if FRAME_AXES.contains(&key.as_str()) {
             self.errors.push(
-                Diagnostic::new(name.span, format!("`{}` names a frame axis and cannot name a link", name.text))
-                    .label("reserved name"),
+                Diagnostic::new(
+                    name.span,
+                    format!("`{}` names a frame axis and cannot name a link", name.text),
+                )
+                .label("reserved name"),
             );
         }
-        self.links.push(Link { name: key.clone(), description: None, span: Some(name.span) });
+        self.links.push(Link {
+            name: key.clone(),
+            description: None,
+            span: Some(name.span),
+        });
         self.link_by_name.insert(key, self.links.len() - 1);
         self.links.len() - 1
     }
 
     fn anonymous_link(&mut self, after: &str, before: &str) -> usize {
-        self.links.push(Link { name: format!("{after}/{before}"), description: None, span: None });
+        self.links.push(Link {
+            name: format!("{after}/{before}"),
+            description: None,
+            span: None,
+        });
         self.links.len() - 1
     }
 
     fn add_joint(&mut self, name: &Name, kind: JointKind, links: [usize; 2], actuated: bool, branch: Option<usize>) {
         if FRAME_AXES.contains(&name.text.as_str()) {
             self.errors.push(
-                Diagnostic::new(name.span, format!("`{}` names a frame axis and cannot name a joint", name.text))
-                    .label("reserved name"),
+                Diagnostic::new(
+                    name.span,
+                    format!("`{}` names a frame axis and cannot name a joint", name.text),
+                )
+                .label("reserved name"),
             );
         }
         if let Some(&first) = self.joint_by_name.get(&name.text) {
@@ -318,12 +336,25 @@ impl Builder {
         }
         if links[0] == links[1] {
             self.errors.push(
-                Diagnostic::new(name.span, format!("joint `{}` connects link `{}` to itself", name.text, self.links[links[0]].name))
-                    .label("a joint needs two different links"),
+                Diagnostic::new(
+                    name.span,
+                    format!(
+                        "joint `{}` connects link `{}` to itself",
+                        name.text, self.links[links[0]].name
+                    ),
+                )
+                .label("a joint needs two different links"),
             );
         }
         self.joint_by_name.insert(name.text.clone(), self.joints.len());
-        self.joints.push(Joint { name: name.text.clone(), kind, links, actuated, span: name.span, branch });
+        self.joints.push(Joint {
+            name: name.text.clone(),
+            kind,
+            links,
+            actuated,
+            span: name.span,
+            branch,
+        });
     }
 
     fn direction(&mut self, name: &Name) -> Option<DirectionItem> {
@@ -334,8 +365,11 @@ impl Builder {
             Some(&j) => {
                 if !self.joints[j].kind.has_direction() {
                     self.errors.push(
-                        Diagnostic::new(name.span, format!("joint `{}` is spherical and has no axis to relate", name.text))
-                            .label("S joint"),
+                        Diagnostic::new(
+                            name.span,
+                            format!("joint `{}` is spherical and has no axis to relate", name.text),
+                        )
+                        .label("S joint"),
                     );
                     return None;
                 }
@@ -355,7 +389,11 @@ impl Builder {
 
 /// The closest known name within edit distance 2, for "did you mean".
 pub fn suggest<'a>(name: &str, known: impl Iterator<Item = &'a str>) -> Option<&'a str> {
-    known.map(|k| (edit_distance(name, k), k)).filter(|(d, _)| *d <= 2).min().map(|(_, k)| k)
+    known
+        .map(|k| (edit_distance(name, k), k))
+        .filter(|(d, _)| *d <= 2)
+        .min()
+        .map(|(_, k)| k)
 }
 
 fn edit_distance(a: &str, b: &str) -> usize {
@@ -382,7 +420,10 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         joint_by_name: HashMap::new(),
         relations: Vec::new(),
     };
-    b.link(&Name { text: "base".into(), span: Span::default() });
+    b.link(&Name {
+        text: "base".into(),
+        span: Span::default(),
+    });
     b.links[0].span = None;
 
     let mut capabilities = Vec::new();
@@ -412,14 +453,24 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         let links: Vec<usize> = decl.links.iter().map(|l| b.link(l)).collect();
         if links.len() > 2 && !kind.has_axis_line() {
             b.errors.push(
-                Diagnostic::new(decl.kind.span, format!("a compound hinge needs an axis line; `{}` has none", decl.kind.text))
-                    .label("compound joints must be R, H, C or U"),
+                Diagnostic::new(
+                    decl.kind.span,
+                    format!("a compound hinge needs an axis line; `{}` has none", decl.kind.text),
+                )
+                .label("compound joints must be R, H, C or U"),
             );
             continue;
         }
         let first = b.joints.len();
         for (k, &other) in links.iter().enumerate().skip(1) {
-            let n = if k == 1 { decl.name.clone() } else { Name { text: format!("{}.{}", decl.name.text, k), span: decl.name.span } };
+            let n = if k == 1 {
+                decl.name.clone()
+            } else {
+                Name {
+                    text: format!("{}.{}", decl.name.text, k),
+                    span: decl.name.span,
+                }
+            };
             b.add_joint(&n, kind, [links[0], other], decl.actuated && k == 1, None);
             if k > 1 && b.joints.len() > first + k - 1 {
                 let j = b.joints.len() - 1;
@@ -462,7 +513,12 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
             let this = if b.joints.len() > before { Some(before) } else { None };
             if let (Some(p), Some(t), Some(conn)) = (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k])) {
                 if let Some((kind, span)) = conn.relation {
-                    b.relations.push(Relation { kind, a: DirectionItem::Joint(p), b: DirectionItem::Joint(t), span: Some(span) });
+                    b.relations.push(Relation {
+                        kind,
+                        a: DirectionItem::Joint(p),
+                        b: DirectionItem::Joint(t),
+                        span: Some(span),
+                    });
                 }
             }
             prev_joint = this;
@@ -482,7 +538,12 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         let items: Vec<Option<DirectionItem>> = stmt.items.iter().map(|n| b.direction(n)).collect();
         for (k, (kind, span)) in stmt.ops.iter().enumerate() {
             if let (Some(a), Some(c)) = (items[k], items[k + 1]) {
-                b.relations.push(Relation { kind: *kind, a, b: c, span: Some(*span) });
+                b.relations.push(Relation {
+                    kind: *kind,
+                    a,
+                    b: c,
+                    span: Some(*span),
+                });
             }
         }
     }
@@ -500,24 +561,51 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     // Implied relations: the frame is orthonormal, U axes are perpendicular,
     // and a planar mechanism's rotations are about z and its slides lie in xy.
     let implied = |kind, a, b| Relation { kind, a, b, span: None };
-    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(0), DirectionItem::Frame(1)));
-    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(1), DirectionItem::Frame(2)));
-    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Frame(0), DirectionItem::Frame(2)));
+    b.relations.push(implied(
+        RelationKind::Perpendicular,
+        DirectionItem::Frame(0),
+        DirectionItem::Frame(1),
+    ));
+    b.relations.push(implied(
+        RelationKind::Perpendicular,
+        DirectionItem::Frame(1),
+        DirectionItem::Frame(2),
+    ));
+    b.relations.push(implied(
+        RelationKind::Perpendicular,
+        DirectionItem::Frame(0),
+        DirectionItem::Frame(2),
+    ));
     for (j, joint) in b.joints.clone().iter().enumerate() {
         if joint.kind == JointKind::U {
-            b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Joint(j), DirectionItem::USecond(j)));
+            b.relations.push(implied(
+                RelationKind::Perpendicular,
+                DirectionItem::Joint(j),
+                DirectionItem::USecond(j),
+            ));
         }
         if planar {
             match joint.kind {
-                JointKind::R | JointKind::Pa => {
-                    b.relations.push(implied(RelationKind::Parallel, DirectionItem::Joint(j), DirectionItem::Frame(2)))
-                }
-                JointKind::P => {
-                    b.relations.push(implied(RelationKind::Perpendicular, DirectionItem::Joint(j), DirectionItem::Frame(2)))
-                }
+                JointKind::R | JointKind::Pa => b.relations.push(implied(
+                    RelationKind::Parallel,
+                    DirectionItem::Joint(j),
+                    DirectionItem::Frame(2),
+                )),
+                JointKind::P => b.relations.push(implied(
+                    RelationKind::Perpendicular,
+                    DirectionItem::Joint(j),
+                    DirectionItem::Frame(2),
+                )),
                 _ => b.errors.push(
-                    Diagnostic::new(joint.span, format!("joint `{}` ({}) cannot move in a plane", joint.name, joint.kind.symbol()))
-                        .label("planar mechanisms have R, P and Pa joints only"),
+                    Diagnostic::new(
+                        joint.span,
+                        format!(
+                            "joint `{}` ({}) cannot move in a plane",
+                            joint.name,
+                            joint.kind.symbol()
+                        ),
+                    )
+                    .label("planar mechanisms have R, P and Pa joints only"),
                 ),
             }
         }
@@ -533,8 +621,15 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
                     let joint = &b.joints[j];
                     if !joint.kind.has_axis_line() {
                         b.errors.push(
-                            Diagnostic::new(r.span.unwrap_or(joint.span), format!("joint `{}` ({}) has no axis line to share", joint.name, joint.kind.symbol()))
-                                .label("coaxial joints must be R, H, C or U"),
+                            Diagnostic::new(
+                                r.span.unwrap_or(joint.span),
+                                format!(
+                                    "joint `{}` ({}) has no axis line to share",
+                                    joint.name,
+                                    joint.kind.symbol()
+                                ),
+                            )
+                            .label("coaxial joints must be R, H, C or U"),
                         );
                     }
                 }
@@ -558,7 +653,8 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         Some(n) => match b.link_by_name.get(&n.text) {
             Some(&i) => Some(i),
             None => {
-                b.errors.push(Diagnostic::new(n.span, format!("unknown link `{}`", n.text)).label("no joint touches it"));
+                b.errors
+                    .push(Diagnostic::new(n.span, format!("unknown link `{}`", n.text)).label("no joint touches it"));
                 None
             }
         },
@@ -566,7 +662,8 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     };
     if platform == Some(0) {
         if let Some(n) = &ast.platform {
-            b.errors.push(Diagnostic::new(n.span, "the platform cannot be the base").label("the base"));
+            b.errors
+                .push(Diagnostic::new(n.span, "the platform cannot be the base").label("the base"));
         }
     }
 
@@ -582,34 +679,48 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         for br in &branches {
             if !connected(&b.joints, &br.joints, 0, p) {
                 b.errors.push(
-                    Diagnostic::new(br.span, format!("branch `{}` never reaches the platform `{}`", br.name, b.links[p].name))
-                        .label("a branch must connect the base to the platform"),
+                    Diagnostic::new(
+                        br.span,
+                        format!("branch `{}` never reaches the platform `{}`", br.name, b.links[p].name),
+                    )
+                    .label("a branch must connect the base to the platform"),
                 );
             }
         }
     }
 
-    let base_point = ast.point.as_ref().and_then(|(_, jn)| match b.joint_by_name.get(&jn.text) {
-        Some(&j) => {
-            let joint = &b.joints[j];
-            if platform.is_some_and(|p| !joint.links.contains(&p)) {
-                b.errors.push(
-                    Diagnostic::new(jn.span, format!("joint `{}` does not touch the platform", jn.text))
-                        .label("the base point must lie on a platform joint"),
-                );
-            } else if matches!(joint.kind, JointKind::P | JointKind::Pa) {
-                b.errors.push(
-                    Diagnostic::new(jn.span, format!("joint `{}` ({}) has no axis line for the base point", jn.text, joint.kind.symbol()))
+    let base_point = ast
+        .point
+        .as_ref()
+        .and_then(|(_, jn)| match b.joint_by_name.get(&jn.text) {
+            Some(&j) => {
+                let joint = &b.joints[j];
+                if platform.is_some_and(|p| !joint.links.contains(&p)) {
+                    b.errors.push(
+                        Diagnostic::new(jn.span, format!("joint `{}` does not touch the platform", jn.text))
+                            .label("the base point must lie on a platform joint"),
+                    );
+                } else if matches!(joint.kind, JointKind::P | JointKind::Pa) {
+                    b.errors.push(
+                        Diagnostic::new(
+                            jn.span,
+                            format!(
+                                "joint `{}` ({}) has no axis line for the base point",
+                                jn.text,
+                                joint.kind.symbol()
+                            ),
+                        )
                         .label("needs R, H, C, U or S"),
-                );
+                    );
+                }
+                Some(j)
             }
-            Some(j)
-        }
-        None => {
-            b.errors.push(Diagnostic::new(jn.span, format!("unknown joint `{}`", jn.text)).label("not declared"));
-            None
-        }
-    });
+            None => {
+                b.errors
+                    .push(Diagnostic::new(jn.span, format!("unknown joint `{}`", jn.text)).label("not declared"));
+                None
+            }
+        });
 
     // Every link must hang in the mechanism: reached from the base, held by two joints.
     if b.errors.is_empty() {
@@ -619,30 +730,44 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
             let span = link.span.unwrap_or_default();
             if !connected(&b.joints, &all, 0, i) {
                 b.errors.push(
-                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name)).label("unreachable link"),
+                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name))
+                        .label("unreachable link"),
                 );
             } else if degree < 2 {
                 let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
                     .label("dangling link")
                     .note("every link of a parallel mechanism lies on a loop");
-                if let Some(s) = suggest(&link.name, b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name)) {
+                if let Some(s) = suggest(
+                    &link.name,
+                    b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name),
+                ) {
                     d = d.note(format!("did you mean `{s}`?"));
                 }
                 b.errors.push(d);
             }
         }
         if b.joints.is_empty() {
-            b.errors.push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
+            b.errors
+                .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
         }
         if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
             b.errors.push(
-                Diagnostic::new(ast.name.span, format!("the mechanism has more than {MAX_JOINTS} joints or links"))
-                    .label("too large"),
+                Diagnostic::new(
+                    ast.name.span,
+                    format!("the mechanism has more than {MAX_JOINTS} joints or links"),
+                )
+                .label("too large"),
             );
         }
     }
 
-    let Builder { errors, links, joints, relations, .. } = b;
+    let Builder {
+        errors,
+        links,
+        joints,
+        relations,
+        ..
+    } = b;
     errors.into_result(Mechanism {
         name: ast.name.text.clone(),
         title: ast.title.clone(),
@@ -698,7 +823,10 @@ impl DirectionClasses {
                 items.push(DirectionItem::USecond(j));
             }
         }
-        let mut c = DirectionClasses { parent: (0..items.len()).collect(), items };
+        let mut c = DirectionClasses {
+            parent: (0..items.len()).collect(),
+            items,
+        };
         for r in relations {
             if r.kind != RelationKind::Perpendicular {
                 if let (Some(a), Some(b)) = (c.index(r.a), c.index(r.b)) {
@@ -746,7 +874,11 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
             continue;
         }
         if classes.class_of(r.a).is_some() && classes.class_of(r.a) == classes.class_of(r.b) {
-            let msg = format!("`{} ⊥ {}` contradicts the other relations, which make them parallel", item_name(r.a), item_name(r.b));
+            let msg = format!(
+                "`{} ⊥ {}` contradicts the other relations, which make them parallel",
+                item_name(r.a),
+                item_name(r.b)
+            );
             let d = match r.span {
                 Some(s) => Diagnostic::new(s, msg).label("contradictory relation"),
                 None => {

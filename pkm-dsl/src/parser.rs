@@ -51,7 +51,10 @@ fn grammar_error(source: &str, e: pest::error::Error<Rule>) -> Diagnostic {
 }
 
 fn next_char_end(source: &str, p: usize) -> usize {
-    source.get(p..).and_then(|s| s.chars().next()).map_or(p, |c| p + c.len_utf8())
+    source
+        .get(p..)
+        .and_then(|s| s.chars().next())
+        .map_or(p, |c| p + c.len_utf8())
 }
 
 fn join_or(items: &[&str]) -> String {
@@ -103,11 +106,17 @@ fn span_of(p: &Pair<Rule>) -> Span {
 }
 
 fn name(p: Pair<Rule>) -> Name {
-    Name { text: p.as_str().to_string(), span: span_of(&p) }
+    Name {
+        text: p.as_str().to_string(),
+        span: span_of(&p),
+    }
 }
 
 fn string_text(p: Pair<Rule>) -> String {
-    p.into_inner().next().map(|t| t.as_str().to_string()).unwrap_or_default()
+    p.into_inner()
+        .next()
+        .map(|t| t.as_str().to_string())
+        .unwrap_or_default()
 }
 
 fn relation_kind(p: &Pair<Rule>) -> Option<RelationKind> {
@@ -143,7 +152,8 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 ast.title = Some(string_text(s));
             }
             Rule::capabilities_stmt => {
-                ast.capabilities.extend(stmt.into_inner().filter(|p| p.as_rule() == Rule::ident).map(name));
+                ast.capabilities
+                    .extend(stmt.into_inner().filter(|p| p.as_rule() == Rule::ident).map(name));
             }
             Rule::planar_stmt => ast.planar = Some(span_of(&stmt)),
             Rule::link_stmt => {
@@ -168,7 +178,13 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                         _ => {}
                     }
                 }
-                ast.joints.push(JointDecl { name: jname, kind, links, actuated, span });
+                ast.joints.push(JointDecl {
+                    name: jname,
+                    kind,
+                    links,
+                    actuated,
+                    span,
+                });
             }
             Rule::branch_stmt => {
                 let mut it = stmt.into_inner().skip(1);
@@ -217,7 +233,10 @@ fn chain(p: Pair<Rule>, branch: Option<usize>) -> Chain {
             Rule::joint => {
                 let mut it = q.into_inner();
                 let n = name(it.next().expect("joint name"));
-                joints.push(ChainJoint { name: n, actuated: it.next().is_some() });
+                joints.push(ChainJoint {
+                    name: n,
+                    actuated: it.next().is_some(),
+                });
             }
             Rule::connector => {
                 let mut label = None;
@@ -236,7 +255,14 @@ fn chain(p: Pair<Rule>, branch: Option<usize>) -> Chain {
     let mut names = names.into_iter();
     let start = names.next().expect("chain start");
     let end = names.next().expect("chain end");
-    Chain { branch, start, joints, connectors, end, span }
+    Chain {
+        branch,
+        start,
+        joints,
+        connectors,
+        end,
+        span,
+    }
 }
 
 #[cfg(test)]
@@ -252,14 +278,25 @@ mod tests {
     fn ascii_and_unicode_symbols_parse_alike() {
         let u = parse("mechanism m { base P1* ⊥ R11 ∥ R12 - R13 base; x ∥ P1; R3 ≡ R12; }").unwrap();
         let a = parse("mechanism m { base P1* _|_ R11 || R12 - R13 base; x || P1; R3 == R12; }").unwrap();
-        assert_eq!(u.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>(), vec![
-            Some(RelationKind::Perpendicular),
-            Some(RelationKind::Parallel),
-            None
-        ]);
         assert_eq!(
-            u.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>(),
-            a.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect::<Vec<_>>()
+            u.chains[0]
+                .connectors
+                .iter()
+                .map(|c| c.relation.map(|r| r.0))
+                .collect::<Vec<_>>(),
+            vec![Some(RelationKind::Perpendicular), Some(RelationKind::Parallel), None]
+        );
+        assert_eq!(
+            u.chains[0]
+                .connectors
+                .iter()
+                .map(|c| c.relation.map(|r| r.0))
+                .collect::<Vec<_>>(),
+            a.chains[0]
+                .connectors
+                .iter()
+                .map(|c| c.relation.map(|r| r.0))
+                .collect::<Vec<_>>()
         );
         assert_eq!(u.relations[1].ops[0].0, RelationKind::Coaxial);
         assert_eq!(a.relations[1].ops[0].0, RelationKind::Coaxial);
@@ -267,7 +304,8 @@ mod tests {
 
     #[test]
     fn labels_name_the_links_between_joints() {
-        let m = parse("mechanism m { base P1 ⊥ R11 [c1] ∥ R12 [c2] ∥ R13 ⊥ P2 base; c2 - R3 ⊥ R4 - platform; }").unwrap();
+        let m =
+            parse("mechanism m { base P1 ⊥ R11 [c1] ∥ R12 [c2] ∥ R13 ⊥ P2 base; c2 - R3 ⊥ R4 - platform; }").unwrap();
         assert_eq!(m.chains[0].connectors[1].label.as_ref().unwrap().text, "c1");
         assert_eq!(m.chains[1].start.text, "c2");
         assert_eq!(m.chains[1].end.text, "platform");

@@ -22,7 +22,11 @@ impl Analysis {
 
     /// The platform's POC set in Unicode, or an empty string without a platform.
     pub fn platform_poc(&self) -> String {
-        self.topology.platform_poc.as_ref().map(|p| p.unicode()).unwrap_or_default()
+        self.topology
+            .platform_poc
+            .as_ref()
+            .map(|p| p.unicode())
+            .unwrap_or_default()
     }
 
     /// The human-readable report.
@@ -45,7 +49,13 @@ impl Analysis {
         let _ = writeln!(s, "\nPOC sets");
         for (j, joint) in m.joints.iter().enumerate() {
             let mark = if joint.actuated { "*" } else { "" };
-            let _ = writeln!(s, "  {:<8} {:<3} {}", format!("{}{mark}", joint.name), joint.kind.symbol(), t.joint_poc[j]);
+            let _ = writeln!(
+                s,
+                "  {:<8} {:<3} {}",
+                format!("{}{mark}", joint.name),
+                joint.kind.symbol(),
+                t.joint_poc[j]
+            );
         }
         for (b, br) in m.branches.iter().enumerate() {
             if let Some(p) = t.branch_poc.get(b) {
@@ -53,7 +63,10 @@ impl Analysis {
             }
         }
         if let Some(p) = &t.platform_poc {
-            let o = t.base_point.map(|j| format!(", o on {}", m.joints[j].name)).unwrap_or_default();
+            let o = t
+                .base_point
+                .map(|j| format!(", o on {}", m.joints[j].name))
+                .unwrap_or_default();
             let _ = writeln!(s, "  platform     M_Pa = {p}  (dim {}{o})", p.dim);
         }
         let _ = writeln!(s, "\nordered single open chains");
@@ -87,7 +100,10 @@ impl Analysis {
         let _ = writeln!(s, "κ = {}", t.kappa);
         let _ = writeln!(s, "\n{}", t.expression);
         if !t.decoupling.is_empty() {
-            let _ = writeln!(s, "\nmotion decoupling (outputs of the base point o and the platform's rotation)");
+            let _ = writeln!(
+                s,
+                "\nmotion decoupling (outputs of the base point o and the platform's rotation)"
+            );
             for d in &t.decoupling {
                 let _ = writeln!(s, "  {:<3} ← {}", d.output, self.names(&d.inputs).join(", "));
             }
@@ -95,7 +111,11 @@ impl Analysis {
         let _ = writeln!(
             s,
             "\ncross-check: ξ_L by the POC formula ({}) = ξ_L by the loop-closure rank ({})",
-            t.xi_by_poc_formula.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", "),
+            t.xi_by_poc_formula
+                .iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
             t.xi().iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
         );
         s

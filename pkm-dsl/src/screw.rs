@@ -89,7 +89,13 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         let mut basis: Vec<Vector3<f64>> = Vec::new();
         let mut last_span = None;
         for &(a, b, span) in &perp {
-            let other = if a == root { b } else if b == root { a } else { continue };
+            let other = if a == root {
+                b
+            } else if b == root {
+                a
+            } else {
+                continue;
+            };
             if let Some(d) = class_dir[other] {
                 last_span = span.or(last_span);
                 let mut u = d;
@@ -121,8 +127,9 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         }
         class_dir[root] = Some(dir.unwrap_or_else(|| basis[0].cross(&basis[basis.len() - 1]).normalize()));
     }
-    let directions: Vec<Vector3<f64>> =
-        (0..n_items).map(|i| class_dir[classes.find(i)].unwrap_or_else(Vector3::x)).collect();
+    let directions: Vec<Vector3<f64>> = (0..n_items)
+        .map(|i| class_dir[classes.find(i)].unwrap_or_else(Vector3::x))
+        .collect();
     let dir_of = |item: DirectionItem| classes.index(item).map_or_else(Vector3::x, |i| directions[i]);
 
     // Coaxial joints share one axis line.
@@ -135,7 +142,9 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         i
     }
     for r in &mech.relations {
-        if let (crate::ast::RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) = (r.kind, r.a, r.b) {
+        if let (crate::ast::RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) =
+            (r.kind, r.a, r.b)
+        {
             let (ra, rb) = (root(&coaxial_root, a), root(&coaxial_root, b));
             coaxial_root[ra.max(rb)] = ra.min(rb);
         }
@@ -143,14 +152,22 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
     let raw_points: Vec<Vector3<f64>> = (0..n).map(|_| rng.vector()).collect();
     let points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();
 
-    let frame = [dir_of(DirectionItem::Frame(0)), dir_of(DirectionItem::Frame(1)), dir_of(DirectionItem::Frame(2))];
+    let frame = [
+        dir_of(DirectionItem::Frame(0)),
+        dir_of(DirectionItem::Frame(1)),
+        dir_of(DirectionItem::Frame(2)),
+    ];
     let twists = mech
         .joints
         .iter()
         .enumerate()
         .map(|(j, joint)| {
             let p = points[j];
-            let d = if joint.kind.has_direction() { dir_of(DirectionItem::Joint(j)) } else { Vector3::x() };
+            let d = if joint.kind.has_direction() {
+                dir_of(DirectionItem::Joint(j))
+            } else {
+                Vector3::x()
+            };
             match joint.kind {
                 JointKind::R => vec![rotation_about(d, p)],
                 JointKind::P => vec![twist(Vector3::zeros(), d)],
@@ -159,7 +176,10 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
                     vec![twist(d, p.cross(&d) + d * pitch)]
                 }
                 JointKind::C => vec![rotation_about(d, p), twist(Vector3::zeros(), d)],
-                JointKind::U => vec![rotation_about(d, p), rotation_about(dir_of(DirectionItem::USecond(j)), p)],
+                JointKind::U => vec![
+                    rotation_about(d, p),
+                    rotation_about(dir_of(DirectionItem::USecond(j)), p),
+                ],
                 JointKind::S => vec![
                     rotation_about(Vector3::x(), p),
                     rotation_about(Vector3::y(), p),
@@ -175,7 +195,12 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
             }
         })
         .collect();
-    Ok(Instance { directions, points, twists, frame })
+    Ok(Instance {
+        directions,
+        points,
+        twists,
+        frame,
+    })
 }
 
 /// The rank of a matrix, with [`RANK_TOLERANCE`] relative to its largest singular value.
@@ -204,8 +229,9 @@ pub fn null_space(m: &DMatrix<f64>) -> DMatrix<f64> {
     let svd = a.svd(false, true);
     let v_t = svd.v_t.expect("requested V");
     let max = svd.singular_values.iter().cloned().fold(0.0, f64::max);
-    let null: Vec<usize> =
-        (0..svd.singular_values.len()).filter(|&i| svd.singular_values[i] <= RANK_TOLERANCE * max.max(1e-300)).collect();
+    let null: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&i| svd.singular_values[i] <= RANK_TOLERANCE * max.max(1e-300))
+        .collect();
     let mut n = DMatrix::zeros(cols, null.len());
     for (k, &i) in null.iter().enumerate() {
         n.set_column(k, &v_t.row(i).transpose());
@@ -268,7 +294,12 @@ impl VelocitySystem {
                 }
             }
         }
-        VelocitySystem { link_col, joint_col, matrix, total_f }
+        VelocitySystem {
+            link_col,
+            joint_col,
+            matrix,
+            total_f,
+        }
     }
 
     /// The rank of the loop-closure equations: Σf − (mobility).
@@ -329,13 +360,17 @@ pub fn at_point(twists: &DMatrix<f64>, o: &Vector3<f64>) -> (DMatrix<f64>, DMatr
 /// Gram–Schmidt with column pivoting. (nalgebra's SVD gave an inaccurate U
 /// for rank-deficient 3 × 3 input when V was not requested; this is simpler.)
 pub fn column_basis(m: &DMatrix<f64>) -> Vec<Vector3<f64>> {
-    let mut cols: Vec<Vector3<f64>> =
-        (0..m.ncols()).map(|c| Vector3::new(m[(0, c)], m[(1, c)], m[(2, c)])).collect();
+    let mut cols: Vec<Vector3<f64>> = (0..m.ncols())
+        .map(|c| Vector3::new(m[(0, c)], m[(1, c)], m[(2, c)]))
+        .collect();
     let scale = cols.iter().map(|c| c.norm()).fold(0.0, f64::max);
     let mut basis: Vec<Vector3<f64>> = Vec::new();
     while basis.len() < 3 {
-        let Some((i, norm)) =
-            cols.iter().enumerate().map(|(i, c)| (i, c.norm())).max_by(|a, b| a.1.total_cmp(&b.1))
+        let Some((i, norm)) = cols
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (i, c.norm()))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
         else {
             break;
         };
@@ -373,7 +408,11 @@ mod tests {
     #[test]
     fn column_basis_of_a_rank_one_matrix_is_its_direction() {
         let d = Vector3::new(-0.8026259498904428, 0.5924484177016449, -0.06925645764318233);
-        let m = DMatrix::from_iterator(3, 3, [d * 0.26, d * 0.11, d * -0.09].iter().flat_map(|c| c.iter().copied()));
+        let m = DMatrix::from_iterator(
+            3,
+            3,
+            [d * 0.26, d * 0.11, d * -0.09].iter().flat_map(|c| c.iter().copied()),
+        );
         let b = column_basis(&m);
         assert_eq!(b.len(), 1);
         assert!(b[0].cross(&d).norm() < 1e-15);

@@ -45,7 +45,12 @@ const SUPERSCRIPT: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '
 const SUBSCRIPT: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
 
 fn script(n: i64, digits: &[char; 10]) -> String {
-    let s: String = n.abs().to_string().chars().map(|c| digits[c.to_digit(10).unwrap_or(0) as usize]).collect();
+    let s: String = n
+        .abs()
+        .to_string()
+        .chars()
+        .map(|c| digits[c.to_digit(10).unwrap_or(0) as usize])
+        .collect();
     if n < 0 {
         format!("⁻{s}")
     } else {
@@ -84,7 +89,11 @@ impl PocSet {
             Some(d) if n > 0 && n < 3 => format!("{letter}{}({d})", sup(n)),
             _ => format!("{letter}{}", sup(n)),
         };
-        format!("[{}; {}]", part("t", self.t, &self.t_dir), part("r", self.r, &self.r_dir))
+        format!(
+            "[{}; {}]",
+            part("t", self.t, &self.t_dir),
+            part("r", self.r, &self.r_dir)
+        )
     }
 
     /// The same in ASCII, e.g. `[t^2(||<>xoz); r^1(||R6)]`.
@@ -254,11 +263,16 @@ impl Context<'_> {
     }
 
     fn f_of(&self, mask: u64) -> usize {
-        (0..self.mech.joints.len()).filter(|j| mask >> j & 1 == 1).map(|j| self.mech.joints[j].kind.dof()).sum()
+        (0..self.mech.joints.len())
+            .filter(|j| mask >> j & 1 == 1)
+            .map(|j| self.mech.joints[j].kind.dof())
+            .sum()
     }
 
     fn actuators_of(&self, mask: u64) -> usize {
-        (0..self.mech.joints.len()).filter(|j| mask >> j & 1 == 1 && self.mech.joints[*j].actuated).count()
+        (0..self.mech.joints.len())
+            .filter(|j| mask >> j & 1 == 1 && self.mech.joints[*j].actuated)
+            .count()
     }
 
     /// The generic rank of the loop equations of the joints in `mask`.
@@ -267,7 +281,12 @@ impl Context<'_> {
             return r;
         }
         self.evaluations += 1;
-        let r = self.primary.iter().map(|inst| VelocitySystem::new(self.mech, inst, mask).loop_rank()).max().unwrap_or(0);
+        let r = self
+            .primary
+            .iter()
+            .map(|inst| VelocitySystem::new(self.mech, inst, mask).loop_rank())
+            .max()
+            .unwrap_or(0);
         self.rank_memo.insert(mask, r);
         r
     }
@@ -375,7 +394,10 @@ fn relation_symbol(ctx: &Context, a: usize, b: usize) -> &'static str {
     if !ka.has_direction() || !kb.has_direction() {
         return "-";
     }
-    let (ca, cb) = (ctx.classes.class_of(DirectionItem::Joint(a)), ctx.classes.class_of(DirectionItem::Joint(b)));
+    let (ca, cb) = (
+        ctx.classes.class_of(DirectionItem::Joint(a)),
+        ctx.classes.class_of(DirectionItem::Joint(b)),
+    );
     if ca == cb {
         return "∥";
     }
@@ -422,12 +444,27 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
 
     let actuators = mech.actuator_count();
     if actuators != dof {
-        let names: Vec<&str> = mech.joints.iter().filter(|j| j.actuated).map(|j| j.name.as_str()).collect();
+        let names: Vec<&str> = mech
+            .joints
+            .iter()
+            .filter(|j| j.actuated)
+            .map(|j| j.name.as_str())
+            .collect();
         let mut d = Diagnostic::new(
-            mech.joints.iter().find(|j| j.actuated).map_or_else(|| mech.joints[0].span, |j| j.span),
-            format!("the mechanism has {dof} DOF but {actuators} actuated joint{}", if actuators == 1 { "" } else { "s" }),
+            mech.joints
+                .iter()
+                .find(|j| j.actuated)
+                .map_or_else(|| mech.joints[0].span, |j| j.span),
+            format!(
+                "the mechanism has {dof} DOF but {actuators} actuated joint{}",
+                if actuators == 1 { "" } else { "s" }
+            ),
         )
-        .label(if actuators == 0 { "no joint is marked `*`" } else { "actuated here" })
+        .label(if actuators == 0 {
+            "no joint is marked `*`"
+        } else {
+            "actuated here"
+        })
         .note(format!("F = Σf − Σξ_L = {total_f} − {total_rank} = {dof}"));
         if !names.is_empty() {
             d = d.note(format!("actuated: {}", names.join(", ")));
@@ -436,7 +473,13 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         return Err(d.into());
     }
 
-    let mut search = Search { ctx: &mut ctx, all, best: HashMap::new(), choices: HashMap::new(), exhausted: false };
+    let mut search = Search {
+        ctx: &mut ctx,
+        all,
+        best: HashMap::new(),
+        choices: HashMap::new(),
+        exhausted: false,
+    };
     let found = search.solve(0);
     let exhausted = search.exhausted;
     let Search { best, choices, .. } = search;
@@ -446,7 +489,9 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         } else {
             "no ordering of single open chains keeps every running Σ Δ non-negative: the actuators cannot drive this mechanism".to_string()
         };
-        return Err(Diagnostic::new(mech.joints[0].span, msg).label("actuator choice").into());
+        return Err(Diagnostic::new(mech.joints[0].span, msg)
+            .label("actuator choice")
+            .into());
     }
 
     // Rebuild the chosen order.
@@ -484,8 +529,16 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     for (j, soc) in socs.iter().enumerate() {
         run += soc.delta;
         if run == 0 {
-            let kappa = socs[start..=j].iter().map(|s| s.delta.unsigned_abs() as usize).sum::<usize>() / 2;
-            skcs.push(Skc { socs: start..j + 1, kappa, kind: None });
+            let kappa = socs[start..=j]
+                .iter()
+                .map(|s| s.delta.unsigned_abs() as usize)
+                .sum::<usize>()
+                / 2;
+            skcs.push(Skc {
+                socs: start..j + 1,
+                kappa,
+                kind: None,
+            });
             start = j + 1;
         }
     }
@@ -498,17 +551,26 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     for (j, (soc, x)) in socs.iter().zip(&xi_by_poc_formula).enumerate() {
         if soc.xi != *x {
             errors.push(
-                Diagnostic::new(mech.joints[soc.joints[0]].span, format!(
-                    "analysis error: ξ_L{} of SOC {} is {} by the loop-closure rank but {} by the POC formula",
-                    j + 1, soc.notation, soc.xi, x
-                ))
+                Diagnostic::new(
+                    mech.joints[soc.joints[0]].span,
+                    format!(
+                        "analysis error: ξ_L{} of SOC {} is {} by the loop-closure rank but {} by the POC formula",
+                        j + 1,
+                        soc.notation,
+                        soc.xi,
+                        x
+                    ),
+                )
                 .label("in this chain")
                 .note("the two computations use independent generic configurations; please report this mechanism"),
             );
         }
     }
     if errors.is_empty() && dof_check != dof as i64 {
-        errors.push(Diagnostic::new(mech.joints[0].span, format!("analysis error: F is {dof} by rank but {dof_check} by Σf − Σξ")));
+        errors.push(Diagnostic::new(
+            mech.joints[0].span,
+            format!("analysis error: F is {dof} by rank but {dof_check} by Σf − Σξ"),
+        ));
     }
     if !errors.is_empty() {
         return Err(errors);
@@ -516,7 +578,12 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
 
     let inst = &ctx.primary[0];
     let labeller = Labeller::new(&ctx, mech.platform, None);
-    let joint_poc = mech.joints.iter().enumerate().map(|(j, _)| joint_poc(mech, j)).collect();
+    let joint_poc = mech
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, _)| joint_poc(mech, j))
+        .collect();
 
     let mut platform_poc = None;
     let mut base_point = None;
@@ -529,7 +596,9 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         let candidates: Vec<usize> = match mech.base_point {
             Some(j) => vec![j],
             None => (0..n)
-                .filter(|&j| mech.joints[j].links.contains(&p) && !matches!(mech.joints[j].kind, JointKind::P | JointKind::Pa))
+                .filter(|&j| {
+                    mech.joints[j].links.contains(&p) && !matches!(mech.joints[j].kind, JointKind::P | JointKind::Pa)
+                })
                 .collect(),
         };
         let mut best: Option<(usize, PocSet)> = None;
@@ -580,7 +649,15 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
     };
     let primary = realize(&PRIMARY_SEEDS)?;
     let check = realize(&CHECK_SEEDS)?;
-    Ok(Context { mech, incidence: mech.incidence(), classes, primary, check, rank_memo: HashMap::new(), evaluations: 0 })
+    Ok(Context {
+        mech,
+        incidence: mech.incidence(),
+        classes,
+        primary,
+        check,
+        rank_memo: HashMap::new(),
+        evaluations: 0,
+    })
 }
 
 /// ξ_Lj and Δ_j of a given ordering of SOCs (each a list of joint names), for
@@ -592,7 +669,9 @@ pub fn evaluate_order(mech: &Mechanism, order: &[&[&str]]) -> Result<Vec<(usize,
     for soc in order {
         let mut mask = 0u64;
         for name in *soc {
-            let j = mech.joint_index(name).ok_or_else(|| Diagnostic::global(format!("unknown joint `{name}`")))?;
+            let j = mech
+                .joint_index(name)
+                .ok_or_else(|| Diagnostic::global(format!("unknown joint `{name}`")))?;
             mask |= 1 << j;
         }
         let xi = ctx.loop_rank(used | mask) - ctx.loop_rank(used);
@@ -641,7 +720,13 @@ fn joint_poc(mech: &Mechanism, j: usize) -> PocSet {
         JointKind::S => (0, None, 3, None, 3),
         JointKind::Pa => (1, Some(format!("∥◇{name}")), 0, None, 1),
     };
-    PocSet { t, t_dir, r, r_dir, dim }
+    PocSet {
+        t,
+        t_dir,
+        r,
+        r_dir,
+        dim,
+    }
 }
 
 /// Names the directions of twist subspaces in the theory's words.
@@ -682,7 +767,10 @@ impl<'a> Labeller<'a> {
 
     fn dir(&self, item: DirectionItem) -> Vector3<f64> {
         let inst = &self.ctx.primary[0];
-        self.ctx.classes.index(item).map_or_else(Vector3::zeros, |i| inst.directions[i])
+        self.ctx
+            .classes
+            .index(item)
+            .map_or_else(Vector3::zeros, |i| inst.directions[i])
     }
 
     fn poc(&self, twists: &DMatrix<f64>, o: &Vector3<f64>) -> PocSet {
@@ -715,8 +803,12 @@ impl<'a> Labeller<'a> {
         if rotation {
             [joints(&|k| k.is_rotational()), frame, joints(&|k| !k.is_rotational())].concat()
         } else {
-            [frame, joints(&|k| matches!(k, JointKind::P | JointKind::C | JointKind::H)), joints(&|k| k.is_rotational())]
-                .concat()
+            [
+                frame,
+                joints(&|k| matches!(k, JointKind::P | JointKind::C | JointKind::H)),
+                joints(&|k| k.is_rotational()),
+            ]
+            .concat()
         }
     }
 
@@ -725,15 +817,20 @@ impl<'a> Labeller<'a> {
         let names = self.names(rotation);
         let mech = self.ctx.mech;
         match basis.len() {
-            1 => names.iter().find(|(_, d)| d.cross(&basis[0]).norm() < TOL).map(|(n, _)| format!("∥{n}")),
+            1 => names
+                .iter()
+                .find(|(_, d)| d.cross(&basis[0]).norm() < TOL)
+                .map(|(n, _)| format!("∥{n}")),
             2 => {
                 let normal = basis[0].cross(&basis[1]).normalize();
                 let frame_plane = (0..3)
                     .filter(|&k| mech.frame_declared.iter().filter(|d| **d).count() >= 2 || mech.frame_declared[k])
                     .find(|&k| self.dir(DirectionItem::Frame(k)).cross(&normal).norm() < TOL)
                     .map(|k| format!("∥◇{}", FRAME_PLANES[k]));
-                let in_plane: Vec<&(String, Vector3<f64>)> =
-                    names.iter().filter(|(_, d)| d.norm() > 0.5 && d.dot(&normal).abs() < TOL).collect();
+                let in_plane: Vec<&(String, Vector3<f64>)> = names
+                    .iter()
+                    .filter(|(_, d)| d.norm() > 0.5 && d.dot(&normal).abs() < TOL)
+                    .collect();
                 let pair = in_plane.first().and_then(|a| {
                     in_plane.iter().find(|b| b.1.cross(&a.1).norm() > 1e-3).map(|b| {
                         let (i, k) = (self.order_of(&a.0), self.order_of(&b.0));
@@ -786,7 +883,9 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
             let c = sys.joint_col[j].expect("joint in system");
             input.set_row(r, &kernel.row(c));
         }
-        let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else { continue };
+        let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else {
+            continue;
+        };
         if screw::rank(&input) < actuated.len() {
             continue; // an input singularity here: use the other configurations
         }
@@ -811,7 +910,12 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
         .filter(|&r| moves[r])
         .map(|r| Dependence {
             output: names[r].to_string(),
-            inputs: actuated.iter().enumerate().filter(|(c, _)| depends[r][*c]).map(|(_, &j)| j).collect(),
+            inputs: actuated
+                .iter()
+                .enumerate()
+                .filter(|(c, _)| depends[r][*c])
+                .map(|(_, &j)| j)
+                .collect(),
         })
         .collect()
 }
@@ -823,7 +927,10 @@ fn skc_kind(mech: &Mechanism, socs: &[Soc], branch_poc: &[PocSet]) -> Option<Str
     let joints: Vec<usize> = socs.iter().flat_map(|s| s.joints.iter().copied()).collect();
     // The branch that holds the SKC's actuators (ties: the one with more of its joints).
     let score = |b: usize| {
-        let act = joints.iter().filter(|&&j| mech.joints[j].actuated && mech.joints[j].branch == Some(b)).count();
+        let act = joints
+            .iter()
+            .filter(|&&j| mech.joints[j].actuated && mech.joints[j].branch == Some(b))
+            .count();
         let all = joints.iter().filter(|&&j| mech.joints[j].branch == Some(b)).count();
         (act, all, b)
     };
@@ -841,10 +948,22 @@ fn kind_sup(kind: &str) -> String {
         .collect()
 }
 
-fn expression(mech: &Mechanism, dof: usize, socs: &[Soc], skcs: &[Skc], kappa: usize, platform: Option<&PocSet>) -> String {
+fn expression(
+    mech: &Mechanism,
+    dof: usize,
+    socs: &[Soc],
+    skcs: &[Skc],
+    kappa: usize,
+    platform: Option<&PocSet>,
+) -> String {
     let pm_kind = platform.map(|p| kind_sup(&p.kind())).unwrap_or_default();
     let per_soc: Vec<String> = socs.iter().map(|s| s.dof.to_string()).collect();
-    let mut s = format!("{pm_kind}PM{}[{dof}, {}({})]", sup(kappa), socs.len(), per_soc.join(", "));
+    let mut s = format!(
+        "{pm_kind}PM{}[{dof}, {}({})]",
+        sup(kappa),
+        socs.len(),
+        per_soc.join(", ")
+    );
     let bracket = |skc: &Skc| {
         let d: Vec<String> = socs[skc.socs.clone()].iter().map(|s| signed(s.delta)).collect();
         let x: Vec<String> = socs[skc.socs.clone()].iter().map(|s| s.xi.to_string()).collect();
@@ -854,12 +973,26 @@ fn expression(mech: &Mechanism, dof: usize, socs: &[Soc], skcs: &[Skc], kappa: u
         .iter()
         .enumerate()
         .map(|(k, skc)| {
-            format!("{}SKC{}{}[{}]", skc.kind.as_deref().map(kind_sup).unwrap_or_default(), sub(k + 1), sup(skc.kappa), bracket(skc))
+            format!(
+                "{}SKC{}{}[{}]",
+                skc.kind.as_deref().map(kind_sup).unwrap_or_default(),
+                sub(k + 1),
+                sup(skc.kappa),
+                bracket(skc)
+            )
         })
         .collect();
-    let bkc_terms: Vec<String> =
-        skcs.iter().enumerate().map(|(k, skc)| format!("BKC{}{}({})", sub(k + 1), sup(skc.kappa), bracket(skc))).collect();
-    s.push_str(&format!(" = {} = {}−J_in + {}", skc_terms.join(" + "), mech.actuator_count(), bkc_terms.join(" + ")));
+    let bkc_terms: Vec<String> = skcs
+        .iter()
+        .enumerate()
+        .map(|(k, skc)| format!("BKC{}{}({})", sub(k + 1), sup(skc.kappa), bracket(skc)))
+        .collect();
+    s.push_str(&format!(
+        " = {} = {}−J_in + {}",
+        skc_terms.join(" + "),
+        mech.actuator_count(),
+        bkc_terms.join(" + ")
+    ));
     s
 }
 

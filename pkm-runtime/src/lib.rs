@@ -5,3 +5,6 @@
 
 pub mod primitives;
 pub mod real;
+pub mod topology;
+
+pub use topology::{SkcReport, SocReport, TopologyReport};

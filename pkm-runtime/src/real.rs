@@ -70,6 +70,10 @@ pub trait Real:
     fn atan2(self, x: Self) -> Self;
 
     /// `sqrt(self² + other²)` without undue overflow or underflow.
+    ///
+    /// Norms are built from it, so an automatic-differentiation type must
+    /// give `hypot(0, 0)` a finite derivative (e.g. zero) rather than `0/0`;
+    /// likewise for `abs(0)`.
     fn hypot(self, other: Self) -> Self;
 
     /// Fused multiply-add `self * a + b` with a single rounding.

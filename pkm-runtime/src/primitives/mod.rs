@@ -236,9 +236,7 @@ impl<S: Copy> Roots2<S> {
     /// ```
     pub fn map<U, F: FnMut(S) -> U>(self, mut f: F) -> Roots2<U> {
         match self {
-            Roots2::Two { branches: [p, m] } => Roots2::Two {
-                branches: [f(p), f(m)],
-            },
+            Roots2::Two { branches: [p, m] } => Roots2::Two { branches: [f(p), f(m)] },
             Roots2::Tangent { value } => Roots2::Tangent { value: f(value) },
         }
     }
@@ -281,7 +279,7 @@ pub enum Error<T> {
         /// The violated condition, e.g. `"centre distance <= r1 + r2"`.
         constraint: &'static str,
         /// How far out of reach, in the units documented by the primitive
-        /// (usually a length: the excess distance). Always positive.
+        /// (usually a length: the excess distance). Never negative.
         by: T,
     },
     /// The problem is singular: no isolated solutions exist (e.g. coincident
@@ -344,20 +342,13 @@ pub(crate) fn ensure_finite_roots<S: Copy, T>(
 /// `scale`. Returns `Ok(true)` when it is a tangency (excess within
 /// tolerance), `Ok(false)` when the condition holds strictly, and the
 /// `Unreachable` error otherwise.
-pub(crate) fn classify_excess<T: Real>(
-    excess: T,
-    scale: T,
-    constraint: &'static str,
-) -> Result<bool, Error<T>> {
+pub(crate) fn classify_excess<T: Real>(excess: T, scale: T, constraint: &'static str) -> Result<bool, Error<T>> {
     if excess < T::zero() {
         Ok(false)
     } else if excess <= T::from_f64(TANGENCY_TOL) * scale {
         Ok(true)
     } else {
-        Err(Error::Unreachable {
-            constraint,
-            by: excess,
-        })
+        Err(Error::Unreachable { constraint, by: excess })
     }
 }
 
@@ -365,11 +356,7 @@ pub(crate) fn classify_excess<T: Real>(
 /// `e ≥ 0` from its centre: `±sqrt(r² − e²)`, computed as
 /// `sqrt((r − e)(r + e))` (no cancellation). `Plus` is `+sqrt`; the tangency
 /// scale is `e`.
-pub(crate) fn half_chord<T: Real>(
-    e: T,
-    r: T,
-    constraint: &'static str,
-) -> Result<Roots2<T>, Error<T>> {
+pub(crate) fn half_chord<T: Real>(e: T, r: T, constraint: &'static str) -> Result<Roots2<T>, Error<T>> {
     if classify_excess(e - r, e, constraint)? {
         return Ok(Roots2::Tangent { value: T::zero() });
     }

@@ -3,19 +3,9 @@
 use super::Error;
 use crate::real::Real;
 
-/// `a + b`.
-pub(crate) fn add<T: Real, const N: usize>(a: [T; N], b: [T; N]) -> [T; N] {
-    core::array::from_fn(|i| a[i] + b[i])
-}
-
 /// `a − b`.
 pub(crate) fn sub<T: Real, const N: usize>(a: [T; N], b: [T; N]) -> [T; N] {
     core::array::from_fn(|i| a[i] - b[i])
-}
-
-/// `s · a`.
-pub(crate) fn scale<T: Real, const N: usize>(s: T, a: [T; N]) -> [T; N] {
-    core::array::from_fn(|i| s * a[i])
 }
 
 /// `a + s · b`, one fused operation per component.
@@ -25,7 +15,9 @@ pub(crate) fn axpy<T: Real, const N: usize>(a: [T; N], s: T, b: [T; N]) -> [T; N
 
 /// Dot product, accumulated with fused multiply-adds.
 pub(crate) fn dot<T: Real, const N: usize>(a: [T; N], b: [T; N]) -> T {
-    a.iter().zip(b.iter()).fold(T::zero(), |acc, (&x, &y)| x.mul_add(y, acc))
+    a.iter()
+        .zip(b.iter())
+        .fold(T::zero(), |acc, (&x, &y)| x.mul_add(y, acc))
 }
 
 /// Euclidean norm by repeated `hypot` (no overflow for representable lengths).
@@ -78,7 +70,6 @@ mod tests {
 
     #[test]
     fn helpers() {
-        assert_eq!(add([1.0, 2.0], [3.0, 4.0]), [4.0, 6.0]);
         assert_eq!(sub([1.0, 2.0, 3.0], [1.0, 1.0, 1.0]), [0.0, 1.0, 2.0]);
         assert_eq!(axpy([1.0, 1.0], 2.0, [1.0, -1.0]), [3.0, -1.0]);
         assert_eq!(dot([1.0, 2.0, 3.0], [4.0, 5.0, 6.0]), 32.0);

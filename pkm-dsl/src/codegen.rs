@@ -1,0 +1,269 @@
+//! `pkm::mechanism!` as a library function: parse the macro input, read the
+//! description (inline or from a `.pkm` file), analyse it, check what the
+//! requested capabilities need, and emit the type. Nothing is generated for
+//! a capability that was not requested.
+
+use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::model::Capability;
+use crate::report::Analysis;
+use crate::topology::delta_unicode;
+use proc_macro2::{Span as PmSpan, TokenStream};
+use quote::{format_ident, quote};
+use syn::parse::{Parse, ParseStream};
+use syn::{Attribute, Ident, LitStr, Token, Visibility};
+
+/// Where the description comes from.
+enum Source {
+    Inline(LitStr),
+    File(LitStr),
+}
+
+/// `#[attrs] pub Name, "inline text"` or `#[attrs] pub Name, file = "path.pkm"`.
+struct MacroInput {
+    attrs: Vec<Attribute>,
+    vis: Visibility,
+    ident: Ident,
+    source: Source,
+}
+
+impl Parse for MacroInput {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let vis: Visibility = input.parse()?;
+        let ident: Ident = input.parse()?;
+        input.parse::<Token![,]>()?;
+        let source = if input.peek(LitStr) {
+            Source::Inline(input.parse()?)
+        } else {
+            let key: Ident = input.parse()?;
+            if key != "file" {
+                return Err(syn::Error::new(
+                    key.span(),
+                    "expected a string literal or `file = \"path.pkm\"`",
+                ));
+            }
+            input.parse::<Token![=]>()?;
+            Source::File(input.parse()?)
+        };
+        let _ = input.parse::<Option<Token![,]>>()?;
+        if !input.is_empty() {
+            return Err(input.error("unexpected tokens after the mechanism description"));
+        }
+        Ok(MacroInput {
+            attrs,
+            vis,
+            ident,
+            source,
+        })
+    }
+}
+
+/// Expands `pkm::mechanism!`. Errors carry the DSL's line:column and a caret
+/// picture, at the span of the description's literal.
+///
+/// ```
+/// let tokens: proc_macro2::TokenStream =
+///     r#"pub FourBar, "mechanism four_bar { planar; base R1* ∥ R2 ∥ R3 ∥ R4 base; }""#.parse().unwrap();
+/// let out = pkm_dsl::expand(tokens).unwrap().to_string();
+/// assert!(out.contains("pub const DOF : usize = 1usize"));
+/// ```
+pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
+    let input: MacroInput = syn::parse2(input)?;
+    let (lit, text, file_name, include) = match &input.source {
+        Source::Inline(lit) => (lit, lit.value(), "<inline>".to_string(), None),
+        Source::File(lit) => {
+            let rel = lit.value();
+            let dir = std::env::var("CARGO_MANIFEST_DIR").unwrap_or_else(|_| ".".into());
+            let path = std::path::Path::new(&dir).join(&rel);
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                syn::Error::new(
+                    lit.span(),
+                    format!("cannot read mechanism file `{}`: {e}", path.display()),
+                )
+            })?;
+            (lit, text, rel.clone(), Some(rel))
+        }
+    };
+    let analysis = crate::analyze_source(&text).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
+    let checks = check_capabilities(&analysis);
+    if !checks.is_empty() {
+        return Err(to_syn(&checks, &text, &file_name, lit.span()));
+    }
+    Ok(generate(&input, &analysis, include.as_deref()))
+}
+
+fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
+    // rustc prints its own `error:`; keep the rest of the rendered diagnostic.
+    let mut errors = d.0.iter().map(|d| {
+        let rendered = d.render(text, file);
+        syn::Error::new(span, rendered.strip_prefix("error: ").unwrap_or(&rendered).trim_end())
+    });
+    let mut first = errors
+        .next()
+        .unwrap_or_else(|| syn::Error::new(span, "invalid mechanism"));
+    for e in errors {
+        first.combine(e);
+    }
+    first
+}
+
+/// What the requested capabilities need of the topology.
+pub fn check_capabilities(a: &Analysis) -> Diagnostics {
+    let mut errors = Diagnostics::default();
+    let m = &a.mechanism;
+    let t = &a.topology;
+    for (cap, span) in &m.capabilities {
+        if *cap == Capability::Fk && t.kappa != 0 {
+            let mut d = Diagnostic::new(
+                *span,
+                format!(
+                    "`fk` needs a closed-form forward position solution, but the coupling degree is κ = {}",
+                    t.kappa
+                ),
+            )
+            .label("needs κ = 0");
+            for (k, skc) in t.skcs.iter().enumerate().filter(|(_, s)| s.kappa > 0) {
+                let socs: Vec<String> = skc
+                    .clone()
+                    .socs
+                    .map(|j| format!("SOC{} {{{}}}", j + 1, t.socs[j].notation))
+                    .collect();
+                let deltas: Vec<String> = skc.clone().socs.map(|j| delta_unicode(t.socs[j].delta)).collect();
+                d = d.note(format!(
+                    "SKC{} = {} has Δ = ({}), so κ{} = ½Σ|Δ| = {}: its forward solution needs {} virtual variable{} solved by iteration",
+                    k + 1,
+                    socs.join(" + "),
+                    deltas.join(", "),
+                    k + 1,
+                    skc.kappa,
+                    skc.kappa,
+                    if skc.kappa == 1 { "" } else { "s" }
+                ));
+            }
+            d = d.note("request only `ik` to compile this design, or reduce its coupling degree (for example with compound hinges)");
+            errors.push(d);
+        }
+    }
+    errors
+}
+
+fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStream {
+    let MacroInput { attrs, vis, ident, .. } = input;
+    let m = &a.mechanism;
+    let t = &a.topology;
+    let name = &m.name;
+    let title = m.title.clone().unwrap_or_default();
+    let dof = t.dof;
+    let kappa = t.kappa;
+    let loops = t.loops;
+    let skc_count = t.skcs.len();
+    let xi = t.xi();
+    let delta = t.delta();
+    let socs = t.socs.iter().map(|s| {
+        let (notation, dof, act, xi, delta) = (&s.notation, s.dof, s.actuators, s.xi, s.delta);
+        quote! { ::pkm::runtime::SocReport { notation: #notation, dof: #dof, actuators: #act, xi: #xi, delta: #delta } }
+    });
+    let skcs = t.skcs.iter().map(|s| {
+        let idx: Vec<usize> = s.socs.clone().collect();
+        let k = s.kappa;
+        quote! { ::pkm::runtime::SkcReport { socs: &[#(#idx),*], kappa: #k } }
+    });
+    let actuators: Vec<&str> = m
+        .joints
+        .iter()
+        .filter(|j| j.actuated)
+        .map(|j| j.name.as_str())
+        .collect();
+    let platform_poc = match &t.platform_poc {
+        Some(p) => {
+            let s = p.unicode();
+            quote! { ::core::option::Option::Some(#s) }
+        }
+        None => quote! { ::core::option::Option::None },
+    };
+    let branch_poc = m.branches.iter().zip(&t.branch_poc).map(|(b, p)| {
+        let (n, s) = (&b.name, p.unicode());
+        quote! { (#n, #s) }
+    });
+    let decoupling = t.decoupling.iter().map(|d| {
+        let out = &d.output;
+        let ins = a.names(&d.inputs);
+        quote! { (#out, &[#(#ins),*]) }
+    });
+    let expression = &t.expression;
+    let text = a.report();
+    let platform_doc = t
+        .platform_poc
+        .as_ref()
+        .map(|p| format!(" Platform POC set: `{}`.", p.unicode()))
+        .unwrap_or_default();
+    let default_doc = format!(
+        " The mechanism `{name}`{}: F = {dof}, κ = {kappa}.{platform_doc}",
+        if title.is_empty() {
+            String::new()
+        } else {
+            format!(" ({title})")
+        }
+    );
+    let has_doc = attrs.iter().any(|a| a.path().is_ident("doc"));
+    let doc = if has_doc {
+        quote! {}
+    } else {
+        quote! { #[doc = #default_doc] }
+    };
+    let source_const = include.map(|rel| {
+        let rel = format!("/{rel}");
+        let c = format_ident!("__PKM_SOURCE");
+        quote! {
+            // Ties the build to the file so that edits rebuild.
+            #[doc(hidden)]
+            const #c: &'static str = ::core::include_str!(::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel));
+        }
+    });
+    let kappa_doc = format!(" Coupling degree κ = {kappa}.");
+    let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
+    quote! {
+        #(#attrs)*
+        #doc
+        #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+        #vis struct #ident;
+
+        #[automatically_derived]
+        #[allow(dead_code)]
+        impl #ident {
+            /// The mechanism's name in its description.
+            pub const NAME: &'static str = #name;
+            #[doc = #dof_doc]
+            pub const DOF: usize = #dof;
+            #[doc = #kappa_doc]
+            pub const KAPPA: usize = #kappa;
+            /// ξ_Lj of each single open chain, in the chosen order.
+            pub const XI: &'static [usize] = &[#(#xi),*];
+            /// Δ_j of each single open chain, in the chosen order.
+            pub const DELTA: &'static [i32] = &[#(#delta),*];
+            /// The number of sub-kinematic chains.
+            pub const SKC_COUNT: usize = #skc_count;
+            /// The platform's POC set, if there is a platform.
+            pub const PLATFORM_POC: ::core::option::Option<&'static str> = #platform_poc;
+            /// The whole topology report.
+            pub const REPORT: ::pkm::runtime::TopologyReport = ::pkm::runtime::TopologyReport {
+                name: #name,
+                title: #title,
+                dof: #dof,
+                loops: #loops,
+                kappa: #kappa,
+                xi: &[#(#xi),*],
+                delta: &[#(#delta),*],
+                socs: &[#(#socs),*],
+                skcs: &[#(#skcs),*],
+                actuators: &[#(#actuators),*],
+                platform_poc: #platform_poc,
+                branch_poc: &[#(#branch_poc),*],
+                expression: #expression,
+                decoupling: &[#(#decoupling),*],
+                text: #text,
+            };
+            #source_const
+        }
+    }
+}

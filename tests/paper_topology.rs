@@ -1,0 +1,184 @@
+//! Issue 2 acceptance: the topology of every example mechanism against the
+//! numbers the seed papers print (seed 000 §1.2–1.4, seed 003 §1) and hand
+//! counts for the textbook mechanisms (four-bar, slider-crank, 5R five-bar,
+//! 3-RRR, 3-RPS, 3-SPR, whose ξ, Δ and κ follow from Σf and the loop type).
+
+use pkm::dsl::{analyze_source, Analysis};
+
+fn analysis(file: &str) -> Analysis {
+    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    analyze_source(&text).unwrap_or_else(|e| panic!("{}", e.render(&text, &path)))
+}
+
+/// One row of the issue's acceptance table.
+fn check(file: &str, dof: usize, xi: &[usize], delta: &[i32], kappa: usize, skcs: usize) {
+    let a = analysis(file);
+    let t = &a.topology;
+    assert_eq!(
+        (t.dof, t.xi(), t.delta(), t.kappa, t.skcs.len()),
+        (dof, xi.to_vec(), delta.to_vec(), kappa, skcs),
+        "{file}: (F, ξ, Δ, κ, SKCs)"
+    );
+    // The independent computation agrees (the analysis refuses to finish otherwise).
+    assert_eq!(t.xi_by_poc_formula, t.xi(), "{file}: POC formula vs loop-closure rank");
+    // F = Σf − Σξ, and the Δ of a fully actuated mechanism sum to zero.
+    assert_eq!(t.dof, t.total_f - xi.iter().sum::<usize>());
+    assert_eq!(delta.iter().sum::<i32>(), 0);
+}
+
+#[test]
+fn seed000_mechanisms_a_and_b() {
+    // Seed 000 §1.2–1.3: ξ_L1 = 3 (five-bar), ξ_L2 = 5, F = 11 − 3 − 5 = 3, Δ = (5−2−3, 6−1−5).
+    check("seed000_a", 3, &[3, 5], &[0, 0], 0, 2);
+    check("seed000_b", 3, &[3, 5], &[0, 0], 0, 2);
+}
+
+#[test]
+fn seed003_punching_eight_bar() {
+    // Seed 003 §1.1: loops 4−1−3 = 0, 4−0−3 = +1, 2−0−3 = −1; SKC₂¹(1, −1), κ = 1.
+    check("seed003_punch_original", 1, &[3, 3, 3], &[0, 1, -1], 1, 2);
+    // Seed 003 §1.2: after merging D and E, three loops of Δ = 0 and three SKCs.
+    check("seed003_punch", 1, &[3, 3, 3], &[0, 0, 0], 0, 3);
+}
+
+#[test]
+fn textbook_planar_mechanisms() {
+    // One planar loop: ξ = 3; Σf = 4 (or 5) with 1 (or 2) inputs gives Δ = 0.
+    check("four_bar", 1, &[3], &[0], 0, 1);
+    check("slider_crank", 1, &[3], &[0], 0, 1);
+    check("five_bar", 2, &[3], &[0], 0, 1);
+    // 3-RRR: SOC₁ two legs (6 − 2 − 3 = +1), SOC₂ the third (3 − 1 − 3 = −1).
+    check("planar_3rrr", 3, &[3, 3], &[1, -1], 1, 1);
+}
+
+#[test]
+fn spatial_three_leg_mechanisms() {
+    // Σf = 15, two spatial loops of ξ = 6: Δ = (10 − 2 − 6, 5 − 1 − 6) = (+2, −2).
+    check("rps_3", 3, &[6, 6], &[2, -2], 2, 1);
+    check("spr_3", 3, &[6, 6], &[2, -2], 2, 1);
+}
+
+#[test]
+fn poc_sets_of_seed000() {
+    let a = analysis("seed000_a");
+    // Seed 000 §1.1.2: M_Pa1 = M1 ∩ M3 = [t²(∥◇xoz); r¹(∥R6)].
+    assert_eq!(a.platform_poc(), "[t²(∥◇xoz); r¹(∥R6)]");
+    // Eq. (3): branch I ends in t²(⊥R12) = t²(∥◇xoz) (R12 ∥ y) and r² over R12 (∥ R3) and R4.
+    assert_eq!(a.topology.branch_poc[0].unicode(), "[t²(∥◇xoz); r²(∥◇(R3,R4))]");
+    // M3 = [t³; r¹(∥R6)]. The paper prints M3's result as `t³ r²(…)` once but uses
+    // [t³; r¹(∥R6)] everywhere after (the typo the issue names); arithmetic gives r¹.
+    assert_eq!(a.topology.branch_poc[1].unicode(), "[t³; r¹(∥R6)]");
+
+    let b = analysis("seed000_b");
+    assert_eq!(b.platform_poc(), "[t²(∥◇xoz); r¹(∥R6)]");
+    // Eq. (4): M2 = [t³; r²(∥◇(R12, R5))]; M4 = [t²; r¹(∥R6)] with t² in xoz.
+    assert_eq!(b.topology.branch_poc[0].kind(), "3T2R");
+    assert_eq!(b.topology.branch_poc[1].unicode(), "[t²(∥◇xoz); r¹(∥R6)]");
+}
+
+#[test]
+fn topological_expressions_of_seed000() {
+    // Seed 000 eqs. (9) and (10), field by field.
+    assert_eq!(
+        analysis("seed000_a").topology.expression,
+        "²ᵀ¹ᴿPM⁰[3, 2(5, 6)] = ²ᵀ²ᴿSKC₁⁰[0; 3] + ³ᵀ¹ᴿSKC₂⁰[0; 5] = 3−J_in + BKC₁⁰(0; 3) + BKC₂⁰(0; 5)"
+    );
+    assert_eq!(
+        analysis("seed000_b").topology.expression,
+        "²ᵀ¹ᴿPM⁰[3, 2(5, 6)] = ³ᵀ²ᴿSKC₁⁰[0; 3] + ²ᵀ¹ᴿSKC₂⁰[0; 5] = 3−J_in + BKC₁⁰(0; 3) + BKC₂⁰(0; 5)"
+    );
+}
+
+fn decoupling(a: &Analysis) -> Vec<(String, Vec<String>)> {
+    a.topology
+        .decoupling
+        .iter()
+        .map(|d| (d.output.clone(), a.names(&d.inputs)))
+        .collect()
+}
+
+fn outputs(rows: &[(&str, &[&str])]) -> Vec<(String, Vec<String>)> {
+    rows.iter()
+        .map(|(o, i)| (o.to_string(), i.iter().map(|s| s.to_string()).collect()))
+        .collect()
+}
+
+#[test]
+fn motion_decoupling_of_seed000() {
+    // Seed 000 §1.4: A's x and z depend on P1, P2 only, its angle (about x) on all three.
+    assert_eq!(
+        decoupling(&analysis("seed000_a")),
+        outputs(&[("x", &["P1", "P2"]), ("z", &["P1", "P2"]), ("rx", &["P1", "P2", "P3"])])
+    );
+    // B's x depends on P1, P2 only; z and the angle on all three.
+    assert_eq!(
+        decoupling(&analysis("seed000_b")),
+        outputs(&[
+            ("x", &["P1", "P2"]),
+            ("z", &["P1", "P2", "P3"]),
+            ("rx", &["P1", "P2", "P3"])
+        ])
+    );
+}
+
+#[test]
+fn the_order_of_socs_matters() {
+    // poc.md: for A, SOC₁ = P1R11R12R3R4R6·Pa·R5P3, SOC₂ = R13P2 gives Δ = (2, −2), κ = 2.
+    let a = analysis("seed000_a");
+    let poor = pkm::dsl::topology::evaluate_order(
+        &a.mechanism,
+        &[
+            &["P1", "R11", "R12", "R3", "R4", "R6", "Pa", "R5", "P3"],
+            &["R13", "P2"],
+        ],
+    )
+    .unwrap();
+    assert_eq!(poor, vec![(5, 2), (3, -2)]);
+    // The paper's order is the one chosen: SOC₁ is the five-bar.
+    assert_eq!(a.topology.socs[0].notation, "P1⊥R11∥R12∥R13⊥P2");
+    assert_eq!(a.topology.socs[1].notation, "R3⊥R4∥R6⊥Pa⊥R5∥P3");
+}
+
+#[test]
+fn seed000_b_second_loop_is_l2() {
+    // The paper labels B's second loop ξ_L3 and writes F = Σf − Σ_{j=1}^{3} ξ_Lj; with
+    // v = m − n + 1 = 11 − 10 + 1 = 2 loops it is ξ_L2, and the sum is 3 + 5 = 8.
+    let b = analysis("seed000_b");
+    assert_eq!(b.topology.loops, 2);
+    assert_eq!(b.topology.xi(), vec![3, 5]);
+    assert_eq!(b.topology.total_f - 3 - 5, 3);
+}
+
+#[test]
+fn seed003_skcs_are_the_papers_loops() {
+    let a = analysis("seed003_punch");
+    let socs: Vec<Vec<String>> = a.topology.socs.iter().map(|s| a.names(&s.joints)).collect();
+    // Loops ABCP1, DGH and GFP2; G is the compound hinge of links 4, 5, 7 (joints G and G.2).
+    assert_eq!(
+        socs,
+        vec![vec!["A", "B", "C", "P1"], vec!["D", "G", "H"], vec!["G.2", "F", "P2"]]
+    );
+    let o = analysis("seed003_punch_original");
+    let socs: Vec<Vec<String>> = o.topology.socs.iter().map(|s| o.names(&s.joints)).collect();
+    assert_eq!(
+        socs,
+        vec![vec!["A", "B", "C", "P1"], vec!["D", "E", "F", "P2"], vec!["G", "H"]]
+    );
+}
+
+// The generated type carries the same numbers.
+pkm::mechanism!(MechanismA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch_original.pkm");
+
+#[test]
+fn generated_consts() {
+    assert_eq!((MechanismA::DOF, MechanismA::KAPPA, MechanismA::SKC_COUNT), (3, 0, 2));
+    assert_eq!((MechanismA::XI, MechanismA::DELTA), (&[3usize, 5][..], &[0i32, 0][..]));
+    assert_eq!(MechanismA::REPORT.decoupling[0], ("x", &["P1", "P2"][..]));
+    assert_eq!(MechanismA::REPORT.to_string(), analysis("seed000_a").report());
+    // κ = 1 with only `ik` requested compiles.
+    assert_eq!((Punch::KAPPA, Punch::DELTA), (1, &[0, 1, -1][..]));
+    assert_eq!(Punch::REPORT.skcs[1].socs, &[1, 2]);
+    assert_eq!(Punch::PLATFORM_POC, None);
+}

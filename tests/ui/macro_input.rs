@@ -1,0 +1,4 @@
+// The description must be a string literal or `file = "…"`.
+pkm::mechanism!(M, mechanism);
+
+fn main() {}
