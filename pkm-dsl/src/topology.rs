@@ -308,9 +308,9 @@ impl Context<'_> {
 
     /// Every SOC that can come next: a path of unused joints whose end links
     /// are known and whose inner links are new.
-    fn candidates(&self, used: u64) -> Vec<(Vec<usize>, [usize; 2])> {
+    fn candidates(&self, used: u64) -> Vec<Candidate> {
         let known = self.known_links(used);
-        let mut out: Vec<(Vec<usize>, [usize; 2])> = Vec::new();
+        let mut out: Vec<Candidate> = Vec::new();
         let mut seen: Vec<u64> = Vec::new();
         for start in 0..self.mech.links.len() {
             if known >> start & 1 == 0 {
@@ -342,12 +342,14 @@ impl Context<'_> {
 }
 
 type Cost = (i64, i64);
+/// A candidate SOC: its joints in path order and its two end links.
+type Candidate = (Vec<usize>, [usize; 2]);
 
 struct Search<'c, 'a> {
     ctx: &'c mut Context<'a>,
     all: u64,
     best: HashMap<u64, Option<(Cost, usize)>>,
-    choices: HashMap<u64, Vec<(Vec<usize>, [usize; 2])>>,
+    choices: HashMap<u64, Vec<Candidate>>,
     exhausted: bool,
 }
 
