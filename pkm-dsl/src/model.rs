@@ -827,7 +827,16 @@ impl DirectionClasses {
             parent: (0..items.len()).collect(),
             items,
         };
+        let axis_line = |i: DirectionItem| match i {
+            DirectionItem::Joint(j) => joints[j].kind.has_axis_line(),
+            _ => false,
+        };
         for r in relations {
+            // A coaxial relation on a joint without an axis line is reported
+            // elsewhere; it must not also merge directions.
+            if r.kind == RelationKind::Coaxial && !(axis_line(r.a) && axis_line(r.b)) {
+                continue;
+            }
             if r.kind != RelationKind::Perpendicular {
                 if let (Some(a), Some(b)) = (c.index(r.a), c.index(r.b)) {
                     let (ra, rb) = (c.find(a), c.find(b));
@@ -898,5 +907,139 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
                 errors.push(d);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The messages of every error the text produces, in order.
+    fn check(source: &str, expected: &[&str]) {
+        let messages: Vec<String> = match crate::analyze_source(source) {
+            Ok(_) => Vec::new(),
+            Err(d) => d.0.into_iter().map(|e| e.message).collect(),
+        };
+        assert_eq!(messages, expected, "{source}");
+    }
+
+    const FOUR_BAR: &str = "base R1* ∥ R2 ∥ R3 ∥ R4 base;";
+
+    #[test]
+    fn planar_mechanisms_have_r_p_and_pa_only() {
+        check(
+            "mechanism m { planar; base R1* ∥ R2 - S1 - R4 base; }",
+            &["joint `S1` (S) cannot move in a plane"],
+        );
+    }
+
+    #[test]
+    fn coaxial_needs_an_axis_line() {
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} base P1 - R5 [k] - R6 base; R5 ≡ P1; }}"),
+            &["joint `P1` (P) has no axis line to share"],
+        );
+    }
+
+    #[test]
+    fn spherical_joints_have_no_axis() {
+        check(
+            "mechanism m { base S1* - P1 - S2 base; S1 ∥ P1; }",
+            &["joint `S1` is spherical and has no axis to relate"],
+        );
+    }
+
+    #[test]
+    fn branches_need_a_platform() {
+        check(
+            "mechanism m { planar; branch A { base R1* ∥ R2 ∥ R3 ∥ R4 base; } }",
+            &["branches need a platform"],
+        );
+    }
+
+    #[test]
+    fn platform_cannot_be_the_base() {
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} platform = base; }}"),
+            &["the platform cannot be the base"],
+        );
+    }
+
+    #[test]
+    fn base_point_must_be_on_a_platform_joint() {
+        check(
+            "mechanism m { planar; base R1* ∥ R2 ∥ R3 platform; base R4 ∥ R5 ∥ R6 platform; point o on R1; }",
+            &["joint `R1` does not touch the platform"],
+        );
+        check(
+            "mechanism m { planar; base R1* ∥ R2 ∥ R3 platform; base R4 ∥ R5 ∥ R6 platform; point o on R9; }",
+            &["unknown joint `R9`"],
+        );
+    }
+
+    #[test]
+    fn explicit_joint_declarations() {
+        check("mechanism m { joint A = Q(base, 1); }", &["unknown joint type `Q`"]);
+        check(
+            "mechanism m { planar; joint A = R(1, 1)*; joint B = R(base, 1); joint C = R(1, base); }",
+            &["joint `A` connects link `1` to itself"],
+        );
+        check(
+            "mechanism m { joint G = P(1, 2, 3); }",
+            &["a compound hinge needs an axis line; `P` has none"],
+        );
+    }
+
+    #[test]
+    fn frame_axis_names_are_reserved() {
+        check(
+            "mechanism m { planar; base R1* [x] ∥ R2 ∥ R3 ∥ R4 base; }",
+            &["`x` names a frame axis and cannot name a link"],
+        );
+    }
+
+    #[test]
+    fn every_link_is_reached_from_the_base() {
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} joint A = R(7, 8); joint B = R(8, 7); }}"),
+            &[
+                "link `7` is not connected to the base",
+                "link `8` is not connected to the base",
+            ],
+        );
+    }
+
+    #[test]
+    fn over_constrained_perpendicularity() {
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} R1 ⊥ x; R1 ⊥ y; R1 ⊥ z; }}"),
+            &["a direction is required to be perpendicular to three independent directions"],
+        );
+    }
+
+    #[test]
+    fn actuators_must_match_the_dof() {
+        check(
+            "mechanism m { planar; base R1 ∥ R2 ∥ R3 ∥ R4 base; }",
+            &["the mechanism has 1 DOF but 0 actuated joints"],
+        );
+        check(
+            "mechanism m { planar; base R1* ∥ R2* ∥ R3 ∥ R4 base; }",
+            &["the mechanism has 1 DOF but 2 actuated joints"],
+        );
+    }
+
+    #[test]
+    fn actuators_that_cannot_drive_the_mechanism() {
+        // F = 2 = I, but both inputs sit in the four-bar loop R1-R4 of a Watt
+        // six-bar: that loop is over-driven and the other loop moves freely.
+        check(
+            "mechanism m { planar; base R1* ∥ R2* [c] ∥ R3 ∥ R4 base; c R5 ∥ R6 ∥ R7 ∥ R8 base; }",
+            &["with its actuated joints locked the mechanism still moves (1 DOF): the actuators cannot drive it"],
+        );
+    }
+
+    #[test]
+    fn valid_descriptions_pass() {
+        check(&format!("mechanism m {{ planar; {FOUR_BAR} }}"), &[]);
+        check("mechanism m { planar; base R1* _|_ P1 || P2 - R2 base; x || P1; }", &[]);
     }
 }

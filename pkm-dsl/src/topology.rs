@@ -475,6 +475,35 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         return Err(d.into());
     }
 
+    // Locking the actuators must make the mechanism rigid at a generic configuration.
+    let driven = ctx
+        .primary
+        .iter()
+        .map(|inst| {
+            let sys = VelocitySystem::new(mech, inst, all);
+            let kernel = screw::null_space(&sys.matrix);
+            screw::rank(&input_rows(mech, &sys, &kernel))
+        })
+        .max()
+        .unwrap_or(0);
+    if driven < dof {
+        let first = mech
+            .joints
+            .iter()
+            .find(|j| j.actuated)
+            .map_or(mech.joints[0].span, |j| j.span);
+        return Err(Diagnostic::new(
+            first,
+            format!(
+                "with its actuated joints locked the mechanism still moves ({} DOF): the actuators cannot drive it",
+                dof - driven
+            ),
+        )
+        .label("actuated here")
+        .note("an actuator in a loop that is already driven over-constrains it and leaves another loop free")
+        .into());
+    }
+
     let mut search = Search {
         ctx: &mut ctx,
         all,
@@ -879,12 +908,7 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
         let twists = sys.relative_twists(&kernel, 0, platform);
         let o = base_point.map_or_else(Vector3::zeros, |j| inst.points[j]);
         let (w, v) = screw::at_point(&twists, &o);
-        // Inputs: the first rate of every actuated joint.
-        let mut input = DMatrix::zeros(actuated.len(), kernel.ncols());
-        for (r, &j) in actuated.iter().enumerate() {
-            let c = sys.joint_col[j].expect("joint in system");
-            input.set_row(r, &kernel.row(c));
-        }
+        let input = input_rows(mech, &sys, &kernel);
         let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else {
             continue;
         };
@@ -920,6 +944,18 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
                 .collect(),
         })
         .collect()
+}
+
+/// The rates of the actuated joints (the first rate of each) over the kernel.
+fn input_rows(mech: &Mechanism, sys: &VelocitySystem, kernel: &DMatrix<f64>) -> DMatrix<f64> {
+    let actuated: Vec<usize> = (0..mech.joints.len()).filter(|&j| mech.joints[j].actuated).collect();
+    let mut input = DMatrix::zeros(actuated.len(), kernel.ncols());
+    for (r, &j) in actuated.iter().enumerate() {
+        if let Some(c) = sys.joint_col[j] {
+            input.set_row(r, &kernel.row(c));
+        }
+    }
+    input
 }
 
 fn skc_kind(mech: &Mechanism, socs: &[Soc], branch_poc: &[PocSet]) -> Option<String> {
