@@ -276,28 +276,16 @@ mod tests {
 
     #[test]
     fn ascii_and_unicode_symbols_parse_alike() {
+        let relations = |m: &MechanismAst| -> Vec<Option<RelationKind>> {
+            m.chains[0].connectors.iter().map(|c| c.relation.map(|r| r.0)).collect()
+        };
         let u = parse("mechanism m { base P1* ⊥ R11 ∥ R12 - R13 base; x ∥ P1; R3 ≡ R12; }").unwrap();
         let a = parse("mechanism m { base P1* _|_ R11 || R12 - R13 base; x || P1; R3 == R12; }").unwrap();
         assert_eq!(
-            u.chains[0]
-                .connectors
-                .iter()
-                .map(|c| c.relation.map(|r| r.0))
-                .collect::<Vec<_>>(),
+            relations(&u),
             vec![Some(RelationKind::Perpendicular), Some(RelationKind::Parallel), None]
         );
-        assert_eq!(
-            u.chains[0]
-                .connectors
-                .iter()
-                .map(|c| c.relation.map(|r| r.0))
-                .collect::<Vec<_>>(),
-            a.chains[0]
-                .connectors
-                .iter()
-                .map(|c| c.relation.map(|r| r.0))
-                .collect::<Vec<_>>()
-        );
+        assert_eq!(relations(&u), relations(&a));
         assert_eq!(u.relations[1].ops[0].0, RelationKind::Coaxial);
         assert_eq!(a.relations[1].ops[0].0, RelationKind::Coaxial);
     }

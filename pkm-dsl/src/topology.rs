@@ -119,27 +119,21 @@ fn poc_kind(t: usize, r: usize) -> String {
 /// Rewrites the Unicode notation in ASCII.
 pub fn to_ascii(s: &str) -> String {
     let mut out = String::new();
-    let mut in_sup = false;
-    let mut in_sub = false;
+    // Runs of super- or subscript digits become `^12` or `_12`.
+    let mut run: Option<char> = None;
     for c in s.chars() {
-        if let Some(d) = SUPERSCRIPT.iter().position(|x| *x == c) {
-            if !in_sup {
-                out.push('^');
-                in_sup = true;
+        let script = [('^', &SUPERSCRIPT), ('_', &SUBSCRIPT)]
+            .into_iter()
+            .find_map(|(mark, table)| table.iter().position(|x| *x == c).map(|d| (mark, d)));
+        if let Some((mark, d)) = script {
+            if run != Some(mark) {
+                out.push(mark);
+                run = Some(mark);
             }
             out.push(char::from(b'0' + d as u8));
             continue;
         }
-        in_sup = false;
-        if let Some(d) = SUBSCRIPT.iter().position(|x| *x == c) {
-            if !in_sub {
-                out.push('_');
-                in_sub = true;
-            }
-            out.push(char::from(b'0' + d as u8));
-            continue;
-        }
-        in_sub = false;
+        run = None;
         match c {
             '∥' => out.push_str("||"),
             '⊥' => out.push_str("_|_"),
@@ -1042,4 +1036,18 @@ pub fn delta_ascii(d: i32) -> String {
 /// [`signed`], the papers' way of writing a Δ (`+1`, `0`, `−1`).
 pub fn delta_unicode(d: i32) -> String {
     signed(d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::to_ascii;
+
+    #[test]
+    fn ascii_spelling() {
+        assert_eq!(to_ascii("[t²(∥◇xoz); r¹(∥R6)]"), "[t^2(||<>xoz); r^1(||R6)]");
+        assert_eq!(
+            to_ascii("²ᵀ¹ᴿPM⁰[3, 2(5, 6)] = SKC₁₂⁰[+1, −1; 3, 3]"),
+            "^2T^1RPM^0[3, 2(5, 6)] = SKC_12^0[+1, -1; 3, 3]"
+        );
+    }
 }
