@@ -47,6 +47,7 @@
 //!     }
 //!     R3 ≡ R12;                          // coaxial (a compound hinge)
 //!     x ∥ P1 ∥ P2;                       // relations, also across branches; x, y, z = frame
+//!     Pa ⊥ ◇xoz;                         // planes: a frame plane or ◇(A,B), the plane of two axes
 //!     point o on R4;                     // the platform's base point
 //!
 //!     link 1 "AB, crank", 2 "BCD";       // planar linkages as links and joints
@@ -59,7 +60,7 @@
 //! Joint types are the prefix of a chain joint's name: `R`, `P`, `H`, `C`,
 //! `U`, `S` and `Pa` (parallelogram: one translational DOF, its internal
 //! loop not counted). Every symbol has an ASCII spelling: `||` for `∥`,
-//! `_|_` for `⊥`, `==` for `≡`.
+//! `_|_` for `⊥`, `==` for `≡`, `<>` for `◇`.
 //!
 //! Requesting `fk` for a design whose coupling degree κ is not zero is a
 //! compile error that names the SKC, its Δ values and the virtual variables

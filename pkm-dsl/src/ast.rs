@@ -121,11 +121,22 @@ pub struct Chain {
     pub span: Span,
 }
 
-/// `a ∥ b ⊥ c;`: relations between consecutive names.
+/// What a relation statement relates.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum DirectionRef {
+    /// A joint's axis or a frame axis (`x`, `y`, `z`).
+    Axis(Name),
+    /// A frame plane, `◇xoz` (`<>xoz`).
+    FramePlane(Name),
+    /// The plane of two axes, `◇(R12,R4)`; the span covers the whole reference.
+    PlaneOf(Name, Name, Span),
+}
+
+/// `a ∥ b ⊥ c;`: relations between consecutive directions.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RelationStmt {
-    /// The joints or frame axes related.
-    pub items: Vec<Name>,
+    /// The joints, frame axes or planes related.
+    pub items: Vec<DirectionRef>,
     /// `ops[i]` relates `items[i]` and `items[i + 1]`.
     pub ops: Vec<(RelationKind, Span)>,
 }

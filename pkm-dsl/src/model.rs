@@ -2,7 +2,7 @@
 //! axis relations, built from the syntax tree with every check that needs no
 //! geometry. All errors are collected, not just the first.
 
-use crate::ast::{MechanismAst, Name, RelationKind};
+use crate::ast::{DirectionRef, MechanismAst, Name, RelationKind};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
 use std::collections::HashMap;
 
@@ -190,6 +190,8 @@ pub enum DirectionItem {
     Frame(usize),
     /// The second axis of a U joint.
     USecond(usize),
+    /// The normal of the k-th plane `◇(A,B)` written in a relation.
+    PlaneNormal(usize),
 }
 
 /// One declared (or implied) relation between two directions.
@@ -230,6 +232,8 @@ pub struct Mechanism {
     pub relations: Vec<Relation>,
     /// Whether frame axis x, y, z was tied to the mechanism by a relation.
     pub frame_declared: [bool; 3],
+    /// How many planes `◇(A,B)` relations wrote (each has a normal direction item).
+    pub planes: usize,
 }
 
 impl Mechanism {
@@ -270,6 +274,7 @@ const FRAME_AXES: [&str; 3] = ["x", "y", "z"];
 pub const MAX_JOINTS: usize = 64;
 
 struct Builder {
+    planes: usize,
     errors: Diagnostics,
     links: Vec<Link>,
     link_by_name: HashMap<String, usize>,
@@ -357,6 +362,43 @@ impl Builder {
         });
     }
 
+    /// The direction a relation names, and whether it is a plane's normal.
+    fn direction_ref(&mut self, d: &DirectionRef) -> Option<(DirectionItem, bool)> {
+        match d {
+            DirectionRef::Axis(n) => self.direction(n).map(|i| (i, false)),
+            DirectionRef::FramePlane(n) => {
+                let normal = match n.text.as_str() {
+                    "yoz" | "zoy" => 0,
+                    "xoz" | "zox" => 1,
+                    "xoy" | "yox" => 2,
+                    _ => {
+                        self.errors.push(
+                            Diagnostic::new(n.span, format!("unknown frame plane `◇{}`", n.text))
+                                .label("expected ◇xoy, ◇yoz or ◇xoz"),
+                        );
+                        return None;
+                    }
+                };
+                Some((DirectionItem::Frame(normal), true))
+            }
+            DirectionRef::PlaneOf(p, q, span) => {
+                let (a, c) = (self.direction(p), self.direction(q));
+                let (a, c) = (a?, c?);
+                let normal = DirectionItem::PlaneNormal(self.planes);
+                self.planes += 1;
+                for side in [a, c] {
+                    self.relations.push(Relation {
+                        kind: RelationKind::Perpendicular,
+                        a: normal,
+                        b: side,
+                        span: Some(*span),
+                    });
+                }
+                Some((normal, true))
+            }
+        }
+    }
+
     fn direction(&mut self, name: &Name) -> Option<DirectionItem> {
         if let Some(i) = FRAME_AXES.iter().position(|a| *a == name.text) {
             return Some(DirectionItem::Frame(i));
@@ -413,6 +455,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
 /// Builds the semantic model from the syntax tree, collecting every error.
 pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     let mut b = Builder {
+        planes: 0,
         errors: Diagnostics::default(),
         links: Vec::new(),
         link_by_name: HashMap::new(),
@@ -533,13 +576,25 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         }
     }
 
-    // Relation statements.
+    // Relation statements. A plane stands for its normal: `X ∥ ◇P` says X is
+    // perpendicular to P's normal, `X ⊥ ◇P` that it is parallel to it.
     for stmt in &ast.relations {
-        let items: Vec<Option<DirectionItem>> = stmt.items.iter().map(|n| b.direction(n)).collect();
+        let items: Vec<Option<(DirectionItem, bool)>> = stmt.items.iter().map(|d| b.direction_ref(d)).collect();
         for (k, (kind, span)) in stmt.ops.iter().enumerate() {
-            if let (Some(a), Some(c)) = (items[k], items[k + 1]) {
+            if let (Some((a, a_plane)), Some((c, c_plane))) = (items[k], items[k + 1]) {
+                let kind = match *kind {
+                    RelationKind::Coaxial if a_plane || c_plane => {
+                        b.errors.push(
+                            Diagnostic::new(*span, "a plane cannot be coaxial with anything").label("not a line"),
+                        );
+                        continue;
+                    }
+                    RelationKind::Parallel if a_plane != c_plane => RelationKind::Perpendicular,
+                    RelationKind::Perpendicular if a_plane != c_plane => RelationKind::Parallel,
+                    k => k,
+                };
                 b.relations.push(Relation {
-                    kind: *kind,
+                    kind,
                     a,
                     b: c,
                     span: Some(*span),
@@ -766,6 +821,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         links,
         joints,
         relations,
+        planes,
         ..
     } = b;
     errors.into_result(Mechanism {
@@ -780,6 +836,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         capabilities,
         relations,
         frame_declared,
+        planes,
     })
 }
 
@@ -821,6 +878,13 @@ impl DirectionClasses {
             }
             if joint.kind == JointKind::U {
                 items.push(DirectionItem::USecond(j));
+            }
+        }
+        for r in relations {
+            for item in [r.a, r.b] {
+                if matches!(item, DirectionItem::PlaneNormal(_)) && !items.contains(&item) {
+                    items.push(item);
+                }
             }
         }
         let mut c = DirectionClasses {
@@ -877,6 +941,7 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
         DirectionItem::Joint(j) => joints[j].name.clone(),
         DirectionItem::Frame(k) => FRAME_AXES[k].to_string(),
         DirectionItem::USecond(j) => format!("{}'", joints[j].name),
+        DirectionItem::PlaneNormal(k) => format!("the normal of plane {}", k + 1),
     };
     for r in relations {
         if r.kind != RelationKind::Perpendicular {
@@ -1035,6 +1100,28 @@ mod tests {
             "mechanism m { planar; base R1* ∥ R2* [c] ∥ R3 ∥ R4 base; c R5 ∥ R6 ∥ R7 ∥ R8 base; }",
             &["with its actuated joints locked the mechanism still moves (1 DOF): the actuators cannot drive it"],
         );
+    }
+
+    #[test]
+    fn planes_stand_for_their_normals() {
+        // R1 ⊥ ◇xoz makes R1 ∥ y, which contradicts R1 ⊥ y.
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} R1 ⊥ ◇xoz; R1 ⊥ y; }}"),
+            &["`R1 ⊥ y` contradicts the other relations, which make them parallel"],
+        );
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} R3 ∥ ◇(R1,R2); P9 ∥ ◇xoy; }}"),
+            &["unknown joint `P9`"],
+        );
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} R3 ≡ ◇xoy; }}"),
+            &["a plane cannot be coaxial with anything"],
+        );
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} R3 ⊥ ◇xyz; }}"),
+            &["unknown frame plane `◇xyz`"],
+        );
+        check(&format!("mechanism m {{ {FOUR_BAR} R3 ∥ ◇(R1, R2); }}"), &[]);
     }
 
     #[test]

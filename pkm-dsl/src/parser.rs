@@ -89,6 +89,8 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::parallel => "`∥`",
         Rule::perpendicular => "`⊥`",
         Rule::coaxial => "`≡`",
+        Rule::direction => "a joint, a frame axis or a plane",
+        Rule::plane => "a plane `◇xoz` or `◇(A,B)`",
         Rule::unrelated => "`-`",
         Rule::name => "a name",
         Rule::ident => "a name",
@@ -211,7 +213,16 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 for p in stmt.into_inner() {
                     match relation_kind(&p) {
                         Some(k) => ops.push((k, span_of(&p))),
-                        None => items.push(name(p)),
+                        None if p.as_rule() == Rule::plane => {
+                            let span = span_of(&p);
+                            let mut names = p.into_inner().map(name);
+                            let first = names.next().expect("a plane names something");
+                            items.push(match names.next() {
+                                Some(second) => DirectionRef::PlaneOf(first, second, span),
+                                None => DirectionRef::FramePlane(Name { text: first.text, span }),
+                            });
+                        }
+                        None => items.push(DirectionRef::Axis(name(p))),
                     }
                 }
                 ast.relations.push(RelationStmt { items, ops });
@@ -288,6 +299,18 @@ mod tests {
         assert_eq!(relations(&u), relations(&a));
         assert_eq!(u.relations[1].ops[0].0, RelationKind::Coaxial);
         assert_eq!(a.relations[1].ops[0].0, RelationKind::Coaxial);
+    }
+
+    #[test]
+    fn planes_in_relations() {
+        let u = parse("mechanism m { Pa ⊥ ◇xoz; P1 ∥ ◇(R11, R4); }").unwrap();
+        let a = parse("mechanism m { Pa _|_ <>xoz; P1 || <>(R11,R4); }").unwrap();
+        for m in [&u, &a] {
+            assert!(matches!(&m.relations[0].items[1], DirectionRef::FramePlane(n) if n.text == "xoz"));
+            assert!(
+                matches!(&m.relations[1].items[1], DirectionRef::PlaneOf(p, q, _) if p.text == "R11" && q.text == "R4")
+            );
+        }
     }
 
     #[test]
