@@ -2,6 +2,7 @@
 //! semantic check). Every name keeps its span for diagnostics.
 
 use crate::diagnostics::Span;
+use crate::expr::Expr;
 
 /// A name with its place in the text.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -35,7 +36,7 @@ impl RelationKind {
 }
 
 /// A whole mechanism description.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MechanismAst {
     /// `mechanism NAME { … }`.
     pub name: Name,
@@ -59,6 +60,59 @@ pub struct MechanismAst {
     pub point: Option<(Name, Name)>,
     /// `x ∥ P1 ∥ P2; R4 ⊥ R3; R3 ≡ R12;`.
     pub relations: Vec<RelationStmt>,
+    /// `parameters { a = 300; … }`, in order.
+    pub parameters: Vec<(Name, Expr)>,
+    /// `geometry { LINK { … } … }`.
+    pub geometry: Vec<LinkGeometry>,
+}
+
+/// The placements on one link, in its own frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkGeometry {
+    /// The link.
+    pub link: Name,
+    /// Its joints and named points.
+    pub placements: Vec<Placement>,
+}
+
+/// `R2 = (l1, 0) along z;`, `P1 = through (0, -a, 0) along x;` or `point D = (…);`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Placement {
+    /// The joint (or, with `point`, the new point) placed.
+    pub name: Name,
+    /// Written with `point`: a named point of the link, not a joint.
+    pub extra_point: bool,
+    /// Where.
+    pub place: Place,
+    /// The whole placement.
+    pub span: Span,
+}
+
+/// A point (with an optional axis) or a line.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Place {
+    /// A point, and the joint's axis through it if given.
+    Point(Tuple, Option<AxisRef>),
+    /// A line `through POINT along AXIS` (the guide of a P joint).
+    Line(Tuple, AxisRef),
+}
+
+/// `(e1, e2[, e3])`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tuple {
+    /// The coordinates.
+    pub items: Vec<Expr>,
+    /// Where it is written.
+    pub span: Span,
+}
+
+/// An axis direction: a frame axis of the link (`x`, `y`, `z`) or a vector.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AxisRef {
+    /// `x`, `y` or `z` of the link's frame.
+    Frame(Name),
+    /// A vector.
+    Vector(Tuple),
 }
 
 /// `link NAME "description"`.

@@ -220,6 +220,7 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStr
             const #c: &'static str = ::core::include_str!(::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel));
         }
     });
+    let params = parameter_struct(input, a);
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");
     let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
     quote! {
@@ -264,6 +265,57 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStr
                 text: #text,
             };
             #source_const
+        }
+
+        #params
+    }
+}
+
+/// `NameParams` with one `f64` field per parameter; `Default` is the nominal design.
+fn parameter_struct(input: &MacroInput, a: &Analysis) -> TokenStream {
+    let params = &a.geometry.parameters;
+    if params.is_empty() {
+        return quote! {};
+    }
+    let MacroInput { vis, ident, .. } = input;
+    let name = format_ident!("{}Params", ident);
+    let doc = format!(
+        " Dimensions of `{}`; `Default` gives the nominal values.",
+        a.mechanism.name
+    );
+    let fields = params.iter().map(|p| {
+        let f = format_ident!("{}", p.name);
+        let doc = format!(" `{}` (nominal {}).", p.name, p.value);
+        quote! { #[doc = #doc] pub #f: f64 }
+    });
+    let defaults = params.iter().map(|p| {
+        let f = format_ident!("{}", p.name);
+        let v = p.value;
+        quote! { #f: #v }
+    });
+    let list = params.iter().map(|p| {
+        let (n, v) = (&p.name, p.value);
+        quote! { (#n, #v) }
+    });
+    quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(non_snake_case)]
+        #vis struct #name {
+            #(#fields,)*
+        }
+
+        #[automatically_derived]
+        impl ::core::default::Default for #name {
+            fn default() -> Self {
+                #name { #(#defaults,)* }
+            }
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// Every parameter's name and nominal value, in declaration order.
+            pub const PARAMETERS: &'static [(&'static str, f64)] = &[#(#list),*];
         }
     }
 }

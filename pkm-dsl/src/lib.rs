@@ -8,6 +8,8 @@
 
 pub mod ast;
 pub mod diagnostics;
+pub mod expr;
+pub mod geometry;
 mod parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};

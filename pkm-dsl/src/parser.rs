@@ -3,6 +3,7 @@
 
 use crate::ast::*;
 use crate::diagnostics::{Diagnostic, Span};
+use crate::expr::Expr;
 use pest::iterators::Pair;
 use pest::Parser;
 
@@ -100,6 +101,22 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::word_end => "the end of a word",
         Rule::statement => "a statement",
         Rule::WHITESPACE | Rule::COMMENT => "white space",
+        Rule::parameters_stmt | Rule::kw_parameters => "`parameters`",
+        Rule::parameter => "a parameter `name = value;`",
+        Rule::geometry_stmt | Rule::kw_geometry => "`geometry`",
+        Rule::link_geometry => "a link's geometry `LINK { … }`",
+        Rule::placement => "a placement `JOINT = (…);`",
+        Rule::line_place | Rule::kw_through => "`through`",
+        Rule::point_place => "a point `(…)`",
+        Rule::kw_along => "`along`",
+        Rule::axis => "an axis (`x`, `y`, `z` or `(…)`)",
+        Rule::tuple => "a tuple `(…)`",
+        Rule::expr | Rule::term | Rule::factor | Rule::power | Rule::atom => "an expression",
+        Rule::call => "a function call",
+        Rule::add_op => "`+` or `-`",
+        Rule::mul_op => "`*` or `/`",
+        Rule::neg_op => "`-`",
+        Rule::real => "a number",
     }
 }
 
@@ -146,6 +163,8 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         platform: None,
         point: None,
         relations: Vec::new(),
+        parameters: Vec::new(),
+        geometry: Vec::new(),
     };
     for stmt in inner {
         match stmt.as_rule() {
@@ -207,6 +226,21 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 ast.point = Some((point, joint));
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
+            Rule::parameters_stmt => {
+                for p in stmt.into_inner().filter(|p| p.as_rule() == Rule::parameter) {
+                    let mut it = p.into_inner();
+                    let n = name(it.next().expect("parameter name"));
+                    ast.parameters.push((n, expr(it.next().expect("parameter value"))));
+                }
+            }
+            Rule::geometry_stmt => {
+                for lg in stmt.into_inner().filter(|p| p.as_rule() == Rule::link_geometry) {
+                    let mut it = lg.into_inner();
+                    let link = name(it.next().expect("link name"));
+                    let placements = it.map(placement).collect();
+                    ast.geometry.push(LinkGeometry { link, placements });
+                }
+            }
             Rule::relation_stmt => {
                 let mut items = Vec::new();
                 let mut ops = Vec::new();
@@ -231,6 +265,97 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         }
     }
     ast
+}
+
+fn placement(p: Pair<Rule>) -> Placement {
+    let span = span_of(&p);
+    let mut extra_point = false;
+    let mut n = None;
+    let mut place = None;
+    for q in p.into_inner() {
+        match q.as_rule() {
+            Rule::kw_point => extra_point = true,
+            Rule::ident => n = Some(name(q)),
+            Rule::line_place => {
+                let mut it = q
+                    .into_inner()
+                    .filter(|r| matches!(r.as_rule(), Rule::tuple | Rule::axis));
+                let through = tuple(it.next().expect("line point"));
+                place = Some(Place::Line(through, axis(it.next().expect("line axis"))));
+            }
+            Rule::point_place => {
+                let mut it = q
+                    .into_inner()
+                    .filter(|r| matches!(r.as_rule(), Rule::tuple | Rule::axis));
+                let at = tuple(it.next().expect("point"));
+                place = Some(Place::Point(at, it.next().map(axis)));
+            }
+            _ => {}
+        }
+    }
+    Placement {
+        name: n.expect("placement name"),
+        extra_point,
+        place: place.expect("placement place"),
+        span,
+    }
+}
+
+fn tuple(p: Pair<Rule>) -> Tuple {
+    Tuple {
+        span: span_of(&p),
+        items: p.into_inner().map(expr).collect(),
+    }
+}
+
+fn axis(p: Pair<Rule>) -> AxisRef {
+    let q = p.into_inner().next().expect("axis");
+    match q.as_rule() {
+        Rule::tuple => AxisRef::Vector(tuple(q)),
+        _ => AxisRef::Frame(name(q)),
+    }
+}
+
+/// Builds an expression; `expr`, `term`, `factor`, `power` and `atom` nest as the grammar does.
+fn expr(p: Pair<Rule>) -> Expr {
+    match p.as_rule() {
+        Rule::expr | Rule::term => {
+            let mut it = p.into_inner();
+            let mut acc = expr(it.next().expect("operand"));
+            while let (Some(op), Some(rhs)) = (it.next(), it.next()) {
+                let c = op.as_str().chars().next().unwrap_or('+');
+                acc = Expr::Bin(c, Box::new(acc), Box::new(expr(rhs)));
+            }
+            acc
+        }
+        Rule::factor => {
+            let parts: Vec<Pair<Rule>> = p.into_inner().collect();
+            let negations = parts.iter().filter(|q| q.as_rule() == Rule::neg_op).count();
+            let mut e = expr(parts.into_iter().last().expect("power"));
+            for _ in 0..negations {
+                e = Expr::Neg(Box::new(e));
+            }
+            e
+        }
+        Rule::power => {
+            let mut it = p.into_inner();
+            let base = expr(it.next().expect("base"));
+            match it.next() {
+                Some(exp) => Expr::Bin('^', Box::new(base), Box::new(expr(exp))),
+                None => base,
+            }
+        }
+        Rule::atom => expr(p.into_inner().next().expect("atom")),
+        Rule::real => Expr::Num(p.as_str().parse().unwrap_or(f64::NAN)),
+        Rule::ident => Expr::Var(p.as_str().to_string(), span_of(&p)),
+        Rule::call => {
+            let span = span_of(&p);
+            let mut it = p.into_inner();
+            let f = it.next().expect("function").as_str().to_string();
+            Expr::Call(f, it.map(expr).collect(), span)
+        }
+        _ => Expr::Num(f64::NAN),
+    }
 }
 
 fn chain(p: Pair<Rule>, branch: Option<usize>) -> Chain {

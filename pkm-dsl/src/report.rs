@@ -12,6 +12,8 @@ pub struct Analysis {
     pub mechanism: Mechanism,
     /// The topology.
     pub topology: Topology,
+    /// Parameters and geometry.
+    pub geometry: crate::geometry::Geometry,
 }
 
 impl Analysis {
@@ -131,6 +133,19 @@ impl Analysis {
 pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
     let ast = crate::parse(source)?;
     let mechanism = crate::model::build(&ast)?;
-    let topology = crate::topology::analyze(&mechanism)?;
-    Ok(Analysis { mechanism, topology })
+    let geometry = crate::geometry::build(&ast, &mechanism);
+    let topology = crate::topology::analyze(&mechanism);
+    // Report geometry and topology errors together.
+    match (geometry, topology) {
+        (Ok(geometry), Ok(topology)) => Ok(Analysis {
+            mechanism,
+            topology,
+            geometry,
+        }),
+        (Err(mut g), Err(t)) => {
+            g.0.extend(t.0);
+            Err(g)
+        }
+        (Err(e), _) | (_, Err(e)) => Err(e),
+    }
 }

@@ -15,6 +15,21 @@ pkm::mechanism!(
     file = "../../../../examples/mechanisms/seed000_a.pkm"
 );
 
+// Parameters become a struct; an upper-case name must not warn.
+pkm::mechanism!(pub Crank, "mechanism crank {
+    planar;
+    base R1* [c] ∥ R2 [r] ∥ R3 [s] ⊥ P1 base;
+    parameters { L = 50; rod = 3 * L; }
+    geometry {
+        base { R1 = (0, 0); P1 = through (0, 0) along x; }
+        c { R1 = (0, 0); R2 = (L, 0); }
+        r { R2 = (0, 0); R3 = (rod, 0); }
+        s { R3 = (0, 0); P1 = (0, 0); }
+    }
+}");
+
 fn main() {
     assert_eq!(FourBar::DOF + MechanismA::DOF, 4);
+    assert_eq!(CrankParams::default(), CrankParams { L: 50.0, rod: 150.0 });
+    assert_eq!(Crank::PARAMETERS.len(), 2);
 }

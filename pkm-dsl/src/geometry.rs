@@ -1,0 +1,547 @@
+//! Dimensions and geometry: parameters with nominal values, and every joint
+//! placed in the frames of its two links (see `docs/solver-design.md`).
+//! Checked here: names, tuple sizes, that each joint is placed on both its
+//! links in the form its type needs, and that the declared ∥ / ⊥ / ≡
+//! relations hold between axes placed on a common link.
+
+use crate::ast::{AxisRef, MechanismAst, Place, RelationKind, Tuple};
+use crate::diagnostics::{Diagnostic, Diagnostics, Span};
+use crate::expr::Expr;
+use crate::model::{suggest, DirectionItem, JointKind, Mechanism};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// A dimension parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// Its name (a field of the generated parameter struct).
+    pub name: String,
+    /// Its defining expression.
+    pub expr: Expr,
+    /// Its nominal value.
+    pub value: f64,
+}
+
+/// A point or direction as three expressions (z = 0 in planar mechanisms).
+pub type Vec3 = [Expr; 3];
+
+/// Where a joint sits on one of its links, in that link's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum JointPlace {
+    /// A point, with the joint's axis through it (rotational joints), if any.
+    Point(Vec3, Option<Vec3>),
+    /// A line: the guide of a prismatic joint.
+    Line(Vec3, Vec3),
+}
+
+/// A named point fixed on a link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedPoint {
+    /// Its name.
+    pub name: String,
+    /// The link it belongs to.
+    pub link: usize,
+    /// Its coordinates in the link's frame.
+    pub at: Vec3,
+}
+
+/// The geometry of a mechanism.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Geometry {
+    /// Parameters in declaration order.
+    pub parameters: Vec<Parameter>,
+    /// `places[j][s]`: joint j on its link `links[s]`; all present when `complete`.
+    pub places: Vec<[Option<JointPlace>; 2]>,
+    /// Named points.
+    pub points: Vec<NamedPoint>,
+    /// Whether a `geometry` block was written (then every joint is placed).
+    pub complete: bool,
+}
+
+impl Geometry {
+    /// Nominal parameter values by name.
+    pub fn nominal(&self) -> HashMap<String, f64> {
+        self.parameters.iter().map(|p| (p.name.clone(), p.value)).collect()
+    }
+}
+
+const RUST_KEYWORDS: [&str; 38] = [
+    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum", "extern", "false", "fn",
+    "for", "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return", "self", "Self",
+    "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where", "while",
+];
+
+fn eval3(v: &Vec3, values: &HashMap<String, f64>) -> Vector3<f64> {
+    Vector3::new(v[0].eval(values), v[1].eval(values), v[2].eval(values))
+}
+
+/// Builds and checks the geometry of `mech` from its syntax tree.
+pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnostics> {
+    let mut errors: Vec<Diagnostic> = Vec::new();
+    let mut values: HashMap<String, f64> = HashMap::new();
+    let mut parameters: Vec<Parameter> = Vec::new();
+    let mut first_span: HashMap<String, Span> = HashMap::new();
+    for (name, e) in &ast.parameters {
+        let known = |n: &str| values.contains_key(n);
+        let before = errors.len();
+        e.check(&known, &mut errors);
+        if RUST_KEYWORDS.contains(&name.text.as_str()) || name.text == "pi" {
+            errors.push(
+                Diagnostic::new(name.span, format!("`{}` cannot name a parameter", name.text)).label("reserved word"),
+            );
+        } else if let Some(first) = first_span.get(&name.text) {
+            errors.push(
+                Diagnostic::new(name.span, format!("parameter `{}` is defined twice", name.text))
+                    .label("second definition")
+                    .also(*first, "first defined"),
+            );
+        }
+        let value = e.eval(&values);
+        if errors.len() == before && !value.is_finite() {
+            errors.push(
+                Diagnostic::new(
+                    name.span,
+                    format!("parameter `{}` is not a finite number ({value})", name.text),
+                )
+                .label("here"),
+            );
+        }
+        first_span.entry(name.text.clone()).or_insert(name.span);
+        values.insert(name.text.clone(), value);
+        parameters.push(Parameter {
+            name: name.text.clone(),
+            expr: e.clone(),
+            value,
+        });
+    }
+
+    let dims = if mech.planar { 2 } else { 3 };
+    let zero = Expr::Num(0.0);
+    let to3 = |t: &Tuple, errors: &mut Vec<Diagnostic>| -> Option<Vec3> {
+        if t.items.len() != dims {
+            errors.push(
+                Diagnostic::new(t.span, format!("expected {dims} coordinates, found {}", t.items.len())).label(
+                    if mech.planar {
+                        "a planar mechanism takes (x, y)"
+                    } else {
+                        "takes (x, y, z)"
+                    },
+                ),
+            );
+            return None;
+        }
+        let known = |n: &str| values.contains_key(n);
+        for e in &t.items {
+            e.check(&known, errors);
+        }
+        let mut it = t.items.iter().cloned();
+        Some([it.next()?, it.next()?, it.next().unwrap_or_else(|| zero.clone())])
+    };
+    let axis3 = |a: &AxisRef, errors: &mut Vec<Diagnostic>| -> Option<Vec3> {
+        match a {
+            AxisRef::Vector(t) => to3(t, errors),
+            AxisRef::Frame(n) => {
+                let k = ["x", "y", "z"].iter().position(|x| *x == n.text);
+                match k {
+                    Some(2) if mech.planar => Some([zero.clone(), zero.clone(), Expr::Num(1.0)]),
+                    Some(k) if !mech.planar || k < 2 => {
+                        let mut v = [zero.clone(), zero.clone(), zero.clone()];
+                        v[k] = Expr::Num(1.0);
+                        Some(v)
+                    }
+                    _ => {
+                        errors.push(
+                            Diagnostic::new(n.span, format!("unknown axis `{}`", n.text))
+                                .label("expected x, y, z or (…)"),
+                        );
+                        None
+                    }
+                }
+            }
+        }
+    };
+
+    let mut places: Vec<[Option<JointPlace>; 2]> = vec![[None, None]; mech.joints.len()];
+    let mut place_span: Vec<[Option<Span>; 2]> = vec![[None, None]; mech.joints.len()];
+    let mut points: Vec<NamedPoint> = Vec::new();
+    for lg in &ast.geometry {
+        let Some(link) = mech
+            .links
+            .iter()
+            .position(|l| l.name == lg.link.text || (lg.link.text == "frame" && l.name == "base"))
+        else {
+            let mut d =
+                Diagnostic::new(lg.link.span, format!("unknown link `{}`", lg.link.text)).label("no joint touches it");
+            if let Some(s) = suggest(&lg.link.text, mech.links.iter().map(|l| l.name.as_str())) {
+                d = d.note(format!("did you mean `{s}`?"));
+            }
+            errors.push(d);
+            continue;
+        };
+        for p in &lg.placements {
+            if p.extra_point {
+                if mech.joint_index(&p.name.text).is_some() || points.iter().any(|q| q.name == p.name.text) {
+                    errors.push(
+                        Diagnostic::new(p.name.span, format!("`{}` is already a joint or a point", p.name.text))
+                            .label("name taken"),
+                    );
+                    continue;
+                }
+                match &p.place {
+                    Place::Point(t, None) => {
+                        if let Some(at) = to3(t, &mut errors) {
+                            points.push(NamedPoint {
+                                name: p.name.text.clone(),
+                                link,
+                                at,
+                            });
+                        }
+                    }
+                    _ => errors
+                        .push(Diagnostic::new(p.span, "a named point is a plain point `(…)`").label("no axis or line")),
+                }
+                continue;
+            }
+            let Some(j) = mech.joint_index(&p.name.text) else {
+                let mut d = Diagnostic::new(p.name.span, format!("unknown joint `{}`", p.name.text))
+                    .label("not declared")
+                    .note("write `point NAME = (…);` for a named point of the link");
+                if let Some(s) = suggest(&p.name.text, mech.joints.iter().map(|j| j.name.as_str())) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                errors.push(d);
+                continue;
+            };
+            let joint = &mech.joints[j];
+            let Some(side) = joint.links.iter().position(|&l| l == link) else {
+                errors.push(
+                    Diagnostic::new(
+                        p.name.span,
+                        format!("joint `{}` does not touch link `{}`", joint.name, lg.link.text),
+                    )
+                    .label("placed on the wrong link")
+                    .note(format!(
+                        "it connects `{}` and `{}`",
+                        mech.links[joint.links[0]].name, mech.links[joint.links[1]].name
+                    )),
+                );
+                continue;
+            };
+            if let Some(first) = place_span[j][side] {
+                errors.push(
+                    Diagnostic::new(
+                        p.name.span,
+                        format!("joint `{}` is placed twice on link `{}`", joint.name, lg.link.text),
+                    )
+                    .label("second placement")
+                    .also(first, "first placed"),
+                );
+                continue;
+            }
+            let resolved = match &p.place {
+                Place::Point(t, a) => {
+                    let at = to3(t, &mut errors);
+                    let axis = match a {
+                        Some(a) => axis3(a, &mut errors),
+                        None => None,
+                    };
+                    at.map(|at| JointPlace::Point(at, axis))
+                }
+                Place::Line(t, a) => match (to3(t, &mut errors), axis3(a, &mut errors)) {
+                    (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
+                    _ => None,
+                },
+            };
+            place_span[j][side] = Some(p.span);
+            places[j][side] = resolved;
+        }
+    }
+
+    let complete = !ast.geometry.is_empty();
+    if complete && errors.is_empty() {
+        check_forms(mech, &mut places, &place_span, &values, &mut errors);
+        if errors.is_empty() {
+            check_relations(mech, &places, &values, &mut errors);
+        }
+    }
+    if errors.is_empty() {
+        Ok(Geometry {
+            parameters,
+            places,
+            points,
+            complete,
+        })
+    } else {
+        Err(Diagnostics(errors))
+    }
+}
+
+/// Each joint type needs its own form of placement on each side.
+fn check_forms(
+    mech: &Mechanism,
+    places: &mut [[Option<JointPlace>; 2]],
+    spans: &[[Option<Span>; 2]],
+    values: &HashMap<String, f64>,
+    errors: &mut Vec<Diagnostic>,
+) {
+    for (j, joint) in mech.joints.iter().enumerate() {
+        let missing: Vec<&str> = (0..2)
+            .filter(|&s| places[j][s].is_none())
+            .map(|s| mech.links[joint.links[s]].name.as_str())
+            .collect();
+        if !missing.is_empty() {
+            let mut d = Diagnostic::new(
+                joint.span,
+                format!(
+                    "joint `{}` has no place on link{} `{}`",
+                    joint.name,
+                    if missing.len() > 1 { "s" } else { "" },
+                    missing.join("` and `")
+                ),
+            )
+            .label("needs a place in the geometry");
+            if missing.iter().any(|n| n.contains('/')) {
+                d = d.note("an anonymous link takes geometry once it is named with a `[label]` in its chain");
+            }
+            errors.push(d);
+            continue;
+        }
+        let span = |s: usize| spans[j][s].unwrap_or(joint.span);
+        for (s, slot) in places[j].iter_mut().enumerate() {
+            let place = slot.as_mut().expect("checked above");
+            let problem = match (joint.kind, &mut *place) {
+                (JointKind::Pa, _) => Some("parallelogram geometry is not supported yet".to_string()),
+                (JointKind::P, JointPlace::Point(_, Some(_))) => {
+                    Some("a prismatic joint takes a guide line or a point, not an axis".into())
+                }
+                (JointKind::P, _) => None,
+                (JointKind::S, JointPlace::Point(_, None)) => None,
+                (JointKind::S, _) => Some("a spherical joint takes a centre `(…)` only".into()),
+                (_, JointPlace::Line(..)) => Some(format!(
+                    "a {} joint takes a point and an axis, not a line",
+                    joint.kind.symbol()
+                )),
+                (_, JointPlace::Point(_, axis @ None)) if mech.planar => {
+                    // Planar rotations are about z.
+                    *axis = Some([Expr::Num(0.0), Expr::Num(0.0), Expr::Num(1.0)]);
+                    None
+                }
+                (_, JointPlace::Point(_, None)) => {
+                    Some(format!("a {} joint needs its axis: `(…) along x`", joint.kind.symbol()))
+                }
+                (_, JointPlace::Point(_, Some(_))) => None,
+            };
+            if let Some(p) = problem {
+                errors.push(Diagnostic::new(span(s), p).label(format!(
+                    "joint `{}` on link `{}`",
+                    joint.name, mech.links[joint.links[s]].name
+                )));
+            }
+            let axis = match &*slot {
+                Some(JointPlace::Point(_, Some(a))) | Some(JointPlace::Line(_, a)) => Some(eval3(a, values)),
+                _ => None,
+            };
+            if axis.is_some_and(|a| !a.iter().all(|x| x.is_finite()) || a.norm() == 0.0) {
+                errors.push(Diagnostic::new(span(s), "the axis is zero or not finite").label("needs a direction"));
+            }
+        }
+        if joint.kind == JointKind::P {
+            let lines = (0..2)
+                .filter(|&s| matches!(places[j][s], Some(JointPlace::Line(..))))
+                .count();
+            if lines != 1 {
+                errors.push(
+                    Diagnostic::new(
+                        span(1),
+                        format!(
+                            "prismatic joint `{}` needs a guide line on one link and a point on the other",
+                            joint.name
+                        ),
+                    )
+                    .label(format!("{lines} guide lines")),
+                );
+            }
+        }
+    }
+}
+
+/// The direction of a joint's axis on one side, if placed with one.
+fn axis_on(
+    places: &[[Option<JointPlace>; 2]],
+    mech: &Mechanism,
+    j: usize,
+    link: usize,
+    values: &HashMap<String, f64>,
+) -> Option<(Vector3<f64>, Option<Vector3<f64>>)> {
+    let side = mech.joints[j].links.iter().position(|&l| l == link)?;
+    match places[j][side].as_ref()? {
+        JointPlace::Point(p, Some(a)) => Some((eval3(a, values).normalize(), Some(eval3(p, values)))),
+        JointPlace::Line(p, a) => Some((
+            eval3(a, values).normalize(),
+            if mech.joints[j].kind == JointKind::P {
+                None
+            } else {
+                Some(eval3(p, values))
+            },
+        )),
+        _ => None,
+    }
+}
+
+/// Relations between axes placed on one link (or a joint on the base and a
+/// frame axis) are checked in that link's frame at the nominal dimensions.
+fn check_relations(
+    mech: &Mechanism,
+    places: &[[Option<JointPlace>; 2]],
+    values: &HashMap<String, f64>,
+    errors: &mut Vec<Diagnostic>,
+) {
+    const TOL: f64 = 1e-9;
+    for r in &mech.relations {
+        let Some(span) = r.span else { continue };
+        let frame_axis = |k: usize| {
+            let mut v = Vector3::zeros();
+            v[k] = 1.0;
+            v
+        };
+        let pair = match (r.a, r.b) {
+            (DirectionItem::Joint(a), DirectionItem::Joint(b)) => {
+                let shared = mech.joints[a]
+                    .links
+                    .iter()
+                    .copied()
+                    .find(|l| mech.joints[b].links.contains(l));
+                shared.and_then(|l| {
+                    Some((
+                        axis_on(places, mech, a, l, values)?,
+                        axis_on(places, mech, b, l, values)?,
+                        l,
+                    ))
+                })
+            }
+            (DirectionItem::Joint(a), DirectionItem::Frame(k)) | (DirectionItem::Frame(k), DirectionItem::Joint(a)) => {
+                axis_on(places, mech, a, 0, values).map(|x| (x, (frame_axis(k), None), 0))
+            }
+            _ => None,
+        };
+        let Some(((da, pa), (db, pb), link)) = pair else {
+            continue;
+        };
+        let angle = da.cross(&db).norm().atan2(da.dot(&db)).to_degrees();
+        let holds = match r.kind {
+            RelationKind::Parallel => da.cross(&db).norm() < TOL,
+            RelationKind::Perpendicular => da.dot(&db).abs() < TOL,
+            RelationKind::Coaxial => {
+                da.cross(&db).norm() < TOL
+                    && matches!((pa, pb), (Some(p), Some(q)) if (p - q).cross(&da).norm() < TOL * (1.0 + p.norm() + q.norm()))
+            }
+        };
+        if !holds {
+            let what = match r.kind {
+                RelationKind::Coaxial if da.cross(&db).norm() < TOL => {
+                    "the axes are parallel but not on one line".to_string()
+                }
+                _ => format!("the axes are {angle:.3}° apart"),
+            };
+            errors.push(
+                Diagnostic::new(
+                    span,
+                    format!(
+                        "relation `{}` does not hold in the geometry of link `{}`",
+                        r.kind.symbol(),
+                        mech.links[link].name
+                    ),
+                )
+                .label(what),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    fn check(source: &str, expected: &[&str]) {
+        let result = crate::parse(source).map_err(crate::Diagnostics::from).and_then(|ast| {
+            let m = crate::model::build(&ast)?;
+            super::build(&ast, &m)
+        });
+        let messages: Vec<String> = match result {
+            Ok(_) => Vec::new(),
+            Err(d) => d.0.into_iter().map(|e| e.message).collect(),
+        };
+        assert_eq!(messages, expected, "{source}");
+    }
+
+    const FOUR_BAR: &str = "planar; base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;";
+    const PLACED: &str = "base { R1 = (0, 0); R4 = (l4, 0); } crank { R1 = (0, 0); R2 = (l1, 0); }
+        coupler { R2 = (0, 0); R3 = (l2, 0); } rocker { R3 = (0, 0); R4 = (l3, 0); }";
+
+    #[test]
+    fn a_placed_four_bar() {
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ l1 = 1; l2 = 3; l3 = 2; l4 = 2.5; }} geometry {{ {PLACED} }} }}"),
+            &[],
+        );
+    }
+
+    #[test]
+    fn parameter_errors() {
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = b + 1; }} }}"),
+            &["unknown parameter `b`"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = 1; a = 2; }} }}"),
+            &["parameter `a` is defined twice"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ type = 1; }} }}"),
+            &["`type` cannot name a parameter"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = 1 / 0; }} }}"),
+            &["parameter `a` is not a finite number (inf)"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = sqrt(1, 2); b = foo(1); }} }}"),
+            &["`sqrt` takes 1 argument", "unknown function `foo`"],
+        );
+    }
+
+    #[test]
+    fn placement_errors() {
+        let p = "parameters { l1 = 1; l2 = 3; l3 = 2; l4 = 2.5; }";
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} {p} geometry {{ base {{ R1 = (0, 0); R4 = (l4, 0); }} crank {{ R1 = (0, 0); R2 = (l1, 0); }} }} }}"),
+            &[
+                "joint `R2` has no place on link `coupler`",
+                "joint `R3` has no place on links `coupler` and `rocker`",
+                "joint `R4` has no place on link `rocker`",
+            ],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} {p} geometry {{ crank {{ R3 = (0, 0); }} cranc {{ }} }} }}"),
+            &["joint `R3` does not touch link `crank`", "unknown link `cranc`"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} {p} geometry {{ crank {{ R1 = (0, 0, 0); R9 = (1, 0); }} }} }}"),
+            &["expected 2 coordinates, found 3", "unknown joint `R9`"],
+        );
+    }
+
+    #[test]
+    fn relations_are_checked_against_the_geometry() {
+        let spatial = "base R1* [a] ⊥ R2 [b] ∥ R3 [c] - R4 base; parameters { l = 1; }";
+        let geometry = |r2: &str| {
+            format!(
+                "geometry {{ base {{ R1 = (0, 0, 0) along z; R4 = (l, 0, 0) along z; }} a {{ R1 = (0, 0, 0) along z; R2 = (l, 0, 0) along {r2}; }}
+                 b {{ R2 = (0, 0, 0) along x; R3 = (l, 0, 0) along x; }} c {{ R3 = (0, 0, 0) along x; R4 = (0, l, 0) along z; }} }}"
+            )
+        };
+        check(&format!("mechanism m {{ {spatial} {} }}", geometry("x")), &[]);
+        check(
+            &format!("mechanism m {{ {spatial} {} }}", geometry("(1, 0, 1)")),
+            &["relation `⊥` does not hold in the geometry of link `a`"],
+        );
+    }
+}
