@@ -27,19 +27,69 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Forward position solution, every branch, by the plan interpreter.
+    Fk {
+        /// The mechanism file (.pkm), with parameters and geometry.
+        file: PathBuf,
+        /// Input values (actuated joints in declaration order): radians and lengths.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        q: Vec<f64>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+        /// Print one JSON object (the text form is the same JSON, indented).
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn parse_param(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected name=value, found `{s}`"))?;
+    let v: f64 = v.trim().parse().map_err(|e| format!("`{v}` is not a number: {e}"))?;
+    Ok((k.trim().to_string(), v))
+}
+
+fn read(file: &PathBuf) -> Result<(String, String), ExitCode> {
+    let shown = file.display().to_string();
+    match std::fs::read_to_string(file) {
+        Ok(t) => Ok((t, shown)),
+        Err(e) => {
+            eprintln!("error: cannot read `{shown}`: {e}");
+            Err(ExitCode::FAILURE)
+        }
+    }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Analyze { file, json } => {
-            let shown = file.display().to_string();
-            let text = match std::fs::read_to_string(&file) {
+        Command::Fk {
+            file,
+            q,
+            params,
+            json: _,
+        } => {
+            let (text, shown) = match read(&file) {
                 Ok(t) => t,
-                Err(e) => {
-                    eprintln!("error: cannot read `{shown}`: {e}");
-                    return ExitCode::FAILURE;
+                Err(code) => return code,
+            };
+            match fk(&text, &q, &params) {
+                Ok(v) => {
+                    println!("{}", serde_json::to_string_pretty(&v).expect("JSON of plain values"));
+                    ExitCode::SUCCESS
                 }
+                Err(d) => {
+                    eprint!("{}", d.render(&text, &shown));
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Command::Analyze { file, json } => {
+            let (text, shown) = match read(&file) {
+                Ok(t) => t,
+                Err(code) => return code,
             };
             match pkm::dsl::analyze_source(&text) {
                 Ok(a) => {
@@ -60,6 +110,52 @@ fn main() -> ExitCode {
             }
         }
     }
+}
+
+fn fk(text: &str, q: &[f64], params: &[(String, f64)]) -> Result<Value, pkm::dsl::Diagnostics> {
+    use pkm::dsl::Diagnostic;
+    let a = pkm::dsl::analyze_source(text)?;
+    let values = params.iter().cloned().collect();
+    let model = pkm::dsl::plan::model(&a, &values)?;
+    let plan = pkm::dsl::plan::forward_plan(&a)?;
+    if q.len() != plan.inputs.len() {
+        let names: Vec<&str> = plan.inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
+        return Err(Diagnostic::global(format!(
+            "expected {} input values ({}), found {}",
+            plan.inputs.len(),
+            names.join(", "),
+            q.len()
+        ))
+        .into());
+    }
+    let branches: Vec<Value> = pkm::runtime::plan::run_all(&model, &plan, q)
+        .into_iter()
+        .map(|(signs, result)| {
+            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+            match result {
+                Ok(sol) => {
+                    let outputs: serde_json::Map<String, Value> = model
+                        .joints
+                        .iter()
+                        .zip(&sol.values)
+                        .map(|(j, v)| (j.name.clone(), json!(v)))
+                        .collect();
+                    let mut points = serde_json::Map::new();
+                    for j in 0..model.joints.len() {
+                        let p = pkm::runtime::plan::joint_point(&model, &sol.poses, j);
+                        points.insert(model.joints[j].name.clone(), json!([p[0], p[1], 0.0]));
+                    }
+                    for p in &model.points {
+                        let w = sol.poses[p.link].apply([p.at[0], p.at[1]]);
+                        points.insert(p.name.clone(), json!([w[0], w[1], 0.0]));
+                    }
+                    json!({ "signs": signs, "ok": true, "outputs": outputs, "points": points })
+                }
+                Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
+            }
+        })
+        .collect();
+    Ok(json!({ "name": model.name, "inputs": q, "branches": branches }))
 }
 
 fn to_json(a: &Analysis) -> Value {

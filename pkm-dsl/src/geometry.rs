@@ -202,7 +202,15 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                 }
                 continue;
             }
-            let Some(j) = mech.joint_index(&p.name.text) else {
+            // A compound hinge `G` is the joints G, G.2, …: the name places
+            // every one of them that touches this link.
+            let group: Vec<usize> = (0..mech.joints.len())
+                .filter(|&j| {
+                    let n = &mech.joints[j].name;
+                    n == &p.name.text || n.strip_prefix(p.name.text.as_str()).is_some_and(|r| r.starts_with('.'))
+                })
+                .collect();
+            if group.is_empty() {
                 let mut d = Diagnostic::new(p.name.span, format!("unknown joint `{}`", p.name.text))
                     .label("not declared")
                     .note("write `point NAME = (…);` for a named point of the link");
@@ -211,13 +219,18 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                 }
                 errors.push(d);
                 continue;
-            };
-            let joint = &mech.joints[j];
-            let Some(side) = joint.links.iter().position(|&l| l == link) else {
+            }
+            let touching: Vec<usize> = group
+                .iter()
+                .copied()
+                .filter(|&j| mech.joints[j].links.contains(&link))
+                .collect();
+            if touching.is_empty() {
+                let joint = &mech.joints[group[0]];
                 errors.push(
                     Diagnostic::new(
                         p.name.span,
-                        format!("joint `{}` does not touch link `{}`", joint.name, lg.link.text),
+                        format!("joint `{}` does not touch link `{}`", p.name.text, lg.link.text),
                     )
                     .label("placed on the wrong link")
                     .note(format!(
@@ -226,34 +239,38 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                     )),
                 );
                 continue;
-            };
-            if let Some(first) = place_span[j][side] {
-                errors.push(
-                    Diagnostic::new(
-                        p.name.span,
-                        format!("joint `{}` is placed twice on link `{}`", joint.name, lg.link.text),
-                    )
-                    .label("second placement")
-                    .also(first, "first placed"),
-                );
-                continue;
             }
-            let resolved = match &p.place {
-                Place::Point(t, a) => {
-                    let at = to3(t, &mut errors);
-                    let axis = match a {
-                        Some(a) => axis3(a, &mut errors),
-                        None => None,
-                    };
-                    at.map(|at| JointPlace::Point(at, axis))
+            for j in touching {
+                let joint = &mech.joints[j];
+                let side = joint.links.iter().position(|&l| l == link).expect("touching");
+                if let Some(first) = place_span[j][side] {
+                    errors.push(
+                        Diagnostic::new(
+                            p.name.span,
+                            format!("joint `{}` is placed twice on link `{}`", joint.name, lg.link.text),
+                        )
+                        .label("second placement")
+                        .also(first, "first placed"),
+                    );
+                    continue;
                 }
-                Place::Line(t, a) => match (to3(t, &mut errors), axis3(a, &mut errors)) {
-                    (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
-                    _ => None,
-                },
-            };
-            place_span[j][side] = Some(p.span);
-            places[j][side] = resolved;
+                let resolved = match &p.place {
+                    Place::Point(t, a) => {
+                        let at = to3(t, &mut errors);
+                        let axis = match a {
+                            Some(a) => axis3(a, &mut errors),
+                            None => None,
+                        };
+                        at.map(|at| JointPlace::Point(at, axis))
+                    }
+                    Place::Line(t, a) => match (to3(t, &mut errors), axis3(a, &mut errors)) {
+                        (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
+                        _ => None,
+                    },
+                };
+                place_span[j][side] = Some(p.span);
+                places[j][side] = resolved;
+            }
         }
     }
 

@@ -15,6 +15,7 @@ mod parser;
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
 pub mod model;
+pub mod plan;
 pub mod report;
 pub mod screw;
 pub mod topology;

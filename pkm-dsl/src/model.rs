@@ -148,7 +148,8 @@ pub struct Joint {
     pub name: String,
     /// Its type.
     pub kind: JointKind,
-    /// The two links it connects; the joint's motion is that of `links[1]` relative to `links[0]`.
+    /// The two links it connects; the joint's motion is that of `links[1]` relative
+    /// to `links[0]`. A joint on the base has the base first.
     pub links: [usize; 2],
     /// Whether it is actuated.
     pub actuated: bool,
@@ -237,6 +238,11 @@ pub struct Mechanism {
 }
 
 impl Mechanism {
+    /// Where the mechanism's first joint is declared (a place for whole-mechanism errors).
+    pub fn name_span(&self) -> Span {
+        self.joints.first().map_or_else(Span::default, |j| j.span)
+    }
+
     /// Σf over all joints.
     pub fn total_dof(&self) -> usize {
         self.joints.iter().map(|j| j.kind.dof()).sum()
@@ -819,11 +825,18 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     let Builder {
         errors,
         links,
-        joints,
+        mut joints,
         relations,
         planes,
         ..
     } = b;
+    // A joint on the base measures its other link from the base: its value is
+    // that link's angle (or slide) relative to the base, however it was written.
+    for joint in &mut joints {
+        if joint.links[1] == 0 {
+            joint.links.swap(0, 1);
+        }
+    }
     errors.into_result(Mechanism {
         name: ast.name.text.clone(),
         title: ast.title.clone(),

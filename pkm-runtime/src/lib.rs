@@ -3,8 +3,15 @@
 //! The small runtime of pkm: shared types that generated code refers to.
 #![deny(missing_docs)]
 
+pub mod model;
+pub mod newton;
+pub mod plan;
 pub mod primitives;
 pub mod real;
 pub mod topology;
 
 pub use topology::{SkcReport, SocReport, TopologyReport};
+
+/// The linear-algebra crate the runtime's types use, re-exported so that
+/// generated code and users name one version.
+pub use nalgebra;

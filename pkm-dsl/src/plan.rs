@@ -1,0 +1,195 @@
+//! From a κ = 0 mechanism with geometry to a solution plan: the ordered SOCs
+//! solved one by one, each as transfers through joints of known value and
+//! one closed-form subproblem from the catalogue. When a SOC matches nothing
+//! in the catalogue the compiler says so, naming the SOC; it never falls back
+//! to iteration.
+
+use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::geometry::JointPlace;
+use crate::model::JointKind;
+use crate::report::Analysis;
+use pkm_runtime::model::{Joint, JointType, Model, NamedPoint, Place};
+use pkm_runtime::plan::{Plan, Step};
+use std::collections::HashMap;
+
+/// The numeric model at the given parameter values (the nominal ones for
+/// names not in `values`).
+pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagnostics> {
+    let m = &a.mechanism;
+    let g = &a.geometry;
+    if !g.complete {
+        return Err(
+            Diagnostic::new(m.joints[0].span, format!("mechanism `{}` has no geometry", m.name))
+                .label("add a `parameters` and a `geometry` block")
+                .into(),
+        );
+    }
+    let mut params = g.nominal();
+    for (k, v) in values {
+        if !params.contains_key(k) {
+            return Err(Diagnostic::global(format!("unknown parameter `{k}`")).into());
+        }
+        params.insert(k.clone(), *v);
+    }
+    let eval = |v: &crate::geometry::Vec3| [v[0].eval(&params), v[1].eval(&params), v[2].eval(&params)];
+    let mut joints = Vec::new();
+    for (j, joint) in m.joints.iter().enumerate() {
+        let kind = match joint.kind {
+            JointKind::R => JointType::R,
+            JointKind::P => JointType::P,
+            JointKind::S => JointType::S,
+            k => {
+                return Err(
+                    Diagnostic::new(joint.span, format!("{} joints have no numeric model yet", k.symbol()))
+                        .label("not supported by the solvers yet")
+                        .into(),
+                )
+            }
+        };
+        let place = |s: usize| match g.places[j][s].as_ref().expect("complete geometry places every joint") {
+            JointPlace::Point(at, Some(axis)) => Place::Axis {
+                at: eval(at),
+                axis: eval(axis),
+            },
+            JointPlace::Point(at, None) => Place::Point { at: eval(at) },
+            JointPlace::Line(at, along) => Place::Line {
+                through: eval(at),
+                along: eval(along),
+            },
+        };
+        joints.push(Joint {
+            name: joint.name.clone(),
+            kind,
+            links: joint.links,
+            places: [place(0), place(1)],
+            actuated: joint.actuated,
+        });
+    }
+    Ok(Model {
+        name: m.name.clone(),
+        planar: m.planar,
+        links: m.links.iter().map(|l| l.name.clone()).collect(),
+        joints,
+        points: g
+            .points
+            .iter()
+            .map(|p| NamedPoint {
+                name: p.name.clone(),
+                link: p.link,
+                at: eval(&p.at),
+            })
+            .collect(),
+    })
+}
+
+/// The forward-position plan.
+pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
+    let m = &a.mechanism;
+    let t = &a.topology;
+    let fail = |msg: String| -> Diagnostics { Diagnostic::new(m.name_span(), msg).label("in this mechanism").into() };
+    if t.kappa != 0 {
+        return Err(fail(format!(
+            "a closed-form forward plan needs κ = 0 (κ = {})",
+            t.kappa
+        )));
+    }
+    if !m.planar {
+        return Err(fail("closed-form plans are planar only for now".to_string()));
+    }
+    let inputs: Vec<usize> = (0..m.joints.len()).filter(|&j| m.joints[j].actuated).collect();
+    let mut known = vec![false; m.links.len()];
+    known[0] = true;
+    let mut steps = Vec::new();
+    let mut branches = 0;
+    for (k, soc) in t.socs.iter().enumerate() {
+        // The links along the SOC: ends[0], …, ends[1].
+        let mut links = vec![soc.ends[0]];
+        for &j in &soc.joints {
+            let last = *links.last().expect("non-empty");
+            links.push(m.joints[j].other(last));
+        }
+        let n = soc.joints.len();
+        let (mut lo, mut hi) = (0, n);
+        // Through known joint values from both ends.
+        while lo < hi && m.joints[soc.joints[lo]].actuated && !known[links[lo + 1]] {
+            let j = soc.joints[lo];
+            steps.push(Step::Transfer {
+                joint: j,
+                from: links[lo],
+                to: links[lo + 1],
+                input: input_index(&inputs, j),
+            });
+            known[links[lo + 1]] = true;
+            lo += 1;
+        }
+        while hi > lo && m.joints[soc.joints[hi - 1]].actuated && !known[links[hi - 1]] {
+            let j = soc.joints[hi - 1];
+            steps.push(Step::Transfer {
+                joint: j,
+                from: links[hi],
+                to: links[hi - 1],
+                input: input_index(&inputs, j),
+            });
+            known[links[hi - 1]] = true;
+            hi -= 1;
+        }
+        let middle: Vec<usize> = soc.joints[lo..hi].to_vec();
+        if middle.is_empty() {
+            continue;
+        }
+        let kinds: String = middle.iter().map(|&j| m.joints[j].kind.symbol()).collect();
+        let unsupported = || {
+            fail(format!(
+                "SOC{} {{{}}}: its unknown part {kinds} ({}) has no decomposition in the catalogue (RRR, RRP)",
+                k + 1,
+                soc.notation,
+                middle
+                    .iter()
+                    .map(|&j| m.joints[j].name.as_str())
+                    .collect::<Vec<_>>()
+                    .join("-")
+            ))
+        };
+        if middle.len() != 3 || middle.iter().any(|&j| m.joints[j].actuated) {
+            return Err(unsupported());
+        }
+        let ls = [links[lo], links[lo + 1], links[lo + 2], links[lo + 3]];
+        let guide_on = |j: usize, link: usize| {
+            let side = m.joints[j].links.iter().position(|&l| l == link).unwrap_or(0);
+            matches!(a.geometry.places[j][side], Some(JointPlace::Line(..)))
+        };
+        let [x, y, z] = [middle[0], middle[1], middle[2]];
+        let step = match (m.joints[x].kind, m.joints[y].kind, m.joints[z].kind) {
+            (JointKind::R, JointKind::R, JointKind::R) => Step::Rrr {
+                joints: [x, y, z],
+                links: ls,
+                branch: branches,
+            },
+            (JointKind::R, JointKind::R, JointKind::P) if guide_on(z, ls[3]) => Step::Rrp {
+                joints: [x, y, z],
+                links: ls,
+                branch: branches,
+            },
+            (JointKind::P, JointKind::R, JointKind::R) if guide_on(x, ls[0]) => Step::Rrp {
+                joints: [z, y, x],
+                links: [ls[3], ls[2], ls[1], ls[0]],
+                branch: branches,
+            },
+            _ => return Err(unsupported()),
+        };
+        steps.push(step);
+        branches += 1;
+        for l in &ls[1..3] {
+            known[*l] = true;
+        }
+    }
+    Ok(Plan {
+        steps,
+        branches,
+        inputs,
+    })
+}
+
+fn input_index(inputs: &[usize], j: usize) -> usize {
+    inputs.iter().position(|&i| i == j).unwrap_or(0)
+}

@@ -1,0 +1,1033 @@
+//! The reference forward-kinematics solver: a slow, general, numeric second
+//! path that closed-form solvers are checked against.
+//!
+//! # Method
+//! - Link poses are propagated from the base (link 0, at the identity) along a
+//!   spanning tree of the link graph ([`spanning_tree`]): breadth first from
+//!   link 0, scanning joints in declaration order. A joint traversed from its
+//!   `links[1]` to its `links[0]` contributes the inverse of
+//!   [`joint_transform`].
+//! - Every joint not in the tree is *cut*. Closing its loop means that the
+//!   pose of its `v = links[1]` reached through the tree equals
+//!   `T_u · joint_transform(joint)`; [`loop_residual`] returns the mismatch,
+//!   6 rows per cut joint.
+//! - [`solve_fk`] fixes the actuated joints' values to the inputs and drives
+//!   the loop residual to zero over all other joint values by Gauss–Newton:
+//!   Jacobian by central finite differences, step by an SVD least-squares
+//!   solve (the residual has redundant rows, e.g. the z rows of a planar
+//!   model, and the unknowns may be redundant, e.g. the spin of an S–S rod),
+//!   step halving while the residual norm does not decrease.
+
+use std::collections::VecDeque;
+use std::f64::consts::{PI, TAU};
+use std::fmt;
+
+use nalgebra::{DMatrix, DVector, Isometry3, Point3};
+
+use crate::model::{joint_transform, JointType, Model, Place};
+
+/// Why a model and a joint-value vector do not give link poses.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelError {
+    /// The model has no links, so no base.
+    NoBase,
+    /// A joint names a link that does not exist.
+    BadLink {
+        /// The joint's index.
+        joint: usize,
+        /// The link index it names.
+        link: usize,
+    },
+    /// A link is not connected to the base by any chain of joints.
+    Disconnected {
+        /// The link's index.
+        link: usize,
+    },
+    /// The joint-value vector does not have one value per joint variable.
+    BadLength {
+        /// `Model::value_offsets().1`.
+        expected: usize,
+        /// The vector's length.
+        got: usize,
+    },
+    /// A joint value, or a pose computed from the values (e.g. through a
+    /// zero-length axis), is not finite.
+    NonFinite {
+        /// What is not finite.
+        what: String,
+    },
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModelError::NoBase => write!(f, "the model has no links"),
+            ModelError::BadLink { joint, link } => write!(f, "joint {joint} names link {link}, which does not exist"),
+            ModelError::Disconnected { link } => write!(f, "link {link} is not connected to the base"),
+            ModelError::BadLength { expected, got } => {
+                write!(f, "expected {expected} joint values, got {got}")
+            }
+            ModelError::NonFinite { what } => write!(f, "{what} is not finite"),
+        }
+    }
+}
+
+impl std::error::Error for ModelError {}
+
+/// A spanning tree of a model's link graph, rooted at the base.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Tree {
+    /// For each link, the joint through which the tree reaches it; `None` for the base.
+    pub parent: Vec<Option<usize>>,
+    /// The links in breadth-first order, base first: every link comes after its parent.
+    pub order: Vec<usize>,
+    /// The joints not in the tree, in declaration order: one closure loop each.
+    pub cut: Vec<usize>,
+}
+
+/// The spanning tree used by [`link_poses`]: breadth first from link 0; the
+/// joints of each dequeued link are scanned in declaration order and a joint
+/// whose other link is not reached yet enters the tree.
+///
+/// A joint connecting a link to itself is always cut.
+pub fn spanning_tree(model: &Model) -> Result<Tree, ModelError> {
+    let n = model.links.len();
+    if n == 0 {
+        return Err(ModelError::NoBase);
+    }
+    for (j, joint) in model.joints.iter().enumerate() {
+        if let Some(&link) = joint.links.iter().find(|&&l| l >= n) {
+            return Err(ModelError::BadLink { joint: j, link });
+        }
+    }
+    let mut parent = vec![None; n];
+    let mut reached = vec![false; n];
+    let mut in_tree = vec![false; model.joints.len()];
+    let mut order = Vec::with_capacity(n);
+    let mut queue = VecDeque::from([0]);
+    reached[0] = true;
+    while let Some(link) = queue.pop_front() {
+        order.push(link);
+        for (j, joint) in model.joints.iter().enumerate() {
+            let [u, v] = joint.links;
+            let other = if u == link {
+                v
+            } else if v == link {
+                u
+            } else {
+                continue;
+            };
+            if !reached[other] {
+                reached[other] = true;
+                parent[other] = Some(j);
+                in_tree[j] = true;
+                queue.push_back(other);
+            }
+        }
+    }
+    if let Some(link) = reached.iter().position(|&r| !r) {
+        return Err(ModelError::Disconnected { link });
+    }
+    let cut = (0..model.joints.len()).filter(|&j| !in_tree[j]).collect();
+    Ok(Tree { parent, order, cut })
+}
+
+fn check_values(model: &Model, values: &[f64]) -> Result<Vec<usize>, ModelError> {
+    let (offsets, n) = model.value_offsets();
+    if values.len() != n {
+        return Err(ModelError::BadLength {
+            expected: n,
+            got: values.len(),
+        });
+    }
+    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+        return Err(ModelError::NonFinite {
+            what: format!("joint value {i}"),
+        });
+    }
+    Ok(offsets)
+}
+
+fn is_finite_pose(t: &Isometry3<f64>) -> bool {
+    t.translation.vector.iter().all(|x| x.is_finite()) && t.rotation.coords.iter().all(|x| x.is_finite())
+}
+
+/// Link poses for a tree already computed; `values` must have been checked.
+fn poses_in_tree(
+    model: &Model,
+    tree: &Tree,
+    offsets: &[usize],
+    values: &[f64],
+) -> Result<Vec<Isometry3<f64>>, ModelError> {
+    let mut poses = vec![Isometry3::identity(); model.links.len()];
+    for &link in &tree.order {
+        let Some(j) = tree.parent[link] else { continue };
+        let joint = &model.joints[j];
+        let t = joint_transform(joint, &values[offsets[j]..offsets[j] + joint.kind.dof()]);
+        poses[link] = if joint.links[1] == link {
+            poses[joint.links[0]] * t
+        } else {
+            poses[joint.links[1]] * t.inverse()
+        };
+        if !is_finite_pose(&poses[link]) {
+            return Err(ModelError::NonFinite {
+                what: format!("the pose of link {link} (through joint {})", joint.name),
+            });
+        }
+    }
+    Ok(poses)
+}
+
+/// The world pose of every link (index = link index) for the joint values
+/// `values` (laid out as by [`Model::value_offsets`]), propagated from the base
+/// along [`spanning_tree`]. Cut joints' values are not used.
+pub fn link_poses(model: &Model, values: &[f64]) -> Result<Vec<Isometry3<f64>>, ModelError> {
+    let tree = spanning_tree(model)?;
+    let offsets = check_values(model, values)?;
+    poses_in_tree(model, &tree, &offsets, values)
+}
+
+/// The closure mismatch of each cut joint, for poses from the tree.
+fn residual_in_tree(
+    model: &Model,
+    tree: &Tree,
+    offsets: &[usize],
+    values: &[f64],
+    poses: &[Isometry3<f64>],
+) -> Result<Vec<f64>, ModelError> {
+    let mut r = Vec::with_capacity(6 * tree.cut.len());
+    for &j in &tree.cut {
+        let joint = &model.joints[j];
+        let [u, v] = joint.links;
+        let predicted = poses[u] * joint_transform(joint, &values[offsets[j]..offsets[j] + joint.kind.dof()]);
+        if !is_finite_pose(&predicted) {
+            return Err(ModelError::NonFinite {
+                what: format!("the transform of joint {}", joint.name),
+            });
+        }
+        let dp = poses[v].translation.vector - predicted.translation.vector;
+        let dr = (poses[v].rotation * predicted.rotation.inverse()).scaled_axis();
+        r.extend(dp.iter().chain(dr.iter()));
+    }
+    Ok(r)
+}
+
+/// The loop-closure residual at `values`: for each cut joint of
+/// [`spanning_tree`] (in declaration order) with `u, v = links`, the
+/// mismatch between `T_v` from [`link_poses`] and `T_u · joint_transform`:
+/// rows `6k..6k+3` the difference of the origins' world positions (length
+/// units), rows `6k+3..6k+6` the rotation vector (radians, angle in [0, π]) of
+/// `R_v · R_predicted⁻¹`, in world axes.
+pub fn loop_residual(model: &Model, values: &[f64]) -> Result<Vec<f64>, ModelError> {
+    let tree = spanning_tree(model)?;
+    let offsets = check_values(model, values)?;
+    let poses = poses_in_tree(model, &tree, &offsets, values)?;
+    residual_in_tree(model, &tree, &offsets, values, &poses)
+}
+
+fn place_point(place: &Place) -> [f64; 3] {
+    match *place {
+        Place::Axis { at, .. } | Place::Point { at } | Place::Line { through: at, .. } => at,
+    }
+}
+
+fn norm3(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// The model's size scale `L`: the largest distance of any placed point (joint
+/// places, guide lines' points, named points) from its link's origin, or 1 if
+/// that is 0 or not finite. [`solve_fk`] measures position mismatches in units of `L`.
+pub fn model_scale(model: &Model) -> f64 {
+    let joints = model.joints.iter().flat_map(|j| j.places.iter().map(place_point));
+    let named = model.points.iter().map(|p| p.at);
+    let l = joints.chain(named).map(norm3).fold(0.0, f64::max);
+    if l > 0.0 && l.is_finite() {
+        l
+    } else {
+        1.0
+    }
+}
+
+/// World coordinates of the named point `name`, for link poses from
+/// [`link_poses`]; `None` if there is no such point or no pose for its link.
+pub fn point(model: &Model, poses: &[Isometry3<f64>], name: &str) -> Option<[f64; 3]> {
+    let p = model.points.iter().find(|p| p.name == name)?;
+    let w = poses.get(p.link)?.transform_point(&Point3::from(p.at));
+    Some([w.x, w.y, w.z])
+}
+
+/// World position of joint `joint`'s point: its place on `links[0]`
+/// transformed by that link's pose, except for a P joint, whose point is its
+/// slider point (the non-guide place, on whichever link it sits; the guide is
+/// `places[0]` if that is a line, as in [`joint_transform`]). Once the loops
+/// are closed this is also the point's position seen from `links[1]` (for R
+/// and S joints).
+///
+/// # Panics
+/// If `joint` is not a joint of `model` or `poses` has no pose for its link.
+pub fn joint_point(model: &Model, poses: &[Isometry3<f64>], joint: usize) -> [f64; 3] {
+    let j = &model.joints[joint];
+    let side = match j.kind {
+        JointType::P if matches!(j.places[0], Place::Line { .. }) => 1,
+        _ => 0,
+    };
+    let w = poses[j.links[side]].transform_point(&Point3::from(place_point(&j.places[side])));
+    [w.x, w.y, w.z]
+}
+
+/// Options of [`solve_fk`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonOptions {
+    /// Convergence threshold on the scaled residual norm (see [`NewtonSolution::residual`]):
+    /// position mismatches relative to [`model_scale`], orientation mismatches in radians.
+    /// Default `1e-12`.
+    pub tolerance: f64,
+    /// Maximum number of Gauss–Newton steps. Default 100.
+    pub max_iterations: usize,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            tolerance: 1e-12,
+            max_iterations: 100,
+        }
+    }
+}
+
+/// A converged forward-kinematics solution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NewtonSolution {
+    /// All joint values (inputs included). R angles that were solved for are
+    /// wrapped into (−π, π], S rotation vectors to a length ≤ π.
+    pub values: Vec<f64>,
+    /// Every link's world pose, as by [`link_poses`].
+    pub poses: Vec<Isometry3<f64>>,
+    /// The scaled residual norm `‖r‖` at `values`, where `r` is [`loop_residual`]
+    /// with its position rows divided by [`model_scale`] (dimensionless).
+    pub residual: f64,
+    /// The number of Gauss–Newton steps taken.
+    pub iterations: usize,
+}
+
+/// Why [`solve_fk`] failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NewtonError {
+    /// The model, inputs, guess or options are unusable.
+    BadInput {
+        /// What is wrong.
+        what: String,
+    },
+    /// The residual did not fall below the tolerance: after `max_iterations`
+    /// steps, or earlier because no step (even halved 60 times) decreased it,
+    /// typically when the inputs admit no assembly.
+    NoConvergence {
+        /// The smallest scaled residual norm reached.
+        residual: f64,
+        /// The steps taken.
+        iterations: usize,
+    },
+    /// The Jacobian is numerically zero while the residual is not.
+    Singular,
+}
+
+impl fmt::Display for NewtonError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            NewtonError::BadInput { what } => write!(f, "bad input: {what}"),
+            NewtonError::NoConvergence { residual, iterations } => {
+                write!(f, "no convergence: residual {residual:e} after {iterations} iterations")
+            }
+            NewtonError::Singular => write!(f, "the loop-closure Jacobian is singular"),
+        }
+    }
+}
+
+impl std::error::Error for NewtonError {}
+
+impl From<ModelError> for NewtonError {
+    fn from(e: ModelError) -> Self {
+        NewtonError::BadInput { what: e.to_string() }
+    }
+}
+
+fn bad(what: impl Into<String>) -> NewtonError {
+    NewtonError::BadInput { what: what.into() }
+}
+
+/// Singular values below this fraction of the largest count as zero.
+const RCOND: f64 = 1e-10;
+/// How many times a step may be halved.
+const MAX_HALVINGS: usize = 60;
+
+/// The data [`solve_fk`] evaluates the residual with.
+struct Problem<'a> {
+    model: &'a Model,
+    tree: Tree,
+    offsets: Vec<usize>,
+    scale: f64,
+}
+
+impl Problem<'_> {
+    /// The scaled residual (position rows divided by the scale).
+    fn residual(&self, values: &[f64]) -> Result<DVector<f64>, ModelError> {
+        let poses = poses_in_tree(self.model, &self.tree, &self.offsets, values)?;
+        let mut r = residual_in_tree(self.model, &self.tree, &self.offsets, values, &poses)?;
+        for (i, x) in r.iter_mut().enumerate() {
+            if i % 6 < 3 {
+                *x /= self.scale;
+            }
+        }
+        if let Some(i) = r.iter().position(|x| !x.is_finite()) {
+            return Err(ModelError::NonFinite {
+                what: format!("residual row {i}"),
+            });
+        }
+        Ok(DVector::from_vec(r))
+    }
+}
+
+/// An angle wrapped into (−π, π].
+fn wrap_angle(x: f64) -> f64 {
+    if x > -PI && x <= PI {
+        return x;
+    }
+    let w = x.rem_euclid(TAU);
+    if w > PI {
+        w - TAU
+    } else {
+        w
+    }
+}
+
+/// Wraps solved-for R angles into (−π, π] and S rotation vectors to length ≤ π
+/// (the same rotations).
+fn normalise(model: &Model, offsets: &[usize], solved: &[bool], values: &mut [f64]) {
+    for (j, joint) in model.joints.iter().enumerate() {
+        let o = offsets[j];
+        if !solved[o] {
+            continue;
+        }
+        match joint.kind {
+            JointType::R => values[o] = wrap_angle(values[o]),
+            JointType::S => {
+                let n = norm3([values[o], values[o + 1], values[o + 2]]);
+                if n > PI {
+                    let k = wrap_angle(n) / n;
+                    values[o..o + 3].iter_mut().for_each(|x| *x *= k);
+                }
+            }
+            JointType::P => {}
+        }
+    }
+}
+
+/// The least-squares solution `δ` of `J δ = −r` of minimum norm, by SVD (with
+/// U and V), ignoring all-zero rows and singular values below `RCOND · σ_max`;
+/// `None` if `J` is numerically zero. The solution is checked against the
+/// normal equations; if it fails the check, they are solved directly by SVD.
+fn least_squares_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
+    let rows: Vec<usize> = (0..jac.nrows())
+        .filter(|&i| jac.row(i).iter().any(|&x| x != 0.0))
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let j = jac.select_rows(rows.iter());
+    let minus_r = -r.select_rows(rows.iter());
+    let svd = j.clone().svd(true, true);
+    let smax = svd.singular_values.max();
+    if !(smax > 0.0 && smax.is_finite()) {
+        return None;
+    }
+    let step = svd
+        .solve(&minus_r, RCOND * smax)
+        .ok()
+        .filter(|d| d.iter().all(|x| x.is_finite()));
+    // Normal equations Jᵀ(Jδ + r) = 0, up to the dropped singular values.
+    let jt_minus_r = j.tr_mul(&minus_r);
+    let optimal = |d: &DVector<f64>| {
+        let g = j.tr_mul(&(&j * d)) - &jt_minus_r;
+        g.norm() <= 1e-8 * smax * (minus_r.norm() + smax * d.norm())
+    };
+    match step {
+        Some(d) if optimal(&d) => Some(d),
+        _ => {
+            let normal = j.tr_mul(&j).svd(true, true);
+            let d = normal.solve(&jt_minus_r, RCOND * smax * smax).ok()?;
+            d.iter().all(|x| x.is_finite()).then_some(d)
+        }
+    }
+}
+
+/// Solves the forward kinematics: the joint values that close every loop with
+/// the actuated joints' values fixed.
+///
+/// `inputs` holds the actuated joints' values, joint after joint in the order
+/// of [`Model::inputs`] ([`JointType::dof`] values each). `guess` is a full
+/// joint-value vector (see [`Model::value_offsets`]) the iteration starts from;
+/// its actuated entries are replaced by `inputs`. Which assembly branch is
+/// found depends on the guess.
+///
+/// Gauss–Newton on the scaled loop residual (see [`NewtonSolution::residual`]):
+/// central-difference Jacobian (step `6e-6` rad for angles, `6e-6 · L` for P
+/// joints, `L` = [`model_scale`]), minimum-norm least-squares step by SVD,
+/// halved while the residual norm does not decrease. Stops when the scaled
+/// residual norm is ≤ `options.tolerance`.
+///
+/// # Errors
+/// [`NewtonError::BadInput`] for wrong lengths, non-finite numbers, a
+/// malformed or disconnected model or a negative tolerance;
+/// [`NewtonError::NoConvergence`] if the tolerance is not reached (e.g. no
+/// assembly exists); [`NewtonError::Singular`] if the Jacobian vanishes.
+///
+/// # Example
+/// A four-bar with crank 1, coupler 3, rocker 2, base 3, crank at 60°:
+/// ```
+/// use pkm_runtime::model::{Joint, JointType, Model, Place};
+/// use pkm_runtime::newton::{joint_point, solve_fk, NewtonOptions};
+///
+/// let z = |x: f64| Place::Axis { at: [x, 0.0, 0.0], axis: [0.0, 0.0, 1.0] };
+/// let r = |name: &str, links, places, actuated| Joint { name: name.into(), kind: JointType::R, links, places, actuated };
+/// let model = Model {
+///     name: "four_bar".into(),
+///     planar: true,
+///     links: vec!["base".into(), "crank".into(), "coupler".into(), "rocker".into()],
+///     joints: vec![
+///         r("R1", [0, 1], [z(0.0), z(0.0)], true),
+///         r("R2", [1, 2], [z(1.0), z(0.0)], false),
+///         r("R3", [2, 3], [z(3.0), z(2.0)], false),
+///         r("R4", [0, 3], [z(3.0), z(0.0)], false),
+///     ],
+///     points: vec![],
+/// };
+/// let theta = std::f64::consts::FRAC_PI_3;
+/// // Guess: coupler roughly along x, rocker pointing up.
+/// let sol = solve_fk(&model, &[theta], &[0.0, -1.0, 1.5, 1.5], &NewtonOptions::default()).unwrap();
+/// assert!(sol.residual < 1e-12);
+/// let (b, c) = (joint_point(&model, &sol.poses, 1), joint_point(&model, &sol.poses, 2));
+/// assert!((b[0] - theta.cos()).abs() < 1e-12 && (b[1] - theta.sin()).abs() < 1e-12);
+/// assert!(((c[0] - b[0]).hypot(c[1] - b[1]) - 3.0).abs() < 1e-9); // coupler length
+/// assert!(((c[0] - 3.0).hypot(c[1]) - 2.0).abs() < 1e-9); // rocker length
+/// ```
+pub fn solve_fk(
+    model: &Model,
+    inputs: &[f64],
+    guess: &[f64],
+    options: &NewtonOptions,
+) -> Result<NewtonSolution, NewtonError> {
+    if !(options.tolerance >= 0.0 && options.tolerance.is_finite()) {
+        return Err(bad(format!(
+            "tolerance {} is not a finite non-negative number",
+            options.tolerance
+        )));
+    }
+    let tree = spanning_tree(model)?;
+    let offsets = check_values(model, guess).map_err(|e| bad(format!("guess: {e}")))?;
+    let n = guess.len();
+    // Which entries are solved for, and the actuated entries in input order.
+    let mut solved = vec![true; n];
+    let mut actuated = Vec::new();
+    for j in model.inputs() {
+        let range = offsets[j]..offsets[j] + model.joints[j].kind.dof();
+        solved[range.clone()].iter_mut().for_each(|s| *s = false);
+        actuated.extend(range);
+    }
+    if inputs.len() != actuated.len() {
+        return Err(bad(format!(
+            "expected {} input values, got {}",
+            actuated.len(),
+            inputs.len()
+        )));
+    }
+    if let Some(i) = inputs.iter().position(|x| !x.is_finite()) {
+        return Err(bad(format!("input {i} is not finite")));
+    }
+    let mut values = guess.to_vec();
+    for (&i, &x) in actuated.iter().zip(inputs) {
+        values[i] = x;
+    }
+    normalise(model, &offsets, &solved, &mut values);
+    let unknowns: Vec<usize> = (0..n).filter(|&i| solved[i]).collect();
+    let scale = model_scale(model);
+    // Finite-difference step of each unknown: P joints are lengths, the rest angles.
+    let h = 6e-6;
+    let mut steps = vec![h; n];
+    for (j, joint) in model.joints.iter().enumerate() {
+        if joint.kind == JointType::P {
+            steps[offsets[j]] = h * scale;
+        }
+    }
+    let problem = Problem {
+        model,
+        tree,
+        offsets,
+        scale,
+    };
+    let finish = |values: Vec<f64>, residual: f64, iterations: usize| -> Result<NewtonSolution, NewtonError> {
+        let poses = poses_in_tree(model, &problem.tree, &problem.offsets, &values)?;
+        Ok(NewtonSolution {
+            values,
+            poses,
+            residual,
+            iterations,
+        })
+    };
+
+    let mut r = problem.residual(&values)?;
+    let mut norm = r.norm();
+    let mut iterations = 0;
+    loop {
+        if norm <= options.tolerance {
+            return finish(values, norm, iterations);
+        }
+        if iterations >= options.max_iterations || unknowns.is_empty() {
+            return Err(NewtonError::NoConvergence {
+                residual: norm,
+                iterations,
+            });
+        }
+        // Central-difference Jacobian.
+        let mut jac = DMatrix::zeros(r.len(), unknowns.len());
+        let mut probe = values.clone();
+        for (k, &i) in unknowns.iter().enumerate() {
+            probe[i] = values[i] + steps[i];
+            let plus = problem.residual(&probe)?;
+            probe[i] = values[i] - steps[i];
+            let minus = problem.residual(&probe)?;
+            probe[i] = values[i];
+            jac.set_column(k, &((plus - minus) / (2.0 * steps[i])));
+        }
+        let delta = least_squares_step(&jac, &r).ok_or(NewtonError::Singular)?;
+        // Step halving until the residual norm decreases.
+        let mut t = 1.0;
+        let mut accepted = None;
+        for _ in 0..=MAX_HALVINGS {
+            let mut trial = values.clone();
+            for (k, &i) in unknowns.iter().enumerate() {
+                trial[i] += t * delta[k];
+            }
+            if let Ok(rt) = problem.residual(&trial) {
+                if rt.norm() < norm {
+                    accepted = Some(trial);
+                    break;
+                }
+            }
+            t *= 0.5;
+        }
+        let Some(mut next) = accepted else {
+            return Err(NewtonError::NoConvergence {
+                residual: norm,
+                iterations,
+            });
+        };
+        iterations += 1;
+        normalise(model, &problem.offsets, &solved, &mut next);
+        values = next;
+        r = problem.residual(&values)?;
+        norm = r.norm();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Joint, NamedPoint};
+    use nalgebra::{UnitQuaternion, Vector3};
+
+    const OPTS: NewtonOptions = NewtonOptions {
+        tolerance: 1e-12,
+        max_iterations: 100,
+    };
+
+    fn z_axis(x: f64, y: f64) -> Place {
+        Place::Axis {
+            at: [x, y, 0.0],
+            axis: [0.0, 0.0, 1.0],
+        }
+    }
+
+    fn joint(name: &str, kind: JointType, links: [usize; 2], places: [Place; 2], actuated: bool) -> Joint {
+        Joint {
+            name: name.into(),
+            kind,
+            links,
+            places,
+            actuated,
+        }
+    }
+
+    fn model(name: &str, planar: bool, links: &[&str], joints: Vec<Joint>, points: Vec<NamedPoint>) -> Model {
+        Model {
+            name: name.into(),
+            planar,
+            links: links.iter().map(|s| s.to_string()).collect(),
+            joints,
+            points,
+        }
+    }
+
+    /// The four-bar of the brief: joints R1 (base–crank, actuated), R2
+    /// (crank–coupler), R3 (coupler–rocker), R4 (base–rocker).
+    fn four_bar(l1: f64, l2: f64, l3: f64, l4: f64) -> Model {
+        use JointType::R;
+        let joints = vec![
+            joint("R1", R, [0, 1], [z_axis(0.0, 0.0), z_axis(0.0, 0.0)], true),
+            joint("R2", R, [1, 2], [z_axis(l1, 0.0), z_axis(0.0, 0.0)], false),
+            joint("R3", R, [2, 3], [z_axis(l2, 0.0), z_axis(l3, 0.0)], false),
+            joint("R4", R, [0, 3], [z_axis(l4, 0.0), z_axis(0.0, 0.0)], false),
+        ];
+        model(
+            "four_bar",
+            true,
+            &["base", "crank", "coupler", "rocker"],
+            joints,
+            vec![],
+        )
+    }
+
+    /// Hand derivation: the intersection of the circles (b, rb) and (d, rd) on
+    /// the left of b→d (`up`) or on its right, by the chord construction.
+    fn circle_circle(b: [f64; 2], rb: f64, d: [f64; 2], rd: f64, up: bool) -> Option<[f64; 2]> {
+        let (dx, dy) = (d[0] - b[0], d[1] - b[1]);
+        let dist = dx.hypot(dy);
+        let a = (rb * rb - rd * rd + dist * dist) / (2.0 * dist);
+        let h2 = rb * rb - a * a;
+        if h2 < 0.0 {
+            return None;
+        }
+        let h = if up { h2.sqrt() } else { -h2.sqrt() };
+        let (ex, ey) = (dx / dist, dy / dist);
+        Some([b[0] + a * ex - h * ey, b[1] + a * ey + h * ex])
+    }
+
+    fn wrapped_diff(x: f64, y: f64) -> f64 {
+        let d = x - y;
+        d.sin().atan2(d.cos()).abs()
+    }
+
+    #[test]
+    fn four_bar_matches_circle_intersection_on_both_branches() {
+        let (l1, l2, l3, l4) = (100.0, 250.0, 200.0, 300.0);
+        let m = four_bar(l1, l2, l3, l4);
+        let check = |theta: f64, up: bool, kick: f64| {
+            // Hand derivation: B = l1(cos θ, sin θ), D = (l4, 0); C = R3 on both circles.
+            let b = [l1 * theta.cos(), l1 * theta.sin()];
+            let d = [l4, 0.0];
+            let c = circle_circle(b, l2, d, l3, up).expect("assembles");
+            let alpha = (c[1] - b[1]).atan2(c[0] - b[0]); // coupler's world angle
+            let beta = (c[1] - d[1]).atan2(c[0] - d[0]); // rocker's world angle
+                                                         // Guess near the branch: world angles kicked by `kick` and -0.8 `kick` rad.
+            let (ag, bg) = (alpha + kick, beta - 0.8 * kick);
+            let guess = [0.0, ag - theta, bg - ag, bg];
+            let sol = solve_fk(&m, &[theta], &guess, &OPTS).unwrap_or_else(|e| panic!("θ={theta} up={up}: {e}"));
+            let r3 = joint_point(&m, &sol.poses, 2);
+            let msg = format!("θ={theta} up={up}: {r3:?} vs {c:?}, {sol:?}");
+            assert!(
+                (r3[0] - c[0]).abs() < 1e-9 && (r3[1] - c[1]).abs() < 1e-9 && r3[2] == 0.0,
+                "{msg}"
+            );
+            // The rocker's own view of R3 agrees.
+            let r3_rocker = sol.poses[3].transform_point(&Point3::new(l3, 0.0, 0.0));
+            assert!(
+                (r3_rocker.x - c[0]).abs() < 1e-9 && (r3_rocker.y - c[1]).abs() < 1e-9,
+                "{msg}"
+            );
+            assert!(sol.residual < 1e-12, "{msg}");
+            assert_eq!(sol.values[0], theta, "{msg}");
+            assert!(wrapped_diff(sol.values[1], alpha - theta) < 1e-10, "{msg}");
+            assert!(wrapped_diff(sol.values[2], beta - alpha) < 1e-10, "{msg}");
+            assert!(wrapped_diff(sol.values[3], beta) < 1e-10, "{msg}");
+            assert!(sol.values[1..].iter().all(|x| x.abs() <= PI), "{msg}");
+            let raw = loop_residual(&m, &sol.values).unwrap();
+            assert_eq!(raw.len(), 6, "{msg}");
+            assert!(raw.iter().all(|x| x.abs() < 1e-12 * l4), "{msg}: {raw:?}");
+        };
+        for theta in [0.0, 0.4, 1.0, PI / 2.0, 2.5, PI, -2.0, -0.7, 5.9] {
+            for up in [true, false] {
+                for kick in [0.25, -0.3, 0.0] {
+                    check(theta, up, kick);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn spanning_tree_and_residual_rows_of_the_four_bar() {
+        let m = four_bar(100.0, 250.0, 200.0, 300.0);
+        let tree = spanning_tree(&m).unwrap();
+        assert_eq!(tree.parent, vec![None, Some(0), Some(1), Some(3)]);
+        assert_eq!(tree.order, vec![0, 1, 3, 2]);
+        assert_eq!(tree.cut, vec![2]);
+        // Hand values: θ = 90°, B = (0, 100); coupler along +x would put R3 at
+        // (250, 100); rocker at 90° puts its R3 at (300, 200).
+        // Mismatch of the rocker's origin: T_v = R4 frame at (300, 0) rotated 90°;
+        // predicted: R3 on the coupler (250, 100), rocker rotated by 90° there, its
+        // origin 200 below: (250, -100). Difference (50, 100, 0); orientations agree.
+        let values = [PI / 2.0, -PI / 2.0, PI / 2.0, PI / 2.0];
+        let r = loop_residual(&m, &values).unwrap();
+        let want = [50.0, 100.0, 0.0, 0.0, 0.0, 0.0];
+        for (x, w) in r.iter().zip(want) {
+            assert!((x - w).abs() < 1e-12, "{r:?}");
+        }
+        // An orientation mismatch of 0.3 rad about z when R3 is off by 0.3.
+        let r = loop_residual(&m, &[PI / 2.0, -PI / 2.0, PI / 2.0 + 0.3, PI / 2.0]).unwrap();
+        assert!((r[5] + 0.3).abs() < 1e-12 && r[3] == 0.0 && r[4] == 0.0, "{r:?}");
+    }
+
+    /// Slider-crank: R1 base–crank (actuated), R2 crank–rod, R3 rod–slider,
+    /// P1 base–slider with the guide on the base.
+    fn slider_crank(r: f64, l: f64) -> Model {
+        use JointType::{P, R};
+        let joints = vec![
+            joint("R1", R, [0, 1], [z_axis(0.0, 0.0), z_axis(0.0, 0.0)], true),
+            joint("R2", R, [1, 2], [z_axis(r, 0.0), z_axis(0.0, 0.0)], false),
+            joint("R3", R, [2, 3], [z_axis(l, 0.0), z_axis(0.0, 0.0)], false),
+            joint(
+                "P1",
+                P,
+                [0, 3],
+                [
+                    Place::Line {
+                        through: [0.0; 3],
+                        along: [1.0, 0.0, 0.0],
+                    },
+                    Place::Point { at: [0.0; 3] },
+                ],
+                false,
+            ),
+        ];
+        let tip = NamedPoint {
+            name: "tip".into(),
+            link: 3,
+            at: [0.0, 0.0, 0.0],
+        };
+        model(
+            "slider_crank",
+            true,
+            &["base", "crank", "rod", "slider"],
+            joints,
+            vec![tip],
+        )
+    }
+
+    #[test]
+    fn slider_crank_matches_closed_form() {
+        let (r, l) = (50.0, 180.0);
+        let m = slider_crank(r, l);
+        // forward: slider on the +x side (rod guess horizontal, pointing +x), else on −x.
+        let check = |theta: f64, forward: bool| {
+            let root = (l * l - r * r * theta.sin().powi(2)).sqrt();
+            let s = if forward {
+                r * theta.cos() + root
+            } else {
+                r * theta.cos() - root
+            };
+            let (phi, s0) = if forward { (0.0, l) } else { (PI, -l) };
+            let guess = [0.0, phi - theta, -phi, s0];
+            let sol = solve_fk(&m, &[theta], &guess, &OPTS).unwrap_or_else(|e| panic!("θ={theta}: {e}"));
+            let msg = format!("θ={theta} forward={forward}: s={s}, {sol:?}");
+            assert!((sol.values[3] - s).abs() < 1e-9, "{msg}");
+            let tip = point(&m, &sol.poses, "tip").unwrap();
+            assert!(
+                (tip[0] - s).abs() < 1e-9 && tip[1].abs() < 1e-9 && tip[2] == 0.0,
+                "{msg}"
+            );
+            assert_eq!(joint_point(&m, &sol.poses, 3), tip, "{msg}");
+            assert!(sol.residual < 1e-12, "{msg}");
+        };
+        for theta in [0.0, 0.3, 1.2, PI / 2.0, 2.0, PI, 4.0, -1.0] {
+            check(theta, true);
+            check(theta, false);
+        }
+        assert_eq!(point(&m, &link_poses(&m, &[0.0; 4]).unwrap(), "nowhere"), None);
+    }
+
+    #[test]
+    fn unreachable_inputs_give_typed_errors() {
+        let check = |m: &Model, theta: f64, guess: [f64; 4], reachable: bool| {
+            let out = solve_fk(m, &[theta], &guess, &OPTS);
+            match out {
+                Ok(sol) => assert!(reachable && sol.residual < 1e-12, "{}: θ={theta}: {sol:?}", m.name),
+                Err(NewtonError::NoConvergence { residual, iterations }) => {
+                    assert!(!reachable, "{}: θ={theta}: {residual} {iterations}", m.name);
+                    assert!(residual.is_finite() && residual > 1e-6 && iterations <= OPTS.max_iterations);
+                }
+                Err(e) => assert!(!reachable && e == NewtonError::Singular, "{}: θ={theta}: {e}", m.name),
+            }
+        };
+        let up = [0.0, -0.5, 2.0, 1.5];
+        // Coupler + rocker (120 + 60) shorter than the smallest B–D distance (200): never closes.
+        let short = four_bar(100.0, 120.0, 60.0, 300.0);
+        for theta in [0.0, 1.0, 2.5, PI] {
+            check(&short, theta, up, false);
+        }
+        // Crank 200, coupler 150, rocker 150, base 300: closes while |B − D| ≤ 300,
+        // i.e. 200² + 300² − 2·200·300 cos θ ≤ 300², cos θ ≥ 1/3, |θ| ≤ 1.2310 rad.
+        let partial = four_bar(200.0, 150.0, 150.0, 300.0);
+        for (theta, reachable) in [
+            (0.3, true),
+            (1.2, true),
+            (1.3, false),
+            (2.0, false),
+            (PI, false),
+            (-1.1, true),
+        ] {
+            check(&partial, theta, up, reachable);
+        }
+        // Slider-crank with rod 30 < crank 50: no assembly when 50 |sin θ| > 30.
+        let sc = slider_crank(50.0, 30.0);
+        for (theta, reachable) in [(0.2, true), (PI / 2.0, false), (-2.0, false)] {
+            check(&sc, theta, [0.0, -theta, 0.0, 60.0], reachable);
+        }
+    }
+
+    #[test]
+    fn bad_inputs_are_reported() {
+        let m = four_bar(100.0, 250.0, 200.0, 300.0);
+        let guess = [0.0, -0.5, 2.0, 1.5];
+        let is_bad = |r: Result<NewtonSolution, NewtonError>| matches!(r, Err(NewtonError::BadInput { .. }));
+        assert!(is_bad(solve_fk(&m, &[], &guess, &OPTS)));
+        assert!(is_bad(solve_fk(&m, &[0.1, 0.2], &guess, &OPTS)));
+        assert!(is_bad(solve_fk(&m, &[f64::NAN], &guess, &OPTS)));
+        assert!(is_bad(solve_fk(&m, &[0.1], &guess[..3], &OPTS)));
+        assert!(is_bad(solve_fk(&m, &[0.1], &[0.0, f64::INFINITY, 2.0, 1.5], &OPTS)));
+        let neg = NewtonOptions {
+            tolerance: -1.0,
+            ..OPTS
+        };
+        assert!(is_bad(solve_fk(&m, &[0.1], &guess, &neg)));
+        // A link reached by no joint.
+        let mut lonely = m.clone();
+        lonely.links.push("lonely".into());
+        assert_eq!(spanning_tree(&lonely), Err(ModelError::Disconnected { link: 4 }));
+        assert!(is_bad(solve_fk(&lonely, &[0.1], &guess, &OPTS)));
+        // A joint naming a missing link.
+        let mut dangling = m.clone();
+        dangling.joints[3].links[1] = 9;
+        assert_eq!(
+            link_poses(&dangling, &guess),
+            Err(ModelError::BadLink { joint: 3, link: 9 })
+        );
+        // A zero-length axis gives NaN poses: reported, not propagated.
+        let mut zero = m.clone();
+        zero.joints[1].places[0] = Place::Axis {
+            at: [100.0, 0.0, 0.0],
+            axis: [0.0; 3],
+        };
+        assert!(matches!(link_poses(&zero, &guess), Err(ModelError::NonFinite { .. })));
+        assert!(is_bad(solve_fk(&zero, &[0.1], &guess, &OPTS)));
+        assert_eq!(
+            link_poses(&m, &guess[..2]),
+            Err(ModelError::BadLength { expected: 4, got: 2 })
+        );
+        // Too few iterations allowed.
+        let one = NewtonOptions {
+            max_iterations: 1,
+            ..OPTS
+        };
+        assert!(matches!(
+            solve_fk(&m, &[0.1], &guess, &one),
+            Err(NewtonError::NoConvergence { iterations: 1, .. })
+        ));
+    }
+
+    /// A spatial RSSR four-bar: crank R1 about the base z axis (radius a),
+    /// coupler S1–S2 of length b, rocker R4 about a base axis along y through
+    /// D = (dx, 0, dz), radius c; named point C on the rocker at S2.
+    fn rssr(a: f64, b: f64, c: f64, dx: f64, dz: f64) -> Model {
+        use JointType::{R, S};
+        let y_axis = |at| Place::Axis {
+            at,
+            axis: [0.0, 1.0, 0.0],
+        };
+        let joints = vec![
+            joint("R1", R, [0, 1], [z_axis(0.0, 0.0), z_axis(0.0, 0.0)], true),
+            joint(
+                "S1",
+                S,
+                [1, 2],
+                [Place::Point { at: [a, 0.0, 0.0] }, Place::Point { at: [0.0; 3] }],
+                false,
+            ),
+            joint(
+                "S2",
+                S,
+                [2, 3],
+                [Place::Point { at: [b, 0.0, 0.0] }, Place::Point { at: [c, 0.0, 0.0] }],
+                false,
+            ),
+            joint("R4", R, [0, 3], [y_axis([dx, 0.0, dz]), y_axis([0.0; 3])], false),
+        ];
+        let points = vec![NamedPoint {
+            name: "C".into(),
+            link: 3,
+            at: [c, 0.0, 0.0],
+        }];
+        model("rssr", false, &["base", "crank", "coupler", "rocker"], joints, points)
+    }
+
+    #[test]
+    fn spatial_rssr_matches_hand_relation() {
+        let (a, b, c, dx, dz) = (40.0, 120.0, 80.0, 100.0, 30.0);
+        let m = rssr(a, b, c, dx, dz);
+        // Hand derivation: B = a(cos θ, sin θ, 0), C = D + c(cos ψ, 0, sin ψ), |C − B| = b:
+        // with E = dx − a cos θ, 2Ec cos ψ + 2dz c sin ψ = b² − E² − c² − a² sin² θ − dz²,
+        // i.e. P cos ψ + Q sin ψ = K, ψ = atan2(Q, P) ± acos(K / √(P² + Q²)).
+        let candidates = |theta: f64| {
+            let e = dx - a * theta.cos();
+            let (p, q) = (2.0 * e * c, 2.0 * dz * c);
+            let k = b * b - e * e - c * c - (a * theta.sin()).powi(2) - dz * dz;
+            let (base, half) = (q.atan2(p), (k / p.hypot(q)).acos());
+            [base + half, base - half].map(|psi| [dx + c * psi.cos(), 0.0, dz + c * psi.sin()])
+        };
+        let check = |theta: f64, branch: usize| {
+            let cand = candidates(theta);
+            let want = cand[branch];
+            // Guess near the wanted branch: the coupler's x axis turned roughly
+            // towards C, the rocker 0.2 rad off (its angle about +y is −ψ), S2 the
+            // rotation left over, all kicked by 0.1 rad.
+            let psi = (want[2] - dz).atan2(want[0] - dx);
+            let bp = Vector3::new(a * theta.cos(), a * theta.sin(), 0.0);
+            let crank = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta);
+            let towards = crank.inverse() * (Vector3::from(want) - bp);
+            let s1 = UnitQuaternion::rotation_between(&Vector3::x(), &towards)
+                .unwrap()
+                .scaled_axis();
+            let rocker = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -psi + 0.2);
+            let s2 = ((crank * UnitQuaternion::from_scaled_axis(s1)).inverse() * rocker).scaled_axis();
+            let guess = [
+                0.0,
+                s1.x + 0.1,
+                s1.y - 0.1,
+                s1.z + 0.1,
+                s2.x - 0.1,
+                s2.y + 0.1,
+                s2.z,
+                -psi + 0.2,
+            ];
+            let sol = solve_fk(&m, &[theta], &guess, &OPTS).unwrap_or_else(|e| panic!("θ={theta}: {e}"));
+            let got = point(&m, &sol.poses, "C").unwrap();
+            let msg = format!("θ={theta} branch {branch}: {got:?} vs {cand:?}, {sol:?}");
+            assert!(
+                norm3([cand[0][0] - cand[1][0], 0.0, cand[0][2] - cand[1][2]]) > 1.0,
+                "{msg}"
+            );
+            assert!(
+                norm3([got[0] - want[0], got[1] - want[1], got[2] - want[2]]) < 1e-9,
+                "{msg}"
+            );
+            let bp = [a * theta.cos(), a * theta.sin(), 0.0];
+            assert!(
+                (norm3([got[0] - bp[0], got[1] - bp[1], got[2] - bp[2]]) - b).abs() < 1e-9,
+                "{msg}"
+            );
+            assert!(sol.residual < 1e-12, "{msg}");
+        };
+        for theta in [0.0, 0.7, PI / 2.0, 2.2, PI, -1.0] {
+            check(theta, 0);
+            check(theta, 1);
+        }
+    }
+}

@@ -1,0 +1,396 @@
+//! Solution plans and their interpreter. A plan is what the compiler derives
+//! from a κ = 0 mechanism: the ordered single open chains solved one after
+//! the other, each as closed-form steps between links whose poses are known.
+//! Generated code and this interpreter walk the same plan.
+//!
+//! Planar plans only for now: transfers through joints whose values are
+//! known, and the class II dyads RRR and RRP (guide on the known link).
+
+use crate::model::{JointType, Model, Place};
+use crate::primitives::{rrp, rrr, Error as GeomError, Sign};
+use core::fmt;
+
+/// A planar pose: the link frame's origin and the angle of its x axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose2 {
+    /// Origin x.
+    pub x: f64,
+    /// Origin y.
+    pub y: f64,
+    /// Angle of the link's x axis from the world's.
+    pub angle: f64,
+}
+
+impl Pose2 {
+    /// The base's pose.
+    pub const IDENTITY: Pose2 = Pose2 {
+        x: 0.0,
+        y: 0.0,
+        angle: 0.0,
+    };
+
+    /// A local point in the world.
+    pub fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.angle.sin_cos();
+        [self.x + c * p[0] - s * p[1], self.y + s * p[0] + c * p[1]]
+    }
+
+    /// A local direction in the world.
+    pub fn rotate(&self, d: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.angle.sin_cos();
+        [c * d[0] - s * d[1], s * d[0] + c * d[1]]
+    }
+
+    /// A world point in local coordinates.
+    pub fn inverse_apply(&self, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.angle.sin_cos();
+        let (dx, dy) = (p[0] - self.x, p[1] - self.y);
+        [c * dx + s * dy, -s * dx + c * dy]
+    }
+
+    /// The pose with angle `angle` that carries local point `local` to world point `world`.
+    pub fn placing(local: [f64; 2], world: [f64; 2], angle: f64) -> Pose2 {
+        let r = Pose2 { x: 0.0, y: 0.0, angle }.apply(local);
+        Pose2 {
+            x: world[0] - r[0],
+            y: world[1] - r[1],
+            angle,
+        }
+    }
+}
+
+/// One step of a plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// The pose of link `to` from the known link `from` through `joint`, whose value is input number `input`.
+    Transfer {
+        /// The joint.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// Index into the inputs.
+        input: usize,
+    },
+    /// RRR dyad: `joints = [a, b, c]` and `links = [k1, l1, l2, k2]`; a joins k1 and l1,
+    /// b joins l1 and l2, c joins l2 and k2; k1 and k2 are known. Branch `Plus`: the
+    /// middle joint lies to the left of the line from a to c.
+    Rrr {
+        /// `[a, b, c]`.
+        joints: [usize; 3],
+        /// `[k1, l1, l2, k2]`.
+        links: [usize; 4],
+        /// The index of this step's sign in the branch's sign vector.
+        branch: usize,
+    },
+    /// RRP dyad: as [`Step::Rrr`] with c prismatic, its guide on k2. Branch
+    /// `Plus`: the larger slider coordinate along the guide.
+    Rrp {
+        /// `[a, b, c]`.
+        joints: [usize; 3],
+        /// `[k1, l1, l2, k2]`.
+        links: [usize; 4],
+        /// The index of this step's sign in the branch's sign vector.
+        branch: usize,
+    },
+}
+
+/// A forward-position plan.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Plan {
+    /// Steps in order.
+    pub steps: Vec<Step>,
+    /// How many ± choices the plan has (2^branches solutions).
+    pub branches: usize,
+    /// The input joints, in the order of the input vector.
+    pub inputs: Vec<usize>,
+}
+
+/// Why a branch has no solution.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolveError {
+    /// A step's existence condition fails by `by` (a length).
+    Unreachable {
+        /// The step's index.
+        step: usize,
+        /// The joint whose position cannot be reached.
+        joint: String,
+        /// The condition, e.g. `centre distance <= r1 + r2`.
+        constraint: &'static str,
+        /// By how much.
+        by: f64,
+    },
+    /// A step's data are degenerate (coincident centres, a zero-length link, …).
+    Degenerate {
+        /// The step's index.
+        step: usize,
+        /// What is degenerate.
+        what: &'static str,
+    },
+    /// The inputs are wrong (count, non-finite values) or the plan does not fit the model.
+    BadInput {
+        /// What is wrong.
+        what: String,
+    },
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::Unreachable {
+                joint, constraint, by, ..
+            } => {
+                write!(f, "joint {joint} cannot be reached: {constraint} fails by {by:.6e}")
+            }
+            SolveError::Degenerate { what, step } => write!(f, "degenerate configuration at step {step}: {what}"),
+            SolveError::BadInput { what } => write!(f, "bad input: {what}"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+/// A forward solution: every link's pose and every joint's value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FkSolution {
+    /// Link poses, indexed like the model's links.
+    pub poses: Vec<Pose2>,
+    /// Joint values, indexed like the model's joints (planar joints have one value each).
+    pub values: Vec<f64>,
+}
+
+fn local(place: &Place) -> [f64; 2] {
+    match *place {
+        Place::Axis { at, .. } | Place::Point { at } => [at[0], at[1]],
+        Place::Line { through, .. } => [through[0], through[1]],
+    }
+}
+
+/// The joint's point in the frame of `link` (one of its two links).
+fn point_on(model: &Model, joint: usize, link: usize) -> Result<[f64; 2], SolveError> {
+    let j = &model.joints[joint];
+    let side = j
+        .links
+        .iter()
+        .position(|&l| l == link)
+        .ok_or_else(|| SolveError::BadInput {
+            what: format!(
+                "joint {} does not touch link {}",
+                j.name,
+                model.links.get(link).map_or("?", |s| s)
+            ),
+        })?;
+    Ok(local(&j.places[side]))
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn wrap(a: f64) -> f64 {
+    let w = (a + core::f64::consts::PI).rem_euclid(2.0 * core::f64::consts::PI) - core::f64::consts::PI;
+    if w <= -core::f64::consts::PI {
+        w + 2.0 * core::f64::consts::PI
+    } else {
+        w
+    }
+}
+
+fn geom(step: usize, joint: &str, e: GeomError<f64>) -> SolveError {
+    match e {
+        GeomError::Unreachable { constraint, by } => SolveError::Unreachable {
+            step,
+            joint: joint.to_string(),
+            constraint,
+            by,
+        },
+        GeomError::Degenerate { what } => SolveError::Degenerate { step, what },
+    }
+}
+
+/// A link's angle so that its local vector `local` points along the world vector `world`.
+fn angle_for(step: usize, local: [f64; 2], world: [f64; 2]) -> Result<f64, SolveError> {
+    if local[0].hypot(local[1]) == 0.0 {
+        return Err(SolveError::Degenerate {
+            step,
+            what: "two joints of a dyad link coincide",
+        });
+    }
+    Ok(world[1].atan2(world[0]) - local[1].atan2(local[0]))
+}
+
+/// Runs the plan for one branch (`signs[k]` for the plan's k-th choice).
+pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<FkSolution, SolveError> {
+    if inputs.len() != plan.inputs.len() || signs.len() != plan.branches {
+        return Err(SolveError::BadInput {
+            what: format!("expected {} inputs and {} signs", plan.inputs.len(), plan.branches),
+        });
+    }
+    if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
+        return Err(SolveError::BadInput {
+            what: format!("input {} is not finite", i + 1),
+        });
+    }
+    let mut poses: Vec<Option<Pose2>> = vec![None; model.links.len()];
+    poses[0] = Some(Pose2::IDENTITY);
+    let known = |poses: &[Option<Pose2>], l: usize| {
+        poses[l].ok_or_else(|| SolveError::BadInput {
+            what: format!("link {} is used before it is solved", model.links[l]),
+        })
+    };
+    for (k, step) in plan.steps.iter().enumerate() {
+        match *step {
+            Step::Transfer { joint, from, to, input } => {
+                let j = &model.joints[joint];
+                let tf = known(&poses, from)?;
+                let forward = j.links[0] == from;
+                let value = inputs[input];
+                let pose = match j.kind {
+                    JointType::R => {
+                        let (pf, pt) = (point_on(model, joint, from)?, point_on(model, joint, to)?);
+                        let angle = if forward { tf.angle + value } else { tf.angle - value };
+                        Pose2::placing(pt, tf.apply(pf), angle)
+                    }
+                    JointType::P => {
+                        let side_from = if forward { 0 } else { 1 };
+                        let (guide, slider, sign) = match (&j.places[side_from], &j.places[1 - side_from]) {
+                            (Place::Line { through, along }, other) => ((through, along), local(other), 1.0),
+                            (other, Place::Line { through, along }) => ((through, along), local(other), -1.0),
+                            _ => {
+                                return Err(SolveError::BadInput {
+                                    what: format!("joint {} has no guide line", j.name),
+                                })
+                            }
+                        };
+                        let d = [guide.1[0], guide.1[1]];
+                        let n = d[0].hypot(d[1]);
+                        let d = [d[0] / n, d[1] / n];
+                        let q = [guide.0[0], guide.0[1]];
+                        if sign > 0.0 {
+                            // Guide on the known link: the slider point runs along it.
+                            let at = [q[0] + value * d[0], q[1] + value * d[1]];
+                            Pose2::placing(slider, tf.apply(at), tf.angle)
+                        } else {
+                            // Guide on the new link: the known link's point sits at q + s·d on it.
+                            let at = [q[0] + value * d[0], q[1] + value * d[1]];
+                            Pose2::placing(at, tf.apply(slider), tf.angle)
+                        }
+                    }
+                    JointType::S => {
+                        return Err(SolveError::BadInput {
+                            what: "spherical joint in a planar plan".into(),
+                        })
+                    }
+                };
+                poses[to] = Some(pose);
+            }
+            Step::Rrr {
+                joints: [a, b, c],
+                links: [k1, l1, l2, k2],
+                branch,
+            } => {
+                let (t1, t2) = (known(&poses, k1)?, known(&poses, k2)?);
+                let pa = t1.apply(point_on(model, a, k1)?);
+                let pc = t2.apply(point_on(model, c, k2)?);
+                let (a1, b1) = (point_on(model, a, l1)?, point_on(model, b, l1)?);
+                let (b2, c2) = (point_on(model, b, l2)?, point_on(model, c, l2)?);
+                let (r1, r2) = (sub(b1, a1), sub(c2, b2));
+                let roots = rrr(pa, r1[0].hypot(r1[1]), pc, r2[0].hypot(r2[1]))
+                    .map_err(|e| geom(k, &model.joints[b].name, e))?;
+                let pb = roots.branch(signs[branch]);
+                let ang1 = angle_for(k, r1, sub(pb, pa))?;
+                let ang2 = angle_for(k, r2, sub(pc, pb))?;
+                poses[l1] = Some(Pose2::placing(a1, pa, ang1));
+                poses[l2] = Some(Pose2::placing(b2, pb, ang2));
+            }
+            Step::Rrp {
+                joints: [a, b, c],
+                links: [k1, l1, l2, k2],
+                branch,
+            } => {
+                let (t1, t2) = (known(&poses, k1)?, known(&poses, k2)?);
+                let pa = t1.apply(point_on(model, a, k1)?);
+                let jc = &model.joints[c];
+                let guide_side = jc.links.iter().position(|&l| l == k2).unwrap_or(0);
+                let Place::Line { through, along } = jc.places[guide_side] else {
+                    return Err(SolveError::BadInput {
+                        what: format!("joint {} has no guide on link {}", jc.name, model.links[k2]),
+                    });
+                };
+                let slider = local(&jc.places[1 - guide_side]);
+                let (a1, b1) = (point_on(model, a, l1)?, point_on(model, b, l1)?);
+                let b2 = point_on(model, b, l2)?;
+                let r1 = sub(b1, a1);
+                // The slider keeps k2's orientation, so b's point runs along a
+                // parallel to the guide, offset by b's place relative to the slider point.
+                let offset = t2.rotate(sub(b2, slider));
+                let q = t2.apply([through[0], through[1]]);
+                let line_point = [q[0] + offset[0], q[1] + offset[1]];
+                let dir = t2.rotate([along[0], along[1]]);
+                let roots =
+                    rrp(pa, r1[0].hypot(r1[1]), line_point, dir).map_err(|e| geom(k, &model.joints[b].name, e))?;
+                let hit = roots.branch(signs[branch]);
+                let ang1 = angle_for(k, r1, sub(hit.point, pa))?;
+                poses[l1] = Some(Pose2::placing(a1, pa, ang1));
+                poses[l2] = Some(Pose2::placing(b2, hit.point, t2.angle));
+            }
+        }
+    }
+    let poses: Vec<Pose2> = poses
+        .into_iter()
+        .enumerate()
+        .map(|(l, p)| {
+            p.ok_or_else(|| SolveError::BadInput {
+                what: format!("the plan leaves link {} unsolved", model.links[l]),
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let values = model.joints.iter().map(|j| joint_value(j, &poses)).collect();
+    Ok(FkSolution { poses, values })
+}
+
+/// A planar joint's value from the poses of its two links.
+pub fn joint_value(j: &crate::model::Joint, poses: &[Pose2]) -> f64 {
+    let (tu, tv) = (poses[j.links[0]], poses[j.links[1]]);
+    match j.kind {
+        JointType::R => wrap(tv.angle - tu.angle),
+        JointType::P => {
+            // s = (slider point, in the guide link's frame, − q) · d̂.
+            let (guide, slider_pose, guide_pose, slider) = match (&j.places[0], &j.places[1]) {
+                (Place::Line { through, along }, other) => ((through, along), tv, tu, local(other)),
+                (other, Place::Line { through, along }) => ((through, along), tu, tv, local(other)),
+                _ => return f64::NAN,
+            };
+            let p = guide_pose.inverse_apply(slider_pose.apply(slider));
+            let n = guide.1[0].hypot(guide.1[1]);
+            ((p[0] - guide.0[0]) * guide.1[0] + (p[1] - guide.0[1]) * guide.1[1]) / n
+        }
+        JointType::S => f64::NAN,
+    }
+}
+
+/// Every branch of the plan: the signs and the solution or the reason there is none.
+pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<FkSolution, SolveError>)> {
+    (0..1usize << plan.branches)
+        .map(|bits| {
+            let signs: Vec<Sign> = (0..plan.branches)
+                .map(|k| if bits >> k & 1 == 0 { Sign::Plus } else { Sign::Minus })
+                .collect();
+            let result = run(model, plan, inputs, &signs);
+            (signs, result)
+        })
+        .collect()
+}
+
+/// The world position of joint `j`'s point: its place on its first link, or
+/// for a prismatic joint the slider's point.
+pub fn joint_point(model: &Model, poses: &[Pose2], j: usize) -> [f64; 2] {
+    let joint = &model.joints[j];
+    let side = if matches!(joint.places[0], Place::Line { .. }) {
+        1
+    } else {
+        0
+    };
+    poses[joint.links[side]].apply(local(&joint.places[side]))
+}
