@@ -89,7 +89,7 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
     if !checks.is_empty() {
         return Err(to_syn(&checks, &text, &file_name, lit.span()));
     }
-    Ok(generate(&input, &analysis, include.as_deref()))
+    generate(&input, &analysis, include.as_deref()).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))
 }
 
 fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
@@ -147,7 +147,7 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
     errors
 }
 
-fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStream {
+fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
     let MacroInput { attrs, vis, ident, .. } = input;
     let m = &a.mechanism;
     let t = &a.topology;
@@ -221,9 +221,18 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStr
         }
     });
     let params = parameter_struct(input, a);
+    // The forward solver, when asked for and the geometry is there.
+    let fk = if m.wants(Capability::Fk) && a.geometry.complete {
+        match crate::plan::forward_plan(a) {
+            Ok(plan) => crate::codegen_fk::generate(a, &plan, ident, vis),
+            Err(d) => return Err(d),
+        }
+    } else {
+        quote! {}
+    };
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");
     let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
-    quote! {
+    Ok(quote! {
         #(#attrs)*
         #doc
         #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -268,7 +277,8 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStr
         }
 
         #params
-    }
+        #fk
+    })
 }
 
 /// `NameParams` with one `f64` field per parameter; `Default` is the nominal design.

@@ -22,5 +22,6 @@ pub mod topology;
 
 pub use report::{analyze_source, Analysis};
 mod codegen;
+mod codegen_fk;
 
 pub use codegen::{check_capabilities, expand};

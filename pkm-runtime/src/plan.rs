@@ -9,6 +9,7 @@
 use crate::model::{JointType, Model, Place};
 use crate::primitives::{rrp, rrr, Error as GeomError, Sign};
 use core::fmt;
+use std::borrow::Cow;
 
 /// A planar pose: the link frame's origin and the angle of its x axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,7 +116,7 @@ pub enum SolveError {
         /// The step's index.
         step: usize,
         /// The joint whose position cannot be reached.
-        joint: String,
+        joint: Cow<'static, str>,
         /// The condition, e.g. `centre distance <= r1 + r2`.
         constraint: &'static str,
         /// By how much.
@@ -131,7 +132,7 @@ pub enum SolveError {
     /// The inputs are wrong (count, non-finite values) or the plan does not fit the model.
     BadInput {
         /// What is wrong.
-        what: String,
+        what: Cow<'static, str>,
     },
 }
 
@@ -170,18 +171,22 @@ fn local(place: &Place) -> [f64; 2] {
 /// The joint's point in the frame of `link` (one of its two links).
 fn point_on(model: &Model, joint: usize, link: usize) -> Result<[f64; 2], SolveError> {
     let j = &model.joints[joint];
-    let side = j
-        .links
-        .iter()
-        .position(|&l| l == link)
-        .ok_or_else(|| SolveError::BadInput {
-            what: format!(
-                "joint {} does not touch link {}",
-                j.name,
-                model.links.get(link).map_or("?", |s| s)
-            ),
-        })?;
+    let side = j.links.iter().position(|&l| l == link).ok_or_else(|| {
+        bad(format!(
+            "joint {} does not touch link {}",
+            j.name,
+            model.links.get(link).map_or("?", |s| s)
+        ))
+    })?;
     Ok(local(&j.places[side]))
+}
+
+fn xy(p: &[f64; 3]) -> [f64; 2] {
+    [p[0], p[1]]
+}
+
+fn bad(what: String) -> SolveError {
+    SolveError::BadInput { what: Cow::Owned(what) }
 }
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
@@ -197,11 +202,12 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
-fn geom(step: usize, joint: &str, e: GeomError<f64>) -> SolveError {
+/// A primitive's error as the error of plan step `step`, at `joint`.
+pub fn step_error(step: usize, joint: impl Into<Cow<'static, str>>, e: GeomError<f64>) -> SolveError {
     match e {
         GeomError::Unreachable { constraint, by } => SolveError::Unreachable {
             step,
-            joint: joint.to_string(),
+            joint: joint.into(),
             constraint,
             by,
         },
@@ -209,35 +215,142 @@ fn geom(step: usize, joint: &str, e: GeomError<f64>) -> SolveError {
     }
 }
 
+// Step kernels: the geometry of each step, shared by the interpreter and
+// generated code, which differ only in where the local coordinates come from.
+
+/// The pose of a link reached from the known pose `from` through a revolute
+/// joint at `at_from` (on the known link) and `at_to` (on the new link),
+/// turned by `turn` (the joint value, negated when the joint is written from
+/// the new link).
+pub fn through_revolute(from: Pose2, at_from: [f64; 2], at_to: [f64; 2], turn: f64) -> Pose2 {
+    Pose2::placing(at_to, from.apply(at_from), from.angle + turn)
+}
+
+/// The pose of a slider reached from the known guide link `from`: the guide
+/// runs `through` a point `along` a direction on the known link, the slider's
+/// point is `slider` on the new link, and `s` is the joint value.
+pub fn along_guide(from: Pose2, through: [f64; 2], along: [f64; 2], slider: [f64; 2], s: f64) -> Pose2 {
+    let n = along[0].hypot(along[1]);
+    Pose2::placing(
+        slider,
+        from.apply([through[0] + s * along[0] / n, through[1] + s * along[1] / n]),
+        from.angle,
+    )
+}
+
+/// The pose of a guide link reached from the known slider link `from`: the
+/// known link's point `point` sits at `through + s·along` on the new link.
+pub fn onto_guide(from: Pose2, through: [f64; 2], along: [f64; 2], point: [f64; 2], s: f64) -> Pose2 {
+    let n = along[0].hypot(along[1]);
+    Pose2::placing(
+        [through[0] + s * along[0] / n, through[1] + s * along[1] / n],
+        from.apply(point),
+        from.angle,
+    )
+}
+
 /// A link's angle so that its local vector `local` points along the world vector `world`.
-fn angle_for(step: usize, local: [f64; 2], world: [f64; 2]) -> Result<f64, SolveError> {
+fn angle_for(local: [f64; 2], world: [f64; 2]) -> Result<f64, GeomError<f64>> {
     if local[0].hypot(local[1]) == 0.0 {
-        return Err(SolveError::Degenerate {
-            step,
+        return Err(GeomError::Degenerate {
             what: "two joints of a dyad link coincide",
         });
     }
     Ok(world[1].atan2(world[0]) - local[1].atan2(local[0]))
 }
 
+/// The RRR dyad: joint a at `a_k1` on the known link k1 (pose `k1`) and `a_l1`
+/// on l1; joint b at `b_l1` on l1 and `b_l2` on l2; joint c at `c_l2` on l2 and
+/// `c_k2` on the known link k2. Returns the poses of l1 and l2. `Plus`: b to
+/// the left of the line from a to c.
+#[allow(clippy::too_many_arguments)]
+pub fn rrr_dyad(
+    k1: Pose2,
+    a_k1: [f64; 2],
+    a_l1: [f64; 2],
+    b_l1: [f64; 2],
+    b_l2: [f64; 2],
+    c_l2: [f64; 2],
+    c_k2: [f64; 2],
+    k2: Pose2,
+    sign: Sign,
+) -> Result<(Pose2, Pose2), GeomError<f64>> {
+    let pa = k1.apply(a_k1);
+    let pc = k2.apply(c_k2);
+    let (r1, r2) = (sub(b_l1, a_l1), sub(c_l2, b_l2));
+    let pb = rrr(pa, r1[0].hypot(r1[1]), pc, r2[0].hypot(r2[1]))?.branch(sign);
+    let l1 = Pose2::placing(a_l1, pa, angle_for(r1, sub(pb, pa))?);
+    let l2 = Pose2::placing(b_l2, pb, angle_for(r2, sub(pc, pb))?);
+    Ok((l1, l2))
+}
+
+/// The RRP dyad: as [`rrr_dyad`], with c prismatic: its guide runs `through`
+/// a point `along` a direction on the known link k2, its slider point is
+/// `slider` on l2. `Plus`: the larger slider coordinate along the guide.
+#[allow(clippy::too_many_arguments)]
+pub fn rrp_dyad(
+    k1: Pose2,
+    a_k1: [f64; 2],
+    a_l1: [f64; 2],
+    b_l1: [f64; 2],
+    b_l2: [f64; 2],
+    slider: [f64; 2],
+    through: [f64; 2],
+    along: [f64; 2],
+    k2: Pose2,
+    sign: Sign,
+) -> Result<(Pose2, Pose2), GeomError<f64>> {
+    let pa = k1.apply(a_k1);
+    let r1 = sub(b_l1, a_l1);
+    // The slider keeps k2's orientation, so b's point runs along a parallel to
+    // the guide, offset by b's place relative to the slider point.
+    let offset = k2.rotate(sub(b_l2, slider));
+    let q = k2.apply(through);
+    let hit = rrp(
+        pa,
+        r1[0].hypot(r1[1]),
+        [q[0] + offset[0], q[1] + offset[1]],
+        k2.rotate(along),
+    )?
+    .branch(sign);
+    let l1 = Pose2::placing(a_l1, pa, angle_for(r1, sub(hit.point, pa))?);
+    Ok((l1, Pose2::placing(b_l2, hit.point, k2.angle)))
+}
+
+/// A revolute joint's value: the angle of v from u, in (−π, π].
+pub fn revolute_value(u: Pose2, v: Pose2) -> f64 {
+    wrap(v.angle - u.angle)
+}
+
+/// A prismatic joint's value: where the slider's point lies along the guide.
+pub fn prismatic_value(
+    guide_pose: Pose2,
+    through: [f64; 2],
+    along: [f64; 2],
+    slider_pose: Pose2,
+    slider: [f64; 2],
+) -> f64 {
+    let p = guide_pose.inverse_apply(slider_pose.apply(slider));
+    let n = along[0].hypot(along[1]);
+    ((p[0] - through[0]) * along[0] + (p[1] - through[1]) * along[1]) / n
+}
+
 /// Runs the plan for one branch (`signs[k]` for the plan's k-th choice).
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<FkSolution, SolveError> {
     if inputs.len() != plan.inputs.len() || signs.len() != plan.branches {
-        return Err(SolveError::BadInput {
-            what: format!("expected {} inputs and {} signs", plan.inputs.len(), plan.branches),
-        });
+        return Err(bad(format!(
+            "expected {} inputs and {} signs",
+            plan.inputs.len(),
+            plan.branches
+        )));
     }
     if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
-        return Err(SolveError::BadInput {
-            what: format!("input {} is not finite", i + 1),
-        });
+        return Err(bad(format!("input {} is not finite", i + 1)));
     }
     let mut poses: Vec<Option<Pose2>> = vec![None; model.links.len()];
     poses[0] = Some(Pose2::IDENTITY);
     let known = |poses: &[Option<Pose2>], l: usize| {
-        poses[l].ok_or_else(|| SolveError::BadInput {
-            what: format!("link {} is used before it is solved", model.links[l]),
-        })
+        poses[l].ok_or_else(|| bad(format!("link {} is used before it is solved", model.links[l])))
     };
     for (k, step) in plan.steps.iter().enumerate() {
         match *step {
@@ -249,39 +362,21 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
                 let pose = match j.kind {
                     JointType::R => {
                         let (pf, pt) = (point_on(model, joint, from)?, point_on(model, joint, to)?);
-                        let angle = if forward { tf.angle + value } else { tf.angle - value };
-                        Pose2::placing(pt, tf.apply(pf), angle)
+                        through_revolute(tf, pf, pt, if forward { value } else { -value })
                     }
                     JointType::P => {
                         let side_from = if forward { 0 } else { 1 };
-                        let (guide, slider, sign) = match (&j.places[side_from], &j.places[1 - side_from]) {
-                            (Place::Line { through, along }, other) => ((through, along), local(other), 1.0),
-                            (other, Place::Line { through, along }) => ((through, along), local(other), -1.0),
-                            _ => {
-                                return Err(SolveError::BadInput {
-                                    what: format!("joint {} has no guide line", j.name),
-                                })
+                        match (&j.places[side_from], &j.places[1 - side_from]) {
+                            (Place::Line { through, along }, other) => {
+                                along_guide(tf, xy(through), xy(along), local(other), value)
                             }
-                        };
-                        let d = [guide.1[0], guide.1[1]];
-                        let n = d[0].hypot(d[1]);
-                        let d = [d[0] / n, d[1] / n];
-                        let q = [guide.0[0], guide.0[1]];
-                        if sign > 0.0 {
-                            // Guide on the known link: the slider point runs along it.
-                            let at = [q[0] + value * d[0], q[1] + value * d[1]];
-                            Pose2::placing(slider, tf.apply(at), tf.angle)
-                        } else {
-                            // Guide on the new link: the known link's point sits at q + s·d on it.
-                            let at = [q[0] + value * d[0], q[1] + value * d[1]];
-                            Pose2::placing(at, tf.apply(slider), tf.angle)
+                            (other, Place::Line { through, along }) => {
+                                onto_guide(tf, xy(through), xy(along), local(other), value)
+                            }
+                            _ => return Err(bad(format!("joint {} has no guide line", j.name))),
                         }
                     }
-                    JointType::S => {
-                        return Err(SolveError::BadInput {
-                            what: "spherical joint in a planar plan".into(),
-                        })
-                    }
+                    JointType::S => return Err(bad("spherical joint in a planar plan".to_string())),
                 };
                 poses[to] = Some(pose);
             }
@@ -291,18 +386,20 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
                 branch,
             } => {
                 let (t1, t2) = (known(&poses, k1)?, known(&poses, k2)?);
-                let pa = t1.apply(point_on(model, a, k1)?);
-                let pc = t2.apply(point_on(model, c, k2)?);
-                let (a1, b1) = (point_on(model, a, l1)?, point_on(model, b, l1)?);
-                let (b2, c2) = (point_on(model, b, l2)?, point_on(model, c, l2)?);
-                let (r1, r2) = (sub(b1, a1), sub(c2, b2));
-                let roots = rrr(pa, r1[0].hypot(r1[1]), pc, r2[0].hypot(r2[1]))
-                    .map_err(|e| geom(k, &model.joints[b].name, e))?;
-                let pb = roots.branch(signs[branch]);
-                let ang1 = angle_for(k, r1, sub(pb, pa))?;
-                let ang2 = angle_for(k, r2, sub(pc, pb))?;
-                poses[l1] = Some(Pose2::placing(a1, pa, ang1));
-                poses[l2] = Some(Pose2::placing(b2, pb, ang2));
+                let (p1, p2) = rrr_dyad(
+                    t1,
+                    point_on(model, a, k1)?,
+                    point_on(model, a, l1)?,
+                    point_on(model, b, l1)?,
+                    point_on(model, b, l2)?,
+                    point_on(model, c, l2)?,
+                    point_on(model, c, k2)?,
+                    t2,
+                    signs[branch],
+                )
+                .map_err(|e| step_error(k, model.joints[b].name.clone(), e))?;
+                poses[l1] = Some(p1);
+                poses[l2] = Some(p2);
             }
             Step::Rrp {
                 joints: [a, b, c],
@@ -310,41 +407,36 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
                 branch,
             } => {
                 let (t1, t2) = (known(&poses, k1)?, known(&poses, k2)?);
-                let pa = t1.apply(point_on(model, a, k1)?);
                 let jc = &model.joints[c];
                 let guide_side = jc.links.iter().position(|&l| l == k2).unwrap_or(0);
                 let Place::Line { through, along } = jc.places[guide_side] else {
-                    return Err(SolveError::BadInput {
-                        what: format!("joint {} has no guide on link {}", jc.name, model.links[k2]),
-                    });
+                    return Err(bad(format!(
+                        "joint {} has no guide on link {}",
+                        jc.name, model.links[k2]
+                    )));
                 };
-                let slider = local(&jc.places[1 - guide_side]);
-                let (a1, b1) = (point_on(model, a, l1)?, point_on(model, b, l1)?);
-                let b2 = point_on(model, b, l2)?;
-                let r1 = sub(b1, a1);
-                // The slider keeps k2's orientation, so b's point runs along a
-                // parallel to the guide, offset by b's place relative to the slider point.
-                let offset = t2.rotate(sub(b2, slider));
-                let q = t2.apply([through[0], through[1]]);
-                let line_point = [q[0] + offset[0], q[1] + offset[1]];
-                let dir = t2.rotate([along[0], along[1]]);
-                let roots =
-                    rrp(pa, r1[0].hypot(r1[1]), line_point, dir).map_err(|e| geom(k, &model.joints[b].name, e))?;
-                let hit = roots.branch(signs[branch]);
-                let ang1 = angle_for(k, r1, sub(hit.point, pa))?;
-                poses[l1] = Some(Pose2::placing(a1, pa, ang1));
-                poses[l2] = Some(Pose2::placing(b2, hit.point, t2.angle));
+                let (p1, p2) = rrp_dyad(
+                    t1,
+                    point_on(model, a, k1)?,
+                    point_on(model, a, l1)?,
+                    point_on(model, b, l1)?,
+                    point_on(model, b, l2)?,
+                    local(&jc.places[1 - guide_side]),
+                    xy(&through),
+                    xy(&along),
+                    t2,
+                    signs[branch],
+                )
+                .map_err(|e| step_error(k, model.joints[b].name.clone(), e))?;
+                poses[l1] = Some(p1);
+                poses[l2] = Some(p2);
             }
         }
     }
     let poses: Vec<Pose2> = poses
         .into_iter()
         .enumerate()
-        .map(|(l, p)| {
-            p.ok_or_else(|| SolveError::BadInput {
-                what: format!("the plan leaves link {} unsolved", model.links[l]),
-            })
-        })
+        .map(|(l, p)| p.ok_or_else(|| bad(format!("the plan leaves link {} unsolved", model.links[l]))))
         .collect::<Result<_, _>>()?;
     let values = model.joints.iter().map(|j| joint_value(j, &poses)).collect();
     Ok(FkSolution { poses, values })
@@ -354,18 +446,12 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
 pub fn joint_value(j: &crate::model::Joint, poses: &[Pose2]) -> f64 {
     let (tu, tv) = (poses[j.links[0]], poses[j.links[1]]);
     match j.kind {
-        JointType::R => wrap(tv.angle - tu.angle),
-        JointType::P => {
-            // s = (slider point, in the guide link's frame, − q) · d̂.
-            let (guide, slider_pose, guide_pose, slider) = match (&j.places[0], &j.places[1]) {
-                (Place::Line { through, along }, other) => ((through, along), tv, tu, local(other)),
-                (other, Place::Line { through, along }) => ((through, along), tu, tv, local(other)),
-                _ => return f64::NAN,
-            };
-            let p = guide_pose.inverse_apply(slider_pose.apply(slider));
-            let n = guide.1[0].hypot(guide.1[1]);
-            ((p[0] - guide.0[0]) * guide.1[0] + (p[1] - guide.0[1]) * guide.1[1]) / n
-        }
+        JointType::R => revolute_value(tu, tv),
+        JointType::P => match (&j.places[0], &j.places[1]) {
+            (Place::Line { through, along }, other) => prismatic_value(tu, xy(through), xy(along), tv, local(other)),
+            (other, Place::Line { through, along }) => prismatic_value(tv, xy(through), xy(along), tu, local(other)),
+            _ => f64::NAN,
+        },
         JointType::S => f64::NAN,
     }
 }
@@ -393,4 +479,27 @@ pub fn joint_point(model: &Model, poses: &[Pose2], j: usize) -> [f64; 2] {
         0
     };
     poses[joint.links[side]].apply(local(&joint.places[side]))
+}
+
+/// One branch of a generated solver: its ± choices and its solution, or why it has none.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Branch<S, const D: usize> {
+    /// The sign of each ± choice of the plan, in plan order.
+    pub signs: [Sign; D],
+    /// The solution, or why this branch has none.
+    pub result: Result<S, SolveError>,
+}
+
+/// The sign vector of branch number `index` (bit k set: choice k is `Minus`),
+/// the order in which generated solvers and [`run_all`] list branches.
+pub const fn signs_of<const D: usize>(index: usize) -> [Sign; D] {
+    let mut signs = [Sign::Plus; D];
+    let mut k = 0;
+    while k < D {
+        if index >> k & 1 == 1 {
+            signs[k] = Sign::Minus;
+        }
+        k += 1;
+    }
+    signs
 }

@@ -1,0 +1,219 @@
+//! Generated forward position solvers: straight-line calls of the runtime's
+//! step kernels, with every local coordinate written out as an expression in
+//! the parameters. The plan interpreter walks the same plan with the same
+//! kernels; only where the coordinates come from differs.
+
+use crate::geometry::{JointPlace, Vec3};
+use crate::report::Analysis;
+use pkm_runtime::plan::{Plan, Step};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+fn xy(v: &Vec3) -> TokenStream {
+    let params = quote! { params };
+    let (x, y) = (v[0].to_tokens(&params), v[1].to_tokens(&params));
+    quote! { [#x, #y] }
+}
+
+/// The joint's place on `link`.
+fn place(a: &Analysis, joint: usize, link: usize) -> &JointPlace {
+    let side = a.mechanism.joints[joint]
+        .links
+        .iter()
+        .position(|&l| l == link)
+        .expect("joint touches link");
+    a.geometry.places[joint][side].as_ref().expect("complete geometry")
+}
+
+fn point(p: &JointPlace) -> TokenStream {
+    match p {
+        JointPlace::Point(at, _) | JointPlace::Line(at, _) => xy(at),
+    }
+}
+
+fn pose(l: usize) -> proc_macro2::Ident {
+    format_ident!("pose_{}", l)
+}
+
+/// The items for `fk`: the solution struct and the solver functions.
+pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn::Visibility) -> TokenStream {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime::plan };
+    let params_ty = format_ident!("{}Params", ident);
+    let sol_ty = format_ident!("{}Fk", ident);
+    let n_inputs = plan.inputs.len();
+    let n_branches = plan.branches;
+    let n_solutions = 1usize << plan.branches;
+    let n_joints = m.joints.len();
+
+    let mut body = Vec::new();
+    for (k, step) in plan.steps.iter().enumerate() {
+        match *step {
+            Step::Transfer { joint, from, to, input } => {
+                let (pf, pt) = (pose(from), pose(to));
+                let j = &m.joints[joint];
+                let forward = j.links[0] == from;
+                let value = if forward {
+                    quote! { q[#input] }
+                } else {
+                    quote! { -q[#input] }
+                };
+                let call = match (place(a, joint, from), place(a, joint, to)) {
+                    (JointPlace::Line(through, along), other) if j.kind == crate::model::JointKind::P => {
+                        let (t, d, s) = (xy(through), xy(along), point(other));
+                        quote! { #rt::along_guide(#pf, #t, #d, #s, q[#input]) }
+                    }
+                    (other, JointPlace::Line(through, along)) if j.kind == crate::model::JointKind::P => {
+                        let (t, d, s) = (xy(through), xy(along), point(other));
+                        quote! { #rt::onto_guide(#pf, #t, #d, #s, q[#input]) }
+                    }
+                    (f, t) => {
+                        let (f, t) = (point(f), point(t));
+                        quote! { #rt::through_revolute(#pf, #f, #t, #value) }
+                    }
+                };
+                body.push(quote! { let #pt = #call; });
+            }
+            Step::Rrr {
+                joints: [ja, jb, jc],
+                links: [k1, l1, l2, k2],
+                branch,
+            } => {
+                let (p1, p2, pk1, pk2) = (pose(l1), pose(l2), pose(k1), pose(k2));
+                let c = [
+                    point(place(a, ja, k1)),
+                    point(place(a, ja, l1)),
+                    point(place(a, jb, l1)),
+                    point(place(a, jb, l2)),
+                    point(place(a, jc, l2)),
+                    point(place(a, jc, k2)),
+                ];
+                let [c0, c1, c2, c3, c4, c5] = c;
+                let name = &m.joints[jb].name;
+                body.push(quote! {
+                    let (#p1, #p2) = #rt::rrr_dyad(#pk1, #c0, #c1, #c2, #c3, #c4, #c5, #pk2, signs[#branch])
+                        .map_err(|e| #rt::step_error(#k, #name, e))?;
+                });
+            }
+            Step::Rrp {
+                joints: [ja, jb, jc],
+                links: [k1, l1, l2, k2],
+                branch,
+            } => {
+                let (p1, p2, pk1, pk2) = (pose(l1), pose(l2), pose(k1), pose(k2));
+                let (c0, c1, c2, c3) = (
+                    point(place(a, ja, k1)),
+                    point(place(a, ja, l1)),
+                    point(place(a, jb, l1)),
+                    point(place(a, jb, l2)),
+                );
+                let slider = point(place(a, jc, l2));
+                let JointPlace::Line(through, along) = place(a, jc, k2) else {
+                    unreachable!("the planner checked the guide")
+                };
+                let (t, d) = (xy(through), xy(along));
+                let name = &m.joints[jb].name;
+                body.push(quote! {
+                    let (#p1, #p2) = #rt::rrp_dyad(#pk1, #c0, #c1, #c2, #c3, #slider, #t, #d, #pk2, signs[#branch])
+                        .map_err(|e| #rt::step_error(#k, #name, e))?;
+                });
+            }
+        }
+    }
+
+    // Joint values and points from the poses.
+    let values = m.joints.iter().enumerate().map(|(j, joint)| {
+        let (u, v) = (joint.links[0], joint.links[1]);
+        let (pu, pv) = (pose(u), pose(v));
+        match (joint.kind, place(a, j, u), place(a, j, v)) {
+            (crate::model::JointKind::P, JointPlace::Line(t, d), other) => {
+                let (t, d, s) = (xy(t), xy(d), point(other));
+                quote! { #rt::prismatic_value(#pu, #t, #d, #pv, #s) }
+            }
+            (crate::model::JointKind::P, other, JointPlace::Line(t, d)) => {
+                let (t, d, s) = (xy(t), xy(d), point(other));
+                quote! { #rt::prismatic_value(#pv, #t, #d, #pu, #s) }
+            }
+            _ => quote! { #rt::revolute_value(#pu, #pv) },
+        }
+    });
+    let mut point_names: Vec<String> = Vec::new();
+    let mut points = Vec::new();
+    for (j, joint) in m.joints.iter().enumerate() {
+        let side = if matches!(place(a, j, joint.links[0]), JointPlace::Line(..)) {
+            1
+        } else {
+            0
+        };
+        let l = joint.links[side];
+        let (p, at) = (pose(l), point(place(a, j, l)));
+        point_names.push(joint.name.clone());
+        points.push(quote! { #p.apply(#at) });
+    }
+    for np in &a.geometry.points {
+        let (p, at) = (pose(np.link), xy(&np.at));
+        point_names.push(np.name.clone());
+        points.push(quote! { #p.apply(#at) });
+    }
+    let n_points = points.len();
+    let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+    let input_names: Vec<&str> = plan.inputs.iter().map(|&j| m.joints[j].name.as_str()).collect();
+    let branches = (0..n_solutions).map(|i| {
+        quote! {{
+            let signs = #rt::signs_of::<#n_branches>(#i);
+            #rt::Branch { signs, result: Self::fk_branch(params, q, signs) }
+        }}
+    });
+    let used_poses: Vec<proc_macro2::Ident> = (0..m.links.len()).map(pose).collect();
+    let sol_doc = format!(
+        " One forward position solution of `{}`: every joint value and every point.",
+        m.name
+    );
+    let fk_doc = format!(
+        " Forward position, every branch: {n_solutions} solutions, listed by `signs_of` order. Inputs: {}.",
+        input_names.join(", ")
+    );
+    let base = &used_poses[0];
+    quote! {
+        #[doc = #sol_doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #sol_ty {
+            /// Joint values in declaration order (radians for R, lengths for P); see `JOINTS`.
+            pub q: [f64; #n_joints],
+            /// Every joint's point, then every named point, as (x, y); see `POINTS`.
+            pub points: [[f64; 2]; #n_points],
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// The joints, in the order of a solution's `q`.
+            pub const JOINTS: [&'static str; #n_joints] = [#(#joint_names),*];
+            /// The points, in the order of a solution's `points`.
+            pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
+            /// The actuated joints, in the order of the input vector.
+            pub const INPUTS: [&'static str; #n_inputs] = [#(#input_names),*];
+
+            #[doc = #fk_doc]
+            pub fn fk(params: &#params_ty, q: &[f64; #n_inputs]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
+                [#(#branches),*]
+            }
+
+            /// Forward position for one branch (`signs[k]` for the plan's k-th ± choice).
+            pub fn fk_branch(
+                params: &#params_ty,
+                q: &[f64; #n_inputs],
+                signs: [::pkm::runtime::primitives::Sign; #n_branches],
+            ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                let _ = &signs;
+                if !q.iter().all(|v| v.is_finite()) {
+                    return ::core::result::Result::Err(#rt::SolveError::BadInput {
+                        what: ::std::borrow::Cow::Borrowed("an input is not finite"),
+                    });
+                }
+                let #base = #rt::Pose2::IDENTITY;
+                #(#body)*
+                ::core::result::Result::Ok(#sol_ty { q: [#(#values),*], points: [#(#points),*] })
+            }
+        }
+    }
+}
