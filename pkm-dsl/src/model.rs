@@ -439,7 +439,8 @@ impl Builder {
 pub fn suggest<'a>(name: &str, known: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     known
         .map(|k| (edit_distance(name, k), k))
-        .filter(|(d, _)| *d <= 2)
+        // Short names are easily close to each other: allow one edit below four characters.
+        .filter(|(d, _)| *d <= if name.chars().count() < 4 { 1 } else { 2 })
         .min()
         .map(|(_, k)| k)
 }
@@ -562,6 +563,18 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
             let this = if b.joints.len() > before { Some(before) } else { None };
             if let (Some(p), Some(t), Some(conn)) = (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k])) {
                 if let Some((kind, span)) = conn.relation {
+                    if let Some(sj) = [p, t].into_iter().find(|&x| !b.joints[x].kind.has_direction()) {
+                        b.errors.push(
+                            Diagnostic::new(
+                                span,
+                                format!("joint `{}` is spherical and has no axis to relate", b.joints[sj].name),
+                            )
+                            .label("write `-` next to an S joint"),
+                        );
+                        prev_joint = this;
+                        prev_link = next_link;
+                        continue;
+                    }
                     b.relations.push(Relation {
                         kind,
                         a: DirectionItem::Joint(p),
@@ -677,6 +690,15 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
 
     for r in &b.relations {
         if r.kind == RelationKind::Coaxial {
+            if !matches!((r.a, r.b), (DirectionItem::Joint(_), DirectionItem::Joint(_))) {
+                if let Some(span) = r.span {
+                    b.errors.push(
+                        Diagnostic::new(span, "only two joints can be coaxial")
+                            .label("a frame axis or plane has no position"),
+                    );
+                }
+                continue;
+            }
             for item in [r.a, r.b] {
                 if let DirectionItem::Joint(j) = item {
                     let joint = &b.joints[j];
@@ -698,6 +720,45 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         }
     }
     check_relations(&b.joints, &b.relations, &mut b.errors);
+
+    // Every link must hang in the mechanism: reached from the base, held by two joints.
+    if b.errors.is_empty() {
+        let all: Vec<usize> = (0..b.joints.len()).collect();
+        for (i, link) in b.links.iter().enumerate().skip(1) {
+            let degree = b.joints.iter().filter(|j| j.links.contains(&i)).count();
+            let span = link.span.unwrap_or_default();
+            if !connected(&b.joints, &all, 0, i) {
+                b.errors.push(
+                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name))
+                        .label("unreachable link"),
+                );
+            } else if degree < 2 {
+                let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
+                    .label("dangling link")
+                    .note("every link of a parallel mechanism lies on a loop");
+                if let Some(s) = suggest(
+                    &link.name,
+                    b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name),
+                ) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                }
+                b.errors.push(d);
+            }
+        }
+        if b.joints.is_empty() {
+            b.errors
+                .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
+        }
+        if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
+            b.errors.push(
+                Diagnostic::new(
+                    ast.name.span,
+                    format!("the mechanism has more than {MAX_JOINTS} joints or links"),
+                )
+                .label("too large"),
+            );
+        }
+    }
 
     let branches: Vec<Branch> = ast
         .branches
@@ -782,45 +843,6 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
                 None
             }
         });
-
-    // Every link must hang in the mechanism: reached from the base, held by two joints.
-    if b.errors.is_empty() {
-        let all: Vec<usize> = (0..b.joints.len()).collect();
-        for (i, link) in b.links.iter().enumerate().skip(1) {
-            let degree = b.joints.iter().filter(|j| j.links.contains(&i)).count();
-            let span = link.span.unwrap_or_default();
-            if !connected(&b.joints, &all, 0, i) {
-                b.errors.push(
-                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name))
-                        .label("unreachable link"),
-                );
-            } else if degree < 2 {
-                let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
-                    .label("dangling link")
-                    .note("every link of a parallel mechanism lies on a loop");
-                if let Some(s) = suggest(
-                    &link.name,
-                    b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name),
-                ) {
-                    d = d.note(format!("did you mean `{s}`?"));
-                }
-                b.errors.push(d);
-            }
-        }
-        if b.joints.is_empty() {
-            b.errors
-                .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
-        }
-        if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
-            b.errors.push(
-                Diagnostic::new(
-                    ast.name.span,
-                    format!("the mechanism has more than {MAX_JOINTS} joints or links"),
-                )
-                .label("too large"),
-            );
-        }
-    }
 
     let Builder {
         errors,
@@ -970,11 +992,25 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
                 Some(s) => Diagnostic::new(s, msg).label("contradictory relation"),
                 None => {
                     // An implied relation (planar, frame) was contradicted by a written one: point at that.
-                    let written = relations.iter().find(|q| {
+                    // An implied relation (frame, `planar`) was contradicted by a
+                    // written one: point at the written relation that ties one of
+                    // its two sides into the class, preferring one naming that side.
+                    let in_class = |q: &&Relation| {
                         q.span.is_some()
                             && q.kind != RelationKind::Perpendicular
                             && [q.a, q.b].iter().any(|i| classes.class_of(*i) == classes.class_of(r.a))
-                    });
+                    };
+                    let names_side = |q: &&Relation| [q.a, q.b].iter().any(|i| *i == r.a || *i == r.b);
+                    let written = relations
+                        .iter()
+                        .filter(in_class)
+                        .find(names_side)
+                        .or_else(|| relations.iter().find(in_class));
+                    let msg = format!(
+                        "this relation makes `{}` parallel to `{}`, which must be perpendicular (implied by the frame, a U joint or `planar`)",
+                        item_name(r.a),
+                        item_name(r.b)
+                    );
                     match written.and_then(|q| q.span) {
                         Some(s) => Diagnostic::new(s, msg).label("contradictory relation"),
                         None => Diagnostic::global(msg),

@@ -73,7 +73,7 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
     let n_items = classes.items().len();
     let mut class_dir: Vec<Option<Vector3<f64>>> = vec![None; n_items];
     // Perpendicular constraints between classes.
-    let mut perp: Vec<(usize, usize, Option<crate::Span>)> = Vec::new();
+    let mut perp: Vec<Perp> = Vec::new();
     for r in &mech.relations {
         if r.kind == crate::ast::RelationKind::Perpendicular {
             if let (Some(a), Some(b)) = (classes.class_of(r.a), classes.class_of(r.b)) {
@@ -81,51 +81,38 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
             }
         }
     }
-    for i in 0..n_items {
-        let root = classes.find(i);
-        if class_dir[root].is_some() {
-            continue;
-        }
-        let mut basis: Vec<Vector3<f64>> = Vec::new();
-        let mut last_span = None;
-        for &(a, b, span) in &perp {
-            let other = if a == root {
-                b
-            } else if b == root {
-                a
-            } else {
-                continue;
-            };
-            if let Some(d) = class_dir[other] {
-                last_span = span.or(last_span);
-                let mut u = d;
-                for e in &basis {
-                    u -= e * e.dot(&u);
-                }
-                if u.norm() > 1e-6 {
-                    basis.push(u.normalize());
-                }
+    // Most-constrained classes first; should that still fail, a few other
+    // orders before reporting the relations as over-constrained.
+    let roots: Vec<usize> = {
+        let mut r: Vec<usize> = (0..n_items).map(|i| classes.find(i)).collect();
+        r.sort_unstable();
+        r.dedup();
+        r
+    };
+    let degree = |c: usize| perp.iter().filter(|(a, b, _)| *a == c || *b == c).count();
+    let mut order = roots.clone();
+    order.sort_by_key(|&c| (std::cmp::Reverse(degree(c)), c));
+    let mut failure = None;
+    for attempt in 0..8 {
+        if attempt > 0 {
+            // A deterministic shuffle for the next attempt.
+            for i in (1..order.len()).rev() {
+                let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+                order.swap(i, j);
             }
         }
-        if basis.len() >= 3 {
-            let msg = "a direction is required to be perpendicular to three independent directions";
-            return Err(match last_span {
-                Some(s) => Diagnostic::new(s, msg).label("over-constrained relation"),
-                None => Diagnostic::global(msg),
-            });
+        class_dir.iter_mut().for_each(|d| *d = None);
+        failure = assign_directions(&order, &perp, &mut class_dir, &mut rng).err();
+        if failure.is_none() {
+            break;
         }
-        let mut dir = None;
-        for _ in 0..16 {
-            let mut u = rng.vector();
-            for e in &basis {
-                u -= e * e.dot(&u);
-            }
-            if u.norm() > 0.1 {
-                dir = Some(u.normalize());
-                break;
-            }
-        }
-        class_dir[root] = Some(dir.unwrap_or_else(|| basis[0].cross(&basis[basis.len() - 1]).normalize()));
+    }
+    if let Some(span) = failure {
+        let msg = "a direction is required to be perpendicular to three independent directions";
+        return Err(match span {
+            Some(s) => Diagnostic::new(s, msg).label("over-constrained relation"),
+            None => Diagnostic::global(msg),
+        });
     }
     let directions: Vec<Vector3<f64>> = (0..n_items)
         .map(|i| class_dir[classes.find(i)].unwrap_or_else(Vector3::x))
@@ -201,6 +188,58 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         twists,
         frame,
     })
+}
+
+type Perp = (usize, usize, Option<crate::Span>);
+
+/// Gives each class in `order` a random direction perpendicular to the
+/// classes already given that it must be perpendicular to. Fails (with the
+/// span of a relation involved) when one would need three.
+fn assign_directions(
+    order: &[usize],
+    perp: &[Perp],
+    class_dir: &mut [Option<Vector3<f64>>],
+    rng: &mut SplitMix,
+) -> Result<(), Option<crate::Span>> {
+    for &root in order {
+        let mut basis: Vec<Vector3<f64>> = Vec::new();
+        let mut last_span = None;
+        for &(a, b, span) in perp {
+            let other = if a == root {
+                b
+            } else if b == root {
+                a
+            } else {
+                continue;
+            };
+            if let Some(d) = class_dir[other] {
+                last_span = span.or(last_span);
+                let mut u = d;
+                for e in &basis {
+                    u -= e * e.dot(&u);
+                }
+                if u.norm() > 1e-6 {
+                    basis.push(u.normalize());
+                }
+            }
+        }
+        if basis.len() >= 3 {
+            return Err(last_span);
+        }
+        let mut dir = None;
+        for _ in 0..16 {
+            let mut u = rng.vector();
+            for e in &basis {
+                u -= e * e.dot(&u);
+            }
+            if u.norm() > 0.1 {
+                dir = Some(u.normalize());
+                break;
+            }
+        }
+        class_dir[root] = Some(dir.unwrap_or_else(|| basis[0].cross(&basis[basis.len() - 1]).normalize()));
+    }
+    Ok(())
 }
 
 /// The rank of a matrix, with [`RANK_TOLERANCE`] relative to its largest singular value.
@@ -359,11 +398,15 @@ pub fn at_point(twists: &DMatrix<f64>, o: &Vector3<f64>) -> (DMatrix<f64>, DMatr
 /// An orthonormal basis of the column space of a 3 × k matrix, by
 /// Gram–Schmidt with column pivoting. (nalgebra's SVD gave an inaccurate U
 /// for rank-deficient 3 × 3 input when V was not requested; this is simpler.)
-pub fn column_basis(m: &DMatrix<f64>) -> Vec<Vector3<f64>> {
+///
+/// Columns shorter than a tolerance relative to `scale` count as zero; pass the
+/// size of the whole twists these vectors come from, so that round-off in a
+/// part that is really zero (the rotations of a translating platform) is not
+/// taken for a direction.
+pub fn column_basis(m: &DMatrix<f64>, scale: f64) -> Vec<Vector3<f64>> {
     let mut cols: Vec<Vector3<f64>> = (0..m.ncols())
         .map(|c| Vector3::new(m[(0, c)], m[(1, c)], m[(2, c)]))
         .collect();
-    let scale = cols.iter().map(|c| c.norm()).fold(0.0, f64::max);
     let mut basis: Vec<Vector3<f64>> = Vec::new();
     while basis.len() < 3 {
         let Some((i, norm)) = cols
@@ -413,9 +456,15 @@ mod tests {
             3,
             [d * 0.26, d * 0.11, d * -0.09].iter().flat_map(|c| c.iter().copied()),
         );
-        let b = column_basis(&m);
+        let b = column_basis(&m, 0.26);
         assert_eq!(b.len(), 1);
         assert!(b[0].cross(&d).norm() < 1e-15);
+    }
+
+    #[test]
+    fn round_off_is_not_a_direction() {
+        let m = DMatrix::from_row_slice(3, 2, &[1e-17, -2e-17, 3e-17, 0.0, -1e-17, 1e-17]);
+        assert!(column_basis(&m, 1.0).is_empty());
     }
 
     #[test]

@@ -23,8 +23,11 @@ use std::fmt;
 const PRIMARY_SEEDS: [u64; 3] = [0x5eed_0001, 0x5eed_0002, 0x5eed_0003];
 /// Seeds of the configurations the cross-check uses (independent of the primary ones).
 const CHECK_SEEDS: [u64; 3] = [0xc4ec_0001, 0xc4ec_0002, 0xc4ec_0003];
-/// How many sub-mechanisms the ordering search may evaluate before it gives up.
-const SEARCH_BUDGET: usize = 20_000;
+/// How many sub-mechanisms the exhaustive ordering search may evaluate
+/// before it gives up (and says so).
+const SEARCH_BUDGET: usize = 4_000;
+/// The most candidate SOCs one state may have before the search gives up.
+const CANDIDATE_CAP: usize = 4096;
 
 /// A POC set `[t^α(dir); r^β(dir)]` with the dimension of its motion.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -249,6 +252,12 @@ struct Context<'a> {
     incidence: Vec<Vec<usize>>,
     rank_memo: HashMap<u64, usize>,
     evaluations: usize,
+    /// Local (idle) DOF of each sub-mechanism, by joint mask.
+    idle_memo: HashMap<u64, usize>,
+    /// Per primary instance: the idle motions of the whole mechanism as joint
+    /// rates (one row per joint variable, one column per idle DOF), and the
+    /// rows of each joint.
+    idle_rates: Vec<(DMatrix<f64>, Vec<std::ops::Range<usize>>)>,
 }
 
 impl Context<'_> {
@@ -256,11 +265,40 @@ impl Context<'_> {
         joints.iter().fold(0, |m, j| m | 1 << j)
     }
 
-    fn f_of(&self, mask: u64) -> usize {
-        (0..self.mech.joints.len())
+    /// Σf of the joints in `mask`, less the local (idle) DOF of that
+    /// sub-mechanism: local DOF are not counted in f.
+    fn f_of(&mut self, mask: u64) -> usize {
+        let f: usize = (0..self.mech.joints.len())
             .filter(|j| mask >> j & 1 == 1)
             .map(|j| self.mech.joints[j].kind.dof())
-            .sum()
+            .sum();
+        f - self.idle_of(mask).min(f)
+    }
+
+    /// The local DOF that sub-mechanism `mask` contains: the idle motions of
+    /// the whole mechanism whose joint rates vanish outside it.
+    fn idle_of(&mut self, mask: u64) -> usize {
+        if let Some(&i) = self.idle_memo.get(&mask) {
+            return i;
+        }
+        let i = self
+            .idle_rates
+            .iter()
+            .map(|(rates, rows)| {
+                let outside: Vec<usize> = (0..self.mech.joints.len())
+                    .filter(|j| mask >> j & 1 == 0)
+                    .flat_map(|j| rows[j].clone())
+                    .collect();
+                let mut m = DMatrix::zeros(outside.len(), rates.ncols());
+                for (r, &row) in outside.iter().enumerate() {
+                    m.set_row(r, &rates.row(row));
+                }
+                rates.ncols() - screw::rank(&m).min(rates.ncols())
+            })
+            .min()
+            .unwrap_or(0);
+        self.idle_memo.insert(mask, i);
+        i
     }
 
     fn actuators_of(&self, mask: u64) -> usize {
@@ -325,7 +363,7 @@ impl Context<'_> {
                             seen.push(m);
                             out.push((p, [start, o]));
                         }
-                    } else if inner >> o & 1 == 0 && out.len() < 4096 {
+                    } else if inner >> o & 1 == 0 && out.len() < CANDIDATE_CAP {
                         stack.push((o, p, inner | 1 << o));
                     }
                 }
@@ -362,8 +400,16 @@ impl Search<'_, '_> {
         }
         let run_before = self.ctx.running(used);
         let cands = self.ctx.candidates(used);
+        if cands.len() >= CANDIDATE_CAP {
+            self.exhausted = true;
+            return None;
+        }
         let mut best: Option<(Cost, usize)> = None;
         for (i, (path, _)) in cands.iter().enumerate() {
+            if self.ctx.evaluations > SEARCH_BUDGET {
+                self.exhausted = true;
+                return None;
+            }
             let next = used | self.ctx.joint_mask(path);
             let run_after = self.ctx.running(next);
             if run_after < 0 {
@@ -382,6 +428,29 @@ impl Search<'_, '_> {
         self.choices.insert(used, cands);
         best.map(|(c, _)| c)
     }
+}
+
+/// A greedy ordering (least |Δ| at each step, first candidate on ties), if it
+/// reaches the end with every Δ = 0.
+fn greedy_order(ctx: &mut Context, all: u64) -> Option<Vec<Candidate>> {
+    let mut used = 0u64;
+    let mut order = Vec::new();
+    while used != all {
+        let run_before = ctx.running(used);
+        let cands = ctx.candidates(used);
+        let mut pick = None;
+        for c in cands {
+            let next = used | ctx.joint_mask(&c.0);
+            if ctx.running(next) == run_before && run_before == 0 {
+                pick = Some(c);
+                break;
+            }
+        }
+        let c = pick?;
+        used |= ctx.joint_mask(&c.0);
+        order.push(c);
+    }
+    Some(order)
 }
 
 fn relation_symbol(ctx: &Context, a: usize, b: usize) -> &'static str {
@@ -433,7 +502,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let mut ctx = context(mech)?;
     let n = mech.joints.len();
     let all: u64 = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
-    let total_f = mech.total_dof();
+    let total_f = ctx.f_of(all);
     let total_rank = ctx.loop_rank(all);
     let dof = total_f - total_rank;
     let loops = n + 1 - mech.links.len();
@@ -498,34 +567,65 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         .into());
     }
 
-    let mut search = Search {
-        ctx: &mut ctx,
-        all,
-        best: HashMap::new(),
-        choices: HashMap::new(),
-        exhausted: false,
+    // Greedy first: a step of least |Δ| each time. If it reaches Σ|Δ| = 0 it is
+    // optimal (every Δ is 0, so every SOC is its own SKC: the most SKCs).
+    let order = match greedy_order(&mut ctx, all) {
+        Some(order) => order,
+        None => {
+            let mut search = Search {
+                ctx: &mut ctx,
+                all,
+                best: HashMap::new(),
+                choices: HashMap::new(),
+                exhausted: false,
+            };
+            let found = search.solve(0);
+            let exhausted = search.exhausted;
+            let Search { best, choices, .. } = search;
+            if found.is_none() {
+                let d = if exhausted {
+                    Diagnostic::new(
+                        mech.name_span(),
+                        format!(
+                            "the ordered SOC search gave up after {SEARCH_BUDGET} sub-mechanisms ({} loops)",
+                            loops
+                        ),
+                    )
+                    .label("too many orderings to compare")
+                    .note(
+                        "no ordering was found whose Σ|Δ| is zero; the exhaustive search for the least Σ|Δ| is bounded",
+                    )
+                } else {
+                    let first = mech
+                        .joints
+                        .iter()
+                        .find(|j| j.actuated)
+                        .map_or(mech.name_span(), |j| j.span);
+                    Diagnostic::new(
+                        first,
+                        "no ordering of single open chains keeps every running Σ Δ non-negative: the actuators cannot drive this mechanism",
+                    )
+                    .label("actuated here")
+                };
+                return Err(d.into());
+            }
+            let mut order = Vec::new();
+            let mut used = 0u64;
+            while used != all {
+                let (_, i) = best[&used].expect("a solved state has a choice");
+                let c = choices[&used][i].clone();
+                used |= ctx.joint_mask(&c.0);
+                order.push(c);
+            }
+            order
+        }
     };
-    let found = search.solve(0);
-    let exhausted = search.exhausted;
-    let Search { best, choices, .. } = search;
-    if found.is_none() {
-        let msg = if exhausted {
-            format!("the ordered SOC search gave up after {SEARCH_BUDGET} sub-chains")
-        } else {
-            "no ordering of single open chains keeps every running Σ Δ non-negative: the actuators cannot drive this mechanism".to_string()
-        };
-        return Err(Diagnostic::new(mech.joints[0].span, msg)
-            .label("actuator choice")
-            .into());
-    }
 
-    // Rebuild the chosen order.
+    // The SOCs of the chosen order.
     let mut socs = Vec::new();
     let mut used = 0u64;
     let mut run_before = 0i64;
-    while used != all {
-        let (_, i) = best[&used].expect("a solved state has a choice");
-        let (mut path, mut ends) = choices[&used][i].clone();
+    for (mut path, mut ends) in order {
         // Write a chain that ends on the base from its other end, as the papers do.
         if ends[0] == 0 && ends[1] != 0 {
             path.reverse();
@@ -534,7 +634,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         let mask = ctx.joint_mask(&path);
         let xi = ctx.loop_rank(used | mask) - ctx.loop_rank(used);
         let run_after = ctx.running(used | mask);
-        let soc = Soc {
+        socs.push(Soc {
             dof: ctx.f_of(mask),
             actuators: ctx.actuators_of(mask),
             xi,
@@ -542,8 +642,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
             notation: notation(&ctx, &path),
             joints: path,
             ends,
-        };
-        socs.push(soc);
+        });
         used |= mask;
         run_before = run_after;
     }
@@ -674,7 +773,9 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
     };
     let primary = realize(&PRIMARY_SEEDS)?;
     let check = realize(&CHECK_SEEDS)?;
+    let idle_rates = primary.iter().map(|inst| idle_motions(mech, inst)).collect();
     Ok(Context {
+        idle_rates,
         mech,
         incidence: mech.incidence(),
         classes,
@@ -682,7 +783,59 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
         check,
         rank_memo: HashMap::new(),
         evaluations: 0,
+        idle_memo: HashMap::new(),
     })
+}
+
+/// The idle (local) motions of the whole mechanism at one instance: motions
+/// in which no R, H, C, U or S joint's point moves (seen from either of its
+/// links) and no P joint slides, such as the spin of an S–S link or of an
+/// S–P–S leg about the line of its centres. Returned as joint rates, with the
+/// rows of each joint.
+fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::ops::Range<usize>>) {
+    let n = mech.joints.len();
+    let all: u64 = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+    let sys = VelocitySystem::new(mech, inst, all);
+    let kernel = screw::null_space(&sys.matrix);
+    let k = kernel.ncols();
+    let mut conditions: Vec<DMatrix<f64>> = Vec::new();
+    for (j, joint) in mech.joints.iter().enumerate() {
+        let c = sys.joint_col[j].expect("every joint is in the system");
+        if joint.kind == JointKind::P {
+            conditions.push(kernel.rows(c, 1).into_owned());
+            continue;
+        }
+        for &link in &joint.links {
+            let t = sys.relative_twists(&kernel, 0, link);
+            conditions.push(screw::at_point(&t, &inst.points[j]).1);
+        }
+    }
+    let total: usize = conditions.iter().map(|m| m.nrows()).sum();
+    let mut rows = DMatrix::zeros(total, k);
+    let mut r = 0;
+    for m in &conditions {
+        rows.view_mut((r, 0), (m.nrows(), k)).copy_from(m);
+        r += m.nrows();
+    }
+    let z = if k == 0 {
+        DMatrix::zeros(0, 0)
+    } else {
+        screw::null_space(&rows)
+    };
+    let motions = &kernel * &z;
+    let mut ranges = Vec::new();
+    let mut rates = DMatrix::zeros(mech.total_dof(), z.ncols());
+    let mut next = 0;
+    for (j, joint) in mech.joints.iter().enumerate() {
+        let c = sys.joint_col[j].expect("every joint is in the system");
+        let f = joint.kind.dof();
+        if z.ncols() > 0 {
+            rates.view_mut((next, 0), (f, z.ncols())).copy_from(&motions.rows(c, f));
+        }
+        ranges.push(next..next + f);
+        next += f;
+    }
+    (rates, ranges)
 }
 
 /// ξ_Lj and Δ_j of a given ordering of SOCs (each a list of joint names), for
@@ -800,8 +953,12 @@ impl<'a> Labeller<'a> {
 
     fn poc(&self, twists: &DMatrix<f64>, o: &Vector3<f64>) -> PocSet {
         let (w, v) = screw::at_point(twists, o);
-        let rb = screw::column_basis(&w);
-        let tb = screw::column_basis(&v);
+        // One scale for both parts: the size of the twists at o.
+        let scale = (0..w.ncols())
+            .map(|c| w.column(c).norm().max(v.column(c).norm()))
+            .fold(0.0, f64::max);
+        let rb = screw::column_basis(&w, scale);
+        let tb = screw::column_basis(&v, scale);
         PocSet {
             t: tb.len(),
             t_dir: self.label(&tb, false),
@@ -1041,6 +1198,93 @@ pub fn delta_unicode(d: i32) -> String {
 #[cfg(test)]
 mod tests {
     use super::to_ascii;
+
+    /// (F, ξ, Δ, κ, platform POC) of a mechanism text, against a hand count.
+    fn check(source: &str, dof: usize, xi: &[usize], delta: &[i32], kappa: usize, poc: Option<&str>) {
+        let a = crate::analyze_source(source).unwrap_or_else(|e| panic!("{}", e.render(source, "t")));
+        let t = &a.topology;
+        assert_eq!(
+            (t.dof, t.xi(), t.delta(), t.kappa),
+            (dof, xi.to_vec(), delta.to_vec(), kappa),
+            "{source}"
+        );
+        if let Some(poc) = poc {
+            assert_eq!(a.platform_poc(), poc, "{source}");
+        }
+    }
+
+    #[test]
+    fn idle_spins_are_not_counted() {
+        // RSSR: Σf = 1 + 3 + 3 + 1 − 1 (the coupler's spin) = 7, one spatial loop.
+        check(
+            "mechanism rssr { base R1* - S1 - S2 - R2 base; }",
+            1,
+            &[6],
+            &[0],
+            0,
+            None,
+        );
+        // 6-SPS: Σf = 42 − 6 leg spins = 36; SOC₁ two legs 12 − 2 − 6 = +4, then 6 − 1 − 1 − 6 = −1 four times.
+        let legs: String = (1..=6)
+            .map(|i| format!("base S{i} - P{i}* - S{} platform; ", i + 6))
+            .collect();
+        check(
+            &format!("mechanism sps {{ {legs} }}"),
+            6,
+            &[6, 6, 6, 6, 6],
+            &[4, -1, -1, -1, -1],
+            4,
+            None,
+        );
+    }
+
+    #[test]
+    fn a_translating_platform_has_no_rotation() {
+        // Three P∥R∥R∥R legs along x, y, z: the platform only translates.
+        check(
+            "mechanism cart { branch A { base P1* ∥ R1 ∥ R2 ∥ R3 platform; } branch B { base P2* ∥ R4 ∥ R5 ∥ R6 platform; }
+             branch C { base P3* ∥ R7 ∥ R8 ∥ R9 platform; } x ∥ P1 ∥ R1; y ∥ P2 ∥ R4; z ∥ P3 ∥ R7; }",
+            3,
+            &[5, 4],
+            &[1, -1],
+            1,
+            Some("[t³; r⁰]"),
+        );
+    }
+
+    #[test]
+    fn perpendicularity_does_not_depend_on_declaration_order() {
+        // R6 ⊥ R1, R2, R3 is satisfiable (R1, R2, R3 in one plane); a generic 6R loop is rigid.
+        for chain in [
+            "base R1* - R2 - R3 - R4 - R5 - R6 base;",
+            "base R6* - R2 - R3 - R4 - R5 - R1 base;",
+        ] {
+            let e =
+                crate::analyze_source(&format!("mechanism m {{ {chain} R6 ⊥ R1; R6 ⊥ R2; R6 ⊥ R3; }}")).unwrap_err();
+            assert_eq!(
+                e.0[0].message, "the mechanism has 0 DOF but 1 actuated joint",
+                "{chain}"
+            );
+        }
+    }
+
+    #[test]
+    fn many_loops_are_ordered_quickly() {
+        // A planar ladder of eleven four-bar loops (κ = 0): the greedy order is
+        // optimal and the exhaustive search never runs.
+        let mut s = String::from("mechanism ladder { planar; base R1* [c] ∥ R2 [l0] ∥ R3 [r0] ∥ R4 base; ");
+        for i in 1..=10 {
+            s.push_str(&format!(
+                "l{} R{} [a{i}] ∥ R{} [l{i}] ∥ R{} base; ",
+                i - 1,
+                3 * i + 2,
+                3 * i + 3,
+                3 * i + 4
+            ));
+        }
+        s.push('}');
+        check(&s, 1, &[3; 11], &[0; 11], 0, None);
+    }
 
     #[test]
     fn ascii_spelling() {
