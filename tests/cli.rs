@@ -42,6 +42,7 @@ fn json_for_every_example() {
     check("planar_3rrr", 3, &[3, 3], &[1, -1], 1, 1);
     check("rps_3", 3, &[6, 6], &[2, -2], 2, 1);
     check("spr_3", 3, &[6, 6], &[2, -2], 2, 1);
+    check("watt_six_bar", 1, &[3, 3], &[0, 0], 0, 2);
 }
 
 #[test]

@@ -80,3 +80,8 @@ fn five_bar() {
 fn seed003_punch() {
     check("seed003_punch", &[(-PI, PI)], 200);
 }
+
+#[test]
+fn watt_six_bar() {
+    check("watt_six_bar", &[(-PI, PI)], 200);
+}

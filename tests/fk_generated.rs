@@ -8,6 +8,7 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
+pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn interpreter(file: &str) -> (pkm::runtime::model::Model, pkm::runtime::plan::Plan) {
     let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
@@ -57,6 +58,7 @@ fn generated_equals_interpreted() {
         agree!(FourBar, "four_bar", [t]);
         agree!(SliderCrank, "slider_crank", [t]);
         agree!(Punch, "seed003_punch", [t]);
+        agree!(Watt, "watt_six_bar", [t]);
         agree!(
             FiveBar,
             "five_bar",

@@ -180,3 +180,25 @@ fn out_of_reach_is_a_typed_error() {
         Err(SolveError::BadInput { .. })
     ));
 }
+
+#[test]
+fn watt_six_bar_second_dyad_closes() {
+    // Independent check of the second loop: R6 lies at f from R5 and at g from R7 = (420, −60).
+    let (f, g) = (200.0, 170.0f64);
+    let (model, plan) = load("watt_six_bar", &[]);
+    assert_eq!(plan.branches, 2);
+    for k in 0..36 {
+        let th = k as f64 * 10.0 * PI / 180.0;
+        for (signs, sol) in run_all(&model, &plan, &[th]) {
+            let Ok(sol) = sol else { continue };
+            let (p5, p6, p7) = (
+                point(&model, &sol, "R5"),
+                point(&model, &sol, "R6"),
+                point(&model, &sol, "R7"),
+            );
+            assert_close(&format!("|R6 − R5| {signs:?}"), (p6[0] - p5[0]).hypot(p6[1] - p5[1]), f);
+            assert_close(&format!("|R6 − R7| {signs:?}"), (p6[0] - p7[0]).hypot(p6[1] - p7[1]), g);
+            assert_close("R7.x", p7[0], 420.0);
+        }
+    }
+}

@@ -11,7 +11,8 @@ use crate::primitives::{rrp, rrr, Error as GeomError, Sign};
 use core::fmt;
 use std::borrow::Cow;
 
-/// A planar pose: the link frame's origin and the angle of its x axis.
+/// A planar pose: the link frame's origin and the angle of its x axis, with
+/// the angle's cosine and sine kept so that moving points costs no trigonometry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose2 {
     /// Origin x.
@@ -20,6 +21,10 @@ pub struct Pose2 {
     pub y: f64,
     /// Angle of the link's x axis from the world's.
     pub angle: f64,
+    /// cos(angle).
+    pub cos: f64,
+    /// sin(angle).
+    pub sin: f64,
 }
 
 impl Pose2 {
@@ -28,34 +33,54 @@ impl Pose2 {
         x: 0.0,
         y: 0.0,
         angle: 0.0,
+        cos: 1.0,
+        sin: 0.0,
     };
 
+    /// The pose with origin (x, y) and angle `angle`.
+    pub fn new(x: f64, y: f64, angle: f64) -> Pose2 {
+        let (sin, cos) = angle.sin_cos();
+        Pose2 { x, y, angle, cos, sin }
+    }
+
     /// A local point in the world.
+    #[inline]
     pub fn apply(&self, p: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.angle.sin_cos();
-        [self.x + c * p[0] - s * p[1], self.y + s * p[0] + c * p[1]]
+        let r = self.rotate(p);
+        [self.x + r[0], self.y + r[1]]
     }
 
     /// A local direction in the world.
+    #[inline]
     pub fn rotate(&self, d: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.angle.sin_cos();
-        [c * d[0] - s * d[1], s * d[0] + c * d[1]]
+        [
+            self.cos.mul_add(d[0], -self.sin * d[1]),
+            self.sin.mul_add(d[0], self.cos * d[1]),
+        ]
     }
 
     /// A world point in local coordinates.
     pub fn inverse_apply(&self, p: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.angle.sin_cos();
         let (dx, dy) = (p[0] - self.x, p[1] - self.y);
-        [c * dx + s * dy, -s * dx + c * dy]
+        [
+            self.cos.mul_add(dx, self.sin * dy),
+            self.cos.mul_add(dy, -self.sin * dx),
+        ]
     }
 
     /// The pose with angle `angle` that carries local point `local` to world point `world`.
     pub fn placing(local: [f64; 2], world: [f64; 2], angle: f64) -> Pose2 {
-        let r = Pose2 { x: 0.0, y: 0.0, angle }.apply(local);
+        Self::placing_rotated(local, world, Pose2::new(0.0, 0.0, angle))
+    }
+
+    /// As [`Pose2::placing`], with the orientation of `rotation` (its origin is ignored).
+    #[inline]
+    pub fn placing_rotated(local: [f64; 2], world: [f64; 2], rotation: Pose2) -> Pose2 {
+        let r = rotation.rotate(local);
         Pose2 {
             x: world[0] - r[0],
             y: world[1] - r[1],
-            angle,
+            ..rotation
         }
     }
 }
@@ -249,14 +274,25 @@ pub fn onto_guide(from: Pose2, through: [f64; 2], along: [f64; 2], point: [f64; 
     )
 }
 
-/// A link's angle so that its local vector `local` points along the world vector `world`.
-fn angle_for(local: [f64; 2], world: [f64; 2]) -> Result<f64, GeomError<f64>> {
-    if local[0].hypot(local[1]) == 0.0 {
+/// The rotation taking the link's local vector `local` onto the world vector
+/// `world`: its cosine and sine from their dot and cross products, its angle
+/// by one atan2.
+fn rotation_onto(local: [f64; 2], world: [f64; 2]) -> Result<Pose2, GeomError<f64>> {
+    let dot = local[0].mul_add(world[0], local[1] * world[1]);
+    let cross = local[0].mul_add(world[1], -local[1] * world[0]);
+    let norm = dot.hypot(cross);
+    if norm.is_nan() || norm <= 0.0 {
         return Err(GeomError::Degenerate {
             what: "two joints of a dyad link coincide",
         });
     }
-    Ok(world[1].atan2(world[0]) - local[1].atan2(local[0]))
+    Ok(Pose2 {
+        x: 0.0,
+        y: 0.0,
+        angle: cross.atan2(dot),
+        cos: dot / norm,
+        sin: cross / norm,
+    })
 }
 
 /// The RRR dyad: joint a at `a_k1` on the known link k1 (pose `k1`) and `a_l1`
@@ -279,8 +315,8 @@ pub fn rrr_dyad(
     let pc = k2.apply(c_k2);
     let (r1, r2) = (sub(b_l1, a_l1), sub(c_l2, b_l2));
     let pb = rrr(pa, r1[0].hypot(r1[1]), pc, r2[0].hypot(r2[1]))?.branch(sign);
-    let l1 = Pose2::placing(a_l1, pa, angle_for(r1, sub(pb, pa))?);
-    let l2 = Pose2::placing(b_l2, pb, angle_for(r2, sub(pc, pb))?);
+    let l1 = Pose2::placing_rotated(a_l1, pa, rotation_onto(r1, sub(pb, pa))?);
+    let l2 = Pose2::placing_rotated(b_l2, pb, rotation_onto(r2, sub(pc, pb))?);
     Ok((l1, l2))
 }
 
@@ -313,8 +349,8 @@ pub fn rrp_dyad(
         k2.rotate(along),
     )?
     .branch(sign);
-    let l1 = Pose2::placing(a_l1, pa, angle_for(r1, sub(hit.point, pa))?);
-    Ok((l1, Pose2::placing(b_l2, hit.point, k2.angle)))
+    let l1 = Pose2::placing_rotated(a_l1, pa, rotation_onto(r1, sub(hit.point, pa))?);
+    Ok((l1, Pose2::placing_rotated(b_l2, hit.point, k2)))
 }
 
 /// A revolute joint's value: the angle of v from u, in (−π, π].
