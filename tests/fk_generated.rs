@@ -77,3 +77,25 @@ fn generated_names_and_nominal_parameters() {
     let sol = Punch::fk_branch(&PunchParams::default(), &[0.5], signs_of(0b011)).unwrap();
     assert!((sol.points[2][1] - 112.567).abs() < 1e-3, "{:?}", sol.points[2]);
 }
+
+/// Following the branch nearest the linear prediction over a whole crank turn
+/// (720 steps) reproduces seed 003's description (F the intersection other
+/// than H) even where the SOC3 dyad is tangent and its ± branches exchange
+/// (near φ = 150°), which no fixed sign does.
+#[test]
+fn following_the_punch_through_a_crank_turn() {
+    let p = PunchParams::default();
+    let mut before = Punch::fk_branch(&p, &[-std::f64::consts::PI / 360.0], signs_of(0b011)).unwrap();
+    let mut sol = Punch::fk_branch(&p, &[0.0], signs_of(0b011)).unwrap();
+    let l7 = p.l7;
+    for k in 1..=720 {
+        let phi = k as f64 * std::f64::consts::PI / 360.0;
+        let next = Punch::fk_follow(&p, &[phi], &sol, Some(&before)).unwrap();
+        (before, sol) = (sol, next);
+        // F = (2 l7 cos φ3, 0) with G = l7 (cos φ3, sin φ3): X_F = 2 X_G, never H unless X_G = 0.
+        let (g, f) = (sol.points[5], sol.points[7]);
+        assert!((f[0] - 2.0 * g[0]).abs() < 1e-9 * l7, "φ = {phi}: F = {f:?}, G = {g:?}");
+        assert!((g[0].hypot(g[1]) - l7).abs() < 1e-9 * l7);
+        assert!(sol.points[2][1] < sol.points[1][1], "C below B at φ = {phi}");
+    }
+}

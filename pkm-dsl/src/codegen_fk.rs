@@ -174,6 +174,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn
         input_names.join(", ")
     );
     let base = &used_poses[0];
+    let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
     quote! {
         #[doc = #sol_doc]
         #[derive(Debug, Clone, Copy, PartialEq)]
@@ -192,6 +193,29 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn
             pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
             /// The actuated joints, in the order of the input vector.
             pub const INPUTS: [&'static str; #n_inputs] = [#(#input_names),*];
+            /// Which joints are revolute (their values are angles).
+            pub const REVOLUTE: [bool; #n_joints] = [#(#revolute),*];
+
+            /// Forward position that follows a trajectory: the branch nearest
+            /// `previous` (the solution at the last input), or, given the one
+            /// before it too, nearest the linear prediction from both, which
+            /// carries through tangencies where two ± branches exchange.
+            pub fn fk_follow(
+                params: &#params_ty,
+                q: &[f64; #n_inputs],
+                previous: &#sol_ty,
+                before: ::core::option::Option<&#sol_ty>,
+            ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                let target = match before {
+                    ::core::option::Option::Some(b) => #rt::extrapolate(&previous.q, &b.q, &Self::REVOLUTE),
+                    ::core::option::Option::None => previous.q,
+                };
+                let all = Self::fk(params, q);
+                match #rt::nearest_branch(&all, &target, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]) {
+                    ::core::option::Option::Some(i) => all[i].result.clone(),
+                    ::core::option::Option::None => all[0].result.clone(),
+                }
+            }
 
             #[doc = #fk_doc]
             pub fn fk(params: &#params_ty, q: &[f64; #n_inputs]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {

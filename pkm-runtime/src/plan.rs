@@ -539,3 +539,47 @@ pub const fn signs_of<const D: usize>(index: usize) -> [Sign; D] {
     }
     signs
 }
+
+/// The distance between two joint-value vectors, with the differences of
+/// revolute joints wrapped to (−π, π] (so 3.1 and −3.1 rad are close).
+pub fn joint_distance(a: &[f64], b: &[f64], revolute: &[bool]) -> f64 {
+    a.iter()
+        .zip(b)
+        .zip(revolute)
+        .map(|((x, y), r)| if *r { wrap(x - y) } else { x - y })
+        .fold(0.0, |acc, d| d.mul_add(d, acc))
+        .sqrt()
+}
+
+/// The index of the solved branch nearest `previous` (by [`joint_distance`]
+/// of the values `values` reads from a solution), if any branch is solved.
+pub fn nearest_branch<S, const D: usize>(
+    branches: &[Branch<S, D>],
+    previous: &[f64],
+    revolute: &[bool],
+    values: impl Fn(&S) -> &[f64],
+) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for (i, b) in branches.iter().enumerate() {
+        if let Ok(s) = &b.result {
+            let d = joint_distance(values(s), previous, revolute);
+            if best.is_none_or(|(_, bd)| d < bd) {
+                best = Some((i, d));
+            }
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
+/// The joint values a smooth trajectory reaches next: `previous` plus the
+/// last step `previous − before` (revolute steps wrapped), a linear
+/// predictor. Near a tangency, where two branches meet, the branch nearest
+/// this prediction is the one that continues; the nearest to `previous` may not be.
+pub fn extrapolate<const J: usize>(previous: &[f64; J], before: &[f64; J], revolute: &[bool; J]) -> [f64; J] {
+    let mut out = *previous;
+    for k in 0..J {
+        let step = previous[k] - before[k];
+        out[k] += if revolute[k] { wrap(step) } else { step };
+    }
+    out
+}

@@ -15,8 +15,9 @@ pkm::mechanism!(
     file = "../../../../examples/mechanisms/seed000_a.pkm"
 );
 
-// Parameters become a struct; an upper-case name must not warn.
+// Parameters become a struct and `fk` a solver; an upper-case name must not warn.
 pkm::mechanism!(pub Crank, "mechanism crank {
+    capabilities fk;
     planar;
     base R1* [c] ∥ R2 [r] ∥ R3 [s] ⊥ P1 base;
     parameters { L = 50; rod = 3 * L; }
@@ -32,4 +33,6 @@ fn main() {
     assert_eq!(FourBar::DOF + MechanismA::DOF, 4);
     assert_eq!(CrankParams::default(), CrankParams { L: 50.0, rod: 150.0 });
     assert_eq!(Crank::PARAMETERS.len(), 2);
+    let branches = Crank::fk(&CrankParams::default(), &[0.5]);
+    assert!(branches.iter().all(|b| b.result.is_ok()));
 }
