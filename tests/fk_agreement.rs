@@ -1,6 +1,7 @@
 //! Two paths that must agree: the closed-form plan (interpreter) and the
 //! reference Newton solver, started near each branch, at random inputs.
 
+use pkm::dsl::screw::SplitMix;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan::{self, Plan};
@@ -17,17 +18,9 @@ fn load(file: &str) -> (Model, Plan) {
     )
 }
 
-/// A deterministic generator (splitmix64), uniform in [lo, hi).
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
-    }
+/// Uniform in [lo, hi) from the analysis's own deterministic generator.
+fn uniform(rng: &mut SplitMix, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0
 }
 
 /// For `samples` random inputs in `ranges`: every branch the plan solves is
@@ -36,13 +29,13 @@ impl Rng {
 fn check(file: &str, ranges: &[(f64, f64)], samples: usize) {
     let (model, plan) = load(file);
     let scale = newton::model_scale(&model);
-    let mut rng = Rng(0x5eed);
+    let mut rng = SplitMix::new(0x5eed);
     let mut solved = 0;
     for _ in 0..samples {
-        let q: Vec<f64> = ranges.iter().map(|&(lo, hi)| rng.uniform(lo, hi)).collect();
+        let q: Vec<f64> = ranges.iter().map(|&(lo, hi)| uniform(&mut rng, lo, hi)).collect();
         for (signs, result) in plan::run_all(&model, &plan, &q) {
             let Ok(sol) = result else { continue };
-            let guess: Vec<f64> = sol.values.iter().map(|v| v + rng.uniform(-1e-3, 1e-3)).collect();
+            let guess: Vec<f64> = sol.values.iter().map(|v| v + uniform(&mut rng, -1e-3, 1e-3)).collect();
             let reference = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default())
                 .unwrap_or_else(|e| panic!("{file} {q:?} {signs:?}: Newton failed: {e}"));
             for j in 0..model.joints.len() {
