@@ -424,11 +424,15 @@ impl Builder {
                 Some(DirectionItem::Joint(j))
             }
             None => {
-                let mut d = Diagnostic::new(name.span, format!("unknown joint `{}`", name.text)).label("not declared");
-                if let Some(s) = suggest(&name.text, self.joint_by_name.keys().map(String::as_str)) {
-                    d = d.note(format!("did you mean `{s}`?"));
+                let message = format!("unknown joint `{}`", name.text);
+                // One error per unknown name, at its first use.
+                if !self.errors.0.iter().any(|e| e.message == message) {
+                    let mut d = Diagnostic::new(name.span, message).label("not declared");
+                    if let Some(s) = suggest(&name.text, self.joint_by_name.keys().map(String::as_str)) {
+                        d = d.note(format!("did you mean `{s}`?"));
+                    }
+                    self.errors.push(d);
                 }
-                self.errors.push(d);
                 None
             }
         }
@@ -978,6 +982,29 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
         DirectionItem::USecond(j) => format!("{}'", joints[j].name),
         DirectionItem::PlaneNormal(k) => format!("the normal of plane {}", k + 1),
     };
+    // A plane ◇(A,B) needs two axes that are not parallel.
+    let mut sides: HashMap<usize, (DirectionItem, Option<Span>)> = HashMap::new();
+    for r in relations {
+        if let (DirectionItem::PlaneNormal(k), side) = (r.a, r.b) {
+            match sides.get(&k) {
+                Some(&(first, span)) if classes.class_of(first) == classes.class_of(side) => errors.push(
+                    Diagnostic::new(
+                        span.unwrap_or_default(),
+                        format!(
+                            "the plane ◇({},{}) is not defined: its axes are parallel",
+                            item_name(first),
+                            item_name(side)
+                        ),
+                    )
+                    .label("needs two axes that are not parallel"),
+                ),
+                Some(_) => {}
+                None => {
+                    sides.insert(k, (side, r.span));
+                }
+            }
+        }
+    }
     for r in relations {
         if r.kind != RelationKind::Perpendicular {
             continue;
@@ -1159,7 +1186,7 @@ mod tests {
             &["`R1 ⊥ y` contradicts the other relations, which make them parallel"],
         );
         check(
-            &format!("mechanism m {{ planar; {FOUR_BAR} R3 ∥ ◇(R1,R2); P9 ∥ ◇xoy; }}"),
+            &format!("mechanism m {{ planar; {FOUR_BAR} P9 ∥ ◇xoy; }}"),
             &["unknown joint `P9`"],
         );
         check(
@@ -1170,7 +1197,15 @@ mod tests {
             &format!("mechanism m {{ planar; {FOUR_BAR} R3 ⊥ ◇xyz; }}"),
             &["unknown frame plane `◇xyz`"],
         );
-        check(&format!("mechanism m {{ {FOUR_BAR} R3 ∥ ◇(R1, R2); }}"), &[]);
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} R3 ∥ ◇(R1, R2); }}"),
+            &["the plane ◇(R1,R2) is not defined: its axes are parallel"],
+        );
+        check("mechanism m { base R1* ∥ R2 ∥ R3 ∥ R4 base; x ∥ ◇(R1, y); }", &[]);
+        check(
+            &format!("mechanism m {{ planar; {FOUR_BAR} R1 ∥ R9; R2 ∥ R9; }}"),
+            &["unknown joint `R9`"],
+        );
     }
 
     #[test]
