@@ -540,6 +540,18 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
 
     // Chains: joints in order, anonymous links between them unless labelled.
     for chain in &ast.chains {
+        // A chain is a single open chain: no inner link twice, none equal to an end.
+        let mut seen: Vec<&str> = vec![chain.start.text.as_str(), chain.end.text.as_str()];
+        for label in chain.connectors.iter().filter_map(|c| c.label.as_ref()) {
+            if seen.contains(&label.text.as_str()) {
+                b.errors.push(
+                    Diagnostic::new(label.span, format!("link `{}` appears twice in one chain", label.text))
+                        .label("a chain visits each link once")
+                        .note("close a loop with a second chain that starts or ends at this link"),
+                );
+            }
+            seen.push(label.text.as_str());
+        }
         let start = b.link(&chain.start);
         let end = b.link(&chain.end);
         let mut prev_link = start;
@@ -1205,6 +1217,22 @@ mod tests {
         check(
             &format!("mechanism m {{ planar; {FOUR_BAR} R1 ∥ R9; R2 ∥ R9; }}"),
             &["unknown joint `R9`"],
+        );
+    }
+
+    #[test]
+    fn a_chain_visits_each_link_once() {
+        check(
+            "mechanism m { planar; base R1* [a] ∥ R2 [b] ∥ R3 [a] ∥ R4 base; }",
+            &["link `a` appears twice in one chain"],
+        );
+        // Both are true: the label repeats the start, so R1 would join the base to itself.
+        check(
+            "mechanism m { planar; base R1* [base] ∥ R2 ∥ R3 base; }",
+            &[
+                "link `base` appears twice in one chain",
+                "joint `R1` connects link `base` to itself",
+            ],
         );
     }
 
