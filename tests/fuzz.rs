@@ -94,6 +94,22 @@ fn check(text: &str) -> Result<(), TestCaseError> {
             let report = a.report();
             prop_assert!(!report.contains("NaN"));
             prop_assert_eq!(a.topology.xi().len(), a.topology.socs.len());
+            // With geometry: the model, the plan and the interpreter, at two inputs.
+            if a.geometry.complete {
+                if let (Ok(model), Ok(plan)) = (
+                    pkm::dsl::plan::model(&a, &Default::default()),
+                    pkm::dsl::plan::forward_plan(&a),
+                ) {
+                    for q in [0.3, -2.0] {
+                        let inputs = vec![q; plan.inputs.len()];
+                        for (_, result) in pkm::runtime::plan::run_all(&model, &plan, &inputs) {
+                            if let Ok(sol) = result {
+                                prop_assert!(sol.values.iter().all(|v| !v.is_nan()), "NaN joint value");
+                            }
+                        }
+                    }
+                }
+            }
         }
         Err(d) => {
             prop_assert!(!d.is_empty());

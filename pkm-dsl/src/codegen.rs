@@ -12,6 +12,9 @@ use quote::{format_ident, quote};
 use syn::parse::{Parse, ParseStream};
 use syn::{Attribute, Ident, LitStr, Token, Visibility};
 
+/// The most ± choices a generated `fk` enumerates (it returns 2^choices branches).
+const MAX_FK_CHOICES: usize = 10;
+
 /// Where the description comes from.
 enum Source {
     Inline(LitStr),
@@ -224,6 +227,18 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
     // The forward solver, when asked for and the geometry is there.
     let fk = if m.wants(Capability::Fk) && a.geometry.complete {
         match crate::plan::forward_plan(a) {
+            Ok(plan) if plan.branches > MAX_FK_CHOICES => {
+                return Err(Diagnostic::new(
+                    m.name_span(),
+                    format!(
+                        "the forward solution has {} ± choices ({} branches); `fk` lists at most 2^{MAX_FK_CHOICES}",
+                        plan.branches,
+                        1u128 << plan.branches.min(127)
+                    ),
+                )
+                .label("too many branches to list")
+                .into())
+            }
             Ok(plan) => crate::codegen_fk::generate(a, &plan, ident, vis),
             Err(d) => return Err(d),
         }
