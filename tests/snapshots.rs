@@ -21,9 +21,14 @@ fn seed003_punch() {
 }
 
 #[test]
-fn analysis_only_generates_no_solver() {
-    // Pay for what you use: no capability beyond analysis is generated yet,
-    // so the expansion holds the type, its constants and the report only.
-    let code = expansion("planar_3rrr", "ThreeRrr");
-    assert!(!code.contains("fn "), "{code}");
+fn pay_for_what_you_use() {
+    // `ik` only (3-RRR, κ = 1): an inverse solver and no forward one.
+    let ik_only = expansion("planar_3rrr", "ThreeRrr");
+    assert!(ik_only.contains("pub fn ik(") && !ik_only.contains("pub fn fk("), "{ik_only}");
+    // `fk` only (seed 003's punch): a forward solver and no inverse one.
+    let fk_only = expansion("seed003_punch", "Punch");
+    assert!(fk_only.contains("pub fn fk(") && !fk_only.contains("pub fn ik("), "{fk_only}");
+    // Analysis only (3-RPS: `ik` without geometry generates nothing yet): no function at all.
+    let analysis = expansion("rps_3", "Rps");
+    assert!(!analysis.contains("fn "), "{analysis}");
 }

@@ -64,6 +64,33 @@ pub struct MechanismAst {
     pub parameters: Vec<(Name, Expr)>,
     /// `geometry { LINK { … } … }`.
     pub geometry: Vec<LinkGeometry>,
+    /// `outputs { … }`.
+    pub outputs: Vec<OutputDecl>,
+}
+
+/// `x, y, phi = pose of platform at o;` or `psi = joint R4;`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputDecl {
+    /// The names the user gives the output values.
+    pub names: Vec<Name>,
+    /// What they are.
+    pub what: OutputWhat,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// What an output measures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutputWhat {
+    /// The pose of a link at one of its points: (x, y, angle) in a planar mechanism.
+    Pose {
+        /// The link.
+        link: Name,
+        /// A named point of the link, or a joint on it.
+        at: Name,
+    },
+    /// A joint's value.
+    Joint(Name),
 }
 
 /// The placements on one link, in its own frame.

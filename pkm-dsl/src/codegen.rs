@@ -224,27 +224,37 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
         }
     });
     let params = parameter_struct(input, a);
-    // The forward solver, when asked for and the geometry is there.
-    let fk = if m.wants(Capability::Fk) && a.geometry.complete {
-        match crate::plan::forward_plan(a) {
-            Ok(plan) if plan.branches > MAX_FK_CHOICES => {
+    // The solvers, when asked for and the geometry is there.
+    let mut solvers = Vec::new();
+    if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
+        let directions = [
+            (Capability::Fk, crate::codegen_fk::Direction::Forward),
+            (Capability::Ik, crate::codegen_fk::Direction::Inverse),
+        ];
+        for (cap, direction) in directions {
+            if !m.wants(cap) {
+                continue;
+            }
+            let plan = match direction {
+                crate::codegen_fk::Direction::Forward => crate::plan::forward_plan(a)?,
+                crate::codegen_fk::Direction::Inverse => crate::plan::inverse_plan(a)?,
+            };
+            if plan.branches > MAX_FK_CHOICES {
                 return Err(Diagnostic::new(
                     m.name_span(),
                     format!(
-                        "the forward solution has {} ± choices ({} branches); `fk` lists at most 2^{MAX_FK_CHOICES}",
-                        plan.branches,
-                        1u128 << plan.branches.min(127)
+                        "the {} solution has {} ± choices; a solver lists at most 2^{MAX_FK_CHOICES} branches",
+                        cap.name(),
+                        plan.branches
                     ),
                 )
                 .label("too many branches to list")
-                .into())
+                .into());
             }
-            Ok(plan) => crate::codegen_fk::generate(a, &plan, ident, vis),
-            Err(d) => return Err(d),
+            solvers.push(crate::codegen_fk::generate(a, &plan, ident, direction));
         }
-    } else {
-        quote! {}
-    };
+        solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
+    }
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");
     let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
     Ok(quote! {
@@ -292,7 +302,7 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
         }
 
         #params
-        #fk
+        #(#solvers)*
     })
 }
 

@@ -35,20 +35,89 @@ fn pose(l: usize) -> proc_macro2::Ident {
     format_ident!("pose_{}", l)
 }
 
-/// The items for `fk`: the solution struct and the solver functions.
-pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn::Visibility) -> TokenStream {
+/// Which solver to generate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Forward: inputs to every joint and point.
+    Forward,
+    /// Inverse: outputs to every joint and point.
+    Inverse,
+}
+
+/// The solution struct and the constants both solvers share.
+pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visibility) -> TokenStream {
+    let m = &a.mechanism;
+    let sol_ty = format_ident!("{}Solution", ident);
+    let n_joints = m.joints.len();
+    let mut point_names: Vec<String> = m.joints.iter().map(|j| j.name.clone()).collect();
+    point_names.extend(a.geometry.points.iter().map(|p| p.name.clone()));
+    let n_points = point_names.len();
+    let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+    let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
+    let sol_doc = format!(
+        " One position solution of `{}`: every joint value and every point.",
+        m.name
+    );
+    quote! {
+        #[doc = #sol_doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #sol_ty {
+            /// Joint values in declaration order (radians for R, lengths for P); see `JOINTS`.
+            pub q: [f64; #n_joints],
+            /// Every joint's point, then every named point, as (x, y); see `POINTS`.
+            pub points: [[f64; 2]; #n_points],
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// The joints, in the order of a solution's `q`.
+            pub const JOINTS: [&'static str; #n_joints] = [#(#joint_names),*];
+            /// The points, in the order of a solution's `points`.
+            pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
+            /// Which joints are revolute (their values are angles).
+            pub const REVOLUTE: [bool; #n_joints] = [#(#revolute),*];
+        }
+    }
+}
+
+/// The solver functions for one direction: `fk`, `fk_branch`, `fk_follow`
+/// (or `ik`, …) and the names of their values (`INPUTS` or `OUTPUTS`).
+pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
     let m = &a.mechanism;
     let rt = quote! { ::pkm::runtime::plan };
     let params_ty = format_ident!("{}Params", ident);
-    let sol_ty = format_ident!("{}Fk", ident);
-    let n_inputs = plan.inputs.len();
+    let sol_ty = format_ident!("{}Solution", ident);
+    let (f_all, f_branch, f_follow, names_const, what) = match direction {
+        Direction::Forward => (
+            format_ident!("fk"),
+            format_ident!("fk_branch"),
+            format_ident!("fk_follow"),
+            format_ident!("INPUTS"),
+            "Forward",
+        ),
+        Direction::Inverse => (
+            format_ident!("ik"),
+            format_ident!("ik_branch"),
+            format_ident!("ik_follow"),
+            format_ident!("OUTPUTS"),
+            "Inverse",
+        ),
+    };
     let n_branches = plan.branches;
     let n_solutions = 1usize << plan.branches;
-    let n_joints = m.joints.len();
 
     let mut body = Vec::new();
     for (k, step) in plan.steps.iter().enumerate() {
         match *step {
+            Step::Place { link, point: at, input } => {
+                let p = pose(link);
+                let local = match at {
+                    pkm_runtime::plan::PointRef::Joint(j) => point(place(a, j, link)),
+                    pkm_runtime::plan::PointRef::Named(n) => xy(&a.geometry.points[n].at),
+                };
+                let (i1, i2) = (input + 1, input + 2);
+                body.push(quote! { let #p = #rt::place_at(#local, q[#input], q[#i1], q[#i2]); });
+            }
             Step::Transfer { joint, from, to, input } => {
                 let (pf, pt) = (pose(from), pose(to));
                 let j = &m.joints[joint];
@@ -137,7 +206,6 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn
             _ => quote! { #rt::revolute_value(#pu, #pv) },
         }
     });
-    let mut point_names: Vec<String> = Vec::new();
     let mut points = Vec::new();
     for (j, joint) in m.joints.iter().enumerate() {
         let side = if matches!(place(a, j, joint.links[0]), JointPlace::Line(..)) {
@@ -147,62 +215,73 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn
         };
         let l = joint.links[side];
         let (p, at) = (pose(l), point(place(a, j, l)));
-        point_names.push(joint.name.clone());
         points.push(quote! { #p.apply(#at) });
     }
     for np in &a.geometry.points {
         let (p, at) = (pose(np.link), xy(&np.at));
-        point_names.push(np.name.clone());
         points.push(quote! { #p.apply(#at) });
     }
-    let n_points = points.len();
-    let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
-    let input_names: Vec<&str> = plan.inputs.iter().map(|&j| m.joints[j].name.as_str()).collect();
+    let value_names: Vec<String> = match direction {
+        Direction::Forward => plan.inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),
+        Direction::Inverse => a
+            .geometry
+            .outputs
+            .iter()
+            .flat_map(|o| o.names.iter().cloned())
+            .collect(),
+    };
+    let n_values = value_names.len();
     let branches = (0..n_solutions).map(|i| {
         quote! {{
             let signs = #rt::signs_of::<#n_branches>(#i);
-            #rt::Branch { signs, result: Self::fk_branch(params, q, signs) }
+            #rt::Branch { signs, result: Self::#f_branch(params, q, signs) }
         }}
     });
-    let used_poses: Vec<proc_macro2::Ident> = (0..m.links.len()).map(pose).collect();
-    let sol_doc = format!(
-        " One forward position solution of `{}`: every joint value and every point.",
-        m.name
+    let base = pose(0);
+    let names_doc = match direction {
+        Direction::Forward => " The actuated joints, in the order of the input vector.",
+        Direction::Inverse => " The outputs, in the order of the inverse solution's input vector.",
+    };
+    let all_doc = format!(
+        " {what} position, every branch: {n_solutions} solutions, listed by `signs_of` order. Given: {}.",
+        value_names.join(", ")
     );
-    let fk_doc = format!(
-        " Forward position, every branch: {n_solutions} solutions, listed by `signs_of` order. Inputs: {}.",
-        input_names.join(", ")
-    );
-    let base = &used_poses[0];
-    let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
+    let branch_doc = format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice).");
     quote! {
-        #[doc = #sol_doc]
-        #[derive(Debug, Clone, Copy, PartialEq)]
-        #vis struct #sol_ty {
-            /// Joint values in declaration order (radians for R, lengths for P); see `JOINTS`.
-            pub q: [f64; #n_joints],
-            /// Every joint's point, then every named point, as (x, y); see `POINTS`.
-            pub points: [[f64; 2]; #n_points],
-        }
-
         #[automatically_derived]
         impl #ident {
-            /// The joints, in the order of a solution's `q`.
-            pub const JOINTS: [&'static str; #n_joints] = [#(#joint_names),*];
-            /// The points, in the order of a solution's `points`.
-            pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
-            /// The actuated joints, in the order of the input vector.
-            pub const INPUTS: [&'static str; #n_inputs] = [#(#input_names),*];
-            /// Which joints are revolute (their values are angles).
-            pub const REVOLUTE: [bool; #n_joints] = [#(#revolute),*];
+            #[doc = #names_doc]
+            pub const #names_const: [&'static str; #n_values] = [#(#value_names),*];
 
-            /// Forward position that follows a trajectory: the branch nearest
-            /// `previous` (the solution at the last input), or, given the one
-            /// before it too, nearest the linear prediction from both, which
-            /// carries through tangencies where two ± branches exchange.
-            pub fn fk_follow(
+            #[doc = #all_doc]
+            pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
+                [#(#branches),*]
+            }
+
+            #[doc = #branch_doc]
+            pub fn #f_branch(
                 params: &#params_ty,
-                q: &[f64; #n_inputs],
+                q: &[f64; #n_values],
+                signs: [::pkm::runtime::primitives::Sign; #n_branches],
+            ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                let _ = &signs;
+                if !q.iter().all(|v| v.is_finite()) {
+                    return ::core::result::Result::Err(#rt::SolveError::BadInput {
+                        what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+                    });
+                }
+                let #base = #rt::Pose2::IDENTITY;
+                #(#body)*
+                ::core::result::Result::Ok(#sol_ty { q: [#(#values),*], points: [#(#points),*] })
+            }
+
+            /// Follows a trajectory: the branch nearest `previous` (the solution
+            /// at the last given values), or, given the one before it too,
+            /// nearest the linear prediction from both, which carries through
+            /// tangencies where two ± branches exchange.
+            pub fn #f_follow(
+                params: &#params_ty,
+                q: &[f64; #n_values],
                 previous: &#sol_ty,
                 before: ::core::option::Option<&#sol_ty>,
             ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
@@ -210,33 +289,11 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, vis: &syn
                     ::core::option::Option::Some(b) => #rt::extrapolate(&previous.q, &b.q, &Self::REVOLUTE),
                     ::core::option::Option::None => previous.q,
                 };
-                let all = Self::fk(params, q);
+                let all = Self::#f_all(params, q);
                 match #rt::nearest_branch(&all, &target, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]) {
                     ::core::option::Option::Some(i) => all[i].result.clone(),
                     ::core::option::Option::None => all[0].result.clone(),
                 }
-            }
-
-            #[doc = #fk_doc]
-            pub fn fk(params: &#params_ty, q: &[f64; #n_inputs]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
-                [#(#branches),*]
-            }
-
-            /// Forward position for one branch (`signs[k]` for the plan's k-th ± choice).
-            pub fn fk_branch(
-                params: &#params_ty,
-                q: &[f64; #n_inputs],
-                signs: [::pkm::runtime::primitives::Sign; #n_branches],
-            ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
-                let _ = &signs;
-                if !q.iter().all(|v| v.is_finite()) {
-                    return ::core::result::Result::Err(#rt::SolveError::BadInput {
-                        what: ::std::borrow::Cow::Borrowed("an input is not finite"),
-                    });
-                }
-                let #base = #rt::Pose2::IDENTITY;
-                #(#body)*
-                ::core::result::Result::Ok(#sol_ty { q: [#(#values),*], points: [#(#points),*] })
             }
         }
     }

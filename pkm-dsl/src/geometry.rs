@@ -56,6 +56,31 @@ pub struct Geometry {
     pub points: Vec<NamedPoint>,
     /// Whether a `geometry` block was written (then every joint is placed).
     pub complete: bool,
+    /// What the inverse solution is given, in order.
+    pub outputs: Vec<Output>,
+}
+
+/// One output declaration, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Output {
+    /// The names of its values.
+    pub names: Vec<String>,
+    /// What it measures.
+    pub kind: OutputKind,
+}
+
+/// What an output measures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutputKind {
+    /// The planar pose (x, y, angle) of link `link` at its local point `at`.
+    Pose {
+        /// The link.
+        link: usize,
+        /// The point, in the link's frame.
+        at: Vec3,
+    },
+    /// The value of joint `joint`.
+    Joint(usize),
 }
 
 impl Geometry {
@@ -281,16 +306,101 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
             check_relations(mech, &places, &values, &mut errors);
         }
     }
+    let outputs = resolve_outputs(ast, mech, &places, &points, complete, &mut errors);
     if errors.is_empty() {
         Ok(Geometry {
             parameters,
             places,
             points,
             complete,
+            outputs,
         })
     } else {
         Err(Diagnostics(errors))
     }
+}
+
+fn resolve_outputs(
+    ast: &MechanismAst,
+    mech: &Mechanism,
+    places: &[[Option<JointPlace>; 2]],
+    points: &[NamedPoint],
+    complete: bool,
+    errors: &mut Vec<Diagnostic>,
+) -> Vec<Output> {
+    let mut out = Vec::new();
+    let mut seen: Vec<String> = Vec::new();
+    for decl in &ast.outputs {
+        if !complete {
+            errors.push(Diagnostic::new(decl.span, "outputs need a `geometry` block").label("no geometry"));
+            return out;
+        }
+        for n in &decl.names {
+            if seen.contains(&n.text) {
+                errors.push(Diagnostic::new(n.span, format!("output `{}` is named twice", n.text)).label("second use"));
+            }
+            seen.push(n.text.clone());
+        }
+        let kind = match &decl.what {
+            crate::ast::OutputWhat::Joint(j) => {
+                let Some(index) = mech.joint_index(&j.text) else {
+                    errors.push(Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("not declared"));
+                    continue;
+                };
+                if decl.names.len() != 1 {
+                    errors.push(Diagnostic::new(decl.span, "a joint output has one value").label("give it one name"));
+                    continue;
+                }
+                OutputKind::Joint(index)
+            }
+            crate::ast::OutputWhat::Pose { link, at } => {
+                let Some(l) = mech.links.iter().position(|x| x.name == link.text) else {
+                    errors.push(
+                        Diagnostic::new(link.span, format!("unknown link `{}`", link.text))
+                            .label("no joint touches it"),
+                    );
+                    continue;
+                };
+                if !mech.planar {
+                    errors.push(
+                        Diagnostic::new(decl.span, "spatial pose outputs are not supported yet").label("planar only"),
+                    );
+                    continue;
+                }
+                if decl.names.len() != 3 {
+                    errors.push(
+                        Diagnostic::new(decl.span, "a planar pose has three values: x, y and the angle")
+                            .label(format!("{} names given", decl.names.len())),
+                    );
+                    continue;
+                }
+                let named = points
+                    .iter()
+                    .find(|p| p.link == l && p.name == at.text)
+                    .map(|p| p.at.clone());
+                let joint = mech.joint_index(&at.text).and_then(|j| {
+                    let side = mech.joints[j].links.iter().position(|&x| x == l)?;
+                    match places[j][side].as_ref()? {
+                        JointPlace::Point(p, _) => Some(p.clone()),
+                        JointPlace::Line(..) => None,
+                    }
+                });
+                let Some(at3) = named.or(joint) else {
+                    errors.push(
+                        Diagnostic::new(at.span, format!("`{}` is not a point of link `{}`", at.text, link.text))
+                            .label("a named point or a joint placed on that link"),
+                    );
+                    continue;
+                };
+                OutputKind::Pose { link: l, at: at3 }
+            }
+        };
+        out.push(Output {
+            names: decl.names.iter().map(|n| n.text.clone()).collect(),
+            kind,
+        });
+    }
+    out
 }
 
 /// Each joint type needs its own form of placement on each side.

@@ -102,6 +102,12 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::statement => "a statement",
         Rule::WHITESPACE | Rule::COMMENT => "white space",
         Rule::parameters_stmt | Rule::kw_parameters => "`parameters`",
+        Rule::outputs_stmt | Rule::kw_outputs => "`outputs`",
+        Rule::output => "an output `names = pose of LINK at POINT;` or `name = joint J;`",
+        Rule::pose_output | Rule::kw_pose => "`pose of LINK at POINT`",
+        Rule::joint_output => "`joint J`",
+        Rule::kw_of => "`of`",
+        Rule::kw_at => "`at`",
         Rule::parameter => "a parameter `name = value;`",
         Rule::geometry_stmt | Rule::kw_geometry => "`geometry`",
         Rule::link_geometry => "a link's geometry `LINK { … }`",
@@ -165,6 +171,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         relations: Vec::new(),
         parameters: Vec::new(),
         geometry: Vec::new(),
+        outputs: Vec::new(),
     };
     for stmt in inner {
         match stmt.as_rule() {
@@ -226,6 +233,39 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 ast.point = Some((point, joint));
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
+            Rule::outputs_stmt => {
+                for o in stmt.into_inner().filter(|p| p.as_rule() == Rule::output) {
+                    let span = span_of(&o);
+                    let mut names = Vec::new();
+                    let mut what = None;
+                    for q in o.into_inner() {
+                        match q.as_rule() {
+                            Rule::ident => names.push(name(q)),
+                            Rule::pose_output => {
+                                let mut it = q
+                                    .into_inner()
+                                    .filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
+                                let link = name(it.next().expect("pose link"));
+                                let at = name(it.next().expect("pose point"));
+                                what = Some(OutputWhat::Pose { link, at });
+                            }
+                            Rule::joint_output => {
+                                let j = q
+                                    .into_inner()
+                                    .find(|r| r.as_rule() == Rule::ident)
+                                    .expect("output joint");
+                                what = Some(OutputWhat::Joint(name(j)));
+                            }
+                            _ => {}
+                        }
+                    }
+                    ast.outputs.push(OutputDecl {
+                        names,
+                        what: what.expect("output kind"),
+                        span,
+                    });
+                }
+            }
             Rule::parameters_stmt => {
                 for p in stmt.into_inner().filter(|p| p.as_rule() == Rule::parameter) {
                     let mut it = p.into_inner();

@@ -193,3 +193,165 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
 fn input_index(inputs: &[usize], j: usize) -> usize {
     inputs.iter().position(|&i| i == j).unwrap_or(0)
 }
+
+/// The inverse-position plan: the links the outputs fix are placed first,
+/// then known-link propagation through joints whose value is an output
+/// (transfers) and class II dyads between known links, until every link is
+/// known. What is left is named in the error.
+pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
+    use crate::geometry::OutputKind;
+    use pkm_runtime::plan::PointRef;
+    let m = &a.mechanism;
+    let fail = |msg: String| -> Diagnostics { Diagnostic::new(m.name_span(), msg).label("in this mechanism").into() };
+    if !m.planar {
+        return Err(fail("closed-form plans are planar only for now".to_string()));
+    }
+    if a.geometry.outputs.is_empty() {
+        return Err(fail("an inverse solution needs `outputs { … }`".to_string()));
+    }
+    let mut known = vec![false; m.links.len()];
+    known[0] = true;
+    let mut value_of: Vec<Option<usize>> = vec![None; m.joints.len()];
+    let mut steps = Vec::new();
+    let mut next_input = 0;
+    for o in &a.geometry.outputs {
+        match &o.kind {
+            OutputKind::Pose { link, .. } => {
+                // The pose's point: a named point of the link, or the joint there.
+                let point = a
+                    .geometry
+                    .points
+                    .iter()
+                    .position(|p| p.link == *link && Some(&p.at) == output_point(o))
+                    .map(PointRef::Named)
+                    .or_else(|| {
+                        (0..m.joints.len())
+                            .find(|&j| {
+                                m.joints[j].links.contains(link)
+                                    && matches!(crate::codegen_fk_place(a, j, *link), JointPlace::Point(p, _) if Some(p) == output_point(o))
+                            })
+                            .map(PointRef::Joint)
+                    })
+                    .ok_or_else(|| fail(format!("output `{}` has no point", o.names[0])))?;
+                steps.push(Step::Place {
+                    link: *link,
+                    point,
+                    input: next_input,
+                });
+                known[*link] = true;
+            }
+            OutputKind::Joint(j) => value_of[*j] = Some(next_input),
+        }
+        next_input += o.names.len();
+    }
+    let mut solved = vec![false; m.joints.len()];
+    let mut branches = 0;
+    loop {
+        let mut progress = false;
+        // Transfers through joints of known value.
+        for (j, joint) in m.joints.iter().enumerate() {
+            let [u, v] = joint.links;
+            if let (Some(input), false) = (value_of[j], solved[j]) {
+                if known[u] != known[v] {
+                    let (from, to) = if known[u] { (u, v) } else { (v, u) };
+                    steps.push(Step::Transfer {
+                        joint: j,
+                        from,
+                        to,
+                        input,
+                    });
+                    known[to] = true;
+                    solved[j] = true;
+                    progress = true;
+                }
+            }
+        }
+        // A dyad: three unsolved joints through two unknown links between known links.
+        'search: for k1 in 0..m.links.len() {
+            if !known[k1] {
+                continue;
+            }
+            for (a1, ja) in m.joints.iter().enumerate() {
+                if solved[a1] || value_of[a1].is_some() || !ja.links.contains(&k1) {
+                    continue;
+                }
+                let l1 = ja.other(k1);
+                if known[l1] {
+                    continue;
+                }
+                for (b1, jb) in m.joints.iter().enumerate() {
+                    if b1 == a1 || solved[b1] || value_of[b1].is_some() || !jb.links.contains(&l1) {
+                        continue;
+                    }
+                    let l2 = jb.other(l1);
+                    if known[l2] || l2 == k1 {
+                        continue;
+                    }
+                    for (c1, jc) in m.joints.iter().enumerate() {
+                        if c1 == a1 || c1 == b1 || solved[c1] || value_of[c1].is_some() || !jc.links.contains(&l2) {
+                            continue;
+                        }
+                        let k2 = jc.other(l2);
+                        if !known[k2] {
+                            continue;
+                        }
+                        let guide_on =
+                            |j: usize, link: usize| matches!(crate::codegen_fk_place(a, j, link), JointPlace::Line(..));
+                        let step = match (ja.kind, jb.kind, jc.kind) {
+                            (JointKind::R, JointKind::R, JointKind::R) => Step::Rrr {
+                                joints: [a1, b1, c1],
+                                links: [k1, l1, l2, k2],
+                                branch: branches,
+                            },
+                            (JointKind::R, JointKind::R, JointKind::P) if guide_on(c1, k2) => Step::Rrp {
+                                joints: [a1, b1, c1],
+                                links: [k1, l1, l2, k2],
+                                branch: branches,
+                            },
+                            (JointKind::P, JointKind::R, JointKind::R) if guide_on(a1, k1) => Step::Rrp {
+                                joints: [c1, b1, a1],
+                                links: [k2, l2, l1, k1],
+                                branch: branches,
+                            },
+                            _ => continue,
+                        };
+                        steps.push(step);
+                        branches += 1;
+                        known[l1] = true;
+                        known[l2] = true;
+                        for j in [a1, b1, c1] {
+                            solved[j] = true;
+                        }
+                        progress = true;
+                        break 'search;
+                    }
+                }
+            }
+        }
+        if known.iter().all(|k| *k) {
+            break;
+        }
+        if !progress {
+            let left: Vec<&str> = (0..m.links.len())
+                .filter(|&l| !known[l])
+                .map(|l| m.links[l].name.as_str())
+                .collect();
+            return Err(fail(format!(
+                "no closed-form inverse plan: links {} are not reached by transfers or RRR/RRP dyads from the outputs",
+                left.join(", ")
+            )));
+        }
+    }
+    Ok(Plan {
+        steps,
+        branches,
+        inputs: (0..next_input).collect(),
+    })
+}
+
+fn output_point(o: &crate::geometry::Output) -> Option<&crate::geometry::Vec3> {
+    match &o.kind {
+        crate::geometry::OutputKind::Pose { at, .. } => Some(at),
+        crate::geometry::OutputKind::Joint(_) => None,
+    }
+}

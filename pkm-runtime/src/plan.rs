@@ -85,9 +85,29 @@ impl Pose2 {
     }
 }
 
+/// A point of a link: a joint's place on it, or one of the model's named points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointRef {
+    /// The place of joint `j` on the link.
+    Joint(usize),
+    /// Named point number `k` of the model.
+    Named(usize),
+}
+
 /// One step of a plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Step {
+    /// The pose of `link` from known values: its point `point` is at
+    /// (`inputs[input]`, `inputs[input + 1]`) with angle `inputs[input + 2]`
+    /// (a pose output given to an inverse solution).
+    Place {
+        /// The link.
+        link: usize,
+        /// The point whose position is given.
+        point: PointRef,
+        /// Index of x in the inputs; y and the angle follow.
+        input: usize,
+    },
     /// The pose of link `to` from the known link `from` through `joint`, whose value is input number `input`.
     Transfer {
         /// The joint.
@@ -243,6 +263,11 @@ pub fn step_error(step: usize, joint: impl Into<Cow<'static, str>>, e: GeomError
 // Step kernels: the geometry of each step, shared by the interpreter and
 // generated code, which differ only in where the local coordinates come from.
 
+/// The pose of a link whose local point `local` is at (x, y) and whose angle is `angle`.
+pub fn place_at(local: [f64; 2], x: f64, y: f64, angle: f64) -> Pose2 {
+    Pose2::placing(local, [x, y], angle)
+}
+
 /// The pose of a link reached from the known pose `from` through a revolute
 /// joint at `at_from` (on the known link) and `at_to` (on the new link),
 /// turned by `turn` (the joint value, negated when the joint is written from
@@ -390,6 +415,16 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     };
     for (k, step) in plan.steps.iter().enumerate() {
         match *step {
+            Step::Place { link, point, input } => {
+                let local = match point {
+                    PointRef::Joint(j) => point_on(model, j, link)?,
+                    PointRef::Named(n) => {
+                        let p = model.points.get(n).ok_or_else(|| bad(format!("no named point {n}")))?;
+                        [p.at[0], p.at[1]]
+                    }
+                };
+                poses[link] = Some(place_at(local, inputs[input], inputs[input + 1], inputs[input + 2]));
+            }
             Step::Transfer { joint, from, to, input } => {
                 let j = &model.joints[joint];
                 let tf = known(&poses, from)?;
