@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 use pkm::dsl::Analysis;
 use serde_json::{json, Value};
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -41,6 +42,24 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Inverse position solution, every branch, by the plan interpreter.
+    Ik {
+        /// The mechanism file (.pkm), with parameters, geometry and outputs.
+        file: PathBuf,
+        /// The outputs by name: `--pose x=10,y=20,phi=0.2` (radians and lengths).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parse_pose)]
+        pose: Vec<(String, f64)>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+        /// Print one JSON object (the text form is the same JSON, indented).
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn parse_pose(s: &str) -> Result<(String, f64), String> {
+    parse_param(s)
 }
 
 fn parse_param(s: &str) -> Result<(String, f64), String> {
@@ -65,6 +84,27 @@ fn read(file: &PathBuf) -> Result<(String, String), ExitCode> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Ik {
+            file,
+            pose,
+            params,
+            json: _,
+        } => {
+            let (text, shown) = match read(&file) {
+                Ok(t) => t,
+                Err(code) => return code,
+            };
+            match ik(&text, &pose, &params) {
+                Ok(v) => {
+                    println!("{}", serde_json::to_string_pretty(&v).expect("JSON of plain values"));
+                    ExitCode::SUCCESS
+                }
+                Err(d) => {
+                    eprint!("{}", d.render(&text, &shown));
+                    ExitCode::FAILURE
+                }
+            }
+        }
         Command::Fk {
             file,
             q,
@@ -128,7 +168,15 @@ fn fk(text: &str, q: &[f64], params: &[(String, f64)]) -> Result<Value, pkm::dsl
         ))
         .into());
     }
-    let branches: Vec<Value> = pkm::runtime::plan::run_all(&model, &plan, q)
+    let branches = branches_json(&model, &plan, q);
+    Ok(json!({ "name": model.name, "inputs": q, "branches": branches }))
+}
+
+/// Every branch of a plan as JSON: signs, ok, and the reason, or the inputs
+/// `q`, every joint value (`outputs`) and every point.
+fn branches_json(model: &pkm::runtime::model::Model, plan: &pkm::runtime::plan::Plan, given: &[f64]) -> Vec<Value> {
+    let inputs = model.inputs();
+    pkm::runtime::plan::run_all(model, plan, given)
         .into_iter()
         .map(|(signs, result)| {
             let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
@@ -142,20 +190,52 @@ fn fk(text: &str, q: &[f64], params: &[(String, f64)]) -> Result<Value, pkm::dsl
                         .collect();
                     let mut points = serde_json::Map::new();
                     for j in 0..model.joints.len() {
-                        let p = pkm::runtime::plan::joint_point(&model, &sol.poses, j);
+                        let p = pkm::runtime::plan::joint_point(model, &sol.poses, j);
                         points.insert(model.joints[j].name.clone(), json!([p[0], p[1], 0.0]));
                     }
                     for p in &model.points {
                         let w = sol.poses[p.link].apply([p.at[0], p.at[1]]);
                         points.insert(p.name.clone(), json!([w[0], w[1], 0.0]));
                     }
-                    json!({ "signs": signs, "ok": true, "outputs": outputs, "points": points })
+                    let q: Vec<f64> = inputs.iter().map(|&j| sol.values[j]).collect();
+                    json!({ "signs": signs, "ok": true, "q": q, "outputs": outputs, "points": points })
                 }
                 Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
             }
         })
+        .collect()
+}
+
+fn ik(text: &str, pose: &[(String, f64)], params: &[(String, f64)]) -> Result<Value, pkm::dsl::Diagnostics> {
+    use pkm::dsl::Diagnostic;
+    let a = pkm::dsl::analyze_source(text)?;
+    let values = params.iter().cloned().collect();
+    let model = pkm::dsl::plan::model(&a, &values)?;
+    let plan = pkm::dsl::plan::inverse_plan(&a)?;
+    let names: Vec<&str> = a
+        .geometry
+        .outputs
+        .iter()
+        .flat_map(|o| o.names.iter().map(String::as_str))
         .collect();
-    Ok(json!({ "name": model.name, "inputs": q, "branches": branches }))
+    let given: HashMap<&str, f64> = pose.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    if let Some(extra) = pose.iter().find(|(k, _)| !names.contains(&k.as_str())) {
+        return Err(Diagnostic::global(format!(
+            "unknown output `{}`; the outputs are {}",
+            extra.0,
+            names.join(", ")
+        ))
+        .into());
+    }
+    let mut ordered = Vec::new();
+    for n in &names {
+        match given.get(n) {
+            Some(v) => ordered.push(*v),
+            None => return Err(Diagnostic::global(format!("missing output `{n}`; give {}", names.join(", "))).into()),
+        }
+    }
+    let branches = branches_json(&model, &plan, &ordered);
+    Ok(json!({ "name": model.name, "pose": given, "branches": branches }))
 }
 
 fn to_json(a: &Analysis) -> Value {

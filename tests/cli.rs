@@ -84,3 +84,43 @@ fn errors_go_to_stderr_with_a_failure_code() {
     assert!(!out.status.success());
     assert!(String::from_utf8(out.stderr).unwrap().contains("cannot read"));
 }
+
+#[test]
+fn fk_and_ik_json() {
+    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1.0", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 2);
+    // r cos 1 ± sqrt(l² − r² sin² 1) with r = 50, l = 180.
+    let (r, l) = (50.0f64, 180.0f64);
+    let root = (l * l - (r * 1f64.sin()).powi(2)).sqrt();
+    for (b, want) in branches.iter().zip([r * 1f64.cos() + root, r * 1f64.cos() - root]) {
+        assert_eq!(b["ok"], true);
+        assert!((b["outputs"]["P1"].as_f64().unwrap() - want).abs() < 1e-9);
+        assert_eq!(b["points"]["R3"].as_array().unwrap().len(), 3);
+        assert!(b["signs"].is_array());
+    }
+
+    let out = pkm(&[
+        "ik",
+        "examples/mechanisms/planar_3rrr.pkm",
+        "--pose",
+        "x=10,y=20,phi=0.2",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 8);
+    for b in branches {
+        assert_eq!(b["q"].as_array().unwrap().len(), 3, "{b}");
+        // The platform centre is where it was asked to be.
+        let o = b["points"]["o"].as_array().unwrap();
+        assert!((o[0].as_f64().unwrap() - 10.0).abs() < 1e-9 && (o[1].as_f64().unwrap() - 20.0).abs() < 1e-9);
+    }
+
+    let out = pkm(&["ik", "examples/mechanisms/planar_3rrr.pkm", "--pose", "x=1"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8(out.stderr).unwrap().contains("missing output `y`"));
+}

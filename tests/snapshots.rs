@@ -24,10 +24,16 @@ fn seed003_punch() {
 fn pay_for_what_you_use() {
     // `ik` only (3-RRR, κ = 1): an inverse solver and no forward one.
     let ik_only = expansion("planar_3rrr", "ThreeRrr");
-    assert!(ik_only.contains("pub fn ik(") && !ik_only.contains("pub fn fk("), "{ik_only}");
+    assert!(
+        ik_only.contains("pub fn ik(") && !ik_only.contains("pub fn fk("),
+        "{ik_only}"
+    );
     // `fk` only (seed 003's punch): a forward solver and no inverse one.
     let fk_only = expansion("seed003_punch", "Punch");
-    assert!(fk_only.contains("pub fn fk(") && !fk_only.contains("pub fn ik("), "{fk_only}");
+    assert!(
+        fk_only.contains("pub fn fk(") && !fk_only.contains("pub fn ik("),
+        "{fk_only}"
+    );
     // Analysis only (3-RPS: `ik` without geometry generates nothing yet): no function at all.
     let analysis = expansion("rps_3", "Rps");
     assert!(!analysis.contains("fn "), "{analysis}");
