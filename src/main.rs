@@ -58,6 +58,25 @@ enum Command {
     },
 }
 
+/// Reads a mechanism file, runs a solver on it, prints its JSON or its
+/// diagnostics (on stderr, with a failure code).
+fn solve(file: &PathBuf, run: impl FnOnce(&str) -> Result<Value, pkm::dsl::Diagnostics>) -> ExitCode {
+    let (text, shown) = match read(file) {
+        Ok(t) => t,
+        Err(code) => return code,
+    };
+    match run(&text) {
+        Ok(v) => {
+            println!("{}", serde_json::to_string_pretty(&v).expect("JSON of plain values"));
+            ExitCode::SUCCESS
+        }
+        Err(d) => {
+            eprint!("{}", d.render(&text, &shown));
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn parse_pose(s: &str) -> Result<(String, f64), String> {
     parse_param(s)
 }
@@ -89,43 +108,13 @@ fn main() -> ExitCode {
             pose,
             params,
             json: _,
-        } => {
-            let (text, shown) = match read(&file) {
-                Ok(t) => t,
-                Err(code) => return code,
-            };
-            match ik(&text, &pose, &params) {
-                Ok(v) => {
-                    println!("{}", serde_json::to_string_pretty(&v).expect("JSON of plain values"));
-                    ExitCode::SUCCESS
-                }
-                Err(d) => {
-                    eprint!("{}", d.render(&text, &shown));
-                    ExitCode::FAILURE
-                }
-            }
-        }
+        } => solve(&file, |text| ik(text, &pose, &params)),
         Command::Fk {
             file,
             q,
             params,
             json: _,
-        } => {
-            let (text, shown) = match read(&file) {
-                Ok(t) => t,
-                Err(code) => return code,
-            };
-            match fk(&text, &q, &params) {
-                Ok(v) => {
-                    println!("{}", serde_json::to_string_pretty(&v).expect("JSON of plain values"));
-                    ExitCode::SUCCESS
-                }
-                Err(d) => {
-                    eprint!("{}", d.render(&text, &shown));
-                    ExitCode::FAILURE
-                }
-            }
-        }
+        } => solve(&file, |text| fk(text, &q, &params)),
         Command::Analyze { file, json } => {
             let (text, shown) = match read(&file) {
                 Ok(t) => t,
