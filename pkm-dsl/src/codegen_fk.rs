@@ -15,16 +15,6 @@ fn xy(v: &Vec3) -> TokenStream {
     quote! { [#x, #y] }
 }
 
-/// The joint's place on `link`.
-fn place(a: &Analysis, joint: usize, link: usize) -> &JointPlace {
-    let side = a.mechanism.joints[joint]
-        .links
-        .iter()
-        .position(|&l| l == link)
-        .expect("joint touches link");
-    a.geometry.places[joint][side].as_ref().expect("complete geometry")
-}
-
 fn point(p: &JointPlace) -> TokenStream {
     match p {
         JointPlace::Point(at, _) | JointPlace::Line(at, _) => xy(at),
@@ -112,7 +102,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             Step::Place { link, point: at, input } => {
                 let p = pose(link);
                 let local = match at {
-                    pkm_runtime::plan::PointRef::Joint(j) => point(place(a, j, link)),
+                    pkm_runtime::plan::PointRef::Joint(j) => point(a.place(j, link)),
                     pkm_runtime::plan::PointRef::Named(n) => xy(&a.geometry.points[n].at),
                 };
                 let (i1, i2) = (input + 1, input + 2);
@@ -127,7 +117,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
                 } else {
                     quote! { -q[#input] }
                 };
-                let call = match (place(a, joint, from), place(a, joint, to)) {
+                let call = match (a.place(joint, from), a.place(joint, to)) {
                     (JointPlace::Line(through, along), other) if j.kind == crate::model::JointKind::P => {
                         let (t, d, s) = (xy(through), xy(along), point(other));
                         quote! { #rt::along_guide(#pf, #t, #d, #s, q[#input]) }
@@ -150,12 +140,12 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             } => {
                 let (p1, p2, pk1, pk2) = (pose(l1), pose(l2), pose(k1), pose(k2));
                 let c = [
-                    point(place(a, ja, k1)),
-                    point(place(a, ja, l1)),
-                    point(place(a, jb, l1)),
-                    point(place(a, jb, l2)),
-                    point(place(a, jc, l2)),
-                    point(place(a, jc, k2)),
+                    point(a.place(ja, k1)),
+                    point(a.place(ja, l1)),
+                    point(a.place(jb, l1)),
+                    point(a.place(jb, l2)),
+                    point(a.place(jc, l2)),
+                    point(a.place(jc, k2)),
                 ];
                 let [c0, c1, c2, c3, c4, c5] = c;
                 let name = &m.joints[jb].name;
@@ -171,13 +161,13 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             } => {
                 let (p1, p2, pk1, pk2) = (pose(l1), pose(l2), pose(k1), pose(k2));
                 let (c0, c1, c2, c3) = (
-                    point(place(a, ja, k1)),
-                    point(place(a, ja, l1)),
-                    point(place(a, jb, l1)),
-                    point(place(a, jb, l2)),
+                    point(a.place(ja, k1)),
+                    point(a.place(ja, l1)),
+                    point(a.place(jb, l1)),
+                    point(a.place(jb, l2)),
                 );
-                let slider = point(place(a, jc, l2));
-                let JointPlace::Line(through, along) = place(a, jc, k2) else {
+                let slider = point(a.place(jc, l2));
+                let JointPlace::Line(through, along) = a.place(jc, k2) else {
                     unreachable!("the planner checked the guide")
                 };
                 let (t, d) = (xy(through), xy(along));
@@ -194,7 +184,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
     let values = m.joints.iter().enumerate().map(|(j, joint)| {
         let (u, v) = (joint.links[0], joint.links[1]);
         let (pu, pv) = (pose(u), pose(v));
-        match (joint.kind, place(a, j, u), place(a, j, v)) {
+        match (joint.kind, a.place(j, u), a.place(j, v)) {
             (crate::model::JointKind::P, JointPlace::Line(t, d), other) => {
                 let (t, d, s) = (xy(t), xy(d), point(other));
                 quote! { #rt::prismatic_value(#pu, #t, #d, #pv, #s) }
@@ -208,13 +198,13 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
     });
     let mut points = Vec::new();
     for (j, joint) in m.joints.iter().enumerate() {
-        let side = if matches!(place(a, j, joint.links[0]), JointPlace::Line(..)) {
+        let side = if matches!(a.place(j, joint.links[0]), JointPlace::Line(..)) {
             1
         } else {
             0
         };
         let l = joint.links[side];
-        let (p, at) = (pose(l), point(place(a, j, l)));
+        let (p, at) = (pose(l), point(a.place(j, l)));
         points.push(quote! { #p.apply(#at) });
     }
     for np in &a.geometry.points {

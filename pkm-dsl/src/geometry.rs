@@ -72,12 +72,12 @@ pub struct Output {
 /// What an output measures.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OutputKind {
-    /// The planar pose (x, y, angle) of link `link` at its local point `at`.
+    /// The planar pose (x, y, angle) of link `link` at one of its points.
     Pose {
         /// The link.
         link: usize,
-        /// The point, in the link's frame.
-        at: Vec3,
+        /// The point: a named point of the link, or a joint placed on it.
+        point: pkm_runtime::plan::PointRef,
     },
     /// The value of joint `joint`.
     Joint(usize),
@@ -374,25 +374,23 @@ fn resolve_outputs(
                     );
                     continue;
                 }
+                use pkm_runtime::plan::PointRef;
                 let named = points
                     .iter()
-                    .find(|p| p.link == l && p.name == at.text)
-                    .map(|p| p.at.clone());
-                let joint = mech.joint_index(&at.text).and_then(|j| {
-                    let side = mech.joints[j].links.iter().position(|&x| x == l)?;
-                    match places[j][side].as_ref()? {
-                        JointPlace::Point(p, _) => Some(p.clone()),
-                        JointPlace::Line(..) => None,
-                    }
+                    .position(|p| p.link == l && p.name == at.text)
+                    .map(PointRef::Named);
+                let joint = mech.joint_index(&at.text).filter(|&j| {
+                    let side = mech.joints[j].links.iter().position(|&x| x == l);
+                    matches!(side.and_then(|s| places[j][s].as_ref()), Some(JointPlace::Point(..)))
                 });
-                let Some(at3) = named.or(joint) else {
+                let Some(point) = named.or(joint.map(PointRef::Joint)) else {
                     errors.push(
                         Diagnostic::new(at.span, format!("`{}` is not a point of link `{}`", at.text, link.text))
                             .label("a named point or a joint placed on that link"),
                     );
                     continue;
                 };
-                OutputKind::Pose { link: l, at: at3 }
+                OutputKind::Pose { link: l, point }
             }
         };
         out.push(Output {

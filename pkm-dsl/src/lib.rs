@@ -25,15 +25,3 @@ mod codegen;
 mod codegen_fk;
 
 pub use codegen::{check_capabilities, expand};
-
-/// The place of joint `joint` on `link` in a complete geometry.
-pub(crate) fn codegen_fk_place(a: &Analysis, joint: usize, link: usize) -> &geometry::JointPlace {
-    let side = a.mechanism.joints[joint]
-        .links
-        .iter()
-        .position(|&l| l == link)
-        .unwrap_or(0);
-    a.geometry.places[joint][side]
-        .as_ref()
-        .expect("complete geometry places every joint")
-}

@@ -154,28 +154,8 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
             return Err(unsupported());
         }
         let ls = [links[lo], links[lo + 1], links[lo + 2], links[lo + 3]];
-        let guide_on = |j: usize, link: usize| {
-            let side = m.joints[j].links.iter().position(|&l| l == link).unwrap_or(0);
-            matches!(a.geometry.places[j][side], Some(JointPlace::Line(..)))
-        };
-        let [x, y, z] = [middle[0], middle[1], middle[2]];
-        let step = match (m.joints[x].kind, m.joints[y].kind, m.joints[z].kind) {
-            (JointKind::R, JointKind::R, JointKind::R) => Step::Rrr {
-                joints: [x, y, z],
-                links: ls,
-                branch: branches,
-            },
-            (JointKind::R, JointKind::R, JointKind::P) if guide_on(z, ls[3]) => Step::Rrp {
-                joints: [x, y, z],
-                links: ls,
-                branch: branches,
-            },
-            (JointKind::P, JointKind::R, JointKind::R) if guide_on(x, ls[0]) => Step::Rrp {
-                joints: [z, y, x],
-                links: [ls[3], ls[2], ls[1], ls[0]],
-                branch: branches,
-            },
-            _ => return Err(unsupported()),
+        let Some(step) = dyad_step(a, [middle[0], middle[1], middle[2]], ls, branches) else {
+            return Err(unsupported());
         };
         steps.push(step);
         branches += 1;
@@ -190,6 +170,26 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     })
 }
 
+/// The catalogue's step for the dyad of joints `[a, b, c]` through links
+/// `[k1, l1, l2, k2]` (k1 and k2 known), if it has one: RRR, or RRP with the
+/// guide on the known link (written from either end).
+fn dyad_step(a: &Analysis, joints: [usize; 3], links: [usize; 4], branch: usize) -> Option<Step> {
+    let m = &a.mechanism;
+    let [x, y, z] = joints;
+    let [k1, l1, l2, k2] = links;
+    let guide_on = |j: usize, link: usize| matches!(a.place(j, link), JointPlace::Line(..));
+    match (m.joints[x].kind, m.joints[y].kind, m.joints[z].kind) {
+        (JointKind::R, JointKind::R, JointKind::R) => Some(Step::Rrr { joints, links, branch }),
+        (JointKind::R, JointKind::R, JointKind::P) if guide_on(z, k2) => Some(Step::Rrp { joints, links, branch }),
+        (JointKind::P, JointKind::R, JointKind::R) if guide_on(x, k1) => Some(Step::Rrp {
+            joints: [z, y, x],
+            links: [k2, l2, l1, k1],
+            branch,
+        }),
+        _ => None,
+    }
+}
+
 fn input_index(inputs: &[usize], j: usize) -> usize {
     inputs.iter().position(|&i| i == j).unwrap_or(0)
 }
@@ -200,7 +200,6 @@ fn input_index(inputs: &[usize], j: usize) -> usize {
 /// known. What is left is named in the error.
 pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     use crate::geometry::OutputKind;
-    use pkm_runtime::plan::PointRef;
     let m = &a.mechanism;
     let fail = |msg: String| -> Diagnostics { Diagnostic::new(m.name_span(), msg).label("in this mechanism").into() };
     if !m.planar {
@@ -216,26 +215,10 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let mut next_input = 0;
     for o in &a.geometry.outputs {
         match &o.kind {
-            OutputKind::Pose { link, .. } => {
-                // The pose's point: a named point of the link, or the joint there.
-                let point = a
-                    .geometry
-                    .points
-                    .iter()
-                    .position(|p| p.link == *link && Some(&p.at) == output_point(o))
-                    .map(PointRef::Named)
-                    .or_else(|| {
-                        (0..m.joints.len())
-                            .find(|&j| {
-                                m.joints[j].links.contains(link)
-                                    && matches!(crate::codegen_fk_place(a, j, *link), JointPlace::Point(p, _) if Some(p) == output_point(o))
-                            })
-                            .map(PointRef::Joint)
-                    })
-                    .ok_or_else(|| fail(format!("output `{}` has no point", o.names[0])))?;
+            OutputKind::Pose { link, point } => {
                 steps.push(Step::Place {
                     link: *link,
-                    point,
+                    point: *point,
                     input: next_input,
                 });
                 known[*link] = true;
@@ -295,25 +278,8 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                         if !known[k2] {
                             continue;
                         }
-                        let guide_on =
-                            |j: usize, link: usize| matches!(crate::codegen_fk_place(a, j, link), JointPlace::Line(..));
-                        let step = match (ja.kind, jb.kind, jc.kind) {
-                            (JointKind::R, JointKind::R, JointKind::R) => Step::Rrr {
-                                joints: [a1, b1, c1],
-                                links: [k1, l1, l2, k2],
-                                branch: branches,
-                            },
-                            (JointKind::R, JointKind::R, JointKind::P) if guide_on(c1, k2) => Step::Rrp {
-                                joints: [a1, b1, c1],
-                                links: [k1, l1, l2, k2],
-                                branch: branches,
-                            },
-                            (JointKind::P, JointKind::R, JointKind::R) if guide_on(a1, k1) => Step::Rrp {
-                                joints: [c1, b1, a1],
-                                links: [k2, l2, l1, k1],
-                                branch: branches,
-                            },
-                            _ => continue,
+                        let Some(step) = dyad_step(a, [a1, b1, c1], [k1, l1, l2, k2], branches) else {
+                            continue;
                         };
                         steps.push(step);
                         branches += 1;
@@ -347,11 +313,4 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         branches,
         inputs: (0..next_input).collect(),
     })
-}
-
-fn output_point(o: &crate::geometry::Output) -> Option<&crate::geometry::Vec3> {
-    match &o.kind {
-        crate::geometry::OutputKind::Pose { at, .. } => Some(at),
-        crate::geometry::OutputKind::Joint(_) => None,
-    }
 }

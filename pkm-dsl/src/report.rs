@@ -22,6 +22,18 @@ impl Analysis {
         joints.iter().map(|&j| self.mechanism.joints[j].name.clone()).collect()
     }
 
+    /// Where joint `joint` sits on `link` (one of its two links), in a complete geometry.
+    pub fn place(&self, joint: usize, link: usize) -> &crate::geometry::JointPlace {
+        let side = self.mechanism.joints[joint]
+            .links
+            .iter()
+            .position(|&l| l == link)
+            .expect("the joint touches the link");
+        self.geometry.places[joint][side]
+            .as_ref()
+            .expect("a complete geometry places every joint")
+    }
+
     /// The platform's POC set in Unicode, or an empty string without a platform.
     pub fn platform_poc(&self) -> String {
         self.topology

@@ -77,14 +77,6 @@ fn signed(d: i32) -> String {
     }
 }
 
-fn signed_ascii(d: i32) -> String {
-    match d {
-        0 => "0".into(),
-        d if d > 0 => format!("+{d}"),
-        d => format!("-{}", -d),
-    }
-}
-
 impl PocSet {
     /// The set in the papers' Unicode notation, e.g. `[t²(∥◇xoz); r¹(∥R6)]`.
     pub fn unicode(&self) -> String {
@@ -373,6 +365,15 @@ impl Context<'_> {
     }
 }
 
+/// The mask of all `n` joints (n ≤ 64).
+fn all_joints(n: usize) -> u64 {
+    if n == 64 {
+        u64::MAX
+    } else {
+        (1u64 << n) - 1
+    }
+}
+
 type Cost = (i64, i64);
 /// A candidate SOC: its joints in path order and its two end links.
 type Candidate = (Vec<usize>, [usize; 2]);
@@ -501,7 +502,7 @@ fn notation(ctx: &Context, joints: &[usize]) -> String {
 pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let mut ctx = context(mech)?;
     let n = mech.joints.len();
-    let all: u64 = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+    let all = all_joints(n);
     let total_f = ctx.f_of(all);
     let total_rank = ctx.loop_rank(all);
     let dof = total_f - total_rank;
@@ -794,7 +795,7 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
 /// rows of each joint.
 fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::ops::Range<usize>>) {
     let n = mech.joints.len();
-    let all: u64 = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+    let all = all_joints(n);
     let sys = VelocitySystem::new(mech, inst, all);
     let kernel = screw::null_space(&sys.matrix);
     let k = kernel.ncols();
@@ -1183,11 +1184,6 @@ fn expression(
         bkc_terms.join(" + ")
     ));
     s
-}
-
-/// [`signed`] without Unicode, for reports in ASCII.
-pub fn delta_ascii(d: i32) -> String {
-    signed_ascii(d)
 }
 
 /// [`signed`], the papers' way of writing a Δ (`+1`, `0`, `−1`).
