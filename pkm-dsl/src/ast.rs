@@ -88,6 +88,9 @@ pub enum OutputWhat {
         link: Name,
         /// A named point of the link, or a joint on it.
         at: Name,
+        /// In a spatial mechanism, the axis the link turns about (its one
+        /// orientation output); without it the link keeps the base's orientation.
+        about: Option<AxisRef>,
     },
     /// A joint's value.
     Joint(Name),
@@ -122,6 +125,8 @@ pub enum Place {
     Point(Tuple, Option<AxisRef>),
     /// A line `through POINT along AXIS` (the guide of a P joint).
     Line(Tuple, AxisRef),
+    /// A parallelogram's hinge with its arm: `(…) along AXIS arm (…)`.
+    Arm(Tuple, AxisRef, Tuple),
 }
 
 /// `(e1, e2[, e3])`.

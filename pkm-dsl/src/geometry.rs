@@ -32,6 +32,18 @@ pub enum JointPlace {
     Point(Vec3, Option<Vec3>),
     /// A line: the guide of a prismatic joint.
     Line(Vec3, Vec3),
+    /// A parallelogram's hinge point and axis, and its arm (see
+    /// `pkm_runtime::model::Place::Arm`).
+    Arm(Vec3, Vec3, Vec3),
+}
+
+impl JointPlace {
+    /// The place's point.
+    pub fn at(&self) -> &Vec3 {
+        match self {
+            JointPlace::Point(at, _) | JointPlace::Line(at, _) | JointPlace::Arm(at, _, _) => at,
+        }
+    }
 }
 
 /// A named point fixed on a link.
@@ -72,12 +84,16 @@ pub struct Output {
 /// What an output measures.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OutputKind {
-    /// The planar pose (x, y, angle) of link `link` at one of its points.
+    /// The pose of link `link` at one of its points: planar (x, y, angle),
+    /// or spatial (x, y, z) with the angle about `about` if given (the link's
+    /// orientation is that rotation of the base's frame).
     Pose {
         /// The link.
         link: usize,
         /// The point: a named point of the link, or a joint placed on it.
         point: pkm_runtime::plan::PointRef,
+        /// Spatial: the world axis the link turns about, if it turns.
+        about: Option<Box<Vec3>>,
     },
     /// The value of joint `joint`.
     Joint(usize),
@@ -292,6 +308,12 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                         (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
                         _ => None,
                     },
+                    Place::Arm(t, a, arm) => {
+                        match (to3(t, &mut errors), axis3(a, &mut errors), to3(arm, &mut errors)) {
+                            (Some(at), Some(d), Some(arm)) => Some(JointPlace::Arm(at, d, arm)),
+                            _ => None,
+                        }
+                    }
                 };
                 place_span[j][side] = Some(p.span);
                 places[j][side] = resolved;
@@ -306,7 +328,15 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
             check_relations(mech, &places, &values, &mut errors);
         }
     }
-    let outputs = resolve_outputs(ast, mech, &places, &points, complete, &mut errors);
+    let abouts: Vec<Option<Vec3>> = ast
+        .outputs
+        .iter()
+        .map(|o| match &o.what {
+            crate::ast::OutputWhat::Pose { about: Some(a), .. } => axis3(a, &mut errors),
+            _ => None,
+        })
+        .collect();
+    let outputs = resolve_outputs(ast, mech, &places, &points, &abouts, complete, &mut errors);
     if errors.is_empty() {
         Ok(Geometry {
             parameters,
@@ -325,12 +355,13 @@ fn resolve_outputs(
     mech: &Mechanism,
     places: &[[Option<JointPlace>; 2]],
     points: &[NamedPoint],
+    abouts: &[Option<Vec3>],
     complete: bool,
     errors: &mut Vec<Diagnostic>,
 ) -> Vec<Output> {
     let mut out = Vec::new();
     let mut seen: Vec<String> = Vec::new();
-    for decl in &ast.outputs {
+    for (decl, about) in ast.outputs.iter().zip(abouts) {
         if !complete {
             errors.push(Diagnostic::new(decl.span, "outputs need a `geometry` block").label("no geometry"));
             return out;
@@ -353,7 +384,11 @@ fn resolve_outputs(
                 }
                 OutputKind::Joint(index)
             }
-            crate::ast::OutputWhat::Pose { link, at } => {
+            crate::ast::OutputWhat::Pose {
+                link,
+                at,
+                about: about_ast,
+            } => {
                 let Some(l) = mech.links.iter().position(|x| x.name == link.text) else {
                     errors.push(
                         Diagnostic::new(link.span, format!("unknown link `{}`", link.text))
@@ -361,13 +396,29 @@ fn resolve_outputs(
                     );
                     continue;
                 };
-                if !mech.planar {
+                if mech.planar && about_ast.is_some() {
                     errors.push(
-                        Diagnostic::new(decl.span, "spatial pose outputs are not supported yet").label("planar only"),
+                        Diagnostic::new(decl.span, "a planar pose turns about z: drop `about`")
+                            .label("planar mechanism"),
                     );
                     continue;
                 }
-                if decl.names.len() != 3 {
+                let wanted = if mech.planar || about_ast.is_none() { 3 } else { 4 };
+                if !mech.planar && decl.names.len() != wanted {
+                    errors.push(
+                        Diagnostic::new(
+                            decl.span,
+                            if wanted == 3 {
+                                "a spatial pose without `about` has three values: x, y and z"
+                            } else {
+                                "a spatial pose `about` an axis has four values: x, y, z and the angle"
+                            },
+                        )
+                        .label(format!("{} names given", decl.names.len())),
+                    );
+                    continue;
+                }
+                if mech.planar && decl.names.len() != 3 {
                     errors.push(
                         Diagnostic::new(decl.span, "a planar pose has three values: x, y and the angle")
                             .label(format!("{} names given", decl.names.len())),
@@ -390,7 +441,11 @@ fn resolve_outputs(
                     );
                     continue;
                 };
-                OutputKind::Pose { link: l, point }
+                OutputKind::Pose {
+                    link: l,
+                    point,
+                    about: about.clone().map(Box::new),
+                }
             }
         };
         out.push(Output {
@@ -435,7 +490,11 @@ fn check_forms(
         for (s, slot) in places[j].iter_mut().enumerate() {
             let place = slot.as_mut().expect("checked above");
             let problem = match (joint.kind, &mut *place) {
-                (JointKind::Pa, _) => Some("parallelogram geometry is not supported yet".to_string()),
+                (JointKind::Pa, JointPlace::Point(_, Some(_)) | JointPlace::Arm(..)) => None,
+                (JointKind::Pa, _) => {
+                    Some("a parallelogram takes a hinge `(…) along AXIS`, with `arm (…)` on one link".into())
+                }
+                (_, JointPlace::Arm(..)) => Some("only a parallelogram `Pa` takes an arm".into()),
                 (JointKind::P, JointPlace::Point(_, Some(_))) => {
                     Some("a prismatic joint takes a guide line or a point, not an axis".into())
                 }
@@ -463,11 +522,30 @@ fn check_forms(
                 )));
             }
             let axis = match &*slot {
-                Some(JointPlace::Point(_, Some(a))) | Some(JointPlace::Line(_, a)) => Some(eval3(a, values)),
+                Some(JointPlace::Point(_, Some(a))) | Some(JointPlace::Line(_, a)) | Some(JointPlace::Arm(_, a, _)) => {
+                    Some(eval3(a, values))
+                }
                 _ => None,
             };
             if axis.is_some_and(|a| !a.iter().all(|x| x.is_finite()) || a.norm() == 0.0) {
                 errors.push(Diagnostic::new(span(s), "the axis is zero or not finite").label("needs a direction"));
+            }
+        }
+        if joint.kind == JointKind::Pa {
+            let arms = (0..2)
+                .filter(|&s| matches!(places[j][s], Some(JointPlace::Arm(..))))
+                .count();
+            if arms != 1 {
+                errors.push(
+                    Diagnostic::new(
+                        span(1),
+                        format!(
+                            "parallelogram `{}` needs its arm `arm (…)` on exactly one of its links",
+                            joint.name
+                        ),
+                    )
+                    .label(format!("{arms} arms")),
+                );
             }
         }
         if joint.kind == JointKind::P {
@@ -500,7 +578,9 @@ fn axis_on(
 ) -> Option<(Vector3<f64>, Option<Vector3<f64>>)> {
     let side = mech.joints[j].links.iter().position(|&l| l == link)?;
     match places[j][side].as_ref()? {
-        JointPlace::Point(p, Some(a)) => Some((eval3(a, values).normalize(), Some(eval3(p, values)))),
+        JointPlace::Point(p, Some(a)) | JointPlace::Arm(p, a, _) => {
+            Some((eval3(a, values).normalize(), Some(eval3(p, values))))
+        }
         JointPlace::Line(p, a) => Some((
             eval3(a, values).normalize(),
             if mech.joints[j].kind == JointKind::P {

@@ -115,6 +115,8 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::line_place | Rule::kw_through => "`through`",
         Rule::point_place => "a point `(…)`",
         Rule::kw_along => "`along`",
+        Rule::kw_arm => "`arm`",
+        Rule::kw_about => "`about`",
         Rule::axis => "an axis (`x`, `y`, `z` or `(…)`)",
         Rule::tuple => "a tuple `(…)`",
         Rule::expr | Rule::term | Rule::factor | Rule::power | Rule::atom => "an expression",
@@ -242,12 +244,12 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                         match q.as_rule() {
                             Rule::ident => names.push(name(q)),
                             Rule::pose_output => {
-                                let mut it = q
-                                    .into_inner()
-                                    .filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
-                                let link = name(it.next().expect("pose link"));
-                                let at = name(it.next().expect("pose point"));
-                                what = Some(OutputWhat::Pose { link, at });
+                                let inner: Vec<_> = q.into_inner().collect();
+                                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
+                                let link = name(it.next().expect("pose link").clone());
+                                let at = name(it.next().expect("pose point").clone());
+                                let about = inner.iter().find(|r| r.as_rule() == Rule::axis).cloned().map(axis);
+                                what = Some(OutputWhat::Pose { link, at, about });
                             }
                             Rule::joint_output => {
                                 let j = q
@@ -328,7 +330,11 @@ fn placement(p: Pair<Rule>) -> Placement {
                     .into_inner()
                     .filter(|r| matches!(r.as_rule(), Rule::tuple | Rule::axis));
                 let at = tuple(it.next().expect("point"));
-                place = Some(Place::Point(at, it.next().map(axis)));
+                let along = it.next().map(axis);
+                place = Some(match (along, it.next()) {
+                    (Some(d), Some(arm)) => Place::Arm(at, d, tuple(arm)),
+                    (d, _) => Place::Point(at, d),
+                });
             }
             _ => {}
         }

@@ -29,13 +29,17 @@ pub enum JointType {
     P,
     /// Spherical.
     S,
+    /// Parallelogram of four revolutes, one value: the angle its arm has
+    /// turned about the hinge axis. The two links translate relative to each
+    /// other (their frames stay parallel).
+    Pa,
 }
 
 impl JointType {
     /// The joint's number of variables.
     pub const fn dof(self) -> usize {
         match self {
-            JointType::R | JointType::P => 1,
+            JointType::R | JointType::P | JointType::Pa => 1,
             JointType::S => 3,
         }
     }
@@ -63,6 +67,41 @@ pub enum Place {
         /// Its direction (need not be unit).
         along: [f64; 3],
     },
+    /// A parallelogram's hinge on the link that carries its arm: the hinge
+    /// point, the hinge axis, and the arm (from this hinge to the other
+    /// link's hinge point when the joint value is 0; perpendicular to the axis).
+    Arm {
+        /// The hinge point.
+        at: [f64; 3],
+        /// The hinge axis (need not be unit).
+        axis: [f64; 3],
+        /// The arm vector.
+        arm: [f64; 3],
+    },
+}
+
+impl Place {
+    /// The place's point (a guide line's `through` point).
+    pub fn at(&self) -> [f64; 3] {
+        match *self {
+            Place::Axis { at, .. } | Place::Point { at } | Place::Line { through: at, .. } | Place::Arm { at, .. } => {
+                at
+            }
+        }
+    }
+
+    /// The place's direction: an axis, a guide's direction, or z for a bare point.
+    pub fn axis(&self) -> [f64; 3] {
+        match *self {
+            Place::Axis { axis, .. } | Place::Arm { axis, .. } | Place::Line { along: axis, .. } => axis,
+            Place::Point { .. } => [0.0, 0.0, 1.0],
+        }
+    }
+}
+
+/// The places of a joint, all [`place_transform`] reads.
+struct Placed {
+    places: [Place; 2],
 }
 
 /// A joint of the model.
@@ -144,26 +183,43 @@ pub fn canonical_frame(at: [f64; 3], axis: [f64; 3]) -> Isometry3<f64> {
 /// The pose of `links[1]` relative to `links[0]` for the joint's values
 /// (`T_u⁻¹ · T_v`), by the conventions above.
 pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
-    match joint.kind {
+    place_transform(joint.kind, &joint.places, values)
+}
+
+/// As [`joint_transform`], from the joint's type and places alone.
+pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> Isometry3<f64> {
+    let joint = Placed { places: *places };
+    match kind {
         JointType::R => {
-            let frame = |p: &Place| match *p {
-                Place::Axis { at, axis } => canonical_frame(at, axis),
-                Place::Point { at } | Place::Line { through: at, .. } => canonical_frame(at, [0.0, 0.0, 1.0]),
-            };
+            let frame = |p: &Place| canonical_frame(p.at(), p.axis());
             let (fu, fv) = (frame(&joint.places[0]), frame(&joint.places[1]));
             let rz = Isometry3::rotation(Vector3::z() * values[0]);
             fu * rz * fv.inverse()
+        }
+        JointType::Pa => {
+            // The link with the arm: its hinge frame, then the arm turned by
+            // the value about the hinge axis, then the other hinge's frame.
+            let frame = |p: &Place| canonical_frame(p.at(), p.axis());
+            let (fu, fv) = (frame(&joint.places[0]), frame(&joint.places[1]));
+            let swing = |f: &Isometry3<f64>, arm: [f64; 3]| {
+                let local = f.rotation.inverse() * v3(arm);
+                let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
+                Isometry3::translation(turned.x, turned.y, turned.z)
+            };
+            match (joint.places[0], joint.places[1]) {
+                (_, Place::Arm { arm, .. }) => (fv * swing(&fv, arm) * fu.inverse()).inverse(),
+                (Place::Arm { arm, .. }, _) => fu * swing(&fu, arm) * fv.inverse(),
+                _ => fu * fv.inverse(),
+            }
         }
         JointType::P => {
             let slide = |guide: &Place, slider: &Place| {
                 let (q, d) = match *guide {
                     Place::Line { through, along } => (v3(through), v3(along).normalize()),
-                    Place::Axis { at, axis } => (v3(at), v3(axis).normalize()),
+                    Place::Axis { at, axis } | Place::Arm { at, axis, .. } => (v3(at), v3(axis).normalize()),
                     Place::Point { at } => (v3(at), Vector3::x()),
                 };
-                let p = match *slider {
-                    Place::Point { at } | Place::Axis { at, .. } | Place::Line { through: at, .. } => v3(at),
-                };
+                let p = v3(slider.at());
                 Isometry3::translation(
                     q.x + values[0] * d.x - p.x,
                     q.y + values[0] * d.y - p.y,
@@ -177,9 +233,7 @@ pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
             }
         }
         JointType::S => {
-            let centre = |p: &Place| match *p {
-                Place::Point { at } | Place::Axis { at, .. } | Place::Line { through: at, .. } => v3(at),
-            };
+            let centre = |p: &Place| v3(p.at());
             let (cu, cv) = (centre(&joint.places[0]), centre(&joint.places[1]));
             let rot = UnitQuaternion::from_scaled_axis(Vector3::new(values[0], values[1], values[2]));
             Isometry3::from_parts(Translation3::from(cu), rot) * Isometry3::translation(-cv.x, -cv.y, -cv.z)

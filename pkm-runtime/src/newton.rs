@@ -226,9 +226,7 @@ pub fn loop_residual(model: &Model, values: &[f64]) -> Result<Vec<f64>, ModelErr
 }
 
 fn place_point(place: &Place) -> [f64; 3] {
-    match *place {
-        Place::Axis { at, .. } | Place::Point { at } | Place::Line { through: at, .. } => at,
-    }
+    place.at()
 }
 
 fn norm3(a: [f64; 3]) -> f64 {
@@ -410,7 +408,7 @@ fn normalise(model: &Model, offsets: &[usize], solved: &[bool], values: &mut [f6
             continue;
         }
         match joint.kind {
-            JointType::R => values[o] = wrap_angle(values[o]),
+            JointType::R | JointType::Pa => values[o] = wrap_angle(values[o]),
             JointType::S => {
                 let n = norm3([values[o], values[o + 1], values[o + 2]]);
                 if n > PI {

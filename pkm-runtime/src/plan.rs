@@ -207,10 +207,8 @@ pub struct FkSolution {
 }
 
 fn local(place: &Place) -> [f64; 2] {
-    match *place {
-        Place::Axis { at, .. } | Place::Point { at } => [at[0], at[1]],
-        Place::Line { through, .. } => [through[0], through[1]],
-    }
+    let at = place.at();
+    [at[0], at[1]]
 }
 
 /// The joint's point in the frame of `link` (one of its two links).
@@ -447,7 +445,7 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
                             _ => return Err(bad(format!("joint {} has no guide line", j.name))),
                         }
                     }
-                    JointType::S => return Err(bad("spherical joint in a planar plan".to_string())),
+                    JointType::S | JointType::Pa => return Err(bad(format!("joint {} has no planar plan", j.name))),
                 };
                 poses[to] = Some(pose);
             }
@@ -523,7 +521,7 @@ pub fn joint_value(j: &crate::model::Joint, poses: &[Pose2]) -> f64 {
             (other, Place::Line { through, along }) => prismatic_value(tv, xy(through), xy(along), tu, local(other)),
             _ => f64::NAN,
         },
-        JointType::S => f64::NAN,
+        JointType::S | JointType::Pa => f64::NAN,
     }
 }
 
