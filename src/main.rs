@@ -146,6 +146,16 @@ fn fk(text: &str, q: &[f64], params: &[(String, f64)]) -> Result<Value, pkm::dsl
     let a = pkm::dsl::analyze_source(text)?;
     let values = params.iter().cloned().collect();
     let model = pkm::dsl::plan::model(&a, &values)?;
+    if !model.planar {
+        let plan = pkm::dsl::plan3::forward_plan(&a)?;
+        if q.len() != plan.n_inputs {
+            return Err(
+                Diagnostic::global(format!("expected {} input values, found {}", plan.n_inputs, q.len())).into(),
+            );
+        }
+        let branches = spatial_branches_json(&a, &model, &plan, q);
+        return Ok(json!({ "name": model.name, "inputs": q, "branches": branches }));
+    }
     let plan = pkm::dsl::plan::forward_plan(&a)?;
     if q.len() != plan.inputs.len() {
         let names: Vec<&str> = plan.inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
@@ -195,12 +205,93 @@ fn branches_json(model: &pkm::runtime::model::Model, plan: &pkm::runtime::plan::
         .collect()
 }
 
+/// Every branch of a spatial plan as JSON, as [`branches_json`], with the
+/// declared pose outputs (`pose`: name → value) of each solution.
+fn spatial_branches_json(
+    a: &Analysis,
+    model: &pkm::runtime::model::Model,
+    plan: &pkm::runtime::spatial::Plan,
+    given: &[f64],
+) -> Vec<Value> {
+    use pkm::runtime::spatial;
+    let inputs = model.inputs();
+    spatial::run_all(model, plan, given)
+        .into_iter()
+        .map(|(signs, result)| {
+            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+            match result {
+                Ok(sol) => {
+                    let outputs: serde_json::Map<String, Value> = model
+                        .joints
+                        .iter()
+                        .zip(&sol.values)
+                        .map(|(j, v)| (j.name.clone(), json!(v)))
+                        .collect();
+                    let mut points = serde_json::Map::new();
+                    for j in 0..model.joints.len() {
+                        points.insert(
+                            model.joints[j].name.clone(),
+                            json!(spatial::joint_point(model, &sol.poses, j)),
+                        );
+                    }
+                    for p in &model.points {
+                        points.insert(p.name.clone(), json!(spatial::at(&sol.poses[p.link], p.at)));
+                    }
+                    let pose = pose_outputs(a, model, &sol.poses);
+                    let q: Vec<f64> = inputs.iter().map(|&j| sol.values[j]).collect();
+                    json!({ "signs": signs, "ok": true, "q": q, "outputs": outputs, "pose": pose, "points": points })
+                }
+                Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
+            }
+        })
+        .collect()
+}
+
+/// The declared outputs of a spatial solution: a pose's point and its angle
+/// about the declared axis; a joint's value.
+fn pose_outputs(a: &Analysis, model: &pkm::runtime::model::Model, poses: &[pkm::runtime::spatial::Pose3]) -> Value {
+    use pkm::dsl::geometry::OutputKind;
+    use pkm::runtime::spatial;
+    let nominal = a.geometry.nominal();
+    let mut out = serde_json::Map::new();
+    for o in &a.geometry.outputs {
+        let values: Vec<f64> = match &o.kind {
+            OutputKind::Pose { link, point, about } => {
+                let local = spatial::local_point(model, *point, *link).unwrap_or([f64::NAN; 3]);
+                let mut v = spatial::at(&poses[*link], local).to_vec();
+                if let Some(k) = about {
+                    let k = [k[0].eval(&nominal), k[1].eval(&nominal), k[2].eval(&nominal)];
+                    v.push(spatial::angle_about(&poses[*link], k));
+                }
+                v
+            }
+            OutputKind::Joint(j) => {
+                let joint = &model.joints[*j];
+                vec![spatial::joint_value(
+                    &spatial::Joint3::of(joint),
+                    &poses[joint.links[0]],
+                    &poses[joint.links[1]],
+                )]
+            }
+        };
+        for (n, v) in o.names.iter().zip(values) {
+            out.insert(n.clone(), json!(v));
+        }
+    }
+    Value::Object(out)
+}
+
 fn ik(text: &str, pose: &[(String, f64)], params: &[(String, f64)]) -> Result<Value, pkm::dsl::Diagnostics> {
     use pkm::dsl::Diagnostic;
     let a = pkm::dsl::analyze_source(text)?;
     let values = params.iter().cloned().collect();
     let model = pkm::dsl::plan::model(&a, &values)?;
-    let plan = pkm::dsl::plan::inverse_plan(&a)?;
+    // Planar plans and spatial plans (the latter in `Err`).
+    let plan = if model.planar {
+        Ok(pkm::dsl::plan::inverse_plan(&a)?)
+    } else {
+        Err(pkm::dsl::plan3::inverse_plan(&a)?)
+    };
     let names: Vec<&str> = a
         .geometry
         .outputs
@@ -223,7 +314,10 @@ fn ik(text: &str, pose: &[(String, f64)], params: &[(String, f64)]) -> Result<Va
             None => return Err(Diagnostic::global(format!("missing output `{n}`; give {}", names.join(", "))).into()),
         }
     }
-    let branches = branches_json(&model, &plan, &ordered);
+    let branches = match &plan {
+        Ok(plan) => branches_json(&model, plan, &ordered),
+        Err(plan) => spatial_branches_json(&a, &model, plan, &ordered),
+    };
     Ok(json!({ "name": model.name, "pose": given, "branches": branches }))
 }
 

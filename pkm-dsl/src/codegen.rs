@@ -235,23 +235,31 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
             if !m.wants(cap) {
                 continue;
             }
-            let plan = match direction {
-                crate::codegen_fk::Direction::Forward => crate::plan::forward_plan(a)?,
-                crate::codegen_fk::Direction::Inverse => crate::plan::inverse_plan(a)?,
+            use crate::codegen_fk::{Direction, PlanRef};
+            let (mut planar, mut spatial) = (None, None);
+            let plan = match (m.planar, direction) {
+                (true, Direction::Forward) => PlanRef::Planar(planar.insert(crate::plan::forward_plan(a)?)),
+                (true, Direction::Inverse) => PlanRef::Planar(planar.insert(crate::plan::inverse_plan(a)?)),
+                (false, Direction::Forward) => PlanRef::Spatial(spatial.insert(crate::plan3::forward_plan(a)?)),
+                (false, Direction::Inverse) => PlanRef::Spatial(spatial.insert(crate::plan3::inverse_plan(a)?)),
             };
-            if plan.branches > MAX_FK_CHOICES {
+            let branches = match plan {
+                PlanRef::Planar(p) => p.branches,
+                PlanRef::Spatial(p) => p.branches,
+            };
+            if branches > MAX_FK_CHOICES {
                 return Err(Diagnostic::new(
                     m.name_span(),
                     format!(
                         "the {} solution has {} ± choices; a solver lists at most 2^{MAX_FK_CHOICES} branches",
                         cap.name(),
-                        plan.branches
+                        branches
                     ),
                 )
                 .label("too many branches to list")
                 .into());
             }
-            solvers.push(crate::codegen_fk::generate(a, &plan, ident, direction));
+            solvers.push(crate::codegen_fk::generate(a, plan, ident, direction));
         }
         solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
     }

@@ -17,7 +17,7 @@ fn xy(v: &Vec3) -> TokenStream {
 
 fn point(p: &JointPlace) -> TokenStream {
     match p {
-        JointPlace::Point(at, _) | JointPlace::Line(at, _) => xy(at),
+        JointPlace::Point(at, _) | JointPlace::Line(at, _) | JointPlace::Arm(at, _, _) => xy(at),
     }
 }
 
@@ -44,6 +44,7 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
     let n_points = point_names.len();
     let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
     let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
+    let dim: usize = if m.planar { 2 } else { 3 };
     let sol_doc = format!(
         " One position solution of `{}`: every joint value and every point.",
         m.name
@@ -54,8 +55,9 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         #vis struct #sol_ty {
             /// Joint values in declaration order (radians for R, lengths for P); see `JOINTS`.
             pub q: [f64; #n_joints],
-            /// Every joint's point, then every named point, as (x, y); see `POINTS`.
-            pub points: [[f64; 2]; #n_points],
+            /// Every joint's point, then every named point (x, y, and z in a
+            /// spatial mechanism); see `POINTS`.
+            pub points: [[f64; #dim]; #n_points],
         }
 
         #[automatically_derived]
@@ -72,31 +74,36 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
 
 /// The solver functions for one direction: `fk`, `fk_branch`, `fk_follow`
 /// (or `ik`, …) and the names of their values (`INPUTS` or `OUTPUTS`).
-pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
+/// A planar or a spatial plan.
+#[derive(Debug, Clone, Copy)]
+pub enum PlanRef<'p> {
+    /// Planar (`Pose2`, dyads).
+    Planar(&'p Plan),
+    /// Spatial (`Pose3`, the spatial catalogue).
+    Spatial(&'p pkm_runtime::spatial::Plan),
+}
+
+/// The solver functions for one direction: `fk`, `fk_branch`, `fk_follow`
+/// (or `ik`, …) and the names of their values (`INPUTS` or `OUTPUTS`).
+pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
+    let sol_ty = format_ident!("{}Solution", ident);
+    let (body, result, branches, inputs) = match plan {
+        PlanRef::Planar(p) => planar_body(a, p, &sol_ty),
+        PlanRef::Spatial(p) => crate::codegen_spatial::body(a, p, &sol_ty),
+    };
+    wrap(a, ident, direction, body, result, branches, &inputs)
+}
+
+/// The straight-line body of a planar solver, the expression of its
+/// solution, its number of ± choices and its input joints.
+fn planar_body(
+    a: &Analysis,
+    plan: &Plan,
+    sol_ty: &proc_macro2::Ident,
+) -> (TokenStream, TokenStream, usize, Vec<usize>) {
     let m = &a.mechanism;
     let rt = quote! { ::pkm::runtime::plan };
-    let params_ty = format_ident!("{}Params", ident);
-    let sol_ty = format_ident!("{}Solution", ident);
-    let (f_all, f_branch, f_follow, names_const, what) = match direction {
-        Direction::Forward => (
-            format_ident!("fk"),
-            format_ident!("fk_branch"),
-            format_ident!("fk_follow"),
-            format_ident!("INPUTS"),
-            "Forward",
-        ),
-        Direction::Inverse => (
-            format_ident!("ik"),
-            format_ident!("ik_branch"),
-            format_ident!("ik_follow"),
-            format_ident!("OUTPUTS"),
-            "Inverse",
-        ),
-    };
-    let n_branches = plan.branches;
-    let n_solutions = 1usize << plan.branches;
-
-    let mut body = Vec::new();
+    let mut body = vec![quote! { let pose_0 = #rt::Pose2::IDENTITY; }];
     for (k, step) in plan.steps.iter().enumerate() {
         match *step {
             Step::Place { link, point: at, input } => {
@@ -211,8 +218,44 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
         let (p, at) = (pose(np.link), xy(&np.at));
         points.push(quote! { #p.apply(#at) });
     }
+    let result = quote! { #sol_ty { q: [#(#values),*], points: [#(#points),*] } };
+    (quote! { #(#body)* }, result, plan.branches, plan.inputs.clone())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn wrap(
+    a: &Analysis,
+    ident: &proc_macro2::Ident,
+    direction: Direction,
+    body: TokenStream,
+    result: TokenStream,
+    n_branches: usize,
+    inputs: &[usize],
+) -> TokenStream {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime::plan };
+    let params_ty = format_ident!("{}Params", ident);
+    let sol_ty = format_ident!("{}Solution", ident);
+    let (f_all, f_branch, f_follow, names_const, what) = match direction {
+        Direction::Forward => (
+            format_ident!("fk"),
+            format_ident!("fk_branch"),
+            format_ident!("fk_follow"),
+            format_ident!("INPUTS"),
+            "Forward",
+        ),
+        Direction::Inverse => (
+            format_ident!("ik"),
+            format_ident!("ik_branch"),
+            format_ident!("ik_follow"),
+            format_ident!("OUTPUTS"),
+            "Inverse",
+        ),
+    };
+    let n_solutions = 1usize << n_branches;
+
     let value_names: Vec<String> = match direction {
-        Direction::Forward => plan.inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),
+        Direction::Forward => inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),
         Direction::Inverse => a
             .geometry
             .outputs
@@ -227,7 +270,6 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             #rt::Branch { signs, result: Self::#f_branch(params, q, signs) }
         }}
     });
-    let base = pose(0);
     let names_doc = match direction {
         Direction::Forward => " The actuated joints, in the order of the input vector.",
         Direction::Inverse => " The outputs, in the order of the inverse solution's input vector.",
@@ -260,9 +302,8 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
                         what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
                     });
                 }
-                let #base = #rt::Pose2::IDENTITY;
-                #(#body)*
-                ::core::result::Result::Ok(#sol_ty { q: [#(#values),*], points: [#(#points),*] })
+                #body
+                ::core::result::Result::Ok(#result)
             }
 
             /// Follows a trajectory: the branch nearest `previous` (the solution

@@ -16,6 +16,7 @@ pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
 pub mod model;
 pub mod plan;
+pub mod plan3;
 pub mod report;
 pub mod screw;
 pub mod topology;
@@ -23,5 +24,6 @@ pub mod topology;
 pub use report::{analyze_source, Analysis};
 mod codegen;
 mod codegen_fk;
+mod codegen_spatial;
 
 pub use codegen::{check_capabilities, expand};

@@ -38,6 +38,7 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
             JointKind::R => JointType::R,
             JointKind::P => JointType::P,
             JointKind::S => JointType::S,
+            JointKind::Pa => JointType::Pa,
             k => {
                 return Err(
                     Diagnostic::new(joint.span, format!("{} joints have no numeric model yet", k.symbol()))
@@ -55,6 +56,11 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
             JointPlace::Line(at, along) => Place::Line {
                 through: eval(at),
                 along: eval(along),
+            },
+            JointPlace::Arm(at, axis, arm) => Place::Arm {
+                at: eval(at),
+                axis: eval(axis),
+                arm: eval(arm),
             },
         };
         joints.push(Joint {
@@ -215,7 +221,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let mut next_input = 0;
     for o in &a.geometry.outputs {
         match &o.kind {
-            OutputKind::Pose { link, point } => {
+            OutputKind::Pose { link, point, .. } => {
                 steps.push(Step::Place {
                     link: *link,
                     point: *point,

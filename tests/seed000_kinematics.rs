@@ -1,0 +1,268 @@
+//! Seed 000, mechanisms A and B: the spatial plans against Tables 1 and 2,
+//! the paper's equations (11)–(17) evaluated independently here, and round
+//! trips fk∘ik and ik∘fk; every plan solution also closes the loops of the
+//! numeric model (the Newton reference's residual).
+
+use pkm::dsl::screw::SplitMix;
+use pkm::runtime::model::Model;
+use pkm::runtime::newton;
+use pkm::runtime::spatial::{self, Plan, Solution};
+use std::collections::HashMap;
+
+struct Mech {
+    model: Model,
+    fk: Plan,
+    ik: Plan,
+    platform: usize,
+    /// The output point on the platform and the axis α turns about.
+    point: [f64; 3],
+    about: [f64; 3],
+}
+
+fn load(file: &str, point: &str, about: [f64; 3]) -> Mech {
+    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
+    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let platform = model.links.iter().position(|l| l == "platform").unwrap();
+    let point = model.points.iter().find(|p| p.name == point).unwrap().at;
+    Mech {
+        fk: pkm::dsl::plan3::forward_plan(&a).unwrap(),
+        ik: pkm::dsl::plan3::inverse_plan(&a).unwrap(),
+        model,
+        platform,
+        point,
+        about,
+    }
+}
+
+impl Mech {
+    /// (x, y, z, α) of a solution.
+    fn pose(&self, s: &Solution) -> [f64; 4] {
+        let p = spatial::at(&s.poses[self.platform], self.point);
+        [
+            p[0],
+            p[1],
+            p[2],
+            spatial::angle_about(&s.poses[self.platform], self.about),
+        ]
+    }
+
+    fn inputs(&self, s: &Solution) -> Vec<f64> {
+        self.model.inputs().iter().map(|&j| s.values[j]).collect()
+    }
+
+    fn solved(&self, plan: &Plan, given: &[f64]) -> Vec<Solution> {
+        self.solved_fast(plan, given)
+            .into_iter()
+            .inspect(|s| {
+                let r = newton::loop_residual(&self.model, &s.values).unwrap();
+                let worst = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                assert!(worst < 1e-9, "{} loop residual {worst}", self.model.name);
+            })
+            .collect()
+    }
+
+    /// As `solved`, without the loop-closure check.
+    fn solved_fast(&self, plan: &Plan, given: &[f64]) -> Vec<Solution> {
+        spatial::run_all(&self.model, plan, given)
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect()
+    }
+}
+
+fn a() -> Mech {
+    load("seed000_a", "o", [1.0, 0.0, 0.0])
+}
+
+fn b() -> Mech {
+    load("seed000_b", "E", [-1.0, 0.0, 0.0])
+}
+
+#[test]
+fn mechanism_a_table_1() {
+    let m = a();
+    let poses: Vec<[f64; 4]> = m
+        .solved(&m.fk, &[-106.09, 181.67, -70.29])
+        .iter()
+        .map(|s| m.pose(s))
+        .collect();
+    // The paper takes the five-bar's C above its sliders (H = +√…): two
+    // solutions. pkm lists the other assembly of the five-bar too (z = −38.92).
+    assert_eq!(poses.len(), 4);
+    for alpha in [-0.7097, 0.2547] {
+        let hit = poses
+            .iter()
+            .find(|p| (p[2] - 238.9192).abs() < 5e-5 && (p[3] - alpha).abs() < 5e-5);
+        let p = hit.unwrap_or_else(|| panic!("no solution with α = {alpha}: {poses:?}"));
+        assert!((p[0] - 37.79).abs() < 5e-3 && (p[1] + 300.0).abs() < 1e-9);
+    }
+    assert_eq!(poses.iter().filter(|p| (p[2] + 38.9192).abs() < 5e-5).count(), 2);
+}
+
+#[test]
+fn mechanism_a_table_2() {
+    let m = a();
+    let fk = m.solved(&m.fk, &[-106.09, 181.67, -70.29]);
+    let first = fk
+        .iter()
+        .map(|s| m.pose(s))
+        .find(|p| (p[3] + 0.7097).abs() < 5e-5 && p[2] > 0.0)
+        .unwrap();
+    // Eq. (14), evaluated here at the pose.
+    let (a_, l1, l2, l3, l4) = (300.0f64, 100.0, 200.0, 450.0, 320.0);
+    let eq14 = |p: [f64; 4]| {
+        let (xc, z, al) = (p[0], p[2], p[3]);
+        let u = (l2 * l2 - (z - l1).powi(2)).sqrt();
+        let v = (l4 * l4 - (l3 * al.cos() - 2.0 * a_).powi(2) - (l3 * al.sin() + z - l1).powi(2)).sqrt();
+        [xc + u, xc - u, xc + v, xc - v]
+    };
+    for pose in [first, [37.79, -300.0, 238.9192, -0.7097]] {
+        let ik: Vec<Vec<f64>> = m.solved(&m.ik, &pose).iter().map(|s| m.inputs(s)).collect();
+        assert_eq!(ik.len(), 8);
+        let [u1, u2, v1, v2] = eq14(pose);
+        // The paper's four rows: x2 = 2·x_C3 − x1, x3 either root of eq. (14).
+        for (x1, x2) in [(u1, u2), (u2, u1)] {
+            for x3 in [v1, v2] {
+                assert!(
+                    ik.iter()
+                        .any(|q| (q[0] - x1).abs() < 1e-9 && (q[1] - x2).abs() < 1e-9 && (q[2] - x3).abs() < 1e-9),
+                    "{pose:?}: no ik ({x1}, {x2}, {x3}) in {ik:?}"
+                );
+            }
+        }
+        // The other four put both sliders of the five-bar at one place
+        // (x1 = x2), which the paper leaves out.
+        assert_eq!(ik.iter().filter(|q| (q[0] - q[1]).abs() < 1e-9).count(), 4);
+    }
+    // At the exact pose the inputs come back: x3 = −70.29 (row 4) and the
+    // other root 145.8700. The paper prints 145.8604 and −70.2804; its own
+    // eq. (14) gives 145.9149 / −70.3349 at the printed α = −0.7097 and
+    // 145.8700 / −70.2900 at the exact one, so arithmetic wins here.
+    let ik: Vec<Vec<f64>> = m.solved(&m.ik, &first).iter().map(|s| m.inputs(s)).collect();
+    assert!(ik
+        .iter()
+        .any(|q| (q[0] + 106.09).abs() < 1e-9 && (q[1] - 181.67).abs() < 1e-9 && (q[2] + 70.29).abs() < 1e-9));
+    assert!(ik.iter().any(|q| (q[2] - 145.87).abs() < 1e-4));
+    let printed: Vec<Vec<f64>> = m
+        .solved(&m.ik, &[37.79, -300.0, 238.9192, -0.7097])
+        .iter()
+        .map(|s| m.inputs(s))
+        .collect();
+    assert!(printed.iter().any(|q| (q[2] - 145.9149).abs() < 1e-4));
+    assert!(printed.iter().any(|q| (q[2] + 70.3349).abs() < 1e-4));
+}
+
+#[test]
+fn mechanism_b_equations_15_to_17() {
+    let m = b();
+    let (a_, l1, l2, l3, l4, l5) = (300.0f64, 100.0, 200.0, 180.0, 450.0, 320.0);
+    let q = [-106.09, 181.67, -70.29];
+    let poses: Vec<[f64; 4]> = m.solved(&m.fk, &q).iter().map(|s| m.pose(s)).collect();
+    // Eq. (15): z_E by n, then α by m, both as the paper writes them.
+    let xc = (q[0] + q[1]) / 2.0;
+    let h = (l2 * l2 - ((q[1] - q[0]) / 2.0).powi(2)).sqrt();
+    let mut expected = Vec::new();
+    for n in [1.0, -1.0] {
+        let ze = l1 + n * (l5 * l5 - (xc - q[2]).powi(2)).sqrt();
+        let j = ze - l1 - h;
+        let (n1, n2, n3) = (4.0 * a_ * l4, 2.0 * j * l4, l4 * l4 + j * j + 4.0 * a_ * a_ - l3 * l3);
+        for mm in [1.0, -1.0] {
+            let disc = n1 * n1 + n2 * n2 - n3 * n3;
+            if disc >= 0.0 {
+                expected.push([xc, a_, ze, 2.0 * ((n1 + mm * disc.sqrt()) / (n2 + n3)).atan()]);
+            }
+        }
+    }
+    // Of the four sign choices (n, m) two are real at these inputs; pkm finds
+    // them and the two with the five-bar's C below its sliders, which
+    // eq. (15) leaves out (its J takes C above).
+    assert_eq!(expected.len(), 2);
+    assert_eq!(poses.len(), 4);
+    for e in &expected {
+        assert!(
+            poses.iter().any(|p| (0..4).all(|k| (p[k] - e[k]).abs() < 1e-9)),
+            "eq. (15) solution {e:?} not among {poses:?}"
+        );
+    }
+    // Eqs. (16)–(17): the eight inverse solutions of each pose.
+    for p in &expected {
+        let ik: Vec<Vec<f64>> = m.solved(&m.ik, p).iter().map(|s| m.inputs(s)).collect();
+        let (xe, ye, ze, al) = (p[0], p[1], p[2], p[3]);
+        let mut paper = 0;
+        for w in [1.0, -1.0] {
+            let k = (ze - l4 * al.cos() - l1 + w * (l3 * l3 - (ye - l4 * al.sin() + a_).powi(2)).sqrt()).powi(2);
+            for u in [1.0, -1.0] {
+                let x1 = xe + u * (l2 * l2 - k).sqrt();
+                let x2 = 2.0 * xe - x1;
+                for v in [1.0, -1.0] {
+                    let x3 = xe + v * (l5 * l5 - (ze - l1).powi(2)).sqrt();
+                    if x1.is_finite() && (x1 - x2).abs() > 1e-9 {
+                        paper += 1;
+                        assert!(
+                            ik.iter().any(|q| (q[0] - x1).abs() < 1e-8
+                                && (q[1] - x2).abs() < 1e-8
+                                && (q[2] - x3).abs() < 1e-8),
+                            "eqs. (16)-(17) ({x1}, {x2}, {x3}) not among {ik:?}"
+                        );
+                    }
+                }
+            }
+        }
+        // The rest put both five-bar sliders at one place (x1 = x2).
+        assert!(paper > 0);
+        assert_eq!(
+            ik.iter().filter(|q| (q[0] - q[1]).abs() < 1e-9).count(),
+            ik.len() - paper
+        );
+    }
+}
+
+/// For random reachable inputs: every fk solution's pose, through ik, gives
+/// back the inputs on one branch (ik∘fk), and every ik solution of that pose,
+/// through fk, gives back the pose on one branch (fk∘ik).
+fn round_trips(m: &Mech, ranges: &[(f64, f64)], samples: usize) {
+    let mut rng = SplitMix::new(0xa11ce);
+    let mut checked = 0;
+    for _ in 0..samples {
+        let q: Vec<f64> = ranges
+            .iter()
+            .map(|&(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0)
+            .collect();
+        for s in m.solved_fast(&m.fk, &q) {
+            let pose = m.pose(&s);
+            let ik = m.solved_fast(&m.ik, &pose);
+            assert!(
+                ik.iter()
+                    .any(|t| m.inputs(t).iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9 * 300.0)),
+                "ik∘fk {q:?}"
+            );
+            for t in &ik {
+                let qi = m.inputs(t);
+                if (qi[0] - qi[1]).abs() < 1e-6 * 300.0 {
+                    // Both five-bar sliders at one place: an output
+                    // singularity, where the five-bar's two circles coincide.
+                    continue;
+                }
+                let back = m.solved_fast(&m.fk, &qi);
+                assert!(
+                    back.iter()
+                        .any(|u| m.pose(u).iter().zip(&pose).all(|(a, b)| (a - b).abs() < 1e-9 * 300.0)),
+                    "fk∘ik {q:?} {pose:?}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= samples, "only {checked} configurations");
+}
+
+#[test]
+fn mechanism_a_round_trips() {
+    round_trips(&a(), &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 100);
+}
+
+#[test]
+fn mechanism_b_round_trips() {
+    round_trips(&b(), &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 100);
+}
