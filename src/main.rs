@@ -231,7 +231,7 @@ fn spatial_branches_json(
                     for j in 0..model.joints.len() {
                         points.insert(
                             model.joints[j].name.clone(),
-                            json!(spatial::joint_point(model, &sol.poses, j)),
+                            json!(pkm::runtime::newton::joint_point(model, &sol.poses, j)),
                         );
                     }
                     for p in &model.points {

@@ -204,13 +204,8 @@ fn planar_body(
         }
     });
     let mut points = Vec::new();
-    for (j, joint) in m.joints.iter().enumerate() {
-        let side = if matches!(a.place(j, joint.links[0]), JointPlace::Line(..)) {
-            1
-        } else {
-            0
-        };
-        let l = joint.links[side];
+    for j in 0..m.joints.len() {
+        let l = a.point_link(j);
         let (p, at) = (pose(l), point(a.place(j, l)));
         points.push(quote! { #p.apply(#at) });
     }

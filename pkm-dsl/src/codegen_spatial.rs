@@ -197,9 +197,8 @@ pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStr
         #(#steps)*
     };
     let mut points = Vec::new();
-    for (j, joint) in m.joints.iter().enumerate() {
-        let side = usize::from(matches!(a.place(j, joint.links[0]), JointPlace::Line(..)));
-        let l = joint.links[side];
+    for j in 0..m.joints.len() {
+        let l = a.point_link(j);
         let at = xyz(a.place(j, l).at());
         points.push(quote! { #sp::at(&poses[#l], #at) });
     }

@@ -22,6 +22,14 @@ impl Analysis {
         joints.iter().map(|&j| self.mechanism.joints[j].name.clone()).collect()
     }
 
+    /// The link whose place is joint `joint`'s point: the slider's for a P
+    /// joint (the link without the guide line), otherwise its first link.
+    pub fn point_link(&self, joint: usize) -> usize {
+        let links = self.mechanism.joints[joint].links;
+        let guide_first = matches!(self.place(joint, links[0]), crate::geometry::JointPlace::Line(..));
+        links[usize::from(guide_first)]
+    }
+
     /// Where joint `joint` sits on `link` (one of its two links), in a complete geometry.
     pub fn place(&self, joint: usize, link: usize) -> &crate::geometry::JointPlace {
         let side = self.mechanism.joints[joint]

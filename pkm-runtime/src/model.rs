@@ -99,11 +99,6 @@ impl Place {
     }
 }
 
-/// The places of a joint, all [`place_transform`] reads.
-struct Placed {
-    places: [Place; 2],
-}
-
 /// A joint of the model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joint {
@@ -144,6 +139,14 @@ pub struct Model {
     pub joints: Vec<Joint>,
     /// Named points.
     pub points: Vec<NamedPoint>,
+}
+
+impl Joint {
+    /// Which side's place is the joint's point: the slider's for a P joint
+    /// (the side without the guide line), otherwise its first link's.
+    pub fn point_side(&self) -> usize {
+        usize::from(matches!(self.places[0], Place::Line { .. }))
+    }
 }
 
 impl Model {
@@ -188,11 +191,10 @@ pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
 
 /// As [`joint_transform`], from the joint's type and places alone.
 pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> Isometry3<f64> {
-    let joint = Placed { places: *places };
     match kind {
         JointType::R => {
             let frame = |p: &Place| canonical_frame(p.at(), p.axis());
-            let (fu, fv) = (frame(&joint.places[0]), frame(&joint.places[1]));
+            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
             let rz = Isometry3::rotation(Vector3::z() * values[0]);
             fu * rz * fv.inverse()
         }
@@ -200,13 +202,13 @@ pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> 
             // The link with the arm: its hinge frame, then the arm turned by
             // the value about the hinge axis, then the other hinge's frame.
             let frame = |p: &Place| canonical_frame(p.at(), p.axis());
-            let (fu, fv) = (frame(&joint.places[0]), frame(&joint.places[1]));
+            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
             let swing = |f: &Isometry3<f64>, arm: [f64; 3]| {
                 let local = f.rotation.inverse() * v3(arm);
                 let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
                 Isometry3::translation(turned.x, turned.y, turned.z)
             };
-            match (joint.places[0], joint.places[1]) {
+            match (places[0], places[1]) {
                 (_, Place::Arm { arm, .. }) => (fv * swing(&fv, arm) * fu.inverse()).inverse(),
                 (Place::Arm { arm, .. }, _) => fu * swing(&fu, arm) * fv.inverse(),
                 _ => fu * fv.inverse(),
@@ -226,15 +228,15 @@ pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> 
                     q.z + values[0] * d.z - p.z,
                 )
             };
-            if matches!(joint.places[0], Place::Line { .. }) {
-                slide(&joint.places[0], &joint.places[1])
+            if matches!(places[0], Place::Line { .. }) {
+                slide(&places[0], &places[1])
             } else {
-                slide(&joint.places[1], &joint.places[0]).inverse()
+                slide(&places[1], &places[0]).inverse()
             }
         }
         JointType::S => {
             let centre = |p: &Place| v3(p.at());
-            let (cu, cv) = (centre(&joint.places[0]), centre(&joint.places[1]));
+            let (cu, cv) = (centre(&places[0]), centre(&places[1]));
             let rot = UnitQuaternion::from_scaled_axis(Vector3::new(values[0], values[1], values[2]));
             Isometry3::from_parts(Translation3::from(cu), rot) * Isometry3::translation(-cv.x, -cv.y, -cv.z)
         }

@@ -225,10 +225,6 @@ pub fn loop_residual(model: &Model, values: &[f64]) -> Result<Vec<f64>, ModelErr
     residual_in_tree(model, &tree, &offsets, values, &poses)
 }
 
-fn place_point(place: &Place) -> [f64; 3] {
-    place.at()
-}
-
 fn norm3(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
@@ -237,7 +233,7 @@ fn norm3(a: [f64; 3]) -> f64 {
 /// places, guide lines' points, named points) from its link's origin, or 1 if
 /// that is 0 or not finite. [`solve_fk`] measures position mismatches in units of `L`.
 pub fn model_scale(model: &Model) -> f64 {
-    let joints = model.joints.iter().flat_map(|j| j.places.iter().map(place_point));
+    let joints = model.joints.iter().flat_map(|j| j.places.iter().map(Place::at));
     let named = model.points.iter().map(|p| p.at);
     let l = joints.chain(named).map(norm3).fold(0.0, f64::max);
     if l > 0.0 && l.is_finite() {
@@ -266,11 +262,8 @@ pub fn point(model: &Model, poses: &[Isometry3<f64>], name: &str) -> Option<[f64
 /// If `joint` is not a joint of `model` or `poses` has no pose for its link.
 pub fn joint_point(model: &Model, poses: &[Isometry3<f64>], joint: usize) -> [f64; 3] {
     let j = &model.joints[joint];
-    let side = match j.kind {
-        JointType::P if matches!(j.places[0], Place::Line { .. }) => 1,
-        _ => 0,
-    };
-    let w = poses[j.links[side]].transform_point(&Point3::from(place_point(&j.places[side])));
+    let side = j.point_side();
+    let w = poses[j.links[side]].transform_point(&Point3::from(j.places[side].at()));
     [w.x, w.y, w.z]
 }
 

@@ -527,12 +527,18 @@ pub fn joint_value(j: &crate::model::Joint, poses: &[Pose2]) -> f64 {
 
 /// Every branch of the plan: the signs and the solution or the reason there is none.
 pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<FkSolution, SolveError>)> {
-    (0..1usize << plan.branches)
+    every_branch(plan.branches, |signs| run(model, plan, inputs, signs))
+}
+
+/// `solve` for each of the 2^`choices` sign vectors, in [`signs_of`] order
+/// (bit k set: choice k is `Minus`), with its signs.
+pub fn every_branch<S>(choices: usize, mut solve: impl FnMut(&[Sign]) -> S) -> Vec<(Vec<Sign>, S)> {
+    (0..1usize << choices)
         .map(|bits| {
-            let signs: Vec<Sign> = (0..plan.branches)
+            let signs: Vec<Sign> = (0..choices)
                 .map(|k| if bits >> k & 1 == 0 { Sign::Plus } else { Sign::Minus })
                 .collect();
-            let result = run(model, plan, inputs, &signs);
+            let result = solve(&signs);
             (signs, result)
         })
         .collect()
@@ -542,11 +548,7 @@ pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Re
 /// for a prismatic joint the slider's point.
 pub fn joint_point(model: &Model, poses: &[Pose2], j: usize) -> [f64; 2] {
     let joint = &model.joints[j];
-    let side = if matches!(joint.places[0], Place::Line { .. }) {
-        1
-    } else {
-        0
-    };
+    let side = joint.point_side();
     poses[joint.links[side]].apply(local(&joint.places[side]))
 }
 

@@ -800,20 +800,5 @@ fn carry(joints: &[Joint3], x: [f64; 3], hops: &[Hop]) -> Vector3<f64> {
 
 /// Every branch of the plan.
 pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<Solution, SolveError>)> {
-    (0..1usize << plan.branches)
-        .map(|bits| {
-            let signs: Vec<Sign> = (0..plan.branches)
-                .map(|k| if bits >> k & 1 == 0 { Sign::Plus } else { Sign::Minus })
-                .collect();
-            let result = run(model, plan, inputs, &signs);
-            (signs, result)
-        })
-        .collect()
-}
-
-/// The world position of joint `j`'s point (a P joint's slider point).
-pub fn joint_point(model: &Model, poses: &[Pose3], j: usize) -> [f64; 3] {
-    let joint = &model.joints[j];
-    let side = usize::from(matches!(joint.places[0], Place::Line { .. }));
-    at(&poses[joint.links[side]], joint.places[side].at())
+    crate::plan::every_branch(plan.branches, |signs| run(model, plan, inputs, signs))
 }
