@@ -22,6 +22,8 @@ fn v3(a: [f64; 3]) -> Vector3<f64> {
 /// What the planner knows about the nominal model.
 struct Planner<'a> {
     model: &'a Model,
+    /// The model's joints as the runtime's kernels take them.
+    joints: Vec<Joint3>,
     tol: f64,
     known: Vec<bool>,
     /// Joints whose value an input gives, with its index.
@@ -70,7 +72,7 @@ impl Planner<'_> {
 
     fn zero(&self, j: usize, from: usize) -> Isometry3<f64> {
         let forward = self.model.joints[j].links[0] == from;
-        spatial::transfer(&Isometry3::identity(), &Joint3::of(&self.model.joints[j]), forward, 0.0)
+        spatial::transfer(&Isometry3::identity(), &self.joints[j], forward, 0.0)
     }
 
     fn hop(&self, j: usize, from: usize) -> Hop {
@@ -132,11 +134,7 @@ impl Planner<'_> {
 
     /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
     fn rotation(&self, hops: &[Hop]) -> nalgebra::UnitQuaternion<f64> {
-        let mut pose = Isometry3::identity();
-        for h in hops {
-            pose = spatial::transfer(&pose, &Joint3::of(&self.model.joints[h.joint]), h.forward, 0.0);
-        }
-        pose.rotation
+        spatial::across(&self.joints, Isometry3::identity(), 0, hops).0.rotation
     }
 
     /// Candidate joints: one known link, a new link, value not given.
@@ -239,38 +237,44 @@ impl Planner<'_> {
                 continue;
             }
             let k = self.axis(j, to);
-            // Breadth-first through revolutes parallel to the first one met and translations.
+            // Breadth-first through revolutes parallel to the first one met
+            // (the group: that joint, the hops to it, its direction in `to`'s
+            // frame) and translations; `last` is the last revolute crossed.
+            #[derive(Clone)]
             struct Node {
                 hops: Vec<Hop>,
                 link: usize,
-                group: Option<(usize, Vec<Hop>)>,
-                last_r: Option<(usize, usize)>,
+                group: Option<(usize, Vec<Hop>, Vector3<f64>)>,
+                last: Option<usize>,
             }
             let mut queue = vec![Node {
                 hops: vec![],
                 link: to,
                 group: None,
-                last_r: None,
+                last: None,
             }];
             let mut seen = vec![to];
             let mut i = 0;
             while i < queue.len() {
-                let (hops, link, group, last_r) = {
-                    let n = &queue[i];
-                    (n.hops.clone(), n.link, n.group.clone(), n.last_r)
-                };
+                let Node {
+                    hops,
+                    link,
+                    group,
+                    last,
+                } = queue[i].clone();
                 i += 1;
                 if self.known[link] && !hops.is_empty() {
-                    let (Some((g, ghops)), Some((last, _))) = (group, last_r) else {
+                    let (Some((g, ghops, a)), Some(last)) = (group, last) else {
                         continue;
                     };
-                    // The group's direction in `to`'s frame must not be the joint's own axis.
-                    let a = self.rotation(&ghops) * self.axis(g, self.link_after(to, &ghops));
+                    // The group's direction must not be the joint's own axis.
                     if Self::parallel(a, k) {
                         continue;
                     }
                     // The target: the last revolute's axis on the link beyond it.
-                    let pos = hops.iter().position(|h| h.joint == last).expect("on the path");
+                    let Some(pos) = hops.iter().position(|h| h.joint == last) else {
+                        continue;
+                    };
                     let step = Step::Align {
                         joint: j,
                         from,
@@ -300,19 +304,14 @@ impl Planner<'_> {
                     if seen.contains(&next) {
                         continue;
                     }
-                    let (group, last_r) = match joint.kind {
-                        JointType::P | JointType::Pa => (group.clone(), last_r),
+                    let (group, last) = match joint.kind {
+                        JointType::P | JointType::Pa => (group.clone(), last),
                         JointType::R => {
                             let dir = self.rotation(&hops) * self.axis(q, link);
                             match &group {
-                                None => (Some((q, hops.clone())), Some((q, next))),
-                                Some((g, ghops)) => {
-                                    let a = self.rotation(ghops) * self.axis(*g, self.link_after(to, ghops));
-                                    if !Self::parallel(a, dir) {
-                                        continue;
-                                    }
-                                    (group.clone(), Some((q, next)))
-                                }
+                                None => (Some((q, hops.clone(), dir)), Some(q)),
+                                Some((_, _, a)) if Self::parallel(*a, dir) => (group.clone(), Some(q)),
+                                Some(_) => continue,
                             }
                         }
                         JointType::S => continue,
@@ -324,7 +323,7 @@ impl Planner<'_> {
                         hops: h,
                         link: next,
                         group,
-                        last_r,
+                        last,
                     });
                 }
             }
@@ -391,10 +390,10 @@ impl Planner<'_> {
                 continue;
             }
             let rot = self.rotation(&r.hops);
-            let hops_parallel = r.hops.iter().all(|h| {
-                let before = self.link_after(to, &r.hops[..r.hops.iter().position(|x| x == h).unwrap_or(0)]);
-                let pre = &r.hops[..r.hops.iter().position(|x| x == h).unwrap_or(0)];
-                Self::parallel(self.rotation(pre) * self.axis(h.joint, before), k)
+            // The hops that carry the point must turn about the motion's axis too.
+            let hops_parallel = r.hops.iter().enumerate().all(|(i, h)| {
+                let pre = &r.hops[..i];
+                Self::parallel(self.rotation(pre) * self.axis(h.joint, self.link_after(to, pre)), k)
             });
             for (q, joint) in self.model.joints.iter().enumerate() {
                 if q == j || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == q) {
@@ -584,6 +583,7 @@ fn solve(
     }
     let mut p = Planner {
         model,
+        joints: model.joints.iter().map(Joint3::of).collect(),
         tol: 1e-9 * model_scale(model).max(1.0),
         known,
         given,

@@ -588,8 +588,9 @@ pub fn local_point(model: &Model, point: PointRef, link: usize) -> Result<[f64; 
     }
 }
 
-/// The pose of the last link of a hop chain from the link at `pose`, and that link.
-fn hop(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop]) -> (Pose3, usize) {
+/// The pose of the last link of a hop chain (joints crossed at value 0)
+/// from `link` at `pose`, and that link.
+pub fn across(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop]) -> (Pose3, usize) {
     for h in hops {
         let j = &joints[h.joint];
         pose = transfer(&pose, j, h.forward, 0.0);
@@ -599,12 +600,12 @@ fn hop(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop]) -> (Po
 }
 
 fn anchor(joints: &[Joint3], named: &[[f64; 3]], poses: &[Pose3], a: &Anchor) -> [f64; 3] {
-    let (pose, l) = hop(joints, poses[a.link], a.link, &a.hops);
+    let (pose, l) = across(joints, poses[a.link], a.link, &a.hops);
     at(&pose, local(joints, named, a.point, l))
 }
 
 fn direction(joints: &[Joint3], pose: Pose3, link: usize, d: &Direction) -> [f64; 3] {
-    let (pose, l) = hop(joints, pose, link, &d.hops);
+    let (pose, l) = across(joints, pose, link, &d.hops);
     let j = &joints[d.joint];
     dir(&pose, j.places[usize::from(j.links[0] != l)].axis())
 }
@@ -794,7 +795,7 @@ pub fn arm_length(places: &[Place; 2]) -> f64 {
 
 /// A point of a link in the frame of the last link of `hops` (at value 0).
 fn carry(joints: &[Joint3], x: [f64; 3], hops: &[Hop]) -> Vector3<f64> {
-    let (pose, _) = hop(joints, Pose3::identity(), usize::MAX, hops);
+    let (pose, _) = across(joints, Pose3::identity(), usize::MAX, hops);
     pose.inverse_transform_point(&Point3::from(v3(x))).coords
 }
 
