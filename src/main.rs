@@ -171,41 +171,68 @@ fn fk(text: &str, q: &[f64], params: &[(String, f64)]) -> Result<Value, pkm::dsl
     Ok(json!({ "name": model.name, "inputs": q, "branches": branches }))
 }
 
-/// Every branch of a plan as JSON: signs, ok, and the reason, or the inputs
-/// `q`, every joint value (`outputs`) and every point.
+/// A solved branch as JSON needs: every joint value, every point (joints,
+/// then named points) and, for spatial plans, the declared pose outputs.
+struct Solved {
+    values: Vec<f64>,
+    points: Vec<[f64; 3]>,
+    pose: Option<Value>,
+}
+
+/// One branch as JSON: signs, ok, and the reason, or the inputs `q`, every
+/// joint value (`outputs`), every point, and `pose` where known.
+fn branch_json(
+    model: &pkm::runtime::model::Model,
+    signs: &[pkm::runtime::primitives::Sign],
+    result: Result<Solved, pkm::runtime::plan::SolveError>,
+) -> Value {
+    let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+    match result {
+        Ok(sol) => {
+            let outputs: serde_json::Map<String, Value> = model
+                .joints
+                .iter()
+                .zip(&sol.values)
+                .map(|(j, v)| (j.name.clone(), json!(v)))
+                .collect();
+            let names = model
+                .joints
+                .iter()
+                .map(|j| &j.name)
+                .chain(model.points.iter().map(|p| &p.name));
+            let points: serde_json::Map<String, Value> =
+                names.zip(&sol.points).map(|(n, p)| (n.clone(), json!(p))).collect();
+            let q: Vec<f64> = model.inputs().iter().map(|&j| sol.values[j]).collect();
+            let mut out = json!({ "signs": signs, "ok": true, "q": q, "outputs": outputs, "points": points });
+            if let Some(pose) = sol.pose {
+                out["pose"] = pose;
+            }
+            out
+        }
+        Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
+    }
+}
+
+/// Every branch of a planar plan as JSON (see [`branch_json`]; z = 0).
 fn branches_json(model: &pkm::runtime::model::Model, plan: &pkm::runtime::plan::Plan, given: &[f64]) -> Vec<Value> {
-    let inputs = model.inputs();
     pkm::runtime::plan::run_all(model, plan, given)
         .into_iter()
         .map(|(signs, result)| {
-            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
-            match result {
-                Ok(sol) => {
-                    let outputs: serde_json::Map<String, Value> = model
-                        .joints
-                        .iter()
-                        .zip(&sol.values)
-                        .map(|(j, v)| (j.name.clone(), json!(v)))
-                        .collect();
-                    let mut points = serde_json::Map::new();
-                    for j in 0..model.joints.len() {
-                        let p = pkm::runtime::plan::joint_point(model, &sol.poses, j);
-                        points.insert(model.joints[j].name.clone(), json!([p[0], p[1], 0.0]));
-                    }
-                    for p in &model.points {
-                        let w = sol.poses[p.link].apply([p.at[0], p.at[1]]);
-                        points.insert(p.name.clone(), json!([w[0], w[1], 0.0]));
-                    }
-                    let q: Vec<f64> = inputs.iter().map(|&j| sol.values[j]).collect();
-                    json!({ "signs": signs, "ok": true, "q": q, "outputs": outputs, "points": points })
+            let solved = result.map(|sol| {
+                let joints = (0..model.joints.len()).map(|j| pkm::runtime::plan::joint_point(model, &sol.poses, j));
+                let named = model.points.iter().map(|p| sol.poses[p.link].apply([p.at[0], p.at[1]]));
+                Solved {
+                    points: joints.chain(named).map(|w| [w[0], w[1], 0.0]).collect(),
+                    values: sol.values,
+                    pose: None,
                 }
-                Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
-            }
+            });
+            branch_json(model, &signs, solved)
         })
         .collect()
 }
 
-/// Every branch of a spatial plan as JSON, as [`branches_json`], with the
+/// Every branch of a spatial plan as JSON (see [`branch_json`]), with the
 /// declared pose outputs (`pose`: name → value) of each solution.
 fn spatial_branches_json(
     a: &Analysis,
@@ -214,35 +241,19 @@ fn spatial_branches_json(
     given: &[f64],
 ) -> Vec<Value> {
     use pkm::runtime::spatial;
-    let inputs = model.inputs();
     spatial::run_all(model, plan, given)
         .into_iter()
         .map(|(signs, result)| {
-            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
-            match result {
-                Ok(sol) => {
-                    let outputs: serde_json::Map<String, Value> = model
-                        .joints
-                        .iter()
-                        .zip(&sol.values)
-                        .map(|(j, v)| (j.name.clone(), json!(v)))
-                        .collect();
-                    let mut points = serde_json::Map::new();
-                    for j in 0..model.joints.len() {
-                        points.insert(
-                            model.joints[j].name.clone(),
-                            json!(pkm::runtime::newton::joint_point(model, &sol.poses, j)),
-                        );
-                    }
-                    for p in &model.points {
-                        points.insert(p.name.clone(), json!(spatial::at(&sol.poses[p.link], p.at)));
-                    }
-                    let pose = pose_outputs(a, model, &sol.poses);
-                    let q: Vec<f64> = inputs.iter().map(|&j| sol.values[j]).collect();
-                    json!({ "signs": signs, "ok": true, "q": q, "outputs": outputs, "pose": pose, "points": points })
+            let solved = result.map(|sol| {
+                let joints = (0..model.joints.len()).map(|j| pkm::runtime::newton::joint_point(model, &sol.poses, j));
+                let named = model.points.iter().map(|p| spatial::at(&sol.poses[p.link], p.at));
+                Solved {
+                    points: joints.chain(named).collect(),
+                    pose: Some(pose_outputs(a, model, &sol.poses)),
+                    values: sol.values,
                 }
-                Err(e) => json!({ "signs": signs, "ok": false, "reason": e.to_string() }),
-            }
+            });
+            branch_json(model, &signs, solved)
         })
         .collect()
 }
