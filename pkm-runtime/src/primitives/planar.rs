@@ -314,7 +314,7 @@ pub fn ppr<T: Real>(a1: [T; 2], v1: [T; 2], e1: T, b: [T; 2], beta: T, e2: T) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::testing::{angle_diff, check_by, dist, Want};
+    use crate::primitives::testing::{angle_diff, check_by, check_line_hits, dist, Want};
     use crate::primitives::{Sign, TANGENCY_TOL};
     use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -409,30 +409,7 @@ mod tests {
     }
 
     fn check_rrp(c: [f64; 2], r: f64, a: [f64; 2], v: [f64; 2], want: Want, exact_t: Option<[f64; 2]>) {
-        let scale = dist(c, a).max(r);
-        match (rrp(c, r, a, v), want) {
-            (Ok(roots), Want::Two | Want::Tangent) => {
-                assert_eq!(roots.is_tangent(), want == Want::Tangent, "{roots:?}");
-                let tol = if roots.is_tangent() { 2.0 * TANGENCY_TOL } else { 1e-14 } * scale;
-                let nv = v[0].hypot(v[1]);
-                for lp in roots.branches() {
-                    assert!((dist(lp.point, c) - r).abs() <= tol, "{lp:?}");
-                    let expect = [a[0] + lp.t * v[0] / nv, a[1] + lp.t * v[1] / nv];
-                    assert!(dist(lp.point, expect) <= 1e-14 * scale, "{lp:?}");
-                }
-                let [p, m] = roots.branches();
-                assert!(p.t >= m.t);
-                if let Some([tp, tm]) = exact_t {
-                    assert!(
-                        (p.t - tp).abs() <= 1e-14 * scale && (m.t - tm).abs() <= 1e-14 * scale,
-                        "{roots:?}"
-                    );
-                }
-            }
-            (Err(Error::Unreachable { by, .. }), Want::Unreachable(b)) => check_by(by, b),
-            (Err(Error::Degenerate { .. }), Want::Degenerate) => {}
-            (other, _) => panic!("rrp({c:?}, {r}, {a:?}, {v:?}): wanted {want:?}, got {other:?}"),
-        }
+        check_line_hits(rrp(c, r, a, v), want, (c, r), a, v, exact_t, dist(c, a).max(r));
     }
 
     #[test]

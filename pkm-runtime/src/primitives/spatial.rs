@@ -303,7 +303,7 @@ pub fn rotate_to_distance<T: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::testing::{angle_diff, check_by, dist, rotate, Lcg, Want};
+    use crate::primitives::testing::{angle_diff, check_by, check_line_hits, dist, rotate, Lcg, Want};
     use crate::primitives::{Sign, TANGENCY_TOL};
     use core::f64::consts::{FRAC_PI_2, PI};
 
@@ -400,30 +400,15 @@ mod tests {
     }
 
     fn check_line_sphere(lp: [f64; 3], ld: [f64; 3], c: [f64; 3], r: f64, want: Want, exact_t: Option<[f64; 2]>) {
-        let scale = dist(lp, c).max(r);
-        match (line_sphere(lp, ld, c, r), want) {
-            (Ok(roots), Want::Two | Want::Tangent) => {
-                assert_eq!(roots.is_tangent(), want == Want::Tangent, "{roots:?}");
-                let tol = if roots.is_tangent() { 2.0 * TANGENCY_TOL } else { 1e-14 } * scale;
-                let u = unit_f(ld);
-                for hit in roots.branches() {
-                    assert!((dist(hit.point, c) - r).abs() <= tol, "{hit:?}");
-                    let on_line = [lp[0] + hit.t * u[0], lp[1] + hit.t * u[1], lp[2] + hit.t * u[2]];
-                    assert!(dist(on_line, hit.point) <= 1e-14 * scale, "{hit:?}");
-                }
-                let [p, m] = roots.branches();
-                assert!(p.t >= m.t);
-                if let Some([tp, tm]) = exact_t {
-                    assert!(
-                        (p.t - tp).abs() <= 1e-14 * scale && (m.t - tm).abs() <= 1e-14 * scale,
-                        "{roots:?}"
-                    );
-                }
-            }
-            (Err(Error::Unreachable { by, .. }), Want::Unreachable(b)) => check_by(by, b),
-            (Err(Error::Degenerate { .. }), Want::Degenerate) => {}
-            (other, _) => panic!("line_sphere({lp:?}, {ld:?}, {c:?}, {r}): wanted {want:?}, got {other:?}"),
-        }
+        check_line_hits(
+            line_sphere(lp, ld, c, r),
+            want,
+            (c, r),
+            lp,
+            ld,
+            exact_t,
+            dist(lp, c).max(r),
+        );
     }
 
     #[test]
