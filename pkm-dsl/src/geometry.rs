@@ -531,38 +531,31 @@ fn check_forms(
                 errors.push(Diagnostic::new(span(s), "the axis is zero or not finite").label("needs a direction"));
             }
         }
-        if joint.kind == JointKind::Pa {
-            let arms = (0..2)
-                .filter(|&s| matches!(places[j][s], Some(JointPlace::Arm(..))))
-                .count();
-            if arms != 1 {
-                errors.push(
-                    Diagnostic::new(
-                        span(1),
-                        format!(
-                            "parallelogram `{}` needs its arm `arm (…)` on exactly one of its links",
-                            joint.name
-                        ),
-                    )
-                    .label(format!("{arms} arms")),
-                );
-            }
-        }
-        if joint.kind == JointKind::P {
-            let lines = (0..2)
-                .filter(|&s| matches!(places[j][s], Some(JointPlace::Line(..))))
-                .count();
-            if lines != 1 {
-                errors.push(
-                    Diagnostic::new(
-                        span(1),
-                        format!(
-                            "prismatic joint `{}` needs a guide line on one link and a point on the other",
-                            joint.name
-                        ),
-                    )
-                    .label(format!("{lines} guide lines")),
-                );
+        // A P joint's guide line, and a parallelogram's arm, sit on exactly one side.
+        type IsForm = fn(&JointPlace) -> bool;
+        let one_side: Option<(IsForm, String, &str)> = match joint.kind {
+            JointKind::P => Some((
+                |p| matches!(p, JointPlace::Line(..)),
+                format!(
+                    "prismatic joint `{}` needs a guide line on one link and a point on the other",
+                    joint.name
+                ),
+                "guide lines",
+            )),
+            JointKind::Pa => Some((
+                |p| matches!(p, JointPlace::Arm(..)),
+                format!(
+                    "parallelogram `{}` needs its arm `arm (…)` on exactly one of its links",
+                    joint.name
+                ),
+                "arms",
+            )),
+            _ => None,
+        };
+        if let Some((is_form, message, what)) = one_side {
+            let n = places[j].iter().flatten().filter(|p| is_form(p)).count();
+            if n != 1 {
+                errors.push(Diagnostic::new(span(1), message).label(format!("{n} {what}")));
             }
         }
     }
@@ -731,6 +724,36 @@ mod tests {
         check(
             &format!("mechanism m {{ {FOUR_BAR} {p} geometry {{ crank {{ R1 = (0, 0, 0); R9 = (1, 0); }} }} }}"),
             &["expected 2 coordinates, found 3", "unknown joint `R9`"],
+        );
+    }
+
+    #[test]
+    fn guides_and_arms_sit_on_one_side() {
+        let chain = "base P1* [s] ∥ R1 [r] - Pa [c] - R2 base; parameters { l = 1; }";
+        let geometry = |base_p: &str, r_pa: &str, c_pa: &str| {
+            format!(
+                "geometry {{ base {{ P1 = {base_p}; R2 = (0, 0, 0) along x; }} s {{ P1 = (0, 0, 0); R1 = (0, 0, 0) along x; }}
+                 r {{ R1 = (0, 0, 0) along x; Pa = (0, 0, 0) along z{r_pa}; }} c {{ Pa = (0, 0, 0) along z{c_pa}; R2 = (0, 0, 0) along x; }} }}"
+            )
+        };
+        let line = "through (0, 0, 0) along x";
+        check(
+            &format!("mechanism m {{ {chain} {} }}", geometry(line, " arm (0, l, 0)", "")),
+            &[],
+        );
+        check(
+            &format!("mechanism m {{ {chain} {} }}", geometry("(0, 0, 0)", "", "")),
+            &[
+                "prismatic joint `P1` needs a guide line on one link and a point on the other",
+                "parallelogram `Pa` needs its arm `arm (…)` on exactly one of its links",
+            ],
+        );
+        check(
+            &format!(
+                "mechanism m {{ {chain} {} }}",
+                geometry(line, " arm (0, l, 0)", " arm (0, l, 0)")
+            ),
+            &["parallelogram `Pa` needs its arm `arm (…)` on exactly one of its links"],
         );
     }
 
