@@ -271,7 +271,7 @@ fn pose_outputs(a: &Analysis, model: &pkm::runtime::model::Model, poses: &[pkm::
                 let local = spatial::local_point(model, *point, *link).unwrap_or([f64::NAN; 3]);
                 let mut v = spatial::at(&poses[*link], local).to_vec();
                 if let Some(k) = about {
-                    let k = [k[0].eval(&nominal), k[1].eval(&nominal), k[2].eval(&nominal)];
+                    let k = pkm::dsl::geometry::eval_vec3(k, &nominal);
                     v.push(spatial::angle_about(&poses[*link], k));
                 }
                 v

@@ -112,8 +112,13 @@ const RUST_KEYWORDS: [&str; 38] = [
     "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where", "while",
 ];
 
+/// A point or direction at the given parameter values.
+pub fn eval_vec3(v: &Vec3, values: &HashMap<String, f64>) -> [f64; 3] {
+    [v[0].eval(values), v[1].eval(values), v[2].eval(values)]
+}
+
 fn eval3(v: &Vec3, values: &HashMap<String, f64>) -> Vector3<f64> {
-    Vector3::new(v[0].eval(values), v[1].eval(values), v[2].eval(values))
+    Vector3::from(eval_vec3(v, values))
 }
 
 /// Builds and checks the geometry of `mech` from its syntax tree.

@@ -31,7 +31,7 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
         }
         params.insert(k.clone(), *v);
     }
-    let eval = |v: &crate::geometry::Vec3| [v[0].eval(&params), v[1].eval(&params), v[2].eval(&params)];
+    let eval = |v: &crate::geometry::Vec3| crate::geometry::eval_vec3(v, &params);
     let mut joints = Vec::new();
     for (j, joint) in m.joints.iter().enumerate() {
         let kind = match joint.kind {
@@ -100,7 +100,9 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         )));
     }
     if !m.planar {
-        return Err(fail("closed-form plans are planar only for now".to_string()));
+        return Err(fail(
+            "this is the planar planner: a spatial mechanism's plan comes from `plan3`".to_string(),
+        ));
     }
     let inputs: Vec<usize> = (0..m.joints.len()).filter(|&j| m.joints[j].actuated).collect();
     let mut known = vec![false; m.links.len()];
@@ -209,7 +211,9 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let m = &a.mechanism;
     let fail = |msg: String| -> Diagnostics { Diagnostic::new(m.name_span(), msg).label("in this mechanism").into() };
     if !m.planar {
-        return Err(fail("closed-form plans are planar only for now".to_string()));
+        return Err(fail(
+            "this is the planar planner: a spatial mechanism's plan comes from `plan3`".to_string(),
+        ));
     }
     if a.geometry.outputs.is_empty() {
         return Err(fail("an inverse solution needs `outputs { … }`".to_string()));

@@ -662,9 +662,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     for o in &a.geometry.outputs {
         match &o.kind {
             OutputKind::Pose { link, point, about } => {
-                let about = about
-                    .as_ref()
-                    .map(|v| [v[0].eval(&nominal), v[1].eval(&nominal), v[2].eval(&nominal)]);
+                let about = about.as_ref().map(|v| crate::geometry::eval_vec3(v, &nominal));
                 start.push(Step::Place {
                     link: *link,
                     point: *point,
