@@ -267,7 +267,11 @@ fn pose_outputs(a: &Analysis, model: &pkm::runtime::model::Model, poses: &[pkm::
     let mut out = serde_json::Map::new();
     for o in &a.geometry.outputs {
         let values: Vec<f64> = match &o.kind {
-            OutputKind::Pose { link, point, about } => {
+            OutputKind::Pose { link, point, .. } | OutputKind::Point { link, point } => {
+                let about = match &o.kind {
+                    OutputKind::Pose { about, .. } => about.as_deref(),
+                    _ => None,
+                };
                 let local = spatial::local_point(model, *point, *link).unwrap_or([f64::NAN; 3]);
                 let mut v = spatial::at(&poses[*link], local).to_vec();
                 if let Some(k) = about {

@@ -92,6 +92,14 @@ pub enum OutputWhat {
         /// orientation output); without it the link keeps the base's orientation.
         about: Option<AxisRef>,
     },
+    /// A point of a link alone, its orientation not given: (x, y) in a
+    /// planar mechanism, (x, y, z) otherwise.
+    Point {
+        /// The link.
+        link: Name,
+        /// A named point of the link, or a joint on it.
+        at: Name,
+    },
     /// A joint's value.
     Joint(Name),
 }

@@ -21,6 +21,54 @@ fn point(p: &JointPlace) -> TokenStream {
     }
 }
 
+/// A point of a link (a joint placed on it or a named point), in its frame.
+fn local_point(a: &Analysis, at: pkm_runtime::plan::PointRef, link: usize) -> TokenStream {
+    match at {
+        pkm_runtime::plan::PointRef::Joint(j) => point(a.place(j, link)),
+        pkm_runtime::plan::PointRef::Named(n) => xy(&a.geometry.points[n].at),
+    }
+}
+
+/// Which angle a point-and-angle output carries.
+pub(crate) enum Angle<'a> {
+    /// None: a point alone.
+    None,
+    /// The planar angle.
+    Planar,
+    /// The angle about a spatial axis.
+    About(&'a Vec3),
+}
+
+/// Every declared output's values: `let` statements and the flat list of
+/// values in order. `pose` writes a link's point and angle as an array for
+/// its dimension; a joint's value is `values[j]`.
+pub(crate) fn outputs(
+    a: &Analysis,
+    mut pose: impl FnMut(usize, pkm_runtime::plan::PointRef, Angle) -> TokenStream,
+) -> (TokenStream, Vec<TokenStream>) {
+    use crate::geometry::OutputKind;
+    let (mut lets, mut flat) = (Vec::new(), Vec::new());
+    for (k, o) in a.geometry.outputs.iter().enumerate() {
+        let array = match &o.kind {
+            OutputKind::Pose { link, point, about } => pose(
+                *link,
+                *point,
+                match about {
+                    Some(k) => Angle::About(k),
+                    None if a.mechanism.planar => Angle::Planar,
+                    None => Angle::None,
+                },
+            ),
+            OutputKind::Point { link, point } => pose(*link, *point, Angle::None),
+            OutputKind::Joint(j) => quote! { [values[#j]] },
+        };
+        let o_k = format_ident!("output_{}", k);
+        lets.push(quote! { let #o_k = #array; });
+        flat.extend((0..o.names.len()).map(|i| quote! { #o_k[#i] }));
+    }
+    (quote! { #(#lets)* }, flat)
+}
+
 fn pose(l: usize) -> proc_macro2::Ident {
     format_ident!("pose_{}", l)
 }
@@ -45,6 +93,13 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
     let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
     let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
     let dim: usize = if m.planar { 2 } else { 3 };
+    let output_names: Vec<&str> = a
+        .geometry
+        .outputs
+        .iter()
+        .flat_map(|o| o.names.iter().map(String::as_str))
+        .collect();
+    let n_outputs = output_names.len();
     let sol_doc = format!(
         " One position solution of `{}`: every joint value and every point.",
         m.name
@@ -58,6 +113,8 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             /// Every joint's point, then every named point (x, y, and z in a
             /// spatial mechanism); see `POINTS`.
             pub points: [[f64; #dim]; #n_points],
+            /// The declared outputs (the inverse solution's given values); see `OUTPUTS`.
+            pub outputs: [f64; #n_outputs],
         }
 
         #[automatically_derived]
@@ -68,6 +125,9 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
             /// Which joints are revolute (their values are angles).
             pub const REVOLUTE: [bool; #n_joints] = [#(#revolute),*];
+            /// The declared outputs, in the order of a solution's `outputs` and
+            /// of the inverse solution's given values.
+            pub const OUTPUTS: [&'static str; #n_outputs] = [#(#output_names),*];
         }
     }
 }
@@ -108,12 +168,16 @@ fn planar_body(
         match *step {
             Step::Place { link, point: at, input } => {
                 let p = pose(link);
-                let local = match at {
-                    pkm_runtime::plan::PointRef::Joint(j) => point(a.place(j, link)),
-                    pkm_runtime::plan::PointRef::Named(n) => xy(&a.geometry.points[n].at),
-                };
+                let local = local_point(a, at, link);
                 let (i1, i2) = (input + 1, input + 2);
                 body.push(quote! { let #p = #rt::place_at(#local, q[#input], q[#i1], q[#i2]); });
+            }
+            Step::PlacePoint { link, point: at, input } => {
+                // Only the point is given: angle 0 until a dyad through it fixes the link.
+                let p = pose(link);
+                let local = local_point(a, at, link);
+                let i1 = input + 1;
+                body.push(quote! { let #p = #rt::place_at(#local, q[#input], q[#i1], 0.0); });
             }
             Step::Transfer { joint, from, to, input } => {
                 let (pf, pt) = (pose(from), pose(to));
@@ -213,7 +277,19 @@ fn planar_body(
         let (p, at) = (pose(np.link), xy(&np.at));
         points.push(quote! { #p.apply(#at) });
     }
-    let result = quote! { #sol_ty { q: [#(#values),*], points: [#(#points),*] } };
+    let (lets, outputs) = outputs(a, |link, at, about| {
+        let (p, local) = (pose(link), local_point(a, at, link));
+        match about {
+            Angle::None => quote! { #p.apply(#local) },
+            // The link's angle in (−π, π].
+            _ => quote! {{ let [x, y] = #p.apply(#local); [x, y, #p.sin.atan2(#p.cos)] }},
+        }
+    });
+    let result = quote! {{
+        let values = [#(#values),*];
+        #lets
+        #sol_ty { q: values, points: [#(#points),*], outputs: [#(#outputs),*] }
+    }};
     (quote! { #(#body)* }, result, plan.branches, plan.inputs.clone())
 }
 
@@ -231,19 +307,17 @@ fn wrap(
     let rt = quote! { ::pkm::runtime::plan };
     let params_ty = format_ident!("{}Params", ident);
     let sol_ty = format_ident!("{}Solution", ident);
-    let (f_all, f_branch, f_follow, names_const, what) = match direction {
+    let (f_all, f_branch, f_follow, what) = match direction {
         Direction::Forward => (
             format_ident!("fk"),
             format_ident!("fk_branch"),
             format_ident!("fk_follow"),
-            format_ident!("INPUTS"),
             "Forward",
         ),
         Direction::Inverse => (
             format_ident!("ik"),
             format_ident!("ik_branch"),
             format_ident!("ik_follow"),
-            format_ident!("OUTPUTS"),
             "Inverse",
         ),
     };
@@ -265,9 +339,13 @@ fn wrap(
             #rt::Branch { signs, result: Self::#f_branch(params, q, signs) }
         }}
     });
-    let names_doc = match direction {
-        Direction::Forward => " The actuated joints, in the order of the input vector.",
-        Direction::Inverse => " The outputs, in the order of the inverse solution's input vector.",
+    // The outputs' names are the solution's `OUTPUTS`; the inputs' are named here.
+    let names_item = match direction {
+        Direction::Forward => quote! {
+            /// The actuated joints, in the order of the input vector.
+            pub const INPUTS: [&'static str; #n_values] = [#(#value_names),*];
+        },
+        Direction::Inverse => quote! {},
     };
     let all_doc = format!(
         " {what} position, every branch: {n_solutions} solutions, listed by `signs_of` order. Given: {}.",
@@ -277,8 +355,7 @@ fn wrap(
     quote! {
         #[automatically_derived]
         impl #ident {
-            #[doc = #names_doc]
-            pub const #names_const: [&'static str; #n_values] = [#(#value_names),*];
+            #names_item
 
             #[doc = #all_doc]
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {

@@ -206,6 +206,24 @@ pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStr
         let l = np.link;
         points.push(quote! { #sp::at(&poses[#l], named[#k]) });
     }
-    let result = quote! { #sol_ty { q: #sp::values(&joints, &poses), points: [#(#points),*] } };
+    let (lets, outputs) = crate::codegen_fk::outputs(a, |link, at, about| {
+        let local = match at {
+            PointRef::Joint(j) => xyz(a.place(j, link).at()),
+            PointRef::Named(n) => quote! { named[#n] },
+        };
+        let at = quote! { #sp::at(&poses[#link], #local) };
+        match about {
+            crate::codegen_fk::Angle::About(k) => {
+                let k = xyz(k);
+                quote! {{ let [x, y, z] = #at; [x, y, z, #sp::angle_about(&poses[#link], #k)] }}
+            }
+            _ => at,
+        }
+    });
+    let result = quote! {{
+        let values = #sp::values(&joints, &poses);
+        #lets
+        #sol_ty { q: values, points: [#(#points),*], outputs: [#(#outputs),*] }
+    }};
     (body, result, plan.branches, plan.inputs.clone())
 }

@@ -95,6 +95,14 @@ pub enum OutputKind {
         /// Spatial: the world axis the link turns about, if it turns.
         about: Option<Box<Vec3>>,
     },
+    /// A point of link `link` alone (x, y, and z if spatial); the link's
+    /// orientation is not given.
+    Point {
+        /// The link.
+        link: usize,
+        /// A named point of the link, or a joint placed on it.
+        point: pkm_runtime::plan::PointRef,
+    },
     /// The value of joint `joint`.
     Joint(usize),
 }
@@ -394,13 +402,6 @@ fn resolve_outputs(
                 at,
                 about: about_ast,
             } => {
-                let Some(l) = mech.links.iter().position(|x| x.name == link.text) else {
-                    errors.push(
-                        Diagnostic::new(link.span, format!("unknown link `{}`", link.text))
-                            .label("no joint touches it"),
-                    );
-                    continue;
-                };
                 if mech.planar && about_ast.is_some() {
                     errors.push(
                         Diagnostic::new(decl.span, "a planar pose turns about z: drop `about`")
@@ -408,42 +409,19 @@ fn resolve_outputs(
                     );
                     continue;
                 }
-                let wanted = if mech.planar || about_ast.is_none() { 3 } else { 4 };
-                if !mech.planar && decl.names.len() != wanted {
-                    errors.push(
-                        Diagnostic::new(
-                            decl.span,
-                            if wanted == 3 {
-                                "a spatial pose without `about` has three values: x, y and z"
-                            } else {
-                                "a spatial pose `about` an axis has four values: x, y, z and the angle"
-                            },
-                        )
-                        .label(format!("{} names given", decl.names.len())),
-                    );
+                let (wanted, what) = match (mech.planar, about_ast.is_some()) {
+                    (true, _) => (3, "a planar pose has three values: x, y and the angle"),
+                    (false, false) => (3, "a spatial pose without `about` has three values: x, y and z"),
+                    (false, true) => (
+                        4,
+                        "a spatial pose `about` an axis has four values: x, y, z and the angle",
+                    ),
+                };
+                if decl.names.len() != wanted {
+                    errors.push(Diagnostic::new(decl.span, what).label(format!("{} names given", decl.names.len())));
                     continue;
                 }
-                if mech.planar && decl.names.len() != 3 {
-                    errors.push(
-                        Diagnostic::new(decl.span, "a planar pose has three values: x, y and the angle")
-                            .label(format!("{} names given", decl.names.len())),
-                    );
-                    continue;
-                }
-                use pkm_runtime::plan::PointRef;
-                let named = points
-                    .iter()
-                    .position(|p| p.link == l && p.name == at.text)
-                    .map(PointRef::Named);
-                let joint = mech.joint_index(&at.text).filter(|&j| {
-                    let side = mech.joints[j].links.iter().position(|&x| x == l);
-                    matches!(side.and_then(|s| places[j][s].as_ref()), Some(JointPlace::Point(..)))
-                });
-                let Some(point) = named.or(joint.map(PointRef::Joint)) else {
-                    errors.push(
-                        Diagnostic::new(at.span, format!("`{}` is not a point of link `{}`", at.text, link.text))
-                            .label("a named point or a joint placed on that link"),
-                    );
+                let Some((l, point)) = link_point(mech, places, points, link, at, errors) else {
                     continue;
                 };
                 OutputKind::Pose {
@@ -452,6 +430,21 @@ fn resolve_outputs(
                     about: about.clone().map(Box::new),
                 }
             }
+            crate::ast::OutputWhat::Point { link, at } => {
+                let (wanted, what) = if mech.planar {
+                    (2, "a planar point has two values: x and y")
+                } else {
+                    (3, "a spatial point has three values: x, y and z")
+                };
+                if decl.names.len() != wanted {
+                    errors.push(Diagnostic::new(decl.span, what).label(format!("{} names given", decl.names.len())));
+                    continue;
+                }
+                let Some((l, point)) = link_point(mech, places, points, link, at, errors) else {
+                    continue;
+                };
+                OutputKind::Point { link: l, point }
+            }
         };
         out.push(Output {
             names: decl.names.iter().map(|n| n.text.clone()).collect(),
@@ -459,6 +452,39 @@ fn resolve_outputs(
         });
     }
     out
+}
+
+/// An output's link and its point (a named point of the link, or a joint
+/// placed on it by a point).
+fn link_point(
+    mech: &Mechanism,
+    places: &[[Option<JointPlace>; 2]],
+    points: &[NamedPoint],
+    link: &crate::ast::Name,
+    at: &crate::ast::Name,
+    errors: &mut Vec<Diagnostic>,
+) -> Option<(usize, pkm_runtime::plan::PointRef)> {
+    use pkm_runtime::plan::PointRef;
+    let Some(l) = mech.links.iter().position(|x| x.name == link.text) else {
+        errors.push(Diagnostic::new(link.span, format!("unknown link `{}`", link.text)).label("no joint touches it"));
+        return None;
+    };
+    let named = points
+        .iter()
+        .position(|p| p.link == l && p.name == at.text)
+        .map(PointRef::Named);
+    let joint = mech.joint_index(&at.text).filter(|&j| {
+        let side = mech.joints[j].links.iter().position(|&x| x == l);
+        matches!(side.and_then(|s| places[j][s].as_ref()), Some(JointPlace::Point(..)))
+    });
+    let point = named.or(joint.map(PointRef::Joint));
+    if point.is_none() {
+        errors.push(
+            Diagnostic::new(at.span, format!("`{}` is not a point of link `{}`", at.text, link.text))
+                .label("a named point or a joint placed on that link"),
+        );
+    }
+    point.map(|p| (l, p))
 }
 
 /// Each joint type needs its own form of placement on each side.

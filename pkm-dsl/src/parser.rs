@@ -103,9 +103,10 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::WHITESPACE | Rule::COMMENT => "white space",
         Rule::parameters_stmt | Rule::kw_parameters => "`parameters`",
         Rule::outputs_stmt | Rule::kw_outputs => "`outputs`",
-        Rule::output => "an output `names = pose of LINK at POINT;` or `name = joint J;`",
+        Rule::output => "an output `names = pose of LINK at POINT;`, `names = point P of LINK;` or `name = joint J;`",
         Rule::pose_output | Rule::kw_pose => "`pose of LINK at POINT`",
         Rule::joint_output => "`joint J`",
+        Rule::point_output => "`point P of LINK`",
         Rule::kw_of => "`of`",
         Rule::kw_at => "`at`",
         Rule::parameter => "a parameter `name = value;`",
@@ -250,6 +251,13 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                                 let at = name(it.next().expect("pose point").clone());
                                 let about = inner.iter().find(|r| r.as_rule() == Rule::axis).cloned().map(axis);
                                 what = Some(OutputWhat::Pose { link, at, about });
+                            }
+                            Rule::point_output => {
+                                let inner: Vec<_> = q.into_inner().collect();
+                                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
+                                let at = name(it.next().expect("point output's point").clone());
+                                let link = name(it.next().expect("point output's link").clone());
+                                what = Some(OutputWhat::Point { link, at });
                             }
                             Rule::joint_output => {
                                 let j = q

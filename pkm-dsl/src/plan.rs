@@ -221,6 +221,9 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let mut known = vec![false; m.links.len()];
     known[0] = true;
     let mut value_of: Vec<Option<usize>> = vec![None; m.joints.len()];
+    // A link only one joint point of which is known (a point output): it can
+    // close a dyad through that joint, which then fixes it.
+    let mut pinned: Vec<Option<usize>> = vec![None; m.links.len()];
     let mut steps = Vec::new();
     let mut next_input = 0;
     for o in &a.geometry.outputs {
@@ -232,6 +235,16 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                     input: next_input,
                 });
                 known[*link] = true;
+            }
+            OutputKind::Point { link, point } => {
+                steps.push(Step::PlacePoint {
+                    link: *link,
+                    point: *point,
+                    input: next_input,
+                });
+                if let pkm_runtime::plan::PointRef::Joint(j) = point {
+                    pinned[*link] = Some(*j);
+                }
             }
             OutputKind::Joint(j) => value_of[*j] = Some(next_input),
         }
@@ -245,7 +258,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         for (j, joint) in m.joints.iter().enumerate() {
             let [u, v] = joint.links;
             if let (Some(input), false) = (value_of[j], solved[j]) {
-                if known[u] != known[v] {
+                if known[u] != known[v] && pinned[if known[u] { v } else { u }].is_none() {
                     let (from, to) = if known[u] { (u, v) } else { (v, u) };
                     steps.push(Step::Transfer {
                         joint: j,
@@ -269,7 +282,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                     continue;
                 }
                 let l1 = ja.other(k1);
-                if known[l1] {
+                if known[l1] || pinned[l1].is_some() {
                     continue;
                 }
                 for (b1, jb) in m.joints.iter().enumerate() {
@@ -285,7 +298,9 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                             continue;
                         }
                         let k2 = jc.other(l2);
-                        if !known[k2] {
+                        // A pinned link closes the dyad only at its known point, and a
+                        // pinned l2 only where that point is the one k2 fixes.
+                        if !(known[k2] || pinned[k2] == Some(c1)) || pinned[l2].is_some_and(|p| p != c1) {
                             continue;
                         }
                         let Some(step) = dyad_step(a, [a1, b1, c1], [k1, l1, l2, k2], branches) else {
@@ -295,8 +310,10 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                         branches += 1;
                         known[l1] = true;
                         known[l2] = true;
+                        pinned[l2] = None;
+                        // Through a pinned k2 the joint's value stays open (k2's angle is).
                         for j in [a1, b1, c1] {
-                            solved[j] = true;
+                            solved[j] = j != c1 || known[k2];
                         }
                         progress = true;
                         break 'search;

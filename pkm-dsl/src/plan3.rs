@@ -670,6 +670,14 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                     about,
                 });
             }
+            OutputKind::Point { .. } => {
+                return Err(Diagnostic::new(
+                    m.name_span(),
+                    "a spatial inverse plan needs each output link's pose (`pose of L at P`), not a point alone",
+                )
+                .label("in this mechanism")
+                .into())
+            }
             OutputKind::Joint(j) => given[*j] = Some(next),
         }
         next += o.names.len();

@@ -108,6 +108,17 @@ pub enum Step {
         /// Index of x in the inputs; y and the angle follow.
         input: usize,
     },
+    /// A point of `link` alone at (`inputs[input]`, `inputs[input + 1]`) (a
+    /// point output): the stored pose has angle 0 and serves only that point,
+    /// as the known end of a dyad through it, which then fixes the link.
+    PlacePoint {
+        /// The link.
+        link: usize,
+        /// The point whose position is given.
+        point: PointRef,
+        /// Index of x in the inputs; y follows.
+        input: usize,
+    },
     /// The pose of link `to` from the known link `from` through `joint`, whose value is input number `input`.
     Transfer {
         /// The joint.
@@ -413,7 +424,7 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     };
     for (k, step) in plan.steps.iter().enumerate() {
         match *step {
-            Step::Place { link, point, input } => {
+            Step::Place { link, point, input } | Step::PlacePoint { link, point, input } => {
                 let local = match point {
                     PointRef::Joint(j) => point_on(model, j, link)?,
                     PointRef::Named(n) => {
@@ -421,7 +432,12 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
                         [p.at[0], p.at[1]]
                     }
                 };
-                poses[link] = Some(place_at(local, inputs[input], inputs[input + 1], inputs[input + 2]));
+                // A point alone: angle 0 until a dyad through the point fixes the link.
+                let angle = match step {
+                    Step::Place { .. } => inputs[input + 2],
+                    _ => 0.0,
+                };
+                poses[link] = Some(place_at(local, inputs[input], inputs[input + 1], angle));
             }
             Step::Transfer { joint, from, to, input } => {
                 let j = &model.joints[joint];
