@@ -4,18 +4,54 @@
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::plan::{self, Plan};
+use pkm::runtime::plan;
+use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
-fn load(file: &str) -> (Model, Plan) {
+/// A solved branch: its signs, and its joint values and joint points (3-D).
+type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
+
+/// The model and the closed-form forward solver (planar or spatial plan,
+/// run by the interpreter) of an example.
+fn load(file: &str) -> (Model, Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>) {
     let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
     let a = pkm::dsl::analyze_source(&text).unwrap();
-    (
-        pkm::dsl::plan::model(&a, &HashMap::new()).unwrap(),
-        pkm::dsl::plan::forward_plan(&a).unwrap(),
-    )
+    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let solve: Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>> = if a.mechanism.planar {
+        let plan = pkm::dsl::plan::forward_plan(&a).unwrap();
+        Box::new(move |model, q| {
+            plan::run_all(model, &plan, q)
+                .into_iter()
+                .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
+                .map(|(signs, s)| {
+                    let points = (0..model.joints.len())
+                        .map(|j| {
+                            let [x, y] = plan::joint_point(model, &s.poses, j);
+                            [x, y, 0.0]
+                        })
+                        .collect();
+                    (signs, s.values, points)
+                })
+                .collect()
+        })
+    } else {
+        let plan = pkm::dsl::plan3::forward_plan(&a).unwrap();
+        Box::new(move |model, q| {
+            spatial::run_all(model, &plan, q)
+                .into_iter()
+                .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
+                .map(|(signs, s)| {
+                    let points = (0..model.joints.len())
+                        .map(|j| newton::joint_point(model, &s.poses, j))
+                        .collect();
+                    (signs, s.values, points)
+                })
+                .collect()
+        })
+    };
+    (model, solve)
 }
 
 /// Uniform in [lo, hi) from the analysis's own deterministic generator.
@@ -27,21 +63,19 @@ fn uniform(rng: &mut SplitMix, lo: f64, hi: f64) -> f64 {
 /// found again by Newton from a start perturbed by 1e-3 (radians or mm), and
 /// every joint point agrees to 1e-9 of the mechanism's size.
 fn check(file: &str, ranges: &[(f64, f64)], samples: usize) {
-    let (model, plan) = load(file);
+    let (model, solve) = load(file);
     let scale = newton::model_scale(&model);
     let mut rng = SplitMix::new(0x5eed);
     let mut solved = 0;
     for _ in 0..samples {
         let q: Vec<f64> = ranges.iter().map(|&(lo, hi)| uniform(&mut rng, lo, hi)).collect();
-        for (signs, result) in plan::run_all(&model, &plan, &q) {
-            let Ok(sol) = result else { continue };
-            let guess: Vec<f64> = sol.values.iter().map(|v| v + uniform(&mut rng, -1e-3, 1e-3)).collect();
+        for (signs, values, points) in solve(&model, &q) {
+            let guess: Vec<f64> = values.iter().map(|v| v + uniform(&mut rng, -1e-3, 1e-3)).collect();
             let reference = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default())
                 .unwrap_or_else(|e| panic!("{file} {q:?} {signs:?}: Newton failed: {e}"));
-            for j in 0..model.joints.len() {
-                let a = plan::joint_point(&model, &sol.poses, j);
+            for (j, a) in points.iter().enumerate() {
                 let b = newton::joint_point(&model, &reference.poses, j);
-                let err = (a[0] - b[0]).hypot(a[1] - b[1]);
+                let err = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
                 assert!(
                     err <= 1e-9 * scale,
                     "{file} {q:?} {signs:?} joint {}: {err}",
@@ -77,4 +111,19 @@ fn seed003_punch() {
 #[test]
 fn watt_six_bar() {
     check("watt_six_bar", &[(-PI, PI)], 200);
+}
+
+#[test]
+fn seed000_a() {
+    check("seed000_a", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 200);
+}
+
+#[test]
+fn seed000_b() {
+    check("seed000_b", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 200);
+}
+
+#[test]
+fn five_bar_pa() {
+    check("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)], 200);
 }

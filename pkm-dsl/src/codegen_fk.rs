@@ -100,6 +100,19 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         .flat_map(|o| o.names.iter().map(String::as_str))
         .collect();
     let n_outputs = output_names.len();
+    let output_angles: Vec<bool> = a
+        .geometry
+        .outputs
+        .iter()
+        .flat_map(|o| {
+            let n = o.names.len();
+            (0..n).map(move |i| match &o.kind {
+                crate::geometry::OutputKind::Pose { about, .. } => i == 3 || (m.planar && i == 2 && about.is_none()),
+                crate::geometry::OutputKind::Point { .. } => false,
+                crate::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::model::JointKind::P,
+            })
+        })
+        .collect();
     let sol_doc = format!(
         " One position solution of `{}`: every joint value and every point.",
         m.name
@@ -128,6 +141,8 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             /// The declared outputs, in the order of a solution's `outputs` and
             /// of the inverse solution's given values.
             pub const OUTPUTS: [&'static str; #n_outputs] = [#(#output_names),*];
+            /// Which outputs are angles (compare them modulo 2π).
+            pub const OUTPUT_ANGLES: [bool; #n_outputs] = [#(#output_angles),*];
         }
     }
 }

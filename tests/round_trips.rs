@@ -1,0 +1,212 @@
+//! fk∘ik and ik∘fk round trips of the generated solvers over 10⁵ random
+//! reachable configurations per mechanism.
+//!
+//! Each sample draws actuator inputs uniformly in the mechanism's ranges; a
+//! draw fk cannot assemble is not reachable and is drawn again. Of a
+//! reachable sample, one fk branch (cycling through the solved ones) gives a
+//! pose; ik of that pose must return the drawn inputs on some branch
+//! (ik∘fk); one ik branch (cycling again) must, through fk, give the pose
+//! back on some branch (fk∘ik). Lengths are compared relative to the
+//! mechanism's size, angles modulo 2π, both to 1e-9 (see `bound` for the
+//! few draws next to a branch switch).
+
+use pkm::dsl::screw::SplitMix;
+use std::f64::consts::PI;
+
+pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
+pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
+pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
+pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
+pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+
+const SAMPLES: usize = 100_000;
+const TOLERANCE: f64 = 1e-9;
+
+/// The error of `a` against `b`, relative to `scale` for lengths, modulo 2π for angles.
+fn error(a: &[f64], b: &[f64], angle: &[bool], scale: f64) -> f64 {
+    a.iter()
+        .zip(b)
+        .zip(angle)
+        .map(|((a, b), &angle)| {
+            if angle {
+                ((a - b + PI).rem_euclid(2.0 * PI) - PI).abs()
+            } else {
+                (a - b).abs() / scale
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Near a singularity two branches come together and the value is fixed
+/// only to about ε/gap (a near double root): the bound is 1e-9, or 1e-14
+/// over the relative gap to the nearest other solution when that is below
+/// 1e-5 (the two agree at the switch).
+fn bound(gap: f64) -> f64 {
+    TOLERANCE.max(1e-14 / gap)
+}
+
+/// The best match among `solutions` (its error) and the gap from it to the
+/// nearest other solution (whole joint vectors, relative to `scale`).
+fn best_and_gap<S>(
+    solutions: &[&S],
+    err: impl Fn(&S) -> f64,
+    q: impl Fn(&S) -> &[f64],
+    revolute: &[bool],
+    scale: f64,
+) -> (f64, f64) {
+    let (i, e) = solutions
+        .iter()
+        .map(|s| err(s))
+        .enumerate()
+        .fold((0, f64::INFINITY), |b, (i, e)| if e < b.1 { (i, e) } else { b });
+    let gap = solutions
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != i)
+        .map(|(_, s)| error(q(s), q(solutions[i]), revolute, scale))
+        .fold(f64::INFINITY, f64::min);
+    (e, gap)
+}
+
+/// What one mechanism's run measured.
+#[derive(Debug, Default)]
+#[allow(dead_code)] // Read through `Debug` in the test log.
+struct Tally {
+    drawn: usize,
+    reachable: usize,
+    /// ik solutions at output singularities, left out of fk∘ik.
+    singular: usize,
+    /// Checks where the nearest other branch was closer than 1e-5 (relative).
+    near_switch: usize,
+    worst_ik_fk: f64,
+    worst_fk_ik: f64,
+}
+
+macro_rules! round_trips {
+    ($ty:ident, $ranges:expr, $scale:expr, $singular:expr) => {{
+        let params = Default::default();
+        let scale: f64 = $scale;
+        let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
+        let inputs: [usize; $ty::INPUTS.len()] =
+            std::array::from_fn(|i| $ty::JOINTS.iter().position(|j| *j == $ty::INPUTS[i]).unwrap());
+        let input_angles = inputs.map(|j| $ty::REVOLUTE[j]);
+        let singular: fn(&[f64]) -> bool = $singular;
+        let mut rng = SplitMix::new(0x5eed);
+        let mut t = Tally::default();
+        while t.reachable < SAMPLES {
+            t.drawn += 1;
+            assert!(
+                t.drawn < 50 * SAMPLES,
+                "{}: too few reachable draws: {t:?}",
+                stringify!($ty)
+            );
+            let q = ranges.map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
+            let fk = $ty::fk(&params, &q);
+            let solved: Vec<_> = fk.iter().filter_map(|b| b.result.as_ref().ok()).collect();
+            if solved.is_empty() {
+                continue;
+            }
+            t.reachable += 1;
+            let pose = solved[t.reachable % solved.len()].outputs;
+
+            let ik = $ty::ik(&params, &pose);
+            let back: Vec<_> = ik.iter().filter_map(|b| b.result.as_ref().ok()).collect();
+            let (e, gap) = best_and_gap(
+                &back,
+                |s| error(&inputs.map(|j| s.q[j]), &q, &input_angles, scale),
+                |s| &s.q[..],
+                &$ty::REVOLUTE,
+                scale,
+            );
+            assert!(
+                e <= bound(gap),
+                "{}: ik∘fk at q = {q:?}: error {e:e}, gap {gap:e}",
+                stringify!($ty)
+            );
+            t.near_switch += usize::from(gap < 1e-5);
+            t.worst_ik_fk = t.worst_ik_fk.max(e);
+
+            let usable: Vec<_> = back.iter().filter(|s| !singular(&inputs.map(|j| s.q[j]))).collect();
+            t.singular += back.len() - usable.len();
+            let qi = inputs.map(|j| usable[t.reachable % usable.len()].q[j]);
+            let again = $ty::fk(&params, &qi);
+            let again: Vec<_> = again.iter().filter_map(|b| b.result.as_ref().ok()).collect();
+            let (e, gap) = best_and_gap(
+                &again,
+                |s| error(&s.outputs, &pose, &$ty::OUTPUT_ANGLES, scale),
+                |s| &s.q[..],
+                &$ty::REVOLUTE,
+                scale,
+            );
+            assert!(
+                e <= bound(gap),
+                "{}: fk∘ik at pose {pose:?} (inputs {qi:?}): error {e:e}, gap {gap:e}",
+                stringify!($ty)
+            );
+            t.near_switch += usize::from(gap < 1e-5);
+            t.worst_fk_ik = t.worst_fk_ik.max(e);
+        }
+        eprintln!("{}: {t:?}", stringify!($ty));
+        t
+    }};
+}
+
+/// No output singularity among the ik solutions.
+fn never(_: &[f64]) -> bool {
+    false
+}
+
+/// Seed 000 §2.3: both five-bar sliders at one place (x1 = x2) is an output
+/// singularity, where the five-bar's two circles coincide; ik lists such
+/// solutions (they satisfy the loop) but fk cannot return from them.
+fn sliders_together(q: &[f64]) -> bool {
+    (q[0] - q[1]).abs() < 1e-6 * 300.0
+}
+
+#[test]
+fn four_bar() {
+    round_trips!(FourBar, [(-PI, PI)], 300.0, never);
+}
+
+#[test]
+fn slider_crank() {
+    round_trips!(SliderCrank, [(-PI, PI)], 300.0, never);
+}
+
+#[test]
+fn five_bar() {
+    round_trips!(FiveBar, [(-PI, PI), (-PI, PI)], 160.0, never);
+}
+
+#[test]
+fn watt_six_bar() {
+    round_trips!(Watt, [(-PI, PI)], 300.0, never);
+}
+
+#[test]
+fn five_bar_with_parallelogram() {
+    round_trips!(FiveBarPa, [(-PI, PI), (-PI, PI), (-300.0, 300.0)], 300.0, never);
+}
+
+#[test]
+fn seed000_a() {
+    // §2.2's actuator ranges.
+    round_trips!(
+        SeedA,
+        [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
+        300.0,
+        sliders_together
+    );
+}
+
+#[test]
+fn seed000_b() {
+    round_trips!(
+        SeedB,
+        [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
+        300.0,
+        sliders_together
+    );
+}
