@@ -12,14 +12,17 @@ use std::f64::consts::PI;
 /// A solved branch: its signs, and its joint values and joint points (3-D).
 type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
 
+/// Every solved branch at the given inputs.
+type Solver = Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>;
+
 /// The model and the closed-form forward solver (planar or spatial plan,
 /// run by the interpreter) of an example.
-fn load(file: &str) -> (Model, Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>) {
+fn load(file: &str) -> (Model, Solver) {
     let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
     let a = pkm::dsl::analyze_source(&text).unwrap();
     let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let solve: Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>> = if a.mechanism.planar {
+    let solve: Solver = if a.mechanism.planar {
         let plan = pkm::dsl::plan::forward_plan(&a).unwrap();
         Box::new(move |model, q| {
             plan::run_all(model, &plan, q)
