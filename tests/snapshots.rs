@@ -10,14 +10,30 @@ fn expansion(file: &str, type_name: &str) -> String {
     prettyplease::unparse(&syn::parse_file(&tokens.to_string()).unwrap())
 }
 
-#[test]
-fn four_bar() {
-    insta::assert_snapshot!(expansion("four_bar", "FourBar"));
+/// One snapshot per example file, named after it.
+macro_rules! snapshots {
+    ($($file:ident => $ty:literal),* $(,)?) => {$(
+        #[test]
+        fn $file() {
+            let file = stringify!($file);
+            insta::assert_snapshot!(expansion(file, $ty));
+        }
+    )*};
 }
 
-#[test]
-fn seed003_punch() {
-    insta::assert_snapshot!(expansion("seed003_punch", "Punch"));
+snapshots! {
+    four_bar => "FourBar",
+    slider_crank => "SliderCrank",
+    five_bar => "FiveBar",
+    watt_six_bar => "Watt",
+    planar_3rrr => "ThreeRrr",
+    seed003_punch => "Punch",
+    seed003_punch_original => "PunchOriginal",
+    seed000_a => "SeedA",
+    seed000_b => "SeedB",
+    five_bar_pa => "FiveBarPa",
+    rps_3 => "Rps",
+    spr_3 => "Spr",
 }
 
 #[test]
