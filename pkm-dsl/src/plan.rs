@@ -12,6 +12,45 @@ use pkm_runtime::model::{Joint, JointType, Model, NamedPoint, Place};
 use pkm_runtime::plan::{Plan, Step};
 use std::collections::HashMap;
 
+/// The declared outputs in numbers (for Newton's inverse solution) at the
+/// given parameter values, points read from `model`.
+pub fn newton_outputs(
+    a: &Analysis,
+    model: &Model,
+    values: &HashMap<String, f64>,
+) -> Result<Vec<pkm_runtime::newton::Output>, Diagnostics> {
+    use crate::geometry::OutputKind;
+    use pkm_runtime::newton::Output;
+    let mut all = a.geometry.nominal();
+    all.extend(values.iter().map(|(k, v)| (k.clone(), *v)));
+    let local = |point, link| {
+        pkm_runtime::spatial::local_point(model, point, link)
+            .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))
+    };
+    a.geometry
+        .outputs
+        .iter()
+        .map(|o| {
+            Ok(match &o.kind {
+                OutputKind::Pose { link, point, about } => Output::Pose {
+                    link: *link,
+                    local: local(*point, *link)?,
+                    about: match about {
+                        Some(k) => Some(crate::geometry::eval_vec3(k, &all)),
+                        None if a.mechanism.planar => Some([0.0, 0.0, 1.0]),
+                        None => None,
+                    },
+                },
+                OutputKind::Point { link, point } => Output::Point {
+                    link: *link,
+                    local: local(*point, *link)?,
+                },
+                OutputKind::Joint(j) => Output::Joint(*j),
+            })
+        })
+        .collect()
+}
+
 /// The numeric model at the given parameter values (the nominal ones for
 /// names not in `values`).
 pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagnostics> {

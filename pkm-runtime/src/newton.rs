@@ -18,6 +18,7 @@
 //!   model, and the unknowns may be redundant, e.g. the spin of an S–S rod),
 //!   step halving while the residual norm does not decrease.
 
+use crate::model::Joint;
 use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 use std::fmt;
@@ -619,6 +620,172 @@ pub fn solve_fk(
         r = problem.residual(&values)?;
         norm = r.norm();
     }
+}
+
+/// What an inverse solution is given, in numbers: the declared outputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Output {
+    /// Link `link`'s point `local` (in its frame) at the given x, y (and z if
+    /// spatial), then the link's angle about `about` (a planar pose turns
+    /// about z); without `about` the link keeps the base's orientation.
+    Pose {
+        /// The link.
+        link: usize,
+        /// The point, in the link's frame.
+        local: [f64; 3],
+        /// The world axis the link turns about, if it turns.
+        about: Option<[f64; 3]>,
+    },
+    /// Link `link`'s point `local` at the given coordinates; its orientation free.
+    Point {
+        /// The link.
+        link: usize,
+        /// The point, in the link's frame.
+        local: [f64; 3],
+    },
+    /// A joint's value.
+    Joint(usize),
+}
+
+impl Output {
+    /// How many values it takes.
+    pub fn len(&self, planar: bool) -> usize {
+        let point = if planar { 2 } else { 3 };
+        match self {
+            Output::Pose { about: Some(_), .. } => point + 1,
+            Output::Pose { about: None, .. } | Output::Point { .. } => point,
+            Output::Joint(_) => 1,
+        }
+    }
+}
+
+/// The model with the outputs as its inputs: the mechanism's actuators are
+/// released, joint outputs become actuated, and each pose or point output
+/// hangs its link from the base by a chain of virtual joints whose values
+/// are the output's numbers (P along x, y, z to the point, then R about the
+/// output axis; a point alone ends in a free S, or R when planar). Newton's
+/// forward solution of this model is the inverse solution of the original,
+/// found from any configuration near the wanted branch. Also returns, for
+/// each input of the new model in order, the index of its given value.
+pub fn with_outputs_as_inputs(model: &Model, outputs: &[Output]) -> (Model, Vec<usize>) {
+    let mut m = model.clone();
+    for j in &mut m.joints {
+        j.actuated = false;
+    }
+    let origin = [0.0; 3];
+    let mut given_of: Vec<Option<usize>> = vec![None; m.joints.len()];
+    let mut next = 0;
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for (k, o) in outputs.iter().enumerate() {
+        match *o {
+            Output::Joint(j) => {
+                m.joints[j].actuated = true;
+                given_of[j] = Some(next);
+            }
+            Output::Pose { link, local, .. } | Output::Point { link, local } => {
+                let n_coords = if model.planar { 2 } else { 3 };
+                let mut from = 0;
+                for (i, along) in axes.iter().take(n_coords).enumerate() {
+                    let to = m.links.len();
+                    m.links.push(format!("output {k} along {}", ["x", "y", "z"][i]));
+                    m.joints.push(Joint {
+                        name: format!("output {k} {}", ["x", "y", "z"][i]),
+                        kind: JointType::P,
+                        links: [from, to],
+                        places: [
+                            Place::Line {
+                                through: origin,
+                                along: *along,
+                            },
+                            Place::Point { at: origin },
+                        ],
+                        actuated: true,
+                    });
+                    given_of.push(Some(next + i));
+                    from = to;
+                }
+                let (kind, axis, actuated) = match *o {
+                    Output::Pose { about: Some(k), .. } => (JointType::R, k, true),
+                    // Translation only: a revolute held at 0 about any axis.
+                    Output::Pose { about: None, .. } => (JointType::R, [0.0, 0.0, 1.0], true),
+                    _ if model.planar => (JointType::R, [0.0, 0.0, 1.0], false),
+                    _ => (JointType::S, [0.0, 0.0, 1.0], false),
+                };
+                let place = |at| match kind {
+                    JointType::S => Place::Point { at },
+                    _ => Place::Axis { at, axis },
+                };
+                m.joints.push(Joint {
+                    name: format!("output {k} turn"),
+                    kind,
+                    links: [from, link],
+                    places: [place(origin), place(local)],
+                    actuated,
+                });
+                // A held revolute's value is 0, appended after the given ones.
+                given_of.push(match *o {
+                    Output::Pose { about: Some(_), .. } => Some(next + n_coords),
+                    Output::Pose { about: None, .. } => Some(usize::MAX),
+                    _ => None,
+                });
+            }
+        }
+        next += o.len(model.planar);
+    }
+    let order = m
+        .inputs()
+        .into_iter()
+        .map(|j| given_of[j].expect("an input has a value"))
+        .collect();
+    (m, order)
+}
+
+/// The inverse position by Newton: the joint values that close every loop
+/// with the outputs at `given` (in the order of `outputs`), from `guess` (a
+/// joint-value vector of `model`, near the wanted branch). See
+/// [`with_outputs_as_inputs`] and [`solve_fk`].
+///
+/// # Errors
+/// As [`solve_fk`]; also [`NewtonError::BadInput`] if `given` has the wrong length.
+pub fn solve_ik(
+    model: &Model,
+    outputs: &[Output],
+    given: &[f64],
+    guess: &[f64],
+    options: &NewtonOptions,
+) -> Result<NewtonSolution, NewtonError> {
+    let wanted: usize = outputs.iter().map(|o| o.len(model.planar)).sum();
+    if given.len() != wanted {
+        return Err(bad(format!("expected {wanted} output values, got {}", given.len())));
+    }
+    let (m, order) = with_outputs_as_inputs(model, outputs);
+    let inputs: Vec<f64> = order.iter().map(|&i| given.get(i).copied().unwrap_or(0.0)).collect();
+    // The virtual joints' starting values: the link's place in the guess.
+    let poses = link_poses(model, guess).map_err(|e| bad(format!("guess: {e}")))?;
+    let mut start = guess.to_vec();
+    let mut next = 0;
+    for o in outputs {
+        match *o {
+            Output::Joint(_) => {}
+            Output::Pose { link, local, .. } | Output::Point { link, local } => {
+                let p = poses[link].transform_point(&local.into());
+                let n = if model.planar { 2 } else { 3 };
+                start.extend_from_slice(&[p.x, p.y, p.z][..n]);
+                let rotation = poses[link].rotation;
+                match *o {
+                    Output::Pose { about: Some(_), .. } => start.push(given[next + n]),
+                    Output::Pose { about: None, .. } => start.push(0.0),
+                    _ if model.planar => start.push(rotation.euler_angles().2),
+                    _ => start.extend_from_slice(rotation.scaled_axis().as_slice()),
+                }
+            }
+        }
+        next += o.len(model.planar);
+    }
+    let mut solution = solve_fk(&m, &inputs, &start, options)?;
+    solution.values.truncate(guess.len());
+    solution.poses.truncate(model.links.len());
+    Ok(solution)
 }
 
 #[cfg(test)]
