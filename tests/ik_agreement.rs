@@ -3,6 +3,9 @@
 //! outputs as inputs), started 1e-3 away from that branch, at poses the
 //! generated fk reaches from random inputs.
 
+mod common;
+
+use common::max_error;
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton::{self, NewtonOptions};
 use std::collections::HashMap;
@@ -15,21 +18,6 @@ pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-
-/// The largest joint difference, angles modulo 2π, lengths relative to `scale`.
-fn joint_error(a: &[f64], b: &[f64], revolute: &[bool], scale: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .zip(revolute)
-        .map(|((x, y), &r)| {
-            if r {
-                ((x - y + PI).rem_euclid(2.0 * PI) - PI).abs()
-            } else {
-                (x - y).abs() / scale
-            }
-        })
-        .fold(0.0, f64::max)
-}
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
@@ -59,7 +47,7 @@ macro_rules! check {
                     // singularity, on a neighbour: it must be one of them.
                     let (best, e) = solved
                         .iter()
-                        .map(|t| joint_error(&t.q, &reference.values, &$ty::REVOLUTE, scale))
+                        .map(|t| max_error(&t.q, &reference.values, &$ty::REVOLUTE, scale))
                         .enumerate()
                         .fold((0, f64::INFINITY), |b, (k, e)| if e < b.1 { (k, e) } else { b });
                     assert!(

@@ -10,6 +10,9 @@
 //! mechanism's size, angles modulo 2π, both to 1e-9 (see `bound` for the
 //! few draws next to a branch switch).
 
+mod common;
+
+use common::max_error;
 use pkm::dsl::screw::SplitMix;
 use std::f64::consts::PI;
 
@@ -23,21 +26,6 @@ pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 const SAMPLES: usize = 100_000;
 const TOLERANCE: f64 = 1e-9;
-
-/// The error of `a` against `b`, relative to `scale` for lengths, modulo 2π for angles.
-fn error(a: &[f64], b: &[f64], angle: &[bool], scale: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .zip(angle)
-        .map(|((a, b), &angle)| {
-            if angle {
-                ((a - b + PI).rem_euclid(2.0 * PI) - PI).abs()
-            } else {
-                (a - b).abs() / scale
-            }
-        })
-        .fold(0.0, f64::max)
-}
 
 /// Near a singularity two branches come together and the value is fixed
 /// only to about ε/gap (a near double root): the bound is 1e-9, or 1e-14
@@ -65,7 +53,7 @@ fn best_and_gap<S>(
         .iter()
         .enumerate()
         .filter(|&(k, _)| k != i)
-        .map(|(_, s)| error(q(s), q(solutions[i]), revolute, scale))
+        .map(|(_, s)| max_error(q(s), q(solutions[i]), revolute, scale))
         .fold(f64::INFINITY, f64::min);
     (e, gap)
 }
@@ -115,7 +103,7 @@ macro_rules! round_trips {
             let back: Vec<_> = ik.iter().filter_map(|b| b.result.as_ref().ok()).collect();
             let (e, gap) = best_and_gap(
                 &back,
-                |s| error(&inputs.map(|j| s.q[j]), &q, &input_angles, scale),
+                |s| max_error(&inputs.map(|j| s.q[j]), &q, &input_angles, scale),
                 |s| &s.q[..],
                 &$ty::REVOLUTE,
                 scale,
@@ -135,7 +123,7 @@ macro_rules! round_trips {
             let again: Vec<_> = again.iter().filter_map(|b| b.result.as_ref().ok()).collect();
             let (e, gap) = best_and_gap(
                 &again,
-                |s| error(&s.outputs, &pose, &$ty::OUTPUT_ANGLES, scale),
+                |s| max_error(&s.outputs, &pose, &$ty::OUTPUT_ANGLES, scale),
                 |s| &s.q[..],
                 &$ty::REVOLUTE,
                 scale,

@@ -19,8 +19,9 @@
 //!   step halving while the residual norm does not decrease.
 
 use crate::model::Joint;
+use crate::plan::wrap_angle;
 use std::collections::VecDeque;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 use std::fmt;
 
 use nalgebra::{DMatrix, DVector, Isometry3, Point3};
@@ -380,19 +381,6 @@ impl Problem<'_> {
     }
 }
 
-/// An angle wrapped into (−π, π].
-fn wrap_angle(x: f64) -> f64 {
-    if x > -PI && x <= PI {
-        return x;
-    }
-    let w = x.rem_euclid(TAU);
-    if w > PI {
-        w - TAU
-    } else {
-        w
-    }
-}
-
 /// Wraps solved-for R angles into (−π, π] and S rotation vectors to length ≤ π
 /// (the same rotations).
 fn normalise(model: &Model, offsets: &[usize], solved: &[bool], values: &mut [f64]) {
@@ -747,6 +735,39 @@ pub fn with_outputs_as_inputs(model: &Model, outputs: &[Output]) -> (Model, Vec<
 ///
 /// # Errors
 /// As [`solve_fk`]; also [`NewtonError::BadInput`] if `given` has the wrong length.
+///
+/// # Example
+/// The four-bar of [`solve_fk`] (crank 1, coupler 3, rocker 2, base 3)
+/// inverted from the coupler's midpoint alone: with the midpoint where the
+/// crank at 60° puts it, Newton from a nearby guess returns the crank to 60°.
+/// ```
+/// use pkm_runtime::model::{Joint, JointType, Model, Place};
+/// use pkm_runtime::newton::{joint_point, solve_ik, NewtonOptions, Output};
+///
+/// let z = |x: f64| Place::Axis { at: [x, 0.0, 0.0], axis: [0.0, 0.0, 1.0] };
+/// let r = |name: &str, links, places, actuated| Joint { name: name.into(), kind: JointType::R, links, places, actuated };
+/// let model = Model {
+///     name: "four_bar".into(),
+///     planar: true,
+///     links: vec!["base".into(), "crank".into(), "coupler".into(), "rocker".into()],
+///     joints: vec![
+///         r("R1", [0, 1], [z(0.0), z(0.0)], true),
+///         r("R2", [1, 2], [z(1.0), z(0.0)], false),
+///         r("R3", [2, 3], [z(3.0), z(2.0)], false),
+///         r("R4", [0, 3], [z(3.0), z(0.0)], false),
+///     ],
+///     points: vec![],
+/// };
+/// // B = (cos 60°, sin 60°), C = (23/7, 1.97948…) by hand; M = (B + C) / 2.
+/// let m = [(0.5 + 23.0 / 7.0) / 2.0, (0.75f64.sqrt() + 1.9794866372215738) / 2.0];
+/// let outputs = [Output::Point { link: 2, local: [1.5, 0.0, 0.0] }];
+/// let sol = solve_ik(&model, &outputs, &m, &[1.0, -0.6, 1.0, 1.4], &NewtonOptions::default()).unwrap();
+/// assert!((sol.values[0] - std::f64::consts::FRAC_PI_3).abs() < 1e-9);
+/// let (b, c) = (joint_point(&model, &sol.poses, 1), joint_point(&model, &sol.poses, 2));
+/// assert!(((b[0] + c[0]) / 2.0 - m[0]).abs() < 1e-9 && ((b[1] + c[1]) / 2.0 - m[1]).abs() < 1e-9);
+/// assert!((b[0].hypot(b[1]) - 1.0).abs() < 1e-9); // crank length
+/// assert!(((c[0] - 3.0).hypot(c[1]) - 2.0).abs() < 1e-9); // rocker length
+/// ```
 pub fn solve_ik(
     model: &Model,
     outputs: &[Output],

@@ -247,10 +247,23 @@ fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-fn wrap(a: f64) -> f64 {
-    let w = (a + core::f64::consts::PI).rem_euclid(2.0 * core::f64::consts::PI) - core::f64::consts::PI;
-    if w <= -core::f64::consts::PI {
-        w + 2.0 * core::f64::consts::PI
+/// An angle wrapped into (−π, π].
+///
+/// ```
+/// use pkm_runtime::plan::wrap_angle;
+/// use std::f64::consts::PI;
+/// assert_eq!(wrap_angle(0.5), 0.5);
+/// assert!((wrap_angle(0.5 + 4.0 * PI) - 0.5).abs() < 1e-12);
+/// assert_eq!(wrap_angle(-PI), PI);
+/// ```
+pub fn wrap_angle(x: f64) -> f64 {
+    use core::f64::consts::{PI, TAU};
+    if x > -PI && x <= PI {
+        return x;
+    }
+    let w = x.rem_euclid(TAU);
+    if w > PI {
+        w - TAU
     } else {
         w
     }
@@ -389,7 +402,7 @@ pub fn rrp_dyad(
 
 /// A revolute joint's value: the angle of v from u, in (−π, π].
 pub fn revolute_value(u: Pose2, v: Pose2) -> f64 {
-    wrap(v.angle - u.angle)
+    wrap_angle(v.angle - u.angle)
 }
 
 /// A prismatic joint's value: where the slider's point lies along the guide.
@@ -597,7 +610,7 @@ pub fn joint_distance(a: &[f64], b: &[f64], revolute: &[bool]) -> f64 {
     a.iter()
         .zip(b)
         .zip(revolute)
-        .map(|((x, y), r)| if *r { wrap(x - y) } else { x - y })
+        .map(|((x, y), r)| if *r { wrap_angle(x - y) } else { x - y })
         .fold(0.0, |acc, d| d.mul_add(d, acc))
         .sqrt()
 }
@@ -630,7 +643,7 @@ pub fn extrapolate<const J: usize>(previous: &[f64; J], before: &[f64; J], revol
     let mut out = *previous;
     for k in 0..J {
         let step = previous[k] - before[k];
-        out[k] += if revolute[k] { wrap(step) } else { step };
+        out[k] += if revolute[k] { wrap_angle(step) } else { step };
     }
     out
 }

@@ -296,21 +296,13 @@ pub fn pa_plane(axis: [f64; 3], normal: [f64; 3], hinge: [f64; 3], target: [f64;
     let b = k.cross(&n_perp).dot(&u);
     let c = -n_par.dot(&u);
     let [p, m] = trig_equation(a, b, c)?.branches();
-    Ok(if wrap(p).abs() <= wrap(m).abs() {
-        wrap(p)
-    } else {
-        wrap(m)
-    })
-}
-
-fn wrap(a: f64) -> f64 {
-    use core::f64::consts::PI;
-    let w = (a + PI).rem_euclid(2.0 * PI) - PI;
-    if w <= -PI {
-        w + 2.0 * PI
-    } else {
-        w
-    }
+    Ok(
+        if crate::plan::wrap_angle(p).abs() <= crate::plan::wrap_angle(m).abs() {
+            crate::plan::wrap_angle(p)
+        } else {
+            crate::plan::wrap_angle(m)
+        },
+    )
 }
 
 /// The pose of a link whose point `local` is at `position`, turned by
