@@ -10,6 +10,7 @@ pub mod primitives;
 pub mod real;
 pub mod spatial;
 pub mod topology;
+pub mod velocity;
 
 pub use topology::{SkcReport, SocReport, TopologyReport};
 

@@ -1,0 +1,542 @@
+//! Velocity and acceleration analysis, exact to rounding: the loop-closure
+//! equations differentiated in closed form (joint twists from the link poses),
+//! never finite differences.
+//!
+//! A twist `(ω, v)` is a link's angular velocity and the velocity of the
+//! link point at the world origin, both in world axes; a point `p` of the
+//! link moves at `v + ω × p`. Every joint contributes, per unit rate of each
+//! of its variables, the twist of its second link relative to its first;
+//! a link's twist is the sum along the spanning tree of [`crate::newton`],
+//! and each cut joint closes a loop: `V_v − V_u − Σ q̇ ξ = 0` (six rows per
+//! loop). With the actuated rates given, the passive rates follow by least
+//! squares, which is exact while the passive columns keep full rank (no
+//! output singularity).
+//!
+//! An S joint's three rates are its angular velocity about the world x, y, z
+//! axes (not the derivative of its rotation vector).
+
+use crate::model::{canonical_frame, JointType, Model, Place};
+use crate::newton::{link_poses, spanning_tree, ModelError, Output};
+use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
+use std::fmt;
+
+/// A twist: angular velocity and the velocity of the body point at the
+/// world origin, world axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Twist {
+    /// Angular velocity.
+    pub w: Vector3<f64>,
+    /// Velocity of the body point at the world origin.
+    pub v: Vector3<f64>,
+}
+
+impl Twist {
+    /// The zero twist.
+    pub fn zero() -> Self {
+        Twist {
+            w: Vector3::zeros(),
+            v: Vector3::zeros(),
+        }
+    }
+
+    /// The velocity of the body point at `p`.
+    pub fn at(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.v + self.w.cross(p)
+    }
+
+    /// `self · k`.
+    pub fn scale(&self, k: f64) -> Twist {
+        Twist {
+            w: self.w * k,
+            v: self.v * k,
+        }
+    }
+
+    /// The Lie bracket `[self, other]`: the rate of change of `other`, carried
+    /// by a body moving with `self`.
+    pub fn bracket(&self, other: &Twist) -> Twist {
+        Twist {
+            w: self.w.cross(&other.w),
+            v: self.w.cross(&other.v) - other.w.cross(&self.v),
+        }
+    }
+
+    fn add(&self, o: &Twist) -> Twist {
+        Twist {
+            w: self.w + o.w,
+            v: self.v + o.v,
+        }
+    }
+
+    fn rows(&self) -> [f64; 6] {
+        [self.w.x, self.w.y, self.w.z, self.v.x, self.v.y, self.v.z]
+    }
+}
+
+/// A twist given in the frame `f` (a rotation about and a velocity of the
+/// point at f's origin), in world axes.
+fn transported(f: &Isometry3<f64>, w: Vector3<f64>, v_at_origin: Vector3<f64>) -> Twist {
+    let w = f.rotation * w;
+    let o = f.translation.vector;
+    Twist {
+        w,
+        v: f.rotation * v_at_origin - w.cross(&o),
+    }
+}
+
+/// The twist of joint `j`'s second link relative to its first, per unit rate
+/// of each of its variables, at its values, in world axes given the first
+/// link's pose `tu`.
+pub fn joint_twists(model: &Model, j: usize, values: &[f64], tu: &Isometry3<f64>) -> Vec<Twist> {
+    let joint = &model.joints[j];
+    let places = &joint.places;
+    let frame = |p: &Place| canonical_frame(p.at(), p.axis());
+    let in_u = match joint.kind {
+        // Rotation about the hinge's z axis on u.
+        JointType::R => vec![transported(&frame(&places[0]), Vector3::z(), Vector3::zeros())],
+        JointType::P => {
+            let (guide, sign) = match places[0] {
+                Place::Line { along, .. } => (along, 1.0),
+                _ => (
+                    match places[1] {
+                        Place::Line { along, .. } => along,
+                        other => other.axis(),
+                    },
+                    -1.0,
+                ),
+            };
+            // Both links keep one orientation, so u's axes serve for a guide on v too.
+            let d = Vector3::from(guide).normalize() * sign;
+            vec![Twist {
+                w: Vector3::zeros(),
+                v: d,
+            }]
+        }
+        JointType::Pa => {
+            // The other hinge point moves on a circle: d/dθ of the turned arm.
+            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
+            let rate = |f: &Isometry3<f64>, arm: [f64; 3]| {
+                let local = f.rotation.inverse() * Vector3::from(arm);
+                let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
+                f.rotation * Vector3::z().cross(&turned)
+            };
+            let v = match (places[0], places[1]) {
+                (Place::Arm { arm, .. }, _) => rate(&fu, arm),
+                // The arm on v: T_v = T_u·F_u·Trans(−R(θ)a)·F_v⁻¹ in v's (parallel) axes.
+                (_, Place::Arm { arm, .. }) => -(fu.rotation * (fv.rotation.inverse() * rate(&fv, arm))),
+                _ => Vector3::zeros(),
+            };
+            vec![Twist { w: Vector3::zeros(), v }]
+        }
+        JointType::S => {
+            let c = Vector3::from(places[0].at());
+            (0..3)
+                .map(|i| {
+                    let w = Vector3::ith(i, 1.0);
+                    // The centre on u stays still: about axis i in world axes through it.
+                    Twist {
+                        w: tu.rotation.inverse() * w,
+                        v: -(tu.rotation.inverse() * w).cross(&c),
+                    }
+                })
+                .collect()
+        }
+    };
+    in_u.iter()
+        .map(|t| {
+            let w = tu.rotation * t.w;
+            Twist {
+                w,
+                v: tu.rotation * t.v - w.cross(&tu.translation.vector),
+            }
+        })
+        .collect()
+}
+
+/// The time derivative of joint `j`'s unit twists (world), given the
+/// twist `vu` of its first link and its own rates: a twist mounted on the
+/// first link is carried by it (`[V_u, ξ]`); a parallelogram's also turns
+/// with its own value; an S joint's are fixed world axes through a centre
+/// that moves with the first link.
+pub fn joint_twist_rates(
+    model: &Model,
+    j: usize,
+    values: &[f64],
+    rates: &[f64],
+    tu: &Isometry3<f64>,
+    vu: &Twist,
+) -> Vec<Twist> {
+    let joint = &model.joints[j];
+    let xi = joint_twists(model, j, values, tu);
+    match joint.kind {
+        JointType::S => {
+            let c = tu.transform_point(&joint.places[0].at().into()).coords;
+            let cd = vu.at(&c);
+            (0..3)
+                .map(|i| Twist {
+                    w: Vector3::zeros(),
+                    v: -Vector3::ith(i, 1.0).cross(&cd),
+                })
+                .collect()
+        }
+        JointType::Pa => {
+            // ∂ξ/∂θ: the arm's rate turns a further quarter turn, ẑ × (ẑ × a) = −a⊥.
+            let frame = |p: &Place| canonical_frame(p.at(), p.axis());
+            let axis = tu.rotation * (frame(&joint.places[0]).rotation * Vector3::z());
+            let own = Twist {
+                w: Vector3::zeros(),
+                v: axis.cross(&xi[0].v) * rates[0],
+            };
+            vec![vu.bracket(&xi[0]).add(&own)]
+        }
+        _ => xi.iter().map(|x| vu.bracket(x)).collect(),
+    }
+}
+
+/// Why a velocity or acceleration analysis has no answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum VelocityError {
+    /// The model or the values are unusable.
+    Model(ModelError),
+    /// The wrong number of rates.
+    BadLength {
+        /// What was expected.
+        expected: usize,
+        /// What was given.
+        got: usize,
+    },
+    /// With the inputs' rates fixed, the passive joints can still move: an
+    /// output (forward) singularity, `sigma` the smallest relative singular
+    /// value of the passive columns.
+    OutputSingular {
+        /// σ_min / σ_max of the passive columns.
+        sigma: f64,
+    },
+}
+
+impl fmt::Display for VelocityError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            VelocityError::Model(e) => write!(f, "{e}"),
+            VelocityError::BadLength { expected, got } => write!(f, "expected {expected} rates, got {got}"),
+            VelocityError::OutputSingular { sigma } => write!(
+                f,
+                "output singularity: the passive joints move with the inputs held (σ_min/σ_max = {sigma:e})"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for VelocityError {}
+
+impl From<ModelError> for VelocityError {
+    fn from(e: ModelError) -> Self {
+        VelocityError::Model(e)
+    }
+}
+
+/// The loop-closure velocity equations at one configuration.
+#[derive(Debug, Clone)]
+pub struct Loops {
+    /// Link poses.
+    pub poses: Vec<Isometry3<f64>>,
+    /// Per joint, its twists per unit rate (world).
+    pub twists: Vec<Vec<Twist>>,
+    /// Each link's twist as a linear map of the rates: `paths[l]` lists
+    /// (rate index, ±1) along the tree from the base.
+    pub paths: Vec<Vec<(usize, f64)>>,
+    /// `A q̇ = 0`: six rows per cut joint, one column per rate.
+    pub a: DMatrix<f64>,
+    /// The first rate of each joint.
+    pub offsets: Vec<usize>,
+    /// The rates of the actuated joints, in input order.
+    pub actuated: Vec<usize>,
+    /// The others.
+    pub passive: Vec<usize>,
+}
+
+/// The velocity equations at `values` (joint values as [`Model::value_offsets`]).
+pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
+    let tree = spanning_tree(model)?;
+    let poses = link_poses(model, values)?;
+    let (offsets, n) = model.value_offsets();
+    let twists: Vec<Vec<Twist>> = (0..model.joints.len())
+        .map(|j| {
+            let joint = &model.joints[j];
+            let vals = &values[offsets[j]..offsets[j] + joint.kind.dof()];
+            joint_twists(model, j, vals, &poses[joint.links[0]])
+        })
+        .collect();
+    let mut paths: Vec<Vec<(usize, f64)>> = vec![Vec::new(); model.links.len()];
+    for &link in &tree.order {
+        let Some(j) = tree.parent[link] else { continue };
+        let joint = &model.joints[j];
+        let (parent, sign) = if joint.links[1] == link {
+            (joint.links[0], 1.0)
+        } else {
+            (joint.links[1], -1.0)
+        };
+        let mut p = paths[parent].clone();
+        p.extend((0..joint.kind.dof()).map(|k| (offsets[j] + k, sign)));
+        paths[link] = p;
+    }
+    let mut a = DMatrix::zeros(6 * tree.cut.len(), n);
+    for (row, &c) in tree.cut.iter().enumerate() {
+        let [u, v] = model.joints[c].links;
+        let mut add = |col: usize, t: &Twist, k: f64| {
+            for (i, x) in t.rows().iter().enumerate() {
+                a[(6 * row + i, col)] += k * x;
+            }
+        };
+        for &(col, s) in &paths[v] {
+            let t = twist_of_rate(&twists, &offsets, col);
+            add(col, &t, s);
+        }
+        for &(col, s) in &paths[u] {
+            let t = twist_of_rate(&twists, &offsets, col);
+            add(col, &t, -s);
+        }
+        for (k, t) in twists[c].iter().enumerate() {
+            add(offsets[c] + k, t, -1.0);
+        }
+    }
+    let mut actuated = Vec::new();
+    for j in model.inputs() {
+        actuated.extend(offsets[j]..offsets[j] + model.joints[j].kind.dof());
+    }
+    let passive = (0..n).filter(|i| !actuated.contains(i)).collect();
+    Ok(Loops {
+        poses,
+        twists,
+        paths,
+        a,
+        offsets,
+        actuated,
+        passive,
+    })
+}
+
+fn twist_of_rate(twists: &[Vec<Twist>], offsets: &[usize], col: usize) -> Twist {
+    let j = offsets.partition_point(|&o| o <= col) - 1;
+    twists[j][col - offsets[j]]
+}
+
+impl Loops {
+    /// The twist of `link` for the rates `qd`.
+    pub fn link_twist(&self, link: usize, qd: &[f64]) -> Twist {
+        self.paths[link].iter().fold(Twist::zero(), |acc, &(col, s)| {
+            acc.add(&twist_of_rate(&self.twists, &self.offsets, col).scale(s * qd[col]))
+        })
+    }
+
+    /// Relative smallest singular value of the passive columns (0 at an
+    /// output singularity), lengths scaled by `scale`.
+    pub fn passive_sigma(&self, scale: f64) -> f64 {
+        let m = self.scaled_columns(&self.passive, scale);
+        relative_sigma(&m)
+    }
+
+    fn scaled_columns(&self, cols: &[usize], scale: f64) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(self.a.nrows(), cols.len());
+        for (k, &c) in cols.iter().enumerate() {
+            m.set_column(k, &self.a.column(c));
+        }
+        // Position rows in units of the mechanism's size, as the loop residual.
+        for r in 0..m.nrows() {
+            if r % 6 >= 3 {
+                m.row_mut(r).scale_mut(1.0 / scale);
+            }
+        }
+        m
+    }
+
+    /// Every rate from the actuated ones (`input_rates` in input order),
+    /// with `bias` added to the right-hand side (`A q̇ = −bias`; zero for
+    /// velocities, the velocity-product terms for accelerations).
+    fn solve(&self, input_rates: &[f64], bias: &DVector<f64>, scale: f64) -> Result<Vec<f64>, VelocityError> {
+        if input_rates.len() != self.actuated.len() {
+            return Err(VelocityError::BadLength {
+                expected: self.actuated.len(),
+                got: input_rates.len(),
+            });
+        }
+        let n = self.a.ncols();
+        let mut q = vec![0.0; n];
+        for (&i, &x) in self.actuated.iter().zip(input_rates) {
+            q[i] = x;
+        }
+        let mut rhs = -bias.clone();
+        for (&i, &x) in self.actuated.iter().zip(input_rates) {
+            rhs -= self.a.column(i) * x;
+        }
+        if self.passive.is_empty() {
+            return Ok(q);
+        }
+        let mut ap = self.scaled_columns(&self.passive, scale);
+        for r in 0..rhs.len() {
+            if r % 6 >= 3 {
+                rhs[r] /= scale;
+            }
+        }
+        let sigma = relative_sigma(&ap);
+        if sigma < SINGULAR {
+            return Err(VelocityError::OutputSingular { sigma });
+        }
+        let svd = std::mem::replace(&mut ap, DMatrix::zeros(0, 0)).svd(true, true);
+        let smax = svd.singular_values.max();
+        let x = svd
+            .solve(&rhs, 1e-13 * smax)
+            .map_err(|_| VelocityError::OutputSingular { sigma })?;
+        for (k, &i) in self.passive.iter().enumerate() {
+            q[i] = x[k];
+        }
+        Ok(q)
+    }
+}
+
+/// Below this relative singular value a configuration counts as singular.
+pub const SINGULAR: f64 = 1e-10;
+
+fn relative_sigma(m: &DMatrix<f64>) -> f64 {
+    if m.ncols() == 0 {
+        return 1.0;
+    }
+    // Zero rows (the out-of-plane rows of a planar loop) do not change the singular values.
+    let s = m.clone().svd(false, false).singular_values;
+    let max = s.max();
+    if max.is_nan() || max <= 0.0 {
+        return 0.0;
+    }
+    let k = m.ncols().min(m.nrows());
+    s.iter().take(k).fold(f64::INFINITY, |a, &b| a.min(b)) / max
+}
+
+/// A configuration's rates: every joint's, every link's twist.
+#[derive(Debug, Clone)]
+pub struct Velocities {
+    /// Every joint rate (as [`Model::value_offsets`]).
+    pub rates: Vec<f64>,
+    /// Every link's twist.
+    pub twists: Vec<Twist>,
+}
+
+/// Every joint rate and link twist from the inputs' rates.
+pub fn velocities(model: &Model, values: &[f64], input_rates: &[f64]) -> Result<Velocities, VelocityError> {
+    let l = loops(model, values)?;
+    let scale = crate::newton::model_scale(model);
+    let rates = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
+    let twists = (0..model.links.len()).map(|k| l.link_twist(k, &rates)).collect();
+    Ok(Velocities { rates, twists })
+}
+
+/// A configuration's accelerations: every joint's second derivative and
+/// every link's twist rate (`(ω̇, the rate of v)`).
+#[derive(Debug, Clone)]
+pub struct Accelerations {
+    /// Velocities first.
+    pub velocities: Velocities,
+    /// Every joint's second derivative.
+    pub rates: Vec<f64>,
+    /// Every link's twist derivative.
+    pub twists: Vec<Twist>,
+}
+
+/// Every joint's unit-twist rates (see [`joint_twist_rates`]), by rate index.
+fn all_twist_rates(model: &Model, l: &Loops, values: &[f64], qd: &[f64], twists: &[Twist]) -> Vec<Twist> {
+    let mut out = Vec::with_capacity(qd.len());
+    for (j, joint) in model.joints.iter().enumerate() {
+        let r = l.offsets[j]..l.offsets[j] + joint.kind.dof();
+        let u = joint.links[0];
+        out.extend(joint_twist_rates(
+            model,
+            j,
+            &values[r.clone()],
+            &qd[r],
+            &l.poses[u],
+            &twists[u],
+        ));
+    }
+    out
+}
+
+/// The time derivative of link `link`'s twist: `Σ ±(q̈ ξ + q̇ ξ̇)` along its path.
+fn twist_rate(l: &Loops, link: usize, qd: &[f64], qdd: &[f64], xi_dot: &[Twist]) -> Twist {
+    l.paths[link].iter().fold(Twist::zero(), |acc, &(col, s)| {
+        let xi = twist_of_rate(&l.twists, &l.offsets, col);
+        acc.add(&xi.scale(s * qdd[col])).add(&xi_dot[col].scale(s * qd[col]))
+    })
+}
+
+/// Every joint's second derivative and every link's twist derivative from
+/// the inputs' rates and second derivatives.
+pub fn accelerations(
+    model: &Model,
+    values: &[f64],
+    input_rates: &[f64],
+    input_accels: &[f64],
+) -> Result<Accelerations, VelocityError> {
+    let l = loops(model, values)?;
+    let scale = crate::newton::model_scale(model);
+    let qd = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
+    let twists: Vec<Twist> = (0..model.links.len()).map(|k| l.link_twist(k, &qd)).collect();
+    let xi_dot = all_twist_rates(model, &l, values, &qd, &twists);
+    // Bias: the differentiated loop rows with q̈ = 0.
+    let zero = vec![0.0; qd.len()];
+    let tree = spanning_tree(model)?;
+    let mut bias = DVector::zeros(l.a.nrows());
+    for (row, &c) in tree.cut.iter().enumerate() {
+        let [u, v] = model.joints[c].links;
+        let mut t = twist_rate(&l, v, &qd, &zero, &xi_dot).add(&twist_rate(&l, u, &qd, &zero, &xi_dot).scale(-1.0));
+        for k in 0..model.joints[c].kind.dof() {
+            let col = l.offsets[c] + k;
+            t = t.add(&xi_dot[col].scale(-qd[col]));
+        }
+        for (i, x) in t.rows().iter().enumerate() {
+            bias[6 * row + i] = *x;
+        }
+    }
+    let qdd = l.solve(input_accels, &bias, scale)?;
+    let twist_rates = (0..model.links.len())
+        .map(|k| twist_rate(&l, k, &qd, &qdd, &xi_dot))
+        .collect();
+    Ok(Accelerations {
+        velocities: Velocities { rates: qd, twists },
+        rates: qdd,
+        twists: twist_rates,
+    })
+}
+
+/// The acceleration of the body point at world position `p` of a link with
+/// twist `t` and twist rate `dt`.
+pub fn point_acceleration(t: &Twist, dt: &Twist, p: &Vector3<f64>) -> Vector3<f64> {
+    dt.v + dt.w.cross(p) + t.w.cross(&t.at(p))
+}
+
+/// The rates of the declared outputs for a link twist map.
+pub fn output_rates(
+    model: &Model,
+    poses: &[Isometry3<f64>],
+    outputs: &[Output],
+    rates: &[f64],
+    twists: &[Twist],
+) -> Vec<f64> {
+    let (offsets, _) = model.value_offsets();
+    let mut out = Vec::new();
+    for o in outputs {
+        let (link, local, about) = match *o {
+            Output::Pose { link, local, about } => (link, local, about),
+            Output::Point { link, local } => (link, local, None),
+            Output::Joint(j) => {
+                out.push(rates[offsets[j]]);
+                continue;
+            }
+        };
+        let p = poses[link].transform_point(&local.into()).coords;
+        let v = twists[link].at(&p);
+        out.extend_from_slice(if model.planar { &v.as_slice()[..2] } else { v.as_slice() });
+        if let Some(k) = about {
+            out.push(Vector3::from(k).normalize().dot(&twists[link].w));
+        }
+    }
+    out
+}

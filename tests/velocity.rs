@@ -1,0 +1,147 @@
+//! Velocities and accelerations from the differentiated loop equations
+//! (pkm-runtime's `velocity`) against central finite differences of the
+//! generated position solutions along q(t) = q + q̇ t + q̈ t²/2, on the same
+//! branch: every joint rate and second derivative, every output rate.
+
+mod common;
+
+use common::max_error;
+use pkm::dsl::screw::SplitMix;
+use pkm::runtime::velocity;
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
+pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
+pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
+pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
+pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
+pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+
+/// A five-point stencil's derivative (first or second, error O(h⁴)) from
+/// samples at −2h, −h, 0, h, 2h.
+fn stencil(f: [&[f64]; 5], second: bool, h: f64) -> Vec<f64> {
+    (0..f[0].len())
+        .map(|i| {
+            let [a, b, c, d, e] = f.map(|x| x[i]);
+            if second {
+                (-e + 16.0 * d - 30.0 * c + 16.0 * b - a) / (12.0 * h * h)
+            } else {
+                (8.0 * (d - b) - (e - a)) / (12.0 * h)
+            }
+        })
+        .collect()
+}
+
+/// The derivative from samples at −2h, −h, −h/2, 0, h/2, h, 2h: the
+/// stencils at h and h/2, Richardson-extrapolated (error O(h⁶)), so that
+/// configurations near a singularity, where higher derivatives are large,
+/// are measured as well as the others.
+fn derivative(v: &[Vec<f64>], second: bool, h: f64) -> Vec<f64> {
+    let wide = stencil([&v[0], &v[1], &v[3], &v[5], &v[6]], second, h);
+    let narrow = stencil([&v[1], &v[2], &v[3], &v[4], &v[5]], second, h / 2.0);
+    narrow.iter().zip(&wide).map(|(n, w)| n + (n - w) / 15.0).collect()
+}
+
+fn first(v: &[Vec<f64>], h: f64) -> Vec<f64> {
+    derivative(v, false, h)
+}
+
+fn second(v: &[Vec<f64>], h: f64) -> Vec<f64> {
+    derivative(v, true, h)
+}
+
+macro_rules! check {
+    ($ty:ident, $file:expr, $ranges:expr, $rate:expr) => {{
+        let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
+        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+        let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let scale = pkm::runtime::newton::model_scale(&model);
+        let params = Default::default();
+        let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
+        let mut rng = SplitMix::new(11);
+        let (mut checked, mut worst_v, mut worst_a) = (0, 0.0f64, 0.0f64);
+        while checked < 50 {
+            let q = ranges.map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
+            let qd = ranges.map(|_| $rate * rng.symmetric());
+            let qdd = ranges.map(|_| $rate * rng.symmetric());
+            let fk = $ty::fk(&params, &q);
+            let Some(b) = fk.iter().find(|b| b.result.is_ok()) else {
+                continue;
+            };
+            let signs = b.signs;
+            let at = |t: f64| {
+                let qt: [f64; $ty::INPUTS.len()] = std::array::from_fn(|i| q[i] + qd[i] * t + qdd[i] * t * t / 2.0);
+                $ty::fk_branch(&params, &qt, signs).ok()
+            };
+            // Five-point stencils (error O(h⁴)); h small against the branch's reach.
+            let h = 2.5e-4;
+            let Some(s) = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0]
+                .map(|k| at(k * h))
+                .into_iter()
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            // Angles unwrapped against the centre so the stencils see a smooth curve.
+            let unwrap = |x: &[f64], centre: &[f64], angle: &[bool]| -> Vec<f64> {
+                x.iter()
+                    .zip(centre)
+                    .zip(angle)
+                    .map(|((a, c), &r)| {
+                        if r {
+                            c + pkm::runtime::plan::wrap_angle(a - c)
+                        } else {
+                            *a
+                        }
+                    })
+                    .collect()
+            };
+            let centre = s[3].q;
+            let joints: Vec<Vec<f64>> = s.iter().map(|x| unwrap(&x.q, &centre, &$ty::REVOLUTE)).collect();
+            let outs: Vec<Vec<f64>> = s
+                .iter()
+                .map(|x| unwrap(&x.outputs, &s[3].outputs, &$ty::OUTPUT_ANGLES))
+                .collect();
+            let acc = velocity::accelerations(&model, &centre, &qd, &qdd)
+                .unwrap_or_else(|e| panic!("{}: {e} at {q:?}", $file));
+            let v = &acc.velocities;
+            let e = max_error(&v.rates, &first(&joints, h), &$ty::REVOLUTE, scale);
+            assert!(e < 1e-6, "{}: joint rates off by {e:e} at {q:?}", $file);
+            worst_v = worst_v.max(e);
+            let e = max_error(&acc.rates, &second(&joints, h), &$ty::REVOLUTE, scale);
+            assert!(e < 1e-5, "{}: joint accelerations off by {e:e} at {q:?}", $file);
+            worst_a = worst_a.max(e);
+            if !outputs.is_empty() {
+                let poses = pkm::runtime::newton::link_poses(&model, &centre).unwrap();
+                let rates = velocity::output_rates(&model, &poses, &outputs, &v.rates, &v.twists);
+                let e = max_error(&rates, &first(&outs, h), &$ty::OUTPUT_ANGLES, scale);
+                assert!(e < 1e-6, "{}: output rates off by {e:e} at {q:?}", $file);
+            }
+            checked += 1;
+        }
+        eprintln!(
+            "{}: worst joint-rate error {worst_v:e}, acceleration {worst_a:e}",
+            $file
+        );
+    }};
+}
+
+#[test]
+fn planar() {
+    check!(FourBar, "four_bar", [(-PI, PI)], 1.0);
+    check!(SliderCrank, "slider_crank", [(-PI, PI)], 1.0);
+    check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)], 1.0);
+    check!(Watt, "watt_six_bar", [(-PI, PI)], 1.0);
+    check!(Punch, "seed003_punch", [(-PI, PI)], 1.0);
+}
+
+#[test]
+fn spatial() {
+    check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)], 1.0);
+    check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 20.0);
+    check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 20.0);
+}
