@@ -120,6 +120,11 @@ macro_rules! check {
                 let rates = velocity::output_rates(&model, &poses, &outputs, &v.rates, &v.twists);
                 let e = max_error(&rates, &first(&outs, h), &$ty::OUTPUT_ANGLES, scale);
                 assert!(e < 1e-6, "{}: output rates off by {e:e} at {q:?}", $file);
+                // The forward Jacobian maps the input rates to the same output rates.
+                let j = velocity::jacobians(&model, &centre, &outputs).unwrap();
+                let jq = j.forward.expect("regular here") * pkm::runtime::nalgebra::DVector::from_column_slice(&qd);
+                let e = max_error(jq.as_slice(), &rates, &$ty::OUTPUT_ANGLES, scale);
+                assert!(e < 1e-12, "{}: forward Jacobian off by {e:e}", $file);
             }
             checked += 1;
         }

@@ -253,6 +253,8 @@ pub struct Loops {
     pub actuated: Vec<usize>,
     /// The others.
     pub passive: Vec<usize>,
+    /// Which rates are lengths (P joints).
+    pub prismatic: Vec<bool>,
 }
 
 /// The velocity equations at `values` (joint values as [`Model::value_offsets`]).
@@ -305,7 +307,12 @@ pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
         actuated.extend(offsets[j]..offsets[j] + model.joints[j].kind.dof());
     }
     let passive = (0..n).filter(|i| !actuated.contains(i)).collect();
+    let mut prismatic = vec![false; n];
+    for (j, joint) in model.joints.iter().enumerate() {
+        prismatic[offsets[j]] = joint.kind == JointType::P;
+    }
     Ok(Loops {
+        prismatic,
         poses,
         twists,
         paths,
@@ -339,7 +346,9 @@ impl Loops {
     fn scaled_columns(&self, cols: &[usize], scale: f64) -> DMatrix<f64> {
         let mut m = DMatrix::zeros(self.a.nrows(), cols.len());
         for (k, &c) in cols.iter().enumerate() {
-            m.set_column(k, &self.a.column(c));
+            // A length rate per unit of the size, like the angles' radians.
+            let unit = if self.prismatic[c] { scale } else { 1.0 };
+            m.set_column(k, &(self.a.column(c) * unit));
         }
         // Position rows in units of the mechanism's size, as the loop residual.
         for r in 0..m.nrows() {
@@ -388,7 +397,7 @@ impl Loops {
             .solve(&rhs, 1e-13 * smax)
             .map_err(|_| VelocityError::OutputSingular { sigma })?;
         for (k, &i) in self.passive.iter().enumerate() {
-            q[i] = x[k];
+            q[i] = x[k] * if self.prismatic[i] { scale } else { 1.0 };
         }
         Ok(q)
     }
@@ -539,4 +548,120 @@ pub fn output_rates(
         }
     }
     out
+}
+
+/// Which singularity a configuration is at (Gosselin and Angeles).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Singularity {
+    /// Neither.
+    None,
+    /// Input (inverse): the actuators can move while the outputs stay
+    /// (`det J_i = 0`).
+    Input,
+    /// Output (forward): the outputs can move with the actuators held
+    /// (`det J_o = 0`).
+    Output,
+    /// Both at once.
+    Combined,
+}
+
+/// The velocity maps at one configuration and how far it is from each
+/// singularity.
+#[derive(Debug, Clone)]
+pub struct Jacobians {
+    /// Output rates per unit input rate (rows: outputs, columns: inputs);
+    /// `None` at an output singularity.
+    pub forward: Option<DMatrix<f64>>,
+    /// The loop equations' passive columns, σ_min/σ_max (lengths scaled
+    /// by the mechanism's size): 0 at an output singularity.
+    pub output_sigma: f64,
+    /// The loop and output equations over every rate, σ_min/σ_max: 0 when
+    /// some motion leaves the outputs still (an input singularity).
+    pub input_sigma: f64,
+    /// The classification at the threshold [`SINGULAR`].
+    pub singularity: Singularity,
+}
+
+/// The rows of the outputs' rates, one column per joint rate.
+fn output_matrix(model: &Model, l: &Loops, outputs: &[Output]) -> DMatrix<f64> {
+    let n = l.a.ncols();
+    let mut columns = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut e = vec![0.0; n];
+        e[i] = 1.0;
+        let twists: Vec<Twist> = (0..model.links.len()).map(|k| l.link_twist(k, &e)).collect();
+        columns.push(output_rates(model, &l.poses, outputs, &e, &twists));
+    }
+    let rows = columns.first().map_or(0, Vec::len);
+    DMatrix::from_fn(rows, n, |r, c| columns[c][r])
+}
+
+/// The velocity maps and singularity measures at `values`.
+pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Jacobians, VelocityError> {
+    let l = loops(model, values)?;
+    let scale = crate::newton::model_scale(model);
+    let output_sigma = l.passive_sigma(scale);
+    let c = output_matrix(model, &l, outputs);
+    // Loop rows and output rows over every rate, lengths in units of the size.
+    let all: Vec<usize> = (0..l.a.ncols()).collect();
+    let a = l.scaled_columns(&all, scale);
+    let mut stacked = DMatrix::zeros(a.nrows() + c.nrows(), a.ncols());
+    stacked.rows_mut(0, a.nrows()).copy_from(&a);
+    stacked.rows_mut(a.nrows(), c.nrows()).copy_from(&c);
+    let angle_rows = output_angle_rows(model, outputs);
+    for (r, angle) in angle_rows.iter().enumerate() {
+        if !angle {
+            stacked.row_mut(a.nrows() + r).scale_mut(1.0 / scale);
+        }
+    }
+    for (i, &p) in l.prismatic.iter().enumerate() {
+        if p {
+            stacked.column_mut(i).scale_mut(scale);
+        }
+    }
+    let input_sigma = relative_sigma(&stacked);
+    let forward = if output_sigma < SINGULAR {
+        None
+    } else {
+        let f = l.actuated.len();
+        let mut jf = DMatrix::zeros(c.nrows(), f);
+        for k in 0..f {
+            let mut unit = vec![0.0; f];
+            unit[k] = 1.0;
+            let rates = l.solve(&unit, &DVector::zeros(l.a.nrows()), scale)?;
+            jf.set_column(k, &(&c * DVector::from_vec(rates)));
+        }
+        Some(jf)
+    };
+    let singularity = match (input_sigma < SINGULAR, output_sigma < SINGULAR) {
+        (false, false) => Singularity::None,
+        (true, false) => Singularity::Input,
+        (false, true) => Singularity::Output,
+        (true, true) => Singularity::Combined,
+    };
+    Ok(Jacobians {
+        forward,
+        output_sigma,
+        input_sigma,
+        singularity,
+    })
+}
+
+/// Which output rows are angles.
+fn output_angle_rows(model: &Model, outputs: &[Output]) -> Vec<bool> {
+    let point = if model.planar { 2 } else { 3 };
+    outputs
+        .iter()
+        .flat_map(|o| match *o {
+            Output::Pose { about, .. } => {
+                let mut v = vec![false; point];
+                if about.is_some() {
+                    v.push(true);
+                }
+                v
+            }
+            Output::Point { .. } => vec![false; point],
+            Output::Joint(j) => vec![model.joints[j].kind != JointType::P],
+        })
+        .collect()
 }
