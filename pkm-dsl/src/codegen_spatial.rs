@@ -173,7 +173,7 @@ pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStr
         let [u, v] = joint.links;
         let (p0, p1) = (place(a.place(j, u)), place(a.place(j, v)));
         quote! {
-            #sp::Joint3 { kind: ::pkm::runtime::model::JointType::#kind, links: [#u, #v], places: [#p0, #p1] }
+            #sp::Joint3::new(::pkm::runtime::model::JointType::#kind, [#u, #v], [#p0, #p1])
         }
     });
     let named: Vec<TokenStream> = a.geometry.points.iter().map(|p| xyz(&p.at)).collect();

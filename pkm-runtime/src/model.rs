@@ -191,26 +191,34 @@ pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
 
 /// As [`joint_transform`], from the joint's type and places alone.
 pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> Isometry3<f64> {
+    framed_transform(kind, places, &place_frames(places), values)
+}
+
+/// The canonical frames of a joint's two places ([`canonical_frame`]).
+pub fn place_frames(places: &[Place; 2]) -> [Isometry3<f64>; 2] {
+    places.map(|p| canonical_frame(p.at(), p.axis()))
+}
+
+/// As [`place_transform`], with the places' frames computed once beforehand
+/// (they depend only on the geometry, not on the joint's value).
+pub fn framed_transform(kind: JointType, places: &[Place; 2], frames: &[Isometry3<f64>; 2], values: &[f64]) -> Isometry3<f64> {
+    let [fu, fv] = frames;
     match kind {
         JointType::R => {
-            let frame = |p: &Place| canonical_frame(p.at(), p.axis());
-            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
             let rz = Isometry3::rotation(Vector3::z() * values[0]);
             fu * rz * fv.inverse()
         }
         JointType::Pa => {
             // The link with the arm: its hinge frame, then the arm turned by
             // the value about the hinge axis, then the other hinge's frame.
-            let frame = |p: &Place| canonical_frame(p.at(), p.axis());
-            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
             let swing = |f: &Isometry3<f64>, arm: [f64; 3]| {
                 let local = f.rotation.inverse() * v3(arm);
                 let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
                 Isometry3::translation(turned.x, turned.y, turned.z)
             };
             match (places[0], places[1]) {
-                (_, Place::Arm { arm, .. }) => (fv * swing(&fv, arm) * fu.inverse()).inverse(),
-                (Place::Arm { arm, .. }, _) => fu * swing(&fu, arm) * fv.inverse(),
+                (_, Place::Arm { arm, .. }) => (fv * swing(fv, arm) * fu.inverse()).inverse(),
+                (Place::Arm { arm, .. }, _) => fu * swing(fu, arm) * fv.inverse(),
                 _ => fu * fv.inverse(),
             }
         }

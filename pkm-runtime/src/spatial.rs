@@ -19,7 +19,7 @@
 //! (rotations about parallel axes, translations normal to it). Generated
 //! code and this interpreter call the same kernels.
 
-use crate::model::{canonical_frame, place_transform, Joint, JointType, Model, Place};
+use crate::model::{framed_transform, place_frames, Joint, JointType, Model, Place};
 use crate::plan::{step_error, PointRef, SolveError};
 use crate::primitives::{line_sphere, rotate_to_distance, trig_equation, Error as GeomError, Sign};
 use nalgebra::{Isometry3, Point3, Rotation3, Unit, Vector3};
@@ -37,16 +37,24 @@ pub struct Joint3 {
     pub links: [usize; 2],
     /// Its places on `links[0]` and `links[1]`.
     pub places: [Place; 2],
+    /// The places' canonical frames, computed once ([`place_frames`]).
+    pub frames: [Pose3; 2],
 }
 
 impl Joint3 {
+    /// A joint from its type, links and places.
+    pub fn new(kind: JointType, links: [usize; 2], places: [Place; 2]) -> Joint3 {
+        Joint3 {
+            kind,
+            links,
+            places,
+            frames: place_frames(&places),
+        }
+    }
+
     /// The geometry of a model joint.
     pub fn of(j: &Joint) -> Joint3 {
-        Joint3 {
-            kind: j.kind,
-            links: j.links,
-            places: j.places,
-        }
+        Joint3::new(j.kind, j.links, j.places)
     }
 }
 
@@ -57,7 +65,7 @@ fn v3(a: [f64; 3]) -> Vector3<f64> {
 /// The pose of the link across joint `j` from the known pose `from`, at
 /// joint value `value`; `forward` when `from` is the joint's first link.
 pub fn transfer(from: &Pose3, j: &Joint3, forward: bool, value: f64) -> Pose3 {
-    let t = place_transform(j.kind, &j.places, &[value]);
+    let t = framed_transform(j.kind, &j.places, &j.frames, &[value]);
     if forward {
         from * t
     } else {
@@ -127,7 +135,7 @@ pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motio
             }
         }
         JointType::Pa => {
-            let frame = from * canonical_frame(j.places[side_from].at(), j.places[side_from].axis());
+            let frame = from * j.frames[side_from];
             let k = frame.rotation * Vector3::z();
             let (arm_side, sign) = if matches!(j.places[side_from], Place::Arm { .. }) {
                 (side_from, 1.0)
@@ -149,7 +157,7 @@ pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motio
             }
         }
         _ => {
-            let frame = from * canonical_frame(j.places[side_from].at(), j.places[side_from].axis());
+            let frame = from * j.frames[side_from];
             let sign = if forward { 1.0 } else { -1.0 };
             let k = frame.rotation * Vector3::z() * sign;
             let c = frame.translation.vector;
@@ -329,10 +337,9 @@ pub fn angle_about(pose: &Pose3, k: [f64; 3]) -> f64 {
 /// The value of a 1-DOF joint from the poses of its two links.
 pub fn joint_value(j: &Joint3, u: &Pose3, v: &Pose3) -> f64 {
     let rel = u.inverse() * v;
-    let frame = |p: &Place| canonical_frame(p.at(), p.axis());
     match j.kind {
         JointType::R => {
-            let m = frame(&j.places[0]).inverse() * rel * frame(&j.places[1]);
+            let m = j.frames[0].inverse() * rel * j.frames[1];
             let r: Rotation3<f64> = m.rotation.to_rotation_matrix();
             r[(1, 0)].atan2(r[(0, 0)])
         }
@@ -351,7 +358,7 @@ pub fn joint_value(j: &Joint3, u: &Pose3, v: &Pose3) -> f64 {
             } else {
                 (1, rel.inverse())
             };
-            let (fa, fo) = (frame(&j.places[arm_side]), frame(&j.places[1 - arm_side]));
+            let (fa, fo) = (j.frames[arm_side], j.frames[1 - arm_side]);
             let t = (fa.inverse() * rel * fo).translation.vector;
             let Place::Arm { arm, .. } = j.places[arm_side] else {
                 return f64::NAN;
