@@ -201,7 +201,12 @@ pub fn place_frames(places: &[Place; 2]) -> [Isometry3<f64>; 2] {
 
 /// As [`place_transform`], with the places' frames computed once beforehand
 /// (they depend only on the geometry, not on the joint's value).
-pub fn framed_transform(kind: JointType, places: &[Place; 2], frames: &[Isometry3<f64>; 2], values: &[f64]) -> Isometry3<f64> {
+pub fn framed_transform(
+    kind: JointType,
+    places: &[Place; 2],
+    frames: &[Isometry3<f64>; 2],
+    values: &[f64],
+) -> Isometry3<f64> {
     let [fu, fv] = frames;
     match kind {
         JointType::R => {
