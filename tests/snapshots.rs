@@ -50,6 +50,11 @@ fn pay_for_what_you_use() {
         fk_only.contains("pub fn fk(") && !fk_only.contains("pub fn ik("),
         "{fk_only}"
     );
+    // Velocity capabilities only where asked for (seed 000 A asks).
+    let four_bar = expansion("four_bar", "FourBar");
+    assert!(!four_bar.contains("fn jacobian(") && !four_bar.contains("fn model("));
+    let a = expansion("seed000_a", "SeedA");
+    assert!(a.contains("pub fn jacobian(") && a.contains("pub fn velocity(") && a.contains("pub fn acceleration("));
     // Analysis only (3-RPS: `ik` without geometry generates nothing yet): no function at all.
     let analysis = expansion("rps_3", "Rps");
     assert!(!analysis.contains("fn "), "{analysis}");

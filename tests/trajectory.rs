@@ -31,7 +31,6 @@ fn section_3_1_trajectory() {
     let path = format!("{}/examples/mechanisms/seed000_a.pkm", env!("CARGO_MANIFEST_DIR"));
     let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
     let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     let p = Default::default();
 
     // The paper's assembly: the five-bar above the sliders (z > 0), first α root.
@@ -55,9 +54,10 @@ fn section_3_1_trajectory() {
     let (mut worst_v, mut worst_a) = (0.0f64, 0.0f64);
     for k in 2..steps - 1 {
         let t = k as f64 * dt;
-        let acc = velocity::accelerations(&model, &path[k].q, &rho_dot(t), &rho_ddot(t)).unwrap();
+        // The generated capabilities (`velocity`, `acceleration`).
+        let acc = SeedA::acceleration(&p, &path[k].q, &rho_dot(t), &rho_ddot(t)).unwrap();
+        let v = SeedA::output_rates(&p, &path[k].q, &acc.velocities).unwrap();
         let poses = newton::link_poses(&model, &path[k].q).unwrap();
-        let v = velocity::output_rates(&model, &poses, &outputs, &acc.velocities.rates, &acc.velocities.twists);
         // Five-point central differences (error O(dt⁴)).
         let o = |d: isize| path[(k as isize + d) as usize].outputs;
         let fd_v: Vec<f64> = (0..4)

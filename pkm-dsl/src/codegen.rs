@@ -263,6 +263,7 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
         }
         solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
     }
+    solvers.push(crate::codegen_motion::generate(a, ident)?);
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");
     let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
     Ok(quote! {

@@ -10,7 +10,7 @@ use pkm_runtime::spatial::{Anchor, Constraint, Direction, Hop, Plan, Step};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
-fn xyz(v: &Vec3) -> TokenStream {
+pub(crate) fn xyz(v: &Vec3) -> TokenStream {
     let params = quote! { params };
     let (x, y, z) = (
         v[0].to_tokens(&params),
@@ -20,7 +20,7 @@ fn xyz(v: &Vec3) -> TokenStream {
     quote! { [#x, #y, #z] }
 }
 
-fn place(p: &JointPlace) -> TokenStream {
+pub(crate) fn place(p: &JointPlace) -> TokenStream {
     let m = quote! { ::pkm::runtime::model::Place };
     match p {
         JointPlace::Point(at, Some(axis)) => {

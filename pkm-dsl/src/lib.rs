@@ -24,6 +24,7 @@ pub mod topology;
 pub use report::{analyze_source, Analysis};
 mod codegen;
 mod codegen_fk;
+mod codegen_motion;
 mod codegen_spatial;
 
 pub use codegen::{check_capabilities, expand};

@@ -1,0 +1,156 @@
+//! Generated velocity capabilities (`jacobian`, `velocity`, `acceleration`):
+//! the numeric model and the outputs written out as expressions in the
+//! parameters, handed to the runtime's differentiated loop equations.
+
+use crate::codegen_spatial::{place, xyz};
+use crate::geometry::OutputKind;
+use crate::model::{Capability, JointKind};
+use crate::report::Analysis;
+use pkm_runtime::plan::PointRef;
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// The items of the requested velocity capabilities; empty if none is asked for.
+pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream, crate::Diagnostics> {
+    let m = &a.mechanism;
+    let wanted = [Capability::Jacobian, Capability::Velocity, Capability::Acceleration];
+    if !a.geometry.complete || !wanted.iter().any(|c| m.wants(*c)) {
+        return Ok(TokenStream::new());
+    }
+    // The numeric model must exist (every joint type has one).
+    crate::plan::model(a, &std::collections::HashMap::new())?;
+    let params_ty = format_ident!("{}Params", ident);
+    let rt = quote! { ::pkm::runtime };
+    let n_joints = m.joints.len();
+    let n_inputs = m.joints.iter().filter(|j| j.actuated).count();
+    let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
+    let joints = m.joints.iter().enumerate().map(|(j, joint)| {
+        let kind = match joint.kind {
+            JointKind::P => quote! { P },
+            JointKind::Pa => quote! { Pa },
+            JointKind::S => quote! { S },
+            _ => quote! { R },
+        };
+        let [u, v] = joint.links;
+        let (p0, p1) = (place(a.place(j, u)), place(a.place(j, v)));
+        let (name, actuated) = (&joint.name, joint.actuated);
+        quote! {
+            #rt::model::Joint {
+                name: ::std::string::String::from(#name),
+                kind: #rt::model::JointType::#kind,
+                links: [#u, #v],
+                places: [#p0, #p1],
+                actuated: #actuated,
+            }
+        }
+    });
+    let links = m.links.iter().map(|l| &l.name);
+    let points = a.geometry.points.iter().map(|p| {
+        let (name, link, at) = (&p.name, p.link, xyz(&p.at));
+        quote! {
+            #rt::model::NamedPoint { name: ::std::string::String::from(#name), link: #link, at: #at }
+        }
+    });
+    let local = |point: PointRef, link: usize| match point {
+        PointRef::Joint(j) => xyz(a.place(j, link).at()),
+        PointRef::Named(n) => xyz(&a.geometry.points[n].at),
+    };
+    let outputs = a.geometry.outputs.iter().map(|o| match &o.kind {
+        OutputKind::Pose { link, point, about } => {
+            let at = local(*point, *link);
+            let about = match about {
+                Some(k) => {
+                    let k = xyz(k);
+                    quote! { ::core::option::Option::Some(#k) }
+                }
+                None if m.planar => quote! { ::core::option::Option::Some([0.0, 0.0, 1.0]) },
+                None => quote! { ::core::option::Option::None },
+            };
+            quote! { #rt::newton::Output::Pose { link: #link, local: #at, about: #about } }
+        }
+        OutputKind::Point { link, point } => {
+            let at = local(*point, *link);
+            quote! { #rt::newton::Output::Point { link: #link, local: #at } }
+        }
+        OutputKind::Joint(j) => quote! { #rt::newton::Output::Joint(#j) },
+    });
+    let (name, planar) = (&m.name, m.planar);
+    let v = quote! { #rt::velocity };
+    let jacobian = m.wants(Capability::Jacobian).then(|| {
+        quote! {
+            /// The forward velocity map (outputs per input rate) at the joint
+            /// values `q`, and how far `q` is from an input and an output
+            /// singularity.
+            pub fn jacobian(params: &#params_ty, q: &[f64; #n_joints]) -> ::core::result::Result<#v::Jacobians, #v::VelocityError> {
+                #v::jacobians(&Self::model(params), q, &Self::output_specs(params))
+            }
+        }
+    });
+    let velocity = m.wants(Capability::Velocity).then(|| {
+        quote! {
+            /// Every joint rate and link twist at the joint values `q` for the
+            /// inputs' rates (their order is `INPUTS`'s).
+            pub fn velocity(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                input_rates: &[f64; #n_inputs],
+            ) -> ::core::result::Result<#v::Velocities, #v::VelocityError> {
+                #v::velocities(&Self::model(params), q, input_rates)
+            }
+
+            /// The declared outputs' rates (order `OUTPUTS`) for velocities at `q`.
+            pub fn output_rates(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                v: &#v::Velocities,
+            ) -> ::core::result::Result<[f64; #n_outputs], #v::VelocityError> {
+                let model = Self::model(params);
+                let poses = #rt::newton::link_poses(&model, q)?;
+                let rates = #v::output_rates(&model, &poses, &Self::output_specs(params), &v.rates, &v.twists);
+                let mut out = [0.0; #n_outputs];
+                out.copy_from_slice(&rates);
+                ::core::result::Result::Ok(out)
+            }
+        }
+    });
+    let acceleration = m.wants(Capability::Acceleration).then(|| {
+        quote! {
+            /// Every joint's rate and second derivative and every link's twist
+            /// and twist rate at `q` for the inputs' rates and second derivatives.
+            pub fn acceleration(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                input_rates: &[f64; #n_inputs],
+                input_accelerations: &[f64; #n_inputs],
+            ) -> ::core::result::Result<#v::Accelerations, #v::VelocityError> {
+                #v::accelerations(&Self::model(params), q, input_rates, input_accelerations)
+            }
+        }
+    });
+    Ok(quote! {
+        #[automatically_derived]
+        impl #ident {
+            /// The numeric model at `params`, which the velocity analysis reads.
+            pub fn model(params: &#params_ty) -> #rt::model::Model {
+                let _ = params;
+                #rt::model::Model {
+                    name: ::std::string::String::from(#name),
+                    planar: #planar,
+                    links: ::std::vec::Vec::from([#(::std::string::String::from(#links)),*]),
+                    joints: ::std::vec::Vec::from([#(#joints),*]),
+                    points: ::std::vec::Vec::from([#(#points),*]),
+                }
+            }
+
+            /// The declared outputs in numbers at `params`.
+            pub fn output_specs(params: &#params_ty) -> ::std::vec::Vec<#rt::newton::Output> {
+                let _ = params;
+                ::std::vec::Vec::from([#(#outputs),*])
+            }
+
+            #jacobian
+            #velocity
+            #acceleration
+        }
+    })
+}
