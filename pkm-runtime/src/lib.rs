@@ -11,6 +11,7 @@ pub mod real;
 pub mod spatial;
 pub mod topology;
 pub mod velocity;
+pub mod workspace;
 
 pub use topology::{SkcReport, SocReport, TopologyReport};
 
