@@ -1,8 +1,8 @@
 //! Seed 000 §2.2: the workspaces of mechanisms A and B swept through their
 //! generated forward solutions over x1 ∈ [−250, 0], x2 ∈ [0, 250],
 //! x3 ∈ [−300, 300] mm, for the platform's midpoint G (its centroid), on
-//! every assembly branch and on the paper's (the five-bar above the
-//! sliders, the first α root). Prints the volume (the image of the input
+//! the paper's assembly (the five-bar above the sliders), each root of the
+//! platform's angle. Prints the volume (the image of the input
 //! grid, `image_volume`) and the sweep's time.
 //!
 //! `cargo run --release --example workspace [nodes per input]` (default 100).
@@ -23,16 +23,37 @@ fn main() {
     let (pa, pb) = (SeedAParams::default(), SeedBParams::default());
     let ga = SeedA::POINTS.iter().position(|p| *p == "G").unwrap();
     let gb = SeedB::POINTS.iter().position(|p| *p == "G").unwrap();
-    let first = [Sign::Plus; 2];
-    let runs: [(&str, Box<dyn Fn(&[f64; 3]) -> Option<[f64; 3]> + Sync>); 2] = [
-        ("A", Box::new(move |q| SeedA::fk_branch(&pa, q, first).ok().map(|s| s.points[ga]))),
-        ("B", Box::new(move |q| SeedB::fk_branch(&pb, q, [Sign::Plus; 3]).ok().map(|s| s.points[gb]))),
+    // The paper's assembly: the five-bar above the sliders (its first sign
+    // Minus in both), each root of the platform's angle.
+    let (m, p) = (Sign::Minus, Sign::Plus);
+    type Solve = Box<dyn Fn(&[f64; 3]) -> Option<[f64; 3]> + Sync>;
+    let runs: [(&str, Solve); 4] = [
+        (
+            "A (−, +)",
+            Box::new(move |q| SeedA::fk_branch(&pa, q, [m, p]).ok().map(|s| s.points[ga])),
+        ),
+        (
+            "A (−, −)",
+            Box::new(move |q| SeedA::fk_branch(&pa, q, [m, m]).ok().map(|s| s.points[ga])),
+        ),
+        (
+            "B (−, −, +)",
+            Box::new(move |q| SeedB::fk_branch(&pb, q, [m, m, p]).ok().map(|s| s.points[gb])),
+        ),
+        (
+            "B (−, −, −)",
+            Box::new(move |q| SeedB::fk_branch(&pb, q, [m, m, m]).ok().map(|s| s.points[gb])),
+        ),
     ];
     for (name, solve) in runs {
         let start = Instant::now();
         let nodes = sweep_nodes::<3>(&grid, |q| solve(q));
         let took = start.elapsed();
-        let reached: Vec<_> = nodes.iter().flatten().map(|&point| Sample { q: [0.0; 3], point }).collect();
+        let reached: Vec<_> = nodes
+            .iter()
+            .flatten()
+            .map(|&point| Sample { q: [0.0; 3], point })
+            .collect();
         let volume = image_volume(&grid, &nodes);
         let (lo, hi) = bounds(&reached).unwrap_or(([0.0; 3], [0.0; 3]));
         println!(

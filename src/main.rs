@@ -42,6 +42,41 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// One HTML page: topology, position solutions, singularities, workspace, velocity and acceleration.
+    Report {
+        /// The mechanism file (.pkm), with parameters, geometry and outputs.
+        file: PathBuf,
+        /// The directory the page and its figures (PNG, SVG, CSV) go to.
+        #[arg(long)]
+        out: PathBuf,
+        /// Each actuator's range for the workspace sweep: `--ranges=-250:0,0:250,-300:300`.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parse_range)]
+        ranges: Vec<(f64, f64)>,
+        /// Grid nodes per input in the sweep.
+        #[arg(long, default_value_t = 60)]
+        nodes: usize,
+        /// The assembly branch swept and followed (its index in `signs_of` order).
+        #[arg(long, default_value_t = 0)]
+        branch: usize,
+        /// The point shown (a named point or a joint); default: the output point.
+        #[arg(long)]
+        point: Option<String>,
+        /// The sample input and the trajectory's centre; default: the ranges' middles.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        start: Option<Vec<f64>>,
+        /// The trajectory's amplitudes: input i is start_i + amplitude_i·sin(πt).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        amplitude: Option<Vec<f64>>,
+        /// The trajectory's duration in seconds.
+        #[arg(long, default_value_t = 5.0)]
+        duration: f64,
+        /// Workspace sections: `--sections x=60,y=-85,z=300`.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = parse_section)]
+        sections: Vec<(usize, f64)>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+    },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
         /// The mechanism file (.pkm), with parameters, geometry and outputs.
@@ -75,6 +110,27 @@ fn solve(file: &PathBuf, run: impl FnOnce(&str) -> Result<Value, pkm::dsl::Diagn
             ExitCode::FAILURE
         }
     }
+}
+
+fn parse_range(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("expected low:high, found `{s}`"))?;
+    let num = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .map_err(|e| format!("`{x}` is not a number: {e}"))
+    };
+    Ok((num(a)?, num(b)?))
+}
+
+fn parse_section(s: &str) -> Result<(usize, f64), String> {
+    let (axis, v) = parse_param(s)?;
+    let i = ["x", "y", "z"]
+        .iter()
+        .position(|a| *a == axis)
+        .ok_or_else(|| format!("a section's axis is x, y or z, found `{axis}`"))?;
+    Ok((i, v))
 }
 
 fn parse_pose(s: &str) -> Result<(String, f64), String> {
@@ -115,6 +171,46 @@ fn main() -> ExitCode {
             params,
             json: _,
         } => solve(&file, |text| fk(text, &q, &params)),
+        Command::Report {
+            file,
+            out,
+            ranges,
+            nodes,
+            branch,
+            point,
+            start,
+            amplitude,
+            duration,
+            sections,
+            params,
+        } => {
+            let (text, _) = match read(&file) {
+                Ok(t) => t,
+                Err(code) => return code,
+            };
+            let options = pkm::report::ReportOptions {
+                params,
+                ranges,
+                nodes,
+                branch,
+                point,
+                start,
+                amplitude,
+                duration,
+                sections,
+                ..Default::default()
+            };
+            match pkm::report::write_report(&text, &options, &out) {
+                Ok(page) => {
+                    println!("{}", page.display());
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
         Command::Analyze { file, json } => {
             let (text, shown) = match read(&file) {
                 Ok(t) => t,

@@ -75,9 +75,14 @@ pub fn sweep<const N: usize>(grid: &Grid, solve: impl Fn(&[f64; N]) -> Option<[f
 }
 
 /// As [`sweep`], one entry per node in node order (`None` where unreachable).
-pub fn sweep_nodes<const N: usize>(grid: &Grid, solve: impl Fn(&[f64; N]) -> Option<[f64; 3]> + Sync) -> Vec<Option<[f64; 3]>> {
+pub fn sweep_nodes<const N: usize>(
+    grid: &Grid,
+    solve: impl Fn(&[f64; N]) -> Option<[f64; 3]> + Sync,
+) -> Vec<Option<[f64; 3]>> {
     let total = grid.len();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(total.max(1));
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(total.max(1));
     let chunk = total.div_ceil(threads.max(1));
     let solve = &solve;
     let parts: Vec<Vec<Option<[f64; 3]>>> = std::thread::scope(|s| {
@@ -179,7 +184,14 @@ mod tests {
             .collect();
         assert_eq!(
             nodes,
-            [[0.0, 10.0], [0.0, 15.0], [0.0, 20.0], [1.0, 10.0], [1.0, 15.0], [1.0, 20.0]]
+            [
+                [0.0, 10.0],
+                [0.0, 15.0],
+                [0.0, 20.0],
+                [1.0, 10.0],
+                [1.0, 15.0],
+                [1.0, 20.0]
+            ]
         );
     }
 
@@ -194,7 +206,11 @@ mod tests {
         assert!((image_volume(&g, &nodes) - 6.0).abs() < 1e-12);
         // Spherical coordinates onto the unit ball: 4π/3 to O(h²).
         let g = Grid {
-            ranges: vec![(0.0, 1.0), (0.0, std::f64::consts::PI), (0.0, 2.0 * std::f64::consts::PI)],
+            ranges: vec![
+                (0.0, 1.0),
+                (0.0, std::f64::consts::PI),
+                (0.0, 2.0 * std::f64::consts::PI),
+            ],
             counts: vec![41, 81, 161],
         };
         let nodes = sweep_nodes::<3>(&g, |q| {
