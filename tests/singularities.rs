@@ -1,7 +1,9 @@
 //! Singularity measures (pkm-runtime's `velocity::jacobians`) on the
-//! conditions seed 000 §2.3 derives by hand for mechanism A: placed exactly
-//! on each condition the measure vanishes (relative σ below 1e-9), and a
-//! little off it does not.
+//! conditions seed 000 §2.3 derives by hand for mechanisms A (§2.3.1) and B
+//! (§2.3.2): placed exactly on each condition the measure vanishes
+//! (relative σ below 1e-9), and a little off it does not. B's conditions the
+//! paper rules out (x_E = x1 or x2, x1 = x2, z_E = l1: "not reachable") are
+//! not placed.
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
@@ -129,4 +131,132 @@ fn output_singularity_on_f33() {
     let alpha = ((z - 100.0) / (-300.0 - 300.0)).atan();
     assert!(check_output(&s, pose(z, alpha), true, "f33 = 0") > 0);
     assert!(check_output(&s, pose(z, alpha + 0.05), false, "f33 = 0, α + 0.05") > 0);
+}
+
+// Mechanism B, §2.3.2. With x1, x2 fixed (x_E depends on them alone), x3 is
+// moved until a condition holds, by bisection on one fk branch; there the
+// measure vanishes and 2 mm of x3 away it does not.
+
+pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+
+fn setup_b() -> Setup {
+    let path = format!("{}/examples/mechanisms/seed000_b.pkm", env!("CARGO_MANIFEST_DIR"));
+    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    Setup { model, outputs }
+}
+
+fn b_point(s: &SeedBSolution, name: &str) -> [f64; 3] {
+    s.points[SeedB::POINTS.iter().position(|n| *n == name).unwrap()]
+}
+
+/// An x3 in [lo, hi] where `condition` changes sign on branch `signs`:
+/// a scan for a sign change between reachable neighbours, then bisection.
+fn root_in_x3(x12: [f64; 2], signs: [Sign; 3], lo: f64, hi: f64, condition: impl Fn(&SeedBSolution) -> f64) -> f64 {
+    let p = Default::default();
+    let f = |x3: f64| {
+        SeedB::fk_branch(&p, &[x12[0], x12[1], x3], signs)
+            .ok()
+            .map(|s| condition(&s))
+    };
+    let steps = 600;
+    let at = |k: usize| lo + (hi - lo) * k as f64 / steps as f64;
+    let k = (0..steps)
+        .find(|&k| matches!((f(at(k)), f(at(k + 1))), (Some(a), Some(b)) if a * b < 0.0))
+        .expect("the condition changes sign somewhere in the reachable range");
+    let (mut a, mut b) = (at(k), at(k + 1));
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if f(a).unwrap() * f(m).unwrap() <= 0.0 {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+fn b_measure(s: &Setup, x: [f64; 3], signs: [Sign; 3]) -> (f64, f64) {
+    let q = SeedB::fk_branch(&Default::default(), &x, signs).unwrap().q;
+    let (i, o, _) = measure(s, &q);
+    (i, o)
+}
+
+const X12: [f64; 2] = [-106.09, 181.67];
+const UP: [Sign; 3] = [Sign::Minus, Sign::Minus, Sign::Plus];
+
+#[test]
+fn b_input_singularity_when_x3_equals_x_e() {
+    let s = setup_b();
+    let x_e = b_point(
+        &SeedB::fk_branch(&Default::default(), &[X12[0], X12[1], 0.0], UP).unwrap(),
+        "E",
+    )[0];
+    let (i, _) = b_measure(&s, [X12[0], X12[1], x_e], UP);
+    assert!(i < 1e-9, "x3 = x_E: {i:e}");
+    let (i, _) = b_measure(&s, [X12[0], X12[1], x_e + 2.0], UP);
+    assert!(i > 1e-7, "x3 = x_E + 2: {i:e}");
+}
+
+#[test]
+fn b_input_singularity_when_c1_and_d_are_level() {
+    // ④ z_C1 = z_D: the rod C1D horizontal.
+    let s = setup_b();
+    let level = |b: &SeedBSolution| b_point(b, "C1")[2] - b_point(b, "D")[2];
+    // On the assembly with E below the five-bar, the rod passes level as x3 moves.
+    let low = [Sign::Plus; 3];
+    let x3 = root_in_x3(X12, low, -300.0, 300.0, level);
+    let (i, o) = b_measure(&s, [X12[0], X12[1], x3], low);
+    assert!(i < 1e-9, "z_C1 = z_D at x3 = {x3}: σ_in {i:e} (σ_out {o:e})");
+    for d in [-2.0, 2.0] {
+        let (i, _) = b_measure(&s, [X12[0], X12[1], x3 + d], low);
+        assert!(i > 1e-7, "x3 {d:+} from z_C1 = z_D: {i:e}");
+    }
+}
+
+#[test]
+fn b_output_singularity_when_rod_and_platform_line_up() {
+    // ③ f13 = ∂|C1D|²/∂α = 0: C1, D and E in one line, the rod and the
+    // platform stretched (|C1E| = l3 + l4 = 630). Built exactly: C1 from the
+    // five-bar at Table 1's x1, x2; E on y = a at 630 from C1; α along C1E.
+    let s = setup_b();
+    let c1 = b_point(
+        &SeedB::fk_branch(&Default::default(), &[X12[0], X12[1], 0.0], UP).unwrap(),
+        "C1",
+    );
+    let (l1, l3, l4, l5, a) = (100.0, 180.0, 450.0, 320.0, 300.0);
+    let dy = a - c1[1];
+    let mut poses = 0;
+    for sign in [1.0, -1.0] {
+        let dz = sign * ((l3 + l4) * (l3 + l4) - dy * dy).sqrt();
+        let e = [c1[0], a, c1[2] + dz];
+        if (e[2] - l1).abs() > l5 {
+            continue; // E out of reach of B3's arm
+        }
+        poses += 1;
+        // D = E − l4 (0, sin α, cos α) = C1 + l3 û with û = (C1E)/|C1E|.
+        let alpha = dy.atan2(dz);
+        let mut found = 0;
+        for b in SeedB::ik(&Default::default(), &[e[0], e[1], e[2], alpha]) {
+            let Ok(sol) = b.result else { continue };
+            if (sol.q[0] - X12[0]).abs() > 1e-6 || (b_point(&sol, "C1")[2] - c1[2]).abs() > 1e-6 {
+                continue; // another five-bar assembly
+            }
+            let (_, o, _) = measure(&s, &sol.q);
+            assert!(o < 1e-9, "f13 = 0 (C1E {sign:+}): σ_out {o:e}");
+            found += 1;
+        }
+        // Turned 0.05 rad off the line, the same E is regular.
+        for b in SeedB::ik(&Default::default(), &[e[0], e[1], e[2] + 5.0, alpha + 0.05]) {
+            let Ok(sol) = b.result else { continue };
+            if (sol.q[0] - X12[0]).abs() > 1.0 {
+                continue;
+            }
+            let (_, o, _) = measure(&s, &sol.q);
+            assert!(o > 1e-5, "off f13 = 0: σ_out {o:e}");
+        }
+        assert!(found > 0, "no ik solution through C1 for the stretched pose {e:?}");
+    }
+    assert_eq!(poses, 1);
 }
