@@ -262,6 +262,9 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
             solvers.push(crate::codegen_fk::generate(a, plan, ident, direction));
         }
         solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
+        if !m.planar {
+            solvers.insert(1, crate::codegen_spatial::shared_items(a, ident));
+        }
     }
     solvers.push(crate::codegen_motion::generate(a, ident)?);
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");

@@ -162,11 +162,21 @@ pub enum PlanRef<'p> {
 /// (or `ik`, …) and the names of their values (`INPUTS` or `OUTPUTS`).
 pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
     let sol_ty = format_ident!("{}Solution", ident);
-    let (body, result, branches, inputs) = match plan {
-        PlanRef::Planar(p) => planar_body(a, p, &sol_ty),
-        PlanRef::Spatial(p) => crate::codegen_spatial::body(a, p, &sol_ty),
+    let (body, result, branches, inputs, extra) = match plan {
+        PlanRef::Planar(p) => {
+            let (body, result, branches, inputs) = planar_body(a, p, &sol_ty);
+            (body, result, branches, inputs, TokenStream::new())
+        }
+        PlanRef::Spatial(p) => {
+            let (poses_fn, what) = match direction {
+                Direction::Forward => (format_ident!("fk_poses"), "Forward"),
+                Direction::Inverse => (format_ident!("ik_poses"), "Inverse"),
+            };
+            crate::codegen_spatial::body(a, p, ident, &poses_fn, what)
+        }
     };
-    wrap(a, ident, direction, body, result, branches, &inputs)
+    let solver = wrap(a, ident, direction, body, result, branches, &inputs);
+    quote! { #solver #extra }
 }
 
 /// The straight-line body of a planar solver, the expression of its

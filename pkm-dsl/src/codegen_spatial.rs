@@ -158,11 +158,12 @@ fn step(s: &Step) -> TokenStream {
     }
 }
 
-/// The body of a spatial solver, the expression of its solution, its number
-/// of ± choices and its input joints.
-pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStream, TokenStream, usize, Vec<usize>) {
+/// The joints and named points at the parameters, generated once for both
+/// directions: `Name::joints(params)` and `Name::named_points(params)`.
+pub fn shared_items(a: &Analysis, ident: &proc_macro2::Ident) -> TokenStream {
     let m = &a.mechanism;
     let sp = quote! { ::pkm::runtime::spatial };
+    let params_ty = format_ident!("{}Params", ident);
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
         let kind = match joint.kind {
             JointKind::P => quote! { P },
@@ -177,24 +178,82 @@ pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStr
         }
     });
     let named: Vec<TokenStream> = a.geometry.points.iter().map(|p| xyz(&p.at)).collect();
-    let n_named = named.len();
-    let n_links = m.links.len();
+    let (n_joints, n_named) = (m.joints.len(), named.len());
+    quote! {
+        #[automatically_derived]
+        impl #ident {
+            /// Every joint's geometry at `params` (order `JOINTS`), for the
+            /// `*_poses` solvers: computed once, they serve many calls.
+            pub fn joints(params: &#params_ty) -> [#sp::Joint3; #n_joints] {
+                let _ = params;
+                [#(#joints),*]
+            }
+
+            /// Every named point in its link's frame at `params`.
+            pub fn named_points(params: &#params_ty) -> [[f64; 3]; #n_named] {
+                let _ = params;
+                [#(#named),*]
+            }
+        }
+    }
+}
+
+/// A spatial solver: the body of its `*_branch` function, the expression of
+/// its solution, its number of ± choices, its input joints, and the
+/// `*_poses` function (the steps alone, on joints computed beforehand).
+pub fn body(
+    a: &Analysis,
+    plan: &Plan,
+    ident: &proc_macro2::Ident,
+    poses_fn: &proc_macro2::Ident,
+    what: &str,
+) -> (TokenStream, TokenStream, usize, Vec<usize>, TokenStream) {
+    let m = &a.mechanism;
+    let sp = quote! { ::pkm::runtime::spatial };
+    let sol_ty = format_ident!("{}Solution", ident);
+    let (n_joints, n_named, n_links) = (m.joints.len(), a.geometry.points.len(), m.links.len());
+    let n_values = plan.n_inputs;
+    let n_branches = plan.branches;
     let mut steps = Vec::new();
     for (k, s) in plan.steps.iter().enumerate() {
         let c = format_ident!("STEP_{}", k);
         let s = step(s);
         steps.push(quote! {
             const #c: #sp::Step = #s;
-            #sp::execute(#k, &#c, &joints, &named, &mut poses, q, &signs, |j| {
+            #sp::execute(#k, &#c, joints, named, &mut poses, q, &signs, |j| {
                 ::std::borrow::Cow::Borrowed(Self::JOINTS[j])
             })?;
         });
     }
+    let doc = format!(
+        " {what} position for one branch, link poses only (order of the links), on joints and named points from `joints` and `named_points`: the fast path for sweeps."
+    );
+    let poses_item = quote! {
+        #[automatically_derived]
+        impl #ident {
+            #[doc = #doc]
+            pub fn #poses_fn(
+                joints: &[#sp::Joint3; #n_joints],
+                named: &[[f64; 3]; #n_named],
+                q: &[f64; #n_values],
+                signs: [::pkm::runtime::primitives::Sign; #n_branches],
+            ) -> ::core::result::Result<[#sp::Pose3; #n_links], ::pkm::runtime::plan::SolveError> {
+                let _ = (&signs, named);
+                if !q.iter().all(|v| v.is_finite()) {
+                    return ::core::result::Result::Err(::pkm::runtime::plan::SolveError::BadInput {
+                        what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+                    });
+                }
+                let mut poses = [#sp::Pose3::identity(); #n_links];
+                #(#steps)*
+                ::core::result::Result::Ok(poses)
+            }
+        }
+    };
     let body = quote! {
-        let joints = [#(#joints),*];
-        let named: [[f64; 3]; #n_named] = [#(#named),*];
-        let mut poses = [#sp::Pose3::identity(); #n_links];
-        #(#steps)*
+        let joints = Self::joints(params);
+        let named = Self::named_points(params);
+        let poses = Self::#poses_fn(&joints, &named, q, signs)?;
     };
     let mut points = Vec::new();
     for j in 0..m.joints.len() {
@@ -225,5 +284,5 @@ pub fn body(a: &Analysis, plan: &Plan, sol_ty: &proc_macro2::Ident) -> (TokenStr
         #lets
         #sol_ty { q: values, points: [#(#points),*], outputs: [#(#outputs),*] }
     }};
-    (body, result, plan.branches, plan.inputs.clone())
+    (body, result, plan.branches, plan.inputs.clone(), poses_item)
 }

@@ -39,16 +39,25 @@ pub struct Joint3 {
     pub places: [Place; 2],
     /// The places' canonical frames, computed once ([`place_frames`]).
     pub frames: [Pose3; 2],
+    /// The joint's transform at value 0 and its inverse, computed once (every
+    /// step's motion starts from them).
+    pub zero: [Pose3; 2],
+    /// The inverse of the second place's frame.
+    pub frame_v_inverse: Pose3,
 }
 
 impl Joint3 {
     /// A joint from its type, links and places.
     pub fn new(kind: JointType, links: [usize; 2], places: [Place; 2]) -> Joint3 {
+        let frames = place_frames(&places);
+        let zero = framed_transform(kind, &places, &frames, &[0.0; 3]);
         Joint3 {
             kind,
             links,
             places,
-            frames: place_frames(&places),
+            frames,
+            zero: [zero, zero.inverse()],
+            frame_v_inverse: frames[1].inverse(),
         }
     }
 
@@ -65,7 +74,15 @@ fn v3(a: [f64; 3]) -> Vector3<f64> {
 /// The pose of the link across joint `j` from the known pose `from`, at
 /// joint value `value`; `forward` when `from` is the joint's first link.
 pub fn transfer(from: &Pose3, j: &Joint3, forward: bool, value: f64) -> Pose3 {
-    let t = framed_transform(j.kind, &j.places, &j.frames, &[value]);
+    let t = match j.kind {
+        // F_u · Rz(θ) · F_v⁻¹ with the frames' parts computed once.
+        JointType::R => {
+            let (sin, cos) = (0.5 * value).sin_cos();
+            let rz = nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(cos, 0.0, 0.0, sin));
+            j.frames[0] * Isometry3::from_parts(nalgebra::Translation3::identity(), rz) * j.frame_v_inverse
+        }
+        _ => framed_transform(j.kind, &j.places, &j.frames, &[value]),
+    };
     if forward {
         from * t
     } else {
@@ -117,7 +134,7 @@ fn arr(v: Vector3<f64>) -> [f64; 3] {
 /// The motion of the new link's point `local` as joint `j` turns or slides
 /// from the known pose `from`.
 pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motion {
-    let zero = transfer(from, j, forward, 0.0);
+    let zero = from * j.zero[usize::from(!forward)];
     let x0 = zero.transform_point(&Point3::from(v3(local))).coords;
     let (side_from, side_new) = if forward { (0, 1) } else { (1, 0) };
     match j.kind {
@@ -718,7 +735,7 @@ pub fn execute(
             let forward = j.links[0] == *from;
             let k = turning_axis(&f, j, forward).ok_or_else(|| bad("align through a non-revolute".into()))?;
             // The group's direction with this joint at 0.
-            let zero = transfer(&f, j, forward, 0.0);
+            let zero = f * j.zero[usize::from(!forward)];
             let d = direction(joints, zero, *to, group);
             let w = direction(joints, poses[target.link], target.link, target);
             let value = align(k, d, w).map_err(err(*joint))?;
@@ -735,7 +752,7 @@ pub fn execute(
             let forward = j.links[0] == *from;
             let k =
                 turning_axis(&f, j, forward).ok_or_else(|| bad("a parallelogram turned by a non-revolute".into()))?;
-            let zero = transfer(&f, j, forward, 0.0);
+            let zero = f * j.zero[usize::from(!forward)];
             let p = &joints[*pa];
             let side = usize::from(p.links[0] != *to);
             let (n, hinge) = (dir(&zero, p.places[side].axis()), at(&zero, p.places[side].at()));
