@@ -1,6 +1,7 @@
 //! Plots for the report: every figure as PNG and SVG (plotters) with
 //! labelled axes and units, and its data as CSV beside it.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -78,6 +79,31 @@ fn both(stem: &Path, size: (u32, u32), d: &impl Draw) -> Result<(PathBuf, PathBu
     Ok((png, svg))
 }
 
+/// A chart with its caption, labelled axes and mesh drawn.
+fn frame<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    labels: [&str; 2],
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(|e| err(format!("{e:?}")))?;
+    chart
+        .configure_mesh()
+        .x_desc(labels[0])
+        .y_desc(labels[1])
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| err(format!("{e:?}")))?;
+    Ok(chart)
+}
+
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
 /// included in the labels).
 pub fn scatter(
@@ -106,20 +132,7 @@ pub fn scatter(
     }
     impl Draw for Scatter<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-            let mut chart = ChartBuilder::on(area)
-                .caption(self.title, ("sans-serif", 22))
-                .margin(12)
-                .x_label_area_size(45)
-                .y_label_area_size(65)
-                .build_cartesian_2d(self.xr.0..self.xr.1, self.yr.0..self.yr.1)
-                .map_err(|e| err(format!("{e:?}")))?;
-            chart
-                .configure_mesh()
-                .x_desc(self.labels[0])
-                .y_desc(self.labels[1])
-                .label_style(("sans-serif", 14))
-                .draw()
-                .map_err(|e| err(format!("{e:?}")))?;
+            let mut chart = frame(area, self.title, self.labels, self.xr, self.yr)?;
             for (k, (name, points)) in self.sets.iter().enumerate() {
                 let colour = Palette99::pick(k).to_rgba();
                 chart
@@ -191,20 +204,7 @@ pub fn curves(
     }
     impl Draw for Curves<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-            let mut chart = ChartBuilder::on(area)
-                .caption(self.title, ("sans-serif", 22))
-                .margin(12)
-                .x_label_area_size(45)
-                .y_label_area_size(70)
-                .build_cartesian_2d(self.xr.0..self.xr.1, self.yr.0..self.yr.1)
-                .map_err(|e| err(format!("{e:?}")))?;
-            chart
-                .configure_mesh()
-                .x_desc(self.labels[0])
-                .y_desc(self.labels[1])
-                .label_style(("sans-serif", 14))
-                .draw()
-                .map_err(|e| err(format!("{e:?}")))?;
+            let mut chart = frame(area, self.title, self.labels, self.xr, self.yr)?;
             for (k, (name, v)) in self.series.iter().enumerate() {
                 let colour = Palette99::pick(k).to_rgba();
                 chart

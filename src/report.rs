@@ -437,24 +437,20 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
     let series = |d: &[Vec<f64>]| -> Vec<(String, Vec<f64>)> {
         names.iter().zip(d).map(|(n, v)| (n.to_string(), v.clone())).collect()
     };
-    let f = plots::curves(
-        &out.join("velocity"),
-        &format!("Velocity of {point_name}"),
-        ["t (s)", &format!("v ({unit}/s)")],
-        &ts,
-        &series(&vel),
-    )
-    .map_err(|e| e.to_string())?;
-    page.push_str(&figure_html(&f, "Velocity"));
-    let f = plots::curves(
-        &out.join("acceleration"),
-        &format!("Acceleration of {point_name}"),
-        ["t (s)", &format!("a ({unit}/s²)")],
-        &ts,
-        &series(&acc),
-    )
-    .map_err(|e| e.to_string())?;
-    page.push_str(&figure_html(&f, "Acceleration"));
+    for (stem, title, axis, data) in [
+        ("velocity", "Velocity", format!("v ({unit}/s)"), &vel),
+        ("acceleration", "Acceleration", format!("a ({unit}/s²)"), &acc),
+    ] {
+        let f = plots::curves(
+            &out.join(stem),
+            &format!("{title} of {point_name}"),
+            ["t (s)", &axis],
+            &ts,
+            &series(data),
+        )
+        .map_err(|e| e.to_string())?;
+        page.push_str(&figure_html(&f, title));
+    }
 
     page.push_str("</body></html>\n");
     let path = out.join("index.html");

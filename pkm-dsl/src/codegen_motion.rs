@@ -4,7 +4,7 @@
 
 use crate::codegen_spatial::{place, xyz};
 use crate::geometry::OutputKind;
-use crate::model::{Capability, JointKind};
+use crate::model::Capability;
 use crate::report::Analysis;
 use pkm_runtime::plan::PointRef;
 use proc_macro2::TokenStream;
@@ -25,19 +25,14 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
     let n_inputs = m.joints.iter().filter(|j| j.actuated).count();
     let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
-        let kind = match joint.kind {
-            JointKind::P => quote! { P },
-            JointKind::Pa => quote! { Pa },
-            JointKind::S => quote! { S },
-            _ => quote! { R },
-        };
+        let kind = crate::codegen_spatial::joint_type(joint.kind);
         let [u, v] = joint.links;
         let (p0, p1) = (place(a.place(j, u)), place(a.place(j, v)));
         let (name, actuated) = (&joint.name, joint.actuated);
         quote! {
             #rt::model::Joint {
                 name: ::std::string::String::from(#name),
-                kind: #rt::model::JointType::#kind,
+                kind: #kind,
                 links: [#u, #v],
                 places: [#p0, #p1],
                 actuated: #actuated,

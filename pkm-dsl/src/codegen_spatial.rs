@@ -158,6 +158,17 @@ fn step(s: &Step) -> TokenStream {
     }
 }
 
+/// The runtime's joint type of a joint kind (every kind with a numeric
+/// model: the planners refuse the others before code is generated).
+pub(crate) fn joint_type(kind: JointKind) -> TokenStream {
+    match kind {
+        JointKind::P => quote! { ::pkm::runtime::model::JointType::P },
+        JointKind::Pa => quote! { ::pkm::runtime::model::JointType::Pa },
+        JointKind::S => quote! { ::pkm::runtime::model::JointType::S },
+        _ => quote! { ::pkm::runtime::model::JointType::R },
+    }
+}
+
 /// The joints and named points at the parameters, generated once for both
 /// directions: `Name::joints(params)` and `Name::named_points(params)`.
 pub fn shared_items(a: &Analysis, ident: &proc_macro2::Ident) -> TokenStream {
@@ -165,16 +176,11 @@ pub fn shared_items(a: &Analysis, ident: &proc_macro2::Ident) -> TokenStream {
     let sp = quote! { ::pkm::runtime::spatial };
     let params_ty = format_ident!("{}Params", ident);
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
-        let kind = match joint.kind {
-            JointKind::P => quote! { P },
-            JointKind::Pa => quote! { Pa },
-            JointKind::S => quote! { S },
-            _ => quote! { R },
-        };
+        let kind = joint_type(joint.kind);
         let [u, v] = joint.links;
         let (p0, p1) = (place(a.place(j, u)), place(a.place(j, v)));
         quote! {
-            #sp::Joint3::new(::pkm::runtime::model::JointType::#kind, [#u, #v], [#p0, #p1])
+            #sp::Joint3::new(#kind, [#u, #v], [#p0, #p1])
         }
     });
     let named: Vec<TokenStream> = a.geometry.points.iter().map(|p| xyz(&p.at)).collect();
