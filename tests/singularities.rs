@@ -218,7 +218,10 @@ fn b_input_singularity_when_c1_and_d_are_level() {
 #[test]
 fn b_output_singularity_when_rod_and_platform_line_up() {
     // ③ f13 = ∂|C1D|²/∂α = 0: C1, D and E in one line, the rod and the
-    // platform stretched (|C1E| = l3 + l4 = 630). Built exactly: C1 from the
+    // platform stretched (|C1E| = l3 + l4 = 630). Paper typo: its f13 has the
+    // factor −2l3; differentiating D = E − l4 (0, sin α, cos α) gives −2l4
+    // (the zero set is the same). Its g33 reads 2(x_c3 − x3) in the matrix
+    // and 2(x_E − x3) in the text; x_E is right for B (tested above). Built exactly: C1 from the
     // five-bar at Table 1's x1, x2; E on y = a at 630 from C1; α along C1E.
     let s = setup_b();
     let c1 = b_point(
