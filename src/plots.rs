@@ -104,6 +104,19 @@ fn frame<'a, DB: DrawingBackend>(
     Ok(chart)
 }
 
+/// The series' legend, boxed.
+fn legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> Result<(), PlotError> {
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 14))
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| err(format!("{e:?}")))
+}
+
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
 /// included in the labels).
 pub fn scatter(
@@ -146,13 +159,7 @@ pub fn scatter(
                     .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
             }
             if self.sets.len() > 1 {
-                chart
-                    .configure_series_labels()
-                    .label_font(("sans-serif", 14))
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(|e| err(format!("{e:?}")))?;
+                legend(&mut chart)?;
             }
             Ok(())
         }
@@ -216,13 +223,7 @@ pub fn curves(
                     .label(name.clone())
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
             }
-            chart
-                .configure_series_labels()
-                .label_font(("sans-serif", 14))
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| err(format!("{e:?}")))?;
+            legend(&mut chart)?;
             Ok(())
         }
     }
