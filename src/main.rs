@@ -36,7 +36,7 @@ enum Command {
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
         q: Vec<f64>,
         /// Override a parameter: `--param l1=120`.
-        #[arg(long = "param", value_parser = parse_param)]
+        #[arg(long = "param", value_parser = pkm::report::parse_param)]
         params: Vec<(String, f64)>,
         /// Print one JSON object (the text form is the same JSON, indented).
         #[arg(long)]
@@ -49,33 +49,8 @@ enum Command {
         /// The directory the page and its figures (PNG, SVG, CSV) go to.
         #[arg(long)]
         out: PathBuf,
-        /// Each actuator's range for the workspace sweep: `--ranges=-250:0,0:250,-300:300`.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parse_range)]
-        ranges: Vec<(f64, f64)>,
-        /// Grid nodes per input in the sweep.
-        #[arg(long, default_value_t = 60)]
-        nodes: usize,
-        /// The assembly branch swept and followed (its index in `signs_of` order).
-        #[arg(long, default_value_t = 0)]
-        branch: usize,
-        /// The point shown (a named point or a joint); default: the output point.
-        #[arg(long)]
-        point: Option<String>,
-        /// The sample input and the trajectory's centre; default: the ranges' middles.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-        start: Option<Vec<f64>>,
-        /// The trajectory's amplitudes: input i is start_i + amplitude_i·sin(πt).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-        amplitude: Option<Vec<f64>>,
-        /// The trajectory's duration in seconds.
-        #[arg(long, default_value_t = 5.0)]
-        duration: f64,
-        /// Workspace sections: `--sections x=60,y=-85,z=300`.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = parse_section)]
-        sections: Vec<(usize, f64)>,
-        /// Override a parameter: `--param l1=120`.
-        #[arg(long = "param", value_parser = parse_param)]
-        params: Vec<(String, f64)>,
+        #[command(flatten)]
+        options: pkm::report::ReportOptions,
     },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
@@ -85,7 +60,7 @@ enum Command {
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parse_pose)]
         pose: Vec<(String, f64)>,
         /// Override a parameter: `--param l1=120`.
-        #[arg(long = "param", value_parser = parse_param)]
+        #[arg(long = "param", value_parser = pkm::report::parse_param)]
         params: Vec<(String, f64)>,
         /// Print one JSON object (the text form is the same JSON, indented).
         #[arg(long)]
@@ -112,37 +87,8 @@ fn solve(file: &PathBuf, run: impl FnOnce(&str) -> Result<Value, pkm::dsl::Diagn
     }
 }
 
-fn parse_range(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(':')
-        .ok_or_else(|| format!("expected low:high, found `{s}`"))?;
-    let num = |x: &str| {
-        x.trim()
-            .parse::<f64>()
-            .map_err(|e| format!("`{x}` is not a number: {e}"))
-    };
-    Ok((num(a)?, num(b)?))
-}
-
-fn parse_section(s: &str) -> Result<(usize, f64), String> {
-    let (axis, v) = parse_param(s)?;
-    let i = ["x", "y", "z"]
-        .iter()
-        .position(|a| *a == axis)
-        .ok_or_else(|| format!("a section's axis is x, y or z, found `{axis}`"))?;
-    Ok((i, v))
-}
-
 fn parse_pose(s: &str) -> Result<(String, f64), String> {
-    parse_param(s)
-}
-
-fn parse_param(s: &str) -> Result<(String, f64), String> {
-    let (k, v) = s
-        .split_once('=')
-        .ok_or_else(|| format!("expected name=value, found `{s}`"))?;
-    let v: f64 = v.trim().parse().map_err(|e| format!("`{v}` is not a number: {e}"))?;
-    Ok((k.trim().to_string(), v))
+    pkm::report::parse_param(s)
 }
 
 fn read(file: &PathBuf) -> Result<(String, String), ExitCode> {
@@ -171,34 +117,10 @@ fn main() -> ExitCode {
             params,
             json: _,
         } => solve(&file, |text| fk(text, &q, &params)),
-        Command::Report {
-            file,
-            out,
-            ranges,
-            nodes,
-            branch,
-            point,
-            start,
-            amplitude,
-            duration,
-            sections,
-            params,
-        } => {
+        Command::Report { file, out, options } => {
             let (text, _) = match read(&file) {
                 Ok(t) => t,
                 Err(code) => return code,
-            };
-            let options = pkm::report::ReportOptions {
-                params,
-                ranges,
-                nodes,
-                branch,
-                point,
-                start,
-                amplitude,
-                duration,
-                sections,
-                ..Default::default()
             };
             match pkm::report::write_report(&text, &options, &out) {
                 Ok(page) => {

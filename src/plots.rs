@@ -119,6 +119,12 @@ fn legend<'a, DB: DrawingBackend + 'a>(
 
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
 /// included in the labels).
+///
+/// ```
+/// let stem = std::env::temp_dir().join("pkm-doc-scatter");
+/// let f = pkm::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &[("corners".into(), vec![[0.0, 0.0], [1.0, 1.0]])]).unwrap();
+/// assert!(std::fs::read_to_string(f.csv).unwrap().starts_with("set,x (mm),y (mm)"));
+/// ```
 pub fn scatter(
     stem: &Path,
     title: &str,
@@ -177,6 +183,13 @@ pub fn scatter(
 
 /// Curves over a shared abscissa: `series` are (name, values) with the same
 /// length as `x`.
+///
+/// ```
+/// let stem = std::env::temp_dir().join("pkm-doc-curves");
+/// let t = [0.0, 0.5, 1.0];
+/// let f = pkm::plots::curves(&stem, "Ramp", ["t (s)", "v (mm/s)"], &t, &[("v".into(), vec![0.0, 1.0, 2.0])]).unwrap();
+/// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 4);
+/// ```
 pub fn curves(
     stem: &Path,
     title: &str,

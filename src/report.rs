@@ -15,29 +15,38 @@ use pkm_runtime::workspace::{image_volume, sweep_nodes, Grid};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// What the report samples.
-#[derive(Debug, Clone)]
+/// What the report samples (also the `pkm report` command line's options).
+#[derive(Debug, Clone, clap::Args)]
 pub struct ReportOptions {
-    /// Parameter overrides.
+    /// Override a parameter: `--param l1=120`.
+    #[arg(long = "param", value_parser = parse_param)]
     pub params: Vec<(String, f64)>,
-    /// The actuators' ranges for the workspace sweep, in input order.
+    /// Each actuator's range for the workspace sweep: `--ranges=-250:0,0:250,-300:300`.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = parse_range)]
     pub ranges: Vec<(f64, f64)>,
-    /// Grid nodes per input for the workspace sweep.
+    /// Grid nodes per input in the sweep.
+    #[arg(long, default_value_t = 60)]
     pub nodes: usize,
-    /// The assembly branch swept and followed (index in `signs_of` order).
+    /// The assembly branch swept and followed (its index in `signs_of` order).
+    #[arg(long, default_value_t = 0)]
     pub branch: usize,
-    /// The point whose workspace and motion are shown; default: the first
-    /// pose or point output's point.
+    /// The point shown (a named point or a joint); default: the first pose or point output's point.
+    #[arg(long)]
     pub point: Option<String>,
     /// The sample input and the trajectory's centre; default: the ranges' middles.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub start: Option<Vec<f64>>,
-    /// The trajectory: input i is `start[i] + amplitude[i]·sin(πt)`; default 5 % of each range.
+    /// The trajectory: input i is start_i + amplitude_i·sin(πt); default 5 % of each range.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub amplitude: Option<Vec<f64>>,
-    /// The trajectory's duration (s).
+    /// The trajectory's duration in seconds.
+    #[arg(long, default_value_t = 5.0)]
     pub duration: f64,
-    /// Sections of the workspace: (axis 0..3, value).
+    /// Workspace sections: `--sections x=60,y=-85,z=300`.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = parse_section)]
     pub sections: Vec<(usize, f64)>,
     /// The length unit's name, for labels.
+    #[arg(long, default_value = "mm")]
     pub unit: String,
 }
 
@@ -56,6 +65,51 @@ impl Default for ReportOptions {
             unit: "mm".into(),
         }
     }
+}
+
+/// `name=value`, as `--param` and `--pose` take it.
+///
+/// ```
+/// assert_eq!(pkm::report::parse_param("l1 = 120"), Ok(("l1".to_string(), 120.0)));
+/// ```
+pub fn parse_param(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected name=value, found `{s}`"))?;
+    let v: f64 = v.trim().parse().map_err(|e| format!("`{v}` is not a number: {e}"))?;
+    Ok((k.trim().to_string(), v))
+}
+
+/// `low:high`.
+///
+/// ```
+/// assert_eq!(pkm::report::parse_range("-250:0"), Ok((-250.0, 0.0)));
+/// assert!(pkm::report::parse_range("5").is_err());
+/// ```
+pub fn parse_range(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("expected low:high, found `{s}`"))?;
+    let num = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .map_err(|e| format!("`{x}` is not a number: {e}"))
+    };
+    Ok((num(a)?, num(b)?))
+}
+
+/// `x=60`: a section plane by its axis and value.
+///
+/// ```
+/// assert_eq!(pkm::report::parse_section("y=-85"), Ok((1, -85.0)));
+/// ```
+pub fn parse_section(s: &str) -> Result<(usize, f64), String> {
+    let (axis, v) = parse_param(s)?;
+    let i = ["x", "y", "z"]
+        .iter()
+        .position(|a| *a == axis)
+        .ok_or_else(|| format!("a section's axis is x, y or z, found `{axis}`"))?;
+    Ok((i, v))
 }
 
 /// The forward solution by the interpreter, planar or spatial.
@@ -132,6 +186,21 @@ fn figure_html(f: &Figure, caption: &str) -> String {
 
 /// Writes the report for the mechanism text `text` into `out` (created if
 /// needed); returns the page's path.
+///
+/// # Example
+/// A four-bar's coupler point E over a full crank turn:
+/// ```
+/// let text = std::fs::read_to_string("examples/mechanisms/four_bar.pkm").unwrap();
+/// let options = pkm::report::ReportOptions {
+///     ranges: vec![(-3.1, 3.1)],
+///     nodes: 40,
+///     point: Some("E".into()),
+///     ..Default::default()
+/// };
+/// let out = std::env::temp_dir().join("pkm-doc-report");
+/// let page = pkm::report::write_report(&text, &options, &out).unwrap();
+/// assert!(std::fs::read_to_string(page).unwrap().contains("Workspace of E"));
+/// ```
 pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf, String> {
     let a = pkm_dsl::analyze_source(text).map_err(|d| d.render(text, "input"))?;
     let values = o.params.iter().cloned().collect();
