@@ -1,12 +1,16 @@
 //! Singularity measures (pkm-runtime's `velocity::jacobians`) on the
 //! conditions seed 000 §2.3 derives by hand for mechanisms A (§2.3.1) and B
 //! (§2.3.2): placed exactly on each condition the measure vanishes
-//! (relative σ below 1e-9), and a little off it does not. B's conditions the
+//! (relative σ below 1e-9), and a little off it does not; and the factor
+//! pkm names for it (`singular`: the plan step whose derivative vanishes,
+//! with its joint points) is the paper's condition read geometrically,
+//! derived by hand in each test's comment. B's conditions the
 //! paper rules out (x_E = x1 or x2, x1 = x2, z_E = l1: "not reachable") are
 //! not placed.
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
+use pkm::runtime::{newton, singular, spatial};
 use std::collections::HashMap;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -14,14 +18,37 @@ pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 struct Setup {
     model: pkm::runtime::model::Model,
     outputs: Vec<pkm::runtime::newton::Output>,
+    forward: spatial::Plan,
+    inverse: spatial::Plan,
 }
 
-fn setup() -> Setup {
-    let path = format!("{}/examples/mechanisms/seed000_a.pkm", env!("CARGO_MANIFEST_DIR"));
+fn setup_file(name: &str) -> Setup {
+    let path = format!("{}/examples/mechanisms/{name}.pkm", env!("CARGO_MANIFEST_DIR"));
     let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
     let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
     let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    Setup { model, outputs }
+    Setup {
+        model,
+        outputs,
+        forward: pkm::dsl::plan3::forward_plan(&a).unwrap(),
+        inverse: pkm::dsl::plan3::inverse_plan(&a).unwrap(),
+    }
+}
+
+fn setup() -> Setup {
+    setup_file("seed000_a")
+}
+
+/// The smallest factor of the forward plan (`det J_o`) or of the inverse
+/// plan (`det J_i`) at `q`, and what it says.
+fn smallest(s: &Setup, q: &[f64], input: bool) -> (f64, String) {
+    let poses = newton::link_poses(&s.model, q).unwrap();
+    let plan = if input { &s.inverse } else { &s.forward };
+    let f = singular::spatial_factors(&s.model, plan, &poses)
+        .into_iter()
+        .min_by(|a, b| a.value.total_cmp(&b.value))
+        .unwrap();
+    (f.value, f.describe(&s.model, &poses))
 }
 
 /// (input σ, output σ, class) at the joint values `q`.
@@ -49,7 +76,27 @@ fn table_1_is_regular() {
     let (i, o, class) = measure(&s, &q);
     assert_eq!(class, Singularity::None, "{i:e} {o:e}");
     assert!(i > 1e-5 && o > 1e-3, "{i:e} {o:e}");
+    for input in [false, true] {
+        let (v, what) = smallest(&s, &q, input);
+        assert!(v > 1e-2, "{what}: {v:e}");
+    }
 }
+
+// The factors, read from the paper's conditions by hand. The five-bar's
+// second circle: C1 turns about B1 at l2 and must stay l2 from B2; the
+// circles touch (or coincide) when B1, C1, B2 are collinear (z_C1 = l1, the
+// B's at height l1) or when B1 = B2 (x1 = x2).
+const FIVE_BAR: &str = "the path of R12 (C1, o) moved by R11 (B1) touches the cylinder about R13 (B2)'s axis";
+// D turns about R4 (the x axis through C3) and must stay l4 from B3: the
+// circle touches the sphere when C3, D, B3 line up in the yz plane, the
+// platform along C3B3: α = arctan((z_C3 − l1)/(y_C3 − a)), f33 = 0.
+// With x1 = x2 the circles coincide: B1 and B2 are one point.
+const FIVE_BAR_MET: &str =
+    "the path of R12 (C1, o) moved by R11 (B1, B2) touches the cylinder about R13 (B1, B2)'s axis";
+const PLATFORM: &str = "the path of R6 (D) moved by R4 (C1, o) touches the sphere about Pa (B3)";
+// B3 slides along x and must stay l4 from D: tangent when B3D ⟂ x, x3 = x_D,
+// and x_D = x_C3 since the platform turns about x.
+const SLIDER_3: &str = "the path of R5 (B3) moved by P3 (A3) touches the sphere about Pa (D)";
 
 #[test]
 fn input_singularity_when_x3_equals_x_c3() {
@@ -64,12 +111,15 @@ fn input_singularity_when_x3_equals_x_c3() {
         for b in q.iter().filter_map(|b| b.result.as_ref().ok()) {
             assert!((b.q[P3] - (x_c3 + dx)).abs() < 1e-12);
             let (i, o, class) = measure(&s, &b.q);
+            let (v, what) = smallest(&s, &b.q, true);
             if singular {
                 assert!(
                     i < 1e-9 && matches!(class, Singularity::Input),
                     "x3 = x_C3: {i:e} {o:e}"
                 );
+                assert!(v < 1e-9 && what == SLIDER_3, "{what}: {v:e}");
             } else {
+                assert!(v > 1e-4, "{what}: {v:e}");
                 assert!(i > 1e-7 && o > 1e-3, "x3 = x_C3 {dx:+}: {i:e} {o:e}");
             }
         }
@@ -82,15 +132,18 @@ fn pose(z: f64, alpha: f64) -> [f64; 4] {
 }
 
 /// Every ik solution of `pose` is output-singular (`on`), or none is.
-fn check_output(s: &Setup, pose: [f64; 4], on: bool, what: &str) -> usize {
+fn check_output(s: &Setup, pose: [f64; 4], on: bool, what: &str, factor: &str) -> usize {
     let mut n = 0;
     // Solutions with x1 = x2 are on another output condition (tested below).
     for q in ik(pose).into_iter().filter(|q| (q[0] - q[4]).abs() > 1e-9) {
         let (_, o, _) = measure(s, &q);
+        let (v, named) = smallest(s, &q, false);
         if on {
             assert!(o < 1e-9, "{what}: output σ {o:e} at {pose:?}");
+            assert!(v < 1e-9 && named == factor, "{what}: {named}: {v:e}");
         } else {
             assert!(o > 1e-5, "{what}, off: output σ {o:e} at {pose:?}");
+            assert!(v > 1e-4, "{what}, off: {named}: {v:e}");
         }
         n += 1;
     }
@@ -106,6 +159,8 @@ fn output_singularity_when_sliders_meet() {
         let (_, o, _) = measure(&s, &q);
         if (q[0] - q[4]).abs() < 1e-9 {
             assert!(o < 1e-9, "x1 = x2: output σ {o:e}");
+            let (v, what) = smallest(&s, &q, false);
+            assert!(v < 1e-9 && what == FIVE_BAR_MET, "{what}: {v:e}");
             met += 1;
         } else {
             assert!(o > 1e-3, "x1 ≠ x2: output σ {o:e}");
@@ -118,8 +173,8 @@ fn output_singularity_when_sliders_meet() {
 fn output_singularity_when_c3_is_at_the_sliders_height() {
     // z_C3 = l1 = 100: the five-bar's distal links line up.
     let s = setup();
-    assert!(check_output(&s, pose(100.0, -0.3), true, "z = l1") > 0);
-    assert!(check_output(&s, pose(110.0, -0.3), false, "z = l1 + 10") > 0);
+    assert!(check_output(&s, pose(100.0, -0.3), true, "z = l1", FIVE_BAR) > 0);
+    assert!(check_output(&s, pose(110.0, -0.3), false, "z = l1 + 10", FIVE_BAR) > 0);
 }
 
 #[test]
@@ -129,8 +184,8 @@ fn output_singularity_on_f33() {
     let s = setup();
     let z: f64 = 238.9192;
     let alpha = ((z - 100.0) / (-300.0 - 300.0)).atan();
-    assert!(check_output(&s, pose(z, alpha), true, "f33 = 0") > 0);
-    assert!(check_output(&s, pose(z, alpha + 0.05), false, "f33 = 0, α + 0.05") > 0);
+    assert!(check_output(&s, pose(z, alpha), true, "f33 = 0", PLATFORM) > 0);
+    assert!(check_output(&s, pose(z, alpha + 0.05), false, "f33 = 0, α + 0.05", PLATFORM) > 0);
 }
 
 // Mechanism B, §2.3.2. With x1, x2 fixed (x_E depends on them alone), x3 is
@@ -140,11 +195,7 @@ fn output_singularity_on_f33() {
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 fn setup_b() -> Setup {
-    let path = format!("{}/examples/mechanisms/seed000_b.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    Setup { model, outputs }
+    setup_file("seed000_b")
 }
 
 fn b_point(s: &SeedBSolution, name: &str) -> [f64; 3] {
@@ -183,7 +234,21 @@ fn b_measure(s: &Setup, x: [f64; 3], signs: [Sign; 3]) -> (f64, f64) {
     (i, o)
 }
 
+/// The smallest input factor at an fk configuration of B.
+fn b_input_factor(s: &Setup, x: [f64; 3], signs: [Sign; 3]) -> (f64, String) {
+    smallest(s, &SeedB::fk_branch(&Default::default(), &x, signs).unwrap().q, true)
+}
+
 const X12: [f64; 2] = [-106.09, 181.67];
+
+// B3 slides along x and must stay l5 from E: tangent when B3E ⟂ x, x3 = x_E.
+const B_SLIDER_3: &str = "the path of Pa (B3) moved by P3 (A3) touches the sphere about Pa (E)";
+// The rod's end C1 turns about R5 (the x axis through D) and must stay in
+// the five-bar's plane y = −a: tangent when DC1 is along y, z_C1 = z_D.
+const B_ROD: &str = "the path of R4 (C1) moved by R5 (D) touches the plane through R4 (C1)";
+// D turns about R4 (the x axis through C1) at l3 and must stay l4 from R6's
+// axis (the x axis through E): the circles touch when C1, D, E line up, f13 = 0.
+const B_STRETCHED: &str = "the path of R5 (D) moved by R4 (C1) touches the cylinder about R6 (E)'s axis";
 const UP: [Sign; 3] = [Sign::Minus, Sign::Minus, Sign::Plus];
 
 #[test]
@@ -195,8 +260,11 @@ fn b_input_singularity_when_x3_equals_x_e() {
     )[0];
     let (i, _) = b_measure(&s, [X12[0], X12[1], x_e], UP);
     assert!(i < 1e-9, "x3 = x_E: {i:e}");
+    let (v, what) = b_input_factor(&s, [X12[0], X12[1], x_e], UP);
+    assert!(v < 1e-9 && what == B_SLIDER_3, "{what}: {v:e}");
     let (i, _) = b_measure(&s, [X12[0], X12[1], x_e + 2.0], UP);
     assert!(i > 1e-7, "x3 = x_E + 2: {i:e}");
+    assert!(b_input_factor(&s, [X12[0], X12[1], x_e + 2.0], UP).0 > 1e-4);
 }
 
 #[test]
@@ -209,9 +277,12 @@ fn b_input_singularity_when_c1_and_d_are_level() {
     let x3 = root_in_x3(X12, low, -300.0, 300.0, level);
     let (i, o) = b_measure(&s, [X12[0], X12[1], x3], low);
     assert!(i < 1e-9, "z_C1 = z_D at x3 = {x3}: σ_in {i:e} (σ_out {o:e})");
+    let (v, what) = b_input_factor(&s, [X12[0], X12[1], x3], low);
+    assert!(v < 1e-9 && what == B_ROD, "{what}: {v:e}");
     for d in [-2.0, 2.0] {
         let (i, _) = b_measure(&s, [X12[0], X12[1], x3 + d], low);
         assert!(i > 1e-7, "x3 {d:+} from z_C1 = z_D: {i:e}");
+        assert!(b_input_factor(&s, [X12[0], X12[1], x3 + d], low).0 > 1e-4);
     }
 }
 
@@ -246,8 +317,13 @@ fn b_output_singularity_when_rod_and_platform_line_up() {
             if (sol.q[0] - X12[0]).abs() > 1e-6 || (b_point(&sol, "C1")[2] - c1[2]).abs() > 1e-6 {
                 continue; // another five-bar assembly
             }
+            if (sol.q[0] - sol.q[4]).abs() < 1e-9 {
+                continue; // x1 = x2: singular by the five-bar, tested on A
+            }
             let (_, o, _) = measure(&s, &sol.q);
             assert!(o < 1e-9, "f13 = 0 (C1E {sign:+}): σ_out {o:e}");
+            let (v, what) = smallest(&s, &sol.q, false);
+            assert!(v < 1e-9 && what == B_STRETCHED, "{what}: {v:e}");
             found += 1;
         }
         // Turned 0.05 rad off the line, the same E is regular.
@@ -258,6 +334,7 @@ fn b_output_singularity_when_rod_and_platform_line_up() {
             }
             let (_, o, _) = measure(&s, &sol.q);
             assert!(o > 1e-5, "off f13 = 0: σ_out {o:e}");
+            assert!(smallest(&s, &sol.q, false).0 > 1e-4);
         }
         assert!(found > 0, "no ik solution through C1 for the stretched pose {e:?}");
     }

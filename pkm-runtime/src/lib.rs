@@ -8,6 +8,7 @@ pub mod newton;
 pub mod plan;
 pub mod primitives;
 pub mod real;
+pub mod singular;
 pub mod spatial;
 pub mod topology;
 pub mod velocity;

@@ -615,12 +615,12 @@ pub fn across(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop])
     (pose, link)
 }
 
-fn anchor(joints: &[Joint3], named: &[[f64; 3]], poses: &[Pose3], a: &Anchor) -> [f64; 3] {
+pub(crate) fn anchor(joints: &[Joint3], named: &[[f64; 3]], poses: &[Pose3], a: &Anchor) -> [f64; 3] {
     let (pose, l) = across(joints, poses[a.link], a.link, &a.hops);
     at(&pose, local(joints, named, a.point, l))
 }
 
-fn direction(joints: &[Joint3], pose: Pose3, link: usize, d: &Direction) -> [f64; 3] {
+pub(crate) fn direction(joints: &[Joint3], pose: Pose3, link: usize, d: &Direction) -> [f64; 3] {
     let (pose, l) = across(joints, pose, link, &d.hops);
     let j = &joints[d.joint];
     dir(&pose, j.places[usize::from(j.links[0] != l)].axis())

@@ -1,0 +1,408 @@
+//! Which factor of a Jacobian's determinant vanishes, and at which joint points.
+//!
+//! A closed-form plan fixes the unknown joints one step at a time: each step
+//! is one scalar equation in one joint value, the links before it already
+//! placed. In the plan's order the velocity equations are block-triangular,
+//! so the determinant of the passive Jacobian is, up to nonzero factors, the
+//! product of the steps' own derivatives. Normalised, a step's derivative is
+//! the sine of the angle at which the moving point's path crosses the surface
+//! it must reach (or, for a direction, the sine between the turning axis and
+//! the direction). That sine is this module's *factor*: 0 exactly when the
+//! step's two roots meet or its equation degenerates.
+//!
+//! The forward plan's factors are those of `det J_o` (output singularities,
+//! seed 000 §2.3's f-terms); the inverse plan's, evaluated at the same
+//! configuration, are those of `det J_i` (input singularities).
+
+use crate::model::{JointType, Model};
+use crate::plan::PointRef;
+use crate::spatial::{self, Constraint, Joint3, Motion, Pose3, Step};
+use nalgebra::{Point3, Vector3};
+
+/// A point of a link: a joint's place on it, or a named point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LinkPoint {
+    /// The link.
+    pub link: usize,
+    /// The point.
+    pub point: PointRef,
+}
+
+/// What a vanishing factor means geometrically.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Condition {
+    /// The path of `points[1]`, moved by the step's joint about (or along)
+    /// `points[0]`, touches the sphere about `points[2]`.
+    TouchesSphere,
+    /// … touches the plane through `points[2]` (normal known).
+    TouchesPlane,
+    /// … touches the cylinder about the axis of joint `points[2]`.
+    TouchesCylinder,
+    /// … touches the plane in which joint `points[2]` slides.
+    TouchesSliderPlane,
+    /// `points[1]` lies on the axis of the step's joint `points[0]`.
+    OnAxis,
+    /// The axis of `points[1]` (or of the target `points[2]`) is parallel to
+    /// the turning axis of `points[0]`.
+    AxisParallel,
+    /// The plane of parallelogram `points[1]` touches `points[2]` as
+    /// `points[0]` turns.
+    PlaneTouches,
+    /// `points[0]`, `points[1]`, `points[2]` are collinear (an RRR dyad).
+    Collinear,
+    /// `points[0]points[1]` is normal to the guide of `points[2]` (an RRP dyad).
+    NormalToGuide,
+}
+
+/// One step's factor at a configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Factor {
+    /// The step's index in its plan.
+    pub step: usize,
+    /// The joint the step solves.
+    pub joint: usize,
+    /// What vanishes.
+    pub condition: Condition,
+    /// The joint points involved (see [`Condition`]).
+    pub points: [LinkPoint; 3],
+    /// The factor, in [0, 1]: 0 on the singularity.
+    pub value: f64,
+}
+
+impl Factor {
+    /// The factor in words, with the model's names and, in brackets, any
+    /// named point at the same place in `poses` (for example
+    /// `R11 (B1), R12 (C1), R13 (B2) are collinear`).
+    pub fn describe(&self, model: &Model, poses: &[Pose3]) -> String {
+        let [a, b, c] = self.points.map(|p| point_name(model, poses, p));
+        let j = &model.joints[self.joint].name;
+        let moved = |surface: String| format!("the path of {b} moved by {a} touches {surface}");
+        match self.condition {
+            Condition::TouchesSphere => moved(format!("the sphere about {c}")),
+            Condition::TouchesPlane => moved(format!("the plane through {c}")),
+            Condition::TouchesCylinder => moved(format!("the cylinder about {c}'s axis")),
+            Condition::TouchesSliderPlane => moved(format!("the plane {c} slides in")),
+            Condition::OnAxis => format!("{b} lies on the axis of {j}"),
+            Condition::AxisParallel => format!("the axis of {b} or {c} is parallel to {j}'s"),
+            Condition::PlaneTouches => format!("the plane of {b} turned by {j} only touches {c}"),
+            Condition::Collinear => format!("{a}, {b}, {c} are collinear"),
+            Condition::NormalToGuide => format!("{a}{b} is normal to the guide of {c}"),
+        }
+    }
+}
+
+/// A point's name: a joint's or a named point's, with any other named point
+/// at the same place in `poses` in brackets (`R12 (C1)`).
+pub fn point_name(model: &Model, poses: &[Pose3], p: LinkPoint) -> String {
+    let (name, at) = match p.point {
+        PointRef::Named(n) => (model.points[n].name.clone(), model.points[n].at),
+        PointRef::Joint(j) => {
+            let joint = &model.joints[j];
+            // A slide's point is its slider point, whichever link names it.
+            let side = if joint.kind == JointType::P {
+                joint.point_side()
+            } else {
+                joint.links.iter().position(|&l| l == p.link).unwrap_or(0)
+            };
+            return named_as(
+                model,
+                poses,
+                joint.name.clone(),
+                joint.links[side],
+                joint.places[side].at(),
+            );
+        }
+    };
+    named_as(model, poses, name, p.link, at)
+}
+
+fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64; 3]) -> String {
+    let world = |link: usize, at: [f64; 3]| poses[link].transform_point(&Point3::from(v3(at))).coords;
+    let here = world(link, at);
+    let tolerance = 1e-9 * crate::newton::model_scale(model);
+    let aliases: Vec<&str> = model
+        .points
+        .iter()
+        .filter(|q| q.name != name && (world(q.link, q.at) - here).norm() <= tolerance)
+        .map(|q| q.name.as_str())
+        .collect();
+    if aliases.is_empty() {
+        name
+    } else {
+        format!("{name} ({})", aliases.join(", "))
+    }
+}
+
+fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+/// |cos| of the angle between `t` and `n`: 0 when either is (relatively) zero.
+fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {
+    let (a, b) = (t.norm(), n.norm());
+    if a <= 1e-12 * scale || b <= 1e-12 * scale {
+        return 0.0;
+    }
+    (t.dot(&n) / (a * b)).abs().min(1.0)
+}
+
+/// |sin| of the angle between `a` and `b`: 0 when either is zero.
+fn sine(a: Vector3<f64>, b: Vector3<f64>) -> f64 {
+    let (x, y) = (a.norm(), b.norm());
+    if x == 0.0 || y == 0.0 {
+        return 0.0;
+    }
+    (a.cross(&b).norm() / (x * y)).min(1.0)
+}
+
+fn joint_point(joint: usize, link: usize) -> LinkPoint {
+    LinkPoint {
+        link,
+        point: PointRef::Joint(joint),
+    }
+}
+
+/// The factor of every solving step of a spatial plan at the link poses
+/// `poses` (from any solution: a branch of the plan, or of another plan of
+/// the same model). Steps that only place a link from given values (inputs
+/// or a pose) have none.
+pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> Vec<Factor> {
+    let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
+    let named: Vec<[f64; 3]> = model.points.iter().map(|p| p.at).collect();
+    let scale = crate::newton::model_scale(model);
+    let mut out = Vec::new();
+    for (k, step) in plan.steps.iter().enumerate() {
+        let world = |link: usize, point: PointRef| {
+            let local = spatial::local(&joints, &named, point, link);
+            poses[link].transform_point(&Point3::from(v3(local))).coords
+        };
+        let anchored = |a: &spatial::Anchor| {
+            let (_, last) = spatial::across(&joints, poses[a.link], a.link, &a.hops);
+            (
+                v3(spatial::anchor(&joints, &named, poses, a)),
+                LinkPoint {
+                    link: last,
+                    point: a.point,
+                },
+            )
+        };
+        // The moving point's velocity per unit joint rate.
+        let path = |joint: usize, from: usize, to: usize, point: PointRef| {
+            let j = &joints[joint];
+            let forward = j.links[0] == from;
+            let local = spatial::local(&joints, &named, point, to);
+            let p = world(to, point);
+            let t = match spatial::motion(&poses[from], j, forward, local) {
+                Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
+                Motion::Line { along, .. } => v3(along) * scale,
+            };
+            (p, t)
+        };
+        let factor = match step {
+            Step::Place { .. } | Step::Transfer { .. } => continue,
+            Step::Locus {
+                joint,
+                from,
+                to,
+                point,
+                constraint,
+                ..
+            } => {
+                let (p, t) = path(*joint, *from, *to, *point);
+                let (n, condition, other) = match constraint {
+                    Constraint::Sphere { centre, .. } => {
+                        let (c, at) = anchored(centre);
+                        (p - c, Condition::TouchesSphere, at)
+                    }
+                    Constraint::Plane { normal, anchor } => {
+                        let n = spatial::direction(&joints, poses[normal.link], normal.link, normal);
+                        (v3(n), Condition::TouchesPlane, anchored(anchor).1)
+                    }
+                    Constraint::Cylinder { joint: h, link, .. } => {
+                        let jh = &joints[*h];
+                        let side = usize::from(jh.links[0] != *link);
+                        let c = v3(spatial::at(&poses[*link], jh.places[side].at()));
+                        let w = v3(spatial::dir(&poses[*link], jh.places[side].axis())).normalize();
+                        let d = p - c;
+                        (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(*h, *link))
+                    }
+                    Constraint::Slider { joint: h, link, .. } => {
+                        let jh = &joints[*h];
+                        let side = usize::from(jh.links[0] != *link);
+                        let along = v3(spatial::dir(&poses[*link], jh.places[side].axis()));
+                        let axis = match spatial::motion(
+                            &poses[*from],
+                            &joints[*joint],
+                            joints[*joint].links[0] == *from,
+                            [0.0; 3],
+                        ) {
+                            Motion::Circle { axis, .. } => v3(axis),
+                            Motion::Line { along, .. } => v3(along),
+                        };
+                        (
+                            axis.cross(&along),
+                            Condition::TouchesSliderPlane,
+                            joint_point(*h, *link),
+                        )
+                    }
+                };
+                Factor {
+                    step: k,
+                    joint: *joint,
+                    condition,
+                    points: [
+                        joint_point(*joint, *from),
+                        LinkPoint {
+                            link: *to,
+                            point: *point,
+                        },
+                        other,
+                    ],
+                    value: crossing(t, n, scale),
+                }
+            }
+            Step::Aim {
+                joint,
+                from,
+                to,
+                point,
+                target,
+            } => {
+                let (_, t) = path(*joint, *from, *to, *point);
+                Factor {
+                    step: k,
+                    joint: *joint,
+                    condition: Condition::OnAxis,
+                    points: [
+                        joint_point(*joint, *from),
+                        LinkPoint {
+                            link: *to,
+                            point: *point,
+                        },
+                        anchored(target).1,
+                    ],
+                    // The point's distance from the axis, in units of the size.
+                    value: (t.norm() / scale).min(1.0),
+                }
+            }
+            Step::Align {
+                joint,
+                from,
+                to,
+                group,
+                target,
+            } => {
+                let j = &joints[*joint];
+                let k_axis = spatial::turning_axis(&poses[*from], j, j.links[0] == *from).unwrap_or([0.0; 3]);
+                let d = spatial::direction(&joints, poses[*to], *to, group);
+                let w = spatial::direction(&joints, poses[target.link], target.link, target);
+                let (_, group_link) = spatial::across(&joints, poses[*to], *to, &group.hops);
+                let (_, target_link) = spatial::across(&joints, poses[target.link], target.link, &target.hops);
+                Factor {
+                    step: k,
+                    joint: *joint,
+                    condition: Condition::AxisParallel,
+                    points: [
+                        joint_point(*joint, *from),
+                        joint_point(group.joint, group_link),
+                        joint_point(target.joint, target_link),
+                    ],
+                    value: sine(v3(k_axis), v3(d)).min(sine(v3(k_axis), v3(w))),
+                }
+            }
+            Step::PaPlane {
+                joint,
+                from,
+                to,
+                pa,
+                target,
+            } => {
+                let j = &joints[*joint];
+                let k_axis = v3(spatial::turning_axis(&poses[*from], j, j.links[0] == *from).unwrap_or([0.0; 3]));
+                let p = &joints[*pa];
+                let side = usize::from(p.links[0] != *to);
+                let n = v3(spatial::dir(&poses[*to], p.places[side].axis()));
+                let hinge = v3(spatial::at(&poses[*to], p.places[side].at()));
+                let (c, at) = anchored(target);
+                // d/dθ (n·u) = (k × n)·u: the plane's normal turning against the target's direction.
+                Factor {
+                    step: k,
+                    joint: *joint,
+                    condition: Condition::PlaneTouches,
+                    points: [joint_point(*joint, *from), joint_point(*pa, *to), at],
+                    value: crossing(k_axis.cross(&n), c - hinge, scale),
+                }
+            }
+        };
+        out.push(factor);
+    }
+    out
+}
+
+/// The factor of every dyad of a planar plan at the link poses `poses` (the
+/// model's planar poses in 3-D, as [`crate::newton::link_poses`] gives them).
+///
+/// A four-bar (crank 1, coupler 3, rocker 2, base 3) with the crank at 0:
+/// by hand B = (1, 0), C = (3.25, h), h = √3.9375, and the dyad's factor is
+/// the sine of the angle BCD, |(C − B) × (C − D)| / (3 · 2) = h / 3.
+/// ```
+/// use pkm_runtime::model::{Joint, JointType, Model, Place};
+/// use pkm_runtime::plan::{Plan, Step};
+/// use pkm_runtime::{newton, singular};
+///
+/// let z = |x: f64| Place::Axis { at: [x, 0.0, 0.0], axis: [0.0, 0.0, 1.0] };
+/// let r = |name: &str, links, places, actuated| Joint { name: name.into(), kind: JointType::R, links, places, actuated };
+/// let model = Model {
+///     name: "four_bar".into(),
+///     planar: true,
+///     links: vec!["base".into(), "crank".into(), "coupler".into(), "rocker".into()],
+///     joints: vec![
+///         r("R1", [0, 1], [z(0.0), z(0.0)], true),
+///         r("R2", [1, 2], [z(1.0), z(0.0)], false),
+///         r("R3", [2, 3], [z(3.0), z(2.0)], false),
+///         r("R4", [0, 3], [z(3.0), z(0.0)], false),
+///     ],
+///     points: vec![],
+/// };
+/// let h = 3.9375f64.sqrt();
+/// let (coupler, rocker) = (h.atan2(2.25), h.atan2(0.25));
+/// let poses = newton::link_poses(&model, &[0.0, coupler, rocker - coupler, rocker]).unwrap();
+/// let dyad = Step::Rrr { joints: [1, 2, 3], links: [1, 2, 3, 0], branch: 0 };
+/// let plan = Plan { steps: vec![dyad], branches: 1, inputs: vec![0] };
+/// let f = singular::planar_factors(&model, &plan, &poses);
+/// assert!((f[0].value - h / 3.0).abs() < 1e-12);
+/// assert_eq!(f[0].describe(&model, &poses), "R2, R3, R4 are collinear");
+/// ```
+pub fn planar_factors(model: &Model, plan: &crate::plan::Plan, poses: &[Pose3]) -> Vec<Factor> {
+    let scale = crate::newton::model_scale(model);
+    let z = Vector3::z();
+    let mut out = Vec::new();
+    for (k, step) in plan.steps.iter().enumerate() {
+        let (joints, links, rrp) = match *step {
+            crate::plan::Step::Rrr { joints, links, .. } => (joints, links, false),
+            crate::plan::Step::Rrp { joints, links, .. } => (joints, links, true),
+            _ => continue,
+        };
+        let point = |j: usize| v3(crate::newton::joint_point(model, poses, j));
+        let (a, b) = (point(joints[0]), point(joints[1]));
+        // b's velocity turning about a, against the normal of its other path.
+        let t = z.cross(&(b - a));
+        let (n, condition) = if rrp {
+            let c = &model.joints[joints[2]];
+            let side = usize::from(c.links[0] != links[3]);
+            let along = poses[links[3]].rotation * v3(c.places[side].axis());
+            (z.cross(&along), Condition::NormalToGuide)
+        } else {
+            (b - point(joints[2]), Condition::Collinear)
+        };
+        let at = |i: usize, link: usize| joint_point(joints[i], link);
+        out.push(Factor {
+            step: k,
+            joint: joints[0],
+            condition,
+            points: [at(0, links[1]), at(1, links[1]), at(2, links[2])],
+            value: crossing(t, n, scale),
+        });
+    }
+    out
+}
