@@ -10,8 +10,8 @@ use crate::plots::{self, Figure};
 use pkm_runtime::model::Model;
 use pkm_runtime::newton::{self, Output};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::velocity;
 use pkm_runtime::workspace::{image_volume, sweep_nodes, Grid};
+use pkm_runtime::{singular, velocity};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -48,6 +48,10 @@ pub struct ReportOptions {
     /// The length unit's name, for labels.
     #[arg(long, default_value = "mm")]
     pub unit: String,
+    /// Other `.pkm` files whose workspaces (of the same point, every
+    /// branch, the same ranges) are tabled beside this one's.
+    #[arg(long, value_delimiter = ',')]
+    pub compare: Vec<PathBuf>,
 }
 
 impl Default for ReportOptions {
@@ -63,6 +67,7 @@ impl Default for ReportOptions {
             duration: 5.0,
             sections: Vec::new(),
             unit: "mm".into(),
+            compare: Vec::new(),
         }
     }
 }
@@ -112,28 +117,208 @@ pub fn parse_section(s: &str) -> Result<(usize, f64), String> {
     Ok((i, v))
 }
 
-/// The forward solution by the interpreter, planar or spatial.
-enum Forward {
+/// A solution plan run by the interpreter, planar or spatial.
+enum AnyPlan {
     Planar(pkm_runtime::plan::Plan),
     Spatial(pkm_runtime::spatial::Plan),
 }
 
-impl Forward {
+impl AnyPlan {
     fn choices(&self) -> usize {
         match self {
-            Forward::Planar(p) => p.branches,
-            Forward::Spatial(p) => p.branches,
+            AnyPlan::Planar(p) => p.branches,
+            AnyPlan::Spatial(p) => p.branches,
         }
     }
 
     /// The joint values of one branch, or why there is none.
     fn solve(&self, model: &Model, q: &[f64], signs: &[Sign]) -> Result<Vec<f64>, String> {
         match self {
-            Forward::Planar(p) => pkm_runtime::plan::run(model, p, q, signs).map(|s| s.values),
-            Forward::Spatial(p) => pkm_runtime::spatial::run(model, p, q, signs).map(|s| s.values),
+            AnyPlan::Planar(p) => pkm_runtime::plan::run(model, p, q, signs).map(|s| s.values),
+            AnyPlan::Spatial(p) => pkm_runtime::spatial::run(model, p, q, signs).map(|s| s.values),
         }
         .map_err(|e| e.to_string())
     }
+
+    /// Its steps' determinant factors at the link poses `poses`.
+    fn factors(&self, model: &Model, poses: &[pkm_runtime::spatial::Pose3]) -> Vec<singular::Factor> {
+        match self {
+            AnyPlan::Planar(p) => singular::planar_factors(model, p, poses),
+            AnyPlan::Spatial(p) => singular::spatial_factors(model, p, poses),
+        }
+    }
+}
+
+/// A `.pkm` file ready to solve: its analysis, numeric model, outputs and plans.
+struct Loaded {
+    analysis: pkm_dsl::report::Analysis,
+    model: Model,
+    outputs: Vec<Output>,
+    forward: AnyPlan,
+    /// The inverse plan, if the file declares outputs.
+    inverse: Option<AnyPlan>,
+}
+
+fn load(text: &str, params: &[(String, f64)]) -> Result<Loaded, String> {
+    let render = |d: pkm_dsl::Diagnostics| d.render(text, "input");
+    let a = pkm_dsl::analyze_source(text).map_err(render)?;
+    let values = params.iter().cloned().collect();
+    let model = pkm_dsl::plan::model(&a, &values).map_err(render)?;
+    let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(render)?;
+    let (forward, inverse) = if model.planar {
+        (
+            AnyPlan::Planar(pkm_dsl::plan::forward_plan(&a).map_err(render)?),
+            pkm_dsl::plan::inverse_plan(&a).ok().map(AnyPlan::Planar),
+        )
+    } else {
+        (
+            AnyPlan::Spatial(pkm_dsl::plan3::forward_plan(&a).map_err(render)?),
+            pkm_dsl::plan3::inverse_plan(&a).ok().map(AnyPlan::Spatial),
+        )
+    };
+    Ok(Loaded {
+        analysis: a,
+        model,
+        outputs,
+        forward,
+        inverse,
+    })
+}
+
+/// The position of `point` of `l` at every node of `grid`, on one branch
+/// (all cores).
+fn sweep_point(
+    l: &Loaded,
+    grid: &Grid,
+    signs: &[Sign],
+    point: (usize, [f64; 3]),
+) -> Result<Vec<Option<[f64; 3]>>, String> {
+    let reach = |q: &[f64]| -> Option<[f64; 3]> {
+        let v = l.forward.solve(&l.model, q, signs).ok()?;
+        world(&l.model, &v, point.0, point.1)
+    };
+    Ok(match grid.ranges.len() {
+        1 => sweep_nodes::<1>(grid, |q| reach(q)),
+        2 => sweep_nodes::<2>(grid, |q| reach(q)),
+        3 => sweep_nodes::<3>(grid, |q| reach(q)),
+        _ => return Err("the report sweeps mechanisms with 1 to 3 inputs".into()),
+    })
+}
+
+/// The workspace volume of `point` on every branch of this file and of each
+/// `--compare` file, swept over the same grid: one table.
+fn volume_table(this: &Loaded, name: &str, o: &ReportOptions, grid: &Grid, point: &str) -> Result<String, String> {
+    let mut files = vec![(name.to_string(), None)];
+    for path in &o.compare {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let l = load(&text, &o.params).map_err(|e| format!("{}: {e}", path.display()))?;
+        files.push((l.model.name.clone(), Some(l)));
+    }
+    let mut html = format!(
+        "<h3>Workspace volumes of {point}, every branch</h3><p>The same ranges and grid ({} nodes); \
+         the volume by the method above.</p><table><tr><th>mechanism</th><th>branch</th><th>reachable nodes</th>\
+         <th>volume ({}³)</th></tr>",
+        grid.len(),
+        o.unit
+    );
+    for (name, other) in &files {
+        let l = other.as_ref().unwrap_or(this);
+        let at = point_of(&l.model, point).ok_or(format!("{name} has no point `{point}`"))?;
+        let choices = l.forward.choices();
+        for b in 0..1usize << choices {
+            let s = signs(choices, b);
+            let nodes = sweep_point(l, grid, &s, at)?;
+            let reachable = nodes.iter().flatten().count();
+            let _ = writeln!(
+                html,
+                "<tr><td>{}</td><td>{b} ({})</td><td>{reachable}</td><td>{:.4e}</td></tr>",
+                html_escape(name),
+                sign_text(&s),
+                image_volume(grid, &nodes)
+            );
+        }
+    }
+    html.push_str("</table>\n");
+    Ok(html)
+}
+
+/// Every factor of det J_o (the forward plan's) and det J_i (the inverse
+/// plan's) at `poses`: a label (`J_o step 3`), its value, what it says.
+fn named_factors(l: &Loaded, poses: &[pkm_runtime::spatial::Pose3]) -> Vec<(String, f64, String)> {
+    let mut named = Vec::new();
+    for (jacobian, plan) in [("J_o", Some(&l.forward)), ("J_i", l.inverse.as_ref())] {
+        for f in plan.map(|p| p.factors(&l.model, poses)).unwrap_or_default() {
+            named.push((
+                format!("{jacobian} step {}", f.step),
+                f.value,
+                f.describe(&l.model, poses),
+            ));
+        }
+    }
+    named
+}
+
+/// Where each determinant factor comes near 0 over the sweep: a figure (the
+/// nodes where it is below 0.05, projected on xOz) and a table naming it.
+fn factor_loci(
+    l: &Loaded,
+    o: &ReportOptions,
+    out: &Path,
+    measured: &[([f64; 3], f64, f64)],
+    values: &[Vec<f64>],
+) -> Result<String, String> {
+    const NEAR: f64 = 0.05;
+    // The factors' names, at the sample configuration.
+    let start = o
+        .start
+        .clone()
+        .unwrap_or_else(|| o.ranges.iter().map(|(lo, hi)| (lo + hi) / 2.0).collect());
+    let signs = signs(l.forward.choices(), o.branch);
+    let Ok(v) = l.forward.solve(&l.model, &start, &signs) else {
+        return Ok(String::new());
+    };
+    let poses = newton::link_poses(&l.model, &v).map_err(|e| e.to_string())?;
+    let named = named_factors(l, &poses);
+    let mut series = Vec::new();
+    let mut html = format!(
+        "<h3>Which factor comes near 0</h3><p>Over the same nodes, each determinant factor's smallest value, \
+         and (figure) the nodes where it is below {NEAR}.</p><table><tr><th>factor</th><th>smallest</th>\
+         <th>nodes below {NEAR}</th><th style=\"text-align:left\">vanishes when</th></tr>"
+    );
+    for (k, (label, _, what)) in named.iter().enumerate() {
+        let at = |i: usize| values[i].get(k).copied().unwrap_or(f64::INFINITY);
+        let smallest = (0..values.len()).map(at).fold(f64::INFINITY, f64::min);
+        let near: Vec<[f64; 2]> = (0..values.len().min(measured.len()))
+            .filter(|&i| at(i) < NEAR)
+            .map(|i| [measured[i].0[0], measured[i].0[2]])
+            .collect();
+        let _ = writeln!(
+            html,
+            "<tr><td>{label}</td><td>{smallest:.3e}</td><td>{}</td><td style=\"text-align:left\">{}</td></tr>",
+            near.len(),
+            html_escape(what)
+        );
+        if !near.is_empty() {
+            series.push((label.clone(), near));
+        }
+    }
+    html.push_str("</table>\n");
+    if !series.is_empty() {
+        let f = plots::scatter(
+            &out.join("singularity_factors"),
+            &format!("Nodes where a determinant factor is below {NEAR}"),
+            [&format!("x ({})", o.unit), &format!("z ({})", o.unit)],
+            &series,
+        )
+        .map_err(|e| e.to_string())?;
+        html.push_str(&figure_html(&f, "Near-vanishing factors, projected on xOz"));
+    }
+    Ok(html)
+}
+
+/// `+−+`: a branch's signs as text.
+fn sign_text(s: &[Sign]) -> String {
+    s.iter().map(|x| if *x == Sign::Plus { '+' } else { '−' }).collect()
 }
 
 fn signs(choices: usize, index: usize) -> Vec<Sign> {
@@ -202,15 +387,14 @@ fn figure_html(f: &Figure, caption: &str) -> String {
 /// assert!(std::fs::read_to_string(page).unwrap().contains("Workspace of E"));
 /// ```
 pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf, String> {
-    let a = pkm_dsl::analyze_source(text).map_err(|d| d.render(text, "input"))?;
-    let values = o.params.iter().cloned().collect();
-    let model = pkm_dsl::plan::model(&a, &values).map_err(|d| d.render(text, "input"))?;
-    let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(|d| d.render(text, "input"))?;
-    let forward = if model.planar {
-        Forward::Planar(pkm_dsl::plan::forward_plan(&a).map_err(|d| d.render(text, "input"))?)
-    } else {
-        Forward::Spatial(pkm_dsl::plan3::forward_plan(&a).map_err(|d| d.render(text, "input"))?)
-    };
+    let loaded = load(text, &o.params)?;
+    let Loaded {
+        analysis: a,
+        model,
+        outputs,
+        forward,
+        ..
+    } = &loaded;
     let inputs = model.inputs();
     let n = inputs.len();
     if o.ranges.len() != n {
@@ -233,7 +417,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         })
     });
     let point_name = point_name.ok_or("no point to follow: give --point")?;
-    let (plink, plocal) = point_of(&model, &point_name).ok_or(format!("no point `{point_name}`"))?;
+    let (plink, plocal) = point_of(model, &point_name).ok_or(format!("no point `{point_name}`"))?;
     let start = o
         .start
         .clone()
@@ -275,13 +459,13 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
     );
     for b in 0..1usize << choices {
         let s = signs(choices, b);
-        let label: String = s.iter().map(|x| if *x == Sign::Plus { '+' } else { '−' }).collect();
-        match forward.solve(&model, &start, &s) {
+        let label = sign_text(&s);
+        match forward.solve(model, &start, &s) {
             Ok(v) => {
-                let p = world(&model, &v, plink, plocal).unwrap_or([f64::NAN; 3]);
-                let poses = newton::link_poses(&model, &v).map_err(|e| e.to_string())?;
-                let outs = pose_outputs(&model, &poses, &outputs);
-                let (si, so, class) = match velocity::jacobians(&model, &v, &outputs) {
+                let p = world(model, &v, plink, plocal).unwrap_or([f64::NAN; 3]);
+                let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
+                let outs = pose_outputs(model, &poses, outputs);
+                let (si, so, class) = match velocity::jacobians(model, &v, outputs) {
                     Ok(j) => (j.input_sigma, j.output_sigma, format!("{:?}", j.singularity)),
                     Err(e) => (f64::NAN, f64::NAN, e.to_string()),
                 };
@@ -305,21 +489,37 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
     }
     page.push_str("</table>\n");
 
+    // The determinants' factors on the followed branch at the sample.
+    if let Ok(v) = forward.solve(model, &start, &branch_signs) {
+        let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
+        let _ = writeln!(
+            page,
+            "<h3>Determinant factors on branch {} ({})</h3><p>Each step of a closed-form plan solves one joint from \
+             one scalar equation; in the plan's order the velocity equations are triangular and each determinant is \
+             the product of the steps' derivatives. A factor is a step's derivative normalised to [0, 1] (the sine \
+             of the angle at which a point's path meets the surface it must reach): 0 is a singularity, and the \
+             condition says where. The forward plan's factors are det J_o's (output singularities), the inverse \
+             plan's det J_i's (input singularities).</p><table><tr><th>factor</th><th>value</th>\
+             <th style=\"text-align:left\">vanishes when</th></tr>",
+            o.branch,
+            sign_text(&branch_signs)
+        );
+        for (label, value, what) in named_factors(&loaded, &poses) {
+            let _ = writeln!(
+                page,
+                "<tr><td>{label}</td><td>{value:.4}</td><td style=\"text-align:left\">{}</td></tr>",
+                html_escape(&what)
+            );
+        }
+        page.push_str("</table>\n");
+    }
+
     // 3. Workspace.
     let grid = Grid {
         ranges: o.ranges.clone(),
         counts: vec![o.nodes; n],
     };
-    let reach = |q: &[f64]| -> Option<[f64; 3]> {
-        let v = forward.solve(&model, q, &branch_signs).ok()?;
-        world(&model, &v, plink, plocal)
-    };
-    let nodes = match n {
-        1 => sweep_nodes::<1>(&grid, |q| reach(q)),
-        2 => sweep_nodes::<2>(&grid, |q| reach(q)),
-        3 => sweep_nodes::<3>(&grid, |q| reach(q)),
-        _ => return Err("the report sweeps mechanisms with 1 to 3 inputs".into()),
-    };
+    let nodes = sweep_point(&loaded, &grid, &branch_signs, (plink, plocal))?;
     let cloud: Vec<[f64; 3]> = nodes.iter().flatten().copied().collect();
     let volume = (n == 3).then(|| image_volume(&grid, &nodes));
     let axes = ["x", "y", "z"];
@@ -328,10 +528,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         "<h2>Workspace of {point_name}</h2><p>Branch {} ({}), inputs swept over {:?} with {} nodes each: \
          {} of {} nodes reachable.{}</p>",
         o.branch,
-        branch_signs
-            .iter()
-            .map(|x| if *x == Sign::Plus { '+' } else { '−' })
-            .collect::<String>(),
+        sign_text(&branch_signs),
         o.ranges,
         o.nodes,
         cloud.len(),
@@ -343,6 +540,9 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
             ))
             .unwrap_or_default()
     );
+    if n == 3 {
+        page.push_str(&volume_table(&loaded, &model.name, o, &grid, &point_name)?);
+    }
     for (i, j, plane) in [(0, 1, "xOy"), (1, 2, "yOz"), (0, 2, "xOz")] {
         let f = plots::scatter(
             &out.join(format!("workspace_{plane}")),
@@ -384,19 +584,20 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         counts: vec![(o.nodes / 3).max(8); n],
     };
     let mut measured: Vec<([f64; 3], f64, f64)> = Vec::new();
+    // Each node's determinant factors (forward plan's, then inverse plan's).
+    let mut factor_values: Vec<Vec<f64>> = Vec::new();
     let mut q = vec![0.0; n];
     for index in 0..coarse.len() {
         coarse.node(index, &mut q);
-        let Ok(v) = forward.solve(&model, &q, &branch_signs) else {
+        let Ok(v) = forward.solve(model, &q, &branch_signs) else {
             continue;
         };
-        let (Some(p), Ok(j)) = (
-            world(&model, &v, plink, plocal),
-            velocity::jacobians(&model, &v, &outputs),
-        ) else {
+        let (Some(p), Ok(j)) = (world(model, &v, plink, plocal), velocity::jacobians(model, &v, outputs)) else {
             continue;
         };
         measured.push((p, j.input_sigma, j.output_sigma));
+        let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
+        factor_values.push(named_factors(&loaded, &poses).into_iter().map(|f| f.1).collect());
     }
     let quantile = |k: usize| {
         let mut s: Vec<f64> = measured.iter().map(|m| if k == 0 { m.1 } else { m.2 }).collect();
@@ -435,6 +636,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         velocity::SINGULAR
     );
     page.push_str(&figure_html(&f, "Near-singular configurations, projected on xOz"));
+    page.push_str(&factor_loci(&loaded, o, out, &measured, &factor_values)?);
 
     // 5. Trajectory: velocity and acceleration of the point.
     let steps = 500;
@@ -449,9 +651,9 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         let qd: Vec<f64> = (0..n).map(|i| amplitude[i] * w * (w * t).cos()).collect();
         let qdd: Vec<f64> = (0..n).map(|i| -amplitude[i] * w * w * (w * t).sin()).collect();
         let candidates: Vec<Vec<f64>> = match &previous {
-            None => forward.solve(&model, &q, &branch_signs).into_iter().collect(),
+            None => forward.solve(model, &q, &branch_signs).into_iter().collect(),
             Some(_) => (0..1usize << choices)
-                .filter_map(|b| forward.solve(&model, &q, &signs(choices, b)).ok())
+                .filter_map(|b| forward.solve(model, &q, &signs(choices, b)).ok())
                 .collect(),
         };
         let chosen = match &previous {
@@ -465,7 +667,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
             stopped = Some(t);
             break;
         };
-        let a = match velocity::accelerations(&model, &v, &qd, &qdd) {
+        let a = match velocity::accelerations(model, &v, &qd, &qdd) {
             Ok(a) => a,
             Err(e) => {
                 stopped = Some(t);
@@ -477,7 +679,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
                 break;
             }
         };
-        let poses = newton::link_poses(&model, &v).map_err(|e| e.to_string())?;
+        let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
         let p = poses[plink].transform_point(&plocal.into()).coords;
         let twist = a.velocities.twists[plink];
         let pv = twist.at(&p);

@@ -1,6 +1,7 @@
 //! `pkm report` end to end on seed 000's mechanism A with a small sweep:
 //! the page and every figure (PNG, SVG, CSV) are written, the page stands
-//! alone (figures inline) and carries each section.
+//! alone (figures inline) and carries each section; mechanism B's volumes
+//! sit beside A's, and the determinant factors are named.
 
 #[test]
 fn report_on_mechanism_a() {
@@ -15,6 +16,7 @@ fn report_on_mechanism_a() {
         start: Some(vec![-131.07, 181.55, -57.74]),
         amplitude: Some(vec![20.0, -10.0, 20.0]),
         sections: vec![(1, -85.0)],
+        compare: vec![format!("{}/examples/mechanisms/seed000_b.pkm", env!("CARGO_MANIFEST_DIR")).into()],
         ..Default::default()
     };
     let page = pkm::report::write_report(&text, &options, &out).unwrap();
@@ -25,17 +27,26 @@ fn report_on_mechanism_a() {
         "Workspace of G",
         "Singularities",
         "Velocity and acceleration",
+        "Determinant factors on branch 1",
+        "Workspace volumes of G, every branch",
+        "Which factor comes near 0",
     ] {
         assert!(html.contains(section), "missing {section}");
     }
     assert!(html.contains("data:image/png;base64,"));
     assert!(html.contains("ξ_L1 = 3"), "the topology report is on the page");
+    // A's four branches and B's eight in one table.
+    assert_eq!(html.matches("<tr><td>seed000_a</td>").count(), 4);
+    assert_eq!(html.matches("<tr><td>seed000_b</td>").count(), 8);
+    // The f33 condition by name (tests/singularities.rs places it).
+    assert!(html.contains("the path of R6 (D) moved by R4 (C1, o) touches the sphere about Pa (B3)"));
     for stem in [
         "workspace_xOy",
         "workspace_yOz",
         "workspace_xOz",
         "section_y_-85",
         "singularity_loci",
+        "singularity_factors",
         "velocity",
         "acceleration",
     ] {
