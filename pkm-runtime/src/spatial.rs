@@ -609,7 +609,8 @@ pub fn local_point(model: &Model, point: PointRef, link: usize) -> Result<[f64; 
 pub fn across(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop]) -> (Pose3, usize) {
     for h in hops {
         let j = &joints[h.joint];
-        pose = transfer(&pose, j, h.forward, 0.0);
+        // At value 0 the joint's transform (and its inverse) is precomputed.
+        pose *= j.zero[usize::from(!h.forward)];
         link = if h.forward { j.links[1] } else { j.links[0] };
     }
     (pose, link)

@@ -20,9 +20,17 @@ pub(crate) fn dot<T: Real, const N: usize>(a: [T; N], b: [T; N]) -> T {
         .fold(T::zero(), |acc, (&x, &y)| x.mul_add(y, acc))
 }
 
-/// Euclidean norm by repeated `hypot` (no overflow for representable lengths).
+/// Euclidean norm. The square root of the sum of squares is within a few
+/// ulps and several times faster than `hypot`; only when that sum leaves
+/// [1e-280, 1e280] (lengths beyond 1e±140, or zero, where a dual number's
+/// `sqrt` has no derivative) does the repeated `hypot` take over.
 pub(crate) fn norm<T: Real, const N: usize>(a: [T; N]) -> T {
-    a.iter().fold(T::zero(), |acc, &x| acc.hypot(x))
+    let s = a.iter().fold(T::zero(), |acc, &x| x * x + acc);
+    if s > T::from_f64(1e-280) && s < T::from_f64(1e280) {
+        s.sqrt()
+    } else {
+        a.iter().fold(T::zero(), |acc, &x| acc.hypot(x))
+    }
 }
 
 /// `true` if every component is finite.
@@ -74,6 +82,10 @@ mod tests {
         assert_eq!(axpy([1.0, 1.0], 2.0, [1.0, -1.0]), [3.0, -1.0]);
         assert_eq!(dot([1.0, 2.0, 3.0], [4.0, 5.0, 6.0]), 32.0);
         assert_eq!(norm([2.0, 3.0, 6.0]), 7.0);
+        // Outside the sum of squares' safe range the hypot chain answers.
+        assert_eq!(norm([2e200, 3e200, 6e200]), 7e200);
+        assert!((norm([2e-200, 3e-200, 6e-200]) / 7e-200 - 1.0).abs() < 1e-15);
+        assert_eq!(norm([0.0, 0.0]), 0.0);
         assert_eq!(cross2([1.0, 0.0], [0.0, 1.0]), 1.0);
         assert_eq!(perp2([1.0, 2.0]), [-2.0, 1.0]);
         assert_eq!(cross3([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
