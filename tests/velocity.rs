@@ -1,7 +1,9 @@
 //! Velocities and accelerations from the differentiated loop equations
 //! (pkm-runtime's `velocity`) against central finite differences of the
 //! generated position solutions along q(t) = q + q̇ t + q̈ t²/2, on the same
-//! branch: every joint rate and second derivative, every output rate.
+//! branch: every joint rate and second derivative, every output rate; the
+//! forward velocity map reproduces the output rates and the inverse map
+//! takes them back to the input rates.
 
 mod common;
 
@@ -64,6 +66,12 @@ macro_rules! check {
         let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
         let mut rng = SplitMix::new(11);
         let (mut checked, mut worst_v, mut worst_a) = (0, 0.0f64, 0.0f64);
+        let (mut inverted, mut worst_inverse) = (0, 0.0f64);
+        let input_angles: Vec<bool> = model
+            .inputs()
+            .iter()
+            .map(|&j| model.joints[j].kind != pkm::runtime::model::JointType::P)
+            .collect();
         while checked < 50 {
             let q = ranges.map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
             let qd = ranges.map(|_| $rate * rng.symmetric());
@@ -125,13 +133,22 @@ macro_rules! check {
                 let jq = j.forward.expect("regular here") * pkm::runtime::nalgebra::DVector::from_column_slice(&qd);
                 let e = max_error(jq.as_slice(), &rates, &$ty::OUTPUT_ANGLES, scale);
                 assert!(e < 1e-12, "{}: forward Jacobian off by {e:e}", $file);
+                // The inverse map sends those (differences-checked) output rates back to the input rates.
+                if let Some(ji) = j.inverse {
+                    let back = ji * pkm::runtime::nalgebra::DVector::from_column_slice(&rates);
+                    let e = max_error(back.as_slice(), &qd, &input_angles, scale);
+                    assert!(e < 1e-9, "{}: inverse Jacobian off by {e:e} at {q:?}", $file);
+                    worst_inverse = worst_inverse.max(e);
+                    inverted += 1;
+                }
             }
             checked += 1;
         }
         eprintln!(
-            "{}: worst joint-rate error {worst_v:e}, acceleration {worst_a:e}",
+            "{}: worst joint-rate error {worst_v:e}, acceleration {worst_a:e}; inverse map checked {inverted} times, worst {worst_inverse:e}",
             $file
         );
+        assert!(outputs.is_empty() || inverted > 0, "{}: the inverse map was never checked", $file);
     }};
 }
 

@@ -73,9 +73,9 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
     let v = quote! { #rt::velocity };
     let jacobian = m.wants(Capability::Jacobian).then(|| {
         quote! {
-            /// The forward velocity map (outputs per input rate) at the joint
-            /// values `q`, and how far `q` is from an input and an output
-            /// singularity.
+            /// The forward velocity map (outputs per input rate) and the
+            /// inverse one (inputs per output rate) at the joint values `q`,
+            /// and how far `q` is from an output and an input singularity.
             pub fn jacobian(params: &#params_ty, q: &[f64; #n_joints]) -> ::core::result::Result<#v::Jacobians, #v::VelocityError> {
                 #v::jacobians(&Self::model(params), q, &Self::output_specs(params))
             }

@@ -572,6 +572,9 @@ pub struct Jacobians {
     /// Output rates per unit input rate (rows: outputs, columns: inputs);
     /// `None` at an output singularity.
     pub forward: Option<DMatrix<f64>>,
+    /// Input rates per unit output rate (rows: inputs, columns: outputs),
+    /// the inverse velocity map; `None` at an input singularity.
+    pub inverse: Option<DMatrix<f64>>,
     /// The loop equations' passive columns, σ_min/σ_max (lengths scaled
     /// by the mechanism's size): 0 at an output singularity.
     pub output_sigma: f64,
@@ -614,12 +617,19 @@ pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Ja
             stacked.row_mut(a.nrows() + r).scale_mut(1.0 / scale);
         }
     }
+    // A slide's rate per unit of the size in the output rows too (the loop
+    // rows have it from `scaled_columns`).
     for (i, &p) in l.prismatic.iter().enumerate() {
         if p {
-            stacked.column_mut(i).scale_mut(scale);
+            stacked.view_mut((a.nrows(), i), (c.nrows(), 1)).scale_mut(scale);
         }
     }
     let input_sigma = relative_sigma(&stacked);
+    let inverse = if input_sigma < SINGULAR {
+        None
+    } else {
+        inverse_map(&l, &stacked, a.nrows(), &angle_rows, scale)
+    };
     let forward = if output_sigma < SINGULAR {
         None
     } else {
@@ -641,10 +651,35 @@ pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Ja
     };
     Ok(Jacobians {
         forward,
+        inverse,
         output_sigma,
         input_sigma,
         singularity,
     })
+}
+
+/// The input rates per unit output rate: the scaled loop-and-output stack
+/// solved for every rate with the loop rows' right side zero.
+fn inverse_map(
+    l: &Loops,
+    stacked: &DMatrix<f64>,
+    loop_rows: usize,
+    angle_rows: &[bool],
+    scale: f64,
+) -> Option<DMatrix<f64>> {
+    let svd = stacked.clone().svd(true, true);
+    let tolerance = 1e-13 * svd.singular_values.max();
+    let outputs = stacked.nrows() - loop_rows;
+    let mut ji = DMatrix::zeros(l.actuated.len(), outputs);
+    for k in 0..outputs {
+        let mut rhs = DVector::zeros(stacked.nrows());
+        rhs[loop_rows + k] = if angle_rows[k] { 1.0 } else { 1.0 / scale };
+        let y = svd.solve(&rhs, tolerance).ok()?;
+        for (r, &i) in l.actuated.iter().enumerate() {
+            ji[(r, k)] = y[i] * if l.prismatic[i] { scale } else { 1.0 };
+        }
+    }
+    Some(ji)
 }
 
 /// Which output rows are angles.
