@@ -340,3 +340,46 @@ fn b_output_singularity_when_rod_and_platform_line_up() {
     }
     assert_eq!(poses, 1);
 }
+
+#[test]
+fn combined_singularities_only_on_the_five_bars_reach() {
+    // §2.3.1 says A has no combined singularity inside §2.2's ranges. Over a
+    // grid of those ranges (both α roots of the paper's assembly) the input
+    // and output measures never vanish together.
+    let s = setup();
+    let p = Default::default();
+    let (mut nodes, mut closest) = (0, f64::INFINITY);
+    for (k, m, n) in (0..13).flat_map(|k| (0..13).flat_map(move |m| (0..13).map(move |n| (k, m, n)))) {
+        let q = [
+            -250.0 + 250.0 * k as f64 / 12.0,
+            250.0 * m as f64 / 12.0,
+            -300.0 + 50.0 * n as f64,
+        ];
+        for signs in [[Sign::Minus, Sign::Plus], [Sign::Minus, Sign::Minus]] {
+            let Ok(b) = SeedA::fk_branch(&p, &q, signs) else {
+                continue;
+            };
+            let (i, o, _) = measure(&s, &b.q);
+            closest = closest.min(i.max(o));
+            nodes += 1;
+        }
+    }
+    eprintln!("{nodes} regular nodes: the smallest max(σ_in, σ_out) is {closest:e}");
+    assert!(nodes > 2000 && closest > 1e-4, "{nodes} nodes, closest {closest:e}");
+    // Arithmetic against the paper: on the edge of the five-bar's reach,
+    // x2 − x1 = 2·l2 = 400 (in the ranges: x1 = −200, x2 = 200), the
+    // five-bar lies flat (z_C3 = l1, output singular), and with x3 = x_C3 = 0
+    // the slider is input-singular at once. The combined set is that line on
+    // the boundary of the reachable inputs (and the corner x1 = x2 = 0), so
+    // the paper's statement holds for the interior only.
+    for signs in [[Sign::Minus, Sign::Plus], [Sign::Minus, Sign::Minus]] {
+        let b = SeedA::fk_branch(&p, &[-200.0, 200.0, 0.0], signs).unwrap();
+        let (i, o, class) = measure(&s, &b.q);
+        assert_eq!(class, Singularity::Combined, "{i:e} {o:e}");
+        assert_eq!(smallest(&s, &b.q, false).1, FIVE_BAR);
+        assert_eq!(smallest(&s, &b.q, true).1, SLIDER_3);
+        // 1 mm inside the reach, regular again.
+        let b = SeedA::fk_branch(&p, &[-199.0, 200.0, 0.0], signs).unwrap();
+        assert_eq!(measure(&s, &b.q).2, Singularity::None);
+    }
+}
