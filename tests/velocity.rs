@@ -1,7 +1,8 @@
 //! Velocities and accelerations from the differentiated loop equations
 //! (pkm-runtime's `velocity`) against central finite differences of the
 //! generated position solutions along q(t) = q + q̇ t + q̈ t²/2, on the same
-//! branch: every joint rate and second derivative, every output rate; the
+//! branch: every joint rate and second derivative, every point's velocity
+//! and acceleration, every output rate; the
 //! forward velocity map reproduces the output rates and the inverse map
 //! takes them back to the input rates.
 
@@ -117,6 +118,20 @@ macro_rules! check {
             let acc = velocity::accelerations(&model, &centre, &qd, &qdd)
                 .unwrap_or_else(|e| panic!("{}: {e} at {q:?}", $file));
             let v = &acc.velocities;
+            // Every point's velocity and acceleration against the differenced positions.
+            let poses = pkm::runtime::newton::link_poses(&model, &centre).unwrap();
+            let points: Vec<Vec<f64>> = s.iter().map(|x| x.points.iter().flatten().copied().collect()).collect();
+            let dim = s[3].points[0].len();
+            let flat = |p: Vec<[f64; 3]>| p.iter().flat_map(|x| x[..dim].to_vec()).collect::<Vec<f64>>();
+            let lengths = vec![false; points[0].len()];
+            let pv = flat(velocity::point_velocities(&model, &poses, &v.twists));
+            let e = max_error(&pv, &first(&points, h), &lengths, scale);
+            assert!(e < 1e-6, "{}: point velocities off by {e:e} at {q:?}", $file);
+            worst_v = worst_v.max(e);
+            let pa = flat(velocity::point_accelerations(&model, &poses, &acc));
+            let e = max_error(&pa, &second(&points, h), &lengths, scale);
+            assert!(e < 1e-5, "{}: point accelerations off by {e:e} at {q:?}", $file);
+            worst_a = worst_a.max(e);
             let e = max_error(&v.rates, &first(&joints, h), &$ty::REVOLUTE, scale);
             assert!(e < 1e-6, "{}: joint rates off by {e:e} at {q:?}", $file);
             worst_v = worst_v.max(e);
@@ -166,4 +181,34 @@ fn spatial() {
     check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)], 1.0);
     check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 20.0);
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 20.0);
+}
+
+#[test]
+fn generated_point_velocities_and_accelerations() {
+    // Seed 000's A asks for `velocity` and `acceleration`: its generated
+    // point functions (order `POINTS`) against differences of its fk points.
+    use pkm::runtime::primitives::Sign;
+    let p = Default::default();
+    let signs = [Sign::Minus, Sign::Plus];
+    let (q0, qd, qdd) = ([-106.09, 181.67, -70.29], [20.0, -10.0, 20.0], [-5.0, 8.0, 3.0]);
+    let h = 2.5e-4;
+    let s: Vec<SeedASolution> = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0]
+        .iter()
+        .map(|k| {
+            let t = k * h;
+            let q: [f64; 3] = std::array::from_fn(|i| q0[i] + qd[i] * t + qdd[i] * t * t / 2.0);
+            SeedA::fk_branch(&p, &q, signs).unwrap()
+        })
+        .collect();
+    let q = s[3].q;
+    let points: Vec<Vec<f64>> = s.iter().map(|x| x.points.iter().flatten().copied().collect()).collect();
+    let v = SeedA::velocity(&p, &q, &qd).unwrap();
+    let a = SeedA::acceleration(&p, &q, &qd, &qdd).unwrap();
+    let pv: Vec<f64> = SeedA::point_velocities(&p, &q, &v).unwrap().concat();
+    let pa: Vec<f64> = SeedA::point_accelerations(&p, &q, &a).unwrap().concat();
+    let lengths = vec![false; pv.len()];
+    let e = max_error(&pv, &first(&points, h), &lengths, 1.0);
+    assert!(e < 1e-6, "point velocities off by {e:e} mm/s");
+    let e = max_error(&pa, &second(&points, h), &lengths, 1.0);
+    assert!(e < 1e-4, "point accelerations off by {e:e} mm/s²");
 }

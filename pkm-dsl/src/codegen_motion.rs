@@ -24,6 +24,16 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
     let n_joints = m.joints.len();
     let n_inputs = m.joints.iter().filter(|j| j.actuated).count();
     let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
+    let n_points = m.joints.len() + a.geometry.points.len();
+    let dim = if m.planar { 2usize } else { 3 };
+    // Copies the runtime's 3-D point list into the solution's point array.
+    let points_array = quote! {
+        let mut out = [[0.0; #dim]; #n_points];
+        for (o, p) in out.iter_mut().zip(&points) {
+            o.copy_from_slice(&p[..#dim]);
+        }
+        ::core::result::Result::Ok(out)
+    };
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
         let kind = crate::codegen_spatial::joint_type(joint.kind);
         let [u, v] = joint.links;
@@ -106,6 +116,18 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
                 out.copy_from_slice(&rates);
                 ::core::result::Result::Ok(out)
             }
+
+            /// The velocity of every point (order `POINTS`) for velocities at `q`.
+            pub fn point_velocities(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                v: &#v::Velocities,
+            ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
+                let model = Self::model(params);
+                let poses = #rt::newton::link_poses(&model, q)?;
+                let points = #v::point_velocities(&model, &poses, &v.twists);
+                #points_array
+            }
         }
     });
     let acceleration = m.wants(Capability::Acceleration).then(|| {
@@ -119,6 +141,18 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
                 input_accelerations: &[f64; #n_inputs],
             ) -> ::core::result::Result<#v::Accelerations, #v::VelocityError> {
                 #v::accelerations(&Self::model(params), q, input_rates, input_accelerations)
+            }
+
+            /// The acceleration of every point (order `POINTS`) for accelerations at `q`.
+            pub fn point_accelerations(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                a: &#v::Accelerations,
+            ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
+                let model = Self::model(params);
+                let poses = #rt::newton::link_poses(&model, q)?;
+                let points = #v::point_accelerations(&model, &poses, a);
+                #points_array
             }
         }
     });

@@ -521,6 +521,38 @@ pub fn point_acceleration(t: &Twist, dt: &Twist, p: &Vector3<f64>) -> Vector3<f6
     dt.v + dt.w.cross(p) + t.w.cross(&t.at(p))
 }
 
+/// Every joint's point (a slide's: its slider point), then every named
+/// point, in the world at `poses`, with the link it moves with: the order of
+/// a generated solution's `points`.
+fn model_points(model: &Model, poses: &[Isometry3<f64>]) -> Vec<(usize, Vector3<f64>)> {
+    let joints = model.joints.iter().enumerate().map(|(j, joint)| {
+        let p = crate::newton::joint_point(model, poses, j);
+        (joint.links[joint.point_side()], Vector3::from(p))
+    });
+    let named = model
+        .points
+        .iter()
+        .map(|p| (p.link, poses[p.link].transform_point(&p.at.into()).coords));
+    joints.chain(named).collect()
+}
+
+/// The velocity of every joint's point, then every named point (a generated
+/// solution's `points` order), from the link twists at `poses`.
+pub fn point_velocities(model: &Model, poses: &[Isometry3<f64>], twists: &[Twist]) -> Vec<[f64; 3]> {
+    model_points(model, poses)
+        .into_iter()
+        .map(|(link, p)| twists[link].at(&p).into())
+        .collect()
+}
+
+/// The acceleration of the same points, from the link twists and their rates.
+pub fn point_accelerations(model: &Model, poses: &[Isometry3<f64>], a: &Accelerations) -> Vec<[f64; 3]> {
+    model_points(model, poses)
+        .into_iter()
+        .map(|(link, p)| point_acceleration(&a.velocities.twists[link], &a.twists[link], &p).into())
+        .collect()
+}
+
 /// The rates of the declared outputs for a link twist map.
 pub fn output_rates(
     model: &Model,
