@@ -245,40 +245,47 @@ fn volume_table(this: &Loaded, name: &str, o: &ReportOptions, grid: &Grid, point
 /// Every factor of det J_o (the forward plan's) and det J_i (the inverse
 /// plan's) at `poses`: a label (`J_o step 3`), its value, what it says.
 fn named_factors(l: &Loaded, poses: &[pkm_runtime::spatial::Pose3]) -> Vec<(String, f64, String)> {
-    let mut named = Vec::new();
-    for (jacobian, plan) in [("J_o", Some(&l.forward)), ("J_i", l.inverse.as_ref())] {
-        for f in plan.map(|p| p.factors(&l.model, poses)).unwrap_or_default() {
-            named.push((
+    plan_factors(l, poses)
+        .map(|(jacobian, f)| {
+            (
                 format!("{jacobian} step {}", f.step),
                 f.value,
                 f.describe(&l.model, poses),
-            ));
-        }
-    }
-    named
+            )
+        })
+        .collect()
+}
+
+/// The factors alone, forward plan's then inverse plan's, each with its
+/// Jacobian's name (the order of [`named_factors`]).
+fn plan_factors<'a>(
+    l: &'a Loaded,
+    poses: &'a [pkm_runtime::spatial::Pose3],
+) -> impl Iterator<Item = (&'static str, singular::Factor)> + 'a {
+    [("J_o", Some(&l.forward)), ("J_i", l.inverse.as_ref())]
+        .into_iter()
+        .flat_map(move |(jacobian, plan)| {
+            plan.map(|p| p.factors(&l.model, poses))
+                .unwrap_or_default()
+                .into_iter()
+                .map(move |f| (jacobian, f))
+        })
 }
 
 /// Where each determinant factor comes near 0 over the sweep: a figure (the
 /// nodes where it is below 0.05, projected on xOz) and a table naming it.
+/// `named` are the factors as named at the sample ([`named_factors`]).
 fn factor_loci(
-    l: &Loaded,
+    named: &[(String, f64, String)],
     o: &ReportOptions,
     out: &Path,
     measured: &[([f64; 3], f64, f64)],
     values: &[Vec<f64>],
 ) -> Result<String, String> {
     const NEAR: f64 = 0.05;
-    // The factors' names, at the sample configuration.
-    let start = o
-        .start
-        .clone()
-        .unwrap_or_else(|| o.ranges.iter().map(|(lo, hi)| (lo + hi) / 2.0).collect());
-    let signs = signs(l.forward.choices(), o.branch);
-    let Ok(v) = l.forward.solve(&l.model, &start, &signs) else {
+    if named.is_empty() {
         return Ok(String::new());
-    };
-    let poses = newton::link_poses(&l.model, &v).map_err(|e| e.to_string())?;
-    let named = named_factors(l, &poses);
+    }
     let mut series = Vec::new();
     let mut html = format!(
         "<h3>Which factor comes near 0</h3><p>Over the same nodes, each determinant factor's smallest value, \
@@ -490,8 +497,10 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
     page.push_str("</table>\n");
 
     // The determinants' factors on the followed branch at the sample.
+    let mut sample_factors = Vec::new();
     if let Ok(v) = forward.solve(model, &start, &branch_signs) {
         let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
+        sample_factors = named_factors(&loaded, &poses);
         let _ = writeln!(
             page,
             "<h3>Determinant factors on branch {} ({})</h3><p>Each step of a closed-form plan solves one joint from \
@@ -504,11 +513,11 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
             o.branch,
             sign_text(&branch_signs)
         );
-        for (label, value, what) in named_factors(&loaded, &poses) {
+        for (label, value, what) in &sample_factors {
             let _ = writeln!(
                 page,
                 "<tr><td>{label}</td><td>{value:.4}</td><td style=\"text-align:left\">{}</td></tr>",
-                html_escape(&what)
+                html_escape(what)
             );
         }
         page.push_str("</table>\n");
@@ -597,7 +606,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         };
         measured.push((p, j.input_sigma, j.output_sigma));
         let poses = newton::link_poses(model, &v).map_err(|e| e.to_string())?;
-        factor_values.push(named_factors(&loaded, &poses).into_iter().map(|f| f.1).collect());
+        factor_values.push(plan_factors(&loaded, &poses).map(|(_, f)| f.value).collect());
     }
     let quantile = |k: usize| {
         let mut s: Vec<f64> = measured.iter().map(|m| if k == 0 { m.1 } else { m.2 }).collect();
@@ -636,7 +645,7 @@ pub fn write_report(text: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf
         velocity::SINGULAR
     );
     page.push_str(&figure_html(&f, "Near-singular configurations, projected on xOz"));
-    page.push_str(&factor_loci(&loaded, o, out, &measured, &factor_values)?);
+    page.push_str(&factor_loci(&sample_factors, o, out, &measured, &factor_values)?);
 
     // 5. Trajectory: velocity and acceleration of the point.
     let steps = 500;
