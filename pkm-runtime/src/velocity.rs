@@ -17,7 +17,7 @@
 
 use crate::model::{canonical_frame, JointType, Model, Place};
 use crate::newton::{link_poses, spanning_tree, ModelError, Output};
-use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
+use nalgebra::{DMatrix, DVector, Dyn, Isometry3, Vector3, SVD};
 use std::fmt;
 
 /// A twist: angular velocity and the velocity of the body point at the
@@ -339,8 +339,19 @@ impl Loops {
     /// Relative smallest singular value of the passive columns (0 at an
     /// output singularity), lengths scaled by `scale`.
     pub fn passive_sigma(&self, scale: f64) -> f64 {
-        let m = self.scaled_columns(&self.passive, scale);
-        relative_sigma(&m)
+        self.passive_svd(scale).1
+    }
+
+    /// The passive columns' SVD (`None` without passive joints) and their
+    /// relative smallest singular value: one decomposition for the measure
+    /// and for every solve at this configuration.
+    fn passive_svd(&self, scale: f64) -> (Option<SVD<f64, Dyn, Dyn>>, f64) {
+        if self.passive.is_empty() {
+            return (None, 1.0);
+        }
+        let svd = self.scaled_columns(&self.passive, scale).svd(true, true);
+        let sigma = relative_of(&svd.singular_values);
+        (Some(svd), sigma)
     }
 
     fn scaled_columns(&self, cols: &[usize], scale: f64) -> DMatrix<f64> {
@@ -363,6 +374,19 @@ impl Loops {
     /// with `bias` added to the right-hand side (`A q̇ = −bias`; zero for
     /// velocities, the velocity-product terms for accelerations).
     fn solve(&self, input_rates: &[f64], bias: &DVector<f64>, scale: f64) -> Result<Vec<f64>, VelocityError> {
+        let (svd, sigma) = self.passive_svd(scale);
+        self.solve_with(svd.as_ref(), sigma, input_rates, bias, scale)
+    }
+
+    /// [`Loops::solve`] on the passive columns' decomposition ([`Loops::passive_svd`]).
+    fn solve_with(
+        &self,
+        svd: Option<&SVD<f64, Dyn, Dyn>>,
+        sigma: f64,
+        input_rates: &[f64],
+        bias: &DVector<f64>,
+        scale: f64,
+    ) -> Result<Vec<f64>, VelocityError> {
         if input_rates.len() != self.actuated.len() {
             return Err(VelocityError::BadLength {
                 expected: self.actuated.len(),
@@ -378,20 +402,17 @@ impl Loops {
         for (&i, &x) in self.actuated.iter().zip(input_rates) {
             rhs -= self.a.column(i) * x;
         }
-        if self.passive.is_empty() {
+        let Some(svd) = svd else {
             return Ok(q);
-        }
-        let mut ap = self.scaled_columns(&self.passive, scale);
+        };
         for r in 0..rhs.len() {
             if r % 6 >= 3 {
                 rhs[r] /= scale;
             }
         }
-        let sigma = relative_sigma(&ap);
         if sigma < SINGULAR {
             return Err(VelocityError::OutputSingular { sigma });
         }
-        let svd = std::mem::replace(&mut ap, DMatrix::zeros(0, 0)).svd(true, true);
         let smax = svd.singular_values.max();
         let x = svd
             .solve(&rhs, 1e-13 * smax)
@@ -406,18 +427,18 @@ impl Loops {
 /// Below this relative singular value a configuration counts as singular.
 pub const SINGULAR: f64 = 1e-10;
 
-fn relative_sigma(m: &DMatrix<f64>) -> f64 {
-    if m.ncols() == 0 {
+/// σ_min/σ_max from a decomposition's singular values (min(rows, columns)
+/// of them); zero rows (the out-of-plane rows of a planar loop) do not
+/// change them.
+fn relative_of(s: &DVector<f64>) -> f64 {
+    if s.is_empty() {
         return 1.0;
     }
-    // Zero rows (the out-of-plane rows of a planar loop) do not change the singular values.
-    let s = m.clone().svd(false, false).singular_values;
     let max = s.max();
     if max.is_nan() || max <= 0.0 {
         return 0.0;
     }
-    let k = m.ncols().min(m.nrows());
-    s.iter().take(k).fold(f64::INFINITY, |a, &b| a.min(b)) / max
+    s.iter().fold(f64::INFINITY, |a, &b| a.min(b)) / max
 }
 
 /// A configuration's rates: every joint's, every link's twist.
@@ -635,7 +656,7 @@ fn output_matrix(model: &Model, l: &Loops, outputs: &[Output]) -> DMatrix<f64> {
 pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Jacobians, VelocityError> {
     let l = loops(model, values)?;
     let scale = crate::newton::model_scale(model);
-    let output_sigma = l.passive_sigma(scale);
+    let (passive, output_sigma) = l.passive_svd(scale);
     let c = output_matrix(model, &l, outputs);
     // Loop rows and output rows over every rate, lengths in units of the size.
     let all: Vec<usize> = (0..l.a.ncols()).collect();
@@ -656,11 +677,13 @@ pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Ja
             stacked.view_mut((a.nrows(), i), (c.nrows(), 1)).scale_mut(scale);
         }
     }
-    let input_sigma = relative_sigma(&stacked);
+    let rows = stacked.nrows();
+    let stacked = stacked.svd(true, true);
+    let input_sigma = relative_of(&stacked.singular_values);
     let inverse = if input_sigma < SINGULAR {
         None
     } else {
-        inverse_map(&l, &stacked, a.nrows(), &angle_rows, scale)
+        inverse_map(&l, &stacked, rows, a.nrows(), &angle_rows, scale)
     };
     let forward = if output_sigma < SINGULAR {
         None
@@ -670,7 +693,13 @@ pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Ja
         for k in 0..f {
             let mut unit = vec![0.0; f];
             unit[k] = 1.0;
-            let rates = l.solve(&unit, &DVector::zeros(l.a.nrows()), scale)?;
+            let rates = l.solve_with(
+                passive.as_ref(),
+                output_sigma,
+                &unit,
+                &DVector::zeros(l.a.nrows()),
+                scale,
+            )?;
             jf.set_column(k, &(&c * DVector::from_vec(rates)));
         }
         Some(jf)
@@ -691,20 +720,21 @@ pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Ja
 }
 
 /// The input rates per unit output rate: the scaled loop-and-output stack
-/// solved for every rate with the loop rows' right side zero.
+/// (its decomposition, `rows` rows) solved for every rate with the loop rows'
+/// right side zero.
 fn inverse_map(
     l: &Loops,
-    stacked: &DMatrix<f64>,
+    svd: &SVD<f64, Dyn, Dyn>,
+    rows: usize,
     loop_rows: usize,
     angle_rows: &[bool],
     scale: f64,
 ) -> Option<DMatrix<f64>> {
-    let svd = stacked.clone().svd(true, true);
     let tolerance = 1e-13 * svd.singular_values.max();
-    let outputs = stacked.nrows() - loop_rows;
+    let outputs = rows - loop_rows;
     let mut ji = DMatrix::zeros(l.actuated.len(), outputs);
     for k in 0..outputs {
-        let mut rhs = DVector::zeros(stacked.nrows());
+        let mut rhs = DVector::zeros(rows);
         rhs[loop_rows + k] = if angle_rows[k] { 1.0 } else { 1.0 / scale };
         let y = svd.solve(&rhs, tolerance).ok()?;
         for (r, &i) in l.actuated.iter().enumerate() {
