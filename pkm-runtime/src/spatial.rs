@@ -21,7 +21,7 @@
 
 use crate::model::{framed_transform, place_frames, Joint, JointType, Model, Place};
 use crate::plan::{step_error, PointRef, SolveError};
-use crate::primitives::{line_sphere, rotate_to_distance, trig_equation, Error as GeomError, Sign};
+use crate::primitives::{circle_to_distance, line_sphere, trig_equation, Error as GeomError, Sign};
 use nalgebra::{Isometry3, Point3, Rotation3, Unit, Vector3};
 use std::borrow::Cow;
 
@@ -117,6 +117,10 @@ pub enum Motion {
         axis: [f64; 3],
         /// The point at θ = 0 minus the centre.
         radius: [f64; 3],
+        /// The circle's radius from the links' own geometry, exact where
+        /// `|radius|` carries the rounding of the world transform (what keeps
+        /// nearly concentric circles accurate: see [`circle_to_distance`]).
+        length: f64,
     },
     /// `start + s·along`, `along` unit.
     Line {
@@ -171,6 +175,7 @@ pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motio
                 centre: arr(x0 - a),
                 axis: arr(k),
                 radius: arr(a),
+                length: off_axis(v3(arm), v3(j.places[arm_side].axis())),
             }
         }
         _ => {
@@ -178,13 +183,21 @@ pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motio
             let sign = if forward { 1.0 } else { -1.0 };
             let k = frame.rotation * Vector3::z() * sign;
             let c = frame.translation.vector;
+            let place = j.places[side_new];
             Motion::Circle {
                 centre: arr(c),
                 axis: arr(k),
                 radius: arr(x0 - c),
+                length: off_axis(v3(local) - v3(place.at()), v3(place.axis())),
             }
         }
     }
+}
+
+/// The distance of the offset `x` from an axis along `axis`, in one link's frame.
+fn off_axis(x: Vector3<f64>, axis: Vector3<f64>) -> f64 {
+    let k = axis.normalize();
+    (x - k * k.dot(&x)).norm()
 }
 
 /// The axis a joint turns the new link about, if it turns it (R joints).
@@ -210,9 +223,10 @@ pub fn on_sphere(m: &Motion, centre: [f64; 3], radius: f64, sign: Sign) -> Resul
             centre: c,
             axis,
             radius: r,
+            length,
         } => {
             let p = v3(c) + v3(r);
-            Ok(rotate_to_distance(c, axis, arr(p), centre, radius)?.branch(sign))
+            Ok(circle_to_distance(c, axis, arr(p), Some(length), centre, radius)?.branch(sign))
         }
         Motion::Line { start, along } => Ok(line_sphere(start, along, centre, radius)?.branch(sign).t),
     }
@@ -223,7 +237,9 @@ pub fn on_sphere(m: &Motion, centre: [f64; 3], radius: f64, sign: Sign) -> Resul
 pub fn on_plane(m: &Motion, normal: [f64; 3], offset: f64, sign: Sign) -> Result<f64, GeomError<f64>> {
     let n = v3(normal);
     match *m {
-        Motion::Circle { centre, axis, radius } => {
+        Motion::Circle {
+            centre, axis, radius, ..
+        } => {
             let (k, r) = (v3(axis), v3(radius));
             let r_par = k * k.dot(&r);
             let r_perp = r - r_par;
@@ -259,11 +275,12 @@ pub fn on_cylinder(
             centre,
             axis: k,
             radius: r,
+            length,
         } => {
             let x0 = v3(centre) + v3(r);
             // The line's point in the circle's plane: the distance is planar.
             let q = v3(point) + w * w.dot(&(x0 - v3(point)));
-            Ok(rotate_to_distance(centre, k, arr(x0), arr(q), radius)?.branch(sign))
+            Ok(circle_to_distance(centre, k, arr(x0), Some(length), arr(q), radius)?.branch(sign))
         }
         Motion::Line { start, along } => {
             // Remove the component along the cylinder's axis: a planar line–circle.
@@ -296,7 +313,9 @@ pub fn angle_onto(k: [f64; 3], v: [f64; 3], u: [f64; 3]) -> Result<f64, GeomErro
 /// the circle's axis, or the slide's projection).
 pub fn aim(m: &Motion, target: [f64; 3]) -> Result<f64, GeomError<f64>> {
     match *m {
-        Motion::Circle { centre, axis, radius } => angle_onto(axis, radius, arr(v3(target) - v3(centre))),
+        Motion::Circle {
+            centre, axis, radius, ..
+        } => angle_onto(axis, radius, arr(v3(target) - v3(centre))),
         Motion::Line { start, along } => Ok((v3(target) - v3(start)).dot(&v3(along))),
     }
 }

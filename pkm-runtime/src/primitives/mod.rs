@@ -32,7 +32,7 @@
 //! * [`planar`]: dyads (Assur groups of class II) [`rrr`], [`rrp`], [`rpr`],
 //!   [`prp`], [`ppr`].
 //! * [`spatial`]: [`line_plane`], [`line_sphere`], [`trilaterate`],
-//!   [`rotate_to_distance`].
+//!   [`rotate_to_distance`], [`circle_to_distance`].
 //! * [`paden_kahan`]: [`pk1`], [`pk2`], [`pk3`].
 
 use crate::real::Real;
@@ -48,7 +48,7 @@ mod vec;
 pub use paden_kahan::{pk1, pk2, pk3};
 pub use planar::{ppr, prp, rpr, rrp, rrr, LineLine, SliderLine};
 pub use scalar::{stable_quadratic, trig_equation, QuadraticRoots};
-pub use spatial::{line_plane, line_sphere, rotate_to_distance, trilaterate};
+pub use spatial::{circle_to_distance, line_plane, line_sphere, rotate_to_distance, trilaterate};
 
 /// Relative tolerance for tangency (double roots) and for data consistency.
 ///

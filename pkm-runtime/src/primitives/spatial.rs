@@ -255,18 +255,56 @@ pub fn rotate_to_distance<T: Real>(
     q: [T; 3],
     d: T,
 ) -> Result<Roots2<T>, Error<T>> {
+    circle_to_distance(axis_point, axis_dir, p, None, q, d)
+}
+
+/// [`rotate_to_distance`] for a circle whose radius `rp` is known exactly
+/// (from a link's own geometry) rather than measured from `p`, which then
+/// gives only the direction of θ = 0. `None` measures it from `p`.
+///
+/// Why: when `q` is near the axis (`rq → 0`, two circle centres nearly
+/// coincident) the constant term `c = (rp² + rq² + δ² − d²)/2` is tiny, and
+/// `rp` measured from world coordinates carries a rounding error of
+/// `ε·rp`, which becomes an angle error `ε·rp/rq`. With `rp` exact and the
+/// largest of `rp`, `rq`, `|δ|` paired with `d` as `(x − d)(x + d)`, equal
+/// radii give `c = (rq² + δ²)/2` to full relative accuracy.
+///
+/// # Example
+///
+/// ```
+/// use pkm_runtime::primitives::{circle_to_distance, Sign};
+///
+/// // Two unit circles whose centres are 1e-14 apart (the second about (1e-14, 0, 0)):
+/// // they meet where x = 5e-15, y = ±sqrt(1 − x²).
+/// let r = circle_to_distance([0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], Some(1.0), [1e-14, 0.0, 0.0], 1.0)
+///     .unwrap();
+/// let theta = r.branch(Sign::Plus);
+/// // θ = π/2 − 5e-15: its cosine is 5e-15 to within an ulp of π/2.
+/// assert!((theta.cos() - 5e-15).abs() < 3e-16 && (theta.sin() - 1.0).abs() < 1e-15);
+/// ```
+pub fn circle_to_distance<T: Real>(
+    axis_point: [T; 3],
+    axis_dir: [T; 3],
+    p: [T; 3],
+    rp: Option<T>,
+    q: [T; 3],
+    d: T,
+) -> Result<Roots2<T>, Error<T>> {
     if !(finite(&axis_point) && finite(&axis_dir) && finite(&p) && finite(&q)) {
         return Err(non_finite_input());
     }
     ensure_finite(&[d])?;
-    if d < T::zero() {
+    if let Some(r) = rp {
+        ensure_finite(&[r])?;
+    }
+    if d < T::zero() || rp.is_some_and(|r| r < T::zero()) {
         return Err(Error::Degenerate {
             what: "negative distance",
         });
     }
     let k = unit(axis_dir, "zero-length axis")?;
     let ax = axis_pair(axis_point, k, p, q);
-    if ax.rp == T::zero() {
+    if ax.rp == T::zero() || rp == Some(T::zero()) {
         return Err(Error::Degenerate {
             what: "p on the rotation axis",
         });
@@ -276,10 +314,14 @@ pub fn rotate_to_distance<T: Real>(
             what: "q on the rotation axis",
         });
     }
-    let (rp, rq, delta) = (ax.rp, ax.rq, ax.delta);
-    let c = rp.mul_add(rp, rq * rq) + (delta - d) * (delta + d);
-    let c = c / T::from_f64(2.0);
-    trig_equation(ax.cos_coef, ax.sin_coef, c).map_err(|e| match e {
+    // The coefficients scale with the exact radius; p's direction is all that is measured.
+    let (rp, scale) = match rp {
+        Some(r) => (r, r / ax.rp),
+        None => (ax.rp, T::one()),
+    };
+    let (rq, delta) = (ax.rq, ax.delta);
+    let c = sum_of_squares_minus(rp, rq, delta.abs(), d) / T::from_f64(2.0);
+    trig_equation(ax.cos_coef * scale, ax.sin_coef * scale, c).map_err(|e| match e {
         Error::Unreachable { .. } => {
             let dmax = delta.hypot(rp + rq);
             let dmin = delta.hypot(rp - rq);
@@ -298,6 +340,19 @@ pub fn rotate_to_distance<T: Real>(
         }
         other => other,
     })
+}
+
+/// `a² + b² + c² − d²` (all non-negative) with the largest of `a, b, c`
+/// paired with `d` as `(x − d)(x + d)`: exact cancellation when `x = d`.
+fn sum_of_squares_minus<T: Real>(a: T, b: T, c: T, d: T) -> T {
+    let (x, y, z) = if a >= b && a >= c {
+        (a, b, c)
+    } else if b >= c {
+        (b, a, c)
+    } else {
+        (c, a, b)
+    };
+    (x - d) * (x + d) + y.mul_add(y, z * z)
 }
 
 #[cfg(test)]
@@ -553,6 +608,35 @@ mod tests {
             (Err(Error::Unreachable { by, .. }), Want::Unreachable(b)) => check_by(by, b),
             (Err(Error::Degenerate { .. }), Want::Degenerate) => {}
             (other, _) => panic!("rotate_to_distance({o:?}, {k:?}, {p:?}, {q:?}, {d}): wanted {want:?}, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn circle_to_distance_nearly_concentric() {
+        // Two circles of radius r in the plane z = 0, the second's centre k ulps
+        // of x = 1 to the right of the first's: they meet at x = c/2 exactly,
+        // y = ±sqrt(r² − (c/2)²); the angle of the first circle's point must
+        // keep that to an ulp.
+        let mut rng = Lcg(5);
+        for _ in 0..200 {
+            let r = 10.0 * rng.uniform(0.1, 1.0);
+            let o = [rng.uniform(-5.0, 5.0), 1.0, 0.0];
+            let mut q = o;
+            for ulps in 1..=10 {
+                q[1] = f64::next_up(q[1]);
+                let half = (q[1] - o[1]) / 2.0;
+                let roots = circle_to_distance(o, [0.0, 0.0, 1.0], [o[0] + r, o[1], 0.0], Some(r), q, r).unwrap();
+                for theta in roots.branches() {
+                    let (s, c) = theta.sin_cos();
+                    // The meeting points' offset along the centres' line is `half`.
+                    assert!(
+                        (r * s - half).abs() <= 4.0 * f64::EPSILON * r,
+                        "{ulps} ulps: {} vs {half}",
+                        r * s
+                    );
+                    assert!((r * c).abs() - (r * r - half * half).sqrt() <= 4.0 * f64::EPSILON * r);
+                }
+            }
         }
     }
 
