@@ -74,6 +74,7 @@ fn q_only<S, const D: usize>(branches: &[Branch<S, D>], q: impl Fn(&S) -> [f64; 
         .map(|b| Branch {
             signs: b.signs,
             result: b.result.as_ref().map(&q).map_err(Clone::clone),
+            tangent: b.tangent,
         })
         .collect()
 }

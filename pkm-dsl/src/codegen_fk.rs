@@ -162,9 +162,11 @@ pub enum PlanRef<'p> {
 /// (or `ik`, …) and the names of their values (`INPUTS` or `OUTPUTS`).
 pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
     let sol_ty = format_ident!("{}Solution", ident);
+    let mut checks = None;
     let (body, result, branches, inputs, extra) = match plan {
         PlanRef::Planar(p) => {
             let (body, result, branches, inputs) = planar_body(a, p, &sol_ty);
+            checks = planar_checks(a, p);
             (body, result, branches, inputs, TokenStream::new())
         }
         PlanRef::Spatial(p) => {
@@ -175,8 +177,64 @@ pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, directi
             crate::codegen_spatial::body(a, p, ident, &poses_fn, what)
         }
     };
-    let solver = wrap(a, ident, direction, body, result, branches, &inputs);
+    let solver = wrap(a, ident, direction, body, result, branches, &inputs, checks);
     quote! { #solver #extra }
+}
+
+/// What a planar solution is verified by, where its plan leaves something
+/// unchecked: each row's expression (2 values each) and owner, and which
+/// given values are angles.
+struct Checks {
+    rows: Vec<TokenStream>,
+    owners: Vec<String>,
+    angular: Vec<bool>,
+}
+
+/// The residual rows of a planar plan (the runtime's `plan::run` checks the
+/// same): every open joint, every given point a later dyad moves its link
+/// about. `None` when every joint is closed by a step and no point is pinned.
+fn planar_checks(a: &Analysis, plan: &Plan) -> Option<Checks> {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime::plan };
+    let (mut rows, mut owners) = (Vec::new(), Vec::new());
+    for j in plan.open_joints(m.joints.len()) {
+        let joint = &m.joints[j];
+        let (u, v) = (joint.links[0], joint.links[1]);
+        let (pu, pv) = (pose(u), pose(v));
+        rows.push(match (joint.kind, a.place(j, u), a.place(j, v)) {
+            (crate::model::JointKind::P, JointPlace::Line(t, d), other) => {
+                let (t, d, s) = (xy(t), xy(d), point(other));
+                quote! { #rt::prismatic_residual(#pu, #t, #d, #pv, #s, extent) }
+            }
+            (crate::model::JointKind::P, other, JointPlace::Line(t, d)) => {
+                let (t, d, s) = (xy(t), xy(d), point(other));
+                quote! { #rt::prismatic_residual(#pv, #t, #d, #pu, #s, extent) }
+            }
+            (_, at_u, at_v) => {
+                let (at_u, at_v) = (point(at_u), point(at_v));
+                quote! { #rt::point_residual(#pu.apply(#at_u), #pv.apply(#at_v)) }
+            }
+        });
+        owners.extend(std::iter::repeat_n(format!("joint {}", joint.name), 2));
+    }
+    for s in &plan.steps {
+        if let Step::PlacePoint { link, point: at, input } = *s {
+            let (p, local, i1) = (pose(link), local_point(a, at, link), input + 1);
+            rows.push(quote! { #rt::point_residual(#p.apply(#local), [q[#input], q[#i1]]) });
+            owners.extend(std::iter::repeat_n(
+                format!("the given point of link {}", m.links[link].name),
+                2,
+            ));
+        }
+    }
+    if rows.is_empty() {
+        return None;
+    }
+    let angular = match crate::plan::model(a, &Default::default()) {
+        Ok(model) => plan.angular_inputs(&model),
+        Err(_) => vec![false; plan.inputs.len()],
+    };
+    Some(Checks { rows, owners, angular })
 }
 
 /// The straight-line body of a planar solver, the expression of its
@@ -327,6 +385,7 @@ fn wrap(
     result: TokenStream,
     n_branches: usize,
     inputs: &[usize],
+    checks: Option<Checks>,
 ) -> TokenStream {
     let m = &a.mechanism;
     let rt = quote! { ::pkm::runtime::plan };
@@ -361,7 +420,7 @@ fn wrap(
     let branches = (0..n_solutions).map(|i| {
         quote! {{
             let signs = #rt::signs_of::<#n_branches>(#i);
-            #rt::Branch { signs, result: Self::#f_branch(params, q, signs) }
+            #rt::Branch { signs, result: Self::#f_branch(params, q, signs), tangent: false }
         }}
     });
     // The outputs' names are the solution's `OUTPUTS`; the inputs' are named here.
@@ -377,32 +436,85 @@ fn wrap(
         value_names.join(", ")
     );
     let branch_doc = format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice).");
-    quote! {
-        #[automatically_derived]
-        impl #ident {
-            #names_item
-
-            #[doc = #all_doc]
-            pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
-                [#(#branches),*]
-            }
-
+    let finite = quote! {
+        let _ = &signs;
+        if !q.iter().all(|v| v.is_finite()) {
+            return ::core::result::Result::Err(#rt::SolveError::BadInput {
+                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+            });
+        }
+    };
+    let branch_fns = match checks {
+        None => quote! {
             #[doc = #branch_doc]
             pub fn #f_branch(
                 params: &#params_ty,
                 q: &[f64; #n_values],
                 signs: [::pkm::runtime::primitives::Sign; #n_branches],
             ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
-                let _ = &signs;
-                if !q.iter().all(|v| v.is_finite()) {
-                    return ::core::result::Result::Err(#rt::SolveError::BadInput {
-                        what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-                    });
-                }
+                #finite
                 #body
                 ::core::result::Result::Ok(#result)
             }
+        },
+        Some(Checks { rows, owners, angular }) => {
+            let f_unverified = format_ident!("{}_unverified", f_branch);
+            let (n_rows, n_pairs) = (owners.len(), rows.len());
+            let names = match direction {
+                Direction::Forward => quote! { &Self::INPUTS },
+                Direction::Inverse => quote! { &Self::OUTPUTS },
+            };
+            let n_joints = m.joints.len();
+            quote! {
+                #[doc = #branch_doc]
+                /// The solution is verified: what the plan did not close must close.
+                pub fn #f_branch(
+                    params: &#params_ty,
+                    q: &[f64; #n_values],
+                    signs: [::pkm::runtime::primitives::Sign; #n_branches],
+                ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                    let (solution, rows, extent) = Self::#f_unverified(params, q, signs)?;
+                    const OWNERS: [&str; #n_rows] = [#(#owners),*];
+                    const ANGULAR: [bool; #n_values] = [#(#angular),*];
+                    ::pkm::runtime::consistency::verify_rows(&rows, extent, &OWNERS, q, &ANGULAR, #names, |g| {
+                        let g: &[f64; #n_values] = g.try_into().ok()?;
+                        Self::#f_unverified(params, g, signs).ok().map(|(_, rows, _)| rows.to_vec())
+                    })?;
+                    ::core::result::Result::Ok(solution)
+                }
 
+                /// One branch's solution, its residual rows and their extent, unverified.
+                fn #f_unverified(
+                    params: &#params_ty,
+                    q: &[f64; #n_values],
+                    signs: [::pkm::runtime::primitives::Sign; #n_branches],
+                ) -> ::core::result::Result<(#sol_ty, [f64; #n_rows], f64), #rt::SolveError> {
+                    #finite
+                    #body
+                    let solution = #result;
+                    let extent = ::pkm::runtime::consistency::extent(&solution.points[..#n_joints]);
+                    let pairs: [[f64; 2]; #n_pairs] = [#(#rows),*];
+                    let rows: [f64; #n_rows] = ::core::array::from_fn(|i| pairs.as_flattened()[i]);
+                    ::core::result::Result::Ok((solution, rows, extent))
+                }
+            }
+        }
+    };
+    quote! {
+        #[automatically_derived]
+        impl #ident {
+            #names_item
+
+            #[doc = #all_doc]
+            /// A branch that is another's solution again (a double root, at a
+            /// tangency) is `SolveError::DoubleRoot`, and its twin is `tangent`.
+            pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
+                let mut all = [#(#branches),*];
+                ::pkm::runtime::consistency::mark_double_roots(&mut all, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]);
+                all
+            }
+
+            #branch_fns
             /// Follows a trajectory: the branch nearest `previous` (the solution
             /// at the last given values), or, given the one before it too,
             /// nearest the linear prediction from both, which carries through

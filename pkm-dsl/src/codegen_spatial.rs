@@ -204,6 +204,19 @@ pub fn shared_items(a: &Analysis, ident: &proc_macro2::Ident) -> TokenStream {
     }
 }
 
+/// Which given values of a plan are angles (the runtime's rule, on the
+/// nominal model's joints).
+fn angular_inputs(a: &Analysis, plan: &Plan) -> Vec<bool> {
+    match crate::plan::model(a, &Default::default()) {
+        Ok(model) => {
+            let joints: Vec<pkm_runtime::spatial::Joint3> =
+                model.joints.iter().map(pkm_runtime::spatial::Joint3::of).collect();
+            plan.angular_inputs(&joints)
+        }
+        Err(_) => vec![false; plan.n_inputs],
+    }
+}
+
 /// A spatial solver: the body of its `*_branch` function, the expression of
 /// its solution, its number of ± choices, its input joints, and the
 /// `*_poses` function (the steps alone, on joints computed beforehand).
@@ -234,25 +247,76 @@ pub fn body(
     let doc = format!(
         " {what} position for one branch, link poses only (order of the links), on joints and named points from `joints` and `named_points`: the fast path for sweeps."
     );
-    let poses_item = quote! {
-        #[automatically_derived]
-        impl #ident {
-            #[doc = #doc]
-            pub fn #poses_fn(
-                joints: &[#sp::Joint3; #n_joints],
-                named: &[[f64; 3]; #n_named],
-                q: &[f64; #n_values],
-                signs: [::pkm::runtime::primitives::Sign; #n_branches],
-            ) -> ::core::result::Result<[#sp::Pose3; #n_links], ::pkm::runtime::plan::SolveError> {
-                let _ = (&signs, named);
-                if !q.iter().all(|v| v.is_finite()) {
-                    return ::core::result::Result::Err(::pkm::runtime::plan::SolveError::BadInput {
-                        what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-                    });
+    let signature = quote! {
+        (
+            joints: &[#sp::Joint3; #n_joints],
+            named: &[[f64; 3]; #n_named],
+            q: &[f64; #n_values],
+            signs: [::pkm::runtime::primitives::Sign; #n_branches],
+        ) -> ::core::result::Result<[#sp::Pose3; #n_links], ::pkm::runtime::plan::SolveError>
+    };
+    let steps_body = quote! {
+        let _ = (&signs, named);
+        if !q.iter().all(|v| v.is_finite()) {
+            return ::core::result::Result::Err(::pkm::runtime::plan::SolveError::BadInput {
+                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+            });
+        }
+        let mut poses = [#sp::Pose3::identity(); #n_links];
+        #(#steps)*
+        ::core::result::Result::Ok(poses)
+    };
+    // Joints no step closes are verified after the last step; the steps
+    // alone serve the projection that names a contradicted given value.
+    let open = plan.open_joints(n_joints);
+    let poses_item = if open.is_empty() {
+        quote! {
+            #[automatically_derived]
+            impl #ident {
+                #[doc = #doc]
+                pub fn #poses_fn #signature {
+                    #steps_body
                 }
-                let mut poses = [#sp::Pose3::identity(); #n_links];
-                #(#steps)*
-                ::core::result::Result::Ok(poses)
+            }
+        }
+    } else {
+        let unverified = format_ident!("{}_unverified", poses_fn);
+        let angular = angular_inputs(a, plan);
+        let n_open = open.len();
+        let names = if what == "Forward" {
+            quote! { &Self::INPUTS }
+        } else {
+            quote! { &Self::OUTPUTS }
+        };
+        quote! {
+            #[automatically_derived]
+            impl #ident {
+                #[doc = #doc]
+                /// Verified: the joints no step closes must close.
+                pub fn #poses_fn #signature {
+                    const OPEN: [usize; #n_open] = [#(#open),*];
+                    const ANGULAR: [bool; #n_values] = [#(#angular),*];
+                    let poses = Self::#unverified(joints, named, q, signs)?;
+                    #sp::verify(
+                        joints,
+                        &poses,
+                        &OPEN,
+                        &|j| ::std::borrow::Cow::Borrowed(Self::JOINTS[j]),
+                        q,
+                        &ANGULAR,
+                        #names,
+                        |g| {
+                            let g: &[f64; #n_values] = g.try_into().ok()?;
+                            Self::#unverified(joints, named, g, signs).ok().map(|p| p.to_vec())
+                        },
+                    )?;
+                    ::core::result::Result::Ok(poses)
+                }
+
+                /// The steps alone, unverified.
+                fn #unverified #signature {
+                    #steps_body
+                }
             }
         }
     };

@@ -3,6 +3,7 @@
 //! The small runtime of pkm: shared types that generated code refers to.
 #![deny(missing_docs)]
 
+pub mod consistency;
 pub mod model;
 pub mod newton;
 pub mod plan;

@@ -190,6 +190,24 @@ pub enum SolveError {
         /// What is wrong.
         what: Cow<'static, str>,
     },
+    /// The steps ran, but a joint the plan did not solve (or a given point
+    /// it moved) does not close: the given values over-determine the
+    /// mechanism and disagree (see [`crate::consistency`]).
+    Inconsistent {
+        /// What does not close, e.g. `joint R11`.
+        owner: Cow<'static, str>,
+        /// By how much (a length).
+        gap: f64,
+        /// The given value the others contradict, where the projection onto
+        /// consistent values found it.
+        contradicted: Option<crate::consistency::Contradicted>,
+    },
+    /// This branch is the same solution as branch number `twin`: a double
+    /// root (tangency) of one step, where its two signs meet.
+    DoubleRoot {
+        /// The branch (index in `signs_of` order) that keeps the solution.
+        twin: usize,
+    },
 }
 
 impl fmt::Display for SolveError {
@@ -202,6 +220,26 @@ impl fmt::Display for SolveError {
             }
             SolveError::Degenerate { what, step } => write!(f, "degenerate configuration at step {step}: {what}"),
             SolveError::BadInput { what } => write!(f, "bad input: {what}"),
+            SolveError::Inconsistent {
+                owner,
+                gap,
+                contradicted: Some(c),
+            } => write!(
+                f,
+                "the given values are inconsistent: {} = {} cannot be reached with the others, \
+                 the nearest reachable value is {} (off by {:.6e}); as given, {owner} misses by {gap:.6e}",
+                c.name,
+                c.given,
+                c.nearest,
+                c.given - c.nearest
+            ),
+            SolveError::Inconsistent { owner, gap, .. } => {
+                write!(f, "the given values are inconsistent: {owner} misses by {gap:.6e}")
+            }
+            SolveError::DoubleRoot { twin } => write!(
+                f,
+                "a double root (tangency): this branch is the same solution as branch {twin}"
+            ),
         }
     }
 }
@@ -418,8 +456,156 @@ pub fn prismatic_value(
     ((p[0] - through[0]) * along[0] + (p[1] - through[1]) * along[1]) / n
 }
 
-/// Runs the plan for one branch (`signs[k]` for the plan's k-th choice).
+impl Step {
+    /// The joints this step solves (and so closes).
+    pub fn joints(&self) -> &[usize] {
+        match self {
+            Step::Place { .. } | Step::PlacePoint { .. } => &[],
+            Step::Transfer { joint, .. } => core::slice::from_ref(joint),
+            Step::Rrr { joints, .. } | Step::Rrp { joints, .. } => joints,
+        }
+    }
+}
+
+impl Plan {
+    /// The joints no step solves: the loops the plan never needed, whose
+    /// closure [`run`] checks after the last step.
+    pub fn open_joints(&self, n_joints: usize) -> Vec<usize> {
+        let mut solved = vec![false; n_joints];
+        for &j in self.steps.iter().flat_map(Step::joints) {
+            if let Some(s) = solved.get_mut(j) {
+                *s = true;
+            }
+        }
+        (0..n_joints).filter(|&j| !solved[j]).collect()
+    }
+
+    /// Which given values are angles: a pose's angle, a revolute's value.
+    pub fn angular_inputs(&self, model: &Model) -> Vec<bool> {
+        let n = self
+            .steps
+            .iter()
+            .map(|s| match *s {
+                Step::Place { input, .. } => input + 3,
+                Step::PlacePoint { input, .. } => input + 2,
+                Step::Transfer { input, .. } => input + 1,
+                _ => 0,
+            })
+            .max()
+            .unwrap_or(0)
+            .max(self.inputs.len());
+        let mut angular = vec![false; n];
+        for s in &self.steps {
+            match *s {
+                Step::Place { input, .. } => angular[input + 2] = true,
+                Step::Transfer { joint, input, .. } => angular[input] = model.joints[joint].kind == JointType::R,
+                _ => {}
+            }
+        }
+        angular
+    }
+}
+
+/// A planar joint's closure residual: R joints, the difference of its two
+/// places' world points; P joints, the slider point's signed distance from
+/// the guide line and the two links' angle difference times `extent`.
+pub fn closure_residual(j: &crate::model::Joint, poses: &[Pose2], extent: f64) -> [f64; 2] {
+    let (tu, tv) = (poses[j.links[0]], poses[j.links[1]]);
+    match (j.kind, &j.places[0], &j.places[1]) {
+        (JointType::P, Place::Line { through, along }, other) => {
+            prismatic_residual(tu, xy(through), xy(along), tv, local(other), extent)
+        }
+        (JointType::P, other, Place::Line { through, along }) => {
+            prismatic_residual(tv, xy(through), xy(along), tu, local(other), extent)
+        }
+        _ => point_residual(tu.apply(local(&j.places[0])), tv.apply(local(&j.places[1]))),
+    }
+}
+
+/// Where a point is minus where it should be: a residual of two rows.
+pub fn point_residual(at: [f64; 2], want: [f64; 2]) -> [f64; 2] {
+    [at[0] - want[0], at[1] - want[1]]
+}
+
+/// A prismatic joint's closure residual (see [`closure_residual`]).
+pub fn prismatic_residual(
+    guide_pose: Pose2,
+    through: [f64; 2],
+    along: [f64; 2],
+    slider_pose: Pose2,
+    slider: [f64; 2],
+    extent: f64,
+) -> [f64; 2] {
+    let p = guide_pose.inverse_apply(slider_pose.apply(slider));
+    let n = along[0].hypot(along[1]);
+    let off = ((p[1] - through[1]) * along[0] - (p[0] - through[0]) * along[1]) / n;
+    [off, wrap_angle(slider_pose.angle - guide_pose.angle) * extent]
+}
+
+/// The residual of a planar solution: every open joint's (2 rows each), then
+/// each given point's distance from where the solution put it (2 rows each
+/// `PlacePoint`, whose link a later dyad turns), with the extent they are
+/// measured against; and the owner of each row.
+fn residual(
+    model: &Model,
+    plan: &Plan,
+    open: &[usize],
+    poses: &[Pose2],
+    inputs: &[f64],
+) -> (Vec<f64>, f64, Vec<String>) {
+    let points: Vec<[f64; 2]> = (0..model.joints.len()).map(|j| joint_point(model, poses, j)).collect();
+    let extent = crate::consistency::extent(&points);
+    let mut rows = Vec::new();
+    let mut owners = Vec::new();
+    for &j in open {
+        rows.extend(closure_residual(&model.joints[j], poses, extent));
+        owners.extend(std::iter::repeat_n(format!("joint {}", model.joints[j].name), 2));
+    }
+    for s in &plan.steps {
+        if let Step::PlacePoint { link, point, input } = *s {
+            let at = match point {
+                PointRef::Joint(j) => point_on(model, j, link).unwrap_or([f64::NAN; 2]),
+                PointRef::Named(n) => model.points.get(n).map_or([f64::NAN; 2], |p| [p.at[0], p.at[1]]),
+            };
+            rows.extend(point_residual(
+                poses[link].apply(at),
+                [inputs[input], inputs[input + 1]],
+            ));
+            owners.extend(std::iter::repeat_n(
+                format!("the given point of link {}", model.links[link]),
+                2,
+            ));
+        }
+    }
+    (rows, extent, owners)
+}
+
+/// Runs the plan for one branch (`signs[k]` for the plan's k-th choice) and
+/// verifies the solution ([`crate::consistency`]): every open joint closes,
+/// every given point stays where it was given; where not, the error names
+/// the given value the others contradict (`#k`).
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<FkSolution, SolveError> {
+    let open = plan.open_joints(model.joints.len());
+    let sol = run_unverified(model, plan, inputs, signs)?;
+    let (rows, extent, owners) = residual(model, plan, &open, &sol.poses, inputs);
+    let owners: Vec<&str> = owners.iter().map(String::as_str).collect();
+    crate::consistency::verify_rows(
+        &rows,
+        extent,
+        &owners,
+        inputs,
+        &plan.angular_inputs(model),
+        &[],
+        |given| {
+            let s = run_unverified(model, plan, given, signs).ok()?;
+            Some(residual(model, plan, &open, &s.poses, given).0)
+        },
+    )?;
+    Ok(sol)
+}
+
+/// One branch's solution, unverified.
+fn run_unverified(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<FkSolution, SolveError> {
     if inputs.len() != plan.inputs.len() || signs.len() != plan.branches {
         return Err(bad(format!(
             "expected {} inputs and {} signs",
@@ -428,7 +614,7 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
         )));
     }
     if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
-        return Err(bad(format!("input {} is not finite", i + 1)));
+        return Err(bad(format!("given value {} is {}", i + 1, inputs[i])));
     }
     let mut poses: Vec<Option<Pose2>> = vec![None; model.links.len()];
     poses[0] = Some(Pose2::IDENTITY);
@@ -555,8 +741,13 @@ pub fn joint_value(j: &crate::model::Joint, poses: &[Pose2]) -> f64 {
 }
 
 /// Every branch of the plan: the signs and the solution or the reason there is none.
+/// A branch that repeats an earlier one's solution (a double root) says so
+/// ([`SolveError::DoubleRoot`]).
 pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<FkSolution, SolveError>)> {
-    every_branch(plan.branches, |signs| run(model, plan, inputs, signs))
+    let mut all = every_branch(plan.branches, |signs| run(model, plan, inputs, signs));
+    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind == JointType::R).collect();
+    crate::consistency::mark_double_roots_in(&mut all, &revolute, |s: &FkSolution| &s.values);
+    all
 }
 
 /// `solve` for each of the 2^`choices` sign vectors, in [`signs_of`] order
@@ -588,6 +779,9 @@ pub struct Branch<S, const D: usize> {
     pub signs: [Sign; D],
     /// The solution, or why this branch has none.
     pub result: Result<S, SolveError>,
+    /// Whether a step met a double root here (tangency): another branch
+    /// that would be the same solution says [`SolveError::DoubleRoot`].
+    pub tangent: bool,
 }
 
 /// The sign vector of branch number `index` (bit k set: choice k is `Minus`),

@@ -578,6 +578,95 @@ pub struct Plan {
     pub inputs: Vec<usize>,
 }
 
+impl Step {
+    /// The joint this step solves (and so closes), if any.
+    pub fn joint(&self) -> Option<usize> {
+        match self {
+            Step::Place { .. } => None,
+            Step::Transfer { joint, .. }
+            | Step::Aim { joint, .. }
+            | Step::Locus { joint, .. }
+            | Step::Align { joint, .. }
+            | Step::PaPlane { joint, .. } => Some(*joint),
+        }
+    }
+}
+
+impl Plan {
+    /// The joints no step solves, in order: the loops the plan never
+    /// needed, whose closure [`run`] checks after the last step.
+    pub fn open_joints(&self, n_joints: usize) -> Vec<usize> {
+        let mut solved = vec![false; n_joints];
+        for j in self.steps.iter().filter_map(Step::joint) {
+            if let Some(s) = solved.get_mut(j) {
+                *s = true;
+            }
+        }
+        (0..n_joints).filter(|&j| !solved[j]).collect()
+    }
+
+    /// Which given values are angles: a pose's angle, a revolute's value.
+    pub fn angular_inputs(&self, joints: &[Joint3]) -> Vec<bool> {
+        let mut angular = vec![false; self.n_inputs];
+        for s in &self.steps {
+            match s {
+                Step::Place {
+                    input, about: Some(_), ..
+                } => angular[input + 3] = true,
+                Step::Transfer { joint, input, .. } => {
+                    angular[*input] = matches!(joints[*joint].kind, JointType::R | JointType::Pa)
+                }
+                _ => {}
+            }
+        }
+        angular
+    }
+}
+
+/// Joint `j`'s closure residual between the poses `u` and `v` of its two
+/// links: where its place on `v` is minus where `u` and the joint's own
+/// value put it (3 lengths), then the rotation between those two poses as
+/// a rotation vector times `extent` (3). Zero, to rounding, for a closed
+/// joint. S joints: the two places' world points' difference only.
+pub fn closure_residual(j: &Joint3, u: &Pose3, v: &Pose3, extent: f64) -> [f64; 6] {
+    let pv = at(v, j.places[1].at());
+    if j.kind == JointType::S {
+        let pu = at(u, j.places[0].at());
+        return [pu[0] - pv[0], pu[1] - pv[1], pu[2] - pv[2], 0.0, 0.0, 0.0];
+    }
+    let predicted = transfer(u, j, true, joint_value(j, u, v));
+    let pp = at(&predicted, j.places[1].at());
+    let turn = (predicted.rotation.inverse() * v.rotation).scaled_axis() * extent;
+    [pp[0] - pv[0], pp[1] - pv[1], pp[2] - pv[2], turn.x, turn.y, turn.z]
+}
+
+/// The extent residuals are measured against: the largest coordinate
+/// magnitude of the joints' world points, at least 1 (no allocation).
+pub fn extent(joints: &[Joint3], poses: &[Pose3]) -> f64 {
+    joints
+        .iter()
+        .flat_map(|j| {
+            [
+                at(&poses[j.links[0]], j.places[0].at()),
+                at(&poses[j.links[1]], j.places[1].at()),
+            ]
+        })
+        .flatten()
+        .map(f64::abs)
+        .filter(|c| c.is_finite())
+        .fold(1.0, f64::max)
+}
+
+/// The residual of every open joint, 6 rows each (see [`closure_residual`]).
+pub fn open_residual(joints: &[Joint3], poses: &[Pose3], open: &[usize], extent: f64) -> Vec<f64> {
+    open.iter()
+        .flat_map(|&k| {
+            let j = &joints[k];
+            closure_residual(j, &poses[j.links[0]], &poses[j.links[1]], extent)
+        })
+        .collect()
+}
+
 /// A solution: every link's pose and every joint's value.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
@@ -792,8 +881,76 @@ pub fn values<const J: usize>(joints: &[Joint3; J], poses: &[Pose3]) -> [f64; J]
     })
 }
 
-/// Runs the plan for one branch.
+/// Verifies a solution's link poses: every open joint must close
+/// ([`crate::consistency`]). Where one does not, the error names the given
+/// value the others contradict, found by re-solving (`solve`, the same
+/// branch at other given values) nearby. `joint_names` and `given_names`
+/// name joints and given values (`#k` where a name is missing). The
+/// interpreter and generated code both call this.
+#[allow(clippy::too_many_arguments)]
+pub fn verify(
+    joints: &[Joint3],
+    poses: &[Pose3],
+    open: &[usize],
+    joint_names: &dyn Fn(usize) -> Cow<'static, str>,
+    given: &[f64],
+    angular: &[bool],
+    given_names: &[&str],
+    mut solve: impl FnMut(&[f64]) -> Option<Vec<Pose3>>,
+) -> Result<(), SolveError> {
+    let extent = extent(joints, poses);
+    // The worst open joint, without allocating (the path every solution takes).
+    let worst = open
+        .iter()
+        .filter_map(|&k| {
+            let j = &joints[k];
+            let r = closure_residual(j, &poses[j.links[0]], &poses[j.links[1]], extent);
+            crate::consistency::worst(&r, extent).map(|(_, gap)| (k, gap))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((joint, gap)) = worst else {
+        return Ok(());
+    };
+    let owner = Cow::Owned(format!("joint {}", joint_names(joint)));
+    let e = crate::consistency::inconsistent(owner, gap, given, angular, extent, |g| {
+        let poses = solve(g)?;
+        Some(open_residual(joints, &poses, open, extent))
+    });
+    Err(crate::consistency::name_given(e, given_names))
+}
+
+/// Runs the plan for one branch and verifies the solution ([`verify`]; the
+/// plan knows no names for the given values: `#k`, see
+/// [`crate::consistency::name_given`]).
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<Solution, SolveError> {
+    let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
+    let open = plan.open_joints(joints.len());
+    let poses = run_poses(model, &joints, plan, inputs, signs)?;
+    verify(
+        &joints,
+        &poses,
+        &open,
+        &|j| Cow::Owned(model.joints[j].name.clone()),
+        inputs,
+        &plan.angular_inputs(&joints),
+        &[],
+        |g| run_poses(model, &joints, plan, g, signs).ok(),
+    )?;
+    let values = joints
+        .iter()
+        .map(|j| joint_value(j, &poses[j.links[0]], &poses[j.links[1]]))
+        .collect();
+    Ok(Solution { poses, values })
+}
+
+/// The link poses of one branch, unverified.
+fn run_poses(
+    model: &Model,
+    joints: &[Joint3],
+    plan: &Plan,
+    inputs: &[f64],
+    signs: &[Sign],
+) -> Result<Vec<Pose3>, SolveError> {
     if inputs.len() != plan.n_inputs || signs.len() != plan.branches {
         return Err(bad(format!(
             "expected {} inputs and {} signs",
@@ -801,21 +958,16 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
         )));
     }
     if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
-        return Err(bad(format!("input {} is not finite", i + 1)));
+        return Err(bad(format!("given value {} is {}", i + 1, inputs[i])));
     }
-    let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
     let named: Vec<[f64; 3]> = model.points.iter().map(|p| p.at).collect();
     let mut poses = vec![Pose3::identity(); model.links.len()];
     for (k, step) in plan.steps.iter().enumerate() {
-        execute(k, step, &joints, &named, &mut poses, inputs, signs, |j| {
+        execute(k, step, joints, &named, &mut poses, inputs, signs, |j| {
             Cow::Owned(model.joints[j].name.clone())
         })?;
     }
-    let values = joints
-        .iter()
-        .map(|j| joint_value(j, &poses[j.links[0]], &poses[j.links[1]]))
-        .collect();
-    Ok(Solution { poses, values })
+    Ok(poses)
 }
 
 /// The length of a parallelogram's arm.
@@ -836,6 +988,15 @@ fn carry(joints: &[Joint3], x: [f64; 3], hops: &[Hop]) -> Vector3<f64> {
 }
 
 /// Every branch of the plan.
+/// Every branch of the plan; a branch that repeats an earlier one's solution
+/// (a double root) says so ([`SolveError::DoubleRoot`]).
 pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<Solution, SolveError>)> {
-    crate::plan::every_branch(plan.branches, |signs| run(model, plan, inputs, signs))
+    let mut all = crate::plan::every_branch(plan.branches, |signs| run(model, plan, inputs, signs));
+    let revolute: Vec<bool> = model
+        .joints
+        .iter()
+        .map(|j| matches!(j.kind, JointType::R | JointType::Pa))
+        .collect();
+    crate::consistency::mark_double_roots_in(&mut all, &revolute, |s: &Solution| &s.values);
+    all
 }
