@@ -132,7 +132,10 @@ impl Capability {
     /// Whether the compiler implements it; requesting one that it does not
     /// is an error, so that no file silently gets less than it asked for.
     pub fn implemented(self) -> bool {
-        !matches!(self, Capability::Workspace | Capability::Dynamics | Capability::Stiffness)
+        !matches!(
+            self,
+            Capability::Workspace | Capability::Dynamics | Capability::Stiffness
+        )
     }
 }
 
@@ -1259,7 +1262,10 @@ mod tests {
     fn capabilities_must_be_implemented() {
         let implemented = "analysis, fk, ik, jacobian, velocity, acceleration";
         let not_yet = |c: &str| format!("capability `{c}` is not implemented yet; implemented: {implemented}");
-        check(&format!("mechanism m {{ capabilities fk, ik; planar; {FOUR_BAR} }}"), &[]);
+        check(
+            &format!("mechanism m {{ capabilities fk, ik; planar; {FOUR_BAR} }}"),
+            &[],
+        );
         check(
             &format!("mechanism m {{ capabilities fk, dynamics, stiffness; planar; {FOUR_BAR} }}"),
             &[not_yet("dynamics").as_str(), not_yet("stiffness").as_str()],
