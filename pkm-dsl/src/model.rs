@@ -128,6 +128,15 @@ impl Capability {
     pub fn name(self) -> &'static str {
         Self::ALL.iter().find(|(c, _)| *c == self).map_or("?", |(_, n)| n)
     }
+
+    /// Whether the compiler implements it; requesting one that it does not
+    /// is an error, so that no file silently gets less than it asked for.
+    pub fn implemented(self) -> bool {
+        !matches!(
+            self,
+            Capability::Workspace | Capability::Dynamics | Capability::Stiffness
+        )
+    }
 }
 
 /// A rigid body of the mechanism. Link 0 is the base (frame).
@@ -482,16 +491,29 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
 
     let mut capabilities = Vec::new();
     for c in &ast.capabilities {
+        let implemented: Vec<&str> = Capability::ALL
+            .iter()
+            .filter(|(k, _)| k.implemented())
+            .map(|(_, n)| *n)
+            .collect();
         match Capability::ALL.iter().find(|(_, n)| *n == c.text) {
-            Some((k, _)) => capabilities.push((*k, c.span)),
-            None => {
-                let names: Vec<&str> = Capability::ALL.iter().map(|(_, n)| *n).collect();
-                b.errors.push(
-                    Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
-                        .label("not a capability")
-                        .note(format!("known capabilities: {}", names.join(", "))),
-                );
-            }
+            Some((k, _)) if k.implemented() => capabilities.push((*k, c.span)),
+            Some(_) => b.errors.push(
+                Diagnostic::new(
+                    c.span,
+                    format!(
+                        "capability `{}` is not implemented yet; implemented: {}",
+                        c.text,
+                        implemented.join(", ")
+                    ),
+                )
+                .label("not implemented"),
+            ),
+            None => b.errors.push(
+                Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
+                    .label("not a capability")
+                    .note(format!("implemented capabilities: {}", implemented.join(", "))),
+            ),
         }
     }
 
@@ -1233,6 +1255,28 @@ mod tests {
                 "link `base` appears twice in one chain",
                 "joint `R1` connects link `base` to itself",
             ],
+        );
+    }
+
+    #[test]
+    fn capabilities_must_be_implemented() {
+        let implemented = "analysis, fk, ik, jacobian, velocity, acceleration";
+        let not_yet = |c: &str| format!("capability `{c}` is not implemented yet; implemented: {implemented}");
+        check(
+            &format!("mechanism m {{ capabilities fk, ik; planar; {FOUR_BAR} }}"),
+            &[],
+        );
+        check(
+            &format!("mechanism m {{ capabilities fk, dynamics, stiffness; planar; {FOUR_BAR} }}"),
+            &[not_yet("dynamics").as_str(), not_yet("stiffness").as_str()],
+        );
+        check(
+            &format!("mechanism m {{ capabilities workspace; planar; {FOUR_BAR} }}"),
+            &[not_yet("workspace").as_str()],
+        );
+        check(
+            &format!("mechanism m {{ capabilities fkk; planar; {FOUR_BAR} }}"),
+            &["unknown capability `fkk`"],
         );
     }
 
