@@ -115,6 +115,14 @@ fn check_failure(args: &[&str], code: i32, kind: &str, message: &str) {
 #[test]
 fn every_failure_names_its_cause() {
     let bad = scratch_file("bad.pkm", BAD_PKM);
+    // The four-bar with its crank length given as a square root.
+    let four_bar = std::fs::read_to_string(FOUR_BAR).unwrap();
+    let root = scratch_file(
+        "root.pkm",
+        &four_bar
+            .replace("l1 = 100;", "l1 = 100; area = 10000;")
+            .replace("R2 = (l1, 0)", "R2 = (sqrt(area), 0)"),
+    );
     let rows: &[(&[&str], i32, &str, &str)] = &[
         // The files.
         (
@@ -223,6 +231,12 @@ fn every_failure_names_its_cause() {
             1,
             "input",
             "parameter l3 = 0 puts R3 and R4 of link rocker at one point",
+        ),
+        (
+            &["fk", &root, "--q", "1", "--param", "area=-1"],
+            1,
+            "input",
+            "at the given parameters joint R2's place on link crank is not finite",
         ),
         // No branch: the distinct reasons of the branches, once each.
         // l1 = 1000: |R2R4| ≥ 1000 − 300 = 700 > l2 + l3 = 450, so R3 exists on neither branch.

@@ -66,6 +66,9 @@ fn load(r: &Request) -> Result<Loaded, Failure> {
     let values = parameter_values(&analysis, r.params)?;
     check_lengths(&analysis, &nominal, &values)?;
     let model = pkm::dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
+    if let Some(why) = non_finite_place(&model) {
+        return Err(Failure::input(format!("at the given parameters {why}")));
+    }
     let outputs = pkm::dsl::plan::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
     Ok(Loaded {
         analysis,
@@ -103,6 +106,27 @@ fn parameter_values(a: &Analysis, given: &[(String, f64)]) -> Result<HashMap<Str
         }
     }
     Ok(values)
+}
+
+/// A joint place or named point that is not a number (a parameter
+/// expression such as `sqrt(a - 100)` out of its domain), if any.
+fn non_finite_place(model: &Model) -> Option<String> {
+    let bad = |v: [f64; 3]| v.iter().any(|x| !x.is_finite());
+    let joint = model.joints.iter().find_map(|j| {
+        (0..2).find_map(|s| {
+            let (at, axis) = (j.places[s].at(), j.places[s].axis());
+            (bad(at) || bad(axis)).then(|| {
+                format!(
+                    "joint {}'s place on link {} is not finite ({at:?} along {axis:?})",
+                    j.name, model.links[j.links[s]]
+                )
+            })
+        })
+    });
+    joint.or_else(|| {
+        let p = model.points.iter().find(|p| bad(p.at))?;
+        Some(format!("point {} is not finite ({:?})", p.name, p.at))
+    })
 }
 
 /// The points of `link` a parameter can set the distances between: its
