@@ -18,7 +18,7 @@ use std::process::ExitCode;
     after_help = "Exit codes: 0 success, 1 failure (the message names the cause), 2 usage error."
 )]
 struct Cli {
-    /// Print one JSON object, on success and on failure (`{"error": {"kind", "message", …}}`, exit code 1).
+    /// Print one JSON object, on success and on failure (`{"error": {"kind", "message", …}}`).
     #[arg(long, global = true)]
     json: bool,
     #[command(subcommand)]

@@ -260,6 +260,13 @@ fn every_failure_names_its_cause() {
             "inconsistent",
             "no branch reaches: ",
         ),
+        // The report's failures (its own messages).
+        (
+            &["report", FOUR_BAR, "--out", "target/cli-report", "--ranges=0:1,0:1"],
+            1,
+            "report",
+            "expected 1 ranges",
+        ),
         // The command line itself (clap): exit code 2.
         (
             &["fk", FOUR_BAR, "--q", "1", "--param", "l1=abc"],
