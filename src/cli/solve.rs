@@ -559,6 +559,23 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
 /// 1 + |asked|): the plans agree with Newton to 1e-9.
 const OUTPUT_TOLERANCE: f64 = 1e-7;
 
+/// The first output of a solution (name, value, is an angle; radians)
+/// that is not the one asked for (`wanted`, radians, in the same order):
+/// angles are compared modulo a turn. The message shows degrees if `degrees`.
+fn missed_output(outputs: &[(String, f64, bool)], wanted: &[f64], degrees: bool) -> Option<String> {
+    outputs.iter().zip(wanted).find_map(|((name, got, angle), &want)| {
+        let off = if *angle { wrap_angle(got - want) } else { got - want };
+        let shown = |v: f64| if degrees && *angle { v.to_degrees() } else { v };
+        (off.abs() > OUTPUT_TOLERANCE * (1.0 + want.abs())).then(|| {
+            format!(
+                "output {name} = {} cannot be reached together with the others (the solution has {})",
+                shown(want),
+                shown(*got)
+            )
+        })
+    })
+}
+
 /// `pkm ik`: every branch at the declared outputs `pose` (by name).
 pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let l = load(r)?;
@@ -590,18 +607,7 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     }
     // A solution must have the outputs it was asked for: when they
     // over-determine the mechanism the plan meets only some of them.
-    let check = |s: &Solved| {
-        s.outputs.iter().zip(&ordered).find_map(|((name, got, angle), &want)| {
-            let off = if *angle { wrap_angle(got - want) } else { got - want };
-            (off.abs() > OUTPUT_TOLERANCE * (1.0 + want.abs())).then(|| {
-                format!(
-                    "output {name} = {} cannot be reached together with the others (the solution has {})",
-                    r.shown(want, *angle),
-                    r.shown(*got, *angle)
-                )
-            })
-        })
-    };
+    let check = |s: &Solved| missed_output(&s.outputs, &ordered, r.degrees);
     let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), check);
     let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
     Ok(json!({
@@ -610,4 +616,52 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
         "units": r.units(),
         "branches": branches_json(r, &verdicts)?,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// One output `name` (an angle or not) found at `got` when `want` was asked.
+    fn check(got: f64, want: f64, angle: bool, degrees: bool, expect: Option<&str>) {
+        let outputs = [("psi".to_string(), got, angle)];
+        assert_eq!(
+            missed_output(&outputs, &[want], degrees).as_deref(),
+            expect,
+            "{got} vs {want}"
+        );
+    }
+
+    #[test]
+    fn an_output_is_checked_against_the_one_asked_for() {
+        // Within 1e-7·(1 + |want|): met.
+        check(200.0 + 1e-6, 200.0, false, false, None);
+        // An angle a turn away is the same angle; −π and π are one.
+        check(0.5 + 2.0 * PI, 0.5, true, false, None);
+        check(-PI, PI, true, false, None);
+        // A length a turn away is not.
+        check(
+            0.5 + 2.0 * PI,
+            0.5,
+            false,
+            false,
+            Some("output psi = 0.5 cannot be reached together with the others (the solution has 6.783185307179586)"),
+        );
+        // Off by 1e-3: missed, shown in the unit asked for.
+        check(
+            0.501,
+            0.5,
+            true,
+            false,
+            Some("output psi = 0.5 cannot be reached together with the others (the solution has 0.501)"),
+        );
+        check(
+            PI / 2.0,
+            PI,
+            true,
+            true,
+            Some("output psi = 180 cannot be reached together with the others (the solution has 90)"),
+        );
+    }
 }
