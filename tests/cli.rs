@@ -418,3 +418,41 @@ fn a_closed_stdout_is_not_a_panic() {
         assert_eq!(out.status.code(), Some(want), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn spatial_outputs_round_trip_through_ik() {
+    let q = [-106.09, 181.67, -70.29];
+    let fk = run_json(&["fk", SEED000_A, "--q=-106.09,181.67,-70.29"]);
+    check_schema(&fk, "inputs");
+    let ok: Vec<&Value> = fk["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["ok"] == true)
+        .collect();
+    assert!(!ok.is_empty());
+    for b in ok {
+        // `x, y, z, alpha = pose of platform at o about x`: x, y, z are o's position.
+        let o = &b["points"]["o"];
+        let xyz = serde_json::json!([b["outputs"]["x"], b["outputs"]["y"], b["outputs"]["z"]]);
+        assert!(dist(o, &xyz) < 1e-9, "{b}");
+        // Given those outputs, one inverse branch has the inputs fk was given.
+        let pose: Vec<String> = ["x", "y", "z", "alpha"]
+            .iter()
+            .map(|n| format!("{n}={}", num(&b["outputs"][n])))
+            .collect();
+        let ik = run_json(&["ik", SEED000_A, &format!("--pose={}", pose.join(","))]);
+        let back = ik["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|i| i["ok"] == true)
+            .any(|i| {
+                ["P1", "P2", "P3"]
+                    .iter()
+                    .zip(q)
+                    .all(|(n, v)| (num(&i["inputs"][n]) - v).abs() < 1e-6)
+            });
+        assert!(back, "{b}\n{ik}");
+    }
+}
