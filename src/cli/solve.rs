@@ -29,8 +29,8 @@ impl Request<'_> {
         Failure::parse(&d, self.source, self.file)
     }
 
-    /// A value given on the command line, in radians if it is an angle.
-    fn given_angle(&self, v: f64, angular: bool) -> f64 {
+    /// A value given on the command line as the solver takes it: radians for an angle.
+    fn solver_value(&self, v: f64, angular: bool) -> f64 {
         if self.degrees && angular {
             v.to_radians()
         } else {
@@ -39,7 +39,7 @@ impl Request<'_> {
     }
 
     /// A value for the JSON, in degrees if it is an angle and degrees were asked for.
-    fn shown(&self, v: f64, angular: bool) -> f64 {
+    fn shown_value(&self, v: f64, angular: bool) -> f64 {
         if self.degrees && angular {
             v.to_degrees()
         } else {
@@ -486,7 +486,7 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
     }
     let named = |list: &[(String, f64, bool)]| -> Map<String, Value> {
         list.iter()
-            .map(|(n, v, angle)| (n.clone(), json!(r.shown(*v, *angle))))
+            .map(|(n, v, angle)| (n.clone(), json!(r.shown_value(*v, *angle))))
             .collect()
     };
     Ok(verdicts
@@ -543,7 +543,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let given: Vec<f64> = q
         .iter()
         .zip(&inputs)
-        .map(|(&v, &j)| r.given_angle(v, angular(l.model.joints[j].kind)))
+        .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
         .collect();
     let verdicts = verdicts(&l, plan.run_all(&l.model, &given), |_| None);
     let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
@@ -601,7 +601,7 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let mut ordered = Vec::new();
     for (name, angle) in &declared {
         match given.get(name.as_str()) {
-            Some(&v) => ordered.push(r.given_angle(v, *angle)),
+            Some(&v) => ordered.push(r.solver_value(v, *angle)),
             None => return Err(Failure::input(format!("missing output `{name}`; give {list}"))),
         }
     }
