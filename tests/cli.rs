@@ -1,8 +1,10 @@
-//! `pkm analyze`: the text report, `--json`, and errors on stderr with a
-//! non-zero exit.
+//! The command line: `analyze`, `fk` and `ik` answers (JSON by name,
+//! radians or degrees), and every failure: its exit code, its message on
+//! stderr, or with `--json` its `{"error": {kind, message}}` on stdout.
 
 use serde_json::Value;
-use std::process::Command;
+use std::f64::consts::PI;
+use std::process::{Command, Stdio};
 
 fn pkm(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_pkm"))
@@ -62,34 +64,192 @@ fn text_report() {
     assert!(text.contains("κ = 0"), "{text}");
 }
 
-#[test]
-fn errors_go_to_stderr_with_a_failure_code() {
+/// A mechanism file written for one test (the examples have no errors).
+fn scratch_file(name: &str, text: &str) -> String {
     let dir = std::env::temp_dir().join(format!("pkm-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let bad = dir.join("bad.pkm");
-    std::fs::write(
-        &bad,
-        "mechanism m {\n  planar;\n  base R1* ∥ R2 ∥ R3 ∥ R4 base;\n  R2 ∥ R9;\n}\n",
-    )
-    .unwrap();
-    let out = pkm(&["analyze", bad.to_str().unwrap(), "--json"]);
-    assert!(!out.status.success());
-    assert!(out.stdout.is_empty());
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("error: unknown joint `R9`"), "{err}");
-    assert!(err.contains("bad.pkm:4:8"), "{err}");
-    assert!(err.contains("       ^^ not declared"), "{err}");
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
 
-    let out = pkm(&["analyze", "no/such/file.pkm"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8(out.stderr).unwrap().contains("cannot read"));
+/// An unknown joint at line 4, column 8.
+const BAD_PKM: &str = "mechanism m {\n  planar;\n  base R1* ∥ R2 ∥ R3 ∥ R4 base;\n  R2 ∥ R9;\n}\n";
+
+const FOUR_BAR: &str = "examples/mechanisms/four_bar.pkm";
+const RRR: &str = "examples/mechanisms/planar_3rrr.pkm";
+const SEED000_A: &str = "examples/mechanisms/seed000_a.pkm";
+
+/// Runs `args` twice: as text, expecting exit `code`, nothing on stdout and
+/// `message` on stderr; with `--json`, expecting exit `code` and one error
+/// object of `kind` whose message contains `message`.
+fn check_failure(args: &[&str], code: i32, kind: &str, message: &str) {
+    let out = pkm(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+    assert!(
+        out.stdout.is_empty(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(err.contains(message), "{args:?}: `{message}` not in {err}");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+
+    let with_json: Vec<&str> = args.iter().copied().chain(["--json"]).collect();
+    let out = pkm(&with_json);
+    assert_eq!(out.status.code(), Some(code), "{with_json:?}");
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{with_json:?}: not JSON ({e}): {}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    });
+    assert_eq!(v["error"]["kind"], kind, "{with_json:?}: {v}");
+    let text = v["error"]["message"].as_str().unwrap();
+    assert!(
+        text.contains(message.trim_start_matches("error: ")),
+        "{with_json:?}: `{message}` not in {v}"
+    );
 }
 
 #[test]
-fn fk_and_ik_json() {
-    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1.0", "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+fn every_failure_names_its_cause() {
+    let bad = scratch_file("bad.pkm", BAD_PKM);
+    // The four-bar with its crank length given as a square root.
+    let four_bar = std::fs::read_to_string(FOUR_BAR).unwrap();
+    let root = scratch_file(
+        "root.pkm",
+        &four_bar
+            .replace("l1 = 100;", "l1 = 100; area = 10000;")
+            .replace("R2 = (l1, 0)", "R2 = (sqrt(area), 0)"),
+    );
+    // One row per failure: arguments, exit code, error kind, what the message says.
+    #[rustfmt::skip]
+    let rows: &[(&[&str], i32, &str, &str)] = &[
+        // The files.
+        (&["analyze", "no/such/file.pkm"], 1, "io", "cannot read `no/such/file.pkm`"),
+        (&["fk", "no/such/file.pkm", "--q", "1"], 1, "io", "cannot read `no/such/file.pkm`"),
+        (&["analyze", &bad], 1, "parse", "error: unknown joint `R9`"),
+        (&["fk", &bad, "--q", "1"], 1, "parse", "unknown joint `R9`"),
+        (&["fk", RRR, "--q", "1,2,3"], 1, "parse", "a closed-form forward plan needs κ = 0 (κ = 1)"),
+        // Input values, checked before solving.
+        (&["fk", FOUR_BAR, "--q", "1,2"], 1, "input", "expected 1 input value (R1), found 2"),
+        (&["fk", SEED000_A, "--q", "1,2"], 1, "input", "expected 3 input values (P1, P2, P3), found 2"),
+        (&["fk", FOUR_BAR, "--q", "NaN"], 1, "input", "input R1 (--q value 1) is NaN"),
+        (&["fk", FOUR_BAR, "--q", "inf"], 1, "input", "input R1 (--q value 1) = inf is not finite"),
+        (&["fk", SEED000_A, "--q=1,-inf,2"], 1, "input", "input P2 (--q value 2) = -inf is not finite"),
+        (&["ik", RRR, "--pose", "x=1"], 1, "input", "missing output `y`; give x, y, phi"),
+        (&["ik", RRR, "--pose", "x=1,y=2,w=3"], 1, "input", "unknown output `w`; the outputs are x, y, phi"),
+        (&["ik", RRR, "--pose", "x=NaN,y=2,phi=0"], 1, "input", "output x is NaN"),
+        (&["ik", RRR, "--pose", "x=1,y=2,phi=0,x=3"], 1, "input", "output x is given twice"),
+        // Parameters.
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "zz=1"], 1, "input", "unknown parameter `zz`; the parameters are l1, l2, l3, l4"),
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l1=NaN"], 1, "input", "parameter l1 is NaN"),
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l1=inf"], 1, "input", "parameter l1 = inf is not finite"),
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l1=90", "--param", "l1=80"], 1, "input", "parameter l1 is given twice"),
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l2=-5"], 1, "input", "parameter l2 = -5 must be positive: the distance R2–R3 on link coupler"),
+        (&["ik", FOUR_BAR, "--pose", "psi=2", "--param", "l3=0"], 1, "input", "parameter l3 = 0 puts R3 and R4 of link rocker at one point"),
+        (&["fk", &root, "--q", "1", "--param", "area=-1"], 1, "input", "at the given parameters joint R2's place on link crank is not finite"),
+        // No branch (the reasons are the runtime's; see no_branch_message_lists_each_reason_once).
+        // l1 = 1000: |R2R4| ≥ 1000 − 300 = 700 > l2 + l3 = 450, so R3 exists on neither branch.
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l1=1000"], 1, "unreachable", "no branch reaches: "),
+        // The 3-RRR's base joints are 250 from the centre and its legs reach 300 (+ 60 on the platform).
+        (&["ik", RRR, "--pose", "x=1000,y=0,phi=0"], 1, "unreachable", "no branch reaches: "),
+        // A's platform point o keeps y = −a = −300 (its POC has no y translation): y = −250 over-determines it.
+        (&["ik", SEED000_A, "--pose=x=37.79,y=-250,z=-38.92,alpha=0.7097"], 1, "inconsistent", "no branch reaches: "),
+        // The report's failures (its own messages).
+        (&["report", FOUR_BAR, "--out", "target/cli-report", "--ranges=0:1,0:1"], 1, "report", "expected 1 ranges"),
+        // The command line itself (clap): exit code 2.
+        (&["fk", FOUR_BAR, "--q", "1", "--param", "l1=abc"], 2, "usage", "`abc` is not a number"),
+        (&["fk", FOUR_BAR], 2, "usage", "--q <Q>"),
+    ];
+    for (args, code, kind, message) in rows {
+        check_failure(args, *code, kind, message);
+    }
+}
+
+#[test]
+fn no_branch_message_lists_each_reason_once() {
+    // Both branches fail at R3 for the same reason: the message says it
+    // once (its wording is the runtime's SolveError's).
+    let out = pkm(&["fk", FOUR_BAR, "--q", "1", "--param", "l1=1000"]);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: no branch reaches: "), "{err}");
+    assert_eq!(err.matches("R3").count(), 1, "{err}");
+    // The 3-RRR's x = 1000 is out of reach of every leg; the branches fail at the first.
+    let out = pkm(&["ik", RRR, "--pose", "x=1000,y=0,phi=0"]);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("R2"), "{err}");
+}
+
+#[test]
+fn parse_errors_in_json_carry_the_file_line_and_column() {
+    let bad = scratch_file("bad_json.pkm", BAD_PKM);
+    for args in [
+        vec!["analyze", &bad, "--json"],
+        vec!["--json", "ik", &bad, "--pose", "x=1"],
+    ] {
+        let out = pkm(&args);
+        assert_eq!(out.status.code(), Some(1));
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let e = &v["error"];
+        assert_eq!(e["kind"], "parse");
+        assert_eq!(e["message"], "unknown joint `R9`");
+        assert_eq!(e["file"], bad.as_str());
+        assert_eq!((e["line"].as_u64(), e["column"].as_u64()), (Some(4), Some(8)), "{v}");
+        assert_eq!(e["diagnostics"][0]["label"], "not declared");
+    }
+    // The text form keeps the caret picture.
+    let err = String::from_utf8(pkm(&["analyze", &bad]).stderr).unwrap();
+    assert!(err.contains("bad_json.pkm:4:8"), "{err}");
+    assert!(err.contains("       ^^ not declared"), "{err}");
+}
+
+fn run_json(args: &[&str]) -> Value {
+    let with_json: Vec<&str> = args.iter().copied().chain(["--json"]).collect();
+    let out = pkm(&with_json);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+fn dist(a: &Value, b: &Value) -> f64 {
+    (0..3).map(|k| (num(&a[k]) - num(&b[k])).powi(2)).sum::<f64>().sqrt()
+}
+
+/// The keys a script can rely on, with the ok branches' groups by name.
+fn check_schema(v: &Value, given: &str) {
+    for key in ["name", given, "units", "branches"] {
+        assert!(!v[key].is_null(), "no `{key}` in {v}");
+    }
+    assert_eq!(v["units"]["length"], "file unit");
+    for b in v["branches"].as_array().unwrap() {
+        assert!(b["signs"].is_array(), "{b}");
+        if b["ok"] == true {
+            for key in ["joints", "inputs", "outputs", "points"] {
+                assert!(b[key].is_object(), "no `{key}` in {b}");
+            }
+        } else {
+            assert_eq!(b["ok"], false, "{b}");
+            assert!(b["reason"].is_string(), "{b}");
+        }
+    }
+}
+
+#[test]
+fn fk_by_name() {
+    let v = run_json(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1.0"]);
+    check_schema(&v, "inputs");
+    assert_eq!(v["units"]["angle"], "rad");
+    assert_eq!(v["inputs"]["R1"], 1.0);
     let branches = v["branches"].as_array().unwrap();
     assert_eq!(branches.len(), 2);
     // r cos 1 ± sqrt(l² − r² sin² 1) with r = 50, l = 180.
@@ -97,30 +257,202 @@ fn fk_and_ik_json() {
     let root = (l * l - (r * 1f64.sin()).powi(2)).sqrt();
     for (b, want) in branches.iter().zip([r * 1f64.cos() + root, r * 1f64.cos() - root]) {
         assert_eq!(b["ok"], true);
-        assert!((b["outputs"]["P1"].as_f64().unwrap() - want).abs() < 1e-9);
-        assert_eq!(b["points"]["R3"].as_array().unwrap().len(), 3);
-        assert!(b["signs"].is_array());
+        assert!((num(&b["joints"]["P1"]) - want).abs() < 1e-9, "{b}");
+        // The declared output `s = joint P1`, and the input.
+        assert!((num(&b["outputs"]["s"]) - want).abs() < 1e-9, "{b}");
+        assert_eq!(b["inputs"]["R1"], 1.0);
+        assert!((num(&b["points"]["R3"][0]) - want).abs() < 1e-9, "{b}");
+    }
+}
+
+#[test]
+fn text_answer_is_the_json_indented() {
+    let args = ["fk", FOUR_BAR, "--q", "1.0"];
+    let out = pkm(&args);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().count() > 10, "{text}");
+    assert_eq!(serde_json::from_str::<Value>(&text).unwrap(), run_json(&args));
+}
+
+#[test]
+fn planar_outputs_reproduce_the_pose_given_to_ik() {
+    // The four-bar given its rocker angle psi (a joint output).
+    let v = run_json(&["ik", FOUR_BAR, "--pose", "psi=2.0"]);
+    check_schema(&v, "pose");
+    assert_eq!(v["pose"]["psi"], 2.0);
+    let ok: Vec<&Value> = v["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["ok"] == true)
+        .collect();
+    assert_eq!(ok.len(), 2);
+    for b in ok {
+        assert!((num(&b["outputs"]["psi"]) - 2.0).abs() < 1e-9, "{b}");
+        // The links keep their declared lengths l1 = 100, l2 = 250, l3 = 200.
+        let p = &b["points"];
+        assert!((dist(&p["R1"], &p["R2"]) - 100.0).abs() < 1e-9, "{b}");
+        assert!((dist(&p["R2"], &p["R3"]) - 250.0).abs() < 1e-9, "{b}");
+        assert!((dist(&p["R3"], &p["R4"]) - 200.0).abs() < 1e-9, "{b}");
+        // The crank angle found drives the forward solution back to psi on one of its branches.
+        let q = num(&b["inputs"]["R1"]).to_string();
+        let fk = run_json(&["fk", FOUR_BAR, "--q", &q]);
+        let back: Vec<f64> = fk["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| num(&f["outputs"]["psi"]))
+            .collect();
+        assert!(back.iter().any(|psi| (psi - 2.0).abs() < 1e-9), "{back:?}");
     }
 
-    let out = pkm(&[
-        "ik",
-        "examples/mechanisms/planar_3rrr.pkm",
-        "--pose",
-        "x=10,y=20,phi=0.2",
-        "--json",
-    ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    // The 3-RRR given its platform's pose (x, y, phi at o).
+    let v = run_json(&["ik", RRR, "--pose", "x=10,y=20,phi=0.2"]);
     let branches = v["branches"].as_array().unwrap();
     assert_eq!(branches.len(), 8);
     for b in branches {
-        assert_eq!(b["q"].as_array().unwrap().len(), 3, "{b}");
+        assert_eq!(b["inputs"].as_object().unwrap().len(), 3, "{b}");
+        for (name, want) in [("x", 10.0), ("y", 20.0), ("phi", 0.2)] {
+            assert!((num(&b["outputs"][name]) - want).abs() < 1e-9, "{name} in {b}");
+        }
         // The platform centre is where it was asked to be.
-        let o = b["points"]["o"].as_array().unwrap();
-        assert!((o[0].as_f64().unwrap() - 10.0).abs() < 1e-9 && (o[1].as_f64().unwrap() - 20.0).abs() < 1e-9);
+        let o = &b["points"]["o"];
+        assert!(dist(o, &serde_json::json!([10.0, 20.0, 0.0])) < 1e-9, "{b}");
     }
 
-    let out = pkm(&["ik", "examples/mechanisms/planar_3rrr.pkm", "--pose", "x=1"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8(out.stderr).unwrap().contains("missing output `y`"));
+    // The five-bar given a point alone (x, y of R3).
+    let v = run_json(&["ik", "examples/mechanisms/five_bar.pkm", "--pose", "x=10,y=200"]);
+    for b in v["branches"].as_array().unwrap() {
+        assert_eq!(b["outputs"].as_object().unwrap().len(), 2, "{b}");
+        assert!((num(&b["outputs"]["x"]) - 10.0).abs() < 1e-9 && (num(&b["outputs"]["y"]) - 200.0).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn degrees_are_radians_times_180_over_pi() {
+    let rad = run_json(&["fk", FOUR_BAR, "--q", "1"]);
+    let deg = run_json(&["fk", FOUR_BAR, "--q", &(180.0 / PI).to_string(), "--degrees"]);
+    assert_eq!(deg["units"]["angle"], "deg");
+    for (r, d) in rad["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(deg["branches"].as_array().unwrap())
+    {
+        for j in ["R1", "R2", "R3", "R4"] {
+            let want = num(&r["joints"][j]) * 180.0 / PI;
+            assert!((num(&d["joints"][j]) - want).abs() < 1e-9, "{j}: {d}");
+        }
+        assert!((num(&d["outputs"]["psi"]) - num(&r["outputs"]["psi"]) * 180.0 / PI).abs() < 1e-9);
+        // Lengths stay lengths.
+        assert!(dist(&d["points"]["E"], &r["points"]["E"]) < 1e-9);
+    }
+
+    // ik: an angular output given in degrees, a length output unchanged; prismatic joints stay lengths.
+    let rad = run_json(&["ik", RRR, "--pose", "x=10,y=20,phi=0.2"]);
+    let deg = run_json(&[
+        "ik",
+        RRR,
+        "--pose",
+        &format!("x=10,y=20,phi={}", 0.2 * 180.0 / PI),
+        "--degrees",
+    ]);
+    for (r, d) in rad["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(deg["branches"].as_array().unwrap())
+    {
+        assert!((num(&d["outputs"]["phi"]) - 0.2 * 180.0 / PI).abs() < 1e-9, "{d}");
+        assert!((num(&d["outputs"]["x"]) - 10.0).abs() < 1e-9, "{d}");
+        assert!((num(&d["inputs"]["R1"]) - num(&r["inputs"]["R1"]) * 180.0 / PI).abs() < 1e-9);
+    }
+    let s = run_json(&[
+        "ik",
+        "examples/mechanisms/slider_crank.pkm",
+        "--pose",
+        "s=200",
+        "--degrees",
+    ]);
+    for b in s["branches"].as_array().unwrap() {
+        assert!((num(&b["joints"]["P1"]) - 200.0).abs() < 1e-9, "{b}");
+    }
+}
+
+#[test]
+fn json_is_accepted_before_and_after_the_subcommand() {
+    for args in [
+        ["--json", "analyze", "examples/mechanisms/four_bar.pkm"],
+        ["analyze", "examples/mechanisms/four_bar.pkm", "--json"],
+    ] {
+        let out = pkm(&args);
+        assert!(out.status.success());
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["dof"], 1);
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    // The reader is gone before pkm writes: the write fails with a broken
+    // pipe, which ends pkm quietly with code 0.
+    for args in [
+        vec!["fk", "examples/mechanisms/watt_six_bar.pkm", "--q", "1"],
+        vec!["analyze", "examples/mechanisms/seed000_a.pkm"],
+        vec!["fk", FOUR_BAR, "--q", "1", "--param", "l1=1000", "--json"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pkm"))
+            .args(&args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        // A failure keeps its code even when no one reads the error object.
+        let want = if args.contains(&"l1=1000") { 1 } else { 0 };
+        assert_eq!(out.status.code(), Some(want), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn spatial_outputs_round_trip_through_ik() {
+    let q = [-106.09, 181.67, -70.29];
+    let fk = run_json(&["fk", SEED000_A, "--q=-106.09,181.67,-70.29"]);
+    check_schema(&fk, "inputs");
+    let ok: Vec<&Value> = fk["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["ok"] == true)
+        .collect();
+    assert!(!ok.is_empty());
+    for b in ok {
+        // `x, y, z, alpha = pose of platform at o about x`: x, y, z are o's position.
+        let o = &b["points"]["o"];
+        let xyz = serde_json::json!([b["outputs"]["x"], b["outputs"]["y"], b["outputs"]["z"]]);
+        assert!(dist(o, &xyz) < 1e-9, "{b}");
+        // Given those outputs, one inverse branch has the inputs fk was given.
+        let pose: Vec<String> = ["x", "y", "z", "alpha"]
+            .iter()
+            .map(|n| format!("{n}={}", num(&b["outputs"][n])))
+            .collect();
+        let ik = run_json(&["ik", SEED000_A, &format!("--pose={}", pose.join(","))]);
+        let back = ik["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|i| i["ok"] == true)
+            .any(|i| {
+                ["P1", "P2", "P3"]
+                    .iter()
+                    .zip(q)
+                    .all(|(n, v)| (num(&i["inputs"][n]) - v).abs() < 1e-6)
+            });
+        assert!(back, "{b}\n{ik}");
+    }
 }

@@ -1,0 +1,667 @@
+//! `pkm fk` and `pkm ik`: the values given are checked before solving, every
+//! branch comes out as JSON by name (`joints`, `inputs`, `outputs`,
+//! `points`), and when no branch solves the failure names the causes.
+
+use super::failure::{Failure, Kind};
+use pkm::dsl::{Analysis, Diagnostics};
+use pkm::runtime::model::{JointType, Model, Place};
+use pkm::runtime::newton::Output;
+use pkm::runtime::plan::{wrap_angle, Pose2, SolveError};
+use pkm::runtime::primitives::Sign;
+use pkm::runtime::spatial::Pose3;
+use serde_json::{json, Map, Value};
+use std::collections::HashMap;
+
+/// What fk and ik share: the file, the parameter overrides, the angle unit.
+pub struct Request<'a> {
+    /// The mechanism file's text.
+    pub source: &'a str,
+    /// The file's path as the user gave it (for diagnostics).
+    pub file: &'a str,
+    /// `--param name=value`, in the order given.
+    pub params: &'a [(String, f64)],
+    /// `--degrees`: angles given and printed in degrees.
+    pub degrees: bool,
+}
+
+impl Request<'_> {
+    fn parse_failure(&self, d: Diagnostics) -> Failure {
+        Failure::parse(&d, self.source, self.file)
+    }
+
+    /// A value given on the command line as the solver takes it: radians for an angle.
+    fn solver_value(&self, v: f64, angular: bool) -> f64 {
+        if self.degrees && angular {
+            v.to_radians()
+        } else {
+            v
+        }
+    }
+
+    /// A value for the JSON, in degrees if it is an angle and degrees were asked for.
+    fn shown_value(&self, v: f64, angular: bool) -> f64 {
+        if self.degrees && angular {
+            v.to_degrees()
+        } else {
+            v
+        }
+    }
+
+    fn units(&self) -> Value {
+        json!({ "length": "file unit", "angle": if self.degrees { "deg" } else { "rad" } })
+    }
+}
+
+/// A mechanism ready to solve: its analysis, its model at the given
+/// parameters and its declared outputs at those parameters.
+struct Loaded {
+    analysis: Analysis,
+    model: Model,
+    outputs: Vec<Output>,
+}
+
+fn load(r: &Request) -> Result<Loaded, Failure> {
+    let analysis = pkm::dsl::analyze_source(r.source).map_err(|d| r.parse_failure(d))?;
+    let nominal = pkm::dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
+    let values = parameter_values(&analysis, r.params)?;
+    check_lengths(&analysis, &nominal, &values)?;
+    let model = pkm::dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
+    if let Some(why) = non_finite_place(&model) {
+        return Err(Failure::input(format!("at the given parameters {why}")));
+    }
+    let outputs = pkm::dsl::plan::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
+    Ok(Loaded {
+        analysis,
+        model,
+        outputs,
+    })
+}
+
+/// An error unless `v` is a number: `what` names the value.
+fn finite(what: &str, v: f64) -> Result<(), Failure> {
+    if v.is_nan() {
+        Err(Failure::input(format!("{what} is NaN")))
+    } else if v.is_infinite() {
+        Err(Failure::input(format!("{what} = {v} is not finite")))
+    } else {
+        Ok(())
+    }
+}
+
+/// The `--param` overrides by name, each a declared parameter, given once, finite.
+fn parameter_values(a: &Analysis, given: &[(String, f64)]) -> Result<HashMap<String, f64>, Failure> {
+    let known: Vec<&str> = a.geometry.parameters.iter().map(|p| p.name.as_str()).collect();
+    let mut values = HashMap::new();
+    for (name, v) in given {
+        if !known.contains(&name.as_str()) {
+            return Err(Failure::input(if known.is_empty() {
+                format!("unknown parameter `{name}`: {} has no parameters", a.mechanism.name)
+            } else {
+                format!("unknown parameter `{name}`; the parameters are {}", known.join(", "))
+            }));
+        }
+        finite(&format!("parameter {name}"), *v)?;
+        if values.insert(name.clone(), *v).is_some() {
+            return Err(Failure::input(format!("parameter {name} is given twice")));
+        }
+    }
+    Ok(values)
+}
+
+/// A joint place or named point that is not a number (a parameter
+/// expression such as `sqrt(a - 100)` out of its domain), if any.
+fn non_finite_place(model: &Model) -> Option<String> {
+    let bad = |v: [f64; 3]| v.iter().any(|x| !x.is_finite());
+    let joint = model.joints.iter().find_map(|j| {
+        (0..2).find_map(|s| {
+            let (at, axis) = (j.places[s].at(), j.places[s].axis());
+            (bad(at) || bad(axis)).then(|| {
+                format!(
+                    "joint {}'s place on link {} is not finite ({at:?} along {axis:?})",
+                    j.name, model.links[j.links[s]]
+                )
+            })
+        })
+    });
+    joint.or_else(|| {
+        let p = model.points.iter().find(|p| bad(p.at))?;
+        Some(format!("point {} is not finite ({:?})", p.name, p.at))
+    })
+}
+
+/// The points of `link` a parameter can set the distances between: its
+/// joints' places (not guide lines: any point of a line stands for it) and
+/// its named points, in a fixed order.
+fn link_points(model: &Model, link: usize) -> Vec<(&str, [f64; 3])> {
+    let joints = model.joints.iter().flat_map(|j| {
+        (0..2)
+            .filter(move |&s| j.links[s] == link && !matches!(j.places[s], Place::Line { .. }))
+            .map(move |s| (j.name.as_str(), j.places[s].at()))
+    });
+    let named = model
+        .points
+        .iter()
+        .filter(|p| p.link == link)
+        .map(|p| (p.name.as_str(), p.at));
+    joints.chain(named).collect()
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Rejects an override that takes a length of the mechanism through zero.
+/// Each override is applied alone to the declared dimensions; a distance
+/// between two points of one link that becomes zero, or (on a moving link)
+/// turns to point the opposite way along the same line, went through zero
+/// on the way: `l2 = -5` for a link declared `l2` long. Base points are
+/// positions, which may change sides, so only their coincidence counts.
+fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -> Result<(), Failure> {
+    let declared = a.geometry.nominal();
+    let mut names: Vec<&String> = values.keys().collect();
+    names.sort();
+    for name in names {
+        let v = values[name];
+        // A model that does not build fails later with its own diagnostics.
+        let Ok(changed) = pkm::dsl::plan::model(a, &HashMap::from([(name.clone(), v)])) else {
+            continue;
+        };
+        for (link, link_name) in nominal.links.iter().enumerate() {
+            let (before, after) = (link_points(nominal, link), link_points(&changed, link));
+            for i in 0..before.len() {
+                for k in i + 1..before.len().min(after.len()) {
+                    let (d0, d1) = (sub(before[k].1, before[i].1), sub(after[k].1, after[i].1));
+                    let (n0, n1) = (norm(d0), norm(d1));
+                    if n0 == 0.0 {
+                        continue;
+                    }
+                    let (p, q) = (before[i].0, before[k].0);
+                    let at_declared = format!("at the declared {name} = {}", declared[name]);
+                    if n1 <= 1e-9 * n0 {
+                        return Err(Failure::input(format!(
+                            "parameter {name} = {v} puts {p} and {q} of link {link_name} at one point \
+                             (they are {n0} apart {at_declared})"
+                        )));
+                    }
+                    if link != 0 && dot(d0, d1) < 0.0 && norm(cross(d0, d1)) <= 1e-9 * n0 * n1 {
+                        let rule = match declared[name] {
+                            d if d > 0.0 => "must be positive",
+                            d if d < 0.0 => "must be negative",
+                            _ => "is out of range",
+                        };
+                        return Err(Failure::input(format!(
+                            "parameter {name} = {v} {rule}: the distance {p}–{q} on link {link_name} \
+                             ({n0} {at_declared}) would pass through zero"
+                        )));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether a joint's value is an angle.
+fn angular(kind: JointType) -> bool {
+    matches!(kind, JointType::R | JointType::Pa)
+}
+
+/// Link poses of one solution, planar or spatial.
+enum Poses {
+    Planar(Vec<Pose2>),
+    Spatial(Vec<Pose3>),
+}
+
+/// One solution: link poses and joint values.
+struct Configuration {
+    poses: Poses,
+    values: Vec<f64>,
+}
+
+impl Configuration {
+    /// The world position of `local`, a point of `link`.
+    fn point(&self, link: usize, local: [f64; 3]) -> [f64; 3] {
+        match &self.poses {
+            Poses::Planar(p) => {
+                let w = p[link].apply([local[0], local[1]]);
+                [w[0], w[1], 0.0]
+            }
+            Poses::Spatial(p) => pkm::runtime::spatial::at(&p[link], local),
+        }
+    }
+
+    /// The angle `link` has turned about world axis `k` (planar: about z).
+    fn angle(&self, link: usize, k: [f64; 3]) -> f64 {
+        match &self.poses {
+            Poses::Planar(p) => p[link].angle,
+            Poses::Spatial(p) => pkm::runtime::spatial::angle_about(&p[link], k),
+        }
+    }
+
+    fn joint_point(&self, model: &Model, j: usize) -> [f64; 3] {
+        match &self.poses {
+            Poses::Planar(p) => {
+                let w = pkm::runtime::plan::joint_point(model, p, j);
+                [w[0], w[1], 0.0]
+            }
+            Poses::Spatial(p) => pkm::runtime::newton::joint_point(model, p, j),
+        }
+    }
+}
+
+/// A planar or a spatial plan.
+enum AnyPlan {
+    Planar(pkm::runtime::plan::Plan),
+    Spatial(pkm::runtime::spatial::Plan),
+}
+
+/// Signs of one branch and its configuration or why it has none.
+type Run = (Vec<Sign>, Result<Configuration, SolveError>);
+
+impl AnyPlan {
+    fn run_all(&self, model: &Model, given: &[f64]) -> Vec<Run> {
+        match self {
+            AnyPlan::Planar(plan) => pkm::runtime::plan::run_all(model, plan, given)
+                .into_iter()
+                .map(|(signs, r)| {
+                    let c = r.map(|s| Configuration {
+                        poses: Poses::Planar(s.poses),
+                        values: s.values,
+                    });
+                    (signs, c)
+                })
+                .collect(),
+            AnyPlan::Spatial(plan) => pkm::runtime::spatial::run_all(model, plan, given)
+                .into_iter()
+                .map(|(signs, r)| {
+                    let c = r.map(|s| Configuration {
+                        poses: Poses::Spatial(s.poses),
+                        values: s.values,
+                    });
+                    (signs, c)
+                })
+                .collect(),
+        }
+    }
+}
+
+/// The kind of a branch's failure. Variants the runtime may add later (an
+/// over-determined pose) count as inconsistent.
+fn kind_of(e: &SolveError) -> Kind {
+    if matches!(e, SolveError::Unreachable { .. } | SolveError::Degenerate { .. }) {
+        Kind::Unreachable
+    } else if matches!(e, SolveError::BadInput { .. }) {
+        Kind::Input
+    } else {
+        Kind::Inconsistent
+    }
+}
+
+/// The declared outputs' names in order, each with whether it is an angle
+/// (a pose's angle, a revolute joint's value).
+fn output_names(l: &Loaded) -> Vec<(String, bool)> {
+    let mut names = Vec::new();
+    for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+        let n = o.names.len();
+        for (i, name) in o.names.iter().enumerate() {
+            let angle = match *spec {
+                Output::Pose { about, .. } => about.is_some() && i + 1 == n,
+                Output::Point { .. } => false,
+                Output::Joint(j) => angular(l.model.joints[j].kind),
+            };
+            names.push((name.clone(), angle));
+        }
+    }
+    names
+}
+
+/// The declared outputs' values (radians) in one configuration, in the
+/// order of [`output_names`].
+fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
+    let dim = if l.model.planar { 2 } else { 3 };
+    let mut values = Vec::new();
+    for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+        let these: Vec<f64> = match *spec {
+            Output::Pose { link, local, about } => {
+                let mut v = c.point(link, local)[..dim].to_vec();
+                v.extend(about.map(|k| c.angle(link, k)));
+                v
+            }
+            Output::Point { link, local } => c.point(link, local)[..dim].to_vec(),
+            Output::Joint(j) => vec![c.values[j]],
+        };
+        // One value per declared name, whatever the declaration's shape.
+        values.extend(these.into_iter().chain(std::iter::repeat(f64::NAN)).take(o.names.len()));
+    }
+    values
+}
+
+/// A solved branch by name (radians): joint values (1-DOF joints), the
+/// actuated ones, the declared outputs, every joint's and named point's position.
+struct Solved {
+    joints: Vec<(String, f64, bool)>,
+    inputs: Vec<(String, f64, bool)>,
+    outputs: Vec<(String, f64, bool)>,
+    points: Vec<(String, [f64; 3])>,
+}
+
+fn solved(l: &Loaded, c: &Configuration) -> Solved {
+    let m = &l.model;
+    // A spherical joint has three values, not one: it is left out of `joints`.
+    let one_dof = |j: &usize| m.joints[*j].kind != JointType::S;
+    let value = |j: usize| (m.joints[j].name.clone(), c.values[j], angular(m.joints[j].kind));
+    let joint_points = (0..m.joints.len()).map(|j| (m.joints[j].name.clone(), c.joint_point(m, j)));
+    let named_points = m.points.iter().map(|p| (p.name.clone(), c.point(p.link, p.at)));
+    Solved {
+        joints: (0..m.joints.len()).filter(one_dof).map(value).collect(),
+        inputs: m.inputs().into_iter().filter(one_dof).map(value).collect(),
+        outputs: output_names(l)
+            .into_iter()
+            .zip(output_values(l, c))
+            .map(|((n, angle), v)| (n, v, angle))
+            .collect(),
+        points: joint_points.chain(named_points).collect(),
+    }
+}
+
+/// Why a solution may not be marked ok although the plan returned it: a
+/// value that is not a number.
+fn non_finite(s: &Solved) -> Option<String> {
+    let scalar = |group: &str, list: &[(String, f64, bool)]| {
+        list.iter()
+            .find(|(_, v, _)| !v.is_finite())
+            .map(|(n, v, _)| format!("the solution's {group} {n} is {v}"))
+    };
+    scalar("joint", &s.joints)
+        .or_else(|| scalar("output", &s.outputs))
+        .or_else(|| {
+            s.points
+                .iter()
+                .find(|(_, p)| p.iter().any(|v| !v.is_finite()))
+                .map(|(n, p)| format!("the solution's point {n} is {p:?}"))
+        })
+}
+
+/// Why a configuration is not an assembly of the mechanism, if it is not:
+/// a revolute or spherical joint whose points on its two links are apart,
+/// or a prismatic joint whose slider is off its guide. A plan can return
+/// such a configuration when the outputs it was given over-determine the
+/// mechanism; it must not be marked ok.
+fn open_joint(model: &Model, c: &Configuration) -> Option<String> {
+    let world: Vec<[f64; 3]> = model
+        .joints
+        .iter()
+        .flat_map(|j| (0..2).map(move |s| c.point(j.links[s], j.places[s].at())))
+        .collect();
+    let scale = 1.0 + world.iter().map(|&p| norm(p)).fold(0.0, f64::max);
+    model.joints.iter().enumerate().find_map(|(k, j)| {
+        let (p0, p1) = (world[2 * k], world[2 * k + 1]);
+        let gap = match (j.kind, &j.places) {
+            (JointType::R | JointType::S, _) => norm(sub(p1, p0)),
+            (JointType::P, places) => {
+                let guide = places.iter().position(|p| matches!(p, Place::Line { .. }))?;
+                let Place::Line { through, along } = places[guide] else {
+                    return None;
+                };
+                let tip = [through[0] + along[0], through[1] + along[1], through[2] + along[2]];
+                let (t, d) = (
+                    world[2 * k + guide],
+                    sub(c.point(j.links[guide], tip), world[2 * k + guide]),
+                );
+                let slider = world[2 * k + 1 - guide];
+                norm(cross(sub(slider, t), d)) / norm(d)
+            }
+            // A parallelogram's links are apart by its arm: not checked here.
+            (JointType::Pa, _) => 0.0,
+        };
+        (gap > 1e-7 * scale).then(|| {
+            format!(
+                "the configuration does not close at joint {}: its places on links {} and {} are {gap:.6e} apart",
+                j.name, model.links[j.links[0]], model.links[j.links[1]]
+            )
+        })
+    })
+}
+
+/// A branch's verdict: solved, or the kind and reason of its failure.
+type Verdict = Result<Solved, (Kind, String)>;
+
+/// Judges every branch: the plan's error, a non-finite value, or (given
+/// `check`) a mismatch with what was asked.
+fn verdicts(l: &Loaded, runs: Vec<Run>, check: impl Fn(&Solved) -> Option<String>) -> Vec<(Vec<Sign>, Verdict)> {
+    runs.into_iter()
+        .map(|(signs, result)| {
+            let verdict = result.map_err(|e| (kind_of(&e), e.to_string())).and_then(|c| {
+                let s = solved(l, &c);
+                if let Some(why) = non_finite(&s) {
+                    return Err((Kind::Unreachable, why));
+                }
+                if let Some(why) = open_joint(&l.model, &c) {
+                    return Err((Kind::Inconsistent, why));
+                }
+                if let Some(why) = check(&s) {
+                    return Err((Kind::Inconsistent, why));
+                }
+                Ok(s)
+            });
+            (signs, verdict)
+        })
+        .collect()
+}
+
+/// Every branch as JSON, or the failure when none solved: the distinct
+/// reasons of the branches, the gravest kind among them.
+fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<Value>, Failure> {
+    if verdicts.iter().all(|(_, v)| v.is_err()) {
+        let failures = verdicts.iter().filter_map(|(_, v)| v.as_ref().err());
+        let kind = failures.clone().map(|(k, _)| *k).max().unwrap_or(Kind::Unreachable);
+        let mut reasons: Vec<&str> = Vec::new();
+        for (_, why) in failures {
+            if !reasons.contains(&why.as_str()) {
+                reasons.push(why);
+            }
+        }
+        let why = if reasons.is_empty() {
+            "the plan has no branch".to_string()
+        } else {
+            reasons.join("; ")
+        };
+        return Err(Failure::new(kind, format!("no branch reaches: {why}")));
+    }
+    let named = |list: &[(String, f64, bool)]| -> Map<String, Value> {
+        list.iter()
+            .map(|(n, v, angle)| (n.clone(), json!(r.shown_value(*v, *angle))))
+            .collect()
+    };
+    Ok(verdicts
+        .iter()
+        .map(|(signs, verdict)| {
+            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+            match verdict {
+                Ok(s) => {
+                    let points: Map<String, Value> = s.points.iter().map(|(n, p)| (n.clone(), json!(p))).collect();
+                    json!({
+                        "signs": signs,
+                        "ok": true,
+                        "joints": named(&s.joints),
+                        "inputs": named(&s.inputs),
+                        "outputs": named(&s.outputs),
+                        "points": points,
+                    })
+                }
+                Err((_, why)) => json!({ "signs": signs, "ok": false, "reason": why }),
+            }
+        })
+        .collect())
+}
+
+/// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
+pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
+    let l = load(r)?;
+    let (plan, inputs) = if l.model.planar {
+        let plan = pkm::dsl::plan::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+        let inputs = plan.inputs.clone();
+        (AnyPlan::Planar(plan), inputs)
+    } else {
+        let plan = pkm::dsl::plan3::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+        let inputs = if plan.inputs.len() == plan.n_inputs {
+            plan.inputs.clone()
+        } else {
+            l.model.inputs()
+        };
+        (AnyPlan::Spatial(plan), inputs)
+    };
+    let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
+    if q.len() != inputs.len() {
+        return Err(Failure::input(format!(
+            "expected {} input value{} ({}), found {}",
+            inputs.len(),
+            if inputs.len() == 1 { "" } else { "s" },
+            names.join(", "),
+            q.len()
+        )));
+    }
+    for (k, (&v, name)) in q.iter().zip(&names).enumerate() {
+        finite(&format!("input {name} (--q value {})", k + 1), v)?;
+    }
+    let given: Vec<f64> = q
+        .iter()
+        .zip(&inputs)
+        .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
+        .collect();
+    let verdicts = verdicts(&l, plan.run_all(&l.model, &given), |_| None);
+    let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
+    Ok(json!({
+        "name": l.model.name,
+        "inputs": as_given,
+        "units": r.units(),
+        "branches": branches_json(r, &verdicts)?,
+    }))
+}
+
+/// How far a solution's output may be from the one asked for (relative to
+/// 1 + |asked|): the plans agree with Newton to 1e-9.
+const OUTPUT_TOLERANCE: f64 = 1e-7;
+
+/// The first output of a solution (name, value, is an angle; radians)
+/// that is not the one asked for (`wanted`, radians, in the same order):
+/// angles are compared modulo a turn. The message shows degrees if `degrees`.
+fn missed_output(outputs: &[(String, f64, bool)], wanted: &[f64], degrees: bool) -> Option<String> {
+    outputs.iter().zip(wanted).find_map(|((name, got, angle), &want)| {
+        let off = if *angle { wrap_angle(got - want) } else { got - want };
+        let shown = |v: f64| if degrees && *angle { v.to_degrees() } else { v };
+        (off.abs() > OUTPUT_TOLERANCE * (1.0 + want.abs())).then(|| {
+            format!(
+                "output {name} = {} cannot be reached together with the others (the solution has {})",
+                shown(want),
+                shown(*got)
+            )
+        })
+    })
+}
+
+/// `pkm ik`: every branch at the declared outputs `pose` (by name).
+pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
+    let l = load(r)?;
+    let plan = if l.model.planar {
+        AnyPlan::Planar(pkm::dsl::plan::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
+    } else {
+        AnyPlan::Spatial(pkm::dsl::plan3::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
+    };
+    let declared = output_names(&l);
+    let list = declared.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
+    let mut given: HashMap<&str, f64> = HashMap::new();
+    for (name, v) in pose {
+        if !declared.iter().any(|(n, _)| n == name) {
+            return Err(Failure::input(format!(
+                "unknown output `{name}`; the outputs are {list}"
+            )));
+        }
+        finite(&format!("output {name}"), *v)?;
+        if given.insert(name, *v).is_some() {
+            return Err(Failure::input(format!("output {name} is given twice")));
+        }
+    }
+    let mut ordered = Vec::new();
+    for (name, angle) in &declared {
+        match given.get(name.as_str()) {
+            Some(&v) => ordered.push(r.solver_value(v, *angle)),
+            None => return Err(Failure::input(format!("missing output `{name}`; give {list}"))),
+        }
+    }
+    // A solution must have the outputs it was asked for: when they
+    // over-determine the mechanism the plan meets only some of them.
+    let check = |s: &Solved| missed_output(&s.outputs, &ordered, r.degrees);
+    let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), check);
+    let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
+    Ok(json!({
+        "name": l.model.name,
+        "pose": as_given,
+        "units": r.units(),
+        "branches": branches_json(r, &verdicts)?,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// One output `name` (an angle or not) found at `got` when `want` was asked.
+    fn check(got: f64, want: f64, angle: bool, degrees: bool, expect: Option<&str>) {
+        let outputs = [("psi".to_string(), got, angle)];
+        assert_eq!(
+            missed_output(&outputs, &[want], degrees).as_deref(),
+            expect,
+            "{got} vs {want}"
+        );
+    }
+
+    #[test]
+    fn an_output_is_checked_against_the_one_asked_for() {
+        // Within 1e-7·(1 + |want|): met.
+        check(200.0 + 1e-6, 200.0, false, false, None);
+        // An angle a turn away is the same angle; −π and π are one.
+        check(0.5 + 2.0 * PI, 0.5, true, false, None);
+        check(-PI, PI, true, false, None);
+        // A length a turn away is not.
+        check(
+            0.5 + 2.0 * PI,
+            0.5,
+            false,
+            false,
+            Some("output psi = 0.5 cannot be reached together with the others (the solution has 6.783185307179586)"),
+        );
+        // Off by 1e-3: missed, shown in the unit asked for.
+        check(
+            0.501,
+            0.5,
+            true,
+            false,
+            Some("output psi = 0.5 cannot be reached together with the others (the solution has 0.501)"),
+        );
+        check(
+            PI / 2.0,
+            PI,
+            true,
+            true,
+            Some("output psi = 180 cannot be reached together with the others (the solution has 90)"),
+        );
+    }
+}
