@@ -156,7 +156,7 @@ fn every_failure_names_its_cause() {
         // The 3-RRR's base joints are 250 from the centre and its legs reach 300 (+ 60 on the platform).
         (&["ik", RRR, "--pose", "x=1000,y=0,phi=0"], 1, "unreachable", "no branch reaches: "),
         // A's platform point o keeps y = −a = −300 (its POC has no y translation): y = −250 over-determines it.
-        (&["ik", SEED000_A, "--pose=x=37.79,y=-250,z=-38.92,alpha=0.7097"], 1, "inconsistent", "no branch reaches: "),
+        (&["ik", SEED000_A, "--pose=x=37.79,y=-250,z=-38.92,alpha=0.7097"], 1, "inconsistent", "no branch reaches: the given values are inconsistent: y = -250 cannot be reached with the others, the nearest reachable value is -300 "),
         // The report's failures (its own messages).
         (&["report", FOUR_BAR, "--out", "target/cli-report", "--ranges=0:1,0:1"], 1, "report", "expected 1 ranges"),
         // The command line itself (clap): exit code 2.
@@ -455,4 +455,23 @@ fn spatial_outputs_round_trip_through_ik() {
             });
         assert!(back, "{b}\n{ik}");
     }
+}
+
+/// The README's JSON example is what `pkm fk` prints for its command.
+#[test]
+fn readme_json_example_is_the_real_output() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let after = readme
+        .split("`pkm fk examples/mechanisms/slider_crank.pkm --q 1`:")
+        .nth(1)
+        .expect("the README's JSON example");
+    let block = after
+        .split("```json")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .unwrap();
+    let shown: Value = serde_json::from_str(block).unwrap();
+    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1"]);
+    assert!(out.status.success());
+    assert_eq!(serde_json::from_slice::<Value>(&out.stdout).unwrap(), shown);
 }

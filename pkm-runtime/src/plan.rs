@@ -230,7 +230,7 @@ impl fmt::Display for SolveError {
                  the nearest reachable value is {} (off by {:.6e}); as given, {owner} misses by {gap:.6e}",
                 c.name,
                 c.given,
-                c.nearest,
+                short(c.nearest),
                 c.given - c.nearest
             ),
             SolveError::Inconsistent { owner, gap, .. } => {
@@ -245,6 +245,16 @@ impl fmt::Display for SolveError {
 }
 
 impl std::error::Error for SolveError {}
+
+/// The shortest decimal of `v` within 1e-12 of it (relative; a projection's
+/// last digits are noise): −299.99999999999994 prints as −300.
+fn short(v: f64) -> String {
+    let tol = 1e-12 * v.abs().max(1.0);
+    (0..17)
+        .map(|p| format!("{v:.p$}"))
+        .find(|t| t.parse::<f64>().is_ok_and(|x| (x - v).abs() <= tol))
+        .unwrap_or_else(|| v.to_string())
+}
 
 /// A forward solution: every link's pose and every joint's value.
 #[derive(Debug, Clone, PartialEq)]

@@ -6,7 +6,7 @@ use super::failure::{Failure, Kind};
 use pkm::dsl::{Analysis, Diagnostics};
 use pkm::runtime::model::{JointType, Model, Place};
 use pkm::runtime::newton::Output;
-use pkm::runtime::plan::{wrap_angle, Pose2, SolveError};
+use pkm::runtime::plan::{Pose2, SolveError};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::spatial::Pose3;
 use serde_json::{json, Map, Value};
@@ -301,15 +301,14 @@ impl AnyPlan {
     }
 }
 
-/// The kind of a branch's failure. Variants the runtime may add later (an
-/// over-determined pose) count as inconsistent.
+/// The kind of a branch's failure.
 fn kind_of(e: &SolveError) -> Kind {
-    if matches!(e, SolveError::Unreachable { .. } | SolveError::Degenerate { .. }) {
-        Kind::Unreachable
-    } else if matches!(e, SolveError::BadInput { .. }) {
-        Kind::Input
-    } else {
-        Kind::Inconsistent
+    match e {
+        SolveError::Unreachable { .. } | SolveError::Degenerate { .. } | SolveError::DoubleRoot { .. } => {
+            Kind::Unreachable
+        }
+        SolveError::BadInput { .. } => Kind::Input,
+        SolveError::Inconsistent { .. } => Kind::Inconsistent,
     }
 }
 
@@ -359,6 +358,8 @@ struct Solved {
     inputs: Vec<(String, f64, bool)>,
     outputs: Vec<(String, f64, bool)>,
     points: Vec<(String, [f64; 3])>,
+    /// A double root: another branch is this solution again.
+    tangent: bool,
 }
 
 fn solved(l: &Loaded, c: &Configuration) -> Solved {
@@ -377,6 +378,7 @@ fn solved(l: &Loaded, c: &Configuration) -> Solved {
             .map(|((n, angle), v)| (n, v, angle))
             .collect(),
         points: joint_points.chain(named_points).collect(),
+        tangent: false,
     }
 }
 
@@ -398,68 +400,40 @@ fn non_finite(s: &Solved) -> Option<String> {
         })
 }
 
-/// Why a configuration is not an assembly of the mechanism, if it is not:
-/// a revolute or spherical joint whose points on its two links are apart,
-/// or a prismatic joint whose slider is off its guide. A plan can return
-/// such a configuration when the outputs it was given over-determine the
-/// mechanism; it must not be marked ok.
-fn open_joint(model: &Model, c: &Configuration) -> Option<String> {
-    let world: Vec<[f64; 3]> = model
-        .joints
-        .iter()
-        .flat_map(|j| (0..2).map(move |s| c.point(j.links[s], j.places[s].at())))
-        .collect();
-    let scale = 1.0 + world.iter().map(|&p| norm(p)).fold(0.0, f64::max);
-    model.joints.iter().enumerate().find_map(|(k, j)| {
-        let (p0, p1) = (world[2 * k], world[2 * k + 1]);
-        let gap = match (j.kind, &j.places) {
-            (JointType::R | JointType::S, _) => norm(sub(p1, p0)),
-            (JointType::P, places) => {
-                let guide = places.iter().position(|p| matches!(p, Place::Line { .. }))?;
-                let Place::Line { through, along } = places[guide] else {
-                    return None;
-                };
-                let tip = [through[0] + along[0], through[1] + along[1], through[2] + along[2]];
-                let (t, d) = (
-                    world[2 * k + guide],
-                    sub(c.point(j.links[guide], tip), world[2 * k + guide]),
-                );
-                let slider = world[2 * k + 1 - guide];
-                norm(cross(sub(slider, t), d)) / norm(d)
-            }
-            // A parallelogram's links are apart by its arm: not checked here.
-            (JointType::Pa, _) => 0.0,
-        };
-        (gap > 1e-7 * scale).then(|| {
-            format!(
-                "the configuration does not close at joint {}: its places on links {} and {} are {gap:.6e} apart",
-                j.name, model.links[j.links[0]], model.links[j.links[1]]
-            )
-        })
-    })
-}
-
 /// A branch's verdict: solved, or the kind and reason of its failure.
 type Verdict = Result<Solved, (Kind, String)>;
 
-/// Judges every branch: the plan's error, a non-finite value, or (given
-/// `check`) a mismatch with what was asked.
-fn verdicts(l: &Loaded, runs: Vec<Run>, check: impl Fn(&Solved) -> Option<String>) -> Vec<(Vec<Sign>, Verdict)> {
+/// Judges every branch: the plan's error (the runtime verifies what it
+/// returns: open joints close, an over-determined pose names the output
+/// the others contradict, by its name from `given_names`) or a non-finite
+/// value.
+fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<(Vec<Sign>, Verdict)> {
+    // A branch another one names as its twin met a double root.
+    let twins: Vec<usize> = runs
+        .iter()
+        .filter_map(|(_, r)| match r {
+            Err(SolveError::DoubleRoot { twin }) => Some(*twin),
+            _ => None,
+        })
+        .collect();
     runs.into_iter()
-        .map(|(signs, result)| {
-            let verdict = result.map_err(|e| (kind_of(&e), e.to_string())).and_then(|c| {
-                let s = solved(l, &c);
-                if let Some(why) = non_finite(&s) {
-                    return Err((Kind::Unreachable, why));
-                }
-                if let Some(why) = open_joint(&l.model, &c) {
-                    return Err((Kind::Inconsistent, why));
-                }
-                if let Some(why) = check(&s) {
-                    return Err((Kind::Inconsistent, why));
-                }
-                Ok(s)
-            });
+        .enumerate()
+        .map(|(i, (signs, result))| {
+            let verdict = result
+                .map_err(|e| {
+                    let e = pkm::runtime::consistency::name_given(e, given_names);
+                    (kind_of(&e), e.to_string())
+                })
+                .and_then(|c| {
+                    let s = Solved {
+                        tangent: twins.contains(&i),
+                        ..solved(l, &c)
+                    };
+                    match non_finite(&s) {
+                        Some(why) => Err((Kind::Unreachable, why)),
+                        None => Ok(s),
+                    }
+                });
             (signs, verdict)
         })
         .collect()
@@ -499,6 +473,7 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
                     json!({
                         "signs": signs,
                         "ok": true,
+                        "tangent": s.tangent,
                         "joints": named(&s.joints),
                         "inputs": named(&s.inputs),
                         "outputs": named(&s.outputs),
@@ -545,7 +520,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
         .zip(&inputs)
         .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
         .collect();
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &given), |_| None);
+    let verdicts = verdicts(&l, plan.run_all(&l.model, &given), &names);
     let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,
@@ -553,27 +528,6 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
         "units": r.units(),
         "branches": branches_json(r, &verdicts)?,
     }))
-}
-
-/// How far a solution's output may be from the one asked for (relative to
-/// 1 + |asked|): the plans agree with Newton to 1e-9.
-const OUTPUT_TOLERANCE: f64 = 1e-7;
-
-/// The first output of a solution (name, value, is an angle; radians)
-/// that is not the one asked for (`wanted`, radians, in the same order):
-/// angles are compared modulo a turn. The message shows degrees if `degrees`.
-fn missed_output(outputs: &[(String, f64, bool)], wanted: &[f64], degrees: bool) -> Option<String> {
-    outputs.iter().zip(wanted).find_map(|((name, got, angle), &want)| {
-        let off = if *angle { wrap_angle(got - want) } else { got - want };
-        let shown = |v: f64| if degrees && *angle { v.to_degrees() } else { v };
-        (off.abs() > OUTPUT_TOLERANCE * (1.0 + want.abs())).then(|| {
-            format!(
-                "output {name} = {} cannot be reached together with the others (the solution has {})",
-                shown(want),
-                shown(*got)
-            )
-        })
-    })
 }
 
 /// `pkm ik`: every branch at the declared outputs `pose` (by name).
@@ -605,10 +559,8 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
             None => return Err(Failure::input(format!("missing output `{name}`; give {list}"))),
         }
     }
-    // A solution must have the outputs it was asked for: when they
-    // over-determine the mechanism the plan meets only some of them.
-    let check = |s: &Solved| missed_output(&s.outputs, &ordered, r.degrees);
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), check);
+    let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
+    let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), &names);
     let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,
@@ -616,52 +568,4 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
         "units": r.units(),
         "branches": branches_json(r, &verdicts)?,
     }))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::f64::consts::PI;
-
-    /// One output `name` (an angle or not) found at `got` when `want` was asked.
-    fn check(got: f64, want: f64, angle: bool, degrees: bool, expect: Option<&str>) {
-        let outputs = [("psi".to_string(), got, angle)];
-        assert_eq!(
-            missed_output(&outputs, &[want], degrees).as_deref(),
-            expect,
-            "{got} vs {want}"
-        );
-    }
-
-    #[test]
-    fn an_output_is_checked_against_the_one_asked_for() {
-        // Within 1e-7·(1 + |want|): met.
-        check(200.0 + 1e-6, 200.0, false, false, None);
-        // An angle a turn away is the same angle; −π and π are one.
-        check(0.5 + 2.0 * PI, 0.5, true, false, None);
-        check(-PI, PI, true, false, None);
-        // A length a turn away is not.
-        check(
-            0.5 + 2.0 * PI,
-            0.5,
-            false,
-            false,
-            Some("output psi = 0.5 cannot be reached together with the others (the solution has 6.783185307179586)"),
-        );
-        // Off by 1e-3: missed, shown in the unit asked for.
-        check(
-            0.501,
-            0.5,
-            true,
-            false,
-            Some("output psi = 0.5 cannot be reached together with the others (the solution has 0.501)"),
-        );
-        check(
-            PI / 2.0,
-            PI,
-            true,
-            true,
-            Some("output psi = 180 cannot be reached together with the others (the solution has 90)"),
-        );
-    }
 }
