@@ -302,7 +302,7 @@ fn planar_body(
                     point(a.place(jc, k2)),
                 ];
                 let [c0, c1, c2, c3, c4, c5] = c;
-                let name = &m.joints[jb].name;
+                let name = [ja, jb, jc].map(|j| m.joints[j].name.as_str()).join("–");
                 body.push(quote! {
                     let (#p1, #p2) = #rt::rrr_dyad(#pk1, #c0, #c1, #c2, #c3, #c4, #c5, #pk2, signs[#branch])
                         .map_err(|e| #rt::step_error(#k, #name, e))?;
@@ -325,7 +325,7 @@ fn planar_body(
                     unreachable!("the planner checked the guide")
                 };
                 let (t, d) = (xy(through), xy(along));
-                let name = &m.joints[jb].name;
+                let name = [ja, jb, jc].map(|j| m.joints[j].name.as_str()).join("–");
                 body.push(quote! {
                     let (#p1, #p2) = #rt::rrp_dyad(#pk1, #c0, #c1, #c2, #c3, #slider, #t, #d, #pk2, signs[#branch])
                         .map_err(|e| #rt::step_error(#k, #name, e))?;

@@ -171,7 +171,8 @@ pub enum SolveError {
     Unreachable {
         /// The step's index.
         step: usize,
-        /// The joint whose position cannot be reached.
+        /// The joint whose position cannot be reached, or a dyad's three
+        /// joints (`R2–R3–R4`): the loop that cannot close.
         joint: Cow<'static, str>,
         /// The condition, e.g. `centre distance <= r1 + r2`.
         constraint: &'static str,
@@ -216,7 +217,11 @@ impl fmt::Display for SolveError {
             SolveError::Unreachable {
                 joint, constraint, by, ..
             } => {
-                write!(f, "joint {joint} cannot be reached: {constraint} fails by {by:.6e}")
+                write!(
+                    f,
+                    "the loop through {joint} cannot close: `{constraint}` fails by {}",
+                    short(*by)
+                )
             }
             SolveError::Degenerate { what, step } => write!(f, "degenerate configuration at step {step}: {what}"),
             SolveError::BadInput { what } => write!(f, "bad input: {what}"),
@@ -315,6 +320,11 @@ pub fn wrap_angle(x: f64) -> f64 {
     } else {
         w
     }
+}
+
+/// A dyad's joints, named as the loop they close: `R2–R3–R4`.
+fn dyad_name(model: &Model, joints: [usize; 3]) -> String {
+    joints.map(|j| model.joints[j].name.as_str()).join("–")
 }
 
 /// A primitive's error as the error of plan step `step`, at `joint`.
@@ -691,7 +701,7 @@ fn run_unverified(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) ->
                     t2,
                     signs[branch],
                 )
-                .map_err(|e| step_error(k, model.joints[b].name.clone(), e))?;
+                .map_err(|e| step_error(k, dyad_name(model, [a, b, c]), e))?;
                 poses[l1] = Some(p1);
                 poses[l2] = Some(p2);
             }
@@ -721,7 +731,7 @@ fn run_unverified(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) ->
                     t2,
                     signs[branch],
                 )
-                .map_err(|e| step_error(k, model.joints[b].name.clone(), e))?;
+                .map_err(|e| step_error(k, dyad_name(model, [a, b, c]), e))?;
                 poses[l1] = Some(p1);
                 poses[l2] = Some(p2);
             }
