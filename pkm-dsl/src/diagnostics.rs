@@ -282,11 +282,20 @@ mod tests {
 
     #[test]
     fn many_errors_are_counted_not_rendered() {
-        let all = Diagnostics((0..MAX_RENDERED_DIAGNOSTICS + 3).map(|_| Diagnostic::global("e")).collect());
+        let all = Diagnostics(
+            (0..MAX_RENDERED_DIAGNOSTICS + 3)
+                .map(|_| Diagnostic::global("e"))
+                .collect(),
+        );
         let text = all.render("", "m.pkm");
         assert_eq!(text.matches("error: e\n").count(), MAX_RENDERED_DIAGNOSTICS);
-        assert!(text.ends_with("error: 3 more errors not shown (at most 50 are shown)\n"), "{text}");
-        assert!(all.to_string().ends_with("error: 3 more errors not shown (at most 50 are shown)"));
+        assert!(
+            text.ends_with("error: 3 more errors not shown (at most 50 are shown)\n"),
+            "{text}"
+        );
+        assert!(all
+            .to_string()
+            .ends_with("error: 3 more errors not shown (at most 50 are shown)"));
     }
 
     #[test]
