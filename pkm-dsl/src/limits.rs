@@ -26,3 +26,8 @@ pub const MAX_JOINTS: usize = 64;
 /// The most relations (`∥ ⊥ ≡` between two directions, written in chains and
 /// relation statements) in a mechanism (a real one has < 200).
 pub const MAX_RELATIONS: usize = 4096;
+
+/// The most arithmetic the search for the ordered single open chains may
+/// spend, in multiply-adds of its rank computations (about a second). The
+/// search is exponential in the loops at worst; past this it stops and says so.
+pub const MAX_ORDERING_WORK: u64 = 1_500_000_000;
