@@ -567,16 +567,16 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     }
 
     // Locking the actuators must make the mechanism rigid at a generic configuration.
-    let driven = ctx
-        .primary
-        .iter()
-        .map(|inst| {
-            let sys = VelocitySystem::new(mech, inst, all);
-            let kernel = screw::null_space(&sys.matrix);
-            screw::rank(&input_rows(mech, &sys, &kernel))
-        })
-        .max()
-        .unwrap_or(0);
+    // The generic rank is the largest; stop at the first configuration that reaches F.
+    let mut driven = 0;
+    for inst in &ctx.primary {
+        let sys = VelocitySystem::new(mech, inst, all);
+        let kernel = screw::null_space(&sys.matrix);
+        driven = driven.max(screw::rank(&input_rows(mech, &sys, &kernel)));
+        if driven >= dof {
+            break;
+        }
+    }
     if driven < dof {
         let first = mech
             .joints
@@ -893,22 +893,25 @@ fn poc_formula_xi(ctx: &Context, socs: &[Soc]) -> Vec<usize> {
     let mut used = 0u64;
     let mut out = Vec::new();
     for soc in socs {
-        let xi = ctx
-            .check
-            .iter()
-            .map(|inst| {
-                // M_rel: what the mechanism built so far allows between the SOC's end links.
-                let m_rel = if used == 0 {
-                    DMatrix::zeros(6, 0)
-                } else {
-                    let sys = VelocitySystem::new(ctx.mech, inst, used);
-                    sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
-                };
-                let m_soc = screw::joint_twists(inst, &soc.joints);
-                screw::rank(&screw::hstack(&[&m_rel, &m_soc]))
-            })
-            .max()
-            .unwrap_or(0);
+        // The generic value is the largest (no configuration exceeds it): the
+        // first configuration that reaches the loop-closure ξ confirms it, and
+        // the others are tried only when it does not (each costs a null space
+        // of the whole system built so far).
+        let mut xi = 0;
+        for inst in &ctx.check {
+            // M_rel: what the mechanism built so far allows between the SOC's end links.
+            let m_rel = if used == 0 {
+                DMatrix::zeros(6, 0)
+            } else {
+                let sys = VelocitySystem::new(ctx.mech, inst, used);
+                sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
+            };
+            let m_soc = screw::joint_twists(inst, &soc.joints);
+            xi = xi.max(screw::rank(&screw::hstack(&[&m_rel, &m_soc])));
+            if xi >= soc.xi {
+                break;
+            }
+        }
         out.push(xi);
         used |= ctx.joint_mask(&soc.joints);
     }
