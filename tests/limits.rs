@@ -3,7 +3,9 @@
 //! beyond it the error states the limit; nothing panics, hangs or overflows
 //! the stack (these tests run on the test harness's 2 MiB threads).
 
-use pkm::dsl::limits::{MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_JOINTS, MAX_NESTING, MAX_PARAMETERS, MAX_RELATIONS};
+use pkm::dsl::limits::{
+    MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_JOINTS, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS, MAX_RELATIONS,
+};
 use pkm::dsl::Diagnostics;
 use pkm::runtime::model::Place;
 use proptest::prelude::*;
@@ -230,6 +232,20 @@ fn named_links_and_relations() {
             "the mechanism writes {} relations; the limit is {MAX_RELATIONS}",
             MAX_RELATIONS + 1
         )])
+    );
+}
+
+#[test]
+fn placements_at_and_beyond_the_limit() {
+    let points = |n: usize| {
+        let body: String = (0..n).map(|i| format!("point E{i} = (0, 0); ")).collect();
+        format!("mechanism m {{ {FOUR_BAR} geometry {{ base {{ {body} }} }} }}")
+    };
+    // At the limit the geometry is checked (and found incomplete).
+    assert!(value_of_a(&points(MAX_PLACEMENTS)).unwrap_err()[0].contains("has no place"));
+    assert_eq!(
+        value_of_a(&points(MAX_PLACEMENTS + 1)),
+        Err(vec![format!("more than {MAX_PLACEMENTS} placements in `geometry`")])
     );
 }
 

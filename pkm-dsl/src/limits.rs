@@ -19,6 +19,10 @@ pub const MAX_EXPR_OPERATIONS: usize = 512;
 /// The most parameters in a mechanism (a real one has < 200).
 pub const MAX_PARAMETERS: usize = 10_000;
 
+/// The most placements (joints placed on links and named points) in a
+/// `geometry` block (a real one has < 300). Checking them is quadratic.
+pub const MAX_PLACEMENTS: usize = 4096;
+
 /// The most joints, and the most links, of a mechanism (a real one has < 100
 /// joints): joint sets are 64-bit masks in the topology analysis.
 pub const MAX_JOINTS: usize = 64;

@@ -4,7 +4,7 @@
 use crate::ast::*;
 use crate::diagnostics::{Diagnostic, Span};
 use crate::expr::Expr;
-use crate::limits::{MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_NESTING, MAX_PARAMETERS};
+use crate::limits::{MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS};
 use pest::iterators::Pair;
 use pest::Parser;
 
@@ -152,12 +152,13 @@ fn end_chain(pending: &mut [usize], nesting: &mut usize) {
     }
 }
 
-/// Checks the limits that need the parse tree: operations per expression and
-/// parameters per file. One pass over the flat token list; nothing recurses.
+/// Checks the limits that need the parse tree: operations per expression,
+/// parameters and placements per file. One pass over the flat token list; nothing recurses.
 fn check_counts(pairs: pest::iterators::Pairs<Rule>) -> Result<(), Diagnostic> {
     // The top-level expression being counted: its span and its operations so far.
     let mut current: Option<(Span, usize)> = None;
     let mut parameters = 0usize;
+    let mut placements = 0usize;
     for p in pairs.flatten() {
         let span = span_of(&p);
         let operation = match p.as_rule() {
@@ -169,6 +170,16 @@ fn check_counts(pairs: pest::iterators::Pairs<Rule>) -> Result<(), Diagnostic> {
             }
             Rule::add_op | Rule::mul_op | Rule::neg_op | Rule::call => true,
             Rule::power => p.clone().into_inner().nth(1).is_some(),
+            Rule::placement => {
+                placements += 1;
+                if placements > MAX_PLACEMENTS {
+                    return Err(
+                        Diagnostic::new(span, format!("more than {MAX_PLACEMENTS} placements in `geometry`"))
+                            .label(format!("placement number {} here", MAX_PLACEMENTS + 1)),
+                    );
+                }
+                false
+            }
             Rule::parameter => {
                 parameters += 1;
                 if parameters > MAX_PARAMETERS {
