@@ -26,7 +26,8 @@ pub const MAX_PARAMETERS: usize = 10_000;
 pub const MAX_PLACEMENTS: usize = 4096;
 
 /// The most joints, and the most links, of a mechanism (a real one has < 100
-/// joints): joint sets are 64-bit masks in the topology analysis.
+/// joints): joint sets are 64-bit masks in the topology analysis. This also
+/// bounds the loops: v = m − n + 1 ≤ 63.
 pub const MAX_JOINTS: usize = 64;
 
 /// The most relations (`∥ ⊥ ≡` between two directions, written in chains and
