@@ -3,6 +3,15 @@
 
 use std::fmt;
 
+/// The most errors rendered for one text; the rest are counted in a last line.
+/// Every error renders its source line, so an unbounded list of errors on a
+/// long line would print (and allocate) without bound.
+pub const MAX_RENDERED_DIAGNOSTICS: usize = 50;
+
+/// The most characters of a source line shown above a caret; longer lines are
+/// cut to a window around the span, marked with `…`.
+pub const MAX_SHOWN_LINE_CHARS: usize = 120;
+
 /// A byte range in the mechanism text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Span {
@@ -27,6 +36,28 @@ impl Span {
         let col = before[line_start..].chars().count() + 1;
         (line, col)
     }
+}
+
+/// The part of a source line to show, and the caret's column (0-based, in
+/// characters) within it: the whole line when it is short, otherwise a window
+/// of [`MAX_SHOWN_LINE_CHARS`] characters around `caret`, with `…` at cut ends.
+fn shown_line(line: &str, caret: usize) -> (String, usize) {
+    let total = line.chars().count();
+    if total <= MAX_SHOWN_LINE_CHARS {
+        return (line.to_string(), caret);
+    }
+    let first = caret.saturating_sub(MAX_SHOWN_LINE_CHARS / 3).min(total);
+    let last = (first + MAX_SHOWN_LINE_CHARS).min(total);
+    let mut text: String = line.chars().skip(first).take(last - first).collect();
+    let mut caret = caret - first;
+    if first > 0 {
+        text.insert(0, '…');
+        caret += 1;
+    }
+    if last < total {
+        text.push('…');
+    }
+    (text, caret)
 }
 
 fn floor_char_boundary(s: &str, mut i: usize) -> usize {
@@ -97,10 +128,9 @@ impl Diagnostic {
         let mut out = format!("error: {}\n", self.message);
         if let Some(span) = self.span {
             let (line, col) = span.line_col(source);
-            let text = source.lines().nth(line - 1).unwrap_or("");
+            let full_line = source.lines().nth(line - 1).unwrap_or("");
             let gutter = line.to_string().len();
             let pad = " ".repeat(gutter);
-            let start_in_line = col - 1;
             let span_chars = source
                 .get(
                     floor_char_boundary(source, span.start.min(source.len()))
@@ -109,6 +139,7 @@ impl Diagnostic {
                 .map(|s| s.lines().next().unwrap_or("").chars().count())
                 .unwrap_or(0)
                 .max(1);
+            let (text, start_in_line) = shown_line(full_line, col - 1);
             // Keep the caret inside the line even when the span runs past it.
             let line_len = text.chars().count();
             let width = span_chars.min(line_len.saturating_sub(start_in_line).max(1));
@@ -148,13 +179,29 @@ impl Diagnostics {
         self.0.is_empty()
     }
 
-    /// Renders every error, separated by blank lines.
+    /// Renders the errors, separated by blank lines: the first
+    /// [`MAX_RENDERED_DIAGNOSTICS`], then a line counting the others.
     pub fn render(&self, source: &str, file: &str) -> String {
-        self.0
+        let mut out = self
+            .0
             .iter()
+            .take(MAX_RENDERED_DIAGNOSTICS)
             .map(|d| d.render(source, file))
             .collect::<Vec<_>>()
-            .join("\n")
+            .join("\n");
+        if let Some(more) = self.hidden() {
+            out.push_str(&format!("\n{more}\n"));
+        }
+        out
+    }
+
+    /// The line that counts the errors not rendered, if any are not.
+    fn hidden(&self) -> Option<String> {
+        let more = self.0.len().checked_sub(MAX_RENDERED_DIAGNOSTICS).filter(|&m| m > 0)?;
+        Some(format!(
+            "error: {more} more error{} not shown (at most {MAX_RENDERED_DIAGNOSTICS} are shown)",
+            if more == 1 { "" } else { "s" }
+        ))
     }
 
     /// `Ok(value)` when empty, the collected errors otherwise.
@@ -175,11 +222,14 @@ impl From<Diagnostic> for Diagnostics {
 
 impl fmt::Display for Diagnostics {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, d) in self.0.iter().enumerate() {
+        for (i, d) in self.0.iter().take(MAX_RENDERED_DIAGNOSTICS).enumerate() {
             if i > 0 {
                 writeln!(f)?;
             }
             write!(f, "error: {}", d.message)?;
+        }
+        if let Some(more) = self.hidden() {
+            write!(f, "\n{more}")?;
         }
         Ok(())
     }
@@ -212,6 +262,40 @@ mod tests {
             Span::new(6, 7),
             "error: bad thing\n --> m.pkm:1:5\n  |\n1 | a ∥ b\n  |     ^ here\n",
         );
+    }
+
+    #[test]
+    fn long_lines_are_cut_around_the_caret() {
+        // 200 `a`s, then the span `bc` at byte 200; the window starts 40 characters
+        // before the caret and holds 120 characters.
+        let source = format!("{}bc{}", "a".repeat(200), "d".repeat(200));
+        let shown = format!("…{}bc{}…", "a".repeat(40), "d".repeat(78));
+        check(
+            &source,
+            Span::new(200, 202),
+            &format!(
+                "error: bad thing\n --> m.pkm:1:201\n  |\n1 | {shown}\n  | {}^^ here\n",
+                " ".repeat(41)
+            ),
+        );
+    }
+
+    #[test]
+    fn many_errors_are_counted_not_rendered() {
+        let all = Diagnostics(
+            (0..MAX_RENDERED_DIAGNOSTICS + 3)
+                .map(|_| Diagnostic::global("e"))
+                .collect(),
+        );
+        let text = all.render("", "m.pkm");
+        assert_eq!(text.matches("error: e\n").count(), MAX_RENDERED_DIAGNOSTICS);
+        assert!(
+            text.ends_with("error: 3 more errors not shown (at most 50 are shown)\n"),
+            "{text}"
+        );
+        assert!(all
+            .to_string()
+            .ends_with("error: 3 more errors not shown (at most 50 are shown)"));
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use crate::ast::{AxisRef, MechanismAst, Place, RelationKind, Tuple};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::Expr;
+use crate::expr::{Definition, Expr};
 use crate::model::{suggest, DirectionItem, JointKind, Mechanism};
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -16,6 +16,8 @@ use std::collections::HashMap;
 pub struct Parameter {
     /// Its name (a field of the generated parameter struct).
     pub name: String,
+    /// Where its name is written.
+    pub span: Span,
     /// Its defining expression.
     pub expr: Expr,
     /// Its nominal value.
@@ -132,42 +134,46 @@ fn eval3(v: &Vec3, values: &HashMap<String, f64>) -> Vector3<f64> {
 /// Builds and checks the geometry of `mech` from its syntax tree.
 pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnostics> {
     let mut errors: Vec<Diagnostic> = Vec::new();
-    let mut values: HashMap<String, f64> = HashMap::new();
-    let mut parameters: Vec<Parameter> = Vec::new();
     let mut first_span: HashMap<String, Span> = HashMap::new();
+    for (name, _) in &ast.parameters {
+        first_span.entry(name.text.clone()).or_insert(name.span);
+    }
     for (name, e) in &ast.parameters {
-        let known = |n: &str| values.contains_key(n);
-        let before = errors.len();
-        e.check(&known, &mut errors);
+        e.check(&|n: &str| first_span.contains_key(n), &mut errors);
         if RUST_KEYWORDS.contains(&name.text.as_str()) || name.text == "pi" {
             errors.push(
                 Diagnostic::new(name.span, format!("`{}` cannot name a parameter", name.text)).label("reserved word"),
             );
-        } else if let Some(first) = first_span.get(&name.text) {
+        } else if first_span[&name.text] != name.span {
             errors.push(
                 Diagnostic::new(name.span, format!("parameter `{}` is defined twice", name.text))
                     .label("second definition")
-                    .also(*first, "first defined"),
+                    .also(first_span[&name.text], "first defined"),
             );
         }
-        let value = e.eval(&values);
-        if errors.len() == before && !value.is_finite() {
-            errors.push(
-                Diagnostic::new(
-                    name.span,
-                    format!("parameter `{}` is not a finite number ({value})", name.text),
-                )
-                .label("here"),
-            );
-        }
-        first_span.entry(name.text.clone()).or_insert(name.span);
-        values.insert(name.text.clone(), value);
-        parameters.push(Parameter {
-            name: name.text.clone(),
-            expr: e.clone(),
-            value,
-        });
     }
+    // Values in dependency order, whatever the order of definition.
+    let definitions: Vec<Definition> = ast
+        .parameters
+        .iter()
+        .map(|(name, expr)| Definition {
+            name: &name.text,
+            span: name.span,
+            expr,
+        })
+        .collect();
+    let (values, value_errors) = crate::expr::resolve(&definitions, &HashMap::new());
+    errors.extend(value_errors);
+    let parameters: Vec<Parameter> = ast
+        .parameters
+        .iter()
+        .map(|(name, e)| Parameter {
+            name: name.text.clone(),
+            span: name.span,
+            expr: e.clone(),
+            value: values.get(&name.text).copied().unwrap_or(f64::NAN),
+        })
+        .collect();
 
     let dims = if mech.planar { 2 } else { 3 };
     let zero = Expr::Num(0.0);
@@ -729,7 +735,7 @@ mod tests {
         );
         check(
             &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = 1 / 0; }} }}"),
-            &["parameter `a` is not a finite number (inf)"],
+            &["parameter `a` = 1 / 0 is infinite: division by zero"],
         );
         check(
             &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = sqrt(1, 2); b = foo(1); }} }}"),

@@ -10,6 +10,7 @@ pub mod ast;
 pub mod diagnostics;
 pub mod expr;
 pub mod geometry;
+pub mod limits;
 mod parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};

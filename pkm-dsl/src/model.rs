@@ -4,7 +4,8 @@
 
 use crate::ast::{DirectionRef, MechanismAst, Name, RelationKind};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use std::collections::HashMap;
+use crate::limits::MAX_RELATIONS;
+use std::collections::{HashMap, HashSet};
 
 /// The joint types of the POC literature.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -285,8 +286,7 @@ impl Mechanism {
 
 const BASE_ALIASES: [&str; 4] = ["base", "frame", "ground", "0"];
 const FRAME_AXES: [&str; 3] = ["x", "y", "z"];
-/// The most joints (and links) a mechanism may have: joint sets are bit masks.
-pub const MAX_JOINTS: usize = 64;
+pub use crate::limits::MAX_JOINTS;
 
 struct Builder {
     planes: usize,
@@ -296,6 +296,8 @@ struct Builder {
     joints: Vec<Joint>,
     joint_by_name: HashMap<String, usize>,
     relations: Vec<Relation>,
+    /// Unknown joint names already reported (one error per name).
+    unknown_reported: HashSet<String>,
 }
 
 impl Builder {
@@ -435,7 +437,7 @@ impl Builder {
             None => {
                 let message = format!("unknown joint `{}`", name.text);
                 // One error per unknown name, at its first use.
-                if !self.errors.0.iter().any(|e| e.message == message) {
+                if self.unknown_reported.insert(name.text.clone()) {
                     let mut d = Diagnostic::new(name.span, message).label("not declared");
                     if let Some(s) = suggest(&name.text, self.joint_by_name.keys().map(String::as_str)) {
                         d = d.note(format!("did you mean `{s}`?"));
@@ -472,9 +474,58 @@ fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
+/// Checks the sizes of the syntax tree against [`crate::limits`] before any
+/// pass over it: joints, links named in `link` statements, and relations.
+fn check_sizes(ast: &MechanismAst) -> Result<(), Diagnostic> {
+    // Every joint name in the text (a compound hinge on k links is k − 1 joints).
+    let mut joints: Vec<Span> = ast
+        .chains
+        .iter()
+        .flat_map(|c| c.joints.iter().map(|j| j.name.span))
+        .collect();
+    for decl in &ast.joints {
+        joints.extend(std::iter::repeat_n(
+            decl.name.span,
+            decl.links.len().saturating_sub(1).max(1),
+        ));
+    }
+    if joints.len() > MAX_JOINTS {
+        joints.sort_unstable_by_key(|s| s.start);
+        return Err(Diagnostic::new(
+            joints[MAX_JOINTS],
+            format!("the mechanism has {} joints; the limit is {MAX_JOINTS}", joints.len()),
+        )
+        .label(format!("joint number {} in the text", MAX_JOINTS + 1)));
+    }
+    let mut names = HashSet::new();
+    for decl in &ast.links {
+        names.insert(decl.name.text.as_str());
+        if names.len() > MAX_JOINTS {
+            return Err(Diagnostic::new(
+                decl.name.span,
+                format!("more than {MAX_JOINTS} links are named; the limit is {MAX_JOINTS}"),
+            )
+            .label(format!("link number {} here", MAX_JOINTS + 1)));
+        }
+    }
+    let written = ast.chains.iter().map(|c| c.connectors.len()).sum::<usize>()
+        + ast.relations.iter().map(|r| r.ops.len()).sum::<usize>();
+    if written > MAX_RELATIONS {
+        let first = ast.relations.iter().find_map(|r| r.ops.first()).map(|o| o.1);
+        return Err(Diagnostic::new(
+            first.unwrap_or(ast.name.span),
+            format!("the mechanism writes {written} relations; the limit is {MAX_RELATIONS}"),
+        )
+        .label("relations start here"));
+    }
+    Ok(())
+}
+
 /// Builds the semantic model from the syntax tree, collecting every error.
 pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
+    check_sizes(ast)?;
     let mut b = Builder {
+        unknown_reported: HashSet::new(),
         planes: 0,
         errors: Diagnostics::default(),
         links: Vec::new(),
@@ -759,6 +810,20 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     }
     check_relations(&b.joints, &b.relations, &mut b.errors);
 
+    // Checked before the connectivity pass below, which is quadratic in the links.
+    if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
+        b.errors.push(
+            Diagnostic::new(
+                ast.name.span,
+                format!(
+                    "the mechanism has {} joints and {} links; the limit is {MAX_JOINTS} of each",
+                    b.joints.len(),
+                    b.links.len()
+                ),
+            )
+            .label("too large"),
+        );
+    }
     // Every link must hang in the mechanism: reached from the base, held by two joints.
     if b.errors.is_empty() {
         let all: Vec<usize> = (0..b.joints.len()).collect();
@@ -786,15 +851,6 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         if b.joints.is_empty() {
             b.errors
                 .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
-        }
-        if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
-            b.errors.push(
-                Diagnostic::new(
-                    ast.name.span,
-                    format!("the mechanism has more than {MAX_JOINTS} joints or links"),
-                )
-                .label("too large"),
-            );
         }
     }
 

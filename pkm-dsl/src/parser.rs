@@ -4,6 +4,7 @@
 use crate::ast::*;
 use crate::diagnostics::{Diagnostic, Span};
 use crate::expr::Expr;
+use crate::limits::{MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS};
 use pest::iterators::Pair;
 use pest::Parser;
 
@@ -19,10 +20,190 @@ struct DslParser;
 /// assert_eq!(ast.chains[0].joints.len(), 4);
 /// ```
 pub fn parse(source: &str) -> Result<MechanismAst, Diagnostic> {
+    // Cheap limits first: the generated parser recurses once per nesting level.
+    check_size_and_nesting(source)?;
     let mut pairs = DslParser::parse(Rule::file, source).map_err(|e| grammar_error(source, e))?;
+    check_counts(pairs.clone())?;
     let file = pairs.next().expect("the file rule always yields one pair");
     let mechanism = file.into_inner().next().expect("a file holds one mechanism");
     Ok(build(mechanism))
+}
+
+/// Checks the text's size and the nesting of its brackets and exponents with
+/// one pass over the raw text, before the recursive parser sees it.
+fn check_size_and_nesting(source: &str) -> Result<(), Diagnostic> {
+    if source.len() > MAX_FILE_BYTES {
+        let at = (0..=MAX_FILE_BYTES)
+            .rev()
+            .find(|&i| source.is_char_boundary(i))
+            .unwrap_or(0);
+        return Err(Diagnostic::new(
+            Span::new(at, next_char_end(source, at)),
+            format!(
+                "the text is {} bytes long; the limit is {MAX_FILE_BYTES} bytes",
+                source.len()
+            ),
+        )
+        .label("the limit is reached here"));
+    }
+    let bytes = source.as_bytes();
+    // Pending exponents of each open parenthesis level (level 0 is outside any).
+    let mut pending: Vec<usize> = vec![0];
+    let mut nesting = 0usize;
+    // Whether the last token ends an operand, so that a `-` after it is binary.
+    let mut after_operand = false;
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        let start = i;
+        i += 1;
+        match c {
+            b'/' if bytes.get(i) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+                continue;
+            }
+            b'/' if bytes.get(i) == Some(&b'*') => {
+                i = source[i + 1..].find("*/").map_or(bytes.len(), |k| i + 1 + k + 2);
+                continue;
+            }
+            b'"' => {
+                while i < bytes.len() && bytes[i] != b'"' && bytes[i] != b'\n' {
+                    i += 1;
+                }
+                i += 1;
+                after_operand = false;
+                continue;
+            }
+            b' ' | b'\t' | b'\r' | b'\n' => continue,
+            b'0'..=b'9' => {
+                // A number as the grammar's `real` reads it, so that the `-` of
+                // `1e-5` is not taken for a binary minus.
+                let digits = |i: &mut usize| {
+                    while *i < bytes.len() && bytes[*i].is_ascii_digit() {
+                        *i += 1;
+                    }
+                };
+                digits(&mut i);
+                if bytes.get(i) == Some(&b'.') {
+                    i += 1;
+                    digits(&mut i);
+                }
+                if matches!(bytes.get(i), Some(b'e' | b'E')) {
+                    let mut j = i + 1;
+                    if matches!(bytes.get(j), Some(b'+' | b'-')) {
+                        j += 1;
+                    }
+                    if bytes.get(j).is_some_and(u8::is_ascii_digit) {
+                        i = j;
+                        digits(&mut i);
+                    }
+                }
+                after_operand = true;
+                continue;
+            }
+            c if c.is_ascii_alphabetic() || c == b'_' => {
+                while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
+                    i += 1;
+                }
+                after_operand = true;
+                continue;
+            }
+            b'(' => {
+                pending.push(0);
+                nesting += 1;
+            }
+            b')' => {
+                if pending.len() > 1 {
+                    nesting -= 1 + pending.pop().unwrap_or(0);
+                }
+                after_operand = true;
+                continue;
+            }
+            b'^' => {
+                if let Some(top) = pending.last_mut() {
+                    *top += 1;
+                }
+                nesting += 1;
+            }
+            // A binary operator or a separator ends the exponent chain of its level.
+            b'+' | b'*' | b'/' | b',' | b';' | b'{' | b'}' => end_chain(&mut pending, &mut nesting),
+            b'-' if after_operand => end_chain(&mut pending, &mut nesting),
+            _ => {}
+        }
+        after_operand = false;
+        if nesting > MAX_NESTING {
+            return Err(Diagnostic::new(
+                Span::new(start, start + 1),
+                format!("expression nested more than {MAX_NESTING} deep (parentheses and exponents `^` together)"),
+            )
+            .label(format!("nesting level {} here", MAX_NESTING + 1))
+            .note("name a part of the expression as a parameter"));
+        }
+    }
+    Ok(())
+}
+
+fn end_chain(pending: &mut [usize], nesting: &mut usize) {
+    if let Some(top) = pending.last_mut() {
+        *nesting -= *top;
+        *top = 0;
+    }
+}
+
+/// Checks the limits that need the parse tree: operations per expression,
+/// parameters and placements per file. One pass over the flat token list; nothing recurses.
+fn check_counts(pairs: pest::iterators::Pairs<Rule>) -> Result<(), Diagnostic> {
+    // The top-level expression being counted: its span and its operations so far.
+    let mut current: Option<(Span, usize)> = None;
+    let mut parameters = 0usize;
+    let mut placements = 0usize;
+    for p in pairs.flatten() {
+        let span = span_of(&p);
+        let operation = match p.as_rule() {
+            Rule::expr => {
+                if current.is_none_or(|(s, _)| span.start >= s.end) {
+                    current = Some((span, 0));
+                }
+                false
+            }
+            Rule::add_op | Rule::mul_op | Rule::neg_op | Rule::call => true,
+            Rule::power => p.clone().into_inner().nth(1).is_some(),
+            Rule::placement => {
+                placements += 1;
+                if placements > MAX_PLACEMENTS {
+                    return Err(
+                        Diagnostic::new(span, format!("more than {MAX_PLACEMENTS} placements in `geometry`"))
+                            .label(format!("placement number {} here", MAX_PLACEMENTS + 1)),
+                    );
+                }
+                false
+            }
+            Rule::parameter => {
+                parameters += 1;
+                if parameters > MAX_PARAMETERS {
+                    return Err(Diagnostic::new(span, format!("more than {MAX_PARAMETERS} parameters"))
+                        .label(format!("parameter number {} here", MAX_PARAMETERS + 1)));
+                }
+                false
+            }
+            _ => false,
+        };
+        if let (true, Some((expr_span, count))) = (operation, current.as_mut()) {
+            *count += 1;
+            if *count > MAX_EXPR_OPERATIONS {
+                return Err(Diagnostic::new(
+                    *expr_span,
+                    format!("expression with more than {MAX_EXPR_OPERATIONS} operations"),
+                )
+                .label("too long")
+                .also(span, format!("operation number {} is", MAX_EXPR_OPERATIONS + 1))
+                .note("split it into several parameters"));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn grammar_error(source: &str, e: pest::error::Error<Rule>) -> Diagnostic {

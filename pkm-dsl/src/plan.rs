@@ -51,6 +51,31 @@ pub fn newton_outputs(
         .collect()
 }
 
+/// Every parameter's value: those in `values` as given, the others computed
+/// from their expressions (so a parameter that reads an overridden one
+/// follows it). A value that is not a finite number is an error naming the
+/// parameter and its expression.
+pub fn parameter_values(a: &Analysis, values: &HashMap<String, f64>) -> Result<HashMap<String, f64>, Diagnostics> {
+    let g = &a.geometry;
+    if values.is_empty() {
+        return Ok(g.nominal());
+    }
+    if let Some(k) = values.keys().find(|k| !g.parameters.iter().any(|p| &p.name == *k)) {
+        return Err(Diagnostic::global(format!("unknown parameter `{k}`")).into());
+    }
+    let definitions: Vec<crate::expr::Definition> = g
+        .parameters
+        .iter()
+        .map(|p| crate::expr::Definition {
+            name: &p.name,
+            span: p.span,
+            expr: &p.expr,
+        })
+        .collect();
+    let (params, errors) = crate::expr::resolve(&definitions, values);
+    Diagnostics(errors).into_result(params)
+}
+
 /// The numeric model at the given parameter values (the nominal ones for
 /// names not in `values`).
 pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagnostics> {
@@ -63,13 +88,7 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
                 .into(),
         );
     }
-    let mut params = g.nominal();
-    for (k, v) in values {
-        if !params.contains_key(k) {
-            return Err(Diagnostic::global(format!("unknown parameter `{k}`")).into());
-        }
-        params.insert(k.clone(), *v);
-    }
+    let params = parameter_values(a, values)?;
     let eval = |v: &crate::geometry::Vec3| crate::geometry::eval_vec3(v, &params);
     let mut joints = Vec::new();
     for (j, joint) in m.joints.iter().enumerate() {

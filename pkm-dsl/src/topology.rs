@@ -13,6 +13,7 @@
 //! A disagreement is reported as an analysis error.
 
 use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::limits::MAX_ORDERING_WORK;
 use crate::model::{DirectionClasses, DirectionItem, JointKind, Mechanism};
 use crate::screw::{self, Instance, VelocitySystem};
 use nalgebra::{DMatrix, Vector3};
@@ -244,6 +245,8 @@ struct Context<'a> {
     incidence: Vec<Vec<usize>>,
     rank_memo: HashMap<u64, usize>,
     evaluations: usize,
+    /// Multiply-adds spent in rank computations so far (see [`MAX_ANALYSIS_WORK`]).
+    work: u64,
     /// Local (idle) DOF of each sub-mechanism, by joint mask.
     idle_memo: HashMap<u64, usize>,
     /// Per primary instance: the idle motions of the whole mechanism as joint
@@ -273,6 +276,7 @@ impl Context<'_> {
         if let Some(&i) = self.idle_memo.get(&mask) {
             return i;
         }
+        let mut work = 0;
         let i = self
             .idle_rates
             .iter()
@@ -285,12 +289,20 @@ impl Context<'_> {
                 for (r, &row) in outside.iter().enumerate() {
                     m.set_row(r, &rates.row(row));
                 }
+                work += svd_work(m.nrows(), m.ncols());
                 rates.ncols() - screw::rank(&m).min(rates.ncols())
             })
             .min()
             .unwrap_or(0);
+        self.work += work;
         self.idle_memo.insert(mask, i);
         i
+    }
+
+    /// Whether the ordering has spent its budget: [`SEARCH_BUDGET`]
+    /// sub-mechanisms or [`MAX_ORDERING_WORK`] multiply-adds.
+    fn over_budget(&self) -> bool {
+        self.evaluations > SEARCH_BUDGET || self.work > MAX_ORDERING_WORK
     }
 
     fn actuators_of(&self, mask: u64) -> usize {
@@ -305,12 +317,18 @@ impl Context<'_> {
             return r;
         }
         self.evaluations += 1;
+        let mut work = 0;
         let r = self
             .primary
             .iter()
-            .map(|inst| VelocitySystem::new(self.mech, inst, mask).loop_rank())
+            .map(|inst| {
+                let sys = VelocitySystem::new(self.mech, inst, mask);
+                work += svd_work(sys.matrix.nrows(), sys.matrix.ncols());
+                sys.loop_rank()
+            })
             .max()
             .unwrap_or(0);
+        self.work += work;
         self.rank_memo.insert(mask, r);
         r
     }
@@ -365,6 +383,11 @@ impl Context<'_> {
     }
 }
 
+/// The multiply-adds of one singular value decomposition of an r × c matrix, roughly.
+fn svd_work(r: usize, c: usize) -> u64 {
+    (r * c * r.min(c)) as u64
+}
+
 /// The mask of all `n` joints (n ≤ 64).
 fn all_joints(n: usize) -> u64 {
     if n == 64 {
@@ -395,7 +418,7 @@ impl Search<'_, '_> {
         if let Some(b) = self.best.get(&used) {
             return b.map(|(c, _)| c);
         }
-        if self.ctx.evaluations > SEARCH_BUDGET {
+        if self.ctx.over_budget() {
             self.exhausted = true;
             return None;
         }
@@ -407,7 +430,7 @@ impl Search<'_, '_> {
         }
         let mut best: Option<(Cost, usize)> = None;
         for (i, (path, _)) in cands.iter().enumerate() {
-            if self.ctx.evaluations > SEARCH_BUDGET {
+            if self.ctx.over_budget() {
                 self.exhausted = true;
                 return None;
             }
@@ -441,6 +464,10 @@ fn greedy_order(ctx: &mut Context, all: u64) -> Option<Vec<Candidate>> {
         let cands = ctx.candidates(used);
         let mut pick = None;
         for c in cands {
+            // Out of budget: the search that follows stops at once and says so.
+            if ctx.over_budget() {
+                return None;
+            }
             let next = used | ctx.joint_mask(&c.0);
             if ctx.running(next) == run_before && run_before == 0 {
                 pick = Some(c);
@@ -540,16 +567,16 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     }
 
     // Locking the actuators must make the mechanism rigid at a generic configuration.
-    let driven = ctx
-        .primary
-        .iter()
-        .map(|inst| {
-            let sys = VelocitySystem::new(mech, inst, all);
-            let kernel = screw::null_space(&sys.matrix);
-            screw::rank(&input_rows(mech, &sys, &kernel))
-        })
-        .max()
-        .unwrap_or(0);
+    // The generic rank is the largest; stop at the first configuration that reaches F.
+    let mut driven = 0;
+    for inst in &ctx.primary {
+        let sys = VelocitySystem::new(mech, inst, all);
+        let kernel = screw::null_space(&sys.matrix);
+        driven = driven.max(screw::rank(&input_rows(mech, &sys, &kernel)));
+        if driven >= dof {
+            break;
+        }
+    }
     if driven < dof {
         let first = mech
             .joints
@@ -588,8 +615,8 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
                     Diagnostic::new(
                         mech.name_span(),
                         format!(
-                            "the ordered SOC search gave up after {SEARCH_BUDGET} sub-mechanisms ({} loops)",
-                            loops
+                            "the ordered SOC search gave up after {} sub-mechanisms and {:.1e} multiply-adds ({} loops); the limits are {SEARCH_BUDGET} and {MAX_ORDERING_WORK:.1e}",
+                            ctx.evaluations, ctx.work as f64, loops
                         ),
                     )
                     .label("too many orderings to compare")
@@ -784,6 +811,7 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
         check,
         rank_memo: HashMap::new(),
         evaluations: 0,
+        work: 0,
         idle_memo: HashMap::new(),
     })
 }
@@ -865,22 +893,25 @@ fn poc_formula_xi(ctx: &Context, socs: &[Soc]) -> Vec<usize> {
     let mut used = 0u64;
     let mut out = Vec::new();
     for soc in socs {
-        let xi = ctx
-            .check
-            .iter()
-            .map(|inst| {
-                // M_rel: what the mechanism built so far allows between the SOC's end links.
-                let m_rel = if used == 0 {
-                    DMatrix::zeros(6, 0)
-                } else {
-                    let sys = VelocitySystem::new(ctx.mech, inst, used);
-                    sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
-                };
-                let m_soc = screw::joint_twists(inst, &soc.joints);
-                screw::rank(&screw::hstack(&[&m_rel, &m_soc]))
-            })
-            .max()
-            .unwrap_or(0);
+        // The generic value is the largest (no configuration exceeds it): the
+        // first configuration that reaches the loop-closure ξ confirms it, and
+        // the others are tried only when it does not (each costs a null space
+        // of the whole system built so far).
+        let mut xi = 0;
+        for inst in &ctx.check {
+            // M_rel: what the mechanism built so far allows between the SOC's end links.
+            let m_rel = if used == 0 {
+                DMatrix::zeros(6, 0)
+            } else {
+                let sys = VelocitySystem::new(ctx.mech, inst, used);
+                sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
+            };
+            let m_soc = screw::joint_twists(inst, &soc.joints);
+            xi = xi.max(screw::rank(&screw::hstack(&[&m_rel, &m_soc])));
+            if xi >= soc.xi {
+                break;
+            }
+        }
         out.push(xi);
         used |= ctx.joint_mask(&soc.joints);
     }
