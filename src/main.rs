@@ -75,9 +75,18 @@ enum Command {
 /// A mechanism file's text and its path as shown in messages.
 fn read(file: &Path) -> Result<(String, String), Failure> {
     let shown = file.display().to_string();
+    let io = |e: std::io::Error| Failure::new(Kind::Io, format!("cannot read `{shown}`: {e}"));
+    // The size limit before the read: a huge file is refused, not loaded.
+    let limit = pkm::dsl::limits::MAX_FILE_BYTES;
+    let size = std::fs::metadata(file).map_err(io)?.len();
+    if size > limit as u64 {
+        return Err(Failure::input(format!(
+            "`{shown}` is {size} bytes; the limit is {limit} bytes (pkm_dsl::limits::MAX_FILE_BYTES)"
+        )));
+    }
     std::fs::read_to_string(file)
         .map(|text| (text, shown.clone()))
-        .map_err(|e| Failure::new(Kind::Io, format!("cannot read `{shown}`: {e}")))
+        .map_err(io)
 }
 
 /// Reads a mechanism file, solves on it, prints the answer or the failure.

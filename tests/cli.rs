@@ -475,3 +475,15 @@ fn readme_json_example_is_the_real_output() {
     assert!(out.status.success());
     assert_eq!(serde_json::from_slice::<Value>(&out.stdout).unwrap(), shown);
 }
+
+/// A file over the size limit is refused before it is read, naming the limit.
+#[test]
+fn a_file_over_the_size_limit_is_refused() {
+    let path = std::env::temp_dir().join("pkm_cli_too_big.pkm");
+    std::fs::write(&path, " ".repeat(pkm::dsl::limits::MAX_FILE_BYTES + 1)).unwrap();
+    let out = pkm(&["analyze", path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("the limit is 262144 bytes"), "{err}");
+}

@@ -78,12 +78,25 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
             let rel = lit.value();
             let dir = std::env::var("CARGO_MANIFEST_DIR").unwrap_or_else(|_| ".".into());
             let path = std::path::Path::new(&dir).join(&rel);
-            let text = std::fs::read_to_string(&path).map_err(|e| {
+            let unreadable = |e: std::io::Error| {
                 syn::Error::new(
                     lit.span(),
                     format!("cannot read mechanism file `{}`: {e}", path.display()),
                 )
-            })?;
+            };
+            // The size limit before the read: a huge file is refused, not loaded.
+            let size = std::fs::metadata(&path).map_err(unreadable)?.len();
+            if size > crate::limits::MAX_FILE_BYTES as u64 {
+                return Err(syn::Error::new(
+                    lit.span(),
+                    format!(
+                        "mechanism file `{}` is {size} bytes; the limit is {} bytes",
+                        path.display(),
+                        crate::limits::MAX_FILE_BYTES
+                    ),
+                ));
+            }
+            let text = std::fs::read_to_string(&path).map_err(unreadable)?;
             (lit, text, rel.clone(), Some(rel))
         }
     };
