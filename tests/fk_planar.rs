@@ -164,12 +164,13 @@ fn joint_values_follow_the_model_conventions() {
 #[test]
 fn out_of_reach_is_a_typed_error() {
     // With a 10 mm coupler and the crank at π, |BD| = 400 > l2 + l3 = 210: every
-    // branch says why and by how much (190 mm).
+    // branch says why and by how much (190 mm), naming the loop R2–R3–R4
+    // that cannot close (R3, the dyad's middle joint, was named alone before).
     let (model, plan) = load("four_bar", &[("l2", 10.0)]);
     for (signs, result) in run_all(&model, &plan, &[PI]) {
         match result {
             Err(SolveError::Unreachable { joint, by, .. }) => {
-                assert_eq!(joint, "R3");
+                assert_eq!(joint, "R2–R3–R4");
                 assert_close("by", by, 400.0 - 210.0);
             }
             other => panic!("{signs:?}: {other:?}"),

@@ -444,14 +444,15 @@ fn wrap(
             });
         }
     };
+    let given = quote! {
+        params: &#params_ty,
+        q: &[f64; #n_values],
+        signs: [::pkm::runtime::primitives::Sign; #n_branches],
+    };
     let branch_fns = match checks {
         None => quote! {
             #[doc = #branch_doc]
-            pub fn #f_branch(
-                params: &#params_ty,
-                q: &[f64; #n_values],
-                signs: [::pkm::runtime::primitives::Sign; #n_branches],
-            ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+            pub fn #f_branch(#given) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
                 #finite
                 #body
                 ::core::result::Result::Ok(#result)
@@ -468,11 +469,7 @@ fn wrap(
             quote! {
                 #[doc = #branch_doc]
                 /// The solution is verified: what the plan did not close must close.
-                pub fn #f_branch(
-                    params: &#params_ty,
-                    q: &[f64; #n_values],
-                    signs: [::pkm::runtime::primitives::Sign; #n_branches],
-                ) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                pub fn #f_branch(#given) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
                     let (solution, rows, extent) = Self::#f_unverified(params, q, signs)?;
                     const OWNERS: [&str; #n_rows] = [#(#owners),*];
                     const ANGULAR: [bool; #n_values] = [#(#angular),*];
@@ -484,11 +481,7 @@ fn wrap(
                 }
 
                 /// One branch's solution, its residual rows and their extent, unverified.
-                fn #f_unverified(
-                    params: &#params_ty,
-                    q: &[f64; #n_values],
-                    signs: [::pkm::runtime::primitives::Sign; #n_branches],
-                ) -> ::core::result::Result<(#sol_ty, [f64; #n_rows], f64), #rt::SolveError> {
+                fn #f_unverified(#given) -> ::core::result::Result<(#sol_ty, [f64; #n_rows], f64), #rt::SolveError> {
                     #finite
                     #body
                     let solution = #result;

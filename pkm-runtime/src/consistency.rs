@@ -269,6 +269,20 @@ pub fn same_solution(a: &[f64], b: &[f64], revolute: &[bool]) -> bool {
     })
 }
 
+/// For each branch whose solution an earlier branch already has (by
+/// [`same_solution`]), that earlier branch: `(branch, twin)` pairs.
+/// `solution(i)` is branch `i`'s joint values, if it solved.
+fn twins<'a>(n: usize, revolute: &[bool], solution: impl Fn(usize) -> Option<&'a [f64]>) -> Vec<(usize, usize)> {
+    (1..n)
+        .filter_map(|i| {
+            let s = solution(i)?;
+            (0..i)
+                .find(|&k| solution(k).is_some_and(|t| same_solution(s, t, revolute)))
+                .map(|k| (i, k))
+        })
+        .collect()
+}
+
 /// Marks double roots in a list of branches: a branch whose solution is one
 /// an earlier branch already has becomes [`SolveError::DoubleRoot`] naming
 /// that twin, which is flagged `tangent`.
@@ -277,15 +291,11 @@ pub fn mark_double_roots<S, const D: usize>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    for i in 1..branches.len() {
-        let twin = {
-            let Ok(s) = &branches[i].result else { continue };
-            (0..i).find(|&k| matches!(&branches[k].result, Ok(t) if same_solution(values(s), values(t), revolute)))
-        };
-        if let Some(k) = twin {
-            branches[i].result = Err(SolveError::DoubleRoot { twin: k });
-            branches[k].tangent = true;
-        }
+    for (i, k) in twins(branches.len(), revolute, |i| {
+        branches[i].result.as_ref().ok().map(&values)
+    }) {
+        branches[i].result = Err(SolveError::DoubleRoot { twin: k });
+        branches[k].tangent = true;
     }
 }
 
@@ -295,14 +305,8 @@ pub fn mark_double_roots_in<S>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    for i in 1..branches.len() {
-        let twin = {
-            let Ok(s) = &branches[i].1 else { continue };
-            (0..i).find(|&k| matches!(&branches[k].1, Ok(t) if same_solution(values(s), values(t), revolute)))
-        };
-        if let Some(k) = twin {
-            branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
-        }
+    for (i, k) in twins(branches.len(), revolute, |i| branches[i].1.as_ref().ok().map(&values)) {
+        branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
     }
 }
 

@@ -471,9 +471,25 @@ pub fn prismatic_value(
     slider_pose: Pose2,
     slider: [f64; 2],
 ) -> f64 {
+    guide_coordinates(guide_pose, through, along, slider_pose, slider)[0]
+}
+
+/// The slider point's coordinates along the guide and across it (to its
+/// left), in the guide link's frame, from the guide's point `through`.
+fn guide_coordinates(
+    guide_pose: Pose2,
+    through: [f64; 2],
+    along: [f64; 2],
+    slider_pose: Pose2,
+    slider: [f64; 2],
+) -> [f64; 2] {
     let p = guide_pose.inverse_apply(slider_pose.apply(slider));
     let n = along[0].hypot(along[1]);
-    ((p[0] - through[0]) * along[0] + (p[1] - through[1]) * along[1]) / n
+    let d = [p[0] - through[0], p[1] - through[1]];
+    [
+        (d[0] * along[0] + d[1] * along[1]) / n,
+        (d[1] * along[0] - d[0] * along[1]) / n,
+    ]
 }
 
 impl Step {
@@ -556,9 +572,7 @@ pub fn prismatic_residual(
     slider: [f64; 2],
     extent: f64,
 ) -> [f64; 2] {
-    let p = guide_pose.inverse_apply(slider_pose.apply(slider));
-    let n = along[0].hypot(along[1]);
-    let off = ((p[1] - through[1]) * along[0] - (p[0] - through[0]) * along[1]) / n;
+    let [_, off] = guide_coordinates(guide_pose, through, along, slider_pose, slider);
     [off, wrap_angle(slider_pose.angle - guide_pose.angle) * extent]
 }
 
