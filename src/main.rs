@@ -118,17 +118,18 @@ fn main() -> ExitCode {
             json: _,
         } => solve(&file, |text| fk(text, &q, &params)),
         Command::Report { file, out, options } => {
-            let (text, _) = match read(&file) {
+            let (text, shown) = match read(&file) {
                 Ok(t) => t,
                 Err(code) => return code,
             };
-            match pkm::report::write_report(&text, &options, &out) {
+            match pkm::report::write_report(&text, &shown, &options, &out) {
                 Ok(page) => {
                     println!("{}", page.display());
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
-                    eprintln!("error: {e}");
+                    // The error's text is complete: one `error:`, the file's path in it.
+                    eprintln!("{e}");
                     ExitCode::FAILURE
                 }
             }
