@@ -14,11 +14,14 @@ use std::path::{Path, PathBuf};
 const FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
 /// Above this many points a scatter draws occupied cells instead of points.
-pub const DENSE: usize = 20_000;
+pub const DENSE: usize = 5_000;
 
 /// Cells across a dense scatter's plot (its SVG holds at most this squared
 /// rectangles per set).
-const CELLS: usize = 160;
+const CELLS: usize = 120;
+
+/// The most rows a scatter's CSV holds; a larger set is written every k-th point.
+pub const CSV_ROWS: usize = 200_000;
 
 /// The width of the legend strip beside a chart, in pixels.
 const LEGEND_WIDTH: u32 = 210;
@@ -253,7 +256,8 @@ pub struct Style {
 }
 
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
-/// included in the labels); the CSV holds every point (set, x, y).
+/// included in the labels); the CSV holds every point (set, x, y), or every
+/// k-th when there are more than [`CSV_ROWS`].
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-scatter");
@@ -272,12 +276,15 @@ pub fn scatter(
     let xr = range(all().map(|p| p[0]));
     let yr = range(all().map(|p| p[1]));
     let csv = stem.with_extension("csv");
+    let total: usize = sets.iter().map(|(_, v)| v.len()).sum();
+    let stride = total.div_ceil(CSV_ROWS).max(1);
     write_csv(
         &csv,
         &["set", labels[0], labels[1]],
         sets.iter().flat_map(|(name, points)| {
             points
                 .iter()
+                .step_by(stride)
                 .map(move |p| vec![name.clone(), p[0].to_string(), p[1].to_string()])
         }),
     )?;

@@ -1971,22 +1971,183 @@ fn pose_outputs(model: &Model, poses: &[Pose3], outputs: &[Output]) -> Vec<f64> 
     v
 }
 
-/// A mechanism with no closed-form forward plan (κ ≠ 0): what the report
-/// can show without one.
+/// A mechanism with no closed-form forward plan (κ ≠ 0) but an inverse one:
+/// the mechanism drawn at a sample pose of its outputs, the
+/// constant-orientation workspace of its output point (every pose of a grid
+/// over the point's coordinates, the other outputs held, that the inverse
+/// solution reaches on the branch), and an animation along a circle of poses.
 fn inverse_only(
     page: &mut String,
-    _l: &Loaded,
-    _study: &Resolved,
-    _o: &ReportOptions,
-    _out: &Path,
-    _file: &str,
+    l: &Loaded,
+    study: &Resolved,
+    o: &ReportOptions,
+    out: &Path,
+    file: &str,
     why: &str,
 ) -> Result<(), ReportError> {
+    let model = &l.model;
+    let unit = o.unit.as_str();
     let _ = writeln!(
         page,
-        "<h2>No forward solution</h2><p>There is no closed-form forward plan ({}): the workspace sweep and the \
-         trajectory, which solve the forward problem at every node, are not available.</p>",
+        "<h2>No forward solution</h2><p>There is no closed-form forward plan ({}), so the input sweep and the \
+         input trajectory are not available. The inverse solution gives what follows: the pose of the outputs is \
+         chosen, and every joint follows.</p>",
         html_escape(why)
     );
+    let first = l.analysis.geometry.outputs.first().map(|x| &x.kind);
+    let (Some(plan), Some(pkm_dsl::geometry::OutputKind::Pose { .. } | pkm_dsl::geometry::OutputKind::Point { .. })) =
+        (&l.inverse, first)
+    else {
+        let _ = writeln!(
+            page,
+            "<p>It has no inverse plan from a pose or point output either: nothing numeric to show.</p>"
+        );
+        return Ok(());
+    };
+    if !o.ranges.is_empty() || o.start.is_some() || o.amplitude.is_some() || o.speed.is_some() {
+        return Err(invalid(format!(
+            "{file} has no forward plan ({why}): --ranges, --start, --amplitude and --speed sample its inputs, \
+             which it cannot solve from"
+        )));
+    }
+    let columns = output_columns(l, unit);
+    let m = columns.len();
+    let choices = plan.choices();
+    let point_name = default_point(l);
+    let (plink, plocal) = point_of(model, &point_name).ok_or_else(|| invalid(format!("no point `{point_name}`")))?;
+    // The sample pose: every output 0 (the geometry's home pose), on the
+    // first branch that reaches it (regular if one is).
+    let pose = vec![0.0; m];
+    let branch = match o.branch.or(study.branch) {
+        Some(b) if b >= 1 << choices => {
+            return Err(invalid(format!(
+                "--branch {b}: {file}'s inverse solution has {} branches (0 to {})",
+                1usize << choices,
+                (1usize << choices) - 1
+            )))
+        }
+        Some(b) => b,
+        None => (0..1usize << choices)
+            .find(|&b| {
+                plan.solve(model, &pose, &signs(choices, b)).is_ok_and(|v| {
+                    velocity::jacobians(model, &v, &l.outputs).is_ok_and(|j| j.singularity == velocity::Singularity::None)
+                })
+            })
+            .or_else(|| (0..1usize << choices).find(|&b| plan.solve(model, &pose, &signs(choices, b)).is_ok()))
+            .ok_or_else(|| invalid(format!("{file}: the inverse solution reaches no branch at the pose {}", tuple_text(&pose, 3))))?,
+    };
+    let branch_signs = signs(choices, branch);
+    let v = plan
+        .solve(model, &pose, &branch_signs)
+        .map_err(|e| invalid(format!("{file}: branch {branch} at the pose {}: {e}", tuple_text(&pose, 3))))?;
+    let poses = newton::link_poses(model, &v).map_err(|e| invalid(e.to_string()))?;
+    let view = if model.planar { View::Plane } else { View::Axonometric };
+    let f = drawing::draw(
+        &out.join("mechanism"),
+        &format!("{} at the pose {}, branch {branch}", model.name, tuple_text(&pose, 3)),
+        &drawing::scene(model, &poses, (plink, plocal)),
+        view,
+        unit,
+        &point_name,
+    )?;
+    let _ = writeln!(
+        page,
+        "<h2>The mechanism at the pose {} ({})</h2>",
+        tuple_text(&pose, 3),
+        html_escape(&columns.join(", "))
+    );
+    page.push_str(&figure_html(
+        &f,
+        "Links as lines between their joints (a link with three or more joints filled), joints by type, the base hatched",
+    ));
+    // The constant-orientation workspace over the point's x and y.
+    let size = reach(model);
+    let nodes_per = o.nodes.or(study.nodes).unwrap_or(200);
+    check_nodes(nodes_per, 2)?;
+    let grid = Grid {
+        ranges: vec![(-size, size), (-size, size)],
+        counts: vec![nodes_per; 2],
+    };
+    let held = pose.clone();
+    let nodes = sweep_nodes::<2>(&grid, |xy| {
+        let mut p = held.clone();
+        p[0] = xy[0];
+        p[1] = xy[1];
+        plan.solve(model, &p, &branch_signs).ok().map(|_| [xy[0], xy[1], 0.0])
+    });
+    let cloud: Vec<[f64; 2]> = nodes.iter().flatten().map(|p| [p[0], p[1]]).collect();
+    let _ = writeln!(
+        page,
+        "<h2>Workspace of {point_name} at constant orientation</h2><p>The poses ({}) with {} and {} over \
+         [{:.1}, {:.1}] {unit} ({nodes_per} nodes each) and the other outputs held at the sample, that branch {branch} \
+         ({}) of the inverse solution reaches: {} of {} nodes. The set is {}.</p>",
+        html_escape(&columns.join(", ")),
+        html_escape(&columns[0]),
+        html_escape(&columns[1]),
+        -size,
+        size,
+        sign_text(&branch_signs),
+        cloud.len(),
+        grid.len(),
+        html_escape(&measure(&grid, &nodes, unit).replace("input grid", "grid of poses"))
+    );
+    if !cloud.is_empty() {
+        let f = plots::scatter(
+            &out.join("workspace_xOy"),
+            &format!("Workspace of {point_name}, orientation held"),
+            [&format!("x ({unit})"), &format!("y ({unit})")],
+            &[(point_name.clone(), cloud.clone())],
+            Style {
+                equal_axes: true,
+                joined: false,
+            },
+        )?;
+        page.push_str(&figure_html(&f, "The constant-orientation workspace, equal axis scales"));
+    }
+    // A circle of poses about the sample, a tenth of the workspace's width
+    // across, followed by the nearest joint values at each step.
+    let xr = plots::range(cloud.iter().map(|p| p[0]));
+    let radius = 0.1 * (xr.1 - xr.0);
+    let duration = o.duration.or(study.duration).unwrap_or(std::f64::consts::TAU);
+    if !(duration > 0.0 && duration <= MAX_DURATION) {
+        return Err(invalid(format!(
+            "--duration {duration}: the trajectory's duration must be above 0 and at most {MAX_DURATION} s"
+        )));
+    }
+    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind != JointType::P).collect();
+    let mut previous = v.clone();
+    let mut frames = Vec::new();
+    for k in 0..=100 {
+        let a = std::f64::consts::TAU * k as f64 / 100.0;
+        let mut p = pose.clone();
+        p[0] += radius * (1.0 - a.cos());
+        p[1] += radius * a.sin();
+        let Some(next) = (0..1usize << choices)
+            .filter_map(|b| plan.solve(model, &p, &signs(choices, b)).ok())
+            .min_by(|x, y| {
+                pkm_runtime::plan::joint_distance(x, &previous, &revolute)
+                    .total_cmp(&pkm_runtime::plan::joint_distance(y, &previous, &revolute))
+            })
+        else {
+            break;
+        };
+        let Ok(link_poses) = newton::link_poses(model, &next) else {
+            break;
+        };
+        frames.push(drawing::scene(model, &link_poses, (plink, plocal)));
+        previous = next;
+    }
+    if frames.len() >= 2 {
+        let path = out.join("animation.svg");
+        drawing::animation(&path, &frames, view, duration, &point_name)?;
+        let svg = std::fs::read_to_string(&path).map_err(io(&path))?;
+        let _ = writeln!(
+            page,
+            "<h2>Motion</h2><figure>{svg}<figcaption>{point_name} along a circle of radius {radius:.1} {unit} from the \
+             sample pose, the orientation held; each joint by the inverse solution nearest its last value ({} frames \
+             over {duration:.2} s, repeated; <a href=\"animation.svg\">SVG</a>)</figcaption></figure>",
+            frames.len()
+        );
+    }
     Ok(())
 }
