@@ -22,7 +22,8 @@ pub struct JointMark {
     pub kind: JointType,
     /// Whether it is driven.
     pub actuated: bool,
-    /// Whether one of its links is the base.
+    /// Whether it turns on the base (a revolute, spherical or parallelogram
+    /// joint with the base as one link; a slider's base is its guide line).
     pub grounded: bool,
     /// Where it is (the moving side's point).
     pub at: [f64; 3],
@@ -85,7 +86,7 @@ pub fn scene(model: &Model, poses: &[Pose3], point: (usize, [f64; 3])) -> Scene 
             name: j.name.clone(),
             kind: j.kind,
             actuated: j.actuated,
-            grounded: j.links.contains(&0),
+            grounded: j.links.contains(&0) && j.kind != JointType::P,
             at,
         });
         for s in 0..2 {
@@ -109,8 +110,11 @@ pub fn scene(model: &Model, poses: &[Pose3], point: (usize, [f64; 3])) -> Scene 
                     let d = direction(pose, axis);
                     let k = 0.15 * arm / norm(d).max(1e-12);
                     let shift = |p: [f64; 3]| [p[0] + k * d[0], p[1] + k * d[1], p[2] + k * d[2]];
+                    // The parallelogram: both arms and both short sides.
                     segments.push((a, other));
                     segments.push((shift(a), shift(other)));
+                    segments.push((a, shift(a)));
+                    segments.push((other, shift(other)));
                 }
                 _ => {}
             }

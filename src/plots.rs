@@ -228,7 +228,8 @@ pub(crate) fn colour(k: usize) -> RGBAColor {
 }
 
 /// The occupied cells of a dense point set: each cell's lower-left and
-/// upper-right corners, over `xr` × `yr` cut into [`CELLS`] per side.
+/// upper-right corners, over `xr` × `yr` cut into [`CELLS`] per side; an
+/// empty cell between two occupied ones counts as occupied.
 fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64); 2]> {
     let (dx, dy) = ((xr.1 - xr.0) / CELLS as f64, (yr.1 - yr.0) / CELLS as f64);
     let mut full = vec![false; CELLS * CELLS];
@@ -237,8 +238,19 @@ fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64)
         let j = (((p[1] - yr.0) / dy) as usize).min(CELLS - 1);
         full[i * CELLS + j] = true;
     }
+    // A cell between two full ones (across or up) is filled too: a lattice of
+    // samples coarser than the cells leaves one-cell stripes otherwise.
+    let at = |i: usize, j: usize| full[i * CELLS + j];
+    let closed: Vec<bool> = (0..CELLS * CELLS)
+        .map(|k| {
+            let (i, j) = (k / CELLS, k % CELLS);
+            full[k]
+                || (i > 0 && i + 1 < CELLS && at(i - 1, j) && at(i + 1, j))
+                || (j > 0 && j + 1 < CELLS && at(i, j - 1) && at(i, j + 1))
+        })
+        .collect();
     (0..CELLS * CELLS)
-        .filter(|&k| full[k])
+        .filter(|&k| closed[k])
         .map(|k| {
             let (x, y) = (xr.0 + (k / CELLS) as f64 * dx, yr.0 + (k % CELLS) as f64 * dy);
             [(x, y), (x + dx, y + dy)]

@@ -2030,16 +2030,25 @@ fn inverse_only(
         None => (0..1usize << choices)
             .find(|&b| {
                 plan.solve(model, &pose, &signs(choices, b)).is_ok_and(|v| {
-                    velocity::jacobians(model, &v, &l.outputs).is_ok_and(|j| j.singularity == velocity::Singularity::None)
+                    velocity::jacobians(model, &v, &l.outputs)
+                        .is_ok_and(|j| j.singularity == velocity::Singularity::None)
                 })
             })
             .or_else(|| (0..1usize << choices).find(|&b| plan.solve(model, &pose, &signs(choices, b)).is_ok()))
-            .ok_or_else(|| invalid(format!("{file}: the inverse solution reaches no branch at the pose {}", tuple_text(&pose, 3))))?,
+            .ok_or_else(|| {
+                invalid(format!(
+                    "{file}: the inverse solution reaches no branch at the pose {}",
+                    tuple_text(&pose, 3)
+                ))
+            })?,
     };
     let branch_signs = signs(choices, branch);
-    let v = plan
-        .solve(model, &pose, &branch_signs)
-        .map_err(|e| invalid(format!("{file}: branch {branch} at the pose {}: {e}", tuple_text(&pose, 3))))?;
+    let v = plan.solve(model, &pose, &branch_signs).map_err(|e| {
+        invalid(format!(
+            "{file}: branch {branch} at the pose {}: {e}",
+            tuple_text(&pose, 3)
+        ))
+    })?;
     let poses = newton::link_poses(model, &v).map_err(|e| invalid(e.to_string()))?;
     let view = if model.planar { View::Plane } else { View::Axonometric };
     let f = drawing::draw(
@@ -2102,7 +2111,10 @@ fn inverse_only(
                 joined: false,
             },
         )?;
-        page.push_str(&figure_html(&f, "The constant-orientation workspace, equal axis scales"));
+        page.push_str(&figure_html(
+            &f,
+            "The constant-orientation workspace, equal axis scales",
+        ));
     }
     // A circle of poses about the sample, a tenth of the workspace's width
     // across, followed by the nearest joint values at each step.
