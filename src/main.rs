@@ -49,8 +49,9 @@ enum Command {
         /// The directory the page and its figures (PNG, SVG, CSV) go to.
         #[arg(long)]
         out: PathBuf,
+        // Boxed: the options are many, the other commands' few.
         #[command(flatten)]
-        options: pkm::report::ReportOptions,
+        options: Box<pkm::report::ReportOptions>,
     },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
