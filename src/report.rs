@@ -435,11 +435,17 @@ fn world_axis(d: [f64; 3]) -> Option<usize> {
 
 /// The area of a flat 2-D set of points, estimated by the cells of a square
 /// grid over it that hold a point; the grid's cell is sized so that a cell
-/// holds about four points of a uniform cover. Returns (area, cells across).
+/// holds about four distinct points of a uniform cover. Returns (area, cells across).
 fn occupied_area(points: &[[f64; 2]]) -> (f64, usize) {
     let xr = plots::range(points.iter().map(|p| p[0]));
     let yr = plots::range(points.iter().map(|p| p[1]));
-    let across = ((points.len() as f64 / 4.0).sqrt().floor() as usize).clamp(4, 2000);
+    // Distinct places, not nodes: inputs that leave the point still repeat it.
+    let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
+    let distinct: std::collections::HashSet<(i64, i64)> = points
+        .iter()
+        .map(|p| ((p[0] / scale).round() as i64, (p[1] / scale).round() as i64))
+        .collect();
+    let across = ((distinct.len() as f64 / 4.0).sqrt().floor() as usize).clamp(4, 2000);
     let (dx, dy) = ((xr.1 - xr.0) / across as f64, (yr.1 - yr.0) / across as f64);
     let mut full = vec![false; across * across];
     for p in points {
@@ -448,35 +454,6 @@ fn occupied_area(points: &[[f64; 2]]) -> (f64, usize) {
         full[i * across + j] = true;
     }
     (full.iter().filter(|f| **f).count() as f64 * dx * dy, across)
-}
-
-/// The area of the image of a 2-input grid: each fully reachable cell split
-/// into two triangles whose images' areas are summed (the planar analogue of
-/// [`image_volume`]).
-fn image_area(grid: &Grid, nodes: &[Option<[f64; 3]>], plane: [usize; 2]) -> f64 {
-    let [n0, n1] = match grid.counts[..] {
-        [a, b] => [a, b],
-        _ => return 0.0,
-    };
-    let at = |i: usize, j: usize| {
-        nodes
-            .get(i * n1 + j)
-            .copied()
-            .flatten()
-            .map(|p| [p[plane[0]], p[plane[1]]])
-    };
-    let tri = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
-        ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs() / 2.0
-    };
-    let mut area = 0.0;
-    for i in 0..n0.saturating_sub(1) {
-        for j in 0..n1.saturating_sub(1) {
-            if let (Some(a), Some(b), Some(c), Some(d)) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)) {
-                area += tri(a, b, d) + tri(a, d, c);
-            }
-        }
-    }
-    area
 }
 
 /// The length of the curve traced by a 1-input sweep: the sum of the steps
@@ -506,35 +483,37 @@ fn measure(grid: &Grid, nodes: &[Option<[f64; 3]>], unit: &str) -> String {
             curve_length(nodes)
         ),
         2 => {
-            let plane = [0usize, 1, 2];
-            let axes_plane = world_axis(s.axes[2]).map(|k| {
-                let rest: Vec<usize> = plane.iter().copied().filter(|&i| i != k).collect();
-                [rest[0], rest[1]]
-            });
-            match (grid.ranges.len(), axes_plane) {
-                (2, Some(p)) => format!(
-                    "flat (in the plane {}), area {:.4e} {unit}² (the image of the input grid: each fully reachable \
-                     cell split into two triangles whose images' areas are summed)",
-                    plane_name(p),
-                    image_area(grid, nodes, p)
-                ),
-                _ => {
-                    let uv: Vec<[f64; 2]> = cloud
-                        .iter()
-                        .map(|p| {
-                            let d = [p[0] - s.centre[0], p[1] - s.centre[1], p[2] - s.centre[2]];
-                            let dot = |a: [f64; 3]| a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
-                            [dot(s.axes[0]), dot(s.axes[1])]
-                        })
-                        .collect();
-                    let (area, across) = occupied_area(&uv);
-                    format!(
-                        "flat (normal {}), no volume; area ≈ {area:.4e} {unit}² (the cells of a {across} × {across} \
-                         grid over the set that hold a node)",
-                        tuple_text(&s.axes[2], 3)
-                    )
+            // Occupied cells, not the sum of the grid cells' images: the map
+            // from inputs to the point may cover a place more than once.
+            let (u, v) = match world_axis(s.axes[2]) {
+                Some(k) => {
+                    let rest: Vec<usize> = (0..3).filter(|&i| i != k).collect();
+                    ([rest[0], rest[1]], true)
                 }
-            }
+                None => ([0, 0], false),
+            };
+            let uv: Vec<[f64; 2]> = cloud
+                .iter()
+                .map(|p| {
+                    if v {
+                        [p[u[0]], p[u[1]]]
+                    } else {
+                        let d = [p[0] - s.centre[0], p[1] - s.centre[1], p[2] - s.centre[2]];
+                        let dot = |a: [f64; 3]| a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
+                        [dot(s.axes[0]), dot(s.axes[1])]
+                    }
+                })
+                .collect();
+            let (area, across) = occupied_area(&uv);
+            format!(
+                "flat ({}), no volume; area ≈ {area:.4e} {unit}² (the cells of a {across} × {across} grid over the \
+                 set that hold a node)",
+                if v {
+                    format!("in the plane {}", plane_name(u))
+                } else {
+                    format!("normal {}", tuple_text(&s.axes[2], 3))
+                }
+            )
         }
         _ => {
             if grid.ranges.len() == 3 {
