@@ -268,8 +268,8 @@ pub struct Style {
 }
 
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
-/// included in the labels); the CSV holds every point (set, x, y), or every
-/// k-th when there are more than [`CSV_ROWS`].
+/// included in the labels); each place once (unless joined); the CSV holds
+/// every place (set, x, y), or every k-th when there are more than [`CSV_ROWS`].
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-scatter");
@@ -287,6 +287,27 @@ pub fn scatter(
     let all = || sets.iter().flat_map(|(_, v)| v.iter());
     let xr = range(all().map(|p| p[0]));
     let yr = range(all().map(|p| p[1]));
+    // Each place once (a point the inputs leave still repeats): whether a
+    // cloud is dense is a matter of places, not of nodes.
+    let owned: Vec<(String, Vec<[f64; 2]>)>;
+    let sets = if style.joined {
+        sets
+    } else {
+        let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
+        owned = sets
+            .iter()
+            .map(|(name, points)| {
+                let mut seen = std::collections::HashSet::new();
+                let kept = points
+                    .iter()
+                    .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
+                    .copied()
+                    .collect();
+                (name.clone(), kept)
+            })
+            .collect();
+        &owned[..]
+    };
     let csv = stem.with_extension("csv");
     let total: usize = sets.iter().map(|(_, v)| v.len()).sum();
     let stride = total.div_ceil(CSV_ROWS).max(1);

@@ -2057,23 +2057,48 @@ fn inverse_only(
         counts: vec![nodes_per; 2],
     };
     let held = pose.clone();
-    let nodes = sweep_nodes::<2>(&grid, |xy| {
-        let mut p = held.clone();
-        p[0] = xy[0];
-        p[1] = xy[1];
-        plan.solve(model, &p, &branch_signs).ok().map(|_| [xy[0], xy[1], 0.0])
-    });
+    let sweep = |grid: &Grid| {
+        sweep_nodes::<2>(grid, |xy| {
+            let mut p = held.clone();
+            p[0] = xy[0];
+            p[1] = xy[1];
+            plan.solve(model, &p, &branch_signs).ok().map(|_| [xy[0], xy[1], 0.0])
+        })
+    };
+    // A first sweep over the mechanism's reach finds the set; a second as
+    // fine over the set's box (a step wider each way) draws it.
+    let first = sweep(&grid);
+    let step = 2.0 * size / (nodes_per - 1) as f64;
+    let found: Vec<[f64; 3]> = first.iter().flatten().copied().collect();
+    let grid = if found.is_empty() {
+        grid
+    } else {
+        let bound = |k: usize| {
+            let (lo, hi) = found.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p[k]), b.max(p[k]))
+            });
+            (lo - step, hi + step)
+        };
+        Grid {
+            ranges: vec![bound(0), bound(1)],
+            counts: vec![nodes_per; 2],
+        }
+    };
+    let nodes = sweep(&grid);
     let cloud: Vec<[f64; 2]> = nodes.iter().flatten().map(|p| [p[0], p[1]]).collect();
     let _ = writeln!(
         page,
         "<h2>Workspace of {point_name} at constant orientation</h2><p>The poses ({}) with {} and {} over \
-         [{:.1}, {:.1}] {unit} ({nodes_per} nodes each) and the other outputs held at the sample, that branch {branch} \
+         [{:.1}, {:.1}] {unit} and [{:.1}, {:.1}] {unit} ({nodes_per} nodes each; the box of the reachable set found \
+         by a first sweep over ± the mechanism's reach) and the other outputs held at the sample, that branch {branch} \
          ({}) of the inverse solution reaches: {} of {} nodes. The set is {}.</p>",
         html_escape(&columns.join(", ")),
         html_escape(&columns[0]),
         html_escape(&columns[1]),
-        -size,
-        size,
+        grid.ranges[0].0,
+        grid.ranges[0].1,
+        grid.ranges[1].0,
+        grid.ranges[1].1,
         sign_text(&branch_signs),
         cloud.len(),
         grid.len(),
