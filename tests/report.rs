@@ -360,3 +360,28 @@ fn five_bar_area() {
     assert!((area - expected).abs() < 0.02 * expected, "{area} against {expected}");
     let _ = std::fs::remove_dir_all(out);
 }
+
+#[test]
+fn five_bar_cranks_turning_together() {
+    // Both cranks at 1 rad/s from the same angle keep R2R4 parallel to the
+    // base: the distal triangle translates on a circle of radius a = 120 mm,
+    // so R3 moves at a·ω = 120 mm/s throughout, and accelerates at a·ω² = 120 mm/s².
+    let options = ReportOptions {
+        nodes: Some(20),
+        ..Default::default()
+    };
+    let (_, out) = page("five_bar", options);
+    for (stem, expected) in [("velocity", 120.0), ("acceleration", 120.0)] {
+        let mut r = csv::Reader::from_path(out.join(format!("{stem}.csv"))).unwrap();
+        let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+        assert_eq!(header, ["t (s)", "x", "y", "magnitude"]);
+        let mut rows = 0;
+        for rec in r.records() {
+            let magnitude: f64 = rec.unwrap()[3].parse().unwrap();
+            assert!((magnitude - expected).abs() < 1e-6, "{stem}: {magnitude}");
+            rows += 1;
+        }
+        assert_eq!(rows, 501, "the whole 2π s turn");
+    }
+    let _ = std::fs::remove_dir_all(out);
+}
