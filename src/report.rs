@@ -95,21 +95,49 @@ impl Default for ReportOptions {
     }
 }
 
-/// Why a report could not be written. Its text is complete (one `error:`).
-#[derive(Debug, Clone, PartialEq)]
+/// Why a report could not be written. Its `Display` text is complete (one
+/// `error:`, the file's path); [`ReportError::message`] is one line without
+/// the prefix, for callers that print their own.
+#[derive(Debug, Clone)]
 pub enum ReportError {
-    /// The file's diagnostics, rendered at their spans with the file's path.
-    Source(String),
+    /// The file's diagnostics (at their spans in the file's text).
+    Source {
+        /// The diagnostics, for callers that render or serialise them.
+        diagnostics: pkm_dsl::Diagnostics,
+        /// Them rendered with the file's path, line, column and caret.
+        rendered: String,
+    },
     /// An option or study value out of range, or nothing to sample.
     Invalid(String),
     /// Writing the page or a figure failed.
     Write(String),
 }
 
+impl ReportError {
+    /// One line naming the cause, without `error: `.
+    pub fn message(&self) -> String {
+        match self {
+            ReportError::Source { diagnostics, .. } => {
+                let first = diagnostics.0.first().map(|d| d.message.clone()).unwrap_or_default();
+                match diagnostics.0.len() {
+                    0 | 1 => first,
+                    k => format!("{first} (and {} more)", k - 1),
+                }
+            }
+            ReportError::Invalid(s) | ReportError::Write(s) => s.clone(),
+        }
+    }
+
+    fn source(diagnostics: pkm_dsl::Diagnostics, text: &str, file: &str) -> ReportError {
+        let rendered = diagnostics.render(text, file);
+        ReportError::Source { diagnostics, rendered }
+    }
+}
+
 impl std::fmt::Display for ReportError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ReportError::Source(s) => f.write_str(s.trim_end()),
+            ReportError::Source { rendered, .. } => f.write_str(rendered.trim_end()),
             ReportError::Invalid(s) | ReportError::Write(s) => write!(f, "error: {s}"),
         }
     }
@@ -246,7 +274,7 @@ fn load(
     file: &str,
     params: &[(String, f64)],
 ) -> Result<(pkm_dsl::report::Analysis, Option<Loaded>), ReportError> {
-    let render = |d: pkm_dsl::Diagnostics| ReportError::Source(d.render(text, file));
+    let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
     let a = pkm_dsl::analyze_source(text).map_err(render)?;
     let mut values = a.geometry.nominal();
     for (k, v) in params {
@@ -956,8 +984,7 @@ fn head(title: &str) -> String {
 /// ```
 pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Result<PathBuf, ReportError> {
     let (a, loaded) = load(text, file, &o.params)?;
-    let ast =
-        pkm_dsl::parse(text).map_err(|d| ReportError::Source(pkm_dsl::Diagnostics::from(d).render(text, file)))?;
+    let ast = pkm_dsl::parse(text).map_err(|d| ReportError::source(pkm_dsl::Diagnostics::from(d), text, file))?;
     let input_names: Vec<String> = a
         .mechanism
         .joints
@@ -969,8 +996,8 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
         .as_ref()
         .map(|l| l.values.clone())
         .unwrap_or_else(|| a.geometry.nominal());
-    let study = pkm_dsl::study::resolve(&ast.studies, &input_names, &values)
-        .map_err(|d| ReportError::Source(d.render(text, file)))?;
+    let study =
+        pkm_dsl::study::resolve(&ast.studies, &input_names, &values).map_err(|d| ReportError::source(d, text, file))?;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let m = &a.mechanism;
     let mut page = head(&format!("{} — pkm report", m.title.as_deref().unwrap_or(&m.name)));
@@ -1591,7 +1618,29 @@ fn compare_table(
     for path in &o.compare {
         let shown = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| invalid(format!("cannot read `{shown}`: {e}")))?;
-        let (_, loaded) = load(&text, &shown, &o.params)?;
+        // Another file's diagnostics belong to its text: a one-line message here.
+        let (_, loaded) = load(&text, &shown, &o.params).map_err(|e| match e {
+            ReportError::Source { diagnostics, .. } => {
+                let at = diagnostics
+                    .0
+                    .first()
+                    .and_then(|d| d.span)
+                    .map(|s| {
+                        let (line, column) = s.line_col(&text);
+                        format!(":{line}:{column}")
+                    })
+                    .unwrap_or_default();
+                invalid(format!(
+                    "--compare {shown}{at}: {}",
+                    ReportError::Source {
+                        diagnostics,
+                        rendered: String::new()
+                    }
+                    .message()
+                ))
+            }
+            other => other,
+        })?;
         let skip = |why: String| {
             format!(
                 "<tr><td class=l>{}</td><td colspan=3 class=l>skipped: {}</td></tr>\n",

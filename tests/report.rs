@@ -211,9 +211,12 @@ fn flat_workspace_reports_an_area() {
 fn check(name: &str, options: ReportOptions, expect: &str) {
     let (text, path) = example(name);
     let out = out_dir("errors");
-    let e = write_report(&text, &path, &options, &out).unwrap_err().to_string();
+    let error = write_report(&text, &path, &options, &out).unwrap_err();
+    let e = error.to_string();
     assert!(e.contains(expect), "{name}: {e}");
-    assert_eq!(e.matches("error:").count(), 1, "{e}");
+    assert!(e.starts_with("error: ") && !e.contains("error: error"), "{e}");
+    // The one-line form, for callers that print their own prefix.
+    assert!(!error.message().starts_with("error:") && !error.message().contains('\n'));
     let _ = std::fs::remove_dir_all(out);
 }
 
@@ -283,6 +286,19 @@ fn options_out_of_range() {
         "--param q: no such parameter",
     );
     check("rps_3", ReportOptions { nodes: Some(10), ..o() }, "has no geometry");
+    // A --compare file's own errors: its path, line and column, on one line.
+    let broken = std::env::temp_dir().join(format!("pkm-report-test-{}-broken.pkm", std::process::id()));
+    std::fs::write(&broken, "mechanism b { planar;\n base R1* ∥ R2 R3 base; }").unwrap();
+    check(
+        "five_bar",
+        ReportOptions {
+            nodes: Some(4),
+            compare: vec![broken.clone()],
+            ..o()
+        },
+        "broken.pkm:2:",
+    );
+    let _ = std::fs::remove_file(broken);
     // Errors name the file's path.
     check(
         "four_bar",
@@ -300,9 +316,10 @@ fn check_study(study: &str, expect: &str) {
          rod {{ R2 = (0, 0); R3 = (l, 0); }} slider {{ R3 = (0, 0); P1 = (0, 0); }} }}\n\
          {study}\n}}"
     );
-    let e = write_report(&text, "crank.pkm", &ReportOptions::default(), &out_dir("study"))
-        .unwrap_err()
-        .to_string();
+    let error = write_report(&text, "crank.pkm", &ReportOptions::default(), &out_dir("study")).unwrap_err();
+    assert!(matches!(error, pkm::report::ReportError::Source { .. }));
+    assert!(expect.starts_with(&error.message()[..10]), "{}", error.message());
+    let e = error.to_string();
     assert!(e.contains(expect), "{e}");
     assert!(e.contains("crank.pkm:5:"), "{e}");
     assert_eq!(e.matches("error:").count(), 1, "{e}");
