@@ -169,9 +169,6 @@ pub fn parse_param(s: &str) -> Result<(String, f64), String> {
         .split_once('=')
         .ok_or_else(|| format!("expected name=value, found `{s}`"))?;
     let v: f64 = v.trim().parse().map_err(|e| format!("`{v}` is not a number: {e}"))?;
-    if !v.is_finite() {
-        return Err(format!("`{v}` is not a finite number"));
-    }
     Ok((k.trim().to_string(), v))
 }
 
@@ -285,6 +282,9 @@ fn load(
                 "{file}: --param {k}: no such parameter (the parameters: {})",
                 known.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
             )));
+        }
+        if !v.is_finite() {
+            return Err(invalid(format!("--param {k}={v}: not a finite number")));
         }
         values.insert(k.clone(), *v);
     }
@@ -793,9 +793,9 @@ fn settings(
     } else {
         if o.ranges.len() != n {
             return Err(invalid(format!(
-                "--ranges has {} ranges; {file} has {n} actuated joints ({})",
-                o.ranges.len(),
-                names.join(", ")
+                "--ranges: expected {n} ranges, one per actuated joint of {file} ({}); got {}",
+                names.join(", "),
+                o.ranges.len()
             )));
         }
         (o.ranges.clone(), Origin::Command)

@@ -251,7 +251,7 @@ fn options_out_of_range() {
             ranges: vec![(0.0, 1.0)],
             ..o()
         },
-        "--ranges has 1 ranges; ",
+        "--ranges: expected 2 ranges, one per actuated joint of ",
     );
     check(
         "five_bar",
@@ -284,6 +284,14 @@ fn options_out_of_range() {
             ..o()
         },
         "--param q: no such parameter",
+    );
+    check(
+        "five_bar",
+        ReportOptions {
+            params: vec![("d".into(), f64::NAN)],
+            ..o()
+        },
+        "--param d=NaN: not a finite number",
     );
     check("rps_3", ReportOptions { nodes: Some(10), ..o() }, "has no geometry");
     // A --compare file's own errors: its path, line and column, on one line.
