@@ -73,5 +73,6 @@ pub use pkm_macros::mechanism;
 /// The runtime: shared types that generated code uses.
 pub use pkm_runtime as runtime;
 
+pub mod drawing;
 pub mod plots;
 pub mod report;

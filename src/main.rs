@@ -53,8 +53,9 @@ enum Command {
         /// The directory the page and its figures (PNG, SVG, CSV) go to.
         #[arg(long)]
         out: PathBuf,
+        // Boxed: the options are many, the other commands' few.
         #[command(flatten)]
-        options: pkm::report::ReportOptions,
+        options: Box<pkm::report::ReportOptions>,
     },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
@@ -152,14 +153,17 @@ fn main() -> ExitCode {
             degrees,
         } => solve(json, &file, &params, degrees, |r| cli::solve::fk(r, &q)),
         Command::Report { file, out, options } => {
-            let (text, _) = match read(&file) {
+            let (text, shown) = match read(&file) {
                 Ok(t) => t,
                 Err(f) => return fail(json, &f),
             };
-            match pkm::report::write_report(&text, &options, &out) {
+            match pkm::report::write_report(&text, &shown, &options, &out) {
                 Ok(page) if json => answer(json, &json!({ "page": page })),
                 Ok(page) => write_out(&format!("{}\n", page.display())),
-                Err(e) => fail(json, &Failure::new(Kind::Report, e)),
+                Err(pkm::report::ReportError::Source { diagnostics, .. }) => {
+                    fail(json, &Failure::parse(&diagnostics, &text, &shown))
+                }
+                Err(e) => fail(json, &Failure::new(Kind::Report, e.message())),
             }
         }
         Command::Analyze { file } => {

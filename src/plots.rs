@@ -1,5 +1,8 @@
 //! Plots for the report: every figure as PNG and SVG (plotters) with
-//! labelled axes and units, and its data as CSV beside it.
+//! labelled axes and units, and its data as CSV (the `csv` crate) beside it.
+//! Legends sit in a strip beside the chart, never over the data; clouds of
+//! more than [`DENSE`] points are drawn as occupied cells so that an SVG stays
+//! small; sets in physical space are drawn with equal axis scales.
 
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -9,6 +12,19 @@ use std::path::{Path, PathBuf};
 /// The font the PNGs draw text with (DejaVu Sans, in `assets/fonts`), so no
 /// system font library is needed.
 const FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+
+/// Above this many points a scatter draws occupied cells instead of points.
+pub const DENSE: usize = 5_000;
+
+/// Cells across a dense scatter's plot (its SVG holds at most this squared
+/// rectangles per set).
+const CELLS: usize = 120;
+
+/// The most rows a scatter's CSV holds; a larger set is written every k-th point.
+pub const CSV_ROWS: usize = 200_000;
+
+/// The width of the legend strip beside a chart, in pixels.
+const LEGEND_WIDTH: u32 = 210;
 
 fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
@@ -30,8 +46,8 @@ impl std::fmt::Display for PlotError {
 
 impl std::error::Error for PlotError {}
 
-fn err(e: impl std::fmt::Display) -> PlotError {
-    PlotError(e.to_string())
+pub(crate) fn err(e: impl std::fmt::Debug) -> PlotError {
+    PlotError(format!("{e:?}"))
 }
 
 /// The files one figure was written to.
@@ -45,22 +61,45 @@ pub struct Figure {
     pub csv: PathBuf,
 }
 
-fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+/// Writes `rows` under `header` as CSV (quoted where a field needs it).
+///
+/// ```
+/// let path = std::env::temp_dir().join("pkm-doc-csv.csv");
+/// pkm::plots::write_csv(&path, &["set", "x (mm)"], [vec!["a, b".to_string(), "1".to_string()]]).unwrap();
+/// assert_eq!(std::fs::read_to_string(path).unwrap(), "set,x (mm)\n\"a, b\",1\n");
+/// ```
+pub fn write_csv<R: AsRef<[String]>>(
+    path: &Path,
+    header: &[&str],
+    rows: impl IntoIterator<Item = R>,
+) -> Result<(), PlotError> {
+    let mut w = csv::Writer::from_path(path).map_err(|e| PlotError(format!("{}: {e}", path.display())))?;
+    w.write_record(header).map_err(err)?;
+    for r in rows {
+        w.write_record(r.as_ref()).map_err(err)?;
+    }
+    w.flush().map_err(|e| PlotError(format!("{}: {e}", path.display())))
+}
+
+/// A value's range padded by 5 %, (−1, 1) when there is none.
+pub(crate) fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
     if !lo.is_finite() || !hi.is_finite() {
         return (-1.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(1e-9);
+    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(lo.abs()).max(1.0));
     (lo - pad, hi + pad)
 }
 
 /// A figure that can draw itself on any plotters back end.
-trait Draw {
+pub(crate) trait Draw {
     fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
 }
 
 /// Draws on both back ends.
-fn both(stem: &Path, size: (u32, u32), d: &impl Draw) -> Result<(PathBuf, PathBuf), PlotError> {
+pub(crate) fn both(stem: &Path, size: (u32, u32), d: &impl Draw) -> Result<(PathBuf, PathBuf), PlotError> {
     register_font();
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
@@ -79,50 +118,163 @@ fn both(stem: &Path, size: (u32, u32), d: &impl Draw) -> Result<(PathBuf, PathBu
     Ok((png, svg))
 }
 
-/// A chart with its caption, labelled axes and mesh drawn.
-fn frame<'a, DB: DrawingBackend>(
+/// Widens the shorter of two ranges so that a unit spans as many pixels on
+/// both axes of a `width` × `height` plot.
+fn equalise(xr: (f64, f64), yr: (f64, f64), width: f64, height: f64) -> ((f64, f64), (f64, f64)) {
+    let scale = ((xr.1 - xr.0) / width).max((yr.1 - yr.0) / height);
+    let widen = |r: (f64, f64), pixels: f64| {
+        let c = (r.0 + r.1) / 2.0;
+        (c - scale * pixels / 2.0, c + scale * pixels / 2.0)
+    };
+    (widen(xr, width), widen(yr, height))
+}
+
+/// Pixels around a chart's plot: (left, right, top, bottom).
+const MARGIN: i32 = 12;
+const X_LABELS: i32 = 45;
+const Y_LABELS: i32 = 75;
+const CAPTION: i32 = 34;
+
+/// A chart with its caption, labelled axes and mesh drawn; with `equal`, one
+/// unit spans as many pixels on both axes.
+pub(crate) fn frame<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     title: &str,
     labels: [&str; 2],
     xr: (f64, f64),
     yr: (f64, f64),
+    equal: bool,
 ) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
+    let (w, h) = area.dim_in_pixel();
+    let (xr, yr) = if equal {
+        equalise(
+            xr,
+            yr,
+            f64::from(w as i32 - 2 * MARGIN - Y_LABELS).max(1.0),
+            f64::from(h as i32 - 2 * MARGIN - X_LABELS - CAPTION).max(1.0),
+        )
+    } else {
+        (xr, yr)
+    };
     let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 22))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
+        .caption(title, ("sans-serif", 20))
+        .margin(MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-        .map_err(|e| err(format!("{e:?}")))?;
+        .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc(labels[0])
         .y_desc(labels[1])
         .label_style(("sans-serif", 14))
         .draw()
-        .map_err(|e| err(format!("{e:?}")))?;
+        .map_err(err)?;
     Ok(chart)
 }
 
-/// The series' legend, boxed.
-fn legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+/// How a legend entry is marked.
+#[derive(Clone, Copy)]
+pub(crate) enum Mark {
+    Dot,
+    Line,
+}
+
+/// The legend in its own strip: a mark and a name per entry.
+pub(crate) fn legend_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(String, RGBAColor, Mark)],
 ) -> Result<(), PlotError> {
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 14))
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| err(format!("{e:?}")))
+    for (k, (name, colour, mark)) in entries.iter().enumerate() {
+        let y = 50 + 24 * k as i32;
+        match mark {
+            Mark::Dot => area.draw(&Circle::new((12, y), 5, colour.filled())).map_err(err)?,
+            Mark::Line => area
+                .draw(&PathElement::new(vec![(2, y), (24, y)], colour.stroke_width(3)))
+                .map_err(err)?,
+        }
+        area.draw(&Text::new(name.clone(), (30, y - 8), ("sans-serif", 14)))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Splits off a legend strip on the right when there is a legend.
+pub(crate) fn with_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: usize,
+) -> (DrawingArea<DB, Shift>, Option<DrawingArea<DB, Shift>>) {
+    if entries == 0 {
+        return (area.clone(), None);
+    }
+    let (w, _) = area.dim_in_pixel();
+    let (main, side) = area.split_horizontally(w.saturating_sub(LEGEND_WIDTH));
+    (main, Some(side))
+}
+
+/// The colour of series `k`.
+pub(crate) fn colour(k: usize) -> RGBAColor {
+    const COLOURS: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(23, 190, 207),
+    ];
+    COLOURS[k % COLOURS.len()].to_rgba()
+}
+
+/// The occupied cells of a dense point set: each cell's lower-left and
+/// upper-right corners, over `xr` × `yr` cut into [`CELLS`] per side; an
+/// empty cell between two occupied ones counts as occupied.
+fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64); 2]> {
+    let (dx, dy) = ((xr.1 - xr.0) / CELLS as f64, (yr.1 - yr.0) / CELLS as f64);
+    let mut full = vec![false; CELLS * CELLS];
+    for p in points {
+        let i = (((p[0] - xr.0) / dx) as usize).min(CELLS - 1);
+        let j = (((p[1] - yr.0) / dy) as usize).min(CELLS - 1);
+        full[i * CELLS + j] = true;
+    }
+    // A cell between two full ones (across or up) is filled too: a lattice of
+    // samples coarser than the cells leaves one-cell stripes otherwise.
+    let at = |i: usize, j: usize| full[i * CELLS + j];
+    let closed: Vec<bool> = (0..CELLS * CELLS)
+        .map(|k| {
+            let (i, j) = (k / CELLS, k % CELLS);
+            full[k]
+                || (i > 0 && i + 1 < CELLS && at(i - 1, j) && at(i + 1, j))
+                || (j > 0 && j + 1 < CELLS && at(i, j - 1) && at(i, j + 1))
+        })
+        .collect();
+    (0..CELLS * CELLS)
+        .filter(|&k| closed[k])
+        .map(|k| {
+            let (x, y) = (xr.0 + (k / CELLS) as f64 * dx, yr.0 + (k % CELLS) as f64 * dy);
+            [(x, y), (x + dx, y + dy)]
+        })
+        .collect()
+}
+
+/// How a scatter is drawn.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Style {
+    /// One unit spans as many pixels on both axes (physical space).
+    pub equal_axes: bool,
+    /// Join each set's points in order (a curve traced by a 1-input sweep).
+    pub joined: bool,
 }
 
 /// A scatter of 2-D point sets, one colour each, with axis labels (units
-/// included in the labels).
+/// included in the labels); each place once (unless joined); the CSV holds
+/// every place (set, x, y), or every k-th when there are more than [`CSV_ROWS`].
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-scatter");
-/// let f = pkm::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &[("corners".into(), vec![[0.0, 0.0], [1.0, 1.0]])]).unwrap();
+/// let sets = [("corners".to_string(), vec![[0.0, 0.0], [1.0, 1.0]])];
+/// let f = pkm::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &sets, Default::default()).unwrap();
 /// assert!(std::fs::read_to_string(f.csv).unwrap().starts_with("set,x (mm),y (mm)"));
 /// ```
 pub fn scatter(
@@ -130,42 +282,84 @@ pub fn scatter(
     title: &str,
     labels: [&str; 2],
     sets: &[(String, Vec<[f64; 2]>)],
+    style: Style,
 ) -> Result<Figure, PlotError> {
     let all = || sets.iter().flat_map(|(_, v)| v.iter());
     let xr = range(all().map(|p| p[0]));
     let yr = range(all().map(|p| p[1]));
+    // Each place once (a point the inputs leave still repeats): whether a
+    // cloud is dense is a matter of places, not of nodes.
+    let owned: Vec<(String, Vec<[f64; 2]>)>;
+    let sets = if style.joined {
+        sets
+    } else {
+        let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
+        owned = sets
+            .iter()
+            .map(|(name, points)| {
+                let mut seen = std::collections::HashSet::new();
+                let kept = points
+                    .iter()
+                    .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
+                    .copied()
+                    .collect();
+                (name.clone(), kept)
+            })
+            .collect();
+        &owned[..]
+    };
     let csv = stem.with_extension("csv");
-    let mut text = format!("set,{},{}\n", labels[0], labels[1]);
-    for (name, points) in sets {
-        for p in points {
-            text.push_str(&format!("{name},{},{}\n", p[0], p[1]));
-        }
-    }
-    std::fs::write(&csv, text).map_err(err)?;
+    let total: usize = sets.iter().map(|(_, v)| v.len()).sum();
+    let stride = total.div_ceil(CSV_ROWS).max(1);
+    write_csv(
+        &csv,
+        &["set", labels[0], labels[1]],
+        sets.iter().flat_map(|(name, points)| {
+            points
+                .iter()
+                .step_by(stride)
+                .map(move |p| vec![name.clone(), p[0].to_string(), p[1].to_string()])
+        }),
+    )?;
     struct Scatter<'a> {
         title: &'a str,
         labels: [&'a str; 2],
         sets: &'a [(String, Vec<[f64; 2]>)],
         xr: (f64, f64),
         yr: (f64, f64),
+        style: Style,
     }
     impl Draw for Scatter<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-            let mut chart = frame(area, self.title, self.labels, self.xr, self.yr)?;
+            let named = if self.sets.len() > 1 { self.sets.len() } else { 0 };
+            let (main, side) = with_legend(area, named);
+            let mut chart = frame(&main, self.title, self.labels, self.xr, self.yr, self.style.equal_axes)?;
+            let mut entries = Vec::new();
             for (k, (name, points)) in self.sets.iter().enumerate() {
-                let colour = Palette99::pick(k).to_rgba();
-                chart
-                    .draw_series(
-                        points
-                            .iter()
-                            .map(|p| Circle::new((p[0], p[1]), 1, colour.mix(0.4).filled())),
-                    )
-                    .map_err(|e| err(format!("{e:?}")))?
-                    .label(name.clone())
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
+                let c = colour(k);
+                if self.style.joined {
+                    chart
+                        .draw_series(LineSeries::new(points.iter().map(|p| (p[0], p[1])), c.stroke_width(2)))
+                        .map_err(err)?;
+                } else if points.len() > DENSE {
+                    // Cells of the plot's own ranges, so a cell is a few pixels.
+                    let (x, y) = (chart.x_range(), chart.y_range());
+                    chart
+                        .draw_series(
+                            cells(points, (x.start, x.end), (y.start, y.end))
+                                .into_iter()
+                                .map(|[a, b]| Rectangle::new([a, b], c.mix(0.6).filled())),
+                        )
+                        .map_err(err)?;
+                } else {
+                    chart
+                        .draw_series(points.iter().map(|p| Circle::new((p[0], p[1]), 2, c.mix(0.5).filled())))
+                        .map_err(err)?;
+                }
+                entries.push((name.clone(), c, if self.style.joined { Mark::Line } else { Mark::Dot }));
             }
-            if self.sets.len() > 1 {
-                legend(&mut chart)?;
+            if let Some(side) = side {
+                legend_strip(&side, &entries)?;
             }
             Ok(())
         }
@@ -176,13 +370,102 @@ pub fn scatter(
         sets,
         xr,
         yr,
+        style,
     };
-    let (png, svg) = both(stem, (800, 640), &d)?;
+    let width = if sets.len() > 1 { 800 + LEGEND_WIDTH } else { 800 };
+    let (png, svg) = both(stem, (width, 680), &d)?;
+    Ok(Figure { png, svg, csv })
+}
+
+/// A 3-D view of a point cloud (at most [`DENSE`] points drawn, evenly
+/// chosen; the CSV holds those drawn).
+///
+/// ```
+/// let stem = std::env::temp_dir().join("pkm-doc-cloud");
+/// let f = pkm::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
+/// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 3);
+/// ```
+pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]]) -> Result<Figure, PlotError> {
+    let stride = points.len().div_ceil(DENSE).max(1);
+    let drawn: Vec<[f64; 3]> = points.iter().step_by(stride).copied().collect();
+    let csv = stem.with_extension("csv");
+    write_csv(
+        &csv,
+        &labels,
+        drawn
+            .iter()
+            .map(|p| p.iter().map(|v| v.to_string()).collect::<Vec<_>>()),
+    )?;
+    let r: Vec<(f64, f64)> = (0..3).map(|i| range(drawn.iter().map(|p| p[i]))).collect();
+    // One scale on every axis: each range widened to the longest.
+    let span = r.iter().map(|(a, b)| b - a).fold(0.0, f64::max);
+    let r: Vec<(f64, f64)> = r
+        .iter()
+        .map(|(a, b)| ((a + b) / 2.0 - span / 2.0, (a + b) / 2.0 + span / 2.0))
+        .collect();
+    struct Cloud<'a> {
+        title: &'a str,
+        labels: [&'a str; 3],
+        points: &'a [[f64; 3]],
+        r: Vec<(f64, f64)>,
+    }
+    impl Draw for Cloud<'_> {
+        fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+            let r = &self.r;
+            // plotters' 3-D charts put y up; the world's z is drawn up.
+            let mut chart = ChartBuilder::on(area)
+                .caption(self.title, ("sans-serif", 20))
+                .margin(20)
+                .build_cartesian_3d(r[0].0..r[0].1, r[2].0..r[2].1, r[1].0..r[1].1)
+                .map_err(err)?;
+            chart.with_projection(|mut p| {
+                p.yaw = 0.6;
+                p.pitch = 0.35;
+                p.scale = 0.8;
+                p.into_matrix()
+            });
+            chart
+                .configure_axes()
+                .label_style(("sans-serif", 12))
+                .x_labels(5)
+                .y_labels(5)
+                .z_labels(5)
+                .draw()
+                .map_err(err)?;
+            let c = colour(0);
+            chart
+                .draw_series(
+                    self.points
+                        .iter()
+                        .map(|p| Circle::new((p[0], p[2], p[1]), 1, c.mix(0.35).filled())),
+                )
+                .map_err(err)?;
+            // Axis names at each axis's far end.
+            let ends = [
+                ((r[0].1, r[2].0, r[1].0), self.labels[0]),
+                ((r[0].0, r[2].1, r[1].0), self.labels[2]),
+                ((r[0].0, r[2].0, r[1].1), self.labels[1]),
+            ];
+            for (at, name) in ends {
+                chart
+                    .draw_series(std::iter::once(Text::new(name.to_string(), at, ("sans-serif", 15))))
+                    .map_err(err)?;
+            }
+            Ok(())
+        }
+    }
+    let d = Cloud {
+        title,
+        labels,
+        points: &drawn,
+        r,
+    };
+    let (png, svg) = both(stem, (800, 700), &d)?;
     Ok(Figure { png, svg, csv })
 }
 
 /// Curves over a shared abscissa: `series` are (name, values) with the same
-/// length as `x`.
+/// length as `x`; the legend sits beside the plot.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-curves");
@@ -200,20 +483,21 @@ pub fn curves(
     let xr = range(x.iter().copied());
     let yr = range(series.iter().flat_map(|(_, v)| v.iter().copied()));
     let csv = stem.with_extension("csv");
-    let mut text = labels[0].to_string();
-    for (name, _) in series {
-        text.push(',');
-        text.push_str(name);
-    }
-    text.push('\n');
-    for (i, t) in x.iter().enumerate() {
-        text.push_str(&t.to_string());
-        for (_, v) in series {
-            text.push_str(&format!(",{}", v[i]));
-        }
-        text.push('\n');
-    }
-    std::fs::write(&csv, text).map_err(err)?;
+    let mut header = vec![labels[0]];
+    header.extend(series.iter().map(|(n, _)| n.as_str()));
+    write_csv(
+        &csv,
+        &header,
+        x.iter().enumerate().map(|(i, t)| {
+            let mut row = vec![t.to_string()];
+            row.extend(
+                series
+                    .iter()
+                    .map(|(_, v)| v.get(i).map(|x| x.to_string()).unwrap_or_default()),
+            );
+            row
+        }),
+    )?;
     struct Curves<'a> {
         title: &'a str,
         labels: [&'a str; 2],
@@ -224,19 +508,22 @@ pub fn curves(
     }
     impl Draw for Curves<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-            let mut chart = frame(area, self.title, self.labels, self.xr, self.yr)?;
+            let (main, side) = with_legend(area, self.series.len());
+            let mut chart = frame(&main, self.title, self.labels, self.xr, self.yr, false)?;
+            let mut entries = Vec::new();
             for (k, (name, v)) in self.series.iter().enumerate() {
-                let colour = Palette99::pick(k).to_rgba();
+                let c = colour(k);
                 chart
                     .draw_series(LineSeries::new(
                         self.x.iter().zip(v).map(|(a, b)| (*a, *b)),
-                        colour.stroke_width(2),
+                        c.stroke_width(2),
                     ))
-                    .map_err(|e| err(format!("{e:?}")))?
-                    .label(name.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+                    .map_err(err)?;
+                entries.push((name.clone(), c, Mark::Line));
             }
-            legend(&mut chart)?;
+            if let Some(side) = side {
+                legend_strip(&side, &entries)?;
+            }
             Ok(())
         }
     }
@@ -248,6 +535,6 @@ pub fn curves(
         xr,
         yr,
     };
-    let (png, svg) = both(stem, (800, 520), &d)?;
+    let (png, svg) = both(stem, (800 + LEGEND_WIDTH, 520), &d)?;
     Ok(Figure { png, svg, csv })
 }

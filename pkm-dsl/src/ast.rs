@@ -66,6 +66,8 @@ pub struct MechanismAst {
     pub geometry: Vec<LinkGeometry>,
     /// `outputs { … }`.
     pub outputs: Vec<OutputDecl>,
+    /// `study { … }` blocks: what `pkm report` samples (one allowed; a second is reported there).
+    pub studies: Vec<crate::study::Study>,
 }
 
 /// `x, y, phi = pose of platform at o;` or `psi = joint R4;`.

@@ -20,6 +20,7 @@ pub mod plan;
 pub mod plan3;
 pub mod report;
 pub mod screw;
+pub mod study;
 pub mod topology;
 
 pub use report::{analyze_source, Analysis};

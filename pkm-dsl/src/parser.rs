@@ -307,14 +307,38 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::mul_op => "`*` or `/`",
         Rule::neg_op => "`-`",
         Rule::real => "a number",
+        Rule::study_stmt
+        | Rule::study_ranges
+        | Rule::study_range
+        | Rule::study_start
+        | Rule::study_trajectory
+        | Rule::study_sine
+        | Rule::study_constant
+        | Rule::study_point
+        | Rule::study_branch
+        | Rule::study_sections
+        | Rule::study_section
+        | Rule::study_nodes
+        | Rule::study_item
+        | Rule::kw_study
+        | Rule::kw_ranges
+        | Rule::kw_start
+        | Rule::kw_trajectory
+        | Rule::kw_sine
+        | Rule::kw_amplitude
+        | Rule::kw_constant
+        | Rule::kw_speed
+        | Rule::kw_duration
+        | Rule::kw_sections
+        | Rule::kw_nodes => crate::study::rule_name(r),
     }
 }
 
-fn span_of(p: &Pair<Rule>) -> Span {
+pub(crate) fn span_of(p: &Pair<Rule>) -> Span {
     Span::new(p.as_span().start(), p.as_span().end())
 }
 
-fn name(p: Pair<Rule>) -> Name {
+pub(crate) fn name(p: Pair<Rule>) -> Name {
     Name {
         text: p.as_str().to_string(),
         span: span_of(&p),
@@ -356,6 +380,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         parameters: Vec::new(),
         geometry: Vec::new(),
         outputs: Vec::new(),
+        studies: Vec::new(),
     };
     for stmt in inner {
         match stmt.as_rule() {
@@ -417,6 +442,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 ast.point = Some((point, joint));
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
+            Rule::study_stmt => ast.studies.push(crate::study::build(stmt)),
             Rule::outputs_stmt => {
                 for o in stmt.into_inner().filter(|p| p.as_rule() == Rule::output) {
                     let span = span_of(&o);
@@ -536,7 +562,7 @@ fn placement(p: Pair<Rule>) -> Placement {
     }
 }
 
-fn tuple(p: Pair<Rule>) -> Tuple {
+pub(crate) fn tuple(p: Pair<Rule>) -> Tuple {
     Tuple {
         span: span_of(&p),
         items: p.into_inner().map(expr).collect(),
@@ -552,7 +578,7 @@ fn axis(p: Pair<Rule>) -> AxisRef {
 }
 
 /// Builds an expression; `expr`, `term`, `factor`, `power` and `atom` nest as the grammar does.
-fn expr(p: Pair<Rule>) -> Expr {
+pub(crate) fn expr(p: Pair<Rule>) -> Expr {
     match p.as_rule() {
         Rule::expr | Rule::term => {
             let mut it = p.into_inner();

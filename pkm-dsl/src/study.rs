@@ -1,0 +1,350 @@
+//! The `study { … }` block: what `pkm report` samples — each actuator's
+//! range, the sample input, the trajectory, the point followed, the branch,
+//! the workspace's section planes and the sweep's grid nodes. Every key is
+//! optional; the command line overrides each.
+//!
+//! ```
+//! let ast = pkm_dsl::parse("mechanism m { planar; base R1* ∥ R2 ∥ R3 ∥ R4 base;
+//!     study { ranges { R1 = -pi .. pi; } trajectory constant speed (1) duration 2 * pi; nodes 90; } }").unwrap();
+//! let s = pkm_dsl::study::resolve(&ast.studies, &["R1".to_string()], &Default::default()).unwrap();
+//! assert_eq!(s.ranges, vec![Some((-std::f64::consts::PI, std::f64::consts::PI))]);
+//! assert_eq!(s.nodes, Some(90));
+//! ```
+
+use crate::ast::Name;
+use crate::diagnostics::{Diagnostic, Diagnostics, Span};
+use crate::expr::Expr;
+use crate::parser::{self, Rule};
+use pest::iterators::Pair;
+use std::collections::HashMap;
+
+/// One `study { … }` block as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Study {
+    /// Its statements, in order.
+    pub items: Vec<StudyItem>,
+    /// The whole block.
+    pub span: Span,
+}
+
+/// How the inputs move along the trajectory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// q_i(t) = start_i + amplitude_i·sin(πt).
+    Sine,
+    /// q_i(t) = start_i + speed_i·t.
+    ConstantSpeed,
+}
+
+/// One statement of a study block, with its span.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StudyItem {
+    /// `ranges { P1 = -250 .. 0; … }`: an actuated joint's name and bounds.
+    Ranges(Vec<(Name, Expr, Expr)>, Span),
+    /// `start (…);`: the sample input, one value per actuator.
+    Start(Vec<Expr>, Span),
+    /// `trajectory sine amplitude (…) duration T;` or `trajectory constant speed (…) duration T;`.
+    Trajectory {
+        /// Sine or constant speed.
+        motion: Motion,
+        /// The amplitudes or speeds, one per actuator.
+        values: Vec<Expr>,
+        /// The duration in seconds, if given.
+        duration: Option<Expr>,
+        /// The statement.
+        span: Span,
+    },
+    /// `point G;`: the point whose workspace and motion are shown.
+    Point(Name),
+    /// `branch 1;`: the assembly branch's index.
+    Branch(Name),
+    /// `sections { x = 60; … }`: workspace section planes.
+    Sections(Vec<(Name, Expr)>, Span),
+    /// `nodes 40;`: grid nodes per input.
+    Nodes(Name),
+}
+
+/// The most grid nodes per input the study may ask for (the report also
+/// bounds the whole grid).
+pub const MAX_NODES: usize = 1000;
+
+/// A study with its expressions evaluated and its names checked.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Resolved {
+    /// Each actuator's range (in the model's input order), where given.
+    pub ranges: Vec<Option<(f64, f64)>>,
+    /// The sample input.
+    pub start: Option<Vec<f64>>,
+    /// The trajectory's motion and amplitudes or speeds.
+    pub trajectory: Option<(Motion, Vec<f64>)>,
+    /// The trajectory's duration (s).
+    pub duration: Option<f64>,
+    /// The point followed.
+    pub point: Option<String>,
+    /// The branch index.
+    pub branch: Option<usize>,
+    /// Section planes: axis (0 = x, 1 = y, 2 = z) and value.
+    pub sections: Vec<(usize, f64)>,
+    /// Grid nodes per input.
+    pub nodes: Option<usize>,
+}
+
+/// The grammar's name for a study rule, for syntax errors.
+pub(crate) fn rule_name(r: Rule) -> &'static str {
+    match r {
+        Rule::study_stmt | Rule::kw_study => "`study { … }`",
+        Rule::study_ranges | Rule::kw_ranges => "`ranges { JOINT = LOW .. HIGH; }`",
+        Rule::study_range => "a range `JOINT = LOW .. HIGH;`",
+        Rule::study_start | Rule::kw_start => "`start (…);`",
+        Rule::study_trajectory | Rule::kw_trajectory => {
+            "`trajectory sine amplitude (…)` or `trajectory constant speed (…)`"
+        }
+        Rule::study_sine | Rule::kw_sine => "`sine amplitude (…)`",
+        Rule::kw_amplitude => "`amplitude`",
+        Rule::study_constant | Rule::kw_constant => "`constant speed (…)`",
+        Rule::kw_speed => "`speed`",
+        Rule::kw_duration => "`duration`",
+        Rule::study_point => "`point NAME;`",
+        Rule::study_branch => "`branch N;`",
+        Rule::study_sections | Rule::kw_sections => "`sections { x = …; }`",
+        Rule::study_section => "a section `x = …;`",
+        Rule::study_nodes | Rule::kw_nodes => "`nodes N;`",
+        _ => "a study statement",
+    }
+}
+
+/// Builds a study block from its parse.
+pub(crate) fn build(p: Pair<Rule>) -> Study {
+    let span = parser::span_of(&p);
+    let mut items = Vec::new();
+    for q in p.into_inner() {
+        let at = parser::span_of(&q);
+        let rule = q.as_rule();
+        let mut inner = q
+            .into_inner()
+            .filter(|r| !format!("{:?}", r.as_rule()).starts_with("kw_"));
+        let item = match rule {
+            Rule::study_ranges => StudyItem::Ranges(
+                inner
+                    .map(|r| {
+                        let mut it = r.into_inner();
+                        let n = parser::name(it.next().expect("range's joint"));
+                        let lo = parser::expr(it.next().expect("range's low end"));
+                        let hi = parser::expr(it.next().expect("range's high end"));
+                        (n, lo, hi)
+                    })
+                    .collect(),
+                at,
+            ),
+            Rule::study_start => StudyItem::Start(parser::tuple(inner.next().expect("start's tuple")).items, at),
+            Rule::study_trajectory => {
+                let m = inner.next().expect("trajectory's motion");
+                let motion = if m.as_rule() == Rule::study_sine {
+                    Motion::Sine
+                } else {
+                    Motion::ConstantSpeed
+                };
+                let t = m
+                    .into_inner()
+                    .find(|r| r.as_rule() == Rule::tuple)
+                    .expect("trajectory's tuple");
+                StudyItem::Trajectory {
+                    motion,
+                    values: parser::tuple(t).items,
+                    duration: inner.next().map(parser::expr),
+                    span: at,
+                }
+            }
+            Rule::study_point => StudyItem::Point(parser::name(inner.next().expect("point's name"))),
+            Rule::study_branch => StudyItem::Branch(parser::name(inner.next().expect("branch's index"))),
+            Rule::study_nodes => StudyItem::Nodes(parser::name(inner.next().expect("node count"))),
+            Rule::study_sections => StudyItem::Sections(
+                inner
+                    .map(|r| {
+                        let mut it = r.into_inner();
+                        let n = parser::name(it.next().expect("section's axis"));
+                        (n, parser::expr(it.next().expect("section's value")))
+                    })
+                    .collect(),
+                at,
+            ),
+            _ => continue,
+        };
+        items.push(item);
+    }
+    Study { items, span }
+}
+
+fn item_span(item: &StudyItem) -> Span {
+    match item {
+        StudyItem::Ranges(_, s) | StudyItem::Start(_, s) | StudyItem::Sections(_, s) => *s,
+        StudyItem::Trajectory { span, .. } => *span,
+        StudyItem::Point(n) | StudyItem::Branch(n) | StudyItem::Nodes(n) => n.span,
+    }
+}
+
+fn item_key(item: &StudyItem) -> &'static str {
+    match item {
+        StudyItem::Ranges(..) => "ranges",
+        StudyItem::Start(..) => "start",
+        StudyItem::Trajectory { .. } => "trajectory",
+        StudyItem::Point(_) => "point",
+        StudyItem::Branch(_) => "branch",
+        StudyItem::Sections(..) => "sections",
+        StudyItem::Nodes(_) => "nodes",
+    }
+}
+
+/// Evaluates an expression; unknown names, unknown functions and values
+/// that are not finite are errors at its span.
+fn value(e: &Expr, span: Span, values: &HashMap<String, f64>, errors: &mut Diagnostics) -> f64 {
+    let mut found = Vec::new();
+    e.check(&|n| values.contains_key(n), &mut found);
+    if !found.is_empty() {
+        errors.0.extend(found);
+        return 0.0;
+    }
+    let v = e.eval(values);
+    if !v.is_finite() {
+        errors.push(Diagnostic::new(span, format!("this value is {v}, not a finite number")).label("here"));
+        return 0.0;
+    }
+    v
+}
+
+fn values_of(
+    items: &[Expr],
+    span: Span,
+    what: &str,
+    inputs: usize,
+    values: &HashMap<String, f64>,
+    errors: &mut Diagnostics,
+) -> Vec<f64> {
+    if items.len() != inputs {
+        errors.push(
+            Diagnostic::new(span, format!("{what} needs {inputs} values, one per actuated joint"))
+                .label(format!("{} given", items.len())),
+        );
+    }
+    items.iter().map(|e| value(e, span, values, errors)).collect()
+}
+
+/// Checks the study blocks of a file (at most one) against its actuated
+/// joints `inputs` (in the model's input order) and evaluates them with the
+/// parameter values `values`.
+///
+/// Errors point at the span: a second block or a repeated key, an unknown
+/// joint, a range whose low end is not below its high end, a count of
+/// values other than the inputs', a section axis other than x, y, z, a
+/// duration that is not positive, nodes outside 2..=[`MAX_NODES`].
+pub fn resolve(studies: &[Study], inputs: &[String], values: &HashMap<String, f64>) -> Result<Resolved, Diagnostics> {
+    let mut errors = Diagnostics(Vec::new());
+    let mut r = Resolved {
+        ranges: vec![None; inputs.len()],
+        ..Default::default()
+    };
+    if let Some(second) = studies.get(1) {
+        errors.push(
+            Diagnostic::new(second.span, "a mechanism has one `study` block")
+                .label("a second one")
+                .also(studies[0].span, "the first"),
+        );
+    }
+    let n = inputs.len();
+    let mut seen: Vec<(&str, Span)> = Vec::new();
+    for item in studies.iter().flat_map(|s| &s.items) {
+        let key = item_key(item);
+        if let Some((_, first)) = seen.iter().find(|(k, _)| *k == key) {
+            errors.push(
+                Diagnostic::new(item_span(item), format!("`{key}` is given twice in the study"))
+                    .label("again")
+                    .also(*first, "first here"),
+            );
+            continue;
+        }
+        seen.push((key, item_span(item)));
+        match item {
+            StudyItem::Ranges(list, _) => {
+                for (joint, lo, hi) in list {
+                    let Some(i) = inputs.iter().position(|j| *j == joint.text) else {
+                        errors.push(
+                            Diagnostic::new(joint.span, format!("`{}` is not an actuated joint", joint.text))
+                                .label("no such input")
+                                .note(format!("the actuated joints: {}", inputs.join(", "))),
+                        );
+                        continue;
+                    };
+                    let (a, b) = (
+                        value(lo, joint.span, values, &mut errors),
+                        value(hi, joint.span, values, &mut errors),
+                    );
+                    if a >= b {
+                        errors.push(
+                            Diagnostic::new(
+                                joint.span,
+                                format!("the range of `{}` is {a} .. {b}: empty or inverted", joint.text),
+                            )
+                            .label("the low end must be below the high end"),
+                        );
+                    }
+                    if r.ranges[i].replace((a, b)).is_some() {
+                        errors.push(
+                            Diagnostic::new(joint.span, format!("`{}`'s range is given twice", joint.text))
+                                .label("again"),
+                        );
+                    }
+                }
+            }
+            StudyItem::Start(v, span) => r.start = Some(values_of(v, *span, "`start`", n, values, &mut errors)),
+            StudyItem::Trajectory {
+                motion,
+                values: v,
+                duration,
+                span,
+            } => {
+                let what = if *motion == Motion::Sine {
+                    "the amplitude"
+                } else {
+                    "the speed"
+                };
+                r.trajectory = Some((*motion, values_of(v, *span, what, n, values, &mut errors)));
+                if let Some(d) = duration {
+                    let t = value(d, *span, values, &mut errors);
+                    if t <= 0.0 {
+                        errors.push(
+                            Diagnostic::new(*span, format!("the duration is {t} s; it must be positive")).label("here"),
+                        );
+                    }
+                    r.duration = Some(t);
+                }
+            }
+            StudyItem::Point(p) => r.point = Some(p.text.clone()),
+            StudyItem::Branch(b) => match b.text.parse::<usize>() {
+                Ok(k) => r.branch = Some(k),
+                Err(_) => errors.push(Diagnostic::new(b.span, "a branch index is a small whole number").label("here")),
+            },
+            StudyItem::Nodes(k) => match k.text.parse::<usize>() {
+                Ok(c) if (2..=MAX_NODES).contains(&c) => r.nodes = Some(c),
+                _ => errors.push(
+                    Diagnostic::new(k.span, format!("grid nodes per input must be 2 to {MAX_NODES}"))
+                        .label("out of range"),
+                ),
+            },
+            StudyItem::Sections(list, _) => {
+                for (axis, e) in list {
+                    match ["x", "y", "z"].iter().position(|a| *a == axis.text) {
+                        Some(i) => r.sections.push((i, value(e, axis.span, values, &mut errors))),
+                        None => errors.push(
+                            Diagnostic::new(
+                                axis.span,
+                                format!("a section's axis is x, y or z, found `{}`", axis.text),
+                            )
+                            .label("here"),
+                        ),
+                    }
+                }
+            }
+        }
+    }
+    errors.into_result(r)
+}
