@@ -227,3 +227,65 @@ fn a_double_root_is_flagged_not_repeated() {
     let inside = FoldingFourBar::fk(&p, &[theta - 1e-6]);
     assert!(inside.iter().all(|b| b.result.is_ok() && !b.tangent));
 }
+
+/// The same held-out poses through the command line (the plan interpreter):
+/// `pkm ik --json` exits 0 only with branches that close and reproduce the
+/// pose (checked by the Newton reference's model from the printed joint
+/// values), and 1 with the contradicted output named when none does.
+#[test]
+fn held_out_poses_through_the_cli() {
+    let file = "examples/mechanisms/seed000_a.pkm";
+    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let model = pkm::dsl::plan::model(&a, &Default::default()).unwrap();
+    let p = SeedAParams::default();
+    let mut rng = pkm::dsl::screw::SplitMix::new(21);
+    let (mut ok, mut refused, mut poses) = (0, 0, 0);
+    while poses < 40 {
+        let q = [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]
+            .map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
+        let Some(s) = SeedA::fk(&p, &q).into_iter().find_map(|b| b.result.ok()) else {
+            continue;
+        };
+        poses += 1;
+        let extent = pkm::runtime::consistency::extent(&s.points);
+        let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
+        let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
+        let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let given: [f64; 4] =
+            std::array::from_fn(|i| s.outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
+        let pose = format!(
+            "x={:e},y={:e},z={:e},alpha={:e}",
+            given[0], given[1], given[2], given[3]
+        );
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pkm"))
+            .args(["ik", file, "--json", "--pose", &pose])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        match out.status.code() {
+            Some(0) => {
+                for b in v["branches"].as_array().unwrap().iter().filter(|b| b["ok"] == true) {
+                    let q: Vec<f64> = model
+                        .joints
+                        .iter()
+                        .map(|j| b["joints"][&j.name].as_f64().unwrap())
+                        .collect();
+                    let e = inconsistency(&model, &q, "o", [1.0, 0.0, 0.0], &given, extent);
+                    assert!(
+                        e <= 1e-9,
+                        "pose {pose} ({d:e} off): an ok branch is inconsistent by {e:e}"
+                    );
+                    ok += 1;
+                }
+            }
+            Some(1) => {
+                let message = v["error"]["message"].as_str().unwrap();
+                assert!(message.starts_with("no branch reaches: "), "{message}");
+                refused += 1;
+            }
+            other => panic!("exit {other:?}: {v}"),
+        }
+    }
+    assert!(ok > 0 && refused > 0, "{ok} ok, {refused} refused");
+}
