@@ -641,17 +641,12 @@ pub fn closure_residual(j: &Joint3, u: &Pose3, v: &Pose3, extent: f64) -> [f64; 
 }
 
 /// The extent residuals are measured against: the largest coordinate
-/// magnitude of the joints' world points, at least 1 (no allocation).
-pub fn extent(joints: &[Joint3], poses: &[Pose3]) -> f64 {
-    joints
+/// magnitude of the links' origins (where the geometry places them, at or
+/// near their joints), at least 1; no allocation, no transform.
+pub fn extent(poses: &[Pose3]) -> f64 {
+    poses
         .iter()
-        .flat_map(|j| {
-            [
-                at(&poses[j.links[0]], j.places[0].at()),
-                at(&poses[j.links[1]], j.places[1].at()),
-            ]
-        })
-        .flatten()
+        .flat_map(|p| p.translation.vector.iter().copied())
         .map(f64::abs)
         .filter(|c| c.is_finite())
         .fold(1.0, f64::max)
@@ -898,7 +893,7 @@ pub fn verify(
     given_names: &[&str],
     mut solve: impl FnMut(&[f64]) -> Option<Vec<Pose3>>,
 ) -> Result<(), SolveError> {
-    let extent = extent(joints, poses);
+    let extent = extent(poses);
     // The worst open joint, without allocating (the path every solution takes).
     let worst = open
         .iter()
