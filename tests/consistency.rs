@@ -6,6 +6,8 @@
 //! every `ok` answer: the forward solution at its inputs must reproduce
 //! the given outputs to 1e-9 of the mechanism's extent.
 
+mod common;
+
 use pkm::runtime::consistency::Contradicted;
 use pkm::runtime::plan::SolveError;
 use std::f64::consts::PI;
@@ -94,9 +96,7 @@ fn inconsistency(
 macro_rules! held_out {
     ($ty:ident, $params:ident, $file:expr, $point:expr, $axis:expr, $ranges:expr, $seed:expr) => {{
         let p = $params::default();
-        let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
-        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::plan::model(&a, &Default::default()).unwrap();
+        let (_, model) = common::example($file);
         let ranges: [(f64, f64); 3] = $ranges;
         let mut rng = pkm::dsl::screw::SplitMix::new($seed);
         let (mut ok, mut refused, mut worst) = (0usize, 0usize, 0.0f64);
@@ -235,8 +235,7 @@ fn a_double_root_is_flagged_not_repeated() {
 #[test]
 fn held_out_poses_through_the_cli() {
     let file = "examples/mechanisms/seed000_a.pkm";
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(file).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &Default::default()).unwrap();
+    let (_, model) = common::example("seed000_a");
     let p = SeedAParams::default();
     let mut rng = pkm::dsl::screw::SplitMix::new(21);
     let (mut ok, mut refused, mut poses) = (0, 0, 0);

@@ -1,8 +1,9 @@
 //! Generated forward solvers against the plan interpreter (two paths that
 //! must agree), branch by branch, at many inputs.
 
+mod common;
+
 use pkm::runtime::plan::{self, signs_of};
-use std::collections::HashMap;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
@@ -11,12 +12,8 @@ pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn interpreter(file: &str) -> (pkm::runtime::model::Model, pkm::runtime::plan::Plan) {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    (
-        pkm::dsl::plan::model(&a, &HashMap::new()).unwrap(),
-        pkm::dsl::plan::forward_plan(&a).unwrap(),
-    )
+    let (a, model) = common::example(file);
+    (model, pkm::dsl::plan::forward_plan(&a).unwrap())
 }
 
 /// The generated branch and the interpreted one give the same joint values

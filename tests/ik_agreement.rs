@@ -21,9 +21,7 @@ pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
-        let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
-        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+        let (a, model) = common::example($file);
         let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let scale = newton::model_scale(&model);
         let params = Default::default();

@@ -2,9 +2,10 @@
 //! the generated code against Newton's forward solution (3-RRR, κ = 1, so no
 //! closed-form fk exists) and against the closed-form fk (round trips).
 
+mod common;
+
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan::{self, Plan};
-use std::collections::HashMap;
 
 pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
@@ -12,12 +13,8 @@ pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn load(file: &str) -> (pkm::runtime::model::Model, Plan) {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    (
-        pkm::dsl::plan::model(&a, &HashMap::new()).unwrap(),
-        pkm::dsl::plan::inverse_plan(&a).unwrap(),
-    )
+    let (a, model) = common::example(file);
+    (model, pkm::dsl::plan::inverse_plan(&a).unwrap())
 }
 
 #[test]

@@ -3,10 +3,11 @@
 //! trips fk∘ik and ik∘fk; every plan solution also closes the loops of the
 //! numeric model (the Newton reference's residual).
 
+mod common;
+
 use pkm::runtime::model::Model;
 use pkm::runtime::newton;
 use pkm::runtime::spatial::{self, Plan, Solution};
-use std::collections::HashMap;
 
 struct Mech {
     model: Model,
@@ -19,9 +20,7 @@ struct Mech {
 }
 
 fn load(file: &str, point: &str, about: [f64; 3]) -> Mech {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let (a, model) = common::example(file);
     let platform = model.links.iter().position(|l| l == "platform").unwrap();
     let point = model.points.iter().find(|p| p.name == point).unwrap().at;
     Mech {

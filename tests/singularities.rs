@@ -8,6 +8,8 @@
 //! paper rules out (x_E = x1 or x2, x1 = x2, z_E = l1: "not reachable") are
 //! not placed.
 
+mod common;
+
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
 use pkm::runtime::{newton, singular, spatial};
@@ -23,9 +25,7 @@ struct Setup {
 }
 
 fn setup_file(name: &str) -> Setup {
-    let path = format!("{}/examples/mechanisms/{name}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let (a, model) = common::example(name);
     let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     Setup {
         model,

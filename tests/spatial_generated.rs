@@ -3,10 +3,11 @@
 //! a parallelogram branch: every branch of fk at random inputs, and of ik
 //! at the poses fk finds.
 
+mod common;
+
 use pkm::runtime::plan::{Branch, SolveError};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::spatial::{self, Solution};
-use std::collections::HashMap;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
@@ -38,9 +39,7 @@ fn compare<const D: usize>(generated: &[Branch<[f64; 11], D>], interpreted: &Int
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
         let p = Default::default();
-        let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
-        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+        let (a, model) = common::example($file);
         let (fk_plan, ik_plan) = (
             pkm::dsl::plan3::forward_plan(&a).unwrap(),
             pkm::dsl::plan3::inverse_plan(&a).unwrap(),

@@ -5,8 +5,9 @@
 //! agree with central differences of the followed positions to 1e-6 of
 //! their size, and the path has no jump.
 
+mod common;
+
 use pkm::runtime::{newton, velocity};
-use std::collections::HashMap;
 use std::f64::consts::PI;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -28,9 +29,7 @@ fn rho_ddot(t: f64) -> [f64; 3] {
 
 #[test]
 fn section_3_1_trajectory() {
-    let path = format!("{}/examples/mechanisms/seed000_a.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+    let (_, model) = common::example("seed000_a");
     let p = Default::default();
 
     // The paper's assembly: the five-bar above the sliders (z > 0), first α root.

@@ -58,9 +58,7 @@ fn second(v: &[Vec<f64>], h: f64) -> Vec<f64> {
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr, $rate:expr) => {{
-        let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
-        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+        let (a, model) = common::example($file);
         let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let scale = pkm::runtime::newton::model_scale(&model);
         let params = Default::default();
