@@ -248,7 +248,7 @@ impl AnyPlan {
 
 /// A `.pkm` file ready to solve: its analysis, numeric model, outputs and plans.
 struct Loaded {
-    analysis: pkm_dsl::report::Analysis,
+    analysis: pkm_dsl::analysis::Analysis,
     model: Model,
     outputs: Vec<Output>,
     /// The forward plan, or why there is none (κ ≠ 0).
@@ -270,7 +270,7 @@ fn load(
     text: &str,
     file: &str,
     params: &[(String, f64)],
-) -> Result<(pkm_dsl::report::Analysis, Option<Loaded>), ReportError> {
+) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
     let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
     let a = pkm_dsl::analyze_source(text).map_err(render)?;
     let mut values = a.geometry.nominal();

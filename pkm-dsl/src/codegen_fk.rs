@@ -4,7 +4,7 @@
 //! kernels; only where the coordinates come from differs.
 
 use crate::geometry::{JointPlace, Vec3};
-use crate::report::Analysis;
+use crate::analysis::Analysis;
 use pkm_runtime::plan::{Plan, Step};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

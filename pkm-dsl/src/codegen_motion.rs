@@ -5,7 +5,7 @@
 use crate::codegen_spatial::{place, xyz};
 use crate::geometry::OutputKind;
 use crate::model::Capability;
-use crate::report::Analysis;
+use crate::analysis::Analysis;
 use pkm_runtime::plan::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

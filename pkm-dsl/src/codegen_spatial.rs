@@ -4,7 +4,7 @@
 
 use crate::geometry::{JointPlace, Vec3};
 use crate::model::JointKind;
-use crate::report::Analysis;
+use crate::analysis::Analysis;
 use pkm_runtime::plan::PointRef;
 use pkm_runtime::spatial::{Anchor, Constraint, Direction, Hop, Plan, Step};
 use proc_macro2::TokenStream;

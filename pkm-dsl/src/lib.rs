@@ -18,12 +18,12 @@ pub use parser::parse;
 pub mod model;
 pub mod plan;
 pub mod plan3;
-pub mod report;
+pub mod analysis;
 pub mod screw;
 pub mod study;
 pub mod topology;
 
-pub use report::{analyze_source, Analysis};
+pub use analysis::{analyze_source, Analysis};
 mod codegen;
 mod codegen_fk;
 mod codegen_motion;

@@ -7,7 +7,7 @@
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::geometry::JointPlace;
 use crate::model::JointKind;
-use crate::report::Analysis;
+use crate::analysis::Analysis;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint, Place};
 use pkm_runtime::plan::{Plan, Step};
 use std::collections::HashMap;

@@ -6,7 +6,7 @@
 //! dimensions; no mechanism is named here.
 
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::report::Analysis;
+use crate::analysis::Analysis;
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::model_scale;
 use pkm_runtime::plan::PointRef;

@@ -1,5 +1,6 @@
-//! The topology report: what `pkm analyze` prints and what the generated
-//! type's `REPORT` holds.
+//! A mechanism's analysis: its model, geometry and topology from one text
+//! (`analyze_source`), and the topology report `pkm analyze` prints and the
+//! generated type's `REPORT` holds.
 
 use crate::model::Mechanism;
 use crate::topology::{delta_unicode, Topology};
