@@ -3,9 +3,9 @@
 //! requested capabilities need, and emit the type. Nothing is generated for
 //! a capability that was not requested.
 
+use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::model::Capability;
-use crate::analysis::Analysis;
 use crate::topology::delta_unicode;
 use proc_macro2::{Span as PmSpan, TokenStream};
 use quote::{format_ident, quote};

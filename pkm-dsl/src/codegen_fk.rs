@@ -3,8 +3,8 @@
 //! the parameters. The plan interpreter walks the same plan with the same
 //! kernels; only where the coordinates come from differs.
 
-use crate::geometry::{JointPlace, Vec3};
 use crate::analysis::Analysis;
+use crate::geometry::{JointPlace, Vec3};
 use pkm_runtime::plan::{Plan, Step};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

@@ -2,10 +2,10 @@
 //! the numeric model and the outputs written out as expressions in the
 //! parameters, handed to the runtime's differentiated loop equations.
 
+use crate::analysis::Analysis;
 use crate::codegen_spatial::{place, xyz};
 use crate::geometry::OutputKind;
 use crate::model::Capability;
-use crate::analysis::Analysis;
 use pkm_runtime::plan::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

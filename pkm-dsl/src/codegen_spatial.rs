@@ -2,9 +2,9 @@
 //! by the runtime's `spatial::execute` (the kernel the interpreter runs), on
 //! joint geometry written out as expressions in the parameters.
 
+use crate::analysis::Analysis;
 use crate::geometry::{JointPlace, Vec3};
 use crate::model::JointKind;
-use crate::analysis::Analysis;
 use pkm_runtime::plan::PointRef;
 use pkm_runtime::spatial::{Anchor, Constraint, Direction, Hop, Plan, Step};
 use proc_macro2::TokenStream;

@@ -15,10 +15,10 @@ mod parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
+pub mod analysis;
 pub mod model;
 pub mod plan;
 pub mod plan3;
-pub mod analysis;
 pub mod screw;
 pub mod study;
 pub mod topology;

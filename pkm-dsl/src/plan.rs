@@ -4,10 +4,10 @@
 //! in the catalogue the compiler says so, naming the SOC; it never falls back
 //! to iteration.
 
+use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::geometry::JointPlace;
 use crate::model::JointKind;
-use crate::analysis::Analysis;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint, Place};
 use pkm_runtime::plan::{Plan, Step};
 use std::collections::HashMap;

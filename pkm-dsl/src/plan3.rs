@@ -5,8 +5,8 @@
 //! parallel to the motion) are checked on the geometry at its nominal
 //! dimensions; no mechanism is named here.
 
-use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::analysis::Analysis;
+use crate::diagnostics::{Diagnostic, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::model_scale;
 use pkm_runtime::plan::PointRef;
