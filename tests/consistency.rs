@@ -90,6 +90,17 @@ fn inconsistency(
     closure.max(output)
 }
 
+/// A reachable pose `(x, y, z, alpha)` pushed off by a distance `d` drawn
+/// log-uniformly from 1e-9 to 10 in a random direction (the angle as an arc
+/// of radius `extent`): the pose and `d`.
+fn pushed_off(rng: &mut pkm::dsl::screw::SplitMix, outputs: &[f64; 4], extent: f64) -> ([f64; 4], f64) {
+    let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
+    let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
+    let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let given = std::array::from_fn(|i| outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
+    (given, d)
+}
+
 /// Random reachable poses pushed 1e-9 … 10 length units off in a random
 /// direction of the output space: every ok answer closes and reproduces its
 /// pose to 1e-9 by the Newton reference's model; every refusal is typed.
@@ -108,11 +119,7 @@ macro_rules! held_out {
             };
             poses += 1;
             let extent = pkm::runtime::consistency::extent(&s.points);
-            let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
-            let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
-            let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let given: [f64; 4] =
-                std::array::from_fn(|i| s.outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
+            let (given, d) = pushed_off(&mut rng, &s.outputs, extent);
             for b in $ty::ik(&p, &given) {
                 match b.result {
                     Ok(sol) => {
@@ -247,11 +254,7 @@ fn held_out_poses_through_the_cli() {
         };
         poses += 1;
         let extent = pkm::runtime::consistency::extent(&s.points);
-        let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
-        let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
-        let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let given: [f64; 4] =
-            std::array::from_fn(|i| s.outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
+        let (given, d) = pushed_off(&mut rng, &s.outputs, extent);
         let pose = format!(
             "x={:e},y={:e},z={:e},alpha={:e}",
             given[0], given[1], given[2], given[3]
