@@ -269,18 +269,12 @@ pub fn same_solution(a: &[f64], b: &[f64], revolute: &[bool]) -> bool {
     })
 }
 
-/// For each branch whose solution an earlier branch already has (by
-/// [`same_solution`]), that earlier branch: `(branch, twin)` pairs.
-/// `solution(i)` is branch `i`'s joint values, if it solved.
-fn twins<'a>(n: usize, revolute: &[bool], solution: impl Fn(usize) -> Option<&'a [f64]>) -> Vec<(usize, usize)> {
-    (1..n)
-        .filter_map(|i| {
-            let s = solution(i)?;
-            (0..i)
-                .find(|&k| solution(k).is_some_and(|t| same_solution(s, t, revolute)))
-                .map(|k| (i, k))
-        })
-        .collect()
+/// The earliest branch before `i` whose solution branch `i` repeats (by
+/// [`same_solution`]); `solution(k)` is branch `k`'s joint values, if it
+/// solved. No allocation: generated `fk` and `ik` call this on every call.
+fn twin_of<'a>(i: usize, revolute: &[bool], solution: impl Fn(usize) -> Option<&'a [f64]>) -> Option<usize> {
+    let s = solution(i)?;
+    (0..i).find(|&k| solution(k).is_some_and(|t| same_solution(s, t, revolute)))
 }
 
 /// Marks double roots in a list of branches: a branch whose solution is one
@@ -291,11 +285,12 @@ pub fn mark_double_roots<S, const D: usize>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    for (i, k) in twins(branches.len(), revolute, |i| {
-        branches[i].result.as_ref().ok().map(&values)
-    }) {
-        branches[i].result = Err(SolveError::DoubleRoot { twin: k });
-        branches[k].tangent = true;
+    for i in 1..branches.len() {
+        let all = &*branches;
+        if let Some(k) = twin_of(i, revolute, |k| all[k].result.as_ref().ok().map(&values)) {
+            branches[i].result = Err(SolveError::DoubleRoot { twin: k });
+            branches[k].tangent = true;
+        }
     }
 }
 
@@ -305,8 +300,11 @@ pub fn mark_double_roots_in<S>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    for (i, k) in twins(branches.len(), revolute, |i| branches[i].1.as_ref().ok().map(&values)) {
-        branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
+    for i in 1..branches.len() {
+        let all = &*branches;
+        if let Some(k) = twin_of(i, revolute, |k| all[k].1.as_ref().ok().map(&values)) {
+            branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
+        }
     }
 }
 
