@@ -273,10 +273,12 @@ fn load(
 ) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
     let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
     let a = pkm_dsl::analyze_source(text).map_err(render)?;
-    let mut values = a.geometry.nominal();
+    let nominal = a.geometry.nominal();
+    // Only the overrides: the others, derived ones included, are resolved from them.
+    let mut values = std::collections::HashMap::new();
     for (k, v) in params {
-        if !values.contains_key(k) {
-            let mut known: Vec<&String> = values.keys().collect();
+        if !nominal.contains_key(k) {
+            let mut known: Vec<&String> = nominal.keys().collect();
             known.sort();
             return Err(invalid(format!(
                 "{file}: --param {k}: no such parameter (the parameters: {})",
@@ -293,6 +295,8 @@ fn load(
     }
     let model = pkm_dsl::plan::model(&a, &values).map_err(render)?;
     let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(render)?;
+    // Every parameter's value, for the study block's expressions.
+    let values = pkm_dsl::plan::parameter_values(&a, &values).map_err(render)?;
     let (forward, inverse) = if model.planar {
         (
             pkm_dsl::plan::forward_plan(&a)

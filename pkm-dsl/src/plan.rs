@@ -21,8 +21,8 @@ pub fn newton_outputs(
 ) -> Result<Vec<pkm_runtime::newton::Output>, Diagnostics> {
     use crate::geometry::OutputKind;
     use pkm_runtime::newton::Output;
-    let mut all = a.geometry.nominal();
-    all.extend(values.iter().map(|(k, v)| (k.clone(), *v)));
+    // Derived parameters follow the overrides, as in `model`.
+    let all = parameter_values(a, values)?;
     let local = |point, link| {
         pkm_runtime::spatial::local_point(model, point, link)
             .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))
