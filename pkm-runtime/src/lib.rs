@@ -4,13 +4,16 @@
 #![deny(missing_docs)]
 
 pub mod consistency;
+pub mod frame;
 pub mod model;
 pub mod newton;
 pub mod plan;
 pub mod primitives;
 pub mod real;
+pub mod scalar;
 pub mod singular;
 pub mod spatial;
+pub mod steps;
 pub mod topology;
 pub mod velocity;
 pub mod workspace;

@@ -47,42 +47,42 @@ impl JointType {
 
 /// Where a joint sits on one of its links, in the link's frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Place {
+pub enum Place<T = f64> {
     /// A point with the joint's axis through it (R joints).
     Axis {
         /// The point.
-        at: [f64; 3],
+        at: [T; 3],
         /// The axis direction (need not be unit).
-        axis: [f64; 3],
+        axis: [T; 3],
     },
     /// A point: an S joint's centre, or a P joint's slider point.
     Point {
         /// The point.
-        at: [f64; 3],
+        at: [T; 3],
     },
     /// A P joint's guide line.
     Line {
         /// A point of the line.
-        through: [f64; 3],
+        through: [T; 3],
         /// Its direction (need not be unit).
-        along: [f64; 3],
+        along: [T; 3],
     },
     /// A parallelogram's hinge on the link that carries its arm: the hinge
     /// point, the hinge axis, and the arm (from this hinge to the other
     /// link's hinge point when the joint value is 0; perpendicular to the axis).
     Arm {
         /// The hinge point.
-        at: [f64; 3],
+        at: [T; 3],
         /// The hinge axis (need not be unit).
-        axis: [f64; 3],
+        axis: [T; 3],
         /// The arm vector.
-        arm: [f64; 3],
+        arm: [T; 3],
     },
 }
 
-impl Place {
+impl<T: Copy> Place<T> {
     /// The place's point (a guide line's `through` point).
-    pub fn at(&self) -> [f64; 3] {
+    pub fn at(&self) -> [T; 3] {
         match *self {
             Place::Axis { at, .. } | Place::Point { at } | Place::Line { through: at, .. } | Place::Arm { at, .. } => {
                 at
@@ -91,10 +91,34 @@ impl Place {
     }
 
     /// The place's direction: an axis, a guide's direction, or z for a bare point.
-    pub fn axis(&self) -> [f64; 3] {
+    pub fn axis(&self) -> [T; 3]
+    where
+        T: From<f64>,
+    {
         match *self {
             Place::Axis { axis, .. } | Place::Arm { axis, .. } | Place::Line { along: axis, .. } => axis,
-            Place::Point { .. } => [0.0, 0.0, 1.0],
+            Place::Point { .. } => [0.0.into(), 0.0.into(), 1.0.into()],
+        }
+    }
+
+    /// The place with every coordinate mapped by `f`.
+    pub fn map<U>(&self, f: impl Fn(T) -> U) -> Place<U> {
+        let m = |v: [T; 3]| v.map(&f);
+        match *self {
+            Place::Axis { at, axis } => Place::Axis {
+                at: m(at),
+                axis: m(axis),
+            },
+            Place::Point { at } => Place::Point { at: m(at) },
+            Place::Line { through, along } => Place::Line {
+                through: m(through),
+                along: m(along),
+            },
+            Place::Arm { at, axis, arm } => Place::Arm {
+                at: m(at),
+                axis: m(axis),
+                arm: m(arm),
+            },
         }
     }
 }

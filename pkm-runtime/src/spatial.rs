@@ -914,38 +914,51 @@ pub fn verify(
     Err(crate::consistency::name_given(e, given_names))
 }
 
-/// Runs the plan for one branch and verifies the solution ([`verify`]; the
-/// plan knows no names for the given values: `#k`, see
-/// [`crate::consistency::name_given`]).
+/// Runs the plan for one branch and verifies the solution: every open
+/// joint must close ([`crate::consistency`]); where one does not, the error
+/// names the given value the others contradict (`#k`: the plan knows no
+/// names for the given values, see [`crate::consistency::name_given`]).
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<Solution, SolveError> {
-    let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
-    let open = plan.open_joints(joints.len());
-    let poses = run_poses(model, &joints, plan, inputs, signs)?;
-    verify(
-        &joints,
-        &poses,
-        &open,
-        &|j| Cow::Owned(model.joints[j].name.clone()),
-        inputs,
-        &plan.angular_inputs(&joints),
-        &[],
-        |g| run_poses(model, &joints, plan, g, signs).ok(),
-    )?;
-    let values = joints
-        .iter()
-        .map(|j| joint_value(j, &poses[j.links[0]], &poses[j.links[1]]))
+    let geometry = crate::steps::Geometry::of(model);
+    let open = plan.open_joints(geometry.joints.len());
+    let name = |j: usize| model.joints[j].name.clone();
+    let state = run_frames(model, &geometry, plan, inputs, signs)?;
+    let extent = crate::consistency::extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
+    let residual = crate::steps::open_residual(&geometry, &state.poses, &open, extent);
+    let rows = crate::steps::RESIDUAL_ROWS;
+    if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
+        let owner = Cow::Owned(format!("joint {}", name(open[row / rows])));
+        let angular = plan.angular_inputs(&model.joints.iter().map(Joint3::of).collect::<Vec<_>>());
+        let e = crate::consistency::inconsistent(owner, gap, inputs, &angular, extent, |g| {
+            let s = run_frames(model, &geometry, plan, g, signs).ok()?;
+            Some(crate::steps::open_residual(&geometry, &s.poses, &open, extent))
+        });
+        return Err(crate::consistency::name_given(e, &[]));
+    }
+    let values = (0..geometry.joints.len())
+        .map(|j| crate::steps::value(&geometry, &state, j))
         .collect();
-    Ok(Solution { poses, values })
+    Ok(Solution {
+        poses: state.poses.iter().map(pose_of).collect(),
+        values,
+    })
 }
 
-/// The link poses of one branch, unverified.
-fn run_poses(
+/// A frame as an isometry.
+pub fn pose_of(f: &crate::frame::Frame<f64>) -> Pose3 {
+    let m = nalgebra::Matrix3::from_fn(|i, j| f.r[i][j]);
+    let r = Rotation3::from_matrix_unchecked(m);
+    Isometry3::from_parts(v3(f.t).into(), nalgebra::UnitQuaternion::from_rotation_matrix(&r))
+}
+
+/// The steps of one branch, unverified.
+fn run_frames(
     model: &Model,
-    joints: &[Joint3],
+    geometry: &crate::steps::Geometry<f64>,
     plan: &Plan,
     inputs: &[f64],
     signs: &[Sign],
-) -> Result<Vec<Pose3>, SolveError> {
+) -> Result<crate::steps::Solved<f64>, SolveError> {
     if inputs.len() != plan.n_inputs || signs.len() != plan.branches {
         return Err(bad(format!(
             "expected {} inputs and {} signs",
@@ -955,14 +968,13 @@ fn run_poses(
     if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
         return Err(bad(format!("given value {} is {}", i + 1, inputs[i])));
     }
-    let named: Vec<[f64; 3]> = model.points.iter().map(|p| p.at).collect();
-    let mut poses = vec![Pose3::identity(); model.links.len()];
-    for (k, step) in plan.steps.iter().enumerate() {
-        execute(k, step, joints, &named, &mut poses, inputs, signs, |j| {
-            Cow::Owned(model.joints[j].name.clone())
-        })?;
-    }
-    Ok(poses)
+    let name = |j: usize| -> Cow<'static, str> { Cow::Owned(model.joints[j].name.clone()) };
+    let given = crate::steps::Given {
+        values: inputs,
+        signs,
+        name: &name,
+    };
+    crate::steps::run(plan, geometry, model.links.len(), &given)
 }
 
 /// The length of a parallelogram's arm.

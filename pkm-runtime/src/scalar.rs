@@ -1,0 +1,172 @@
+//! The scalar a solver's steps compute with.
+//!
+//! The steps of a plan ([`crate::steps`]) are written once, generic over
+//! [`Scalar`]. With `f64` they are the plan interpreter. With the code
+//! generator's symbolic scalar (in pkm-dsl) the same steps record every
+//! operation instead of doing it, and what they record becomes the generated
+//! straight-line solver: one source for both, so the two agree by
+//! construction and the interpreter stays the oracle.
+//!
+//! The closed-form kernels themselves (a circle meeting a sphere, a turn
+//! onto a direction) are not traced: they branch on values (tangency, which
+//! root) and are called as functions, [`Kernel::eval`].
+
+use crate::primitives::{Error as GeomError, Sign};
+use crate::steps::Kernel;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Arithmetic, the elementary functions the steps use, and the kernel calls.
+///
+/// # Example
+///
+/// ```
+/// use pkm_runtime::scalar::Scalar;
+///
+/// fn norm<T: Scalar>(v: [T; 3]) -> T {
+///     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+/// }
+/// assert_eq!(norm([3.0, 0.0, 4.0]), 5.0);
+/// ```
+pub trait Scalar:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// How a step's ± choice is given: a [`Sign`] when it runs, a sign or
+    /// "the caller's k-th sign" when code is generated.
+    type Choice: Copy;
+
+    /// A constant.
+    fn c(x: f64) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Sine.
+    fn sin(self) -> Self;
+    /// Cosine.
+    fn cos(self) -> Self;
+    /// Four-quadrant arctangent of `self / x`.
+    fn atan2(self, x: Self) -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// `then` where `a < b`, else `otherwise` (decided once, where it depends
+    /// on the geometry only).
+    fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self;
+    /// The closed-form kernel `kernel` on `args`, the root `choice` where it
+    /// has two; two results (a turn's cosine and sine, or a length and 0).
+    /// `site` is the step and the joint it solves (for generated errors).
+    fn kernel(
+        kernel: Kernel,
+        args: &[Self],
+        choice: Self::Choice,
+        site: [usize; 2],
+    ) -> Result<[Self; 2], GeomError<f64>>;
+    /// Names the value (generated code's variable names); no effect on numbers.
+    fn named(self, _name: &dyn Fn() -> String) -> Self {
+        self
+    }
+    /// The given value's sign choice number `k` of `signs` at run time.
+    fn choice(signs: &[Self::Choice], k: Option<usize>) -> Self::Choice;
+}
+
+impl Scalar for f64 {
+    type Choice = Sign;
+
+    #[inline]
+    fn c(x: f64) -> Self {
+        x
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        f64::sin(self)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        f64::cos(self)
+    }
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline]
+    fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
+        if a < b {
+            then
+        } else {
+            otherwise
+        }
+    }
+    #[inline]
+    fn kernel(kernel: Kernel, args: &[Self], choice: Sign, _site: [usize; 2]) -> Result<[Self; 2], GeomError<f64>> {
+        kernel.eval(args, choice)
+    }
+    #[inline]
+    fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
+        k.map_or(Sign::Plus, |k| signs[k])
+    }
+}
+
+/// `a · b` of two 3-vectors.
+#[inline]
+pub fn dot<T: Scalar>(a: [T; 3], b: [T; 3]) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a × b`.
+#[inline]
+pub fn cross<T: Scalar>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `a + b`.
+#[inline]
+pub fn add<T: Scalar>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// `a − b`.
+#[inline]
+pub fn sub<T: Scalar>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `s · a`.
+#[inline]
+pub fn scale<T: Scalar>(s: T, a: [T; 3]) -> [T; 3] {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+/// `|a|`.
+#[inline]
+pub fn norm<T: Scalar>(a: [T; 3]) -> T {
+    dot(a, a).sqrt()
+}
+
+/// `a / |a|` (a zero vector gives NaN: callers normalise geometry the
+/// planner has checked, never a value that can vanish at run time).
+#[inline]
+pub fn unit<T: Scalar>(a: [T; 3]) -> [T; 3] {
+    let n = norm(a);
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+/// `a` with its component along unit `k` removed.
+#[inline]
+pub fn reject<T: Scalar>(a: [T; 3], k: [T; 3]) -> [T; 3] {
+    sub(a, scale(dot(k, a), k))
+}
+
+/// Constants as a vector.
+#[inline]
+pub fn constant<T: Scalar>(a: [f64; 3]) -> [T; 3] {
+    a.map(T::c)
+}

@@ -1,0 +1,119 @@
+//! The joint value that carries a point of the new link to a known position:
+//! a turn about the joint's axis (Paden–Kahan subproblem 1) or a slide (the
+//! projection onto the guide).
+
+use super::{as_value, call, found, Found, Geometry, Given, JointValue, Kernel, Motion, Solved};
+use crate::plan::{PointRef, SolveError};
+use crate::primitives::{Error as GeomError, Sign};
+use crate::scalar::{dot, sub, Scalar};
+use crate::spatial::Anchor;
+
+/// Step `k`: the value of `joint` that brings `point` of `to` onto the
+/// anchored position `target`.
+#[allow(clippy::too_many_arguments)]
+pub fn execute<T: Scalar>(
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    target: &Anchor,
+    geometry: &Geometry<T>,
+    state: &Solved<T>,
+    given: &Given<'_, T>,
+) -> Result<Found<T>, SolveError> {
+    let j = &geometry.joints[joint];
+    let m = j.motion(&state.poses[from], j.links[0] == from, geometry.local(point, to));
+    let target = geometry.anchor(&state.poses, target);
+    let value = match m {
+        Motion::Circle {
+            centre, axis, radius, ..
+        } => {
+            let u = sub(target, centre);
+            let args = super::args(&[axis, radius, u], &[]);
+            as_value(
+                j.kind,
+                call(Kernel::TurnOnto, &args, T::choice(given.signs, None), k, joint, given)?,
+            )
+        }
+        Motion::Line { start, along } => JointValue::Slide(dot(sub(target, start), along)),
+    };
+    Ok(found(geometry, state, joint, from, to, value))
+}
+
+/// The turn `[cos θ, sin θ]` about unit `k` that carries the direction of
+/// `v` onto that of `u` (their components normal to `k`):
+/// `θ = atan2(k·(v⊥ × u⊥), v⊥·u⊥)`, Paden–Kahan subproblem 1.
+/// `args = [k, v, u]`; the sign is not used (one root).
+///
+/// # Errors
+/// [`GeomError::Degenerate`] when `v` or `u` lies on the axis (within
+/// `1e-12` of the larger of their lengths): every turn would do.
+///
+/// ```
+/// use pkm_runtime::primitives::Sign;
+/// use pkm_runtime::steps::aim::turn_onto;
+///
+/// // x onto y about z: a quarter turn.
+/// let t = turn_onto(&[0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0], Sign::Plus).unwrap();
+/// assert_eq!(t, [0.0, 1.0]);
+/// ```
+#[inline]
+pub fn turn_onto(args: &[f64; 9], _sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
+    let k = [args[0], args[1], args[2]];
+    let (v, u) = ([args[3], args[4], args[5]], [args[6], args[7], args[8]]);
+    use crate::scalar::{dot, reject};
+    let (vp, up) = (reject(v, k), reject(u, k));
+    // Squared lengths: no square root on the way to the degeneracy test.
+    let scale2 = dot(v, v).max(dot(u, u));
+    if dot(vp, vp) <= 1e-24 * scale2 || dot(up, up) <= 1e-24 * scale2 {
+        return Err(GeomError::Degenerate {
+            what: "the point or direction lies on the turning axis",
+        });
+    }
+    let [c, s] = super::turn_terms(k, vp, up);
+    let h = (c * c + s * s).sqrt();
+    Ok([c / h, s / h])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(args: [f64; 9], expect: Result<f64, &str>) {
+        match (turn_onto(&args, Sign::Plus), expect) {
+            (Ok([c, s]), Ok(angle)) => {
+                assert!(
+                    (c - angle.cos()).abs() < 1e-15 && (s - angle.sin()).abs() < 1e-15,
+                    "{c} {s} vs {angle}"
+                );
+                assert!((c.hypot(s) - 1.0).abs() < 1e-15);
+            }
+            (Err(GeomError::Degenerate { what }), Err(w)) => assert!(what.contains(w), "{what}"),
+            (got, want) => panic!("{got:?} vs {want:?}"),
+        }
+    }
+
+    #[test]
+    fn turns_onto_and_refuses_points_on_the_axis() {
+        let q = std::f64::consts::FRAC_PI_2;
+        check([0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], Ok(q));
+        // Components along the axis do not matter.
+        check(
+            [0.0, 0.0, 1.0, 1.0, 0.0, 5.0, -1.0, 0.0, -3.0],
+            Ok(std::f64::consts::PI),
+        );
+        // About −z the same turn is negative.
+        check([0.0, 0.0, -1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], Ok(-q));
+        // A tiny but honest perpendicular part still turns exactly.
+        check([0.0, 0.0, 1.0, 1e-9, 0.0, 1.0, 0.0, 1e-9, 1.0], Ok(q));
+        check(
+            [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0],
+            Err("on the turning axis"),
+        );
+        check(
+            [0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1e-13, 0.0, 1.0],
+            Err("on the turning axis"),
+        );
+    }
+}

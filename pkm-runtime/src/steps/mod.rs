@@ -1,0 +1,648 @@
+//! The steps of a solution plan, generic over [`Scalar`]: with `f64` they
+//! are the plan interpreter (the oracle), traced by the code generator they
+//! are the generated straight-line solvers.
+//!
+//! One file per step kind holds what it does and its closed-form kernels:
+//! [`place`], [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four
+//! loci a point can be held to, [`on_sphere`], [`on_plane`],
+//! [`on_cylinder`], [`on_slider_plane`]. [`Kernel`] lists every kernel once:
+//! adding a step kind touches its file and that list.
+//!
+//! Geometry that depends on the parameters alone ([`Geometry`]: each joint's
+//! places, frames and zero transforms) is prepared once, not per call.
+
+pub mod aim;
+pub mod align;
+pub mod on_cylinder;
+pub mod on_plane;
+pub mod on_slider_plane;
+pub mod on_sphere;
+pub mod pa_plane;
+pub mod place;
+pub mod transfer;
+
+use crate::frame::Frame;
+use crate::model::{JointType, Place};
+use crate::plan::{step_error, PointRef, SolveError};
+use crate::primitives::{Error as GeomError, Sign};
+use crate::scalar::{constant, cross, dot, norm, reject, scale, sub, unit, Scalar};
+use crate::spatial::{Anchor, Direction, Hop, Step};
+use std::borrow::Cow;
+
+/// Every closed-form kernel a step calls, by the step kind that owns it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    /// [`on_sphere::circle_distance`]: a circle's point at a distance from a point.
+    CircleDistance,
+    /// [`on_sphere::line_distance`]: a line's point at a distance from a point.
+    LineDistance,
+    /// [`on_cylinder::line_circle`]: a slide's point at a distance from an axis.
+    LineCircle,
+    /// [`on_plane::circle_plane`]: `a·cosθ + b·sinθ = c`.
+    CirclePlane,
+    /// [`on_plane::line_plane`]: a slide onto a plane.
+    LinePlane,
+    /// [`aim::turn_onto`]: the turn about an axis that carries one direction onto another.
+    TurnOnto,
+    /// [`pa_plane::pa_plane`]: a parallelogram's plane through a point.
+    PaPlane,
+}
+
+impl Kernel {
+    /// Runs the kernel on `args` (laid out as its function documents).
+    #[inline]
+    pub fn eval(self, args: &[f64], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
+        match self {
+            Kernel::CircleDistance => on_sphere::circle_distance(arr(args), sign),
+            Kernel::LineDistance => on_sphere::line_distance(arr(args), sign),
+            Kernel::LineCircle => on_cylinder::line_circle(arr(args), sign),
+            Kernel::CirclePlane => on_plane::circle_plane(arr(args), sign),
+            Kernel::LinePlane => on_plane::line_plane(arr(args), sign),
+            Kernel::TurnOnto => aim::turn_onto(arr(args), sign),
+            Kernel::PaPlane => pa_plane::pa_plane(arr(args), sign),
+        }
+    }
+
+    /// The kernel function's path below `pkm_runtime::steps`, for generated code.
+    pub fn path(self) -> (&'static str, &'static str) {
+        match self {
+            Kernel::CircleDistance => ("on_sphere", "circle_distance"),
+            Kernel::LineDistance => ("on_sphere", "line_distance"),
+            Kernel::LineCircle => ("on_cylinder", "line_circle"),
+            Kernel::CirclePlane => ("on_plane", "circle_plane"),
+            Kernel::LinePlane => ("on_plane", "line_plane"),
+            Kernel::TurnOnto => ("aim", "turn_onto"),
+            Kernel::PaPlane => ("pa_plane", "pa_plane"),
+        }
+    }
+}
+
+fn arr<const N: usize>(args: &[f64]) -> &[f64; N] {
+    // The step that builds the call lays out exactly N values.
+    args.try_into().unwrap_or(&[f64::NAN; N])
+}
+
+fn degenerate(what: &'static str) -> GeomError<f64> {
+    GeomError::Degenerate { what }
+}
+
+/// A joint's geometry: its places on its two links, their canonical frames
+/// and its transform at value 0 (and the inverse), computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointGeometry<T> {
+    /// R, P, S or Pa.
+    pub kind: JointType,
+    /// The two links it joins.
+    pub links: [usize; 2],
+    /// Its places on `links[0]` and `links[1]`.
+    pub places: [Place<T>; 2],
+    /// The places' canonical frames.
+    pub frames: [Frame<T>; 2],
+    /// The transform from `links[0]` to `links[1]` at value 0, and its inverse.
+    pub zero: [Frame<T>; 2],
+}
+
+/// A place's direction: an axis, a guide, or z for a bare point.
+pub fn place_axis<T: Scalar>(p: &Place<T>) -> [T; 3] {
+    match *p {
+        Place::Axis { axis, .. } | Place::Arm { axis, .. } | Place::Line { along: axis, .. } => axis,
+        Place::Point { .. } => constant([0.0, 0.0, 1.0]),
+    }
+}
+
+/// The frame with origin `at` and z along `axis`; x is the world x axis
+/// made perpendicular to z (the world y axis when z is within about 25° of
+/// x): the model's canonical frame ([`crate::model::canonical_frame`]).
+pub fn canonical_frame<T: Scalar>(at: [T; 3], axis: [T; 3]) -> Frame<T> {
+    let z = unit(axis);
+    let (o, n) = (T::c(1.0), T::c(0.0));
+    let near_x = |a: T, b: T| T::if_less(z[0].abs(), T::c(0.9), a, b);
+    let e = [near_x(o, n), near_x(n, o), n];
+    let x = unit(reject(e, z));
+    let y = cross(z, x);
+    Frame {
+        r: [[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]],
+        t: at,
+    }
+}
+
+/// How a joint's value is held: the turn of an R or Pa joint (cosine and
+/// sine, and the angle itself where it was given), the slide of a P joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JointValue<T> {
+    /// `cos θ`, `sin θ`, and `θ` where it was given.
+    Turn(T, T, Option<T>),
+    /// The slide.
+    Slide(T),
+}
+
+impl<T: Scalar> JointValue<T> {
+    /// The value: the angle or the slide.
+    pub fn value(self) -> T {
+        match self {
+            JointValue::Turn(c, s, angle) => angle.unwrap_or_else(|| s.atan2(c)),
+            JointValue::Slide(t) => t,
+        }
+    }
+
+    /// A given value of a joint of type `kind`.
+    pub fn given(kind: JointType, v: T) -> Self {
+        match kind {
+            JointType::R | JointType::Pa => JointValue::Turn(v.cos(), v.sin(), Some(v)),
+            _ => JointValue::Slide(v),
+        }
+    }
+}
+
+impl<T: Scalar> JointGeometry<T> {
+    /// A joint from its type, links and places.
+    pub fn new(kind: JointType, links: [usize; 2], places: [Place<T>; 2]) -> Self {
+        let frames = places.map(|p| canonical_frame(p.at(), place_axis(&p)));
+        let mut j = JointGeometry {
+            kind,
+            links,
+            places,
+            frames,
+            zero: [Frame::identity(); 2],
+        };
+        let zero = j.transform(JointValue::Turn(T::c(1.0), T::c(0.0), None));
+        let zero = match kind {
+            JointType::P => j.transform(JointValue::Slide(T::c(0.0))),
+            _ => zero,
+        };
+        j.zero = [zero, zero.inverse()];
+        j
+    }
+
+    /// The pose of `links[1]` relative to `links[0]` at `value`.
+    pub fn transform(&self, value: JointValue<T>) -> Frame<T> {
+        let [fu, fv] = &self.frames;
+        match (self.kind, value) {
+            (JointType::R, JointValue::Turn(c, s, _)) => fu.then(&Frame::about_z(c, s)).then(&fv.inverse()),
+            (JointType::Pa, JointValue::Turn(c, s, _)) => {
+                // The link with the arm: its hinge frame, the arm turned
+                // about the hinge axis, then the other hinge's frame.
+                let swing = |f: &Frame<T>, arm: [T; 3]| {
+                    let local = f.rotate_back(arm);
+                    Frame::translation([c * local[0] - s * local[1], s * local[0] + c * local[1], local[2]])
+                };
+                match (self.places[0], self.places[1]) {
+                    (_, Place::Arm { arm, .. }) => fv.then(&swing(fv, arm)).then(&fu.inverse()).inverse(),
+                    (Place::Arm { arm, .. }, _) => fu.then(&swing(fu, arm)).then(&fv.inverse()),
+                    _ => fu.then(&fv.inverse()),
+                }
+            }
+            (JointType::P, JointValue::Slide(t)) => {
+                let slide = |guide: &Place<T>, slider: &Place<T>| {
+                    let (q, d) = match *guide {
+                        Place::Line { through, along } => (through, unit(along)),
+                        Place::Axis { at, axis } | Place::Arm { at, axis, .. } => (at, unit(axis)),
+                        Place::Point { at } => (at, constant([1.0, 0.0, 0.0])),
+                    };
+                    let p = slider.at();
+                    Frame::translation([q[0] + t * d[0] - p[0], q[1] + t * d[1] - p[1], q[2] + t * d[2] - p[2]])
+                };
+                if matches!(self.places[0], Place::Line { .. }) {
+                    slide(&self.places[0], &self.places[1])
+                } else {
+                    slide(&self.places[1], &self.places[0]).inverse()
+                }
+            }
+            // S joints are never solved by a step, only checked at their centres.
+            _ => {
+                let (cu, cv) = (self.places[0].at(), self.places[1].at());
+                Frame::translation(sub(cu, cv))
+            }
+        }
+    }
+
+    /// The pose of the link across the joint from the known pose `from` at
+    /// `value`; `forward` when `from` is the joint's first link.
+    pub fn transfer(&self, from: &Frame<T>, forward: bool, value: JointValue<T>) -> Frame<T> {
+        let t = self.transform(value);
+        from.then(&if forward { t } else { t.inverse() })
+    }
+
+    /// The joint's value from the poses of its two links.
+    pub fn value_between(&self, u: &Frame<T>, v: &Frame<T>) -> T {
+        let rel = u.inverse().then(v);
+        match self.kind {
+            JointType::R => {
+                let m = self.frames[0].inverse().then(&rel).then(&self.frames[1]);
+                m.r[1][0].atan2(m.r[0][0])
+            }
+            JointType::P => {
+                let (guide, slider, rel) = if matches!(self.places[0], Place::Line { .. }) {
+                    (self.places[0], self.places[1], rel)
+                } else {
+                    (self.places[1], self.places[0], rel.inverse())
+                };
+                let p = rel.apply(slider.at());
+                dot(sub(p, guide.at()), unit(place_axis(&guide)))
+            }
+            JointType::Pa => {
+                let (arm_side, rel) = if matches!(self.places[0], Place::Arm { .. }) {
+                    (0, rel)
+                } else {
+                    (1, rel.inverse())
+                };
+                let (fa, fo) = (self.frames[arm_side], self.frames[1 - arm_side]);
+                let t = fa.inverse().then(&rel).then(&fo).t;
+                let Place::Arm { arm, .. } = self.places[arm_side] else {
+                    return T::c(f64::NAN);
+                };
+                let a = fa.rotate_back(arm);
+                (a[0] * t[1] - a[1] * t[0]).atan2(a[0] * t[0] + a[1] * t[1])
+            }
+            JointType::S => T::c(f64::NAN),
+        }
+    }
+
+    /// The joint's closure residual between the poses `u` and `v` of its
+    /// links (zero, to rounding, for a closed joint): where its place on `v`
+    /// is minus where its place on `u` is, or, for P and Pa joints, where
+    /// `u` and the joint's own value put it (3 lengths); then, times
+    /// `extent`, for an R joint the difference of the two places' axes
+    /// (the closure of a revolute, with no angle taken), for P and Pa joints
+    /// the first two columns of the rotation between the predicted and the
+    /// actual pose. A half turn shows as 2·extent. S joints: the centres only.
+    pub fn closure_residual(&self, u: &Frame<T>, v: &Frame<T>, extent: T) -> [T; RESIDUAL_ROWS] {
+        let pv = v.apply(self.places[1].at());
+        let zero = T::c(0.0);
+        match self.kind {
+            JointType::S => {
+                let d = sub(u.apply(self.places[0].at()), pv);
+                [d[0], d[1], d[2], zero, zero, zero, zero, zero, zero]
+            }
+            JointType::R => {
+                let d = sub(u.apply(self.places[0].at()), pv);
+                let axis = |pose: &Frame<T>, side: usize| pose.then(&self.frames[side]).column(2);
+                let w = scale(extent, sub(axis(u, 0), axis(v, 1)));
+                [d[0], d[1], d[2], w[0], w[1], w[2], zero, zero, zero]
+            }
+            _ => {
+                let value = self.value_between(u, v);
+                let value = match self.kind {
+                    JointType::P => JointValue::Slide(value),
+                    _ => JointValue::Turn(value.cos(), value.sin(), Some(value)),
+                };
+                let predicted = self.transfer(u, true, value);
+                let d = sub(predicted.apply(self.places[1].at()), pv);
+                let (x, y) = (
+                    scale(extent, sub(predicted.column(0), v.column(0))),
+                    scale(extent, sub(predicted.column(1), v.column(1))),
+                );
+                [d[0], d[1], d[2], x[0], x[1], x[2], y[0], y[1], y[2]]
+            }
+        }
+    }
+}
+
+/// Rows of [`JointGeometry::closure_residual`] per joint.
+pub const RESIDUAL_ROWS: usize = 9;
+
+/// A mechanism's geometry at its parameters: every joint's, and every
+/// named point in its link's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Geometry<T> {
+    /// Joints in declaration order.
+    pub joints: Vec<JointGeometry<T>>,
+    /// Named points.
+    pub named: Vec<[T; 3]>,
+}
+
+impl<T: Scalar> Geometry<T> {
+    /// A point of a link in that link's frame: a joint's place on it or a named point.
+    pub fn local(&self, point: PointRef, link: usize) -> [T; 3] {
+        match point {
+            PointRef::Joint(j) => {
+                let joint = &self.joints[j];
+                joint.places[usize::from(joint.links[0] != link)].at()
+            }
+            PointRef::Named(n) => self.named[n],
+        }
+    }
+
+    /// The pose of the last link of a hop chain (joints crossed at value 0)
+    /// from `link` at `pose`, and that link.
+    pub fn across(&self, mut pose: Frame<T>, mut link: usize, hops: &[Hop]) -> (Frame<T>, usize) {
+        for h in hops {
+            let j = &self.joints[h.joint];
+            pose = pose.then(&j.zero[usize::from(!h.forward)]);
+            link = if h.forward { j.links[1] } else { j.links[0] };
+        }
+        (pose, link)
+    }
+
+    /// An anchored point's world position.
+    pub fn anchor(&self, poses: &[Frame<T>], a: &Anchor) -> [T; 3] {
+        let (pose, l) = self.across(poses[a.link], a.link, &a.hops);
+        pose.apply(self.local(a.point, l))
+    }
+
+    /// A direction known through hops: the axis of a joint's place on the last link.
+    pub fn direction(&self, pose: Frame<T>, link: usize, d: &Direction) -> [T; 3] {
+        let (pose, l) = self.across(pose, link, &d.hops);
+        let j = &self.joints[d.joint];
+        pose.rotate(place_axis(&j.places[usize::from(j.links[0] != l)]))
+    }
+
+    /// A point of a link in the frame of the last link of `hops` (at value 0).
+    pub fn carry(&self, x: [T; 3], hops: &[Hop]) -> [T; 3] {
+        let (pose, _) = self.across(Frame::identity(), usize::MAX, hops);
+        pose.apply_back(x)
+    }
+}
+
+/// How a point of the new link moves with the joint value: on a circle
+/// `centre + R(axis, θ)·radius` (R and Pa joints) or a line `start + s·along`
+/// (P joints, `along` unit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion<T> {
+    /// `centre + R(axis, θ)·radius`, `axis` unit.
+    Circle {
+        /// Centre (for a parallelogram, the point the arm swings about).
+        centre: [T; 3],
+        /// Unit axis.
+        axis: [T; 3],
+        /// The point at θ = 0 minus the centre.
+        radius: [T; 3],
+        /// The circle's radius from the links' own geometry: exact where
+        /// `|radius|` carries the rounding of the world transform, which
+        /// keeps nearly concentric circles accurate.
+        length: T,
+    },
+    /// `start + s·along`, `along` unit.
+    Line {
+        /// The point at s = 0.
+        start: [T; 3],
+        /// Unit direction.
+        along: [T; 3],
+    },
+}
+
+impl<T: Scalar> JointGeometry<T> {
+    /// The motion of the new link's point `local` as the joint turns or
+    /// slides from the known pose `from`.
+    pub fn motion(&self, from: &Frame<T>, forward: bool, local: [T; 3]) -> Motion<T> {
+        let zero = from.then(&self.zero[usize::from(!forward)]);
+        let x0 = zero.apply(local);
+        let (side_from, side_new) = if forward { (0, 1) } else { (1, 0) };
+        match self.kind {
+            JointType::P => {
+                let (guide_side, sign) = if matches!(self.places[side_from], Place::Line { .. }) {
+                    (side_from, 1.0)
+                } else {
+                    (side_new, -1.0)
+                };
+                let guide_pose = if guide_side == side_from { from } else { &zero };
+                let d = guide_pose.rotate(unit(place_axis(&self.places[guide_side])));
+                Motion::Line {
+                    start: x0,
+                    along: scale(T::c(sign), d),
+                }
+            }
+            JointType::Pa => {
+                let frame = from.then(&self.frames[side_from]);
+                let k = frame.column(2);
+                let (arm_side, sign) = if matches!(self.places[side_from], Place::Arm { .. }) {
+                    (side_from, 1.0)
+                } else {
+                    (side_new, -1.0)
+                };
+                let Place::Arm { arm, axis, .. } = self.places[arm_side] else {
+                    return Motion::Line {
+                        start: x0,
+                        along: constant([0.0; 3]),
+                    };
+                };
+                let arm_pose = if arm_side == side_from { from } else { &zero };
+                let a = scale(T::c(sign), arm_pose.rotate(arm));
+                Motion::Circle {
+                    centre: sub(x0, a),
+                    axis: k,
+                    radius: a,
+                    length: norm(reject(arm, unit(axis))),
+                }
+            }
+            _ => {
+                let frame = from.then(&self.frames[side_from]);
+                let sign = if forward { 1.0 } else { -1.0 };
+                let k = scale(T::c(sign), frame.column(2));
+                let c = frame.t;
+                let place = self.places[side_new];
+                Motion::Circle {
+                    centre: c,
+                    axis: k,
+                    radius: sub(x0, c),
+                    length: norm(reject(sub(local, place.at()), unit(place_axis(&place)))),
+                }
+            }
+        }
+    }
+
+    /// The axis the joint turns the new link about (R joints).
+    pub fn turning_axis(&self, from: &Frame<T>, forward: bool) -> Option<[T; 3]> {
+        match (self.kind, self.motion(from, forward, constant([0.0; 3]))) {
+            (JointType::R, Motion::Circle { axis, .. }) => Some(axis),
+            _ => None,
+        }
+    }
+}
+
+/// The state of a plan's run: every link's pose and every solved joint's value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solved<T> {
+    /// Link poses (the base at the identity; unsolved links too).
+    pub poses: Vec<Frame<T>>,
+    /// Joint values, where a step solved the joint.
+    pub values: Vec<Option<JointValue<T>>>,
+}
+
+/// What a step needs besides the geometry: the given values, the ± choices,
+/// and joint names for errors.
+pub struct Given<'a, T: Scalar> {
+    /// The given values (inputs, or output coordinates).
+    pub values: &'a [T],
+    /// The ± choices, one per branching step.
+    pub signs: &'a [T::Choice],
+    /// Joint names for errors.
+    pub name: &'a dyn Fn(usize) -> Cow<'static, str>,
+}
+
+/// Calls `kernel` for step `k` solving `joint`: a failure names the step and joint.
+pub(crate) fn call<T: Scalar>(
+    kernel: Kernel,
+    args: &[T],
+    choice: T::Choice,
+    k: usize,
+    joint: usize,
+    given: &Given<'_, T>,
+) -> Result<[T; 2], SolveError> {
+    T::kernel(kernel, args, choice, [k, joint]).map_err(|e| step_error(k, (given.name)(joint), e))
+}
+
+/// Flattens vectors and scalars into one kernel argument list.
+pub(crate) fn args<T: Scalar>(vectors: &[[T; 3]], scalars: &[T]) -> Vec<T> {
+    vectors
+        .iter()
+        .flatten()
+        .copied()
+        .chain(scalars.iter().copied())
+        .collect()
+}
+
+/// Executes step number `k`: sets the pose of the link it solves and the
+/// value of the joint it solves.
+pub fn execute<T: Scalar>(
+    k: usize,
+    step: &Step,
+    geometry: &Geometry<T>,
+    state: &mut Solved<T>,
+    given: &Given<'_, T>,
+) -> Result<(), SolveError> {
+    use crate::spatial::Constraint;
+    let (g, st) = (geometry, &*state);
+    let (joint, to, pose, value) = match *step {
+        Step::Place {
+            link,
+            point,
+            input,
+            about,
+        } => {
+            state.poses[link] = place::execute(link, point, input, about, g, given);
+            return Ok(());
+        }
+        Step::Transfer { joint, from, to, input } => transfer::execute(joint, from, to, input, g, st, given),
+        Step::Aim {
+            joint,
+            from,
+            to,
+            point,
+            ref target,
+        } => aim::execute(k, joint, from, to, point, target, g, st, given)?,
+        Step::Align {
+            joint,
+            from,
+            to,
+            ref group,
+            ref target,
+        } => align::execute(k, joint, from, to, group, target, g, st, given)?,
+        Step::PaPlane {
+            joint,
+            from,
+            to,
+            pa,
+            ref target,
+        } => pa_plane::execute(k, joint, from, to, pa, target, g, st, given)?,
+        Step::Locus {
+            joint,
+            from,
+            to,
+            point,
+            ref constraint,
+            branch,
+        } => match constraint {
+            Constraint::Sphere { centre, pa } => {
+                on_sphere::execute(k, joint, from, to, point, centre, *pa, branch, g, st, given)?
+            }
+            Constraint::Plane { normal, anchor } => {
+                on_plane::execute(k, joint, from, to, point, normal, anchor, branch, g, st, given)?
+            }
+            Constraint::Cylinder { hops, joint: h, link } => {
+                on_cylinder::execute(k, joint, from, to, point, hops, *h, *link, branch, g, st, given)?
+            }
+            Constraint::Slider { hops, joint: h, link } => {
+                on_slider_plane::execute(k, joint, from, to, point, hops, *h, *link, branch, g, st, given)?
+            }
+        },
+    };
+    state.poses[to] = pose;
+    state.values[joint] = Some(value);
+    Ok(())
+}
+
+/// What a turning or sliding step found: the joint, the new link, its pose and the value.
+pub(crate) type Found<T> = (usize, usize, Frame<T>, JointValue<T>);
+
+/// The new link's pose across `joint` from `from` at `value`.
+pub(crate) fn found<T: Scalar>(
+    geometry: &Geometry<T>,
+    state: &Solved<T>,
+    joint: usize,
+    from: usize,
+    to: usize,
+    value: JointValue<T>,
+) -> Found<T> {
+    let j = &geometry.joints[joint];
+    let forward = j.links[0] == from;
+    (joint, to, j.transfer(&state.poses[from], forward, value), value)
+}
+
+/// A kernel's two results as a joint value: a turn for R and Pa joints, a slide for P.
+pub(crate) fn as_value<T: Scalar>(kind: JointType, r: [T; 2]) -> JointValue<T> {
+    match kind {
+        JointType::P => JointValue::Slide(r[0]),
+        _ => JointValue::Turn(r[0], r[1], None),
+    }
+}
+
+/// `k · (v × u)` and `v · u`: the sine and cosine (times the lengths) of
+/// the turn about unit `k` from `v` to `u`, both normal to `k`.
+pub(crate) fn turn_terms<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3]) -> [T; 2] {
+    [dot(v, u), dot(k, cross(v, u))]
+}
+
+impl Geometry<f64> {
+    /// The geometry of a model at its dimensions.
+    pub fn of(model: &crate::model::Model) -> Self {
+        Geometry {
+            joints: model
+                .joints
+                .iter()
+                .map(|j| JointGeometry::new(j.kind, j.links, j.places))
+                .collect(),
+            named: model.points.iter().map(|p| p.at).collect(),
+        }
+    }
+}
+
+/// Runs every step of `plan` from the base (link 0 at the identity) for
+/// `n_links` links; unverified (see [`open_residual`]).
+pub fn run<T: Scalar>(
+    plan: &crate::spatial::Plan,
+    geometry: &Geometry<T>,
+    n_links: usize,
+    given: &Given<'_, T>,
+) -> Result<Solved<T>, SolveError> {
+    let mut state = Solved {
+        poses: vec![Frame::identity(); n_links],
+        values: vec![None; geometry.joints.len()],
+    };
+    for (k, step) in plan.steps.iter().enumerate() {
+        execute(k, step, geometry, &mut state, given)?;
+    }
+    Ok(state)
+}
+
+/// Joint `j`'s value in a solution: the step's where a step solved it,
+/// otherwise from its links' poses.
+pub fn value<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> T {
+    match state.values[j] {
+        Some(v) => v.value(),
+        None => {
+            let joint = &geometry.joints[j];
+            joint.value_between(&state.poses[joint.links[0]], &state.poses[joint.links[1]])
+        }
+    }
+}
+
+/// The closure residual of every joint in `open` ([`RESIDUAL_ROWS`] rows each).
+pub fn open_residual<T: Scalar>(geometry: &Geometry<T>, poses: &[Frame<T>], open: &[usize], extent: T) -> Vec<T> {
+    open.iter()
+        .flat_map(|&k| {
+            let j = &geometry.joints[k];
+            j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent)
+        })
+        .collect()
+}

@@ -1,0 +1,96 @@
+//! A point of the new link held on a cylinder: at a fixed distance from the
+//! axis of a known revolute parallel to the motion's axis (a planar
+//! circle–circle intersection), or, for a slide normal to that axis, a
+//! planar line–circle intersection.
+
+use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
+use crate::plan::{PointRef, SolveError};
+use crate::primitives::{line_sphere, Error as GeomError, Sign};
+use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
+use crate::spatial::Hop;
+
+/// Step `k`: the value of `joint` that puts `point` of `to` at the distance
+/// its carrier across `hops` keeps from the axis of revolute `h` on the
+/// known link `link`.
+#[allow(clippy::too_many_arguments)]
+pub fn execute<T: Scalar>(
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    hops: &[Hop],
+    h: usize,
+    link: usize,
+    branch: Option<usize>,
+    geometry: &Geometry<T>,
+    state: &Solved<T>,
+    given: &Given<'_, T>,
+) -> Result<Found<T>, SolveError> {
+    let j = &geometry.joints[joint];
+    let x = geometry.local(point, to);
+    let m = j.motion(&state.poses[from], j.links[0] == from, x);
+    let jh = &geometry.joints[h];
+    let known_side = usize::from(jh.links[0] != link);
+    let line_point = state.poses[link].apply(jh.places[known_side].at());
+    let line_axis = unit(state.poses[link].rotate(super::place_axis(&jh.places[known_side])));
+    // The point across the hops, and its distance from h's axis there.
+    let y = geometry.carry(x, hops);
+    let place = jh.places[1 - known_side];
+    let radius = norm(reject(sub(y, place.at()), unit(super::place_axis(&place))));
+    let choice = T::choice(given.signs, branch);
+    let r = match m {
+        Motion::Circle {
+            centre,
+            axis,
+            radius: r,
+            length,
+        } => {
+            // The line's point in the circle's plane: the distance is planar.
+            let x0 = add(centre, r);
+            let q = add(line_point, scale(dot(line_axis, sub(x0, line_point)), line_axis));
+            let args = super::args(&[centre, axis, r], &[length, q[0], q[1], q[2], radius]);
+            call(Kernel::CircleDistance, &args, choice, k, joint, given)?
+        }
+        Motion::Line { start, along } => {
+            // Without the components along the cylinder's axis: a planar line–circle.
+            let d = reject(along, line_axis);
+            let s0 = sub(start, scale(dot(line_axis, sub(start, line_point)), line_axis));
+            let args = super::args(&[s0, d, line_point], &[radius]);
+            call(Kernel::LineCircle, &args, choice, k, joint, given)?
+        }
+    };
+    Ok(found(geometry, state, joint, from, to, as_value(j.kind, r)))
+}
+
+/// The slide `[t, 0]` along `along` (not unit: the slide's direction with
+/// its component along the cylinder's axis removed) from `start` that puts
+/// the point at distance `d` from `q`, all in the plane normal to the
+/// cylinder's axis ([`line_sphere`] along the unit direction, divided by
+/// `|along|`). `args = [start, along, q, d]`.
+///
+/// # Errors
+/// [`GeomError::Degenerate`] when the slide is parallel to the cylinder's
+/// axis (`|along| ≤ 1e-12`).
+///
+/// ```
+/// use pkm_runtime::primitives::Sign;
+/// use pkm_runtime::steps::on_cylinder::line_circle;
+///
+/// // Along x at half speed (|along| = 0.5): the circle of radius 5 about (0, 3) at x = ±4.
+/// let a = [0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 3.0, 0.0, 5.0];
+/// assert_eq!(line_circle(&a, Sign::Plus).unwrap()[0].abs(), 8.0);
+/// ```
+#[inline]
+pub fn line_circle(args: &[f64; 10], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
+    let start = [args[0], args[1], args[2]];
+    let along = [args[3], args[4], args[5]];
+    let q = [args[6], args[7], args[8]];
+    let n = norm(along);
+    if n <= 1e-12 {
+        return Err(GeomError::Degenerate {
+            what: "the slide is parallel to the cylinder's axis",
+        });
+    }
+    Ok([line_sphere(start, along, q, args[9])?.branch(sign).t / n, 0.0])
+}

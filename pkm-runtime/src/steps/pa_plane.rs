@@ -1,0 +1,72 @@
+//! A revolute's angle that puts a parallelogram's plane through a known
+//! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
+
+use super::{as_value, call, found, Found, Geometry, Given, Kernel, Solved};
+use crate::plan::{step_error, SolveError};
+use crate::primitives::{trig_turn, Error as GeomError, Sign};
+use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::spatial::Anchor;
+
+/// Step `k`: the angle of revolute `joint` that puts parallelogram `pa`'s
+/// plane (its hinge on `to`) through the anchored point `target`.
+#[allow(clippy::too_many_arguments)]
+pub fn execute<T: Scalar>(
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    pa: usize,
+    target: &Anchor,
+    geometry: &Geometry<T>,
+    state: &Solved<T>,
+    given: &Given<'_, T>,
+) -> Result<Found<T>, SolveError> {
+    let j = &geometry.joints[joint];
+    let forward = j.links[0] == from;
+    let f = &state.poses[from];
+    let axis = j.turning_axis(f, forward).ok_or_else(|| {
+        step_error(
+            k,
+            (given.name)(joint),
+            super::degenerate("a parallelogram turned by a non-revolute"),
+        )
+    })?;
+    let zero = f.then(&j.zero[usize::from(!forward)]);
+    let p = &geometry.joints[pa];
+    let side = usize::from(p.links[0] != to);
+    let normal = zero.rotate(super::place_axis(&p.places[side]));
+    let hinge = zero.apply(p.places[side].at());
+    let target = geometry.anchor(&state.poses, target);
+    let args = super::args(&[axis, normal, hinge, target], &[]);
+    let turn = call(Kernel::PaPlane, &args, T::choice(given.signs, None), k, joint, given)?;
+    Ok(found(geometry, state, joint, from, to, as_value(j.kind, turn)))
+}
+
+/// The turn about unit `k` that puts the plane through `hinge` with normal
+/// `n` (at angle 0) through `target`: `(n⊥·u) cosθ + ((k × n⊥)·u) sinθ =
+/// −(n∥·u)` with `u = target − hinge`. Of the two roots, the one nearer 0
+/// (the larger cosine): the half-turned parallelogram moves its coupler the
+/// same way. `args = [k, n, hinge, target]`.
+///
+/// ```
+/// use pkm_runtime::primitives::Sign;
+/// use pkm_runtime::steps::pa_plane::pa_plane;
+///
+/// // The plane x = 0 (normal x) about z, through (1, 1, 0): turned by ±45°;
+/// // the root nearer 0 is −45° (the normal turned to (1, −1)/√2).
+/// let [c, s] = pa_plane(&[0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0], Sign::Plus).unwrap();
+/// assert!((c - 0.5f64.sqrt()).abs() < 1e-15 && (s + 0.5f64.sqrt()).abs() < 1e-15);
+/// ```
+#[inline]
+pub fn pa_plane(args: &[f64; 12], _sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
+    let k = [args[0], args[1], args[2]];
+    let n = [args[3], args[4], args[5]];
+    let u = sub([args[9], args[10], args[11]], [args[6], args[7], args[8]]);
+    let n_par = scale(dot(k, n), k);
+    let n_perp = sub(n, n_par);
+    let a = dot(n_perp, u);
+    let b = dot(cross(k, n_perp), u);
+    let c = -dot(n_par, u);
+    let [p, m] = trig_turn(a, b, c)?.branches();
+    Ok(if p[0] >= m[0] { p } else { m })
+}
