@@ -5,7 +5,6 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pkm::runtime::primitives::Sign;
-use pkm::runtime::spatial::at;
 use pkm::runtime::workspace::{sweep_nodes, Grid};
 use std::hint::black_box;
 
@@ -19,31 +18,23 @@ fn workspace(c: &mut Criterion) {
     };
     let mut group = c.benchmark_group("sweep_1e6");
     group.sample_size(10);
-    let (ja, na) = (
-        SeedA::joints(&Default::default()),
-        SeedA::named_points(&Default::default()),
-    );
-    let ga = na[SeedA::POINTS[11..].iter().position(|p| *p == "G").unwrap()];
+    let sa = SeedA::prepare(&Default::default());
+    let ga = SeedA::POINTS.iter().position(|p| *p == "G").unwrap();
     group.bench_function("seed000_a", |b| {
         b.iter(|| {
             sweep_nodes::<3>(black_box(&grid), |q| {
-                SeedA::fk_poses(&ja, &na, q, [Sign::Minus, Sign::Plus])
-                    .ok()
-                    .map(|t| at(&t[5], ga))
+                sa.fk_solution(q, [Sign::Minus, Sign::Plus]).ok().map(|s| s.points[ga])
             })
         })
     });
-    let (jb, nb) = (
-        SeedB::joints(&Default::default()),
-        SeedB::named_points(&Default::default()),
-    );
-    let gb = nb[SeedB::POINTS[11..].iter().position(|p| *p == "G").unwrap()];
+    let sb = SeedB::prepare(&Default::default());
+    let gb = SeedB::POINTS.iter().position(|p| *p == "G").unwrap();
     group.bench_function("seed000_b", |b| {
         b.iter(|| {
             sweep_nodes::<3>(black_box(&grid), |q| {
-                SeedB::fk_poses(&jb, &nb, q, [Sign::Minus, Sign::Minus, Sign::Plus])
+                sb.fk_solution(q, [Sign::Minus, Sign::Minus, Sign::Plus])
                     .ok()
-                    .map(|t| at(&t[5], gb))
+                    .map(|s| s.points[gb])
             })
         })
     });

@@ -8,7 +8,6 @@
 //! `cargo run --release --example workspace [nodes per input]` (default 100).
 
 use pkm::runtime::primitives::Sign;
-use pkm::runtime::spatial::at;
 use pkm::runtime::workspace::{bounds, image_volume, sweep_nodes, Grid, Sample};
 use std::time::Instant;
 
@@ -21,29 +20,16 @@ fn main() {
         ranges: vec![(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
         counts: vec![n; 3],
     };
-    // The joints and points once; per node only the steps (`fk_poses`).
-    let (ja, na) = (
-        SeedA::joints(&Default::default()),
-        SeedA::named_points(&Default::default()),
-    );
-    let (jb, nb) = (
-        SeedB::joints(&Default::default()),
-        SeedB::named_points(&Default::default()),
-    );
-    let g = |names: &[&str], named: &[[f64; 3]]| named[names.iter().position(|p| *p == "G").unwrap()];
-    // Named points follow the joints in POINTS.
-    let (ga, gb) = (g(&SeedA::POINTS[11..], &na), g(&SeedB::POINTS[11..], &nb));
-    let platform = 5;
+    // Prepared once; per node only the steps.
+    let (sa, sb) = (SeedA::prepare(&Default::default()), SeedB::prepare(&Default::default()));
+    let g = |names: &[&str]| names.iter().position(|p| *p == "G").unwrap();
+    let (ga, gb) = (g(&SeedA::POINTS), g(&SeedB::POINTS));
     // The paper's assembly: the five-bar above the sliders (its first sign
     // Minus in both), each root of the platform's angle.
     let (m, p) = (Sign::Minus, Sign::Plus);
     type Solve = Box<dyn Fn(&[f64; 3]) -> Option<[f64; 3]> + Sync>;
-    let a = move |signs| -> Solve {
-        Box::new(move |q| SeedA::fk_poses(&ja, &na, q, signs).ok().map(|t| at(&t[platform], ga)))
-    };
-    let b = move |signs| -> Solve {
-        Box::new(move |q| SeedB::fk_poses(&jb, &nb, q, signs).ok().map(|t| at(&t[platform], gb)))
-    };
+    let a = move |signs| -> Solve { Box::new(move |q| sa.fk_solution(q, signs).ok().map(|s| s.points[ga])) };
+    let b = move |signs| -> Solve { Box::new(move |q| sb.fk_solution(q, signs).ok().map(|s| s.points[gb])) };
     let runs: [(&str, Solve); 4] = [
         ("A (−, +)", a([m, p])),
         ("A (−, −)", a([m, m])),

@@ -276,7 +276,23 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
         }
         solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
         if !m.planar {
-            solvers.insert(1, crate::codegen_spatial::shared_items(a, ident));
+            let fk = if m.wants(Capability::Fk) {
+                Some(crate::plan3::forward_plan(a)?)
+            } else {
+                None
+            };
+            let ik = if m.wants(Capability::Ik) {
+                Some(crate::plan3::inverse_plan(a)?)
+            } else {
+                None
+            };
+            let prepared = crate::codegen_solver::generate(a, ident, vis, fk.as_ref(), ik.as_ref()).map_err(|e| {
+                Diagnostic::new(
+                    m.name_span(),
+                    format!("internal error: the solver's steps failed on symbols: {e}"),
+                )
+            })?;
+            solvers.insert(1, prepared);
         }
     }
     solvers.push(crate::codegen_motion::generate(a, ident)?);

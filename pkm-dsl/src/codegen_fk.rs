@@ -30,13 +30,13 @@ fn local_point(a: &Analysis, at: pkm_runtime::plan::PointRef, link: usize) -> To
 }
 
 /// Which angle a point-and-angle output carries.
-pub(crate) enum Angle<'a> {
+pub(crate) enum Angle {
     /// None: a point alone.
     None,
     /// The planar angle.
     Planar,
-    /// The angle about a spatial axis.
-    About(&'a Vec3),
+    /// The angle about a spatial axis (the prepared solver writes it).
+    About,
 }
 
 /// Every declared output's values: `let` statements and the flat list of
@@ -54,7 +54,7 @@ pub(crate) fn outputs(
                 *link,
                 *point,
                 match about {
-                    Some(k) => Angle::About(k),
+                    Some(_) => Angle::About,
                     None if a.mechanism.planar => Angle::Planar,
                     None => Angle::None,
                 },
@@ -170,11 +170,18 @@ pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, directi
             (body, result, branches, inputs, TokenStream::new())
         }
         PlanRef::Spatial(p) => {
-            let (poses_fn, what) = match direction {
-                Direction::Forward => (format_ident!("fk_poses"), "Forward"),
-                Direction::Inverse => (format_ident!("ik_poses"), "Inverse"),
+            // The prepared solver (`codegen_solver`) does the work.
+            let f = match direction {
+                Direction::Forward => format_ident!("fk_solution"),
+                Direction::Inverse => format_ident!("ik_solution"),
             };
-            crate::codegen_spatial::body(a, p, ident, &poses_fn, what)
+            (
+                quote! { let solution = Self::prepare(params).#f(q, signs)?; },
+                quote! { solution },
+                p.branches,
+                p.inputs.clone(),
+                TokenStream::new(),
+            )
         }
     };
     let solver = wrap(a, ident, direction, body, result, branches, &inputs, checks);

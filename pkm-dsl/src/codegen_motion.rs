@@ -3,8 +3,8 @@
 //! parameters, handed to the runtime's differentiated loop equations.
 
 use crate::analysis::Analysis;
-use crate::codegen_spatial::{place, xyz};
 use crate::geometry::OutputKind;
+use crate::geometry::{JointPlace, Vec3};
 use crate::model::Capability;
 use pkm_runtime::plan::PointRef;
 use proc_macro2::TokenStream;
@@ -35,7 +35,7 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
         ::core::result::Result::Ok(out)
     };
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
-        let kind = crate::codegen_spatial::joint_type(joint.kind);
+        let kind = joint_type(joint.kind);
         let [u, v] = joint.links;
         let (p0, p1) = (place(a.place(j, u)), place(a.place(j, v)));
         let (name, actuated) = (&joint.name, joint.actuated);
@@ -182,4 +182,47 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
             #acceleration
         }
     })
+}
+
+pub(crate) fn xyz(v: &Vec3) -> TokenStream {
+    let params = quote! { params };
+    let (x, y, z) = (
+        v[0].to_tokens(&params),
+        v[1].to_tokens(&params),
+        v[2].to_tokens(&params),
+    );
+    quote! { [#x, #y, #z] }
+}
+
+pub(crate) fn place(p: &JointPlace) -> TokenStream {
+    let m = quote! { ::pkm::runtime::model::Place };
+    match p {
+        JointPlace::Point(at, Some(axis)) => {
+            let (at, axis) = (xyz(at), xyz(axis));
+            quote! { #m::Axis { at: #at, axis: #axis } }
+        }
+        JointPlace::Point(at, None) => {
+            let at = xyz(at);
+            quote! { #m::Point { at: #at } }
+        }
+        JointPlace::Line(at, along) => {
+            let (at, along) = (xyz(at), xyz(along));
+            quote! { #m::Line { through: #at, along: #along } }
+        }
+        JointPlace::Arm(at, axis, arm) => {
+            let (at, axis, arm) = (xyz(at), xyz(axis), xyz(arm));
+            quote! { #m::Arm { at: #at, axis: #axis, arm: #arm } }
+        }
+    }
+}
+
+/// The runtime's joint type of a joint kind, as tokens.
+fn joint_type(kind: crate::model::JointKind) -> TokenStream {
+    let t = match crate::codegen_solver::joint_type(kind) {
+        pkm_runtime::model::JointType::P => quote! { P },
+        pkm_runtime::model::JointType::Pa => quote! { Pa },
+        pkm_runtime::model::JointType::S => quote! { S },
+        pkm_runtime::model::JointType::R => quote! { R },
+    };
+    quote! { ::pkm::runtime::model::JointType::#t }
 }

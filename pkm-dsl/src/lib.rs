@@ -27,6 +27,8 @@ pub use analysis::{analyze_source, Analysis};
 mod codegen;
 mod codegen_fk;
 mod codegen_motion;
-mod codegen_spatial;
+mod codegen_solver;
+mod emit;
+mod trace;
 
 pub use codegen::{check_capabilities, expand};

@@ -1,0 +1,512 @@
+//! The prepared solver: the plan's steps (`pkm_runtime::steps`) run on
+//! symbols ([`crate::trace`]) and written out as straight-line Rust
+//! ([`crate::emit`]). `Name::prepare(&params)` computes once what depends on
+//! the parameters alone; `fk_branch`, `fk` (every branch, sharing what the
+//! branches share), `fk_solution` and their `ik` twins compute the rest.
+
+use crate::analysis::Analysis;
+use crate::emit::Emit;
+use crate::expr::Expr;
+use crate::geometry::{JointPlace, OutputKind, Vec3};
+use crate::model::JointKind;
+use crate::trace::{record, Choice, Sym};
+use pkm_runtime::frame::Frame;
+use pkm_runtime::model::{JointType, Place};
+use pkm_runtime::primitives::Sign;
+use pkm_runtime::scalar::{cross, dot, reject, unit, Scalar};
+use pkm_runtime::spatial::Plan;
+use pkm_runtime::steps::{self, Geometry, Given, JointGeometry, RESIDUAL_ROWS};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// A parameter expression as a symbol: arithmetic traced, anything else
+/// (powers, functions) kept as Rust source.
+fn sym(e: &Expr) -> Sym {
+    match e {
+        Expr::Num(v) => Sym::c(*v),
+        Expr::Var(n, _) if n == "pi" => Sym::c(std::f64::consts::PI),
+        Expr::Var(n, _) => Sym::param(n),
+        Expr::Neg(a) => -sym(a),
+        Expr::Bin('+', a, b) => sym(a) + sym(b),
+        Expr::Bin('-', a, b) => sym(a) - sym(b),
+        Expr::Bin('*', a, b) => sym(a) * sym(b),
+        Expr::Bin('/', a, b) => sym(a) / sym(b),
+        _ => Sym::raw(e.to_tokens(&quote! { params }).to_string()),
+    }
+}
+
+fn sym3(v: &Vec3) -> [Sym; 3] {
+    [sym(&v[0]), sym(&v[1]), sym(&v[2])]
+}
+
+fn place(p: &JointPlace) -> Place<Sym> {
+    match p {
+        JointPlace::Point(at, Some(axis)) => Place::Axis {
+            at: sym3(at),
+            axis: sym3(axis),
+        },
+        JointPlace::Point(at, None) => Place::Point { at: sym3(at) },
+        JointPlace::Line(at, along) => Place::Line {
+            through: sym3(at),
+            along: sym3(along),
+        },
+        JointPlace::Arm(at, axis, arm) => Place::Arm {
+            at: sym3(at),
+            axis: sym3(axis),
+            arm: sym3(arm),
+        },
+    }
+}
+
+/// The runtime's joint type of a joint kind (every kind with a numeric
+/// model: the planners refuse the others before code is generated).
+pub(crate) fn joint_type(kind: JointKind) -> JointType {
+    match kind {
+        JointKind::P => JointType::P,
+        JointKind::Pa => JointType::Pa,
+        JointKind::S => JointType::S,
+        _ => JointType::R,
+    }
+}
+
+/// The mechanism's geometry in symbols of its parameters.
+fn geometry(a: &Analysis) -> Geometry<Sym> {
+    let m = &a.mechanism;
+    Geometry {
+        joints: m
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(j, joint)| {
+                let [u, v] = joint.links;
+                JointGeometry::new(
+                    joint_type(joint.kind),
+                    joint.links,
+                    [place(a.place(j, u)), place(a.place(j, v))],
+                )
+            })
+            .collect(),
+        named: a.geometry.points.iter().map(|p| sym3(&p.at)).collect(),
+    }
+}
+
+/// The angle `pose` is turned about unit `k` from the base's orientation
+/// (`pkm_runtime::spatial::angle_about`).
+fn angle_about(pose: &Frame<Sym>, k: [Sym; 3]) -> Sym {
+    let k = unit(k);
+    let (o, n) = (Sym::c(1.0), Sym::c(0.0));
+    let near_x = |a: Sym, b: Sym| Sym::if_less(k[0].abs(), Sym::c(0.9), a, b);
+    let e = unit(reject([near_x(o, n), near_x(n, o), n], k));
+    let r = pose.rotate(e);
+    dot(k, cross(e, r)).atan2(dot(e, r))
+}
+
+/// One branch's symbols: what the lean solver returns (the outputs, or the
+/// actuators' values), every joint value, every point, the declared
+/// outputs, the open joints' residual rows (rotation rows unscaled) and
+/// every link's origin.
+struct Branch {
+    result: Vec<Sym>,
+    values: Vec<Sym>,
+    points: Vec<[Sym; 3]>,
+    outputs: Vec<Sym>,
+    residual: Vec<Sym>,
+    origins: Vec<[Sym; 3]>,
+}
+
+/// Runs the plan on symbols.
+fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[Choice]) -> Result<Branch, String> {
+    let m = &a.mechanism;
+    let values: Vec<Sym> = (0..plan.n_inputs).map(Sym::given).collect();
+    let names: Vec<String> = m.joints.iter().map(|j| j.name.clone()).collect();
+    let name = |j: usize| std::borrow::Cow::Owned(names[j].clone());
+    let given = Given {
+        values: &values,
+        signs,
+        name: &name,
+    };
+    let state = steps::run(plan, g, m.links.len(), &given).map_err(|e| e.to_string())?;
+    // Names for the generated code's variables.
+    for (l, pose) in state.poses.iter().enumerate() {
+        for (i, c) in ["x", "y", "z"].iter().enumerate() {
+            pose.t[i].named(&|| format!("{}_{c}", m.links[l].name));
+        }
+    }
+    for (j, v) in state.values.iter().enumerate() {
+        if let Some(steps::JointValue::Turn(c, s, _)) = v {
+            c.named(&|| format!("cos_{}", m.joints[j].name));
+            s.named(&|| format!("sin_{}", m.joints[j].name));
+        }
+    }
+    let joint_values: Vec<Sym> = (0..m.joints.len()).map(|j| steps::value(g, &state, j)).collect();
+    let mut points: Vec<[Sym; 3]> = (0..m.joints.len())
+        .map(|j| {
+            let l = a.point_link(j);
+            state.poses[l].apply(g.local(pkm_runtime::plan::PointRef::Joint(j), l))
+        })
+        .collect();
+    points.extend(
+        a.geometry
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, p)| state.poses[p.link].apply(g.named[k])),
+    );
+    let mut outputs = Vec::new();
+    for o in &a.geometry.outputs {
+        match &o.kind {
+            OutputKind::Pose { link, point, about } => {
+                let pose = &state.poses[*link];
+                outputs.extend(pose.apply(g.local(*point, *link)));
+                match about {
+                    Some(k) => outputs.push(angle_about(pose, sym3(k))),
+                    None if m.planar => outputs.push(pose.r[1][0].atan2(pose.r[0][0])),
+                    None => {}
+                }
+            }
+            OutputKind::Point { link, point } => outputs.extend(state.poses[*link].apply(g.local(*point, *link))),
+            OutputKind::Joint(j) => outputs.push(joint_values[*j]),
+        }
+    }
+    let residual = steps::open_residual(g, &state.poses, &plan.open_joints(m.joints.len()), Sym::c(1.0));
+    let result = if forward {
+        outputs.clone()
+    } else {
+        (0..m.joints.len())
+            .filter(|&j| m.joints[j].actuated)
+            .map(|j| joint_values[j])
+            .collect()
+    };
+    Ok(Branch {
+        result,
+        values: joint_values,
+        points,
+        outputs,
+        residual,
+        origins: state.poses.iter().map(|p| p.t).collect(),
+    })
+}
+
+/// The traced branches of one direction: with the caller's signs, and each
+/// branch with fixed signs.
+struct Direction<'p> {
+    forward: bool,
+    plan: &'p Plan,
+    given: Branch,
+    every: Vec<Branch>,
+}
+
+fn xyz(p: &[TokenStream]) -> TokenStream {
+    quote! { [#(#p),*] }
+}
+
+/// The prepared solver of a spatial mechanism: `NamePrepared` and its
+/// functions, `Name::prepare`. `Err` names a step the symbols could not run.
+pub fn generate(
+    a: &Analysis,
+    ident: &proc_macro2::Ident,
+    vis: &syn::Visibility,
+    fk: Option<&Plan>,
+    ik: Option<&Plan>,
+) -> Result<TokenStream, String> {
+    let (directions, graph) = record(|| -> Result<Vec<Direction>, String> {
+        let g = geometry(a);
+        let mut out = Vec::new();
+        for (forward, plan) in [(true, fk), (false, ik)] {
+            let Some(plan) = plan else { continue };
+            let given_signs: Vec<Choice> = (0..plan.branches).map(Choice::Given).collect();
+            let given = branch(a, &g, plan, forward, &given_signs)?;
+            let every = (0..1usize << plan.branches)
+                .map(|b| {
+                    let signs: Vec<Choice> = (0..plan.branches)
+                        .map(|k| Choice::Fixed(k, if (b >> k) & 1 == 1 { Sign::Minus } else { Sign::Plus }))
+                        .collect();
+                    branch(a, &g, plan, forward, &signs)
+                })
+                .collect::<Result<_, _>>()?;
+            out.push(Direction {
+                forward,
+                plan,
+                given,
+                every,
+            });
+        }
+        Ok(out)
+    });
+    let directions = directions?;
+    let emit = Emit::new(&graph, a.mechanism.joints.iter().map(|j| j.name.clone()).collect());
+    let mut fns = Vec::new();
+    for d in &directions {
+        fns.push(direction(a, ident, &emit, d));
+    }
+    let prepared = format_ident!("{}Prepared", ident);
+    let params_ty = format_ident!("{}Params", ident);
+    let n = emit.slot_count();
+    let prepare = emit.prepare();
+    let doc = format!(
+        " `{}` prepared at its parameters ([`{ident}::prepare`]): what depends on the dimensions alone, computed once.",
+        a.mechanism.name
+    );
+    Ok(quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #prepared {
+            k: [f64; #n],
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// The solver prepared at `params`: every product of the
+            /// dimensions the solvers use, computed once.
+            pub fn prepare(params: &#params_ty) -> #prepared {
+                let _ = params;
+                #prepared { k: { #prepare } }
+            }
+        }
+
+        #(#fns)*
+    })
+}
+
+/// The prepared functions of one direction.
+fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime::plan };
+    let prepared = format_ident!("{}Prepared", ident);
+    let sol_ty = format_ident!("{}Solution", ident);
+    let (name, what) = if d.forward {
+        ("fk", "Forward")
+    } else {
+        ("ik", "Inverse")
+    };
+    let f_branch = format_ident!("{}_branch", name);
+    let f_all = format_ident!("{}", name);
+    let f_solution = format_ident!("{}_solution", name);
+    let f_unverified = format_ident!("{}_unverified", name);
+    let f_inconsistent = format_ident!("{}_inconsistent", name);
+    let n_given = d.plan.n_inputs;
+    let n_choices = d.plan.branches;
+    let n_result = d.given.result.len();
+    let n_rows = d.given.residual.len();
+    let open = d.plan.open_joints(m.joints.len());
+    let open_names: Vec<&str> = open.iter().map(|&j| m.joints[j].name.as_str()).collect();
+    let n_open = open.len();
+    let (given_names, result_angles) = if d.forward {
+        (quote! { #ident::INPUTS }, quote! { #ident::OUTPUT_ANGLES })
+    } else {
+        let revolute: Vec<bool> = m
+            .joints
+            .iter()
+            .filter(|j| j.actuated)
+            .map(|j| j.kind != JointKind::P)
+            .collect();
+        (quote! { #ident::OUTPUTS }, quote! { [#(#revolute),*] })
+    };
+    let angular: Vec<bool> = {
+        let model = crate::plan::model(a, &Default::default());
+        match model {
+            Ok(model) => {
+                let joints: Vec<pkm_runtime::spatial::Joint3> =
+                    model.joints.iter().map(pkm_runtime::spatial::Joint3::of).collect();
+                d.plan.angular_inputs(&joints)
+            }
+            Err(_) => vec![false; n_given],
+        }
+    };
+    let finite = quote! {
+        if !given.iter().all(|v| v.is_finite()) {
+            return ::core::result::Result::Err(#rt::SolveError::BadInput {
+                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+            });
+        }
+    };
+    let rows_of = |residual: &[TokenStream]| -> TokenStream {
+        // Rotation rows scale with the extent (see `closure_residual`).
+        let rows = residual.iter().enumerate().map(|(i, r)| {
+            if i % RESIDUAL_ROWS >= 3 {
+                quote! { #r * extent }
+            } else {
+                quote! { #r }
+            }
+        });
+        quote! { [#(#rows),*] }
+    };
+    let extent_of = |origins: &[TokenStream]| quote! { ::pkm::runtime::consistency::extent(&[#(#origins),*]) };
+
+    // One branch, the caller's signs: the result, then the residual rows.
+    let mut roots = d.given.result.clone();
+    roots.extend(&d.given.residual);
+    roots.extend(d.given.origins.iter().flatten());
+    let (lets, exprs) = emit.straight(&roots);
+    let (result, rest) = exprs.split_at(n_result);
+    let (residual, origins) = rest.split_at(n_rows);
+    let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
+    let (rows, extent) = (rows_of(residual), extent_of(&origins));
+    let verified_doc = " Verified: the joints no step closes must close.";
+    let lean_doc = if d.forward {
+        format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the declared outputs (`OUTPUTS`).")
+    } else {
+        format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the actuators' values (`INPUTS`).")
+    };
+    let given_sig = quote! { given: &[f64; #n_given], signs: [::pkm::runtime::primitives::Sign; #n_choices] };
+    let lean = if open.is_empty() {
+        quote! {
+            #[doc = #lean_doc]
+            pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
+                let _ = &signs;
+                #finite
+                #lets
+                ::core::result::Result::Ok([#(#result),*])
+            }
+        }
+    } else {
+        quote! {
+            #[doc = #lean_doc]
+            #[doc = #verified_doc]
+            #[inline]
+            pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
+                let (result, rows, extent) = self.#f_unverified(given, signs)?;
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                }
+                ::core::result::Result::Ok(result)
+            }
+
+            /// One branch unverified: the result, the open joints' residual rows, their extent.
+            #[inline]
+            fn #f_unverified(&self, #given_sig) -> ::core::result::Result<([f64; #n_result], [f64; #n_rows], f64), #rt::SolveError> {
+                let _ = &signs;
+                #finite
+                #lets
+                let extent = #extent;
+                ::core::result::Result::Ok(([#(#result),*], #rows, extent))
+            }
+
+            /// Why a branch whose open joint does not close is inconsistent:
+            /// the given value the others contradict, found by re-solving nearby.
+            #[cold]
+            fn #f_inconsistent(&self, #given_sig, row: usize, gap: f64, extent: f64) -> #rt::SolveError {
+                const OPEN: [&str; #n_open] = [#(#open_names),*];
+                const ANGULAR: [bool; #n_given] = [#(#angular),*];
+                let owner = ::std::borrow::Cow::Owned(::std::format!("joint {}", OPEN[row / #RESIDUAL_ROWS]));
+                let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
+                    let g: &[f64; #n_given] = g.try_into().ok()?;
+                    self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
+                });
+                ::pkm::runtime::consistency::name_given(e, &#given_names)
+            }
+        }
+    };
+
+    // The whole solution, one branch.
+    let mut roots: Vec<Sym> = d.given.values.clone();
+    roots.extend(d.given.points.iter().flatten());
+    roots.extend(&d.given.outputs);
+    roots.extend(&d.given.residual);
+    roots.extend(d.given.origins.iter().flatten());
+    let (lets, exprs) = emit.straight(&roots);
+    let n_joints = m.joints.len();
+    let n_points = d.given.points.len();
+    let n_outputs = d.given.outputs.len();
+    let (values, rest) = exprs.split_at(n_joints);
+    let (points, rest) = rest.split_at(3 * n_points);
+    let (outputs, rest) = rest.split_at(n_outputs);
+    let (residual, origins) = rest.split_at(n_rows);
+    let points: Vec<TokenStream> = points.chunks(3).map(xyz).collect();
+    let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
+    let (rows, extent) = (rows_of(residual), extent_of(&origins));
+    let check = if open.is_empty() {
+        quote! {}
+    } else {
+        quote! {
+            let extent = #extent;
+            let rows = #rows;
+            if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+            }
+        }
+    };
+    let solution_doc = format!(" {what} position for one branch: every joint value and every point.");
+    let solution = quote! {
+        #[doc = #solution_doc]
+        pub fn #f_solution(&self, #given_sig) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+            let _ = &signs;
+            #finite
+            #lets
+            #check
+            ::core::result::Result::Ok(#sol_ty {
+                q: [#(#values),*],
+                points: [#(#points),*],
+                outputs: [#(#outputs),*],
+            })
+        }
+    };
+
+    // Every branch, what they share computed once.
+    let roots: Vec<Vec<Sym>> = d
+        .every
+        .iter()
+        .map(|b| {
+            let mut r = b.result.clone();
+            r.extend(&b.residual);
+            r.extend(b.origins.iter().flatten());
+            r
+        })
+        .collect();
+    let n_solutions = d.every.len();
+    let body = emit.branches(&roots, n_choices, &|b, exprs, label| {
+        let (result, rest) = exprs.split_at(n_result);
+        let (residual, origins) = rest.split_at(n_rows);
+        let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
+        if open.is_empty() {
+            quote! { ::core::result::Result::Ok([#(#result),*]) }
+        } else {
+            let (rows, extent) = (rows_of(residual), extent_of(&origins));
+            quote! {
+                let extent = #extent;
+                let rows = #rows;
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                    break #label (::core::result::Result::Err(
+                        self.#f_inconsistent(given, #rt::signs_of::<#n_choices>(#b), row, gap, extent),
+                    ));
+                }
+                ::core::result::Result::Ok([#(#result),*])
+            }
+        }
+    });
+    let all_doc = format!(
+        " {what} position, every branch ({n_solutions}, in `signs_of` order), what the branches share computed once."
+    );
+    let all = quote! {
+        #[doc = #all_doc]
+        /// A branch that is another's solution again (a double root) is
+        /// `SolveError::DoubleRoot`, and its twin is `tangent`.
+        pub fn #f_all(&self, given: &[f64; #n_given]) -> [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] {
+            let mut out: [::core::result::Result<[f64; #n_result], #rt::SolveError>; #n_solutions] =
+                ::core::array::from_fn(|_| ::core::result::Result::Err(#rt::SolveError::BadInput {
+                    what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+                }));
+            if given.iter().all(|v| v.is_finite()) {
+                #body
+            }
+            let mut out = out.into_iter();
+            let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
+                signs: #rt::signs_of::<#n_choices>(i),
+                result: out.next().unwrap_or_else(|| ::core::result::Result::Err(#rt::SolveError::BadInput {
+                    what: ::std::borrow::Cow::Borrowed("no branch"),
+                })),
+                tangent: false,
+            });
+            ::pkm::runtime::consistency::mark_double_roots(&mut all, &#result_angles, |s: &[f64; #n_result]| &s[..]);
+            all
+        }
+    };
+    quote! {
+        #[automatically_derived]
+        impl #prepared {
+            #lean
+            #all
+            #solution
+        }
+    }
+}

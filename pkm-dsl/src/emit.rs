@@ -1,0 +1,406 @@
+//! Writes a recorded graph ([`crate::trace`]) out as straight-line Rust.
+//!
+//! A node that depends on the parameters alone becomes a slot of the
+//! prepared solver, computed once by `prepare`; a node that depends on the
+//! given values becomes a `let` where it is used more than once (or is a
+//! kernel call, which can fail), and is written inline where it is used
+//! once. Constants are literals.
+
+use crate::trace::{operands, Choice, Graph, Node, Sym};
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+/// The emitter of one graph: the prepared slots it has handed out so far.
+pub struct Emit<'g> {
+    g: &'g Graph,
+    slots: RefCell<Vec<Sym>>,
+    slot_of: RefCell<HashMap<Sym, usize>>,
+    /// The joint names, for errors.
+    joints: Vec<String>,
+}
+
+/// A literal f64 (NaN and infinities by name).
+pub fn lit(x: f64) -> TokenStream {
+    if x.is_nan() {
+        quote! { ::core::f64::NAN }
+    } else if x.is_infinite() {
+        if x > 0.0 {
+            quote! { ::core::f64::INFINITY }
+        } else {
+            quote! { ::core::f64::NEG_INFINITY }
+        }
+    } else if x < 0.0 {
+        let l = Literal::f64_suffixed(-x);
+        quote! { (-#l) }
+    } else {
+        let l = Literal::f64_suffixed(x);
+        quote! { #l }
+    }
+}
+
+/// How a function under emission refers to its nodes.
+struct Scope {
+    uses: HashMap<Sym, usize>,
+    bound: RefCell<HashMap<Sym, TokenStream>>,
+}
+
+impl<'g> Emit<'g> {
+    /// An emitter for `g`; `joints` names the joints for errors.
+    pub fn new(g: &'g Graph, joints: Vec<String>) -> Self {
+        Emit {
+            g,
+            slots: RefCell::default(),
+            slot_of: RefCell::default(),
+            joints,
+        }
+    }
+
+    fn node(&self, s: Sym) -> &Node {
+        &self.g.nodes[s.0 as usize]
+    }
+
+    fn live(&self, s: Sym) -> bool {
+        self.g.live[s.0 as usize]
+    }
+
+    /// The prepared slot of a parameter-only node.
+    fn slot(&self, s: Sym) -> TokenStream {
+        let mut of = self.slot_of.borrow_mut();
+        let i = *of.entry(s).or_insert_with(|| {
+            let mut slots = self.slots.borrow_mut();
+            slots.push(s);
+            slots.len() - 1
+        });
+        quote! { self.k[#i] }
+    }
+
+    /// How many slots the prepared solver has.
+    pub fn slot_count(&self) -> usize {
+        self.slots.borrow().len()
+    }
+
+    /// The live nodes reachable from `roots` (not through parameter-only
+    /// nodes), in recorded order, with their use counts.
+    fn reach(&self, roots: &[Sym]) -> (Vec<Sym>, HashMap<Sym, usize>) {
+        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        let mut seen = vec![false; self.g.nodes.len()];
+        let mut stack: Vec<Sym> = roots.to_vec();
+        for r in roots {
+            *uses.entry(*r).or_default() += 2;
+        }
+        while let Some(s) = stack.pop() {
+            if seen[s.0 as usize] || !self.live(s) {
+                continue;
+            }
+            seen[s.0 as usize] = true;
+            for o in operands(self.node(s)) {
+                *uses.entry(o).or_default() += 1;
+                stack.push(o);
+            }
+        }
+        let order = (0..self.g.nodes.len() as u32)
+            .map(Sym)
+            .filter(|s| seen[s.0 as usize])
+            .collect();
+        (order, uses)
+    }
+
+    /// An expression for `s`, in `scope`.
+    fn expr(&self, s: Sym, scope: &Scope) -> TokenStream {
+        if let Some(x) = self.g.constant(s) {
+            return lit(x);
+        }
+        if let Some(t) = scope.bound.borrow().get(&s) {
+            return t.clone();
+        }
+        if !self.live(s) {
+            return self.slot(s);
+        }
+        self.compute(s, scope, &|s| self.expr(s, scope))
+    }
+
+    /// The node's own operation on its operands' expressions.
+    fn compute(&self, s: Sym, scope: &Scope, e: &dyn Fn(Sym) -> TokenStream) -> TokenStream {
+        let _ = scope;
+        match self.node(s) {
+            Node::Const(b) => lit(f64::from_bits(*b)),
+            Node::Param(n) => {
+                let id = format_ident!("{}", n);
+                quote! { params.#id }
+            }
+            Node::Given(k) => quote! { given[#k] },
+            Node::Add(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { (#a + #b) }
+            }
+            Node::Sub(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { (#a - #b) }
+            }
+            Node::Mul(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { (#a * #b) }
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { (#a / #b) }
+            }
+            Node::Neg(a) => {
+                let a = e(*a);
+                quote! { (-#a) }
+            }
+            Node::Sqrt(a) => {
+                let a = e(*a);
+                quote! { #a.sqrt() }
+            }
+            Node::Sin(a) => {
+                let a = e(*a);
+                quote! { #a.sin() }
+            }
+            Node::Cos(a) => {
+                let a = e(*a);
+                quote! { #a.cos() }
+            }
+            Node::Abs(a) => {
+                let a = e(*a);
+                quote! { #a.abs() }
+            }
+            Node::Atan2(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { #a.atan2(#b) }
+            }
+            Node::IfLess(a, b, c, d) => {
+                let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
+                quote! { if #a < #b { #c } else { #d } }
+            }
+            Node::Raw(text) => text.parse().unwrap_or_else(|_| quote! { ::core::f64::NAN }),
+            Node::Kernel(k, args, choice, _) => {
+                let (m, f) = k.path();
+                let (m, f) = (format_ident!("{}", m), format_ident!("{}", f));
+                let args = args.iter().map(|a| e(*a));
+                let sign = match choice {
+                    Choice::One => quote! { ::pkm::runtime::primitives::Sign::Plus },
+                    Choice::Fixed(_, pkm_runtime::primitives::Sign::Plus) => {
+                        quote! { ::pkm::runtime::primitives::Sign::Plus }
+                    }
+                    Choice::Fixed(_, pkm_runtime::primitives::Sign::Minus) => {
+                        quote! { ::pkm::runtime::primitives::Sign::Minus }
+                    }
+                    Choice::Given(b) => quote! { signs[#b] },
+                };
+                quote! { ::pkm::runtime::steps::#m::#f(&[#(#args),*], #sign) }
+            }
+            Node::Result(call, i) => {
+                let c = e(*call);
+                quote! { #c[#i] }
+            }
+        }
+    }
+
+    fn name(&self, s: Sym) -> proc_macro2::Ident {
+        match &self.g.names[s.0 as usize] {
+            Some(n) => format_ident!("{}_{}", n, s.0),
+            None => format_ident!("v{}", s.0),
+        }
+    }
+
+    /// `let` statements for the nodes of `order` that `keep` selects, where
+    /// bound (used twice, a kernel call); kernel failures go to `fail`
+    /// (given the error expression).
+    fn lets(
+        &self,
+        order: &[Sym],
+        scope: &Scope,
+        keep: &dyn Fn(Sym) -> bool,
+        fail: &dyn Fn(TokenStream) -> TokenStream,
+    ) -> TokenStream {
+        let mut out = TokenStream::new();
+        for &s in order {
+            if !keep(s) || scope.bound.borrow().contains_key(&s) {
+                continue;
+            }
+            let node = self.node(s);
+            let is_kernel = matches!(node, Node::Kernel(..));
+            let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
+            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_)) {
+                continue;
+            }
+            let v = self.name(s);
+            let e = self.compute(s, scope, &|o| self.expr(o, scope));
+            if let Node::Kernel(_, _, _, [step, joint]) = node {
+                let name = &self.joints[*joint];
+                let err = fail(quote! {
+                    ::pkm::runtime::plan::step_error(#step, ::std::borrow::Cow::Borrowed(#name), e)
+                });
+                out.extend(quote! {
+                    let #v = match #e {
+                        ::core::result::Result::Ok(r) => r,
+                        ::core::result::Result::Err(e) => #err,
+                    };
+                });
+            } else {
+                out.extend(quote! { let #v = #e; });
+            }
+            scope.bound.borrow_mut().insert(s, quote! { #v });
+        }
+        out
+    }
+
+    /// A function body computing `roots` (one branch, signs as given):
+    /// the statements, and the roots' expressions.
+    pub fn straight(&self, roots: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
+        let (order, uses) = self.reach(roots);
+        let scope = Scope {
+            uses,
+            bound: RefCell::default(),
+        };
+        let lets = self.lets(
+            &order,
+            &scope,
+            &|_| true,
+            &|e| quote! { return ::core::result::Result::Err(#e) },
+        );
+        let out = roots.iter().map(|r| self.expr(*r, &scope)).collect();
+        (lets, out)
+    }
+
+    /// Every branch at once, each branch's roots computed under nested
+    /// blocks per ± choice so that what branches share is computed once:
+    /// `leaf(b, roots)` writes branch b's result from its roots'
+    /// expressions; statements assign `out[b]`.
+    pub fn branches(
+        &self,
+        roots: &[Vec<Sym>],
+        choices: usize,
+        leaf: &dyn Fn(usize, Vec<TokenStream>, &syn::Lifetime) -> TokenStream,
+    ) -> TokenStream {
+        let all: Vec<Sym> = roots.iter().flatten().copied().collect();
+        let (order, uses) = self.reach(&all);
+        let scope = Scope {
+            uses,
+            bound: RefCell::default(),
+        };
+        self.level(&order, &scope, roots, choices, 0, 0, leaf)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn level(
+        &self,
+        order: &[Sym],
+        scope: &Scope,
+        roots: &[Vec<Sym>],
+        choices: usize,
+        depth: usize,
+        path: u64,
+        leaf: &dyn Fn(usize, Vec<TokenStream>, &syn::Lifetime) -> TokenStream,
+    ) -> TokenStream {
+        let depth_mask = if depth == 0 { 0 } else { (1u64 << depth) - 1 };
+        let keep = |s: Sym| {
+            let (which, values) = self.g.signs[s.0 as usize];
+            let top = if which == 0 {
+                0
+            } else {
+                64 - which.leading_zeros() as usize
+            };
+            top == depth && which & !depth_mask == 0 && (values & which) == (path & which)
+        };
+        let label = syn::Lifetime::new(&format!("'b{depth}_{path}"), proc_macro2::Span::call_site());
+        // What this block binds goes out of scope with it.
+        let outer = scope.bound.borrow().clone();
+        let lets = self.lets(
+            order,
+            scope,
+            &keep,
+            &|e| quote! { break #label (::core::result::Result::Err(#e)) },
+        );
+        // The branches below this path.
+        let below: Vec<usize> = (0..roots.len()).filter(|&b| (b as u64) & depth_mask == path).collect();
+        let inner = if depth == choices {
+            let b = below[0];
+            let exprs = roots[b].iter().map(|r| self.expr(*r, scope)).collect();
+            let body = leaf(b, exprs, &label);
+            quote! { out[#b] = #label: { #lets #body }; }
+        } else {
+            let mut t = TokenStream::new();
+            for bit in [0u64, 1] {
+                t.extend(self.level(order, scope, roots, choices, depth + 1, path | (bit << depth), leaf));
+            }
+            t
+        };
+        *scope.bound.borrow_mut() = outer;
+        if depth == choices {
+            inner
+        } else {
+            let fan = below
+                .iter()
+                .map(|b| quote! { out[#b] = ::core::result::Result::Err(e.clone()); });
+            quote! {
+                let r: ::core::result::Result<(), ::pkm::runtime::plan::SolveError> = #label: {
+                    #lets
+                    #inner
+                    ::core::result::Result::Ok(())
+                };
+                if let ::core::result::Result::Err(e) = r {
+                    #(#fan)*
+                }
+            }
+        }
+    }
+
+    /// `prepare`'s body: every slot handed out, computed from `params`.
+    pub fn prepare(&self) -> TokenStream {
+        let slots = self.slots.borrow().clone();
+        let (order, uses) = {
+            // Parameter-only nodes reachable from the slots.
+            let mut uses: HashMap<Sym, usize> = HashMap::new();
+            let mut seen = vec![false; self.g.nodes.len()];
+            let mut stack = slots.clone();
+            for s in &slots {
+                *uses.entry(*s).or_default() += 2;
+            }
+            while let Some(s) = stack.pop() {
+                if seen[s.0 as usize] {
+                    continue;
+                }
+                seen[s.0 as usize] = true;
+                for o in operands(self.node(s)) {
+                    *uses.entry(o).or_default() += 1;
+                    stack.push(o);
+                }
+            }
+            let order: Vec<Sym> = (0..self.g.nodes.len() as u32)
+                .map(Sym)
+                .filter(|s| seen[s.0 as usize])
+                .collect();
+            (order, uses)
+        };
+        let scope = Scope {
+            uses,
+            bound: RefCell::default(),
+        };
+        let mut lets = TokenStream::new();
+        for &s in &order {
+            if self.g.constant(s).is_some() || scope.uses.get(&s).copied().unwrap_or(0) < 2 {
+                continue;
+            }
+            let v = self.name(s);
+            let e = self.compute(s, &scope, &|o| self.prepared_expr(o, &scope));
+            lets.extend(quote! { let #v = #e; });
+            scope.bound.borrow_mut().insert(s, quote! { #v });
+        }
+        let values = slots.iter().map(|s| self.prepared_expr(*s, &scope));
+        quote! { #lets [#(#values),*] }
+    }
+
+    fn prepared_expr(&self, s: Sym, scope: &Scope) -> TokenStream {
+        if let Some(x) = self.g.constant(s) {
+            return lit(x);
+        }
+        if let Some(t) = scope.bound.borrow().get(&s) {
+            return t.clone();
+        }
+        self.compute(s, scope, &|o| self.prepared_expr(o, scope))
+    }
+}

@@ -1,0 +1,308 @@
+//! The symbolic scalar the code generator runs the solver steps with.
+//!
+//! `pkm_runtime::steps` are generic over `Scalar`; run with [`Sym`], every
+//! operation is recorded in a [`Graph`] instead of done. Constants fold as
+//! they are recorded (exact zeros and ones disappear, so a rotation about a
+//! coordinate axis keeps its four moving entries), equal nodes are shared
+//! (one node per distinct expression), and each node knows whether it
+//! depends on the solver's given values or on the parameters alone: the
+//! latter are computed once, when the solver is prepared. The emitter
+//! ([`crate::emit`]) writes the recorded graph out as straight-line Rust.
+
+use pkm_runtime::primitives::{Error as GeomError, Sign};
+use pkm_runtime::scalar::Scalar;
+use pkm_runtime::steps::Kernel;
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+/// A recorded value: an index into the current [`Graph`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Sym(pub u32);
+
+/// A root choice in generated code: fixed, or the caller's `signs[k]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Choice {
+    /// A kernel with one root.
+    One,
+    /// Branch variable k with this sign.
+    Fixed(usize, Sign),
+    /// `signs[k]` at run time.
+    Given(usize),
+}
+
+/// One recorded operation.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// A constant (its bits).
+    Const(u64),
+    /// The parameter of this name.
+    Param(String),
+    /// Given value number k.
+    Given(usize),
+    /// A parameter expression the steps cannot trace (a power, a tangent):
+    /// Rust source in `params`.
+    Raw(String),
+    /// `a + b`.
+    Add(Sym, Sym),
+    /// `a − b`.
+    Sub(Sym, Sym),
+    /// `a · b`.
+    Mul(Sym, Sym),
+    /// `a / b`.
+    Div(Sym, Sym),
+    /// `−a`.
+    Neg(Sym),
+    /// `√a`.
+    Sqrt(Sym),
+    /// `sin a`.
+    Sin(Sym),
+    /// `cos a`.
+    Cos(Sym),
+    /// `|a|`.
+    Abs(Sym),
+    /// `atan2(a, b)`.
+    Atan2(Sym, Sym),
+    /// `if a < b { c } else { d }`.
+    IfLess(Sym, Sym, Sym, Sym),
+    /// A kernel call: its arguments, root choice and site (step, joint).
+    Kernel(Kernel, Vec<Sym>, Choice, [usize; 2]),
+    /// Result `i` of a kernel call.
+    Result(Sym, usize),
+}
+
+/// What the graph knows about each node.
+#[derive(Debug, Clone, Default)]
+pub struct Graph {
+    /// The nodes in the order recorded (operands before their uses).
+    pub nodes: Vec<Node>,
+    /// Whether a node depends on a given value (else on parameters alone).
+    pub live: Vec<bool>,
+    /// The signs a node depends on: `(which, values)` bit masks.
+    pub signs: Vec<(u64, u64)>,
+    /// A name for the node, where the steps gave one.
+    pub names: Vec<Option<String>>,
+    index: HashMap<Node, Sym>,
+}
+
+thread_local! {
+    static GRAPH: RefCell<Graph> = RefCell::new(Graph::default());
+}
+
+/// Runs `f` with a fresh graph and returns what it returned and the graph.
+pub fn record<R>(f: impl FnOnce() -> R) -> (R, Graph) {
+    GRAPH.with(|g| *g.borrow_mut() = Graph::default());
+    let r = f();
+    let g = GRAPH.with(|g| std::mem::take(&mut *g.borrow_mut()));
+    (r, g)
+}
+
+impl Graph {
+    /// The constant a node is, if it is one.
+    pub fn constant(&self, s: Sym) -> Option<f64> {
+        match self.nodes[s.0 as usize] {
+            Node::Const(b) => Some(f64::from_bits(b)),
+            _ => None,
+        }
+    }
+
+    fn add(&mut self, n: Node) -> Sym {
+        if let Some(&s) = self.index.get(&n) {
+            return s;
+        }
+        let operands = operands(&n);
+        let mut live = matches!(n, Node::Given(_) | Node::Kernel(..));
+        let mut signs = (0u64, 0u64);
+        for o in &operands {
+            live |= self.live[o.0 as usize];
+            let (w, v) = self.signs[o.0 as usize];
+            signs = (signs.0 | w, signs.1 | v);
+        }
+        if let Node::Kernel(_, _, Choice::Fixed(b, sign), _) = &n {
+            let bit = 1u64 << b;
+            signs.0 |= bit;
+            if *sign == Sign::Minus {
+                signs.1 |= bit;
+            }
+        }
+        let s = Sym(self.nodes.len() as u32);
+        self.nodes.push(n.clone());
+        self.live.push(live);
+        self.signs.push(signs);
+        self.names.push(None);
+        self.index.insert(n, s);
+        s
+    }
+}
+
+/// The operands of a node.
+pub fn operands(n: &Node) -> Vec<Sym> {
+    match n {
+        Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Raw(_) => vec![],
+        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => vec![*a, *b],
+        Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) | Node::Result(a, _) => vec![*a],
+        Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
+        Node::Kernel(_, args, _, _) => args.clone(),
+    }
+}
+
+fn with<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
+    GRAPH.with(|g| f(&mut g.borrow_mut()))
+}
+
+fn node(n: Node) -> Sym {
+    with(|g| g.add(n))
+}
+
+fn konst(s: Sym) -> Option<f64> {
+    with(|g| g.constant(s))
+}
+
+impl Sym {
+    /// A parameter.
+    pub fn param(name: &str) -> Sym {
+        node(Node::Param(name.to_string()))
+    }
+
+    /// A parameter expression as Rust source (in `params`).
+    pub fn raw(text: String) -> Sym {
+        node(Node::Raw(text))
+    }
+
+    /// Given value number `k`.
+    pub fn given(k: usize) -> Sym {
+        node(Node::Given(k))
+    }
+
+    fn unary(self, f: fn(f64) -> f64, n: fn(Sym) -> Node) -> Sym {
+        match konst(self) {
+            Some(a) => Sym::c(f(a)),
+            None => node(n(self)),
+        }
+    }
+}
+
+impl std::ops::Add for Sym {
+    type Output = Sym;
+    fn add(self, b: Sym) -> Sym {
+        match (konst(self), konst(b)) {
+            (Some(x), Some(y)) => Sym::c(x + y),
+            (Some(0.0), _) => b,
+            (_, Some(0.0)) => self,
+            _ => node(Node::Add(self, b)),
+        }
+    }
+}
+
+impl std::ops::Sub for Sym {
+    type Output = Sym;
+    fn sub(self, b: Sym) -> Sym {
+        match (konst(self), konst(b)) {
+            (Some(x), Some(y)) => Sym::c(x - y),
+            (Some(0.0), _) => -b,
+            (_, Some(0.0)) => self,
+            // Exact for the finite values the solvers take.
+            _ if self == b => Sym::c(0.0),
+            // (a + b) − b = a is not exact in floating point: kept as is.
+            _ => node(Node::Sub(self, b)),
+        }
+    }
+}
+
+impl std::ops::Mul for Sym {
+    type Output = Sym;
+    fn mul(self, b: Sym) -> Sym {
+        match (konst(self), konst(b)) {
+            (Some(x), Some(y)) => Sym::c(x * y),
+            (Some(x), _) | (_, Some(x)) if x == 0.0 => Sym::c(0.0),
+            (Some(1.0), _) => b,
+            (_, Some(1.0)) => self,
+            (Some(-1.0), _) => -b,
+            (_, Some(-1.0)) => -self,
+            _ => node(Node::Mul(self, b)),
+        }
+    }
+}
+
+impl std::ops::Div for Sym {
+    type Output = Sym;
+    fn div(self, b: Sym) -> Sym {
+        match (konst(self), konst(b)) {
+            (Some(x), Some(y)) => Sym::c(x / y),
+            (_, Some(1.0)) => self,
+            (_, Some(-1.0)) => -self,
+            _ => node(Node::Div(self, b)),
+        }
+    }
+}
+
+impl std::ops::Neg for Sym {
+    type Output = Sym;
+    fn neg(self) -> Sym {
+        if let Some(x) = konst(self) {
+            return Sym::c(-x);
+        }
+        match with(|g| g.nodes[self.0 as usize].clone()) {
+            Node::Neg(a) => a,
+            Node::Sub(a, b) => b - a,
+            _ => node(Node::Neg(self)),
+        }
+    }
+}
+
+impl Scalar for Sym {
+    type Choice = Choice;
+
+    fn c(x: f64) -> Self {
+        // −0 is 0 here: the steps never rely on the sign of a zero.
+        node(Node::Const(if x == 0.0 { 0.0f64 } else { x }.to_bits()))
+    }
+    fn sqrt(self) -> Self {
+        self.unary(f64::sqrt, Node::Sqrt)
+    }
+    fn sin(self) -> Self {
+        self.unary(f64::sin, Node::Sin)
+    }
+    fn cos(self) -> Self {
+        self.unary(f64::cos, Node::Cos)
+    }
+    fn abs(self) -> Self {
+        self.unary(f64::abs, Node::Abs)
+    }
+    fn atan2(self, x: Self) -> Self {
+        match (konst(self), konst(x)) {
+            (Some(a), Some(b)) => Sym::c(a.atan2(b)),
+            _ => node(Node::Atan2(self, x)),
+        }
+    }
+    fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
+        if then == otherwise {
+            return then;
+        }
+        match (konst(a), konst(b)) {
+            (Some(x), Some(y)) => {
+                if x < y {
+                    then
+                } else {
+                    otherwise
+                }
+            }
+            _ => node(Node::IfLess(a, b, then, otherwise)),
+        }
+    }
+    fn kernel(kernel: Kernel, args: &[Self], choice: Choice, site: [usize; 2]) -> Result<[Self; 2], GeomError<f64>> {
+        let call = node(Node::Kernel(kernel, args.to_vec(), choice, site));
+        Ok([node(Node::Result(call, 0)), node(Node::Result(call, 1))])
+    }
+    fn named(self, name: &dyn Fn() -> String) -> Self {
+        with(|g| {
+            let i = self.0 as usize;
+            if g.names[i].is_none() && !matches!(g.nodes[i], Node::Const(_) | Node::Param(_) | Node::Given(_)) {
+                g.names[i] = Some(name());
+            }
+        });
+        self
+    }
+    fn choice(signs: &[Choice], k: Option<usize>) -> Choice {
+        k.map_or(Choice::One, |k| signs[k])
+    }
+}
