@@ -58,6 +58,14 @@ pub fn extent<const N: usize>(points: &[[f64; N]]) -> f64 {
         .fold(1.0, f64::max)
 }
 
+/// Whether every residual component is within [`VERIFY_TOL`]` · extent`
+/// (NaN is not): the fast path before [`worst`].
+#[inline]
+pub fn within(residual: &[f64], extent: f64) -> bool {
+    let tol = VERIFY_TOL * extent;
+    residual.iter().all(|r| r.abs() <= tol)
+}
+
 /// The largest residual component, if it exceeds [`VERIFY_TOL`]` · extent`
 /// (or is not finite): its index and magnitude.
 pub fn worst(residual: &[f64], extent: f64) -> Option<(usize, f64)> {

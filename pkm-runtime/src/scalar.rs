@@ -58,6 +58,11 @@ pub trait Scalar:
         choice: Self::Choice,
         site: [usize; 2],
     ) -> Result<[Self; 2], GeomError<f64>>;
+    /// `Ok` where `a < b`; otherwise (NaN included) the kernel fails with
+    /// `failure`. `site` is the step and the joint it solves.
+    fn require(a: Self, b: Self, failure: Failure<Self>, site: [usize; 2]) -> Result<(), GeomError<f64>>;
+    /// The root `choice` picks of two.
+    fn pick(choice: Self::Choice, plus: Self, minus: Self) -> Self;
     /// Names the value (generated code's variable names); no effect on numbers.
     fn named(self, _name: &dyn Fn() -> String) -> Self {
         self
@@ -106,9 +111,77 @@ impl Scalar for f64 {
         kernel.eval(args, choice)
     }
     #[inline]
+    fn require(a: Self, b: Self, failure: Failure<Self>, _site: [usize; 2]) -> Result<(), GeomError<f64>> {
+        if a < b {
+            Ok(())
+        } else {
+            Err(failure.error())
+        }
+    }
+    #[inline]
+    fn pick(choice: Sign, plus: Self, minus: Self) -> Self {
+        match choice {
+            Sign::Plus => plus,
+            Sign::Minus => minus,
+        }
+    }
+    #[inline]
     fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
         k.map_or(Sign::Plus, |k| signs[k])
     }
+}
+
+/// Why a kernel fails, with the values its error reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Failure<T> {
+    /// No solution is determined (a point on an axis, parallel lines).
+    Degenerate(&'static str),
+    /// The named constraint fails by the value.
+    Unreachable(&'static str, T),
+    /// A circle's point cannot reach distance `d` from a point: farther than
+    /// the largest distance `dmax`, or nearer than the smallest `dmin`.
+    Distance {
+        /// The distance asked for.
+        d: T,
+        /// The largest distance.
+        dmax: T,
+        /// The smallest distance.
+        dmin: T,
+    },
+}
+
+impl Failure<f64> {
+    /// The error it is.
+    pub fn error(self) -> GeomError<f64> {
+        match self {
+            Failure::Degenerate(what) => GeomError::Degenerate { what },
+            Failure::Unreachable(constraint, by) => GeomError::Unreachable { constraint, by },
+            Failure::Distance { d, dmax, dmin } => unreachable_distance(d, dmax, dmin),
+        }
+    }
+}
+
+/// The error of a circle's point that cannot reach distance `d` from a
+/// point (see [`Failure::Distance`]).
+#[cold]
+pub fn unreachable_distance(d: f64, dmax: f64, dmin: f64) -> GeomError<f64> {
+    if d > dmax {
+        GeomError::Unreachable {
+            constraint: "d <= largest distance from q to the circle",
+            by: d - dmax,
+        }
+    } else {
+        GeomError::Unreachable {
+            constraint: "d >= smallest distance from q to the circle",
+            by: (dmin - d).max(0.0),
+        }
+    }
+}
+
+/// The larger of two values (the first where equal).
+#[inline]
+pub fn max<T: Scalar>(a: T, b: T) -> T {
+    T::if_less(a, b, b, a)
 }
 
 /// `a · b` of two 3-vectors.

@@ -2,9 +2,9 @@
 //! a turn about the joint's axis (Paden–Kahan subproblem 1) or a slide (the
 //! projection onto the guide).
 
-use super::{as_value, call, found, Found, Geometry, Given, JointValue, Kernel, Motion, Solved};
+use super::{as_value, fail, found, Found, Geometry, Given, JointValue, Motion, Solved};
 use crate::plan::{PointRef, SolveError};
-use crate::primitives::{Error as GeomError, Sign};
+use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, sub, Scalar};
 use crate::spatial::Anchor;
 
@@ -30,11 +30,8 @@ pub fn execute<T: Scalar>(
             centre, axis, radius, ..
         } => {
             let u = sub(target, centre);
-            let args = super::args(&[axis, radius, u], &[]);
-            as_value(
-                j.kind,
-                call(Kernel::TurnOnto, &args, T::choice(given.signs, None), k, joint, given)?,
-            )
+            let turn = turn_onto(axis, radius, u, [k, joint]).map_err(|e| fail(k, joint, given, e))?;
+            as_value(j.kind, turn)
         }
         Motion::Line { start, along } => JointValue::Slide(dot(sub(target, start), along)),
     };
@@ -44,33 +41,27 @@ pub fn execute<T: Scalar>(
 /// The turn `[cos θ, sin θ]` about unit `k` that carries the direction of
 /// `v` onto that of `u` (their components normal to `k`):
 /// `θ = atan2(k·(v⊥ × u⊥), v⊥·u⊥)`, Paden–Kahan subproblem 1.
-/// `args = [k, v, u]`; the sign is not used (one root).
 ///
 /// # Errors
 /// [`GeomError::Degenerate`] when `v` or `u` lies on the axis (within
 /// `1e-12` of the larger of their lengths): every turn would do.
 ///
 /// ```
-/// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::aim::turn_onto;
 ///
 /// // x onto y about z: a quarter turn.
-/// let t = turn_onto(&[0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0], Sign::Plus).unwrap();
+/// let t = turn_onto([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0, 0]).unwrap();
 /// assert_eq!(t, [0.0, 1.0]);
 /// ```
 #[inline]
-pub fn turn_onto(args: &[f64; 9], _sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let k = [args[0], args[1], args[2]];
-    let (v, u) = ([args[3], args[4], args[5]], [args[6], args[7], args[8]]);
-    use crate::scalar::{dot, reject};
+pub fn turn_onto<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3], site: [usize; 2]) -> Result<[T; 2], GeomError<f64>> {
+    use crate::scalar::{max, reject, Failure};
     let (vp, up) = (reject(v, k), reject(u, k));
     // Squared lengths: no square root on the way to the degeneracy test.
-    let scale2 = dot(v, v).max(dot(u, u));
-    if dot(vp, vp) <= 1e-24 * scale2 || dot(up, up) <= 1e-24 * scale2 {
-        return Err(GeomError::Degenerate {
-            what: "the point or direction lies on the turning axis",
-        });
-    }
+    let floor = T::c(1e-24) * max(dot(v, v), dot(u, u));
+    let on_axis = || Failure::Degenerate("the point or direction lies on the turning axis");
+    T::require(floor, dot(vp, vp), on_axis(), site)?;
+    T::require(floor, dot(up, up), on_axis(), site)?;
     let [c, s] = super::turn_terms(k, vp, up);
     let h = (c * c + s * s).sqrt();
     Ok([c / h, s / h])
@@ -80,8 +71,9 @@ pub fn turn_onto(args: &[f64; 9], _sign: Sign) -> Result<[f64; 2], GeomError<f64
 mod tests {
     use super::*;
 
-    fn check(args: [f64; 9], expect: Result<f64, &str>) {
-        match (turn_onto(&args, Sign::Plus), expect) {
+    fn check(a: [f64; 9], expect: Result<f64, &str>) {
+        let (k, v, u) = ([a[0], a[1], a[2]], [a[3], a[4], a[5]], [a[6], a[7], a[8]]);
+        match (turn_onto(k, v, u, [0, 0]), expect) {
             (Ok([c, s]), Ok(angle)) => {
                 assert!(
                     (c - angle.cos()).abs() < 1e-15 && (s - angle.sin()).abs() < 1e-15,

@@ -2,7 +2,7 @@
 //! known direction (the same sense): Paden–Kahan subproblem 1 on
 //! directions, [`super::aim::turn_onto`].
 
-use super::{as_value, call, found, Found, Geometry, Given, Kernel, Solved};
+use super::{as_value, found, Found, Geometry, Given, Solved};
 use crate::plan::{step_error, SolveError};
 use crate::scalar::Scalar;
 use crate::spatial::Direction;
@@ -35,7 +35,6 @@ pub fn execute<T: Scalar>(
     let zero = f.then(&j.zero[usize::from(!forward)]);
     let d = geometry.direction(zero, to, group);
     let w = geometry.direction(state.poses[target.link], target.link, target);
-    let args = super::args(&[axis, d, w], &[]);
-    let turn = call(Kernel::TurnOnto, &args, T::choice(given.signs, None), k, joint, given)?;
+    let turn = super::aim::turn_onto(axis, d, w, [k, joint]).map_err(|e| super::fail(k, joint, given, e))?;
     Ok(found(geometry, state, joint, from, to, as_value(j.kind, turn)))
 }

@@ -29,23 +29,18 @@ use crate::scalar::{constant, cross, dot, norm, reject, scale, sub, unit, Scalar
 use crate::spatial::{Anchor, Direction, Hop, Step};
 use std::borrow::Cow;
 
-/// Every closed-form kernel a step calls, by the step kind that owns it.
+/// The kernels generated code calls as functions rather than writing out
+/// (their branches on values are many: the stable quadratic's), by the step
+/// kind that owns them. The others are written for every [`Scalar`] and
+/// traced into the generated code with the steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Kernel {
-    /// [`on_sphere::circle_distance`]: a circle's point at a distance from a point.
-    CircleDistance,
     /// [`on_sphere::line_distance`]: a line's point at a distance from a point.
     LineDistance,
     /// [`on_cylinder::line_circle`]: a slide's point at a distance from an axis.
     LineCircle,
-    /// [`on_plane::circle_plane`]: `a·cosθ + b·sinθ = c`.
-    CirclePlane,
     /// [`on_plane::line_plane`]: a slide onto a plane.
     LinePlane,
-    /// [`aim::turn_onto`]: the turn about an axis that carries one direction onto another.
-    TurnOnto,
-    /// [`pa_plane::pa_plane`]: a parallelogram's plane through a point.
-    PaPlane,
 }
 
 impl Kernel {
@@ -53,26 +48,18 @@ impl Kernel {
     #[inline]
     pub fn eval(self, args: &[f64], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
         match self {
-            Kernel::CircleDistance => on_sphere::circle_distance(arr(args), sign),
             Kernel::LineDistance => on_sphere::line_distance(arr(args), sign),
             Kernel::LineCircle => on_cylinder::line_circle(arr(args), sign),
-            Kernel::CirclePlane => on_plane::circle_plane(arr(args), sign),
             Kernel::LinePlane => on_plane::line_plane(arr(args), sign),
-            Kernel::TurnOnto => aim::turn_onto(arr(args), sign),
-            Kernel::PaPlane => pa_plane::pa_plane(arr(args), sign),
         }
     }
 
     /// The kernel function's path below `pkm_runtime::steps`, for generated code.
     pub fn path(self) -> (&'static str, &'static str) {
         match self {
-            Kernel::CircleDistance => ("on_sphere", "circle_distance"),
             Kernel::LineDistance => ("on_sphere", "line_distance"),
             Kernel::LineCircle => ("on_cylinder", "line_circle"),
-            Kernel::CirclePlane => ("on_plane", "circle_plane"),
             Kernel::LinePlane => ("on_plane", "line_plane"),
-            Kernel::TurnOnto => ("aim", "turn_onto"),
-            Kernel::PaPlane => ("pa_plane", "pa_plane"),
         }
     }
 }
@@ -480,6 +467,11 @@ pub(crate) fn call<T: Scalar>(
     given: &Given<'_, T>,
 ) -> Result<[T; 2], SolveError> {
     T::kernel(kernel, args, choice, [k, joint]).map_err(|e| step_error(k, (given.name)(joint), e))
+}
+
+/// A kernel's failure as step `k`'s, naming the joint it solves.
+pub(crate) fn fail<T: Scalar>(k: usize, joint: usize, given: &Given<'_, T>, e: GeomError<f64>) -> SolveError {
+    step_error(k, (given.name)(joint), e)
 }
 
 /// Flattens vectors and scalars into one kernel argument list.

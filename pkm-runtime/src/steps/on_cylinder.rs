@@ -49,8 +49,8 @@ pub fn execute<T: Scalar>(
             // The line's point in the circle's plane: the distance is planar.
             let x0 = add(centre, r);
             let q = add(line_point, scale(dot(line_axis, sub(x0, line_point)), line_axis));
-            let args = super::args(&[centre, axis, r], &[length, q[0], q[1], q[2], radius]);
-            call(Kernel::CircleDistance, &args, choice, k, joint, given)?
+            super::on_sphere::circle_distance(centre, axis, r, length, q, radius, choice, [k, joint])
+                .map_err(|e| super::fail(k, joint, given, e))?
         }
         Motion::Line { start, along } => {
             // Without the components along the cylinder's axis: a planar line–circle.

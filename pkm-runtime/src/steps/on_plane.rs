@@ -4,7 +4,8 @@
 
 use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
 use crate::plan::{PointRef, SolveError};
-use crate::primitives::{trig_turn, Error as GeomError, Sign};
+use crate::primitives::{Error as GeomError, Sign, TANGENCY_TOL};
+use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
 use crate::spatial::{Anchor, Direction};
 
@@ -51,7 +52,7 @@ pub(crate) fn to_plane<T: Scalar>(
             let a = dot(n, r_perp);
             let b = dot(n, cross(axis, r_perp));
             let c = offset - dot(n, centre) - dot(n, r_par);
-            call(Kernel::CirclePlane, &[a, b, c], choice, k, joint, given)
+            trig_turn(a, b, c, choice, [k, joint], None).map_err(|e| super::fail(k, joint, given, e))
         }
         Motion::Line { start, along } => {
             let args = [offset - dot(n, start), dot(n, along), norm(n)];
@@ -60,18 +61,52 @@ pub(crate) fn to_plane<T: Scalar>(
     }
 }
 
-/// The turn `[cos θ, sin θ]` solving `a·cosθ + b·sinθ = c`
-/// ([`trig_turn`]). `args = [a, b, c]`.
+/// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`
+/// ([`crate::primitives::trig_turn`], written for every [`Scalar`]):
+/// scaled by `h = √(a² + b²)`, `|c| ≤ h` up to the tangency tolerance
+/// (clamped there: a double root), `s = √((1 − |c|)(1 + |c|))`, the turns
+/// `(a c ∓ b s, b c ± a s)`. `far` replaces the error of an unreachable `c`.
 ///
 /// ```
-/// use pkm_runtime::primitives::Sign;
-/// use pkm_runtime::steps::on_plane::circle_plane;
+/// use pkm_runtime::steps::on_plane::trig_turns;
 ///
-/// assert_eq!(circle_plane(&[1.0, 0.0, 0.0], Sign::Plus).unwrap(), [0.0, 1.0]);
+/// assert_eq!(trig_turns(1.0, 0.0, 0.0, [0, 0], None).unwrap(), [[0.0, 1.0], [0.0, -1.0]]);
+/// assert!(trig_turns(1.0, 0.0, 2.0, [0, 0], None).is_err());
 /// ```
 #[inline]
-pub fn circle_plane(args: &[f64; 3], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    Ok(trig_turn(args[0], args[1], args[2])?.branch(sign))
+pub fn trig_turns<T: Scalar>(
+    a: T,
+    b: T,
+    c: T,
+    site: [usize; 2],
+    far: Option<Failure<T>>,
+) -> Result<[[T; 2]; 2], GeomError<f64>> {
+    let h = (a * a + b * b).sqrt();
+    T::require(T::c(0.0), h, Failure::Degenerate("a = b = 0"), site)?;
+    let excess = c.abs() - h;
+    let far = far.unwrap_or(Failure::Unreachable("|c| <= hypot(a, b)", excess));
+    T::require(excess, T::c(TANGENCY_TOL) * h * T::c(1.0 + f64::EPSILON), far, site)?;
+    let (a, b, c) = (a / h, b / h, c / h);
+    // Within the tolerance beyond tangency: the double root.
+    let one = T::c(1.0);
+    let c = T::if_less(one, c, one, T::if_less(c, -one, -one, c));
+    let abs_c = c.abs();
+    let s = ((one - abs_c) * (one + abs_c)).sqrt();
+    Ok([[a * c - b * s, b * c + a * s], [a * c + b * s, b * c - a * s]])
+}
+
+/// The turn of [`trig_turns`] that `choice` picks.
+#[inline]
+pub fn trig_turn<T: Scalar>(
+    a: T,
+    b: T,
+    c: T,
+    choice: T::Choice,
+    site: [usize; 2],
+    far: Option<Failure<T>>,
+) -> Result<[T; 2], GeomError<f64>> {
+    let [p, m] = trig_turns(a, b, c, site, far)?;
+    Ok([T::pick(choice, p[0], m[0]), T::pick(choice, p[1], m[1])])
 }
 
 /// The slide `[num / den, 0]` onto a plane, `num` the plane's offset from

@@ -7,8 +7,8 @@
 use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
 use crate::model::Place;
 use crate::plan::{PointRef, SolveError};
-use crate::primitives::{circle_to_distance_turn, line_sphere, Error as GeomError, Sign};
-use crate::scalar::{add, norm, Scalar};
+use crate::primitives::{line_sphere, Error as GeomError, Sign};
+use crate::scalar::{norm, Scalar};
 use crate::spatial::Anchor;
 
 /// Step `k`: the value of `joint` that puts `point` of `to` at parallelogram
@@ -52,10 +52,8 @@ pub(crate) fn to_distance<T: Scalar>(
             axis,
             radius,
             length,
-        } => {
-            let args = super::args(&[centre, axis, radius], &[length, q[0], q[1], q[2], d]);
-            call(Kernel::CircleDistance, &args, choice, k, joint, given)
-        }
+        } => circle_distance(centre, axis, radius, length, q, d, choice, [k, joint])
+            .map_err(|e| super::fail(k, joint, given, e)),
         Motion::Line { start, along } => {
             let args = super::args(&[start, along, q], &[d]);
             call(Kernel::LineDistance, &args, choice, k, joint, given)
@@ -75,26 +73,63 @@ pub fn arm_length<T: Scalar>(places: &[Place<T>; 2]) -> T {
 }
 
 /// The turn `[cos θ, sin θ]` that puts the circle's point
-/// `centre + R(axis, θ)·radius` at distance `d` from `q`
-/// ([`circle_to_distance_turn`], with the circle's exact radius `length`).
-/// `args = [centre, axis, radius, length, q, d]`; `Plus` and `Minus` as there.
+/// `centre + R(axis, θ)·radius` (`axis` unit) at distance `d` from `q`
+/// ([`crate::primitives::circle_to_distance_turn`], written for every
+/// [`Scalar`]): with `p⊥`, `q⊥` the two points' parts normal to the axis
+/// and `δ` their axial separation, `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
+/// (rp² + rq² + (δ − d)(δ + d))/2`, the circle's radius `rp` the exact
+/// `length` (the measured `|p⊥|` only gives the direction), the largest
+/// of `rp`, `rq`, `|δ|` paired with `d` so that nearly concentric circles
+/// cancel exactly. `Plus` and `Minus` as there.
 ///
 /// ```
 /// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::on_sphere::circle_distance;
 ///
 /// // The unit circle about z meets the unit circle about (1, 0, 0) at ±60°.
-/// let a = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0];
-/// let [c, s] = circle_distance(&a, Sign::Plus).unwrap();
+/// let (o, z, x) = ([0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+/// let [c, s] = circle_distance(o, z, x, 1.0, x, 1.0, Sign::Plus, [0, 0]).unwrap();
 /// assert!((c - 0.5).abs() < 1e-15 && (s.abs() - 0.75f64.sqrt()).abs() < 1e-15);
 /// ```
+#[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn circle_distance(args: &[f64; 14], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let centre = [args[0], args[1], args[2]];
-    let axis = [args[3], args[4], args[5]];
-    let p = add(centre, [args[6], args[7], args[8]]);
-    let q = [args[10], args[11], args[12]];
-    Ok(circle_to_distance_turn(centre, axis, p, Some(args[9]), q, args[13])?.branch(sign))
+pub fn circle_distance<T: Scalar>(
+    centre: [T; 3],
+    axis: [T; 3],
+    radius: [T; 3],
+    length: T,
+    q: [T; 3],
+    d: T,
+    choice: T::Choice,
+    site: [usize; 2],
+) -> Result<[T; 2], GeomError<f64>> {
+    use crate::scalar::{cross, dot, max, reject, sub, Failure};
+    let k = axis;
+    let pp = reject(radius, k);
+    let qv = sub(q, centre);
+    let qp = reject(qv, k);
+    let delta = dot(k, sub(radius, qv));
+    let (rp, rq) = (norm(pp), norm(qp));
+    let zero = T::c(0.0);
+    T::require(zero, rp, Failure::Degenerate("p on the rotation axis"), site)?;
+    T::require(zero, length, Failure::Degenerate("p on the rotation axis"), site)?;
+    T::require(zero, rq, Failure::Degenerate("q on the rotation axis"), site)?;
+    // The coefficients scale with the exact radius; p's direction is all that is measured.
+    let scale = length / rp;
+    let (cos_coef, sin_coef) = (dot(pp, qp) * scale, dot(k, cross(pp, qp)) * scale);
+    // The largest of length, rq, |δ| is paired with d: (x − d)(x + d) + y² + z².
+    let ad = delta.abs();
+    let (x1, y1) = (max(length, rq), T::if_less(length, rq, length, rq));
+    let (x, y, z) = (max(x1, ad), T::if_less(x1, ad, x1, ad), y1);
+    let c = ((x - d) * (x + d) + (y * y + z * z)) / T::c(2.0);
+    let sum = length + rq;
+    let diff = length - rq;
+    let far = Failure::Distance {
+        d,
+        dmax: (delta * delta + sum * sum).sqrt(),
+        dmin: (delta * delta + diff * diff).sqrt(),
+    };
+    super::on_plane::trig_turn(cos_coef, sin_coef, c, choice, site, Some(far))
 }
 
 /// The slide `[t, 0]` that puts the line's point `start + t·along` (`along`

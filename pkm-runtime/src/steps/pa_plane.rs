@@ -1,9 +1,9 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
-use super::{as_value, call, found, Found, Geometry, Given, Kernel, Solved};
+use super::{as_value, found, Found, Geometry, Given, Solved};
 use crate::plan::{step_error, SolveError};
-use crate::primitives::{trig_turn, Error as GeomError, Sign};
+use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
 use crate::spatial::Anchor;
 
@@ -37,8 +37,7 @@ pub fn execute<T: Scalar>(
     let normal = zero.rotate(super::place_axis(&p.places[side]));
     let hinge = zero.apply(p.places[side].at());
     let target = geometry.anchor(&state.poses, target);
-    let args = super::args(&[axis, normal, hinge, target], &[]);
-    let turn = call(Kernel::PaPlane, &args, T::choice(given.signs, None), k, joint, given)?;
+    let turn = pa_plane(axis, normal, hinge, target, [k, joint]).map_err(|e| super::fail(k, joint, given, e))?;
     Ok(found(geometry, state, joint, from, to, as_value(j.kind, turn)))
 }
 
@@ -46,27 +45,33 @@ pub fn execute<T: Scalar>(
 /// `n` (at angle 0) through `target`: `(n⊥·u) cosθ + ((k × n⊥)·u) sinθ =
 /// −(n∥·u)` with `u = target − hinge`. Of the two roots, the one nearer 0
 /// (the larger cosine): the half-turned parallelogram moves its coupler the
-/// same way. `args = [k, n, hinge, target]`.
+/// same way.
 ///
 /// ```
-/// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::pa_plane::pa_plane;
 ///
 /// // The plane x = 0 (normal x) about z, through (1, 1, 0): turned by ±45°;
 /// // the root nearer 0 is −45° (the normal turned to (1, −1)/√2).
-/// let [c, s] = pa_plane(&[0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0], Sign::Plus).unwrap();
+/// let z = [0.0, 0.0, 1.0];
+/// let [c, s] = pa_plane(z, [1.0, 0.0, 0.0], [0.0; 3], [1.0, 1.0, 0.0], [0, 0]).unwrap();
 /// assert!((c - 0.5f64.sqrt()).abs() < 1e-15 && (s + 0.5f64.sqrt()).abs() < 1e-15);
 /// ```
 #[inline]
-pub fn pa_plane(args: &[f64; 12], _sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let k = [args[0], args[1], args[2]];
-    let n = [args[3], args[4], args[5]];
-    let u = sub([args[9], args[10], args[11]], [args[6], args[7], args[8]]);
+pub fn pa_plane<T: Scalar>(
+    k: [T; 3],
+    n: [T; 3],
+    hinge: [T; 3],
+    target: [T; 3],
+    site: [usize; 2],
+) -> Result<[T; 2], GeomError<f64>> {
+    let u = sub(target, hinge);
     let n_par = scale(dot(k, n), k);
     let n_perp = sub(n, n_par);
     let a = dot(n_perp, u);
     let b = dot(cross(k, n_perp), u);
     let c = -dot(n_par, u);
-    let [p, m] = trig_turn(a, b, c)?.branches();
-    Ok(if p[0] >= m[0] { p } else { m })
+    let [p, m] = super::on_plane::trig_turns(a, b, c, site, None)?;
+    // The root with the larger cosine.
+    let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
+    Ok([nearer(p[0], m[0]), nearer(p[1], m[1])])
 }
