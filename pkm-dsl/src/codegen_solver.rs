@@ -106,6 +106,7 @@ fn angle_about(pose: &Frame<Sym>, k: [Sym; 3]) -> Sym {
 /// outputs, the open joints' residual rows (rotation rows unscaled) and
 /// every link's origin.
 struct Branch {
+    guards: Vec<Sym>,
     result: Vec<Sym>,
     values: Vec<Sym>,
     points: Vec<[Sym; 3]>,
@@ -125,6 +126,7 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
         signs,
         name: &name,
     };
+    crate::trace::take_guards();
     let state = steps::run(plan, g, m.links.len(), &given).map_err(|e| e.to_string())?;
     // Names for the generated code's variables.
     for (l, pose) in state.poses.iter().enumerate() {
@@ -168,6 +170,7 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
             OutputKind::Joint(j) => outputs.push(joint_values[*j]),
         }
     }
+    let guards = crate::trace::take_guards();
     let residual = steps::open_residual(g, &state.poses, &plan.open_joints(m.joints.len()), Sym::c(1.0));
     let result = if forward {
         outputs.clone()
@@ -178,6 +181,7 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
             .collect()
     };
     Ok(Branch {
+        guards,
         result,
         values: joint_values,
         points,
@@ -331,17 +335,20 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         });
         quote! { [#(#rows),*] }
     };
-    let extent_of = |origins: &[TokenStream]| quote! { ::pkm::runtime::consistency::extent(&[#(#origins),*]) };
+    // The largest coordinate of the links' origins, at least 1 (`consistency::extent`).
+    let extent_of = |origins: &[TokenStream]| {
+        let coords = origins.iter().map(|o| quote! { .max(#o.abs()) });
+        quote! { 1f64 #(#coords)* }
+    };
 
     // One branch, the caller's signs: the result, then the residual rows.
     let mut roots = d.given.result.clone();
     roots.extend(&d.given.residual);
     roots.extend(d.given.origins.iter().flatten());
-    let (lets, exprs) = emit.straight(&roots);
+    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
     let (result, rest) = exprs.split_at(n_result);
     let (residual, origins) = rest.split_at(n_rows);
-    let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
-    let (rows, extent) = (rows_of(residual), extent_of(&origins));
+    let (rows, extent) = (rows_of(residual), extent_of(origins));
     let verified_doc = " Verified: the joints no step closes must close.";
     let lean_doc = if d.forward {
         format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the declared outputs (`OUTPUTS`).")
@@ -366,8 +373,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             #[inline]
             pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
                 let (result, rows, extent) = self.#f_unverified(given, signs)?;
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
-                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                if !::pkm::runtime::consistency::within(&rows, extent) {
+                    if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                        return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                    }
                 }
                 ::core::result::Result::Ok(result)
             }
@@ -404,7 +413,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     roots.extend(&d.given.outputs);
     roots.extend(&d.given.residual);
     roots.extend(d.given.origins.iter().flatten());
-    let (lets, exprs) = emit.straight(&roots);
+    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
     let n_joints = m.joints.len();
     let n_points = d.given.points.len();
     let n_outputs = d.given.outputs.len();
@@ -413,16 +422,17 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let (outputs, rest) = rest.split_at(n_outputs);
     let (residual, origins) = rest.split_at(n_rows);
     let points: Vec<TokenStream> = points.chunks(3).map(xyz).collect();
-    let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
-    let (rows, extent) = (rows_of(residual), extent_of(&origins));
+    let (rows, extent) = (rows_of(residual), extent_of(origins));
     let check = if open.is_empty() {
         quote! {}
     } else {
         quote! {
             let extent = #extent;
             let rows = #rows;
-            if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
-                return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+            if !::pkm::runtime::consistency::within(&rows, extent) {
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                }
             }
         }
     };
@@ -454,21 +464,23 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         })
         .collect();
     let n_solutions = d.every.len();
-    let body = emit.branches(&roots, n_choices, &|b, exprs, label| {
+    let guards: Vec<Vec<Sym>> = d.every.iter().map(|b| b.guards.clone()).collect();
+    let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
         let (result, rest) = exprs.split_at(n_result);
         let (residual, origins) = rest.split_at(n_rows);
-        let origins: Vec<TokenStream> = origins.chunks(3).map(xyz).collect();
         if open.is_empty() {
             quote! { ::core::result::Result::Ok([#(#result),*]) }
         } else {
-            let (rows, extent) = (rows_of(residual), extent_of(&origins));
+            let (rows, extent) = (rows_of(residual), extent_of(origins));
             quote! {
                 let extent = #extent;
                 let rows = #rows;
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                if !::pkm::runtime::consistency::within(&rows, extent) {
+                  if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
                     break #label (::core::result::Result::Err(
                         self.#f_inconsistent(given, #rt::signs_of::<#n_choices>(#b), row, gap, extent),
                     ));
+                  }
                 }
                 ::core::result::Result::Ok([#(#result),*])
             }

@@ -6,7 +6,7 @@
 //! kernel call, which can fail), and is written inline where it is used
 //! once. Constants are literals.
 
-use crate::trace::{operands, Choice, Graph, Node, Sym};
+use crate::trace::{operands, Choice, Failure, Graph, Node, Sym};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::cell::RefCell;
@@ -196,6 +196,20 @@ impl<'g> Emit<'g> {
                 let c = e(*call);
                 quote! { #c[#i] }
             }
+            Node::Chosen(_, _, v) => e(*v),
+            Node::Pick(k, p, m) => {
+                let (p, m) = (e(*p), e(*m));
+                quote! {
+                    match signs[#k] {
+                        ::pkm::runtime::primitives::Sign::Plus => #p,
+                        ::pkm::runtime::primitives::Sign::Minus => #m,
+                    }
+                }
+            }
+            Node::Guard(a, b, ..) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { !(#a < #b) }
+            }
         }
     }
 
@@ -222,6 +236,28 @@ impl<'g> Emit<'g> {
                 continue;
             }
             let node = self.node(s);
+            if let Node::Guard(_, _, failure, [step, joint]) = node {
+                let cond = self.compute(s, scope, &|o| self.expr(o, scope));
+                let geom = quote! { ::pkm::runtime::primitives::Error };
+                let error = match failure {
+                    Failure::Degenerate(what) => quote! { #geom::Degenerate { what: #what } },
+                    Failure::Unreachable(constraint, by) => {
+                        let by = self.expr(*by, scope);
+                        quote! { #geom::Unreachable { constraint: #constraint, by: #by } }
+                    }
+                    Failure::Distance(d, dmax, dmin) => {
+                        let (d, dmax, dmin) = (self.expr(*d, scope), self.expr(*dmax, scope), self.expr(*dmin, scope));
+                        quote! { ::pkm::runtime::scalar::unreachable_distance(#d, #dmax, #dmin) }
+                    }
+                };
+                let name = &self.joints[*joint];
+                let err = fail(quote! {
+                    ::pkm::runtime::plan::step_error(#step, ::std::borrow::Cow::Borrowed(#name), #error)
+                });
+                out.extend(quote! { if #cond { #err } });
+                scope.bound.borrow_mut().insert(s, quote! { () });
+                continue;
+            }
             let is_kernel = matches!(node, Node::Kernel(..));
             let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
             if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_)) {
@@ -250,8 +286,9 @@ impl<'g> Emit<'g> {
 
     /// A function body computing `roots` (one branch, signs as given):
     /// the statements, and the roots' expressions.
-    pub fn straight(&self, roots: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
-        let (order, uses) = self.reach(roots);
+    pub fn straight(&self, roots: &[Sym], guards: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
+        let all: Vec<Sym> = roots.iter().chain(guards).copied().collect();
+        let (order, uses) = self.reach(&all);
         let scope = Scope {
             uses,
             bound: RefCell::default(),
@@ -273,10 +310,11 @@ impl<'g> Emit<'g> {
     pub fn branches(
         &self,
         roots: &[Vec<Sym>],
+        guards: &[Vec<Sym>],
         choices: usize,
         leaf: &dyn Fn(usize, Vec<TokenStream>, &syn::Lifetime) -> TokenStream,
     ) -> TokenStream {
-        let all: Vec<Sym> = roots.iter().flatten().copied().collect();
+        let all: Vec<Sym> = roots.iter().chain(guards).flatten().copied().collect();
         let (order, uses) = self.reach(&all);
         let scope = Scope {
             uses,

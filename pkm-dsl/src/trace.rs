@@ -68,6 +68,24 @@ pub enum Node {
     Kernel(Kernel, Vec<Sym>, Choice, [usize; 2]),
     /// Result `i` of a kernel call.
     Result(Sym, usize),
+    /// A kernel's condition: fails the step (its site) unless `a < b`.
+    Guard(Sym, Sym, Failure, [usize; 2]),
+    /// `signs[k]`'s pick of two values, at run time.
+    Pick(usize, Sym, Sym),
+    /// A value the sign choice `k` chose (`Plus` or `Minus`): the value
+    /// itself, marked as depending on that choice.
+    Chosen(usize, Sign, Sym),
+}
+
+/// A guard's failure, its values recorded.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Failure {
+    /// `Error::Degenerate { what }`.
+    Degenerate(&'static str),
+    /// `Error::Unreachable { constraint, by }`.
+    Unreachable(&'static str, Sym),
+    /// `unreachable_distance(d, dmax, dmin)`.
+    Distance(Sym, Sym, Sym),
 }
 
 /// What the graph knows about each node.
@@ -81,11 +99,19 @@ pub struct Graph {
     pub signs: Vec<(u64, u64)>,
     /// A name for the node, where the steps gave one.
     pub names: Vec<Option<String>>,
+    /// The guards met since [`take_guards`], in order.
+    guards: Vec<Sym>,
     index: HashMap<Node, Sym>,
 }
 
 thread_local! {
     static GRAPH: RefCell<Graph> = RefCell::new(Graph::default());
+}
+
+/// The guards met since the last call, in the order met: every condition a
+/// traced function must check.
+pub fn take_guards() -> Vec<Sym> {
+    with(|g| std::mem::take(&mut g.guards))
 }
 
 /// Runs `f` with a fresh graph and returns what it returned and the graph.
@@ -110,14 +136,14 @@ impl Graph {
             return s;
         }
         let operands = operands(&n);
-        let mut live = matches!(n, Node::Given(_) | Node::Kernel(..));
+        let mut live = matches!(n, Node::Given(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..));
         let mut signs = (0u64, 0u64);
         for o in &operands {
             live |= self.live[o.0 as usize];
             let (w, v) = self.signs[o.0 as usize];
             signs = (signs.0 | w, signs.1 | v);
         }
-        if let Node::Kernel(_, _, Choice::Fixed(b, sign), _) = &n {
+        if let Node::Kernel(_, _, Choice::Fixed(b, sign), _) | Node::Chosen(b, sign, _) = &n {
             let bit = 1u64 << b;
             signs.0 |= bit;
             if *sign == Sign::Minus {
@@ -142,6 +168,17 @@ pub fn operands(n: &Node) -> Vec<Sym> {
         Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) | Node::Result(a, _) => vec![*a],
         Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
         Node::Kernel(_, args, _, _) => args.clone(),
+        Node::Guard(a, b, f, _) => {
+            let mut v = vec![*a, *b];
+            match f {
+                Failure::Degenerate(_) => {}
+                Failure::Unreachable(_, by) => v.push(*by),
+                Failure::Distance(d, x, n) => v.extend([*d, *x, *n]),
+            }
+            v
+        }
+        Node::Pick(_, a, b) => vec![*a, *b],
+        Node::Chosen(_, _, a) => vec![*a],
     }
 }
 
@@ -230,6 +267,8 @@ impl std::ops::Div for Sym {
             (Some(x), Some(y)) => Sym::c(x / y),
             (_, Some(1.0)) => self,
             (_, Some(-1.0)) => -self,
+            // 0 / x: every divisor the steps use is checked non-zero first.
+            (Some(0.0), _) => Sym::c(0.0),
             _ => node(Node::Div(self, b)),
         }
     }
@@ -257,6 +296,12 @@ impl Scalar for Sym {
         node(Node::Const(if x == 0.0 { 0.0f64 } else { x }.to_bits()))
     }
     fn sqrt(self) -> Self {
+        // √(x·x) = |x| exactly (short of overflow).
+        if let Node::Mul(a, b) = with(|g| g.nodes[self.0 as usize].clone()) {
+            if a == b {
+                return a.abs();
+            }
+        }
         self.unary(f64::sqrt, Node::Sqrt)
     }
     fn sin(self) -> Self {
@@ -292,6 +337,45 @@ impl Scalar for Sym {
     fn kernel(kernel: Kernel, args: &[Self], choice: Choice, site: [usize; 2]) -> Result<[Self; 2], GeomError<f64>> {
         let call = node(Node::Kernel(kernel, args.to_vec(), choice, site));
         Ok([node(Node::Result(call, 0)), node(Node::Result(call, 1))])
+    }
+    fn require(
+        a: Self,
+        b: Self,
+        failure: pkm_runtime::scalar::Failure<Self>,
+        site: [usize; 2],
+    ) -> Result<(), GeomError<f64>> {
+        use pkm_runtime::scalar::Failure as F;
+        if let (Some(x), Some(y)) = (konst(a), konst(b)) {
+            // Decided by the geometry's constants: nothing to check at run time.
+            if x < y {
+                return Ok(());
+            }
+        }
+        let f = match failure {
+            F::Degenerate(w) => Failure::Degenerate(w),
+            F::Unreachable(c, by) => Failure::Unreachable(c, by),
+            F::Distance { d, dmax, dmin } => Failure::Distance(d, dmax, dmin),
+        };
+        let guard = node(Node::Guard(a, b, f, site));
+        with(|g| g.guards.push(guard));
+        Ok(())
+    }
+    fn pick(choice: Choice, plus: Self, minus: Self) -> Self {
+        if plus == minus {
+            return plus;
+        }
+        match choice {
+            Choice::One => plus,
+            Choice::Fixed(k, sign) => {
+                let v = if sign == Sign::Plus { plus } else { minus };
+                if konst(v).is_some() {
+                    v
+                } else {
+                    node(Node::Chosen(k, sign, v))
+                }
+            }
+            Choice::Given(k) => node(Node::Pick(k, plus, minus)),
+        }
     }
     fn named(self, name: &dyn Fn() -> String) -> Self {
         with(|g| {
