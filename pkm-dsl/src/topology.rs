@@ -290,7 +290,7 @@ impl Context<'_> {
                     m.set_row(r, &rates.row(row));
                 }
                 work += svd_work(m.nrows(), m.ncols());
-                rates.ncols() - screw::rank(&m).min(rates.ncols())
+                rates.ncols() - screw::rank_of_part(&m, screw::column_scale(rates)).min(rates.ncols())
             })
             .min()
             .unwrap_or(0);
@@ -323,7 +323,7 @@ impl Context<'_> {
             .iter()
             .map(|inst| {
                 let sys = VelocitySystem::new(self.mech, inst, mask);
-                work += svd_work(sys.matrix.nrows(), sys.matrix.ncols());
+                work += svd_work(sys.loops.nrows(), sys.loops.ncols());
                 sys.loop_rank()
             })
             .max()
@@ -571,8 +571,9 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let mut driven = 0;
     for inst in &ctx.primary {
         let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
-        driven = driven.max(screw::rank(&input_rows(mech, &sys, &kernel)));
+        let kernel = sys.kernel();
+        let input = input_rows(mech, &sys, &kernel);
+        driven = driven.max(screw::rank_of_part(&input, sys.rate_scale(&kernel)));
         if driven >= dof {
             break;
         }
@@ -743,7 +744,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let mut decoupling = Vec::new();
     if let Some(p) = mech.platform {
         let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
+        let kernel = sys.kernel();
         let twists = sys.relative_twists(&kernel, 0, p);
         let candidates: Vec<usize> = match mech.base_point {
             Some(j) => vec![j],
@@ -765,7 +766,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         platform_poc = best.map(|(_, poc)| poc);
         for br in &mech.branches {
             let sys = VelocitySystem::new(mech, inst, ctx.joint_mask(&br.joints));
-            let kernel = screw::null_space(&sys.matrix);
+            let kernel = sys.kernel();
             let labeller = Labeller::new(&ctx, mech.platform, Some(&br.joints));
             branch_poc.push(labeller.poc(&sys.relative_twists(&kernel, 0, p), &o));
         }
@@ -825,7 +826,7 @@ fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::op
     let n = mech.joints.len();
     let all = all_joints(n);
     let sys = VelocitySystem::new(mech, inst, all);
-    let kernel = screw::null_space(&sys.matrix);
+    let kernel = sys.kernel();
     let k = kernel.ncols();
     let mut conditions: Vec<DMatrix<f64>> = Vec::new();
     for (j, joint) in mech.joints.iter().enumerate() {
@@ -904,7 +905,7 @@ fn poc_formula_xi(ctx: &Context, socs: &[Soc]) -> Vec<usize> {
                 DMatrix::zeros(6, 0)
             } else {
                 let sys = VelocitySystem::new(ctx.mech, inst, used);
-                sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
+                sys.relative_twists(&sys.kernel(), soc.ends[0], soc.ends[1])
             };
             let m_soc = screw::joint_twists(inst, &soc.joints);
             xi = xi.max(screw::rank(&screw::hstack(&[&m_rel, &m_soc])));
@@ -1087,7 +1088,7 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
     let mut moves = [false; 6];
     for inst in &ctx.primary {
         let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
+        let kernel = sys.kernel();
         let twists = sys.relative_twists(&kernel, 0, platform);
         let o = base_point.map_or_else(Vector3::zeros, |j| inst.points[j]);
         let (w, v) = screw::at_point(&twists, &o);
@@ -1095,7 +1096,7 @@ fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Optio
         let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else {
             continue;
         };
-        if screw::rank(&input) < actuated.len() {
+        if screw::rank_of_part(&input, sys.rate_scale(&kernel)) < actuated.len() {
             continue; // an input singularity here: use the other configurations
         }
         let mut out = DMatrix::zeros(6, kernel.ncols());
