@@ -16,13 +16,15 @@ shift || true
 # Resolve dependencies as the workspace does.
 [ -f Cargo.lock ] || cp ../../Cargo.lock .
 cargo build -q --bin expand_time --lib
-./target/debug/expand_time "$runs" "$@"
+"${CARGO_TARGET_DIR:-target}"/debug/expand_time "$runs" "$@"
 
 best() { # best wall time in seconds of `cargo build --lib` with features $1
     local t min=
     for _ in $(seq "$runs"); do
         touch src/lib.rs
-        t=$( { /usr/bin/time -f %e cargo build -q --lib ${1:+--features "$1"} >/dev/null; } 2>&1 | tail -1)
+        local start=$(date +%s.%N)
+        cargo build -q --lib ${1:+--features "$1"}
+        t=$(echo "$start $(date +%s.%N)" | awk '{print $2 - $1}')
         min=$(echo "${min:-$t} $t" | awk '{print ($2 < $1) ? $2 : $1}')
     done
     echo "$min"

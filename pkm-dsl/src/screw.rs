@@ -432,6 +432,15 @@ impl VelocitySystem {
         self.total_f.saturating_sub(nullity)
     }
 
+    /// The most [`loop_rank`](Self::loop_rank) can be for equations of this
+    /// shape (their rank is at most their rows and columns).
+    pub fn max_loop_rank(&self) -> usize {
+        self.loops
+            .nrows()
+            .min(self.total_f)
+            .saturating_sub(6 * self.floating.len())
+    }
+
     /// A basis (columns) of the system's kernel: for each motion, the twists of
     /// the touched links (rows [`link_col`](Self::link_col)) and the joint
     /// rates (rows [`joint_col`](Self::joint_col)).

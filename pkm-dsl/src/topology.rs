@@ -279,25 +279,26 @@ impl Context<'_> {
         if let Some(&i) = self.idle_memo.get(&mask) {
             return i;
         }
-        let mut work = 0;
-        let i = self
-            .idle_rates
-            .iter()
-            .map(|(rates, rows)| {
-                let outside: Vec<usize> = (0..self.mech.joints.len())
-                    .filter(|j| mask >> j & 1 == 0)
-                    .flat_map(|j| rows[j].clone())
-                    .collect();
-                let mut m = DMatrix::zeros(outside.len(), rates.ncols());
-                for (r, &row) in outside.iter().enumerate() {
-                    m.set_row(r, &rates.row(row));
-                }
-                work += svd_work(m.nrows(), m.ncols());
-                rates.ncols() - screw::rank_of_part(&m, screw::column_scale(rates)).min(rates.ncols())
-            })
-            .min()
-            .unwrap_or(0);
-        self.work += work;
+        // The generic count is the least; none is below zero, so a
+        // configuration that finds none settles it.
+        let mut least: Option<usize> = None;
+        for (rates, rows) in &self.idle_rates {
+            let outside: Vec<usize> = (0..self.mech.joints.len())
+                .filter(|j| mask >> j & 1 == 0)
+                .flat_map(|j| rows[j].clone())
+                .collect();
+            let mut m = DMatrix::zeros(outside.len(), rates.ncols());
+            for (r, &row) in outside.iter().enumerate() {
+                m.set_row(r, &rates.row(row));
+            }
+            self.work += svd_work(m.nrows(), m.ncols());
+            let idle = rates.ncols() - screw::rank_of_part(&m, screw::column_scale(rates)).min(rates.ncols());
+            least = Some(least.map_or(idle, |l| l.min(idle)));
+            if idle == 0 {
+                break;
+            }
+        }
+        let i = least.unwrap_or(0);
         self.idle_memo.insert(mask, i);
         i
     }
@@ -320,18 +321,17 @@ impl Context<'_> {
             return r;
         }
         self.evaluations += 1;
-        let mut work = 0;
-        let r = self
-            .primary
-            .iter()
-            .map(|inst| {
-                let sys = VelocitySystem::new(self.mech, inst, mask);
-                work += svd_work(sys.loops.nrows(), sys.loops.ncols());
-                sys.loop_rank()
-            })
-            .max()
-            .unwrap_or(0);
-        self.work += work;
+        // The generic rank is the largest; a configuration that reaches the
+        // most the equations' shape allows settles it.
+        let mut r = 0;
+        for inst in &self.primary {
+            let sys = VelocitySystem::new(self.mech, inst, mask);
+            self.work += svd_work(sys.loops.nrows(), sys.loops.ncols());
+            r = r.max(sys.loop_rank());
+            if r >= sys.max_loop_rank() {
+                break;
+            }
+        }
         self.rank_memo.insert(mask, r);
         r
     }

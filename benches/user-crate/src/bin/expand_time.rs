@@ -3,7 +3,8 @@
 //! `cargo run --bin expand_time`, pkm-dsl and its dependencies are compiled
 //! at opt-level 0, as the proc-macro is in a user's debug build.
 //!
-//! Usage: `expand_time [RUNS] [NAME…]` (default 5 runs, every example).
+//! Usage: `expand_time [RUNS] [NAME…]` (default 5 runs, every example; a
+//! NAME ending in `.pkm` is a file's path).
 //! Prints the minimum and median wall time per mechanism in milliseconds.
 
 use std::time::Instant;
@@ -35,7 +36,13 @@ fn main() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/mechanisms");
     println!("{:<24} {:>9} {:>9}", "mechanism", "min ms", "median ms");
     for name in names {
-        let text = std::fs::read_to_string(format!("{dir}/{name}.pkm")).expect("an example file");
+        // A name ending in `.pkm` is a path; otherwise an example's name.
+        let path = if name.ends_with(".pkm") {
+            name.to_string()
+        } else {
+            format!("{dir}/{name}.pkm")
+        };
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"));
         // The same input the macro gets for an inline description.
         let input = format!("pub M, {text:?}");
         let mut times = Vec::with_capacity(runs);
