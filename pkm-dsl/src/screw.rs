@@ -605,6 +605,7 @@ mod tests {
             assert_eq!(rank(&k), *nullity, "{names:?}");
             assert_eq!(whole.ncols() - rank(&whole), *nullity, "{names:?}");
             assert_eq!(sys.loop_rank(), *loop_rank, "{names:?}");
+            assert!(sys.loop_rank() <= sys.max_loop_rank(), "{names:?}");
         }
     }
 
