@@ -26,7 +26,9 @@ const EXAMPLES: [&str; 12] = [
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let runs: usize = args.next().map_or(5, |a| a.parse().expect("RUNS is a positive integer"));
+    let runs: usize = args
+        .next()
+        .map_or(5, |a| a.parse().expect("RUNS is a positive integer"));
     let names: Vec<String> = args.collect();
     let names: Vec<&str> = if names.is_empty() {
         EXAMPLES.to_vec()
