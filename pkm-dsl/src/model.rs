@@ -1339,6 +1339,18 @@ mod tests {
     #[test]
     fn valid_descriptions_pass() {
         check(&format!("mechanism m {{ planar; {FOUR_BAR} }}"), &[]);
-        check("mechanism m { planar; base R1* _|_ P1 || P2 - R2 base; x || P1; }", &[]);
+        check("mechanism m { planar; base R1* || R2 _|_ P1 - R3 base; x || P1; }", &[]);
+    }
+
+    #[test]
+    fn parallel_sliders_in_series_leave_the_crank_locked() {
+        // R1 ⊥ P1 ∥ P2 − R2: the links beside P1 ∥ P2 only translate along x
+        // relative to each other, so both turn by the same angle about two
+        // distinct axes, which closes the loop only at zero turn. The one
+        // DOF (Σf 4 − ξ 3) is P1 and P2 sliding against each other; R1 never moves.
+        check(
+            "mechanism m { planar; base R1* _|_ P1 || P2 - R2 base; x || P1; }",
+            &["with its actuated joints locked the mechanism still moves (1 DOF): the actuators cannot drive it"],
+        );
     }
 }

@@ -244,15 +244,33 @@ fn assign_directions(
 
 /// The rank of a matrix, with [`RANK_TOLERANCE`] relative to its largest singular value.
 pub fn rank(m: &DMatrix<f64>) -> usize {
+    rank_at_scale(m, None)
+}
+
+/// The rank of rows cut from a larger matrix whose columns are at most
+/// `scale` long, with [`RANK_TOLERANCE`] relative to that scale: rows that
+/// are round-off of the whole (a joint that does not move in any of its
+/// motions) have rank 0, which a tolerance relative to themselves would miss.
+pub fn rank_of_part(m: &DMatrix<f64>, scale: f64) -> usize {
+    rank_at_scale(m, Some(scale))
+}
+
+/// The largest column norm of a matrix (0 without columns).
+pub fn column_scale(m: &DMatrix<f64>) -> f64 {
+    m.column_iter().map(|c| c.norm()).fold(0.0, f64::max)
+}
+
+fn rank_at_scale(m: &DMatrix<f64>, scale: Option<f64>) -> usize {
     if m.nrows() == 0 || m.ncols() == 0 {
         return 0;
     }
     let sv = m.clone().svd(false, false).singular_values;
     let max = sv.iter().cloned().fold(0.0, f64::max);
-    if max == 0.0 {
+    let scale = scale.unwrap_or(max);
+    if max == 0.0 || scale == 0.0 {
         return 0;
     }
-    sv.iter().filter(|s| **s > RANK_TOLERANCE * max).count()
+    sv.iter().filter(|s| **s > RANK_TOLERANCE * scale).count()
 }
 
 /// An orthonormal basis (columns) of the null space of `m`.
@@ -282,69 +300,183 @@ pub fn null_space(m: &DMatrix<f64>) -> DMatrix<f64> {
 /// are the twists of the links it touches (the base's is zero) and the joint
 /// rates; each joint says `T_v − T_u − Σ s θ̇ = 0`. Its kernel is the
 /// sub-mechanism's instantaneous motion.
+///
+/// The equations are not solved as they stand (6 per joint, 6 per link
+/// plus Σf unknowns). A spanning tree of each connected part expresses every
+/// link's twist through the rates of the tree joints from the part's root
+/// (zero for the base, free for a part that does not touch it); what is left
+/// are the loop-closure equations of the other joints, 6 per independent loop,
+/// over the joint rates alone. Their kernel, with the free root twists, is
+/// the kernel of the whole system, and the rank computations stay small.
 #[derive(Debug, Clone)]
 pub struct VelocitySystem {
-    /// Column of each link's twist block (None for the base and untouched links).
+    /// Row of each link's twist block in a [`kernel`](Self::kernel) (None for the base and untouched links).
     pub link_col: Vec<Option<usize>>,
-    /// First column of each joint's rates (None for joints outside the subset).
+    /// First row of each joint's rates in a [`kernel`](Self::kernel) (None for joints outside the subset).
     pub joint_col: Vec<Option<usize>>,
-    /// The equations.
-    pub matrix: DMatrix<f64>,
+    /// The loop-closure equations over the joint rates (6 rows per independent
+    /// loop; column `joint_col[j] − link_rows` is joint j's first rate).
+    pub loops: DMatrix<f64>,
     /// Σf of the subset.
     pub total_f: usize,
+    /// Rows of the link twists in a kernel (6 per link touched, before the rates).
+    link_rows: usize,
+    /// Each touched link's twist as a function of the joint rates (6 × Σf),
+    /// relative to the root of its connected part.
+    link_twists: Vec<Option<DMatrix<f64>>>,
+    /// The connected parts that do not touch the base: the links of each.
+    floating: Vec<Vec<usize>>,
 }
 
 impl VelocitySystem {
     /// The system of the joints in `mask`.
     pub fn new(mech: &Mechanism, inst: &Instance, mask: u64) -> Self {
         let joints: Vec<usize> = (0..mech.joints.len()).filter(|j| mask >> j & 1 == 1).collect();
-        let mut link_col = vec![None; mech.links.len()];
-        let mut cols = 0;
+        let n_links = mech.links.len();
+        let mut link_col = vec![None; n_links];
+        let mut link_rows = 0;
         for &j in &joints {
             for l in mech.joints[j].links {
                 if l != 0 && link_col[l].is_none() {
-                    link_col[l] = Some(cols);
-                    cols += 6;
+                    link_col[l] = Some(link_rows);
+                    link_rows += 6;
                 }
             }
         }
         let mut joint_col = vec![None; mech.joints.len()];
         let mut total_f = 0;
         for &j in &joints {
-            joint_col[j] = Some(cols);
-            cols += mech.joints[j].kind.dof();
+            joint_col[j] = Some(link_rows + total_f);
             total_f += mech.joints[j].kind.dof();
         }
-        let mut matrix = DMatrix::zeros(6 * joints.len(), cols);
-        for (row, &j) in joints.iter().enumerate() {
-            let [u, v] = mech.joints[j].links;
-            for k in 0..6 {
-                if let Some(c) = link_col[v] {
-                    matrix[(6 * row + k, c + k)] += 1.0;
-                }
-                if let Some(c) = link_col[u] {
-                    matrix[(6 * row + k, c + k)] -= 1.0;
-                }
-            }
-            let c0 = joint_col[j].expect("joint in subset");
+        // Joint j's twists placed at its rate columns: the twist of links[1]
+        // relative to links[0] as a function of the rates.
+        let joint_twist = |j: usize| {
+            let mut m = DMatrix::zeros(6, total_f);
+            let c0 = joint_col[j].expect("joint in subset") - link_rows;
             for (i, s) in inst.twists[j].iter().enumerate() {
-                for k in 0..6 {
-                    matrix[(6 * row + k, c0 + i)] = -s[k];
+                m.set_column(c0 + i, s);
+            }
+            m
+        };
+        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n_links];
+        for &j in &joints {
+            let [u, v] = mech.joints[j].links;
+            incident[u].push(j);
+            if v != u {
+                incident[v].push(j);
+            }
+        }
+        // Spanning trees, breadth first: the base's part first, then the others.
+        let touched = |l: usize| !incident[l].is_empty();
+        let mut link_twists: Vec<Option<DMatrix<f64>>> = vec![None; n_links];
+        let mut in_tree = vec![false; mech.joints.len()];
+        let mut floating = Vec::new();
+        for root in (0..n_links).filter(|&l| touched(l)) {
+            if link_twists[root].is_some() {
+                continue;
+            }
+            link_twists[root] = Some(DMatrix::zeros(6, total_f));
+            let mut part = vec![root];
+            let mut next = 0;
+            while next < part.len() {
+                let l = part[next];
+                next += 1;
+                for &j in &incident[l] {
+                    let [u, v] = mech.joints[j].links;
+                    let other = if u == l { v } else { u };
+                    if link_twists[other].is_some() {
+                        continue;
+                    }
+                    in_tree[j] = true;
+                    // T_v = T_u + S θ̇.
+                    let from = link_twists[l].as_ref().expect("reached");
+                    let t = if other == v {
+                        from + joint_twist(j)
+                    } else {
+                        from - joint_twist(j)
+                    };
+                    link_twists[other] = Some(t);
+                    part.push(other);
                 }
             }
+            if root != 0 {
+                floating.push(part);
+            }
+        }
+        // The other joints close loops: T_v − T_u − S θ̇ = 0.
+        let chords: Vec<usize> = joints.iter().copied().filter(|&j| !in_tree[j]).collect();
+        let mut loops = DMatrix::zeros(6 * chords.len(), total_f);
+        for (row, &j) in chords.iter().enumerate() {
+            let [u, v] = mech.joints[j].links;
+            let twist_of = |l: usize| link_twists[l].as_ref().expect("a touched link is reached");
+            let closure = twist_of(v) - twist_of(u) - joint_twist(j);
+            loops.view_mut((6 * row, 0), (6, total_f)).copy_from(&closure);
         }
         VelocitySystem {
             link_col,
             joint_col,
-            matrix,
+            loops,
             total_f,
+            link_rows,
+            link_twists,
+            floating,
         }
     }
 
-    /// The rank of the loop-closure equations: Σf − (mobility).
+    /// The rank of the loop-closure equations: Σf − (mobility), where the
+    /// mobility counts the six free motions of each part that does not touch
+    /// the base, as the whole system's kernel does.
     pub fn loop_rank(&self) -> usize {
-        let nullity = self.matrix.ncols() - rank(&self.matrix);
+        let nullity = self.total_f - rank(&self.loops).min(self.total_f) + 6 * self.floating.len();
         self.total_f.saturating_sub(nullity)
+    }
+
+    /// The most [`loop_rank`](Self::loop_rank) can be for equations of this
+    /// shape (their rank is at most their rows and columns).
+    pub fn max_loop_rank(&self) -> usize {
+        self.loops
+            .nrows()
+            .min(self.total_f)
+            .saturating_sub(6 * self.floating.len())
+    }
+
+    /// A basis (columns) of the system's kernel: for each motion, the twists of
+    /// the touched links (rows [`link_col`](Self::link_col)) and the joint
+    /// rates (rows [`joint_col`](Self::joint_col)).
+    pub fn kernel(&self) -> DMatrix<f64> {
+        let f = self.total_f;
+        let rates = if self.loops.nrows() == 0 {
+            DMatrix::identity(f, f)
+        } else {
+            null_space(&self.loops)
+        };
+        let k = rates.ncols();
+        let mut n = DMatrix::zeros(self.link_rows + f, k + 6 * self.floating.len());
+        n.view_mut((self.link_rows, 0), (f, k)).copy_from(&rates);
+        for (l, c) in self.link_col.iter().enumerate() {
+            if let (Some(c), Some(t)) = (c, &self.link_twists[l]) {
+                n.view_mut((*c, 0), (6, k)).copy_from(&(t * &rates));
+            }
+        }
+        // A part that does not touch the base moves freely as one body.
+        for (p, part) in self.floating.iter().enumerate() {
+            for &l in part {
+                if let Some(c) = self.link_col[l] {
+                    for a in 0..6 {
+                        n[(c + a, k + 6 * p + a)] = 1.0;
+                    }
+                }
+            }
+        }
+        n
+    }
+
+    /// The size of the joint rates of a kernel's motions (the largest column
+    /// norm of its rate rows): the scale against which some joints' rates
+    /// count as zero or not.
+    pub fn rate_scale(&self, kernel: &DMatrix<f64>) -> f64 {
+        column_scale(&kernel.rows(self.link_rows, self.total_f).into_owned())
     }
 
     /// The twists of link `b` relative to link `a` over the kernel `n` (6 × k).
@@ -432,6 +564,70 @@ pub fn column_basis(m: &DMatrix<f64>, scale: f64) -> Vec<Vector3<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The velocity equations as they stand: 6 rows per joint over the link
+    /// twists and the joint rates, `T_v − T_u − S θ̇ = 0`, in the layout of
+    /// `VelocitySystem`'s kernel.
+    fn whole_system(mech: &Mechanism, inst: &Instance, sys: &VelocitySystem, mask: u64) -> DMatrix<f64> {
+        let joints: Vec<usize> = (0..mech.joints.len()).filter(|j| mask >> j & 1 == 1).collect();
+        let mut m = DMatrix::zeros(6 * joints.len(), sys.link_rows + sys.total_f);
+        for (row, &j) in joints.iter().enumerate() {
+            let [u, v] = mech.joints[j].links;
+            for k in 0..6 {
+                if let Some(c) = sys.link_col[v] {
+                    m[(6 * row + k, c + k)] += 1.0;
+                }
+                if let Some(c) = sys.link_col[u] {
+                    m[(6 * row + k, c + k)] -= 1.0;
+                }
+                for (i, s) in inst.twists[j].iter().enumerate() {
+                    m[(6 * row + k, sys.joint_col[j].unwrap() + i)] = -s[k];
+                }
+            }
+        }
+        m
+    }
+
+    /// (joint names, expected kernel dimension of the whole system, expected loop rank).
+    fn check_kernel(source: &str, subsets: &[(&[&str], usize, usize)]) {
+        let ast = crate::parse(source).unwrap();
+        let mech = crate::model::build(&ast).unwrap();
+        let classes = DirectionClasses::new(&mech.joints, &mech.relations);
+        let inst = realize(&mech, &classes, 11).unwrap();
+        for (names, nullity, loop_rank) in subsets {
+            let mask = names.iter().fold(0u64, |m, n| m | 1 << mech.joint_index(n).unwrap());
+            let sys = VelocitySystem::new(&mech, &inst, mask);
+            let k = sys.kernel();
+            let whole = whole_system(&mech, &inst, &sys, mask);
+            // The kernel solves the whole system and spans all of its null space.
+            assert!((&whole * &k).amax() < 1e-12, "{names:?}");
+            assert_eq!(k.ncols(), *nullity, "{names:?}");
+            assert_eq!(rank(&k), *nullity, "{names:?}");
+            assert_eq!(whole.ncols() - rank(&whole), *nullity, "{names:?}");
+            assert_eq!(sys.loop_rank(), *loop_rank, "{names:?}");
+            assert!(sys.loop_rank() <= sys.max_loop_rank(), "{names:?}");
+        }
+    }
+
+    #[test]
+    fn kernels_by_spanning_tree_are_the_whole_systems_kernels() {
+        // Four-bar: one planar loop, 1 DOF, ξ = 3 (its spatial loop equations
+        // have rank 3). An open chain R1-R2 from the base: 2 DOF, no loop. R2-R3
+        // alone floats: the crank-coupler-rocker chain moves freely, 6 + 2 motions.
+        check_kernel(
+            "mechanism m { planar; base R1* ∥ R2 [c] ∥ R3 [r] ∥ R4 base; }",
+            &[
+                (&["R1", "R2", "R3", "R4"], 1, 3),
+                (&["R1", "R2"], 2, 0),
+                (&["R2", "R3"], 8, 0),
+            ],
+        );
+        // RSSR: Σf 8, one spatial loop of rank 6, mobility 2 (the crank and the coupler's spin).
+        check_kernel(
+            "mechanism m { base R1* - S1 - S2 - R2 base; }",
+            &[(&["R1", "S1", "S2", "R2"], 2, 6)],
+        );
+    }
 
     #[test]
     fn null_space_of_a_wide_matrix() {

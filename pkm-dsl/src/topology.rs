@@ -249,6 +249,9 @@ struct Context<'a> {
     work: u64,
     /// Local (idle) DOF of each sub-mechanism, by joint mask.
     idle_memo: HashMap<u64, usize>,
+    /// Per primary instance: the velocity system of the whole mechanism and
+    /// its kernel, used by several steps of the analysis.
+    whole: Vec<(VelocitySystem, DMatrix<f64>)>,
     /// Per primary instance: the idle motions of the whole mechanism as joint
     /// rates (one row per joint variable, one column per idle DOF), and the
     /// rows of each joint.
@@ -276,25 +279,26 @@ impl Context<'_> {
         if let Some(&i) = self.idle_memo.get(&mask) {
             return i;
         }
-        let mut work = 0;
-        let i = self
-            .idle_rates
-            .iter()
-            .map(|(rates, rows)| {
-                let outside: Vec<usize> = (0..self.mech.joints.len())
-                    .filter(|j| mask >> j & 1 == 0)
-                    .flat_map(|j| rows[j].clone())
-                    .collect();
-                let mut m = DMatrix::zeros(outside.len(), rates.ncols());
-                for (r, &row) in outside.iter().enumerate() {
-                    m.set_row(r, &rates.row(row));
-                }
-                work += svd_work(m.nrows(), m.ncols());
-                rates.ncols() - screw::rank(&m).min(rates.ncols())
-            })
-            .min()
-            .unwrap_or(0);
-        self.work += work;
+        // The generic count is the least; none is below zero, so a
+        // configuration that finds none settles it.
+        let mut least: Option<usize> = None;
+        for (rates, rows) in &self.idle_rates {
+            let outside: Vec<usize> = (0..self.mech.joints.len())
+                .filter(|j| mask >> j & 1 == 0)
+                .flat_map(|j| rows[j].clone())
+                .collect();
+            let mut m = DMatrix::zeros(outside.len(), rates.ncols());
+            for (r, &row) in outside.iter().enumerate() {
+                m.set_row(r, &rates.row(row));
+            }
+            self.work += svd_work(m.nrows(), m.ncols());
+            let idle = rates.ncols() - screw::rank_of_part(&m, screw::column_scale(rates)).min(rates.ncols());
+            least = Some(least.map_or(idle, |l| l.min(idle)));
+            if idle == 0 {
+                break;
+            }
+        }
+        let i = least.unwrap_or(0);
         self.idle_memo.insert(mask, i);
         i
     }
@@ -317,18 +321,17 @@ impl Context<'_> {
             return r;
         }
         self.evaluations += 1;
-        let mut work = 0;
-        let r = self
-            .primary
-            .iter()
-            .map(|inst| {
-                let sys = VelocitySystem::new(self.mech, inst, mask);
-                work += svd_work(sys.matrix.nrows(), sys.matrix.ncols());
-                sys.loop_rank()
-            })
-            .max()
-            .unwrap_or(0);
-        self.work += work;
+        // The generic rank is the largest; a configuration that reaches the
+        // most the equations' shape allows settles it.
+        let mut r = 0;
+        for inst in &self.primary {
+            let sys = VelocitySystem::new(self.mech, inst, mask);
+            self.work += svd_work(sys.loops.nrows(), sys.loops.ncols());
+            r = r.max(sys.loop_rank());
+            if r >= sys.max_loop_rank() {
+                break;
+            }
+        }
         self.rank_memo.insert(mask, r);
         r
     }
@@ -569,10 +572,9 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     // Locking the actuators must make the mechanism rigid at a generic configuration.
     // The generic rank is the largest; stop at the first configuration that reaches F.
     let mut driven = 0;
-    for inst in &ctx.primary {
-        let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
-        driven = driven.max(screw::rank(&input_rows(mech, &sys, &kernel)));
+    for (sys, kernel) in &ctx.whole {
+        let input = input_rows(mech, sys, kernel);
+        driven = driven.max(screw::rank_of_part(&input, sys.rate_scale(kernel)));
         if driven >= dof {
             break;
         }
@@ -742,9 +744,8 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let mut branch_poc = Vec::new();
     let mut decoupling = Vec::new();
     if let Some(p) = mech.platform {
-        let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
-        let twists = sys.relative_twists(&kernel, 0, p);
+        let (sys, kernel) = &ctx.whole[0];
+        let twists = sys.relative_twists(kernel, 0, p);
         let candidates: Vec<usize> = match mech.base_point {
             Some(j) => vec![j],
             None => (0..n)
@@ -765,11 +766,11 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         platform_poc = best.map(|(_, poc)| poc);
         for br in &mech.branches {
             let sys = VelocitySystem::new(mech, inst, ctx.joint_mask(&br.joints));
-            let kernel = screw::null_space(&sys.matrix);
+            let kernel = sys.kernel();
             let labeller = Labeller::new(&ctx, mech.platform, Some(&br.joints));
             branch_poc.push(labeller.poc(&sys.relative_twists(&kernel, 0, p), &o));
         }
-        decoupling = motion_decoupling(&ctx, all, p, base_point);
+        decoupling = motion_decoupling(&ctx, p, base_point);
     }
 
     for skc in &mut skcs {
@@ -801,8 +802,21 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
     };
     let primary = realize(&PRIMARY_SEEDS)?;
     let check = realize(&CHECK_SEEDS)?;
-    let idle_rates = primary.iter().map(|inst| idle_motions(mech, inst)).collect();
+    let whole: Vec<(VelocitySystem, DMatrix<f64>)> = primary
+        .iter()
+        .map(|inst| {
+            let sys = VelocitySystem::new(mech, inst, all_joints(mech.joints.len()));
+            let kernel = sys.kernel();
+            (sys, kernel)
+        })
+        .collect();
+    let idle_rates = primary
+        .iter()
+        .zip(&whole)
+        .map(|(inst, (sys, kernel))| idle_motions(mech, inst, sys, kernel))
+        .collect();
     Ok(Context {
+        whole,
         idle_rates,
         mech,
         incidence: mech.incidence(),
@@ -821,11 +835,12 @@ fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
 /// links) and no P joint slides, such as the spin of an S–S link or of an
 /// S–P–S leg about the line of its centres. Returned as joint rates, with the
 /// rows of each joint.
-fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::ops::Range<usize>>) {
-    let n = mech.joints.len();
-    let all = all_joints(n);
-    let sys = VelocitySystem::new(mech, inst, all);
-    let kernel = screw::null_space(&sys.matrix);
+fn idle_motions(
+    mech: &Mechanism,
+    inst: &Instance,
+    sys: &VelocitySystem,
+    kernel: &DMatrix<f64>,
+) -> (DMatrix<f64>, Vec<std::ops::Range<usize>>) {
     let k = kernel.ncols();
     let mut conditions: Vec<DMatrix<f64>> = Vec::new();
     for (j, joint) in mech.joints.iter().enumerate() {
@@ -835,7 +850,7 @@ fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::op
             continue;
         }
         for &link in &joint.links {
-            let t = sys.relative_twists(&kernel, 0, link);
+            let t = sys.relative_twists(kernel, 0, link);
             conditions.push(screw::at_point(&t, &inst.points[j]).1);
         }
     }
@@ -851,7 +866,7 @@ fn idle_motions(mech: &Mechanism, inst: &Instance) -> (DMatrix<f64>, Vec<std::op
     } else {
         screw::null_space(&rows)
     };
-    let motions = &kernel * &z;
+    let motions = kernel * &z;
     let mut ranges = Vec::new();
     let mut rates = DMatrix::zeros(mech.total_dof(), z.ncols());
     let mut next = 0;
@@ -904,7 +919,7 @@ fn poc_formula_xi(ctx: &Context, socs: &[Soc]) -> Vec<usize> {
                 DMatrix::zeros(6, 0)
             } else {
                 let sys = VelocitySystem::new(ctx.mech, inst, used);
-                sys.relative_twists(&screw::null_space(&sys.matrix), soc.ends[0], soc.ends[1])
+                sys.relative_twists(&sys.kernel(), soc.ends[0], soc.ends[1])
             };
             let m_soc = screw::joint_twists(inst, &soc.joints);
             xi = xi.max(screw::rank(&screw::hstack(&[&m_rel, &m_soc])));
@@ -1079,23 +1094,21 @@ impl<'a> Labeller<'a> {
     }
 }
 
-fn motion_decoupling(ctx: &Context, all: u64, platform: usize, base_point: Option<usize>) -> Vec<Dependence> {
+fn motion_decoupling(ctx: &Context, platform: usize, base_point: Option<usize>) -> Vec<Dependence> {
     let mech = ctx.mech;
     let actuated: Vec<usize> = (0..mech.joints.len()).filter(|&j| mech.joints[j].actuated).collect();
     let names = ["x", "y", "z", "rx", "ry", "rz"];
     let mut depends = [[false; 64]; 6];
     let mut moves = [false; 6];
-    for inst in &ctx.primary {
-        let sys = VelocitySystem::new(mech, inst, all);
-        let kernel = screw::null_space(&sys.matrix);
-        let twists = sys.relative_twists(&kernel, 0, platform);
+    for (inst, (sys, kernel)) in ctx.primary.iter().zip(&ctx.whole) {
+        let twists = sys.relative_twists(kernel, 0, platform);
         let o = base_point.map_or_else(Vector3::zeros, |j| inst.points[j]);
         let (w, v) = screw::at_point(&twists, &o);
-        let input = input_rows(mech, &sys, &kernel);
+        let input = input_rows(mech, sys, kernel);
         let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else {
             continue;
         };
-        if screw::rank(&input) < actuated.len() {
+        if screw::rank_of_part(&input, sys.rate_scale(kernel)) < actuated.len() {
             continue; // an input singularity here: use the other configurations
         }
         let mut out = DMatrix::zeros(6, kernel.ncols());
