@@ -10,7 +10,9 @@ use crate::trace::{operands, Choice, Failure, Graph, Node, Sym};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::cell::RefCell;
-use std::collections::HashMap;
+use std::collections::HashMap as StdHashMap;
+
+type HashMap<K, V> = StdHashMap<K, V, std::hash::BuildHasherDefault<crate::trace::FastHash>>;
 
 /// The emitter of one graph: the prepared slots it has handed out so far.
 pub struct Emit<'g> {
@@ -84,7 +86,7 @@ impl<'g> Emit<'g> {
     /// The live nodes reachable from `roots` (not through parameter-only
     /// nodes), in recorded order, with their use counts.
     fn reach(&self, roots: &[Sym]) -> (Vec<Sym>, HashMap<Sym, usize>) {
-        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        let mut uses: HashMap<Sym, usize> = HashMap::default();
         let mut seen = vec![false; self.g.nodes.len()];
         let mut stack: Vec<Sym> = roots.to_vec();
         for r in roots {
@@ -392,7 +394,7 @@ impl<'g> Emit<'g> {
         let slots = self.slots.borrow().clone();
         let (order, uses) = {
             // Parameter-only nodes reachable from the slots.
-            let mut uses: HashMap<Sym, usize> = HashMap::new();
+            let mut uses: HashMap<Sym, usize> = HashMap::default();
             let mut seen = vec![false; self.g.nodes.len()];
             let mut stack = slots.clone();
             for s in &slots {

@@ -14,6 +14,7 @@ use pkm_runtime::scalar::Scalar;
 use pkm_runtime::steps::Kernel;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// A recorded value: an index into the current [`Graph`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -101,7 +102,38 @@ pub struct Graph {
     pub names: Vec<Option<String>>,
     /// The guards met since [`take_guards`], in order.
     guards: Vec<Sym>,
-    index: HashMap<Node, Sym>,
+    index: HashMap<Node, Sym, BuildHasherDefault<FastHash>>,
+}
+
+/// A small multiplicative hash (FxHash's): the graph hashes every recorded
+/// operation, and SipHash at opt-level 0 (a user's debug build runs the
+/// macro unoptimised) was most of the macro's time.
+#[derive(Default)]
+pub struct FastHash(u64);
+
+impl Hasher for FastHash {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(b));
+        }
+    }
+    fn write_u64(&mut self, i: u64) {
+        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_u32(&mut self, i: u32) {
+        self.write_u64(u64::from(i));
+    }
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
+    fn write_u8(&mut self, i: u8) {
+        self.write_u64(u64::from(i));
+    }
 }
 
 thread_local! {
