@@ -162,6 +162,21 @@ fn handwritten(c: &mut Criterion) {
     group.bench_function("generated_all", |b| b.iter(|| solver.ik(black_box(&x))));
     group.bench_function("hand_all", |b| b.iter(|| seed000_a::ik_all(black_box(&x))));
     group.finish();
+
+    // What the velocity capabilities cost against one fk branch (issue 11
+    // asks for at most 5×): the Jacobians and the velocities at the solution.
+    let params = Default::default();
+    let all = SeedA::fk_branch(&params, &q, signs_of::<2>(0b01)).unwrap().q;
+    let rates = [1.0, -0.5, 0.25];
+    let mut group = c.benchmark_group("seed000_a/velocity");
+    group.bench_function("fk_branch", |b| {
+        b.iter(|| solver.fk_branch(black_box(&q), signs_of::<2>(0b01)))
+    });
+    group.bench_function("jacobian", |b| b.iter(|| SeedA::jacobian(&params, black_box(&all))));
+    group.bench_function("velocity", |b| {
+        b.iter(|| SeedA::velocity(&params, black_box(&all), black_box(&rates)))
+    });
+    group.finish();
 }
 
 criterion_group!(benches, handwritten);
