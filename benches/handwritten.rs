@@ -172,6 +172,12 @@ fn handwritten(c: &mut Criterion) {
     group.bench_function("fk_branch", |b| {
         b.iter(|| solver.fk_branch(black_box(&q), signs_of::<2>(0b01)))
     });
+    group.bench_function("fk_rates", |b| {
+        b.iter(|| solver.fk_rates(black_box(&q), signs_of::<2>(0b01), black_box(&rates)))
+    });
+    group.bench_function("fk_jacobian", |b| {
+        b.iter(|| solver.fk_jacobian(black_box(&q), signs_of::<2>(0b01)))
+    });
     group.bench_function("jacobian", |b| b.iter(|| SeedA::jacobian(&params, black_box(&all))));
     group.bench_function("velocity", |b| {
         b.iter(|| SeedA::velocity(&params, black_box(&all), black_box(&rates)))

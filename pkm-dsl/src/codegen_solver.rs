@@ -198,6 +198,11 @@ struct Direction<'p> {
     plan: &'p Plan,
     given: Branch,
     every: Vec<Branch>,
+    /// The result's rates along the given values' rates, where every step's
+    /// kernel is written out (differentiable as recorded).
+    rates: Option<Vec<Sym>>,
+    /// The result's derivative along each given value (columns).
+    jacobian: Option<Vec<Vec<Sym>>>,
 }
 
 fn xyz(p: &[TokenStream]) -> TokenStream {
@@ -228,11 +233,17 @@ pub fn generate(
                     branch(a, &g, plan, forward, &signs)
                 })
                 .collect::<Result<_, _>>()?;
+            let rates = crate::trace::derivative(&given.result, &Sym::rate);
+            let jacobian = (0..plan.n_inputs)
+                .map(|k| crate::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
+                .collect();
             out.push(Direction {
                 forward,
                 plan,
                 given,
                 every,
+                rates,
+                jacobian,
             });
         }
         Ok(out)
@@ -436,6 +447,23 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             }
         }
     };
+    // The verification of a function whose last roots are the residual rows and the origins.
+    let check_of = |rest: &[TokenStream]| -> TokenStream {
+        if open.is_empty() {
+            return quote! {};
+        }
+        let (residual, origins) = rest.split_at(n_rows);
+        let (rows, extent) = (rows_of(residual), extent_of(origins));
+        quote! {
+            let extent = #extent;
+            let rows = #rows;
+            if !::pkm::runtime::consistency::within(&rows, extent) {
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                }
+            }
+        }
+    };
     let solution_doc = format!(" {what} position for one branch: every joint value and every point.");
     let solution = quote! {
         #[doc = #solution_doc]
@@ -513,12 +541,80 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             all
         }
     };
+    let derivatives = derivative_fns(emit, d, &given_sig, &finite, &check_of, name, what);
     quote! {
         #[automatically_derived]
         impl #prepared {
             #lean
             #all
             #solution
+            #derivatives
+        }
+    }
+}
+
+/// `fk_rates` and `fk_jacobian` (or `ik_…`): the result's derivative along
+/// given rates and along each given value, written out with the solution,
+/// verified like it. Nothing where a step's kernel is a called function.
+#[allow(clippy::too_many_arguments)]
+fn derivative_fns(
+    emit: &Emit,
+    d: &Direction,
+    given_sig: &TokenStream,
+    finite: &TokenStream,
+    check_of: &dyn Fn(&[TokenStream]) -> TokenStream,
+    name: &str,
+    what: &str,
+) -> TokenStream {
+    let (Some(rates), Some(jacobian)) = (&d.rates, &d.jacobian) else {
+        return TokenStream::new();
+    };
+    let rt = quote! { ::pkm::runtime::plan };
+    let (n_given, n_result) = (d.plan.n_inputs, d.given.result.len());
+    let tail = |roots: &mut Vec<Sym>| {
+        roots.extend(&d.given.residual);
+        roots.extend(d.given.origins.iter().flatten());
+    };
+    let f_rates = format_ident!("{}_rates", name);
+    let f_jacobian = format_ident!("{}_jacobian", name);
+    let mut roots = d.given.result.clone();
+    roots.extend(rates);
+    tail(&mut roots);
+    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+    let (result, rest) = exprs.split_at(n_result);
+    let (rate, rest) = rest.split_at(n_result);
+    let check = check_of(rest);
+    let rates_doc = format!(
+        " {what} position and its rates for one branch: the result of `{name}_branch` and its derivative along the given values' `rates`, written out with it (no finite differences)."
+    );
+    let mut roots: Vec<Sym> = jacobian.iter().flatten().copied().collect();
+    tail(&mut roots);
+    let (jlets, jexprs) = emit.straight(&roots, &d.given.guards);
+    let (columns, rest) = jexprs.split_at(n_given * n_result);
+    let jcheck = check_of(rest);
+    let rows = (0..n_result).map(|r| {
+        let row = (0..n_given).map(|k| &columns[k * n_result + r]);
+        quote! { [#(#row),*] }
+    });
+    let jacobian_doc =
+        format!(" {what} Jacobian for one branch: row r, column k is the derivative of result r along given value k.");
+    quote! {
+        #[doc = #rates_doc]
+        pub fn #f_rates(&self, #given_sig, rates: &[f64; #n_given]) -> ::core::result::Result<([f64; #n_result], [f64; #n_result]), #rt::SolveError> {
+            let _ = (&signs, rates);
+            #finite
+            #lets
+            #check
+            ::core::result::Result::Ok(([#(#result),*], [#(#rate),*]))
+        }
+
+        #[doc = #jacobian_doc]
+        pub fn #f_jacobian(&self, #given_sig) -> ::core::result::Result<[[f64; #n_given]; #n_result], #rt::SolveError> {
+            let _ = &signs;
+            #finite
+            #jlets
+            #jcheck
+            ::core::result::Result::Ok([#(#rows),*])
         }
     }
 }

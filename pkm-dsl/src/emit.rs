@@ -133,6 +133,7 @@ impl<'g> Emit<'g> {
                 quote! { params.#id }
             }
             Node::Given(k) => quote! { given[#k] },
+            Node::Rate(k) => quote! { rates[#k] },
             Node::Add(a, b) => {
                 let (a, b) = (e(*a), e(*b));
                 quote! { (#a + #b) }
@@ -262,7 +263,7 @@ impl<'g> Emit<'g> {
             }
             let is_kernel = matches!(node, Node::Kernel(..));
             let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
-            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_)) {
+            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
                 continue;
             }
             let v = self.name(s);

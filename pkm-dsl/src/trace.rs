@@ -40,6 +40,8 @@ pub enum Node {
     Param(String),
     /// Given value number k.
     Given(usize),
+    /// The rate of given value number k (the derivative's direction).
+    Rate(usize),
     /// A parameter expression the steps cannot trace (a power, a tangent):
     /// Rust source in `params`.
     Raw(String),
@@ -168,7 +170,10 @@ impl Graph {
             return s;
         }
         let operands = operands(&n);
-        let mut live = matches!(n, Node::Given(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..));
+        let mut live = matches!(
+            n,
+            Node::Given(_) | Node::Rate(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..)
+        );
         let mut signs = (0u64, 0u64);
         for o in &operands {
             live |= self.live[o.0 as usize];
@@ -195,7 +200,7 @@ impl Graph {
 /// The operands of a node.
 pub fn operands(n: &Node) -> Vec<Sym> {
     match n {
-        Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Raw(_) => vec![],
+        Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Rate(_) | Node::Raw(_) => vec![],
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => vec![*a, *b],
         Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) | Node::Result(a, _) => vec![*a],
         Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
@@ -235,6 +240,11 @@ impl Sym {
     /// A parameter expression as Rust source (in `params`).
     pub fn raw(text: String) -> Sym {
         node(Node::Raw(text))
+    }
+
+    /// The rate of given value number `k`.
+    pub fn rate(k: usize) -> Sym {
+        node(Node::Rate(k))
     }
 
     /// Given value number `k`.
@@ -421,4 +431,57 @@ impl Scalar for Sym {
     fn choice(signs: &[Choice], k: Option<usize>) -> Choice {
         k.map_or(Choice::One, |k| signs[k])
     }
+}
+
+/// The derivative of `roots` along the given values' rates (`rate(k)` for
+/// given value k), by the chain rule through the recorded operations in
+/// their order: forward-mode differentiation of the straight-line solver,
+/// itself straight-line. `None` where a root depends on a kernel called as a
+/// function (its derivative is not written out).
+pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>> {
+    let n = with(|g| g.nodes.len());
+    let mut seen = vec![false; n];
+    let mut stack = roots.to_vec();
+    while let Some(s) = stack.pop() {
+        let i = s.0 as usize;
+        if seen[i] || !with(|g| g.live[i]) {
+            continue;
+        }
+        seen[i] = true;
+        stack.extend(operands(&with(|g| g.nodes[i].clone())));
+    }
+    let zero = Sym::c(0.0);
+    let mut d: Vec<Sym> = vec![zero; n];
+    for i in (0..n).filter(|&i| seen[i]) {
+        let s = Sym(i as u32);
+        let node = with(|g| g.nodes[i].clone());
+        let dd = |x: &Sym| d[x.0 as usize];
+        d[i] = match node {
+            Node::Const(_) | Node::Param(_) | Node::Raw(_) | Node::Rate(_) | Node::Guard(..) => zero,
+            Node::Given(k) => rate(k),
+            Node::Add(a, b) => dd(&a) + dd(&b),
+            Node::Sub(a, b) => dd(&a) - dd(&b),
+            Node::Mul(a, b) => dd(&a) * b + a * dd(&b),
+            Node::Div(a, b) => {
+                let _ = a;
+                (dd(&a) - s * dd(&b)) / b
+            }
+            Node::Neg(a) => -dd(&a),
+            Node::Sqrt(a) => dd(&a) / (Sym::c(2.0) * s),
+            Node::Sin(a) => a.cos() * dd(&a),
+            Node::Cos(a) => -(a.sin() * dd(&a)),
+            Node::Abs(a) => Sym::if_less(a, zero, -dd(&a), dd(&a)),
+            Node::Atan2(y, x) => (x * dd(&y) - y * dd(&x)) / (x * x + y * y),
+            Node::IfLess(a, b, c, e) => Sym::if_less(a, b, dd(&c), dd(&e)),
+            Node::Pick(k, p, m) => Sym::pick(Choice::Given(k), dd(&p), dd(&m)),
+            Node::Chosen(k, sign, v) => Sym::pick(Choice::Fixed(k, sign), dd(&v), dd(&v)),
+            Node::Kernel(..) | Node::Result(..) => return None,
+        };
+    }
+    Some(
+        roots
+            .iter()
+            .map(|r| if seen[r.0 as usize] { d[r.0 as usize] } else { zero })
+            .collect(),
+    )
 }
