@@ -65,7 +65,7 @@ pub struct Figure {
 ///
 /// ```
 /// let path = std::env::temp_dir().join("pkm-doc-csv.csv");
-/// pkm::plots::write_csv(&path, &["set", "x (mm)"], [vec!["a, b".to_string(), "1".to_string()]]).unwrap();
+/// pkm_cli::plots::write_csv(&path, &["set", "x (mm)"], [vec!["a, b".to_string(), "1".to_string()]]).unwrap();
 /// assert_eq!(std::fs::read_to_string(path).unwrap(), "set,x (mm)\n\"a, b\",1\n");
 /// ```
 pub fn write_csv<R: AsRef<[String]>>(
@@ -274,7 +274,7 @@ pub struct Style {
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-scatter");
 /// let sets = [("corners".to_string(), vec![[0.0, 0.0], [1.0, 1.0]])];
-/// let f = pkm::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &sets, Default::default()).unwrap();
+/// let f = pkm_cli::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &sets, Default::default()).unwrap();
 /// assert!(std::fs::read_to_string(f.csv).unwrap().starts_with("set,x (mm),y (mm)"));
 /// ```
 pub fn scatter(
@@ -382,7 +382,7 @@ pub fn scatter(
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-cloud");
-/// let f = pkm::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
+/// let f = pkm_cli::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
 /// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 3);
 /// ```
 pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]]) -> Result<Figure, PlotError> {
@@ -470,7 +470,7 @@ pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]])
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-curves");
 /// let t = [0.0, 0.5, 1.0];
-/// let f = pkm::plots::curves(&stem, "Ramp", ["t (s)", "v (mm/s)"], &t, &[("v".into(), vec![0.0, 1.0, 2.0])]).unwrap();
+/// let f = pkm_cli::plots::curves(&stem, "Ramp", ["t (s)", "v (mm/s)"], &t, &[("v".into(), vec![0.0, 1.0, 2.0])]).unwrap();
 /// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 4);
 /// ```
 pub fn curves(

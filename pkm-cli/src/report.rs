@@ -162,7 +162,7 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> ReportError + '_ {
 /// `name=value`, as `--param` and `--pose` take it.
 ///
 /// ```
-/// assert_eq!(pkm::report::parse_param("l1 = 120"), Ok(("l1".to_string(), 120.0)));
+/// assert_eq!(pkm_cli::report::parse_param("l1 = 120"), Ok(("l1".to_string(), 120.0)));
 /// ```
 pub fn parse_param(s: &str) -> Result<(String, f64), String> {
     let (k, v) = s
@@ -175,10 +175,10 @@ pub fn parse_param(s: &str) -> Result<(String, f64), String> {
 /// `low:high`, with low below high.
 ///
 /// ```
-/// assert_eq!(pkm::report::parse_range("-250:0"), Ok((-250.0, 0.0)));
-/// assert!(pkm::report::parse_range("5").is_err());
-/// assert!(pkm::report::parse_range("3:1").is_err());
-/// assert!(pkm::report::parse_range("1:1").is_err());
+/// assert_eq!(pkm_cli::report::parse_range("-250:0"), Ok((-250.0, 0.0)));
+/// assert!(pkm_cli::report::parse_range("5").is_err());
+/// assert!(pkm_cli::report::parse_range("3:1").is_err());
+/// assert!(pkm_cli::report::parse_range("1:1").is_err());
 /// ```
 pub fn parse_range(s: &str) -> Result<(f64, f64), String> {
     let (a, b) = s
@@ -203,7 +203,7 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), String> {
 /// `x=60`: a section plane by its axis and value.
 ///
 /// ```
-/// assert_eq!(pkm::report::parse_section("y=-85"), Ok((1, -85.0)));
+/// assert_eq!(pkm_cli::report::parse_section("y=-85"), Ok((1, -85.0)));
 /// ```
 pub fn parse_section(s: &str) -> Result<(usize, f64), String> {
     let (axis, v) = parse_param(s)?;
@@ -978,10 +978,10 @@ fn head(title: &str) -> String {
 /// A four-bar with no options: its crank turns fully at 1 rad/s, and the
 /// figures of its coupler point are in its plane.
 /// ```
-/// let text = std::fs::read_to_string("examples/mechanisms/four_bar.pkm").unwrap();
-/// let options = pkm::report::ReportOptions { nodes: Some(90), point: Some("E".into()), ..Default::default() };
+/// let text = std::fs::read_to_string("../examples/mechanisms/four_bar.pkm").unwrap();
+/// let options = pkm_cli::report::ReportOptions { nodes: Some(90), point: Some("E".into()), ..Default::default() };
 /// let out = std::env::temp_dir().join("pkm-doc-report");
-/// let page = pkm::report::write_report(&text, "four_bar.pkm", &options, &out).unwrap();
+/// let page = pkm_cli::report::write_report(&text, "four_bar.pkm", &options, &out).unwrap();
 /// let html = std::fs::read_to_string(page).unwrap();
 /// assert!(html.contains("Workspace of E"));
 /// assert!(html.contains("a curve, length"));
