@@ -273,23 +273,21 @@ fn load(
 ) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
     let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
     let a = pkm_dsl::analyze_source(text).map_err(render)?;
-    let nominal = a.geometry.nominal();
     // Only the overrides: the others, derived ones included, are resolved from them.
-    let mut values = std::collections::HashMap::new();
-    for (k, v) in params {
-        if !nominal.contains_key(k) {
-            let mut known: Vec<&String> = nominal.keys().collect();
-            known.sort();
-            return Err(invalid(format!(
-                "{file}: --param {k}: no such parameter (the parameters: {})",
-                known.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
-            )));
-        }
-        if !v.is_finite() {
-            return Err(invalid(format!("--param {k}={v}: not a finite number")));
-        }
-        values.insert(k.clone(), *v);
-    }
+    let values = pkm_dsl::params::overrides(&a, params).map_err(|e| {
+        invalid(match e {
+            pkm_dsl::params::ParamError::Unknown { name, known, .. } => {
+                format!(
+                    "{file}: --param {name}: no such parameter (the parameters: {})",
+                    known.join(", ")
+                )
+            }
+            pkm_dsl::params::ParamError::NotFinite { name, value } => {
+                format!("--param {name}={value}: not a finite number")
+            }
+            e => format!("{file}: --param {}: {e}", e.name()),
+        })
+    })?;
     if !a.geometry.complete {
         return Ok((a, None));
     }

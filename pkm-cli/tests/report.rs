@@ -292,6 +292,15 @@ fn options_out_of_range() {
         },
         "--param d=NaN: not a finite number",
     );
+    // Which of two values was meant is not known: neither is used.
+    check(
+        "five_bar",
+        ReportOptions {
+            params: vec![("d".into(), 90.0), ("d".into(), 80.0)],
+            ..o()
+        },
+        "--param d: parameter d is given twice",
+    );
     check("rps_3", ReportOptions { nodes: Some(10), ..o() }, "has no geometry");
     // A --compare file's own errors: its path, line and column, on one line.
     let broken = std::env::temp_dir().join(format!("pkm-report-test-{}-broken.pkm", std::process::id()));

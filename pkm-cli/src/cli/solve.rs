@@ -63,7 +63,7 @@ struct Loaded {
 fn load(r: &Request) -> Result<Loaded, Failure> {
     let analysis = pkm_dsl::analyze_source(r.source).map_err(|d| r.parse_failure(d))?;
     let nominal = pkm_dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
-    let values = parameter_values(&analysis, r.params)?;
+    let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
     check_lengths(&analysis, &nominal, &values)?;
     let model = pkm_dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
     if let Some(why) = non_finite_place(&model) {
@@ -86,26 +86,6 @@ fn finite(what: &str, v: f64) -> Result<(), Failure> {
     } else {
         Ok(())
     }
-}
-
-/// The `--param` overrides by name, each a declared parameter, given once, finite.
-fn parameter_values(a: &Analysis, given: &[(String, f64)]) -> Result<HashMap<String, f64>, Failure> {
-    let known: Vec<&str> = a.geometry.parameters.iter().map(|p| p.name.as_str()).collect();
-    let mut values = HashMap::new();
-    for (name, v) in given {
-        if !known.contains(&name.as_str()) {
-            return Err(Failure::input(if known.is_empty() {
-                format!("unknown parameter `{name}`: {} has no parameters", a.mechanism.name)
-            } else {
-                format!("unknown parameter `{name}`; the parameters are {}", known.join(", "))
-            }));
-        }
-        finite(&format!("parameter {name}"), *v)?;
-        if values.insert(name.clone(), *v).is_some() {
-            return Err(Failure::input(format!("parameter {name} is given twice")));
-        }
-    }
-    Ok(values)
 }
 
 /// A joint place or named point that is not a number (a parameter
