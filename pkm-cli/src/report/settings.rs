@@ -147,167 +147,30 @@ pub(super) fn settings(
     o: &ReportOptions,
     file: &str,
 ) -> Result<Settings, ReportError> {
-    let model = &l.model;
-    let inputs = model.inputs();
-    let n = inputs.len();
-    let names: Vec<&str> = inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
-    let count = |what: &str, v: &[f64]| -> Result<(), ReportError> {
-        if v.len() != n {
-            return Err(invalid(format!(
-                "{what} has {} values; {file} has {n} actuated joints ({})",
-                v.len(),
-                names.join(", ")
-            )));
-        }
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(invalid(format!("{what}: {x} is not a finite number")));
-        }
-        Ok(())
+    let inputs = l.model.inputs();
+    let r = Resolving {
+        l,
+        plan,
+        study,
+        o,
+        file,
+        names: inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect(),
+        inputs,
     };
-    // Ranges: per input, from the command line (all), the study, or the geometry.
-    let size = reach(model);
-    let ranges = if o.ranges.is_empty() {
-        let mut from = Origin::Study;
-        let r: Vec<(f64, f64)> = study
-            .ranges
-            .iter()
-            .zip(&inputs)
-            .map(|(r, &j)| {
-                r.unwrap_or_else(|| {
-                    from = if study.ranges.iter().any(Option::is_some) {
-                        Origin::Study
-                    } else {
-                        Origin::Default
-                    };
-                    match model.joints[j].kind {
-                        JointType::P => (-size, size),
-                        _ => (-std::f64::consts::PI, std::f64::consts::PI),
-                    }
-                })
-            })
-            .collect();
-        (r, from)
-    } else {
-        if o.ranges.len() != n {
-            return Err(invalid(format!(
-                "--ranges: expected {n} ranges, one per actuated joint of {file} ({}); got {}",
-                names.join(", "),
-                o.ranges.len()
-            )));
-        }
-        (o.ranges.clone(), Origin::Command)
-    };
-    for (k, (lo, hi)) in ranges.0.iter().enumerate() {
-        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-            return Err(invalid(format!(
-                "the range of {} is {lo}:{hi}: empty or inverted",
-                names[k]
-            )));
-        }
-    }
+    let n = r.inputs.len();
+    let ranges = r.ranges()?;
     let nodes = pick(o.nodes, study.nodes, || default_nodes(n));
     check_nodes(nodes.0, n)?;
-    let choices = plan.choices();
-    let branch_given = o.branch.or(study.branch);
-    if let Some(b) = branch_given {
-        if b >= 1 << choices {
-            return Err(invalid(format!(
-                "--branch {b}: {file} has {} branches (0 to {})",
-                1usize << choices,
-                (1usize << choices) - 1
-            )));
-        }
-    }
-    // The ranges' middles; a crank that turns fully 30° past it, off the
-    // dead centres that a base line along x gives at 0.
-    let middle: Vec<f64> = ranges
-        .0
-        .iter()
-        .zip(&inputs)
-        .map(|((lo, hi), &j)| {
-            let full = model.joints[j].kind != JointType::P && hi - lo >= std::f64::consts::TAU - 1e-6;
-            (lo + hi) / 2.0 + if full { std::f64::consts::FRAC_PI_6 } else { 0.0 }
-        })
-        .collect();
-    let start = match (&o.start, &study.start) {
-        (Some(s), _) => {
-            count("--start", s)?;
-            (s.clone(), Origin::Command)
-        }
-        (None, Some(s)) => {
-            count("the study's start", s)?;
-            (s.clone(), Origin::Study)
-        }
-        (None, None) => (
-            reachable_start(model, plan, &ranges.0, &middle, branch_given).ok_or_else(|| {
-                invalid(format!(
-                    "no node of the ranges {:?} is reachable{}: give reachable ranges (--ranges or the study block)",
-                    ranges.0,
-                    branch_given.map(|b| format!(" on branch {b}")).unwrap_or_default()
-                ))
-            })?,
-            Origin::Default,
-        ),
-    };
-    // The branch: the given one, else the first reachable and regular at the start.
-    let branch = match branch_given {
-        Some(b) => (
-            b,
-            if o.branch.is_some() {
-                Origin::Command
-            } else {
-                Origin::Study
-            },
-        ),
-        None => {
-            let mut fallback = None;
-            let mut chosen = None;
-            for b in 0..1usize << choices {
-                let Ok(v) = plan.solve(model, &start.0, &signs(choices, b)) else {
-                    continue;
-                };
-                fallback.get_or_insert(b);
-                let regular = l.outputs.is_empty()
-                    || velocity::jacobians(model, &v, &l.outputs)
-                        .is_ok_and(|j| j.singularity == velocity::Singularity::None);
-                if regular {
-                    chosen = Some(b);
-                    break;
-                }
-            }
-            (
-                chosen
-                    .or(fallback)
-                    .ok_or_else(|| invalid(format!("no branch reaches the start {}", tuple_text(&start.0, 4))))?,
-                Origin::Default,
-            )
-        }
-    };
-    let full_turns = inputs
+    let branch_given = r.branch_given()?;
+    let start = r.start(&ranges.0, branch_given)?;
+    let branch = r.branch(&start.0, branch_given)?;
+    // Cranks that turn fully (every input a revolute over a whole turn).
+    let full_turns = r
+        .inputs
         .iter()
         .zip(&ranges.0)
-        .all(|(&j, (lo, hi))| model.joints[j].kind != JointType::P && hi - lo >= std::f64::consts::TAU - 1e-6);
-    let motion = match (&o.amplitude, &o.speed, &study.trajectory) {
-        (Some(a), _, _) => {
-            count("--amplitude", a)?;
-            (Motion::Sine, a.clone(), Origin::Command)
-        }
-        (None, Some(s), _) => {
-            count("--speed", s)?;
-            (Motion::ConstantSpeed, s.clone(), Origin::Command)
-        }
-        (None, None, Some((m, v))) => {
-            count("the study's trajectory", v)?;
-            (*m, v.clone(), Origin::Study)
-        }
-        // Cranks that turn fully turn at 1 rad/s; otherwise a sine of 5 % of each range.
-        _ if full_turns => (Motion::ConstantSpeed, vec![1.0; n], Origin::Default),
-        _ => (
-            Motion::Sine,
-            ranges.0.iter().map(|(lo, hi)| 0.05 * (hi - lo)).collect(),
-            Origin::Default,
-        ),
-    };
+        .all(|(&j, (lo, hi))| full_turn(&l.model, j, *lo, *hi));
+    let motion = r.motion(&ranges.0, full_turns)?;
     let duration = pick(o.duration, study.duration, || {
         if motion.0 == Motion::ConstantSpeed && full_turns {
             std::f64::consts::TAU
@@ -316,16 +179,7 @@ pub(super) fn settings(
         }
     });
     check_duration(duration.0)?;
-    let point = pick(o.point.clone(), study.point.clone(), || default_point(l));
-    if point_of(model, &point.0).is_none() {
-        let mut known: Vec<String> = model.points.iter().map(|p| p.name.clone()).collect();
-        known.extend(model.joints.iter().map(|j| j.name.clone()));
-        return Err(invalid(format!(
-            "no point `{}` in {file} (its named points and joints: {})",
-            point.0,
-            known.join(", ")
-        )));
-    }
+    let point = r.point()?;
     let sections = if !o.sections.is_empty() {
         (o.sections.clone(), Origin::Command)
     } else if !study.sections.is_empty() {
@@ -343,6 +197,219 @@ pub(super) fn settings(
         duration,
         sections,
     })
+}
+
+/// Whether joint `j` over `lo ..= hi` is a crank that turns fully.
+fn full_turn(model: &Model, j: usize, lo: f64, hi: f64) -> bool {
+    model.joints[j].kind != JointType::P && hi - lo >= std::f64::consts::TAU - 1e-6
+}
+
+/// What resolving the settings reads: the file, its forward plan, the study
+/// block, the command line, and the actuated joints with their names.
+struct Resolving<'a> {
+    l: &'a Loaded,
+    plan: &'a AnyPlan,
+    study: &'a Resolved,
+    o: &'a ReportOptions,
+    /// The file's path as its errors show it.
+    file: &'a str,
+    inputs: Vec<usize>,
+    names: Vec<&'a str>,
+}
+
+impl Resolving<'_> {
+    /// An error unless `v` has one finite value per input; `what` names it.
+    fn count(&self, what: &str, v: &[f64]) -> Result<(), ReportError> {
+        let n = self.inputs.len();
+        if v.len() != n {
+            return Err(invalid(format!(
+                "{what} has {} values; {} has {n} actuated joints ({})",
+                v.len(),
+                self.file,
+                self.names.join(", ")
+            )));
+        }
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(invalid(format!("{what}: {x} is not a finite number")));
+        }
+        Ok(())
+    }
+
+    /// Ranges: per input, from the command line (all), the study, or the
+    /// geometry (a whole turn, or ± the mechanism's reach for a slider).
+    fn ranges(&self) -> Result<(Vec<(f64, f64)>, Origin), ReportError> {
+        let (model, study, o) = (&self.l.model, self.study, self.o);
+        let n = self.inputs.len();
+        let size = reach(model);
+        let ranges = if o.ranges.is_empty() {
+            let mut from = Origin::Study;
+            let r: Vec<(f64, f64)> = study
+                .ranges
+                .iter()
+                .zip(&self.inputs)
+                .map(|(r, &j)| {
+                    r.unwrap_or_else(|| {
+                        from = if study.ranges.iter().any(Option::is_some) {
+                            Origin::Study
+                        } else {
+                            Origin::Default
+                        };
+                        match model.joints[j].kind {
+                            JointType::P => (-size, size),
+                            _ => (-std::f64::consts::PI, std::f64::consts::PI),
+                        }
+                    })
+                })
+                .collect();
+            (r, from)
+        } else {
+            if o.ranges.len() != n {
+                return Err(invalid(format!(
+                    "--ranges: expected {n} ranges, one per actuated joint of {} ({}); got {}",
+                    self.file,
+                    self.names.join(", "),
+                    o.ranges.len()
+                )));
+            }
+            (o.ranges.clone(), Origin::Command)
+        };
+        for (k, (lo, hi)) in ranges.0.iter().enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(invalid(format!(
+                    "the range of {} is {lo}:{hi}: empty or inverted",
+                    self.names[k]
+                )));
+            }
+        }
+        Ok(ranges)
+    }
+
+    /// The branch the command line or the study gives, checked against the plan's.
+    fn branch_given(&self) -> Result<Option<usize>, ReportError> {
+        let choices = self.plan.choices();
+        let given = self.o.branch.or(self.study.branch);
+        if let Some(b) = given {
+            if b >= 1 << choices {
+                return Err(invalid(format!(
+                    "--branch {b}: {} has {} branches (0 to {})",
+                    self.file,
+                    1usize << choices,
+                    (1usize << choices) - 1
+                )));
+            }
+        }
+        Ok(given)
+    }
+
+    /// The sample input and the trajectory's start: given, else the node
+    /// nearest the ranges' middles that some branch (or the given one) reaches.
+    fn start(&self, ranges: &[(f64, f64)], branch_given: Option<usize>) -> Result<(Vec<f64>, Origin), ReportError> {
+        let model = &self.l.model;
+        // The ranges' middles; a crank that turns fully 30° past it, off the
+        // dead centres that a base line along x gives at 0.
+        let middle: Vec<f64> = ranges
+            .iter()
+            .zip(&self.inputs)
+            .map(|(&(lo, hi), &j)| {
+                (lo + hi) / 2.0
+                    + if full_turn(model, j, lo, hi) {
+                        std::f64::consts::FRAC_PI_6
+                    } else {
+                        0.0
+                    }
+            })
+            .collect();
+        Ok(match (&self.o.start, &self.study.start) {
+            (Some(s), _) => {
+                self.count("--start", s)?;
+                (s.clone(), Origin::Command)
+            }
+            (None, Some(s)) => {
+                self.count("the study's start", s)?;
+                (s.clone(), Origin::Study)
+            }
+            (None, None) => (
+                reachable_start(model, self.plan, ranges, &middle, branch_given).ok_or_else(|| {
+                    invalid(format!(
+                        "no node of the ranges {ranges:?} is reachable{}: give reachable ranges (--ranges or the study \
+                         block)",
+                        branch_given.map(|b| format!(" on branch {b}")).unwrap_or_default()
+                    ))
+                })?,
+                Origin::Default,
+            ),
+        })
+    }
+
+    /// The branch: the given one, else the first reachable and regular at the start.
+    fn branch(&self, start: &[f64], branch_given: Option<usize>) -> Result<(usize, Origin), ReportError> {
+        if let Some(b) = branch_given {
+            let from = if self.o.branch.is_some() {
+                Origin::Command
+            } else {
+                Origin::Study
+            };
+            return Ok((b, from));
+        }
+        let (model, outputs) = (&self.l.model, &self.l.outputs);
+        let choices = self.plan.choices();
+        let mut fallback = None;
+        for b in 0..1usize << choices {
+            let Ok(v) = self.plan.solve(model, start, &signs(choices, b)) else {
+                continue;
+            };
+            fallback.get_or_insert(b);
+            let regular = outputs.is_empty()
+                || velocity::jacobians(model, &v, outputs).is_ok_and(|j| j.singularity == velocity::Singularity::None);
+            if regular {
+                return Ok((b, Origin::Default));
+            }
+        }
+        let b = fallback.ok_or_else(|| invalid(format!("no branch reaches the start {}", tuple_text(start, 4))))?;
+        Ok((b, Origin::Default))
+    }
+
+    /// The trajectory's law and its amplitudes or speeds.
+    fn motion(&self, ranges: &[(f64, f64)], full_turns: bool) -> Result<(Motion, Vec<f64>, Origin), ReportError> {
+        Ok(match (&self.o.amplitude, &self.o.speed, &self.study.trajectory) {
+            (Some(a), _, _) => {
+                self.count("--amplitude", a)?;
+                (Motion::Sine, a.clone(), Origin::Command)
+            }
+            (None, Some(s), _) => {
+                self.count("--speed", s)?;
+                (Motion::ConstantSpeed, s.clone(), Origin::Command)
+            }
+            (None, None, Some((m, v))) => {
+                self.count("the study's trajectory", v)?;
+                (*m, v.clone(), Origin::Study)
+            }
+            // Cranks that turn fully turn at 1 rad/s; otherwise a sine of 5 % of each range.
+            _ if full_turns => (Motion::ConstantSpeed, vec![1.0; self.inputs.len()], Origin::Default),
+            _ => (
+                Motion::Sine,
+                ranges.iter().map(|(lo, hi)| 0.05 * (hi - lo)).collect(),
+                Origin::Default,
+            ),
+        })
+    }
+
+    /// The point followed, which must be a named point or a joint.
+    fn point(&self) -> Result<(String, Origin), ReportError> {
+        let model = &self.l.model;
+        let point = pick(self.o.point.clone(), self.study.point.clone(), || default_point(self.l));
+        if point_of(model, &point.0).is_none() {
+            let mut known: Vec<String> = model.points.iter().map(|p| p.name.clone()).collect();
+            known.extend(model.joints.iter().map(|j| j.name.clone()));
+            return Err(invalid(format!(
+                "no point `{}` in {} (its named points and joints: {})",
+                point.0,
+                self.file,
+                known.join(", ")
+            )));
+        }
+        Ok(point)
+    }
 }
 
 /// The settings table.
