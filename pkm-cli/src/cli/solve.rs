@@ -3,6 +3,7 @@
 //! `points`), and when no branch solves the failure names the causes.
 
 use super::failure::{Failure, Kind};
+use pkm_cli::plans::AnyPlan;
 use pkm_dsl::{Analysis, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
@@ -245,39 +246,32 @@ impl Configuration {
     }
 }
 
-/// A planar or a spatial plan.
-enum AnyPlan {
-    Planar(pkm_runtime::plan::Plan),
-    Spatial(pkm_runtime::spatial::Plan),
-}
-
 /// Signs of one branch and its configuration or why it has none.
 type Run = (Vec<Sign>, Result<Configuration, SolveError>);
 
-impl AnyPlan {
-    fn run_all(&self, model: &Model, given: &[f64]) -> Vec<Run> {
-        match self {
-            AnyPlan::Planar(plan) => pkm_runtime::plan::run_all(model, plan, given)
-                .into_iter()
-                .map(|(signs, r)| {
-                    let c = r.map(|s| Configuration {
-                        poses: Poses::Planar(s.poses),
-                        values: s.values,
-                    });
-                    (signs, c)
-                })
-                .collect(),
-            AnyPlan::Spatial(plan) => pkm_runtime::spatial::run_all(model, plan, given)
-                .into_iter()
-                .map(|(signs, r)| {
-                    let c = r.map(|s| Configuration {
-                        poses: Poses::Spatial(s.poses),
-                        values: s.values,
-                    });
-                    (signs, c)
-                })
-                .collect(),
-        }
+/// Every branch of `plan` at the values `given`, with its link poses.
+fn run_all(plan: &AnyPlan, model: &Model, given: &[f64]) -> Vec<Run> {
+    match plan {
+        AnyPlan::Planar(plan) => pkm_runtime::plan::run_all(model, plan, given)
+            .into_iter()
+            .map(|(signs, r)| {
+                let c = r.map(|s| Configuration {
+                    poses: Poses::Planar(s.poses),
+                    values: s.values,
+                });
+                (signs, c)
+            })
+            .collect(),
+        AnyPlan::Spatial(plan) => pkm_runtime::spatial::run_all(model, plan, given)
+            .into_iter()
+            .map(|(signs, r)| {
+                let c = r.map(|s| Configuration {
+                    poses: Poses::Spatial(s.poses),
+                    values: s.values,
+                });
+                (signs, c)
+            })
+            .collect(),
     }
 }
 
@@ -469,19 +463,8 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
 /// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
 pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let (plan, inputs) = if l.model.planar {
-        let plan = pkm_dsl::plan::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-        let inputs = plan.inputs.clone();
-        (AnyPlan::Planar(plan), inputs)
-    } else {
-        let plan = pkm_dsl::plan3::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-        let inputs = if plan.inputs.len() == plan.n_inputs {
-            plan.inputs.clone()
-        } else {
-            l.model.inputs()
-        };
-        (AnyPlan::Spatial(plan), inputs)
-    };
+    let plan = AnyPlan::forward(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
+    let inputs = plan.inputs(&l.model);
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
     if q.len() != inputs.len() {
         return Err(Failure::input(format!(
@@ -500,7 +483,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
         .zip(&inputs)
         .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
         .collect();
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &given), &names);
+    let verdicts = verdicts(&l, run_all(&plan, &l.model, &given), &names);
     let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,
@@ -513,11 +496,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
 /// `pkm ik`: every branch at the declared outputs `pose` (by name).
 pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let plan = if l.model.planar {
-        AnyPlan::Planar(pkm_dsl::plan::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
-    } else {
-        AnyPlan::Spatial(pkm_dsl::plan3::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
-    };
+    let plan = AnyPlan::inverse(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
     let declared = output_names(&l);
     let list = declared.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
     let mut given: HashMap<&str, f64> = HashMap::new();
@@ -540,7 +519,7 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
         }
     }
     let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), &names);
+    let verdicts = verdicts(&l, run_all(&plan, &l.model, &ordered), &names);
     let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,

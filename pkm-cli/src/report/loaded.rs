@@ -3,44 +3,12 @@
 //! and what the sections read off it (points by name, units, outputs).
 
 use super::{invalid, ReportError};
+pub(super) use crate::plans::AnyPlan;
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::{self, Output};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::singular;
 use pkm_runtime::spatial::Pose3;
 use std::collections::HashMap;
-
-/// A solution plan run by the interpreter, planar or spatial.
-pub(super) enum AnyPlan {
-    Planar(pkm_runtime::plan::Plan),
-    Spatial(pkm_runtime::spatial::Plan),
-}
-
-impl AnyPlan {
-    pub(super) fn choices(&self) -> usize {
-        match self {
-            AnyPlan::Planar(p) => p.branches,
-            AnyPlan::Spatial(p) => p.branches,
-        }
-    }
-
-    /// The joint values of one branch, or why there is none.
-    pub(super) fn solve(&self, model: &Model, q: &[f64], signs: &[Sign]) -> Result<Vec<f64>, String> {
-        match self {
-            AnyPlan::Planar(p) => pkm_runtime::plan::run(model, p, q, signs).map(|s| s.values),
-            AnyPlan::Spatial(p) => pkm_runtime::spatial::run(model, p, q, signs).map(|s| s.values),
-        }
-        .map_err(|e| e.to_string())
-    }
-
-    /// Its steps' determinant factors at the link poses `poses`.
-    pub(super) fn factors(&self, model: &Model, poses: &[Pose3]) -> Vec<singular::Factor> {
-        match self {
-            AnyPlan::Planar(p) => singular::planar_factors(model, p, poses),
-            AnyPlan::Spatial(p) => singular::spatial_factors(model, p, poses),
-        }
-    }
-}
 
 /// A `.pkm` file ready to solve: its analysis, numeric model, outputs and plans.
 pub(super) struct Loaded {
@@ -91,21 +59,8 @@ pub(super) fn load(
     let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(render)?;
     // Every parameter's value, for the study block's expressions.
     let values = pkm_dsl::plan::parameter_values(&a, &values).map_err(render)?;
-    let (forward, inverse) = if model.planar {
-        (
-            pkm_dsl::plan::forward_plan(&a)
-                .map(AnyPlan::Planar)
-                .map_err(|d| headline(&d)),
-            pkm_dsl::plan::inverse_plan(&a).ok().map(AnyPlan::Planar),
-        )
-    } else {
-        (
-            pkm_dsl::plan3::forward_plan(&a)
-                .map(AnyPlan::Spatial)
-                .map_err(|d| headline(&d)),
-            pkm_dsl::plan3::inverse_plan(&a).ok().map(AnyPlan::Spatial),
-        )
-    };
+    let forward = AnyPlan::forward(&a, model.planar).map_err(|d| headline(&d));
+    let inverse = AnyPlan::inverse(&a, model.planar).ok();
     Ok((
         a.clone(),
         Some(Loaded {
