@@ -227,17 +227,31 @@ pub(crate) fn colour(k: usize) -> RGBAColor {
     COLOURS[k % COLOURS.len()].to_rgba()
 }
 
+/// Which cells of a square grid, `across` × `across` over `xr` × `yr`,
+/// hold a point (cell `(i, j)` at `i · across + j`), and a cell's width and
+/// height. A point on the upper edge counts in the last cell.
+///
+/// ```
+/// let (full, dx, dy) = pkm_cli::plots::occupancy(&[[0.0, 0.0], [1.0, 1.0], [0.2, 0.7]], (0.0, 1.0), (0.0, 1.0), 2);
+/// assert_eq!(full, [true, true, false, true]);
+/// assert_eq!((dx, dy), (0.5, 0.5));
+/// ```
+pub fn occupancy(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64), across: usize) -> (Vec<bool>, f64, f64) {
+    let (dx, dy) = ((xr.1 - xr.0) / across as f64, (yr.1 - yr.0) / across as f64);
+    let mut full = vec![false; across * across];
+    for p in points {
+        let i = (((p[0] - xr.0) / dx) as usize).min(across - 1);
+        let j = (((p[1] - yr.0) / dy) as usize).min(across - 1);
+        full[i * across + j] = true;
+    }
+    (full, dx, dy)
+}
+
 /// The occupied cells of a dense point set: each cell's lower-left and
 /// upper-right corners, over `xr` × `yr` cut into [`CELLS`] per side; an
 /// empty cell between two occupied ones counts as occupied.
 fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64); 2]> {
-    let (dx, dy) = ((xr.1 - xr.0) / CELLS as f64, (yr.1 - yr.0) / CELLS as f64);
-    let mut full = vec![false; CELLS * CELLS];
-    for p in points {
-        let i = (((p[0] - xr.0) / dx) as usize).min(CELLS - 1);
-        let j = (((p[1] - yr.0) / dy) as usize).min(CELLS - 1);
-        full[i * CELLS + j] = true;
-    }
+    let (full, dx, dy) = occupancy(points, xr, yr, CELLS);
     // A cell between two full ones (across or up) is filled too: a lattice of
     // samples coarser than the cells leaves one-cell stripes otherwise.
     let at = |i: usize, j: usize| full[i * CELLS + j];

@@ -105,13 +105,7 @@ fn occupied_area(points: &[[f64; 2]]) -> (f64, usize) {
         .map(|p| ((p[0] / scale).round() as i64, (p[1] / scale).round() as i64))
         .collect();
     let across = ((distinct.len() as f64 / 4.0).sqrt().floor() as usize).clamp(4, 2000);
-    let (dx, dy) = ((xr.1 - xr.0) / across as f64, (yr.1 - yr.0) / across as f64);
-    let mut full = vec![false; across * across];
-    for p in points {
-        let i = (((p[0] - xr.0) / dx) as usize).min(across - 1);
-        let j = (((p[1] - yr.0) / dy) as usize).min(across - 1);
-        full[i * across + j] = true;
-    }
+    let (full, dx, dy) = plots::occupancy(points, xr, yr, across);
     (full.iter().filter(|f| **f).count() as f64 * dx * dy, across)
 }
 
