@@ -72,7 +72,3 @@ pub use pkm_dsl as dsl;
 pub use pkm_macros::mechanism;
 /// The runtime: shared types that generated code uses.
 pub use pkm_runtime as runtime;
-
-pub mod drawing;
-pub mod plots;
-pub mod report;

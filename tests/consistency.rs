@@ -61,46 +61,6 @@ fn seed000_a_refuses_a_y_it_cannot_reach() {
     assert_eq!(ok.iter().filter(|b| b.result.is_ok()).count(), 8);
 }
 
-/// How far a solution's joint values are from closing the mechanism and
-/// reproducing the given pose, by the Newton reference's own model (joint
-/// transforms along a spanning tree; the generated code's kernels play no
-/// part): the largest loop-closure mismatch and output difference, lengths
-/// over `extent`, angles in radians.
-fn inconsistency(
-    model: &pkm::runtime::model::Model,
-    q: &[f64],
-    point: &str,
-    axis: [f64; 3],
-    given: &[f64; 4],
-    extent: f64,
-) -> f64 {
-    use pkm::runtime::newton;
-    let closure = newton::loop_residual(model, q)
-        .unwrap()
-        .chunks(6)
-        .flat_map(|r| [r[0] / extent, r[1] / extent, r[2] / extent, r[3], r[4], r[5]])
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let poses = newton::link_poses(model, q).unwrap();
-    let at = newton::point(model, &poses, point).unwrap();
-    let link = model.points.iter().find(|p| p.name == point).unwrap().link;
-    let angle = pkm::runtime::spatial::angle_about(&poses[link], axis);
-    let output = (0..3)
-        .map(|i| (at[i] - given[i]).abs() / extent)
-        .fold(pkm::runtime::plan::wrap_angle(angle - given[3]).abs(), f64::max);
-    closure.max(output)
-}
-
-/// A reachable pose `(x, y, z, alpha)` pushed off by a distance `d` drawn
-/// log-uniformly from 1e-9 to 10 in a random direction (the angle as an arc
-/// of radius `extent`): the pose and `d`.
-fn pushed_off(rng: &mut pkm::dsl::screw::SplitMix, outputs: &[f64; 4], extent: f64) -> ([f64; 4], f64) {
-    let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
-    let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
-    let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let given = std::array::from_fn(|i| outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
-    (given, d)
-}
-
 /// Random reachable poses pushed 1e-9 … 10 length units off in a random
 /// direction of the output space: every ok answer closes and reproduces its
 /// pose to 1e-9 by the Newton reference's model; every refusal is typed.
@@ -119,11 +79,11 @@ macro_rules! held_out {
             };
             poses += 1;
             let extent = pkm::runtime::consistency::extent(&s.points);
-            let (given, d) = pushed_off(&mut rng, &s.outputs, extent);
+            let (given, d) = common::pushed_off(&mut rng, &s.outputs, extent);
             for b in $ty::ik(&p, &given) {
                 match b.result {
                     Ok(sol) => {
-                        let e = inconsistency(&model, &sol.q, $point, $axis, &given, extent);
+                        let e = common::inconsistency(&model, &sol.q, $point, $axis, &given, extent);
                         worst = worst.max(e);
                         assert!(
                             e <= 1e-9,
@@ -233,61 +193,4 @@ fn a_double_root_is_flagged_not_repeated() {
     // two distinct assemblies.
     let inside = FoldingFourBar::fk(&p, &[theta - 1e-6]);
     assert!(inside.iter().all(|b| b.result.is_ok() && !b.tangent));
-}
-
-/// The same held-out poses through the command line (the plan interpreter):
-/// `pkm ik --json` exits 0 only with branches that close and reproduce the
-/// pose (checked by the Newton reference's model from the printed joint
-/// values), and 1 with the contradicted output named when none does.
-#[test]
-fn held_out_poses_through_the_cli() {
-    let file = "examples/mechanisms/seed000_a.pkm";
-    let (_, model) = common::example("seed000_a");
-    let p = SeedAParams::default();
-    let mut rng = pkm::dsl::screw::SplitMix::new(21);
-    let (mut ok, mut refused, mut poses) = (0, 0, 0);
-    while poses < 40 {
-        let q = [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]
-            .map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
-        let Some(s) = SeedA::fk(&p, &q).into_iter().find_map(|b| b.result.ok()) else {
-            continue;
-        };
-        poses += 1;
-        let extent = pkm::runtime::consistency::extent(&s.points);
-        let (given, d) = pushed_off(&mut rng, &s.outputs, extent);
-        let pose = format!(
-            "x={:e},y={:e},z={:e},alpha={:e}",
-            given[0], given[1], given[2], given[3]
-        );
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pkm"))
-            .args(["ik", file, "--json", "--pose", &pose])
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .output()
-            .unwrap();
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        match out.status.code() {
-            Some(0) => {
-                for b in v["branches"].as_array().unwrap().iter().filter(|b| b["ok"] == true) {
-                    let q: Vec<f64> = model
-                        .joints
-                        .iter()
-                        .map(|j| b["joints"][&j.name].as_f64().unwrap())
-                        .collect();
-                    let e = inconsistency(&model, &q, "o", [1.0, 0.0, 0.0], &given, extent);
-                    assert!(
-                        e <= 1e-9,
-                        "pose {pose} ({d:e} off): an ok branch is inconsistent by {e:e}"
-                    );
-                    ok += 1;
-                }
-            }
-            Some(1) => {
-                let message = v["error"]["message"].as_str().unwrap();
-                assert!(message.starts_with("no branch reaches: "), "{message}");
-                refused += 1;
-            }
-            other => panic!("exit {other:?}: {v}"),
-        }
-    }
-    assert!(ok > 0 && refused > 0, "{ok} ok, {refused} refused");
 }

@@ -1,6 +1,8 @@
 //! Two paths that must agree: the closed-form plan (interpreter) and the
 //! reference Newton solver, started near each branch, at random inputs.
 
+mod common;
+
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
@@ -18,8 +20,7 @@ type Solver = Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>;
 /// The model and the closed-form forward solver (planar or spatial plan,
 /// run by the interpreter) of an example.
 fn load(file: &str) -> (Model, Solver) {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
+    let (text, _) = common::example_text(file);
     let a = pkm::dsl::analyze_source(&text).unwrap();
     let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
     let solve: Solver = if a.mechanism.planar {

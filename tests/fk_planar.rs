@@ -3,6 +3,8 @@
 //! equations (1)–(4) written out here, textbook closed forms, and the joint
 //! conventions of the numeric model (`joint_transform`, a 3-D code path).
 
+mod common;
+
 use pkm::runtime::model::{joint_transform, Model};
 use pkm::runtime::nalgebra::{Isometry3, Vector3};
 use pkm::runtime::plan::{joint_point, run, run_all, FkSolution, Plan, SolveError};
@@ -11,8 +13,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 fn load(file: &str, params: &[(&str, f64)]) -> (Model, Plan) {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
+    let (text, path) = common::example_text(file);
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|e| panic!("{}", e.render(&text, &path)));
     let values: HashMap<String, f64> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
     (

@@ -3,11 +3,12 @@
 //! counts for the textbook mechanisms (four-bar, slider-crank, 5R five-bar,
 //! 3-RRR, 3-RPS, 3-SPR, whose ξ, Δ and κ follow from Σf and the loop type).
 
+mod common;
+
 use pkm::dsl::{analyze_source, Analysis};
 
 fn analysis(file: &str) -> Analysis {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
+    let (text, path) = common::example_text(file);
     analyze_source(&text).unwrap_or_else(|e| panic!("{}", e.render(&text, &path)))
 }
 

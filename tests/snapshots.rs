@@ -2,9 +2,10 @@
 //! prettyplease (parsing it with syn also proves it is valid Rust). Each
 //! snapshot was read line by line against the example's analysis.
 
+mod common;
+
 fn expansion(file: &str, type_name: &str) -> String {
-    let path = format!("{}/examples/mechanisms/{file}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(path).unwrap();
+    let (text, _) = common::example_text(file);
     let input: proc_macro2::TokenStream = format!("pub {type_name}, {text:?}").parse().unwrap();
     let tokens = pkm::dsl::expand(input).unwrap();
     prettyplease::unparse(&syn::parse_file(&tokens.to_string()).unwrap())

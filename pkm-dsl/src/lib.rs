@@ -17,6 +17,7 @@ pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
 pub mod analysis;
 pub mod model;
+pub mod params;
 pub mod plan;
 pub mod plan3;
 pub mod screw;

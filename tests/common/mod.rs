@@ -1,11 +1,36 @@
 //! Helpers shared by integration tests (each test file uses part of them).
+//! The root package's tests declare it as `mod common;`, pkm-cli's include
+//! this same file by `#[path]`.
 #![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+/// The workspace's root, where `README.md` and `examples/` are: the
+/// including package's directory or the nearest one above it that holds
+/// `examples/mechanisms` (pkm-cli's tests run in `pkm-cli/`).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .find(|d| d.join("examples/mechanisms").is_dir())
+        .expect("examples/mechanisms in the package's directory or above it")
+}
+
+/// The path of an example mechanism of `examples/mechanisms/` by its file stem.
+pub fn example_path(stem: &str) -> PathBuf {
+    root().join(format!("examples/mechanisms/{stem}.pkm"))
+}
+
+/// An example mechanism's text and its path as text (the name its errors show).
+pub fn example_text(stem: &str) -> (String, String) {
+    let path = example_path(stem).display().to_string();
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    (text, path)
+}
 
 /// An example mechanism of `examples/mechanisms/` by its file stem: its
 /// analysis and its model at the nominal parameters.
 pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
-    let path = format!("{}/examples/mechanisms/{stem}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let (text, path) = example_text(stem);
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
     let model =
         pkm::dsl::plan::model(&a, &Default::default()).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
@@ -26,4 +51,44 @@ pub fn max_error(a: &[f64], b: &[f64], angle: &[bool], scale: f64) -> f64 {
             }
         })
         .fold(0.0, f64::max)
+}
+
+/// How far a solution's joint values are from closing the mechanism and
+/// reproducing the given pose, by the Newton reference's own model (joint
+/// transforms along a spanning tree; the generated code's kernels play no
+/// part): the largest loop-closure mismatch and output difference, lengths
+/// over `extent`, angles in radians.
+pub fn inconsistency(
+    model: &pkm::runtime::model::Model,
+    q: &[f64],
+    point: &str,
+    axis: [f64; 3],
+    given: &[f64; 4],
+    extent: f64,
+) -> f64 {
+    use pkm::runtime::newton;
+    let closure = newton::loop_residual(model, q)
+        .unwrap()
+        .chunks(6)
+        .flat_map(|r| [r[0] / extent, r[1] / extent, r[2] / extent, r[3], r[4], r[5]])
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let poses = newton::link_poses(model, q).unwrap();
+    let at = newton::point(model, &poses, point).unwrap();
+    let link = model.points.iter().find(|p| p.name == point).unwrap().link;
+    let angle = pkm::runtime::spatial::angle_about(&poses[link], axis);
+    let output = (0..3)
+        .map(|i| (at[i] - given[i]).abs() / extent)
+        .fold(pkm::runtime::plan::wrap_angle(angle - given[3]).abs(), f64::max);
+    closure.max(output)
+}
+
+/// A reachable pose `(x, y, z, alpha)` pushed off by a distance `d` drawn
+/// log-uniformly from 1e-9 to 10 in a random direction (the angle as an arc
+/// of radius `extent`): the pose and `d`.
+pub fn pushed_off(rng: &mut pkm::dsl::screw::SplitMix, outputs: &[f64; 4], extent: f64) -> ([f64; 4], f64) {
+    let d = 10f64.powf(-9.0 + 10.0 * (rng.symmetric() + 1.0) / 2.0);
+    let dir: [f64; 4] = std::array::from_fn(|_| rng.symmetric());
+    let n = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let given = std::array::from_fn(|i| outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
+    (given, d)
 }

@@ -3,12 +3,13 @@
 //! `points`), and when no branch solves the failure names the causes.
 
 use super::failure::{Failure, Kind};
-use pkm::dsl::{Analysis, Diagnostics};
-use pkm::runtime::model::{JointType, Model, Place};
-use pkm::runtime::newton::Output;
-use pkm::runtime::plan::{Pose2, SolveError};
-use pkm::runtime::primitives::Sign;
-use pkm::runtime::spatial::Pose3;
+use pkm_cli::plans::AnyPlan;
+use pkm_dsl::{Analysis, Diagnostics};
+use pkm_runtime::model::{JointType, Model, Place};
+use pkm_runtime::newton::Output;
+use pkm_runtime::plan::{Pose2, SolveError};
+use pkm_runtime::primitives::Sign;
+use pkm_runtime::spatial::Pose3;
 use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 
@@ -61,15 +62,15 @@ struct Loaded {
 }
 
 fn load(r: &Request) -> Result<Loaded, Failure> {
-    let analysis = pkm::dsl::analyze_source(r.source).map_err(|d| r.parse_failure(d))?;
-    let nominal = pkm::dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
-    let values = parameter_values(&analysis, r.params)?;
+    let analysis = pkm_dsl::analyze_source(r.source).map_err(|d| r.parse_failure(d))?;
+    let nominal = pkm_dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
+    let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
     check_lengths(&analysis, &nominal, &values)?;
-    let model = pkm::dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
+    let model = pkm_dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
     if let Some(why) = non_finite_place(&model) {
         return Err(Failure::input(format!("at the given parameters {why}")));
     }
-    let outputs = pkm::dsl::plan::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
+    let outputs = pkm_dsl::plan::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
     Ok(Loaded {
         analysis,
         model,
@@ -86,26 +87,6 @@ fn finite(what: &str, v: f64) -> Result<(), Failure> {
     } else {
         Ok(())
     }
-}
-
-/// The `--param` overrides by name, each a declared parameter, given once, finite.
-fn parameter_values(a: &Analysis, given: &[(String, f64)]) -> Result<HashMap<String, f64>, Failure> {
-    let known: Vec<&str> = a.geometry.parameters.iter().map(|p| p.name.as_str()).collect();
-    let mut values = HashMap::new();
-    for (name, v) in given {
-        if !known.contains(&name.as_str()) {
-            return Err(Failure::input(if known.is_empty() {
-                format!("unknown parameter `{name}`: {} has no parameters", a.mechanism.name)
-            } else {
-                format!("unknown parameter `{name}`; the parameters are {}", known.join(", "))
-            }));
-        }
-        finite(&format!("parameter {name}"), *v)?;
-        if values.insert(name.clone(), *v).is_some() {
-            return Err(Failure::input(format!("parameter {name} is given twice")));
-        }
-    }
-    Ok(values)
 }
 
 /// A joint place or named point that is not a number (a parameter
@@ -179,7 +160,7 @@ fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -
     for name in names {
         let v = values[name];
         // A model that does not build fails later with its own diagnostics.
-        let Ok(changed) = pkm::dsl::plan::model(a, &HashMap::from([(name.clone(), v)])) else {
+        let Ok(changed) = pkm_dsl::plan::model(a, &HashMap::from([(name.clone(), v)])) else {
             continue;
         };
         for (link, link_name) in nominal.links.iter().enumerate() {
@@ -242,7 +223,7 @@ impl Configuration {
                 let w = p[link].apply([local[0], local[1]]);
                 [w[0], w[1], 0.0]
             }
-            Poses::Spatial(p) => pkm::runtime::spatial::at(&p[link], local),
+            Poses::Spatial(p) => pkm_runtime::spatial::at(&p[link], local),
         }
     }
 
@@ -250,54 +231,47 @@ impl Configuration {
     fn angle(&self, link: usize, k: [f64; 3]) -> f64 {
         match &self.poses {
             Poses::Planar(p) => p[link].angle,
-            Poses::Spatial(p) => pkm::runtime::spatial::angle_about(&p[link], k),
+            Poses::Spatial(p) => pkm_runtime::spatial::angle_about(&p[link], k),
         }
     }
 
     fn joint_point(&self, model: &Model, j: usize) -> [f64; 3] {
         match &self.poses {
             Poses::Planar(p) => {
-                let w = pkm::runtime::plan::joint_point(model, p, j);
+                let w = pkm_runtime::plan::joint_point(model, p, j);
                 [w[0], w[1], 0.0]
             }
-            Poses::Spatial(p) => pkm::runtime::newton::joint_point(model, p, j),
+            Poses::Spatial(p) => pkm_runtime::newton::joint_point(model, p, j),
         }
     }
-}
-
-/// A planar or a spatial plan.
-enum AnyPlan {
-    Planar(pkm::runtime::plan::Plan),
-    Spatial(pkm::runtime::spatial::Plan),
 }
 
 /// Signs of one branch and its configuration or why it has none.
 type Run = (Vec<Sign>, Result<Configuration, SolveError>);
 
-impl AnyPlan {
-    fn run_all(&self, model: &Model, given: &[f64]) -> Vec<Run> {
-        match self {
-            AnyPlan::Planar(plan) => pkm::runtime::plan::run_all(model, plan, given)
-                .into_iter()
-                .map(|(signs, r)| {
-                    let c = r.map(|s| Configuration {
-                        poses: Poses::Planar(s.poses),
-                        values: s.values,
-                    });
-                    (signs, c)
-                })
-                .collect(),
-            AnyPlan::Spatial(plan) => pkm::runtime::spatial::run_all(model, plan, given)
-                .into_iter()
-                .map(|(signs, r)| {
-                    let c = r.map(|s| Configuration {
-                        poses: Poses::Spatial(s.poses),
-                        values: s.values,
-                    });
-                    (signs, c)
-                })
-                .collect(),
-        }
+/// Every branch of `plan` at the values `given`, with its link poses.
+fn run_all(plan: &AnyPlan, model: &Model, given: &[f64]) -> Vec<Run> {
+    match plan {
+        AnyPlan::Planar(plan) => pkm_runtime::plan::run_all(model, plan, given)
+            .into_iter()
+            .map(|(signs, r)| {
+                let c = r.map(|s| Configuration {
+                    poses: Poses::Planar(s.poses),
+                    values: s.values,
+                });
+                (signs, c)
+            })
+            .collect(),
+        AnyPlan::Spatial(plan) => pkm_runtime::spatial::run_all(model, plan, given)
+            .into_iter()
+            .map(|(signs, r)| {
+                let c = r.map(|s| Configuration {
+                    poses: Poses::Spatial(s.poses),
+                    values: s.values,
+                });
+                (signs, c)
+            })
+            .collect(),
     }
 }
 
@@ -421,7 +395,7 @@ fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<(Vec<Sign>,
         .map(|(i, (signs, result))| {
             let verdict = result
                 .map_err(|e| {
-                    let e = pkm::runtime::consistency::name_given(e, given_names);
+                    let e = pkm_runtime::consistency::name_given(e, given_names);
                     (kind_of(&e), e.to_string())
                 })
                 .and_then(|c| {
@@ -489,19 +463,8 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
 /// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
 pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let (plan, inputs) = if l.model.planar {
-        let plan = pkm::dsl::plan::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-        let inputs = plan.inputs.clone();
-        (AnyPlan::Planar(plan), inputs)
-    } else {
-        let plan = pkm::dsl::plan3::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-        let inputs = if plan.inputs.len() == plan.n_inputs {
-            plan.inputs.clone()
-        } else {
-            l.model.inputs()
-        };
-        (AnyPlan::Spatial(plan), inputs)
-    };
+    let plan = AnyPlan::forward(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
+    let inputs = plan.inputs(&l.model);
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
     if q.len() != inputs.len() {
         return Err(Failure::input(format!(
@@ -520,7 +483,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
         .zip(&inputs)
         .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
         .collect();
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &given), &names);
+    let verdicts = verdicts(&l, run_all(&plan, &l.model, &given), &names);
     let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,
@@ -533,11 +496,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
 /// `pkm ik`: every branch at the declared outputs `pose` (by name).
 pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let plan = if l.model.planar {
-        AnyPlan::Planar(pkm::dsl::plan::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
-    } else {
-        AnyPlan::Spatial(pkm::dsl::plan3::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?)
-    };
+    let plan = AnyPlan::inverse(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
     let declared = output_names(&l);
     let list = declared.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
     let mut given: HashMap<&str, f64> = HashMap::new();
@@ -560,7 +519,7 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
         }
     }
     let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
-    let verdicts = verdicts(&l, plan.run_all(&l.model, &ordered), &names);
+    let verdicts = verdicts(&l, run_all(&plan, &l.model, &ordered), &names);
     let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
     Ok(json!({
         "name": l.model.name,

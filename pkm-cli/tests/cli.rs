@@ -2,6 +2,9 @@
 //! radians or degrees), and every failure: its exit code, its message on
 //! stderr, or with `--json` its `{"error": {kind, message}}` on stdout.
 
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::process::{Command, Stdio};
@@ -9,7 +12,7 @@ use std::process::{Command, Stdio};
 fn pkm(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_pkm"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(common::root())
         .output()
         .unwrap()
 }
@@ -116,7 +119,7 @@ fn check_failure(args: &[&str], code: i32, kind: &str, message: &str) {
 fn every_failure_names_its_cause() {
     let bad = scratch_file("bad.pkm", BAD_PKM);
     // The four-bar with its crank length given as a square root.
-    let four_bar = std::fs::read_to_string(FOUR_BAR).unwrap();
+    let four_bar = std::fs::read_to_string(common::root().join(FOUR_BAR)).unwrap();
     let root = scratch_file(
         "root.pkm",
         &four_bar
@@ -404,7 +407,7 @@ fn a_closed_stdout_is_not_a_panic() {
     ] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_pkm"))
             .args(&args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .current_dir(common::root())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -460,7 +463,7 @@ fn spatial_outputs_round_trip_through_ik() {
 /// The README's JSON example is what `pkm fk` prints for its command.
 #[test]
 fn readme_json_example_is_the_real_output() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
     let after = readme
         .split("`pkm fk examples/mechanisms/slider_crank.pkm --q 1`:")
         .nth(1)

@@ -5,7 +5,7 @@ mod cli;
 use clap::{Parser, Subcommand};
 use cli::failure::{answer, fail, write_out, Failure, Kind};
 use cli::solve::Request;
-use pkm::dsl::Analysis;
+use pkm_dsl::Analysis;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -40,7 +40,7 @@ enum Command {
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
         q: Vec<f64>,
         /// Override a parameter: `--param l1=120`.
-        #[arg(long = "param", value_parser = pkm::report::parse_param)]
+        #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
         /// Angles in degrees: the revolute (R, Pa) values given to --q, and every revolute joint value and angular output printed.
         #[arg(long)]
@@ -55,17 +55,17 @@ enum Command {
         out: PathBuf,
         // Boxed: the options are many, the other commands' few.
         #[command(flatten)]
-        options: Box<pkm::report::ReportOptions>,
+        options: Box<pkm_cli::report::ReportOptions>,
     },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
         /// The mechanism file (.pkm), with parameters, geometry and outputs.
         file: PathBuf,
         /// The outputs by name: `--pose x=10,y=20,phi=0.2` (radians, degrees with --degrees, and lengths).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = pkm::report::parse_param)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = pkm_cli::report::parse_param)]
         pose: Vec<(String, f64)>,
         /// Override a parameter: `--param l1=120`.
-        #[arg(long = "param", value_parser = pkm::report::parse_param)]
+        #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
         /// Angles in degrees: the angular outputs given to --pose, and every revolute joint value and angular output printed.
         #[arg(long)]
@@ -78,7 +78,7 @@ fn read(file: &Path) -> Result<(String, String), Failure> {
     let shown = file.display().to_string();
     let io = |e: std::io::Error| Failure::new(Kind::Io, format!("cannot read `{shown}`: {e}"));
     // The size limit before the read: a huge file is refused, not loaded.
-    let limit = pkm::dsl::limits::MAX_FILE_BYTES;
+    let limit = pkm_dsl::limits::MAX_FILE_BYTES;
     let size = std::fs::metadata(file).map_err(io)?.len();
     if size > limit as u64 {
         return Err(Failure::input(format!(
@@ -157,10 +157,10 @@ fn main() -> ExitCode {
                 Ok(t) => t,
                 Err(f) => return fail(json, &f),
             };
-            match pkm::report::write_report(&text, &shown, &options, &out) {
+            match pkm_cli::report::write_report(&text, &shown, &options, &out) {
                 Ok(page) if json => answer(json, &json!({ "page": page })),
                 Ok(page) => write_out(&format!("{}\n", page.display())),
-                Err(pkm::report::ReportError::Source { diagnostics, .. }) => {
+                Err(pkm_cli::report::ReportError::Source { diagnostics, .. }) => {
                     fail(json, &Failure::parse(&diagnostics, &text, &shown))
                 }
                 Err(e) => fail(json, &Failure::new(Kind::Report, e.message())),
@@ -171,7 +171,7 @@ fn main() -> ExitCode {
                 Ok(t) => t,
                 Err(f) => return fail(json, &f),
             };
-            match pkm::dsl::analyze_source(&text) {
+            match pkm_dsl::analyze_source(&text) {
                 // The analysis's JSON stays indented, as it always was.
                 Ok(a) if json => write_out(&format!(
                     "{}\n",
@@ -242,7 +242,7 @@ fn to_json(a: &Analysis) -> Value {
         "joints": joints,
         "branches": branches,
         "expression": t.expression,
-        "expression_ascii": pkm::dsl::topology::to_ascii(&t.expression),
+        "expression_ascii": pkm_dsl::topology::to_ascii(&t.expression),
         "decoupling": decoupling,
         "cross_check": { "xi_poc_formula": t.xi_by_poc_formula, "xi_loop_rank": t.xi() },
     })

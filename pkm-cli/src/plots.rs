@@ -65,7 +65,7 @@ pub struct Figure {
 ///
 /// ```
 /// let path = std::env::temp_dir().join("pkm-doc-csv.csv");
-/// pkm::plots::write_csv(&path, &["set", "x (mm)"], [vec!["a, b".to_string(), "1".to_string()]]).unwrap();
+/// pkm_cli::plots::write_csv(&path, &["set", "x (mm)"], [vec!["a, b".to_string(), "1".to_string()]]).unwrap();
 /// assert_eq!(std::fs::read_to_string(path).unwrap(), "set,x (mm)\n\"a, b\",1\n");
 /// ```
 pub fn write_csv<R: AsRef<[String]>>(
@@ -227,17 +227,31 @@ pub(crate) fn colour(k: usize) -> RGBAColor {
     COLOURS[k % COLOURS.len()].to_rgba()
 }
 
+/// Which cells of a square grid, `across` × `across` over `xr` × `yr`,
+/// hold a point (cell `(i, j)` at `i · across + j`), and a cell's width and
+/// height. A point on the upper edge counts in the last cell.
+///
+/// ```
+/// let (full, dx, dy) = pkm_cli::plots::occupancy(&[[0.0, 0.0], [1.0, 1.0], [0.2, 0.7]], (0.0, 1.0), (0.0, 1.0), 2);
+/// assert_eq!(full, [true, true, false, true]);
+/// assert_eq!((dx, dy), (0.5, 0.5));
+/// ```
+pub fn occupancy(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64), across: usize) -> (Vec<bool>, f64, f64) {
+    let (dx, dy) = ((xr.1 - xr.0) / across as f64, (yr.1 - yr.0) / across as f64);
+    let mut full = vec![false; across * across];
+    for p in points {
+        let i = (((p[0] - xr.0) / dx) as usize).min(across - 1);
+        let j = (((p[1] - yr.0) / dy) as usize).min(across - 1);
+        full[i * across + j] = true;
+    }
+    (full, dx, dy)
+}
+
 /// The occupied cells of a dense point set: each cell's lower-left and
 /// upper-right corners, over `xr` × `yr` cut into [`CELLS`] per side; an
 /// empty cell between two occupied ones counts as occupied.
 fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64); 2]> {
-    let (dx, dy) = ((xr.1 - xr.0) / CELLS as f64, (yr.1 - yr.0) / CELLS as f64);
-    let mut full = vec![false; CELLS * CELLS];
-    for p in points {
-        let i = (((p[0] - xr.0) / dx) as usize).min(CELLS - 1);
-        let j = (((p[1] - yr.0) / dy) as usize).min(CELLS - 1);
-        full[i * CELLS + j] = true;
-    }
+    let (full, dx, dy) = occupancy(points, xr, yr, CELLS);
     // A cell between two full ones (across or up) is filled too: a lattice of
     // samples coarser than the cells leaves one-cell stripes otherwise.
     let at = |i: usize, j: usize| full[i * CELLS + j];
@@ -274,7 +288,7 @@ pub struct Style {
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-scatter");
 /// let sets = [("corners".to_string(), vec![[0.0, 0.0], [1.0, 1.0]])];
-/// let f = pkm::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &sets, Default::default()).unwrap();
+/// let f = pkm_cli::plots::scatter(&stem, "Unit square", ["x (mm)", "y (mm)"], &sets, Default::default()).unwrap();
 /// assert!(std::fs::read_to_string(f.csv).unwrap().starts_with("set,x (mm),y (mm)"));
 /// ```
 pub fn scatter(
@@ -382,7 +396,7 @@ pub fn scatter(
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-cloud");
-/// let f = pkm::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
+/// let f = pkm_cli::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
 /// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 3);
 /// ```
 pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]]) -> Result<Figure, PlotError> {
@@ -470,7 +484,7 @@ pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]])
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-curves");
 /// let t = [0.0, 0.5, 1.0];
-/// let f = pkm::plots::curves(&stem, "Ramp", ["t (s)", "v (mm/s)"], &t, &[("v".into(), vec![0.0, 1.0, 2.0])]).unwrap();
+/// let f = pkm_cli::plots::curves(&stem, "Ramp", ["t (s)", "v (mm/s)"], &t, &[("v".into(), vec![0.0, 1.0, 2.0])]).unwrap();
 /// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 4);
 /// ```
 pub fn curves(

@@ -8,6 +8,7 @@
 use crate::plots::{self, both, colour, err, frame, legend_strip, with_legend, Draw, Figure, Mark, PlotError};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::spatial::Pose3;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -176,11 +177,7 @@ impl View {
 
 /// A ring (R), a square (P), a disc (S) or a diamond (Pa), in the joint's colour.
 fn marker<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut Chart<'_, DB>,
     kind: JointType,
     at: (f64, f64),
     c: RGBAColor,
@@ -241,6 +238,85 @@ fn extent(scenes: &[Scene], view: View) -> ((f64, f64), (f64, f64)) {
     ((xr.0 - pad, xr.1 + pad), (yr.0 - pad, yr.1 + pad))
 }
 
+/// The colour of guides and arms.
+const GUIDE: RGBColor = RGBColor(150, 150, 150);
+
+/// A chart in the mechanism's coordinates.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The ground under a base joint at `at`: a bar `h` below it, hatched.
+fn ground<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, at: (f64, f64), h: f64) -> Result<(), PlotError> {
+    let (x, y) = at;
+    let y0 = y - 1.2 * h;
+    chart
+        .draw_series(LineSeries::new(
+            vec![(x - 1.5 * h, y0), (x + 1.5 * h, y0)],
+            BLACK.stroke_width(2),
+        ))
+        .map_err(err)?;
+    chart
+        .draw_series(LineSeries::new(vec![(x, y), (x, y0)], BLACK.stroke_width(1)))
+        .map_err(err)?;
+    for k in 0..6 {
+        let xa = x - 1.5 * h + k as f64 * 0.6 * h;
+        chart
+            .draw_series(LineSeries::new(
+                vec![(xa, y0), (xa - 0.6 * h, y0 - 0.7 * h)],
+                BLACK.stroke_width(1),
+            ))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// A link through its joints' points `at`: a line for two, a filled polygon
+/// for three or more.
+fn link<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, c: RGBAColor, at: &[(f64, f64)]) -> Result<(), PlotError> {
+    if at.len() >= 3 {
+        chart
+            .draw_series(std::iter::once(Polygon::new(at.to_vec(), c.mix(0.25).filled())))
+            .map_err(err)?;
+        let mut ring = at.to_vec();
+        ring.push(ring[0]);
+        chart
+            .draw_series(LineSeries::new(ring, c.stroke_width(3)))
+            .map_err(err)?;
+    } else if at.len() == 2 {
+        chart
+            .draw_series(LineSeries::new(at.iter().copied(), c.stroke_width(4)))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The drawing's legend: the joint types `kinds` by their marks, the driven
+/// joints' colour, the followed point, guides and the base.
+fn legend<DB: DrawingBackend>(
+    side: &DrawingArea<DB, Shift>,
+    kinds: &[JointType],
+    point_name: &str,
+) -> Result<(), PlotError> {
+    let mut entries: Vec<(String, RGBAColor, Mark)> = kinds
+        .iter()
+        .map(|k| (kind_name(*k).to_string(), BLACK.to_rgba(), Mark::Dot))
+        .collect();
+    entries.push(("red: driven joint".into(), RGBColor(200, 0, 0).to_rgba(), Mark::Dot));
+    entries.push((
+        format!("{point_name}: followed point"),
+        RGBColor(0, 150, 0).to_rgba(),
+        Mark::Dot,
+    ));
+    entries.push(("grey: guide or arm".into(), GUIDE.to_rgba(), Mark::Line));
+    entries.push(("hatched: base".into(), BLACK.to_rgba(), Mark::Line));
+    legend_strip(side, &entries)?;
+    // The legend's marks by type, over its dots.
+    for (k, kind) in kinds.iter().enumerate() {
+        let y = 50 + 24 * k as i32;
+        draw_marker_px(side, *kind, (12, y))?;
+    }
+    Ok(())
+}
+
 /// The static drawing: PNG, SVG and a CSV of every joint's position.
 pub fn draw(
     stem: &Path,
@@ -299,53 +375,18 @@ pub fn draw(
                 let q = v.project(a);
                 (q[0], q[1])
             };
-            let grey = RGBColor(150, 150, 150);
             for (a, b) in &s.segments {
                 chart
-                    .draw_series(LineSeries::new(vec![p(*a), p(*b)], grey.stroke_width(2)))
+                    .draw_series(LineSeries::new(vec![p(*a), p(*b)], GUIDE.stroke_width(2)))
                     .map_err(err)?;
             }
             // Ground: a bar under each base joint, hatched.
             let h = 0.025 * (xr.1 - xr.0).max(yr.1 - yr.0);
             for j in s.joints.iter().filter(|j| j.grounded) {
-                let (x, y) = p(j.at);
-                let y0 = y - 1.2 * h;
-                chart
-                    .draw_series(LineSeries::new(
-                        vec![(x - 1.5 * h, y0), (x + 1.5 * h, y0)],
-                        BLACK.stroke_width(2),
-                    ))
-                    .map_err(err)?;
-                chart
-                    .draw_series(LineSeries::new(vec![(x, y), (x, y0)], BLACK.stroke_width(1)))
-                    .map_err(err)?;
-                for k in 0..6 {
-                    let xa = x - 1.5 * h + k as f64 * 0.6 * h;
-                    chart
-                        .draw_series(LineSeries::new(
-                            vec![(xa, y0), (xa - 0.6 * h, y0 - 0.7 * h)],
-                            BLACK.stroke_width(1),
-                        ))
-                        .map_err(err)?;
-                }
+                ground(&mut chart, p(j.at), h)?;
             }
             for (k, l) in s.links.iter().enumerate().skip(1) {
-                let c = colour(k);
-                if l.len() >= 3 {
-                    let poly: Vec<(f64, f64)> = l.iter().map(|a| p(*a)).collect();
-                    chart
-                        .draw_series(std::iter::once(Polygon::new(poly.clone(), c.mix(0.25).filled())))
-                        .map_err(err)?;
-                    let mut ring = poly;
-                    ring.push(ring[0]);
-                    chart
-                        .draw_series(LineSeries::new(ring, c.stroke_width(3)))
-                        .map_err(err)?;
-                } else if l.len() == 2 {
-                    chart
-                        .draw_series(LineSeries::new(l.iter().map(|a| p(*a)), c.stroke_width(4)))
-                        .map_err(err)?;
-                }
+                link(&mut chart, colour(k), &l.iter().map(|a| p(*a)).collect::<Vec<_>>())?;
             }
             for j in &s.joints {
                 let c = if j.actuated {
@@ -372,24 +413,7 @@ pub fn draw(
                 ))
                 .map_err(err)?;
             if let Some(side) = side {
-                let mut entries: Vec<(String, RGBAColor, Mark)> = kinds
-                    .iter()
-                    .map(|k| (kind_name(*k).to_string(), BLACK.to_rgba(), Mark::Dot))
-                    .collect();
-                entries.push(("red: driven joint".into(), RGBColor(200, 0, 0).to_rgba(), Mark::Dot));
-                entries.push((
-                    format!("{}: followed point", self.point_name),
-                    RGBColor(0, 150, 0).to_rgba(),
-                    Mark::Dot,
-                ));
-                entries.push(("grey: guide or arm".into(), grey.to_rgba(), Mark::Line));
-                entries.push(("hatched: base".into(), BLACK.to_rgba(), Mark::Line));
-                legend_strip(&side, &entries)?;
-                // The legend's marks by type, over its dots.
-                for (k, kind) in kinds.iter().enumerate() {
-                    let y = 50 + 24 * k as i32;
-                    draw_marker_px(&side, *kind, (12, y))?;
-                }
+                legend(&side, &kinds, self.point_name)?;
             }
             Ok(())
         }
@@ -437,14 +461,16 @@ pub fn animation(path: &Path, frames: &[Scene], view: View, duration: f64, point
     };
     let (xr, yr) = extent(frames, view);
     let (w, h) = (720.0, 540.0);
-    let scale = ((xr.1 - xr.0) / w).max((yr.1 - yr.0) / h);
-    let (cx, cy) = ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0);
-    let px = |a: [f64; 3]| {
-        let q = view.project(a);
-        (w / 2.0 + (q[0] - cx) / scale, h / 2.0 - (q[1] - cy) / scale)
+    let a = Animated {
+        frames,
+        first,
+        view,
+        w,
+        h,
+        scale: ((xr.1 - xr.0) / w).max((yr.1 - yr.0) / h),
+        centre: ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0),
+        dur: format!("{duration:.3}s"),
     };
-    let dur = format!("{duration:.3}s");
-    let values = |f: &dyn Fn(&Scene) -> String| frames.iter().map(f).collect::<Vec<_>>().join(";");
     let mut svg = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
          font-family=\"sans-serif\" font-size=\"13\"><rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
@@ -453,7 +479,7 @@ pub fn animation(path: &Path, frames: &[Scene], view: View, duration: f64, point
     let trace: Vec<String> = frames
         .iter()
         .map(|s| {
-            let (x, y) = px(s.point);
+            let (x, y) = a.px(s.point);
             format!("{x:.1},{y:.1}")
         })
         .collect();
@@ -462,118 +488,171 @@ pub fn animation(path: &Path, frames: &[Scene], view: View, duration: f64, point
         "<polyline points=\"{}\" fill=\"none\" stroke=\"#0a0\" stroke-dasharray=\"4 3\"/>",
         trace.join(" ")
     );
-    for k in 0..first.segments.len() {
-        let at = |s: &Scene, e: usize| {
-            let (a, b) = s.segments.get(k).copied().unwrap_or(first.segments[k]);
-            px(if e == 0 { a } else { b })
-        };
-        let (a, b) = (at(first, 0), at(first, 1));
-        let _ = write!(
-            svg,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#999\" stroke-width=\"2\">",
-            a.0, a.1, b.0, b.1
-        );
-        for (attr, e, c) in [("x1", 0, 0), ("y1", 0, 1), ("x2", 1, 0), ("y2", 1, 1)] {
-            let v = values(&|s| {
-                let p = at(s, e);
-                format!("{:.1}", if c == 0 { p.0 } else { p.1 })
-            });
-            let _ = write!(
-                svg,
-                "<animate attributeName=\"{attr}\" values=\"{v}\" dur=\"{dur}\" repeatCount=\"indefinite\"/>"
-            );
-        }
-        svg.push_str("</line>\n");
-    }
-    for (k, l) in first.links.iter().enumerate().skip(1) {
-        if l.len() < 2 {
-            continue;
-        }
-        let c = colour(k);
-        let d = |s: &Scene| {
-            let pts = s.links.get(k).unwrap_or(l);
-            let mut d = String::new();
-            for (i, p) in pts.iter().enumerate() {
-                let (x, y) = px(*p);
-                let _ = write!(d, "{}{x:.1} {y:.1} ", if i == 0 { "M" } else { "L" });
-            }
-            if pts.len() >= 3 {
-                d.push('Z');
-            }
-            d
-        };
-        let fill = if l.len() >= 3 {
-            format!("rgba({},{},{},0.25)", c.0, c.1, c.2)
-        } else {
-            "none".into()
-        };
-        let _ = writeln!(
-            svg,
-            "<path d=\"{}\" fill=\"{fill}\" stroke=\"rgb({},{},{})\" stroke-width=\"4\" stroke-linejoin=\"round\">\
-             <animate attributeName=\"d\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/></path>",
-            d(first),
-            c.0,
-            c.1,
-            c.2,
-            values(&|s: &Scene| d(s))
-        );
-    }
-    for (k, j) in first.joints.iter().enumerate() {
-        let stroke = if j.actuated { "#c00" } else { "#000" };
-        let (x, y) = px(j.at);
-        if j.grounded {
-            let _ = writeln!(
-                svg,
-                "<g stroke=\"#000\"><line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke-width=\"2\"/>{}</g>",
-                x - 14.0,
-                y + 12.0,
-                x + 14.0,
-                y + 12.0,
-                (0..5)
-                    .map(|i| {
-                        let xa = x - 14.0 + 7.0 * i as f64;
-                        format!("<line x1=\"{xa:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\"/>", y + 12.0, xa - 6.0, y + 19.0)
-                    })
-                    .collect::<String>()
-            );
-        }
-        let xs = values(&|s| format!("{:.1}", px(s.joints.get(k).map_or(j.at, |m| m.at)).0));
-        let ys = values(&|s| format!("{:.1}", px(s.joints.get(k).map_or(j.at, |m| m.at)).1));
-        let (shape, ax, ay, off) = match j.kind {
-            JointType::P => ("rect width=\"16\" height=\"12\"", "x", "y", (-8.0, -6.0)),
-            _ => ("circle r=\"6\"", "cx", "cy", (0.0, 0.0)),
-        };
-        let shift = |list: String, o: f64| {
-            list.split(';')
-                .map(|v| format!("{:.1}", v.parse::<f64>().unwrap_or(0.0) + o))
-                .collect::<Vec<_>>()
-                .join(";")
-        };
-        let fill = if j.kind == JointType::S { stroke } else { "#fff" };
-        let _ = writeln!(
-            svg,
-            "<{shape} {ax}=\"{:.1}\" {ay}=\"{:.1}\" fill=\"{fill}\" stroke=\"{stroke}\" stroke-width=\"2\">\
-             <animate attributeName=\"{ax}\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/>\
-             <animate attributeName=\"{ay}\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/></{}>",
-            x + off.0,
-            y + off.1,
-            shift(xs, off.0),
-            shift(ys, off.1),
-            shape.split(' ').next().unwrap_or("circle")
-        );
-    }
-    let (x, y) = px(first.point);
+    a.segments(&mut svg);
+    a.links(&mut svg);
+    a.joints(&mut svg);
+    let dur = &a.dur;
+    let (x, y) = a.px(first.point);
     let _ = writeln!(
         svg,
         "<circle r=\"4\" cx=\"{x:.1}\" cy=\"{y:.1}\" fill=\"#0a0\">\
          <animate attributeName=\"cx\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/>\
          <animate attributeName=\"cy\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/></circle>\
          <text x=\"10\" y=\"20\">{} moving along the trajectory ({duration:.2} s, repeated); dashed: its path</text></svg>",
-        values(&|s| format!("{:.1}", px(s.point).0)),
-        values(&|s| format!("{:.1}", px(s.point).1)),
+        a.values(&|s| format!("{:.1}", a.px(s.point).0)),
+        a.values(&|s| format!("{:.1}", a.px(s.point).1)),
         point_name
     );
     std::fs::write(path, svg).map_err(|e| PlotError(format!("{}: {e}", path.display())))
+}
+
+/// An animation's frames and how they map onto its SVG's pixels.
+struct Animated<'a> {
+    frames: &'a [Scene],
+    first: &'a Scene,
+    view: View,
+    /// The SVG's width and height in pixels.
+    w: f64,
+    h: f64,
+    /// Units of length per pixel.
+    scale: f64,
+    /// The view's centre, in projected units.
+    centre: (f64, f64),
+    /// The animation's duration as SMIL writes it (`6.283s`).
+    dur: String,
+}
+
+impl Animated<'_> {
+    /// A point's place in pixels (y down).
+    fn px(&self, a: [f64; 3]) -> (f64, f64) {
+        let q = self.view.project(a);
+        (
+            self.w / 2.0 + (q[0] - self.centre.0) / self.scale,
+            self.h / 2.0 - (q[1] - self.centre.1) / self.scale,
+        )
+    }
+
+    /// One value per frame, `;`-separated (a SMIL `values` list).
+    fn values(&self, f: &dyn Fn(&Scene) -> String) -> String {
+        self.frames.iter().map(f).collect::<Vec<_>>().join(";")
+    }
+
+    /// The guides and arms, grey lines whose ends move.
+    fn segments(&self, svg: &mut String) {
+        let (first, dur) = (self.first, &self.dur);
+        for k in 0..first.segments.len() {
+            let at = |s: &Scene, e: usize| {
+                let (a, b) = s.segments.get(k).copied().unwrap_or(first.segments[k]);
+                self.px(if e == 0 { a } else { b })
+            };
+            let (a, b) = (at(first, 0), at(first, 1));
+            let _ = write!(
+                svg,
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#999\" stroke-width=\"2\">",
+                a.0, a.1, b.0, b.1
+            );
+            for (attr, e, c) in [("x1", 0, 0), ("y1", 0, 1), ("x2", 1, 0), ("y2", 1, 1)] {
+                let v = self.values(&|s| {
+                    let p = at(s, e);
+                    format!("{:.1}", if c == 0 { p.0 } else { p.1 })
+                });
+                let _ = write!(
+                    svg,
+                    "<animate attributeName=\"{attr}\" values=\"{v}\" dur=\"{dur}\" repeatCount=\"indefinite\"/>"
+                );
+            }
+            svg.push_str("</line>\n");
+        }
+    }
+
+    /// The links: paths through their joints (closed and filled for three
+    /// or more) whose shape moves.
+    fn links(&self, svg: &mut String) {
+        let (first, dur) = (self.first, &self.dur);
+        for (k, l) in first.links.iter().enumerate().skip(1) {
+            if l.len() < 2 {
+                continue;
+            }
+            let c = colour(k);
+            let d = |s: &Scene| {
+                let pts = s.links.get(k).unwrap_or(l);
+                let mut d = String::new();
+                for (i, p) in pts.iter().enumerate() {
+                    let (x, y) = self.px(*p);
+                    let _ = write!(d, "{}{x:.1} {y:.1} ", if i == 0 { "M" } else { "L" });
+                }
+                if pts.len() >= 3 {
+                    d.push('Z');
+                }
+                d
+            };
+            let fill = if l.len() >= 3 {
+                format!("rgba({},{},{},0.25)", c.0, c.1, c.2)
+            } else {
+                "none".into()
+            };
+            let _ = writeln!(
+                svg,
+                "<path d=\"{}\" fill=\"{fill}\" stroke=\"rgb({},{},{})\" stroke-width=\"4\" stroke-linejoin=\"round\">\
+                 <animate attributeName=\"d\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/></path>",
+                d(first),
+                c.0,
+                c.1,
+                c.2,
+                self.values(&|s: &Scene| d(s))
+            );
+        }
+    }
+
+    /// The joints: their marks moving (driven ones red), the base ones over
+    /// a fixed hatched bar.
+    fn joints(&self, svg: &mut String) {
+        let (first, dur) = (self.first, &self.dur);
+        for (k, j) in first.joints.iter().enumerate() {
+            let stroke = if j.actuated { "#c00" } else { "#000" };
+            let (x, y) = self.px(j.at);
+            if j.grounded {
+                let _ = writeln!(
+                    svg,
+                    "<g stroke=\"#000\"><line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke-width=\"2\"/>{}</g>",
+                    x - 14.0,
+                    y + 12.0,
+                    x + 14.0,
+                    y + 12.0,
+                    (0..5)
+                        .map(|i| {
+                            let xa = x - 14.0 + 7.0 * i as f64;
+                            format!("<line x1=\"{xa:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\"/>", y + 12.0, xa - 6.0, y + 19.0)
+                        })
+                        .collect::<String>()
+                );
+            }
+            let xs = self.values(&|s| format!("{:.1}", self.px(s.joints.get(k).map_or(j.at, |m| m.at)).0));
+            let ys = self.values(&|s| format!("{:.1}", self.px(s.joints.get(k).map_or(j.at, |m| m.at)).1));
+            let (shape, ax, ay, off) = match j.kind {
+                JointType::P => ("rect width=\"16\" height=\"12\"", "x", "y", (-8.0, -6.0)),
+                _ => ("circle r=\"6\"", "cx", "cy", (0.0, 0.0)),
+            };
+            let shift = |list: String, o: f64| {
+                list.split(';')
+                    .map(|v| format!("{:.1}", v.parse::<f64>().unwrap_or(0.0) + o))
+                    .collect::<Vec<_>>()
+                    .join(";")
+            };
+            let fill = if j.kind == JointType::S { stroke } else { "#fff" };
+            let _ = writeln!(
+                svg,
+                "<{shape} {ax}=\"{:.1}\" {ay}=\"{:.1}\" fill=\"{fill}\" stroke=\"{stroke}\" stroke-width=\"2\">\
+                 <animate attributeName=\"{ax}\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/>\
+                 <animate attributeName=\"{ay}\" values=\"{}\" dur=\"{dur}\" repeatCount=\"indefinite\"/></{}>",
+                x + off.0,
+                y + off.1,
+                shift(xs, off.0),
+                shift(ys, off.1),
+                shape.split(' ').next().unwrap_or("circle")
+            );
+        }
+    }
 }
 
 /// The link–joint graph: links as labelled nodes on a circle, joints as

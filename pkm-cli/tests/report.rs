@@ -7,13 +7,12 @@
 //! checked against hand derivations, and bad options are errors that name
 //! the file and print `error:` once.
 
-use pkm::report::{write_report, ReportOptions};
-use std::path::{Path, PathBuf};
+#[path = "../../tests/common/mod.rs"]
+mod common;
 
-fn example(name: &str) -> (String, String) {
-    let path = format!("{}/examples/mechanisms/{name}.pkm", env!("CARGO_MANIFEST_DIR"));
-    (std::fs::read_to_string(&path).unwrap(), path)
-}
+use common::example_text as example;
+use pkm_cli::report::{write_report, ReportOptions};
+use std::path::{Path, PathBuf};
 
 fn out_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pkm-report-test-{}-{tag}", std::process::id()));
@@ -57,7 +56,7 @@ fn extent(rows: &[Vec<String>], column: usize) -> f64 {
 
 #[test]
 fn every_example_with_no_options() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/mechanisms");
+    let dir = common::root().join("examples/mechanisms");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(|e| {
@@ -148,7 +147,7 @@ fn mechanism_a_from_its_study_block() {
     // branch 1 (the study block); mechanism B's branches tabled beside A's.
     let options = ReportOptions {
         nodes: Some(12),
-        compare: vec![format!("{}/examples/mechanisms/seed000_b.pkm", env!("CARGO_MANIFEST_DIR")).into()],
+        compare: vec![common::example_path("seed000_b")],
         ..Default::default()
     };
     let (html, out) = page("seed000_a", options);
@@ -293,6 +292,15 @@ fn options_out_of_range() {
         },
         "--param d=NaN: not a finite number",
     );
+    // Which of two values was meant is not known: neither is used.
+    check(
+        "five_bar",
+        ReportOptions {
+            params: vec![("d".into(), 90.0), ("d".into(), 80.0)],
+            ..o()
+        },
+        "--param d: parameter d is given twice",
+    );
     check("rps_3", ReportOptions { nodes: Some(10), ..o() }, "has no geometry");
     // A --compare file's own errors: its path, line and column, on one line.
     let broken = std::env::temp_dir().join(format!("pkm-report-test-{}-broken.pkm", std::process::id()));
@@ -325,7 +333,7 @@ fn check_study(study: &str, expect: &str) {
          {study}\n}}"
     );
     let error = write_report(&text, "crank.pkm", &ReportOptions::default(), &out_dir("study")).unwrap_err();
-    assert!(matches!(error, pkm::report::ReportError::Source { .. }));
+    assert!(matches!(error, pkm_cli::report::ReportError::Source { .. }));
     assert!(expect.starts_with(&error.message()[..10]), "{}", error.message());
     let e = error.to_string();
     assert!(e.contains(expect), "{e}");

@@ -80,8 +80,8 @@ impl Failure {
     /// The diagnostics of mechanism file `file` (text `source`): the message
     /// is the first one's (and how many more there are), the JSON carries
     /// every one with its line and column.
-    pub fn parse(d: &pkm::dsl::Diagnostics, source: &str, file: &str) -> Failure {
-        let place = |span: Option<pkm::dsl::diagnostics::Span>| match span {
+    pub fn parse(d: &pkm_dsl::Diagnostics, source: &str, file: &str) -> Failure {
+        let place = |span: Option<pkm_dsl::diagnostics::Span>| match span {
             Some(s) => {
                 let (line, column) = s.line_col(source);
                 (json!(line), json!(column))

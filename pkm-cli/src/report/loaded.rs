@@ -1,0 +1,214 @@
+//! A `.pkm` file ready to solve: its analysis, its numeric model at the
+//! given parameters, its declared outputs and its forward and inverse plans;
+//! and what the sections read off it (points by name, units, outputs).
+
+use super::{invalid, ReportError};
+pub(super) use crate::plans::AnyPlan;
+use pkm_runtime::model::{JointType, Model};
+use pkm_runtime::newton::{self, Output};
+use pkm_runtime::primitives::Sign;
+use pkm_runtime::spatial::Pose3;
+use std::collections::HashMap;
+
+/// A `.pkm` file ready to solve: its analysis, numeric model, outputs and plans.
+pub(super) struct Loaded {
+    pub(super) analysis: pkm_dsl::analysis::Analysis,
+    pub(super) model: Model,
+    pub(super) outputs: Vec<Output>,
+    /// The forward plan, or why there is none (κ ≠ 0).
+    pub(super) forward: Result<AnyPlan, String>,
+    /// The inverse plan, if the file declares outputs.
+    pub(super) inverse: Option<AnyPlan>,
+    /// The parameter values used.
+    pub(super) values: HashMap<String, f64>,
+}
+
+/// The first line of a diagnostic's message (without `error: `).
+fn headline(d: &pkm_dsl::Diagnostics) -> String {
+    d.0.first().map(|x| x.message.clone()).unwrap_or_default()
+}
+
+/// The analysis and parameter values of a file; `Ok(None)` for the model
+/// when the file has no geometry.
+pub(super) fn load(
+    text: &str,
+    file: &str,
+    params: &[(String, f64)],
+) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
+    let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
+    let a = pkm_dsl::analyze_source(text).map_err(render)?;
+    // Only the overrides: the others, derived ones included, are resolved from them.
+    let values = pkm_dsl::params::overrides(&a, params).map_err(|e| {
+        invalid(match e {
+            pkm_dsl::params::ParamError::Unknown { name, known, .. } => {
+                format!(
+                    "{file}: --param {name}: no such parameter (the parameters: {})",
+                    known.join(", ")
+                )
+            }
+            pkm_dsl::params::ParamError::NotFinite { name, value } => {
+                format!("--param {name}={value}: not a finite number")
+            }
+            e => format!("{file}: --param {}: {e}", e.name()),
+        })
+    })?;
+    if !a.geometry.complete {
+        return Ok((a, None));
+    }
+    let model = pkm_dsl::plan::model(&a, &values).map_err(render)?;
+    let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(render)?;
+    // Every parameter's value, for the study block's expressions.
+    let values = pkm_dsl::plan::parameter_values(&a, &values).map_err(render)?;
+    let forward = AnyPlan::forward(&a, model.planar).map_err(|d| headline(&d));
+    let inverse = AnyPlan::inverse(&a, model.planar).ok();
+    Ok((
+        a.clone(),
+        Some(Loaded {
+            analysis: a,
+            model,
+            outputs,
+            forward,
+            inverse,
+            values,
+        }),
+    ))
+}
+
+/// The signs of branch `index` of a plan with `choices` ± choices (bit k set: choice k is −).
+pub(super) fn signs(choices: usize, index: usize) -> Vec<Sign> {
+    (0..choices)
+        .map(|k| if index >> k & 1 == 1 { Sign::Minus } else { Sign::Plus })
+        .collect()
+}
+
+/// A point of the model by name: a named point or a joint's point.
+pub(super) fn point_of(model: &Model, name: &str) -> Option<(usize, [f64; 3])> {
+    if let Some(p) = model.points.iter().find(|p| p.name == name) {
+        return Some((p.link, p.at));
+    }
+    let j = model.joints.iter().position(|j| j.name == name)?;
+    let joint = &model.joints[j];
+    let side = joint.point_side();
+    Some((joint.links[side], joint.places[side].at()))
+}
+
+/// The world position of `local`, a point of `link`, at the joint values `values`.
+pub(super) fn world(model: &Model, values: &[f64], link: usize, local: [f64; 3]) -> Option<[f64; 3]> {
+    let poses = newton::link_poses(model, values).ok()?;
+    let p = poses[link].transform_point(&local.into());
+    Some([p.x, p.y, p.z])
+}
+
+/// The mechanism's size: the largest distance between two joint places on
+/// one link, summed over links (an upper bound of its reach).
+pub(super) fn reach(model: &Model) -> f64 {
+    let mut per_link = vec![0.0f64; model.links.len()];
+    for a in &model.joints {
+        for b in &model.joints {
+            for (sa, la) in a.links.iter().enumerate() {
+                for (sb, lb) in b.links.iter().enumerate() {
+                    if la == lb {
+                        let (p, q) = (a.places[sa].at(), b.places[sb].at());
+                        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+                        per_link[*la] = per_link[*la].max(d);
+                    }
+                }
+            }
+        }
+    }
+    per_link.iter().skip(1).sum::<f64>().max(1.0)
+}
+
+/// The unit of joint `j`'s value.
+pub(super) fn joint_unit(model: &Model, j: usize, unit: &str) -> String {
+    match model.joints[j].kind {
+        JointType::P => unit.to_string(),
+        _ => "rad".into(),
+    }
+}
+
+/// The default followed point: the first pose or point output's point; with
+/// no outputs, the last slider's point, else the last joint off the base.
+pub(super) fn default_point(l: &Loaded) -> String {
+    let a = &l.analysis;
+    let model = &l.model;
+    let named = a.geometry.outputs.iter().find_map(|out| match &out.kind {
+        pkm_dsl::geometry::OutputKind::Pose { point, .. } | pkm_dsl::geometry::OutputKind::Point { point, .. } => {
+            Some(match point {
+                pkm_runtime::plan::PointRef::Named(k) => a.geometry.points[*k].name.clone(),
+                pkm_runtime::plan::PointRef::Joint(j) => model.joints[*j].name.clone(),
+            })
+        }
+        _ => None,
+    });
+    named
+        .or_else(|| {
+            model
+                .joints
+                .iter()
+                .rev()
+                .find(|j| j.kind == JointType::P)
+                .map(|j| j.name.clone())
+        })
+        .or_else(|| {
+            model
+                .joints
+                .iter()
+                .rev()
+                .find(|j| !j.links.contains(&0))
+                .map(|j| j.name.clone())
+        })
+        .unwrap_or_else(|| model.joints.last().map(|j| j.name.clone()).unwrap_or_default())
+}
+
+/// The names and units of the declared outputs' values, in order.
+pub(super) fn output_columns(l: &Loaded, unit: &str) -> Vec<String> {
+    let mut cols = Vec::new();
+    for out in &l.analysis.geometry.outputs {
+        for (k, name) in out.names.iter().enumerate() {
+            let u = match &out.kind {
+                pkm_dsl::geometry::OutputKind::Pose { .. } => {
+                    let positions = if l.model.planar { 2 } else { 3 };
+                    if k < positions {
+                        unit.to_string()
+                    } else {
+                        "rad".into()
+                    }
+                }
+                pkm_dsl::geometry::OutputKind::Point { .. } => unit.to_string(),
+                pkm_dsl::geometry::OutputKind::Joint(j) => joint_unit(&l.model, *j, unit),
+            };
+            cols.push(format!("{name} ({u})"));
+        }
+    }
+    cols
+}
+
+/// The declared outputs' values from link poses.
+pub(super) fn pose_outputs(model: &Model, poses: &[Pose3], outputs: &[Output]) -> Vec<f64> {
+    let mut v = Vec::new();
+    for o in outputs {
+        match *o {
+            Output::Pose { link, local, about } => {
+                let p = pkm_runtime::spatial::at(&poses[link], local);
+                v.extend_from_slice(if model.planar { &p[..2] } else { &p[..] });
+                if let Some(k) = about {
+                    v.push(pkm_runtime::spatial::angle_about(&poses[link], k));
+                }
+            }
+            Output::Point { link, local } => {
+                let p = pkm_runtime::spatial::at(&poses[link], local);
+                v.extend_from_slice(if model.planar { &p[..2] } else { &p[..] });
+            }
+            Output::Joint(j) => {
+                let joint = &model.joints[j];
+                v.push(pkm_runtime::spatial::joint_value(
+                    &pkm_runtime::spatial::Joint3::of(joint),
+                    &poses[joint.links[0]],
+                    &poses[joint.links[1]],
+                ));
+            }
+        }
+    }
+    v
+}

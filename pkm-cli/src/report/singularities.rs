@@ -1,0 +1,237 @@
+//! Singularities: the determinants' factors of the forward and inverse
+//! plans, named, and over a coarser sweep of the followed branch the
+//! near-singular nodes by σ_in and σ_out and by each factor.
+
+use super::html::{html_escape, Page};
+use super::loaded::{AnyPlan, Loaded};
+use super::workspace::{largest_pair, plane_name, AXES};
+use super::{ReportError, Sampling};
+use pkm_runtime::newton;
+use pkm_runtime::spatial::Pose3;
+use pkm_runtime::workspace::Grid;
+use pkm_runtime::{singular, velocity};
+use std::fmt::Write as _;
+
+/// A factor below this is near vanishing (the factors are normalised to [0, 1]).
+const NEAR: f64 = 0.05;
+
+/// Every factor of det J_o (the forward plan's) and det J_i (the inverse
+/// plan's) at `poses`: a label (`J_o step 3`), its value, what it says.
+pub(super) fn named_factors(l: &Loaded, plan: &AnyPlan, poses: &[Pose3]) -> Vec<(String, f64, String)> {
+    plan_factors(l, plan, poses)
+        .map(|(jacobian, f)| {
+            (
+                format!("{jacobian} step {}", f.step),
+                f.value,
+                f.describe(&l.model, poses),
+            )
+        })
+        .collect()
+}
+
+/// The factors alone, forward plan's then inverse plan's, each with its
+/// Jacobian's name (the order of [`named_factors`]).
+fn plan_factors<'a>(
+    l: &'a Loaded,
+    plan: &'a AnyPlan,
+    poses: &'a [Pose3],
+) -> impl Iterator<Item = (&'static str, singular::Factor)> + 'a {
+    [("J_o", Some(plan)), ("J_i", l.inverse.as_ref())]
+        .into_iter()
+        .flat_map(move |(jacobian, p)| {
+            p.map(|p| p.factors(&l.model, poses))
+                .unwrap_or_default()
+                .into_iter()
+                .map(move |f| (jacobian, f))
+        })
+}
+
+/// One node of the coarse sweep: the point's position, σ_in and σ_out (NaN
+/// without declared outputs), and every determinant factor's value (the
+/// order of [`named_factors`]).
+struct Measured {
+    at: [f64; 3],
+    sigma_in: f64,
+    sigma_out: f64,
+    factors: Vec<f64>,
+}
+
+/// Singularity measures over a coarser sweep of the followed branch: the
+/// near-singular nodes by σ (when outputs are declared) and by each
+/// determinant factor `named`, in the plane where the workspace's `cloud`
+/// spreads most.
+pub(super) fn singularities(
+    page: &mut Page,
+    at: &Sampling,
+    named: &[(String, f64, String)],
+    cloud: &[[f64; 3]],
+) -> Result<(), ReportError> {
+    let (model, s) = (&at.l.model, at.s);
+    let n = s.ranges.0.len();
+    let cap = match n {
+        1 => s.nodes.0,
+        2 => 140,
+        _ => 27,
+    };
+    let coarse = Grid {
+        ranges: s.ranges.0.clone(),
+        counts: vec![s.nodes.0.min(cap); n],
+    };
+    let measured = measure_coarse(at, &coarse);
+    let pair = if model.planar { [0, 1] } else { largest_pair(cloud) };
+    let _ = writeln!(page, "<h2>Singularities</h2>");
+    if at.l.outputs.is_empty() {
+        let _ = writeln!(
+            page,
+            "<p>This file declares no outputs, so σ_in and σ_out (which measure the outputs' rates) are not defined; \
+             the determinant factors below need no outputs. {} nodes of the followed branch were measured.</p>",
+            measured.len()
+        );
+    } else {
+        sigma_loci(page, at, &measured, coarse.counts[0], pair)?;
+    }
+    if named.is_empty() {
+        return Ok(());
+    }
+    factor_loci(page, at, &measured, named, pair)
+}
+
+/// The followed branch's nodes of `coarse` that solve and whose velocity
+/// equations can be formed, measured.
+fn measure_coarse(at: &Sampling, coarse: &Grid) -> Vec<Measured> {
+    let (model, outputs) = (&at.l.model, &at.l.outputs);
+    let (link, local) = at.point;
+    let mut measured = Vec::new();
+    let mut q = vec![0.0; coarse.ranges.len()];
+    for index in 0..coarse.len() {
+        coarse.node(index, &mut q);
+        let Ok(v) = at.plan.solve(model, &q, &at.branch_signs) else {
+            continue;
+        };
+        let Ok(poses) = newton::link_poses(model, &v) else {
+            continue;
+        };
+        let p = poses[link].transform_point(&local.into());
+        let (sigma_in, sigma_out) = if outputs.is_empty() {
+            (f64::NAN, f64::NAN)
+        } else {
+            match velocity::jacobians(model, &v, outputs) {
+                Ok(j) => (j.input_sigma, j.output_sigma),
+                Err(_) => continue,
+            }
+        };
+        measured.push(Measured {
+            at: [p.x, p.y, p.z],
+            sigma_in,
+            sigma_out,
+            factors: plan_factors(at.l, at.plan, &poses).map(|(_, f)| f.value).collect(),
+        });
+    }
+    measured
+}
+
+/// The axis labels of the world plane `pair` in `unit`.
+fn labels(pair: [usize; 2], unit: &str) -> [String; 2] {
+    pair.map(|k| format!("{} ({unit})", AXES[k]))
+}
+
+/// The smallest σ_in and σ_out over the `measured` nodes (`per_input` per
+/// input), and (figure) the lowest 5 % of each on the plane `pair`.
+fn sigma_loci(
+    page: &mut Page,
+    at: &Sampling,
+    measured: &[Measured],
+    per_input: usize,
+    pair: [usize; 2],
+) -> Result<(), ReportError> {
+    let on_plane = |m: &Measured| [m.at[pair[0]], m.at[pair[1]]];
+    let sigma = |m: &Measured, k: usize| if k == 0 { m.sigma_in } else { m.sigma_out };
+    let quantile = |k: usize| {
+        let mut v: Vec<f64> = measured.iter().map(|m| sigma(m, k)).collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 20).copied().unwrap_or(0.0)
+    };
+    let (qi, qo) = (quantile(0), quantile(1));
+    let near = |k: usize, limit: f64| -> Vec<[f64; 2]> {
+        measured.iter().filter(|m| sigma(m, k) <= limit).map(on_plane).collect()
+    };
+    let combined = measured
+        .iter()
+        .filter(|m| m.sigma_in < velocity::SINGULAR && m.sigma_out < velocity::SINGULAR)
+        .count();
+    let _ = writeln!(
+        page,
+        "<p>Over {} nodes of the followed branch ({per_input} per input): the smallest σ_in is {:.3e}, the smallest \
+         σ_out {:.3e}; {combined} nodes are singular in both senses at once (threshold {:e}).</p>",
+        measured.len(),
+        measured.iter().map(|m| m.sigma_in).fold(f64::INFINITY, f64::min),
+        measured.iter().map(|m| m.sigma_out).fold(f64::INFINITY, f64::min),
+        velocity::SINGULAR
+    );
+    let all: Vec<[f64; 2]> = measured.iter().map(on_plane).collect();
+    let [x, y] = labels(pair, at.unit);
+    page.scatter(
+        "singularity_loci",
+        "Near-singular configurations (lowest 5 % of each measure)",
+        [&x, &y],
+        &[
+            ("all measured nodes".to_string(), all),
+            (format!("input: σ_in ≤ {qi:.2e}"), near(0, qi)),
+            (format!("output: σ_out ≤ {qo:.2e}"), near(1, qo)),
+        ],
+        false,
+        &format!("Near-singular configurations of the point, on {}", plane_name(pair)),
+    )
+}
+
+/// Each determinant factor's smallest value over the `measured` nodes, and
+/// (figure) the nodes where it is below [`NEAR`], on the plane `pair`.
+fn factor_loci(
+    page: &mut Page,
+    at: &Sampling,
+    measured: &[Measured],
+    named: &[(String, f64, String)],
+    pair: [usize; 2],
+) -> Result<(), ReportError> {
+    let on_plane = |m: &Measured| [m.at[pair[0]], m.at[pair[1]]];
+    let mut series = vec![(
+        "all measured nodes".to_string(),
+        measured.iter().map(on_plane).collect::<Vec<_>>(),
+    )];
+    let _ = writeln!(
+        page,
+        "<h3>Which factor comes near 0</h3><p>Over the same nodes, each determinant factor's smallest value, and \
+         (figure) the nodes where it is below {NEAR}.</p><table><tr><th>factor</th><th>smallest (1)</th>\
+         <th>nodes below {NEAR}</th><th class=l>vanishes when</th></tr>"
+    );
+    for (k, (label, _, what)) in named.iter().enumerate() {
+        let value = |m: &Measured| m.factors.get(k).copied().unwrap_or(f64::INFINITY);
+        let smallest = measured.iter().map(value).fold(f64::INFINITY, f64::min);
+        let near: Vec<[f64; 2]> = measured.iter().filter(|m| value(m) < NEAR).map(on_plane).collect();
+        let _ = writeln!(
+            page,
+            "<tr><td>{label}</td><td>{smallest:.3e}</td><td>{}</td><td class=l>{}</td></tr>",
+            near.len(),
+            html_escape(what)
+        );
+        if !near.is_empty() {
+            series.push((label.clone(), near));
+        }
+    }
+    page.html.push_str("</table>\n");
+    if series.len() > 1 {
+        let [x, y] = labels(pair, at.unit);
+        page.scatter(
+            "singularity_factors",
+            &format!("Nodes where a determinant factor is below {NEAR}"),
+            [&x, &y],
+            &series,
+            false,
+            &format!(
+                "Near-vanishing factors, on {} (grey: every node measured)",
+                plane_name(pair)
+            ),
+        )?;
+    }
+    Ok(())
+}
