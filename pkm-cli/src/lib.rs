@@ -3,11 +3,11 @@
 //! The `pkm` command line's library: the HTML report of a `.pkm` file
 //! ([`report`]), its plots ([`plots`]) and drawings of the mechanism
 //! ([`drawing`]), and the solution plans the commands and the report run
-//! ([`plans`]). It lives apart from the `pkm` facade so that a user of
+//! (`pkm_dsl::AnyPlan`). It lives apart from the `pkm` facade so that a user of
 //! `pkm::mechanism!` does not compile clap, plotters, csv or serde_json.
 #![deny(missing_docs)]
 
 pub mod drawing;
-pub mod plans;
+
 pub mod plots;
 pub mod report;

@@ -100,12 +100,13 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
             (lit, text, rel.clone(), Some(rel))
         }
     };
-    let analysis = crate::analyze_source(&text).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
-    let checks = check_capabilities(&analysis);
+    // The pipeline (parse, model, geometry, topology, plans): `crate::compile`.
+    let compiled = crate::compile(&text).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
+    let checks = check_capabilities(&compiled.analysis);
     if !checks.is_empty() {
         return Err(to_syn(&checks, &text, &file_name, lit.span()));
     }
-    generate(&input, &analysis, include.as_deref()).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))
+    generate(&input, &compiled, include.as_deref()).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))
 }
 
 fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
@@ -163,7 +164,8 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
     errors
 }
 
-fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
+fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
+    let a = &compiled.analysis;
     let MacroInput { attrs, vis, ident, .. } = input;
     let m = &a.mechanism;
     let t = &a.topology;
@@ -249,12 +251,13 @@ fn generate(input: &MacroInput, a: &Analysis, include: Option<&str>) -> Result<T
                 continue;
             }
             use crate::codegen_fk::{Direction, PlanRef};
-            let (mut planar, mut spatial) = (None, None);
-            let plan = match (m.planar, direction) {
-                (true, Direction::Forward) => PlanRef::Planar(planar.insert(crate::plan::forward_plan(a)?)),
-                (true, Direction::Inverse) => PlanRef::Planar(planar.insert(crate::plan::inverse_plan(a)?)),
-                (false, Direction::Forward) => PlanRef::Spatial(spatial.insert(crate::plan3::forward_plan(a)?)),
-                (false, Direction::Inverse) => PlanRef::Spatial(spatial.insert(crate::plan3::inverse_plan(a)?)),
+            let plan = match direction {
+                Direction::Forward => compiled.forward()?,
+                Direction::Inverse => compiled.inverse()?,
+            };
+            let plan = match plan {
+                crate::AnyPlan::Planar(p) => PlanRef::Planar(p),
+                crate::AnyPlan::Spatial(p) => PlanRef::Spatial(p),
             };
             let branches = match plan {
                 PlanRef::Planar(p) => p.branches,

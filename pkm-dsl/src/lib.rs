@@ -25,6 +25,8 @@ pub mod study;
 pub mod topology;
 
 pub use analysis::{analyze_source, Analysis};
+pub mod compile;
+pub use compile::{compile, AnyPlan, Compiled};
 mod codegen;
 mod codegen_fk;
 mod codegen_motion;

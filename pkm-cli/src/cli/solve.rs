@@ -3,7 +3,7 @@
 //! `points`), and when no branch solves the failure names the causes.
 
 use super::failure::{Failure, Kind};
-use pkm_cli::plans::AnyPlan;
+use pkm_dsl::AnyPlan;
 use pkm_dsl::{Analysis, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
@@ -62,7 +62,7 @@ struct Loaded {
 }
 
 fn load(r: &Request) -> Result<Loaded, Failure> {
-    let analysis = pkm_dsl::analyze_source(r.source).map_err(|d| r.parse_failure(d))?;
+    let analysis = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?.analysis;
     let nominal = pkm_dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
     let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
     check_lengths(&analysis, &nominal, &values)?;

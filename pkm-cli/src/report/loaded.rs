@@ -3,7 +3,7 @@
 //! and what the sections read off it (points by name, units, outputs).
 
 use super::{invalid, ReportError};
-pub(super) use crate::plans::AnyPlan;
+pub(super) use pkm_dsl::AnyPlan;
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::{self, Output};
 use pkm_runtime::primitives::Sign;
@@ -36,7 +36,7 @@ pub(super) fn load(
     params: &[(String, f64)],
 ) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
     let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
-    let a = pkm_dsl::analyze_source(text).map_err(render)?;
+    let a = pkm_dsl::compile(text).map_err(render)?.analysis;
     // Only the overrides: the others, derived ones included, are resolved from them.
     let values = pkm_dsl::params::overrides(&a, params).map_err(|e| {
         invalid(match e {
