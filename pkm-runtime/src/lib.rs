@@ -4,6 +4,7 @@
 #![deny(missing_docs)]
 
 pub mod consistency;
+pub mod kinematics;
 pub mod model;
 pub mod newton;
 pub mod plan;
