@@ -10,6 +10,8 @@ pub mod newton;
 pub mod plan;
 pub mod primitives;
 pub mod real;
+#[cfg(feature = "high-precision")]
+pub mod reference;
 pub mod singular;
 pub mod spatial;
 pub mod topology;
