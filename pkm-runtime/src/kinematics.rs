@@ -344,6 +344,12 @@ impl From<&Isometry3<f64>> for Pose<f64> {
 /// vector of the world x axis made perpendicular to z (the world y axis when
 /// z is within about 25° of x). See [`crate::model::canonical_frame`].
 pub fn frame<T: Real>(at: [f64; 3], axis: [f64; 3]) -> Pose<T> {
+    if axis[0] == 0.0 && axis[1] == 0.0 && axis[2] > 0.0 {
+        // Along +z (every axis of a planar model): the identity rotation,
+        // exactly what the general construction below gives, without its
+        // three square roots.
+        return Pose::translation(lift(at));
+    }
     let z = normalize(lift::<T>(axis));
     let (o, i) = (T::zero(), T::one());
     let e = if z[0].abs() < T::from_f64(0.9) {

@@ -136,7 +136,7 @@ fn scaled_residual(k: &Kinematics<f256>, values: &[f256], scale: f256) -> Result
     let mut r = k.residual(values, &poses)?;
     for (i, x) in r.iter_mut().enumerate() {
         if i % 6 < 3 {
-            *x = *x / scale;
+            *x /= scale;
         }
     }
     Ok(r)
@@ -153,13 +153,15 @@ fn solve(mut a: Vec<Vec<f256>>, mut b: Vec<f256>) -> Option<Vec<f256>> {
         }
         a.swap(col, pivot);
         b.swap(col, pivot);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            for k in col..n {
-                let sub = f * a[col][k];
-                a[row][k] = a[row][k] - sub;
+        let (upper, lower) = a.split_at_mut(col + 1);
+        let pivot_row = &upper[col];
+        for (offset, row) in lower.iter_mut().enumerate() {
+            let f = row[col] / pivot_row[col];
+            for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                *x -= f * *p;
             }
-            b[row] = b[row] - f * b[col];
+            let sub = f * b[col];
+            b[col + 1 + offset] -= sub;
         }
     }
     let mut x = vec![f256::ZERO; n];
@@ -235,7 +237,7 @@ pub fn fk(model: &Model, inputs: &[f64], start: &[f64]) -> Result<Reference, New
         let delta = solve(jtj, minus_jtr).ok_or(NewtonError::Singular)?;
         step = f256::ZERO;
         for (&i, d) in unknowns.iter().zip(&delta) {
-            values[i] = values[i] + *d;
+            values[i] += *d;
             step = step.max(d.abs() / unit[i]);
         }
         iterations += 1;
