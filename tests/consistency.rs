@@ -74,14 +74,14 @@ fn inconsistency(
     given: &[f64; 4],
     extent: f64,
 ) -> f64 {
-    use pkm::runtime::newton;
-    let closure = newton::loop_residual(model, q)
+    use pkm::runtime::kinematics;
+    let closure = kinematics::loop_residual(model, q)
         .unwrap()
         .chunks(6)
         .flat_map(|r| [r[0] / extent, r[1] / extent, r[2] / extent, r[3], r[4], r[5]])
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    let poses = newton::link_poses(model, q).unwrap();
-    let at = newton::point(model, &poses, point).unwrap();
+    let poses = kinematics::link_poses(model, q).unwrap();
+    let at = kinematics::point(model, &poses, point).unwrap();
     let link = model.points.iter().find(|p| p.name == point).unwrap().link;
     let angle = pkm::runtime::spatial::angle_about(&poses[link], axis);
     let output = (0..3)

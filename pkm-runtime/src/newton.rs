@@ -593,59 +593,15 @@ pub fn solve_ik(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Joint, NamedPoint};
+    use crate::kinematics::tests::{four_bar, joint, model, z_axis};
+    use crate::kinematics::ModelError;
+    use crate::model::NamedPoint;
     use nalgebra::{Point3, UnitQuaternion, Vector3};
 
     const OPTS: NewtonOptions = NewtonOptions {
         tolerance: 1e-12,
         max_iterations: 100,
     };
-
-    fn z_axis(x: f64, y: f64) -> Place {
-        Place::Axis {
-            at: [x, y, 0.0],
-            axis: [0.0, 0.0, 1.0],
-        }
-    }
-
-    fn joint(name: &str, kind: JointType, links: [usize; 2], places: [Place; 2], actuated: bool) -> Joint {
-        Joint {
-            name: name.into(),
-            kind,
-            links,
-            places,
-            actuated,
-        }
-    }
-
-    fn model(name: &str, planar: bool, links: &[&str], joints: Vec<Joint>, points: Vec<NamedPoint>) -> Model {
-        Model {
-            name: name.into(),
-            planar,
-            links: links.iter().map(|s| s.to_string()).collect(),
-            joints,
-            points,
-        }
-    }
-
-    /// The four-bar of the brief: joints R1 (base–crank, actuated), R2
-    /// (crank–coupler), R3 (coupler–rocker), R4 (base–rocker).
-    fn four_bar(l1: f64, l2: f64, l3: f64, l4: f64) -> Model {
-        use JointType::R;
-        let joints = vec![
-            joint("R1", R, [0, 1], [z_axis(0.0, 0.0), z_axis(0.0, 0.0)], true),
-            joint("R2", R, [1, 2], [z_axis(l1, 0.0), z_axis(0.0, 0.0)], false),
-            joint("R3", R, [2, 3], [z_axis(l2, 0.0), z_axis(l3, 0.0)], false),
-            joint("R4", R, [0, 3], [z_axis(l4, 0.0), z_axis(0.0, 0.0)], false),
-        ];
-        model(
-            "four_bar",
-            true,
-            &["base", "crank", "coupler", "rocker"],
-            joints,
-            vec![],
-        )
-    }
 
     /// Hand derivation: the intersection of the circles (b, rb) and (d, rd) on
     /// the left of b→d (`up`) or on its right, by the chord construction.
@@ -711,29 +667,6 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn spanning_tree_and_residual_rows_of_the_four_bar() {
-        let m = four_bar(100.0, 250.0, 200.0, 300.0);
-        let tree = spanning_tree(&m).unwrap();
-        assert_eq!(tree.parent, vec![None, Some(0), Some(1), Some(3)]);
-        assert_eq!(tree.order, vec![0, 1, 3, 2]);
-        assert_eq!(tree.cut, vec![2]);
-        // Hand values: θ = 90°, B = (0, 100); coupler along +x would put R3 at
-        // (250, 100); rocker at 90° puts its R3 at (300, 200).
-        // Mismatch of the rocker's origin: T_v = R4 frame at (300, 0) rotated 90°;
-        // predicted: R3 on the coupler (250, 100), rocker rotated by 90° there, its
-        // origin 200 below: (250, -100). Difference (50, 100, 0); orientations agree.
-        let values = [PI / 2.0, -PI / 2.0, PI / 2.0, PI / 2.0];
-        let r = loop_residual(&m, &values).unwrap();
-        let want = [50.0, 100.0, 0.0, 0.0, 0.0, 0.0];
-        for (x, w) in r.iter().zip(want) {
-            assert!((x - w).abs() < 1e-12, "{r:?}");
-        }
-        // An orientation mismatch of 0.3 rad about z when R3 is off by 0.3.
-        let r = loop_residual(&m, &[PI / 2.0, -PI / 2.0, PI / 2.0 + 0.3, PI / 2.0]).unwrap();
-        assert!((r[5] + 0.3).abs() < 1e-12 && r[3] == 0.0 && r[4] == 0.0, "{r:?}");
     }
 
     /// Slider-crank: R1 base–crank (actuated), R2 crank–rod, R3 rod–slider,

@@ -231,7 +231,7 @@ pub fn case(name: &'static str, generated: Generated) -> Case {
         let b = [f.branches, i.branches];
         ([Interpreter::Spatial(f), Interpreter::Spatial(i)], b)
     };
-    let scale = newton::model_scale(&model);
+    let scale = pkm::runtime::kinematics::model_scale(&model);
     let n_values = model.value_offsets().1;
     let n_outputs: usize = outputs.iter().map(|o| o.len(model.planar)).sum();
     let fk = |q: &[f64]| {
