@@ -541,6 +541,29 @@ impl<'a, T: Real> Kinematics<'a, T> {
         Ok(r)
     }
 
+    /// The loop residual at joint values already [`checked`](Self::check),
+    /// with its position rows divided by `scale` (dimensionless, as Newton
+    /// measures it).
+    ///
+    /// # Errors
+    /// As [`poses`](Self::poses) and [`residual`](Self::residual), and
+    /// [`ModelError::NonFinite`] for a row that is not finite.
+    pub fn scaled_residual(&self, values: &[T], scale: T) -> Result<Vec<T>, ModelError> {
+        let poses = self.poses(values)?;
+        let mut r = self.residual(values, &poses)?;
+        for (i, x) in r.iter_mut().enumerate() {
+            if i % 6 < 3 {
+                *x = *x / scale;
+            }
+        }
+        match r.iter().position(|x| !x.is_finite()) {
+            Some(i) => Err(ModelError::NonFinite {
+                what: format!("residual row {i}"),
+            }),
+            None => Ok(r),
+        }
+    }
+
     /// World coordinates of the named point `name` for link poses from
     /// [`poses`](Self::poses); `None` if there is no such point or no pose for its link.
     pub fn point(&self, poses: &[Pose<T>], name: &str) -> Option<[T; 3]> {

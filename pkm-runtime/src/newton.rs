@@ -118,19 +118,7 @@ struct Problem<'a> {
 impl Problem<'_> {
     /// The scaled residual (position rows divided by the scale).
     fn residual(&self, values: &[f64]) -> Result<DVector<f64>, ModelError> {
-        let poses = self.kinematics.poses(values)?;
-        let mut r = self.kinematics.residual(values, &poses)?;
-        for (i, x) in r.iter_mut().enumerate() {
-            if i % 6 < 3 {
-                *x /= self.scale;
-            }
-        }
-        if let Some(i) = r.iter().position(|x| !x.is_finite()) {
-            return Err(ModelError::NonFinite {
-                what: format!("residual row {i}"),
-            });
-        }
-        Ok(DVector::from_vec(r))
+        Ok(DVector::from_vec(self.kinematics.scaled_residual(values, self.scale)?))
     }
 }
 

@@ -130,18 +130,6 @@ fn max_abs(xs: &[f256]) -> f256 {
     xs.iter().fold(f256::ZERO, |m, x| m.max(x.abs()))
 }
 
-/// The loop residual with its position rows divided by `scale`.
-fn scaled_residual(k: &Kinematics<f256>, values: &[f256], scale: f256) -> Result<Vec<f256>, ModelError> {
-    let poses = k.poses(values)?;
-    let mut r = k.residual(values, &poses)?;
-    for (i, x) in r.iter_mut().enumerate() {
-        if i % 6 < 3 {
-            *x /= scale;
-        }
-    }
-    Ok(r)
-}
-
 /// Solves `a x = b` (square) by Gaussian elimination with partial pivoting;
 /// `None` if a pivot is exactly zero.
 fn solve(mut a: Vec<Vec<f256>>, mut b: Vec<f256>) -> Option<Vec<f256>> {
@@ -206,19 +194,19 @@ pub fn fk(model: &Model, inputs: &[f64], start: &[f64]) -> Result<Reference, New
     let mut iterations = 0;
     while step >= f256::from(STEP_TOLERANCE) {
         if iterations == MAX_ITERATIONS {
-            let residual = to_f64(max_abs(&scaled_residual(&k, &values, scale)?));
+            let residual = to_f64(max_abs(&k.scaled_residual(&values, scale)?));
             return Err(NewtonError::NoConvergence { residual, iterations });
         }
-        let r = scaled_residual(&k, &values, scale)?;
+        let r = k.scaled_residual(&values, scale)?;
         // Central-difference Jacobian, column by column.
         let mut columns = Vec::with_capacity(unknowns.len());
         let mut probe = values.clone();
         for &i in &unknowns {
             let d = h * unit[i];
             probe[i] = values[i] + d;
-            let plus = scaled_residual(&k, &probe, scale)?;
+            let plus = k.scaled_residual(&probe, scale)?;
             probe[i] = values[i] - d;
-            let minus = scaled_residual(&k, &probe, scale)?;
+            let minus = k.scaled_residual(&probe, scale)?;
             probe[i] = values[i];
             columns.push(
                 plus.iter()
@@ -242,7 +230,7 @@ pub fn fk(model: &Model, inputs: &[f64], start: &[f64]) -> Result<Reference, New
         }
         iterations += 1;
     }
-    let residual = max_abs(&scaled_residual(&k, &values, scale)?);
+    let residual = max_abs(&k.scaled_residual(&values, scale)?);
     Ok(Reference {
         values,
         residual,
