@@ -8,8 +8,8 @@
 //! workspace, each solved on one branch. The error of a method is its worst
 //! over the points of the joint values (angles in radians modulo 2π,
 //! lengths relative to the model's scale) and, for fk, of the outputs. Its
-//! time per call is criterion's mean time to solve all the points, divided
-//! by their number. Newton starts, as in `benches/solvers.rs`, from the
+//! time per call is criterion's median time to solve all the points,
+//! divided by their number. Newton starts, as in `benches/solvers.rs`, from the
 //! generated solution with the first input (or output) moved by 0.05.
 //!
 //! Writes `docs/work-precision.csv` and `docs/work-precision.png`:
@@ -38,7 +38,7 @@ struct Row {
     method: &'static str,
     /// Newton's tolerance.
     tolerance: Option<f64>,
-    /// Mean time per call, ns.
+    /// Median time per call, ns.
     time_ns: f64,
     /// Worst joint-value error.
     joint_error: f64,
@@ -58,11 +58,12 @@ impl Row {
 /// (for fk, where the method returns them) the outputs.
 type Solve<'a> = Box<dyn Fn(usize) -> Option<(Vec<f64>, Option<Vec<f64>>)> + 'a>;
 
-/// Criterion's mean time (ns) of `group/id`, from the estimates it wrote.
-fn mean_ns(dir: &Path, group: &str, id: &str) -> Option<f64> {
+/// Criterion's median time (ns) of `group/id`, from the estimates it wrote:
+/// the median rather than the mean, as other processes share the machine.
+fn median_ns(dir: &Path, group: &str, id: &str) -> Option<f64> {
     let path = dir.join(group).join(id).join("new").join("estimates.json");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
-    json["mean"]["point_estimate"].as_f64()
+    json["median"]["point_estimate"].as_f64()
 }
 
 /// Times `solve` over every point, measures its errors, and returns the row.
@@ -83,6 +84,9 @@ fn measure(
         Some(t) => format!("{method}_{t:e}"),
         None => method.to_string(),
     };
+    // Criterion keeps the last run's estimates: remove them, so that a
+    // method a filter skips is seen as not timed rather than timed earlier.
+    let _ = std::fs::remove_file(dir.join(&group_name).join(&id).join("new").join("estimates.json"));
     let mut group = c.benchmark_group(&group_name);
     group.sampling_mode(SamplingMode::Flat);
     group.bench_function(&id, |b| {
@@ -93,7 +97,7 @@ fn measure(
         })
     });
     group.finish();
-    let time_ns = mean_ns(dir, &group_name, &id).map_or(f64::NAN, |t| t / n as f64);
+    let time_ns = median_ns(dir, &group_name, &id).map_or(f64::NAN, |t| t / n as f64);
     let (mut joint_error, mut output_error, mut failures) = (0.0f64, 0.0f64, 0);
     for (k, p) in case.points.iter().enumerate() {
         let Some((values, outputs)) = solve(k) else {
