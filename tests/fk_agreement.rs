@@ -4,6 +4,7 @@
 mod common;
 
 use pkm::dsl::screw::SplitMix;
+use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan;
@@ -48,7 +49,7 @@ fn load(file: &str) -> (Model, Solver) {
                 .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
                 .map(|(signs, s)| {
                     let points = (0..model.joints.len())
-                        .map(|j| newton::joint_point(model, &s.poses, j))
+                        .map(|j| kinematics::joint_point(model, &s.poses, j))
                         .collect();
                     (signs, s.values, points)
                 })
@@ -68,7 +69,7 @@ fn uniform(rng: &mut SplitMix, lo: f64, hi: f64) -> f64 {
 /// every joint point agrees to 1e-9 of the mechanism's size.
 fn check(file: &str, ranges: &[(f64, f64)], samples: usize) {
     let (model, solve) = load(file);
-    let scale = newton::model_scale(&model);
+    let scale = kinematics::model_scale(&model);
     let mut rng = SplitMix::new(0x5eed);
     let mut solved = 0;
     for _ in 0..samples {
@@ -78,7 +79,7 @@ fn check(file: &str, ranges: &[(f64, f64)], samples: usize) {
             let reference = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default())
                 .unwrap_or_else(|e| panic!("{file} {q:?} {signs:?}: Newton failed: {e}"));
             for (j, a) in points.iter().enumerate() {
-                let b = newton::joint_point(&model, &reference.poses, j);
+                let b = kinematics::joint_point(&model, &reference.poses, j);
                 let err = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
                 assert!(
                     err <= 1e-9 * scale,

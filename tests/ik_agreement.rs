@@ -7,6 +7,7 @@ mod common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;
+use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -23,7 +24,7 @@ macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
         let (a, model) = common::example($file);
         let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-        let scale = newton::model_scale(&model);
+        let scale = kinematics::model_scale(&model);
         let params = Default::default();
         let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
         let mut rng = SplitMix::new(7);

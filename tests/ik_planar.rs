@@ -4,6 +4,7 @@
 
 mod common;
 
+use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan::{self, Plan};
 
@@ -46,7 +47,7 @@ fn three_rrr_inverse_against_newton_forward() {
             let q: Vec<f64> = inputs.iter().map(|&j| sol.values[j]).collect();
             let guess: Vec<f64> = sol.values.iter().map(|v| v + 1e-3).collect();
             let fwd = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default()).unwrap();
-            let at = newton::point(&model, &fwd.poses, "o").unwrap();
+            let at = kinematics::point(&model, &fwd.poses, "o").unwrap();
             let angle = fwd.poses[model.points[o].link].rotation.euler_angles().2;
             assert!(
                 (at[0] - pose[0]).abs() < 1e-9 && (at[1] - pose[1]).abs() < 1e-9,

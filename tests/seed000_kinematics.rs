@@ -5,8 +5,8 @@
 
 mod common;
 
+use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;
-use pkm::runtime::newton;
 use pkm::runtime::spatial::{self, Plan, Solution};
 
 struct Mech {
@@ -53,7 +53,7 @@ impl Mech {
         self.solved_fast(plan, given)
             .into_iter()
             .inspect(|s| {
-                let r = newton::loop_residual(&self.model, &s.values).unwrap();
+                let r = kinematics::loop_residual(&self.model, &s.values).unwrap();
                 let worst = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 assert!(worst < 1e-9, "{} loop residual {worst}", self.model.name);
             })

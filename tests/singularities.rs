@@ -12,7 +12,7 @@ mod common;
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
-use pkm::runtime::{newton, singular, spatial};
+use pkm::runtime::{kinematics, singular, spatial};
 use std::collections::HashMap;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -42,7 +42,7 @@ fn setup() -> Setup {
 /// The smallest factor of the forward plan (`det J_o`) or of the inverse
 /// plan (`det J_i`) at `q`, and what it says.
 fn smallest(s: &Setup, q: &[f64], input: bool) -> (f64, String) {
-    let poses = newton::link_poses(&s.model, q).unwrap();
+    let poses = kinematics::link_poses(&s.model, q).unwrap();
     let plan = if input { &s.inverse } else { &s.forward };
     let f = singular::spatial_factors(&s.model, plan, &poses)
         .into_iter()

@@ -7,7 +7,7 @@
 
 mod common;
 
-use pkm::runtime::{newton, velocity};
+use pkm::runtime::{kinematics, velocity};
 use std::f64::consts::PI;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -56,7 +56,7 @@ fn section_3_1_trajectory() {
         // The generated capabilities (`velocity`, `acceleration`).
         let acc = SeedA::acceleration(&p, &path[k].q, &rho_dot(t), &rho_ddot(t)).unwrap();
         let v = SeedA::output_rates(&p, &path[k].q, &acc.velocities).unwrap();
-        let poses = newton::link_poses(&model, &path[k].q).unwrap();
+        let poses = kinematics::link_poses(&model, &path[k].q).unwrap();
         // Five-point central differences (error O(dt⁴)).
         let o = |d: isize| path[(k as isize + d) as usize].outputs;
         let fd_v: Vec<f64> = (0..4)

@@ -60,7 +60,7 @@ macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr, $rate:expr) => {{
         let (a, model) = common::example($file);
         let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-        let scale = pkm::runtime::newton::model_scale(&model);
+        let scale = pkm::runtime::kinematics::model_scale(&model);
         let params = Default::default();
         let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
         let mut rng = SplitMix::new(11);
@@ -117,7 +117,7 @@ macro_rules! check {
                 .unwrap_or_else(|e| panic!("{}: {e} at {q:?}", $file));
             let v = &acc.velocities;
             // Every point's velocity and acceleration against the differenced positions.
-            let poses = pkm::runtime::newton::link_poses(&model, &centre).unwrap();
+            let poses = pkm::runtime::kinematics::link_poses(&model, &centre).unwrap();
             let points: Vec<Vec<f64>> = s.iter().map(|x| x.points.iter().flatten().copied().collect()).collect();
             let dim = s[3].points[0].len();
             let flat = |p: Vec<[f64; 3]>| p.iter().flat_map(|x| x[..dim].to_vec()).collect::<Vec<f64>>();
@@ -137,7 +137,7 @@ macro_rules! check {
             assert!(e < 1e-5, "{}: joint accelerations off by {e:e} at {q:?}", $file);
             worst_a = worst_a.max(e);
             if !outputs.is_empty() {
-                let poses = pkm::runtime::newton::link_poses(&model, &centre).unwrap();
+                let poses = pkm::runtime::kinematics::link_poses(&model, &centre).unwrap();
                 let rates = velocity::output_rates(&model, &poses, &outputs, &v.rates, &v.twists);
                 let e = max_error(&rates, &first(&outs, h), &$ty::OUTPUT_ANGLES, scale);
                 assert!(e < 1e-6, "{}: output rates off by {e:e} at {q:?}", $file);

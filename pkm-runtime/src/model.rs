@@ -18,7 +18,9 @@
 //!   relation read the other way.
 //! - S (values rx, ry, rz, a rotation vector): `T_v = T_u · Trans(c_u) · Rot(r) · Trans(−c_v)`.
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::Isometry3;
+
+use crate::kinematics::{self, Pose};
 
 /// Joint types the numeric model knows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -191,20 +193,11 @@ impl Model {
     }
 }
 
-fn v3(a: [f64; 3]) -> Vector3<f64> {
-    Vector3::new(a[0], a[1], a[2])
-}
-
 /// The joint frame with origin `at` and z along `axis`; x is the unit
 /// vector of the world x axis made perpendicular to z (the world y axis when
 /// z is within about 25° of x).
 pub fn canonical_frame(at: [f64; 3], axis: [f64; 3]) -> Isometry3<f64> {
-    let z = v3(axis).normalize();
-    let e = if z.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
-    let x = (e - z * z.dot(&e)).normalize();
-    let y = z.cross(&x);
-    let rot = nalgebra::Rotation3::from_basis_unchecked(&[x, y, z]);
-    Isometry3::from_parts(Translation3::from(v3(at)), UnitQuaternion::from_rotation_matrix(&rot))
+    kinematics::frame::<f64>(at, axis).into()
 }
 
 /// The pose of `links[1]` relative to `links[0]` for the joint's values
@@ -215,7 +208,7 @@ pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
 
 /// As [`joint_transform`], from the joint's type and places alone.
 pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> Isometry3<f64> {
-    framed_transform(kind, places, &place_frames(places), values)
+    kinematics::joint_pose(kind, places, &kinematics::frames(places), values).into()
 }
 
 /// The canonical frames of a joint's two places ([`canonical_frame`]).
@@ -224,65 +217,26 @@ pub fn place_frames(places: &[Place; 2]) -> [Isometry3<f64>; 2] {
 }
 
 /// As [`place_transform`], with the places' frames computed once beforehand
-/// (they depend only on the geometry, not on the joint's value).
+/// (they depend only on the geometry, not on the joint's value). The
+/// scalar-generic [`kinematics::joint_pose`] does the work.
 pub fn framed_transform(
     kind: JointType,
     places: &[Place; 2],
     frames: &[Isometry3<f64>; 2],
     values: &[f64],
 ) -> Isometry3<f64> {
-    let [fu, fv] = frames;
-    match kind {
-        JointType::R => {
-            let rz = Isometry3::rotation(Vector3::z() * values[0]);
-            fu * rz * fv.inverse()
-        }
-        JointType::Pa => {
-            // The link with the arm: its hinge frame, then the arm turned by
-            // the value about the hinge axis, then the other hinge's frame.
-            let swing = |f: &Isometry3<f64>, arm: [f64; 3]| {
-                let local = f.rotation.inverse() * v3(arm);
-                let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
-                Isometry3::translation(turned.x, turned.y, turned.z)
-            };
-            match (places[0], places[1]) {
-                (_, Place::Arm { arm, .. }) => (fv * swing(fv, arm) * fu.inverse()).inverse(),
-                (Place::Arm { arm, .. }, _) => fu * swing(fu, arm) * fv.inverse(),
-                _ => fu * fv.inverse(),
-            }
-        }
-        JointType::P => {
-            let slide = |guide: &Place, slider: &Place| {
-                let (q, d) = match *guide {
-                    Place::Line { through, along } => (v3(through), v3(along).normalize()),
-                    Place::Axis { at, axis } | Place::Arm { at, axis, .. } => (v3(at), v3(axis).normalize()),
-                    Place::Point { at } => (v3(at), Vector3::x()),
-                };
-                let p = v3(slider.at());
-                Isometry3::translation(
-                    q.x + values[0] * d.x - p.x,
-                    q.y + values[0] * d.y - p.y,
-                    q.z + values[0] * d.z - p.z,
-                )
-            };
-            if matches!(places[0], Place::Line { .. }) {
-                slide(&places[0], &places[1])
-            } else {
-                slide(&places[1], &places[0]).inverse()
-            }
-        }
-        JointType::S => {
-            let centre = |p: &Place| v3(p.at());
-            let (cu, cv) = (centre(&places[0]), centre(&places[1]));
-            let rot = UnitQuaternion::from_scaled_axis(Vector3::new(values[0], values[1], values[2]));
-            Isometry3::from_parts(Translation3::from(cu), rot) * Isometry3::translation(-cv.x, -cv.y, -cv.z)
-        }
-    }
+    let frames = [Pose::from(&frames[0]), Pose::from(&frames[1])];
+    kinematics::joint_pose(kind, places, &frames, values).into()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Vector3;
+
+    fn v3(a: [f64; 3]) -> Vector3<f64> {
+        Vector3::new(a[0], a[1], a[2])
+    }
 
     fn close(a: Vector3<f64>, b: [f64; 3]) -> bool {
         (a - v3(b)).norm() < 1e-12

@@ -2,272 +2,27 @@
 //! path that closed-form solvers are checked against.
 //!
 //! # Method
-//! - Link poses are propagated from the base (link 0, at the identity) along a
-//!   spanning tree of the link graph ([`spanning_tree`]): breadth first from
-//!   link 0, scanning joints in declaration order. A joint traversed from its
-//!   `links[1]` to its `links[0]` contributes the inverse of
-//!   [`joint_transform`].
-//! - Every joint not in the tree is *cut*. Closing its loop means that the
-//!   pose of its `v = links[1]` reached through the tree equals
-//!   `T_u · joint_transform(joint)`; [`loop_residual`] returns the mismatch,
-//!   6 rows per cut joint.
-//! - [`solve_fk`] fixes the actuated joints' values to the inputs and drives
-//!   the loop residual to zero over all other joint values by Gauss–Newton:
-//!   Jacobian by central finite differences, step by an SVD least-squares
-//!   solve (the residual has redundant rows, e.g. the z rows of a planar
-//!   model, and the unknowns may be redundant, e.g. the spin of an S–S rod),
-//!   step halving while the residual norm does not decrease.
+//! [`solve_fk`] fixes the actuated joints' values to the inputs and drives
+//! the loop residual of [`crate::kinematics`] to zero over all other joint
+//! values by Gauss–Newton: Jacobian by central finite differences, step by an
+//! SVD least-squares solve (the residual has redundant rows, e.g. the z rows
+//! of a planar model, and the unknowns may be redundant, e.g. the spin of an
+//! S–S rod), step halving while the residual norm does not decrease.
+//! [`solve_ik`] solves the model whose inputs are the outputs
+//! ([`with_outputs_as_inputs`]) the same way.
 
-use crate::model::Joint;
 use crate::plan::wrap_angle;
-use std::collections::VecDeque;
 use std::f64::consts::PI;
 use std::fmt;
 
-use nalgebra::{DMatrix, DVector, Isometry3, Point3};
+use nalgebra::{DMatrix, DVector, Isometry3};
 
-use crate::model::{joint_transform, JointType, Model, Place};
+use crate::kinematics::{Kinematics, ModelError};
+use crate::model::{Joint, JointType, Model, Place};
 
-/// Why a model and a joint-value vector do not give link poses.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ModelError {
-    /// The model has no links, so no base.
-    NoBase,
-    /// A joint names a link that does not exist.
-    BadLink {
-        /// The joint's index.
-        joint: usize,
-        /// The link index it names.
-        link: usize,
-    },
-    /// A link is not connected to the base by any chain of joints.
-    Disconnected {
-        /// The link's index.
-        link: usize,
-    },
-    /// The joint-value vector does not have one value per joint variable.
-    BadLength {
-        /// `Model::value_offsets().1`.
-        expected: usize,
-        /// The vector's length.
-        got: usize,
-    },
-    /// A joint value, or a pose computed from the values (e.g. through a
-    /// zero-length axis), is not finite.
-    NonFinite {
-        /// What is not finite.
-        what: String,
-    },
-}
-
-impl fmt::Display for ModelError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ModelError::NoBase => write!(f, "the model has no links"),
-            ModelError::BadLink { joint, link } => write!(f, "joint {joint} names link {link}, which does not exist"),
-            ModelError::Disconnected { link } => write!(f, "link {link} is not connected to the base"),
-            ModelError::BadLength { expected, got } => {
-                write!(f, "expected {expected} joint values, got {got}")
-            }
-            ModelError::NonFinite { what } => write!(f, "{what} is not finite"),
-        }
-    }
-}
-
-impl std::error::Error for ModelError {}
-
-/// A spanning tree of a model's link graph, rooted at the base.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Tree {
-    /// For each link, the joint through which the tree reaches it; `None` for the base.
-    pub parent: Vec<Option<usize>>,
-    /// The links in breadth-first order, base first: every link comes after its parent.
-    pub order: Vec<usize>,
-    /// The joints not in the tree, in declaration order: one closure loop each.
-    pub cut: Vec<usize>,
-}
-
-/// The spanning tree used by [`link_poses`]: breadth first from link 0; the
-/// joints of each dequeued link are scanned in declaration order and a joint
-/// whose other link is not reached yet enters the tree.
-///
-/// A joint connecting a link to itself is always cut.
-pub fn spanning_tree(model: &Model) -> Result<Tree, ModelError> {
-    let n = model.links.len();
-    if n == 0 {
-        return Err(ModelError::NoBase);
-    }
-    for (j, joint) in model.joints.iter().enumerate() {
-        if let Some(&link) = joint.links.iter().find(|&&l| l >= n) {
-            return Err(ModelError::BadLink { joint: j, link });
-        }
-    }
-    let mut parent = vec![None; n];
-    let mut reached = vec![false; n];
-    let mut in_tree = vec![false; model.joints.len()];
-    let mut order = Vec::with_capacity(n);
-    let mut queue = VecDeque::from([0]);
-    reached[0] = true;
-    while let Some(link) = queue.pop_front() {
-        order.push(link);
-        for (j, joint) in model.joints.iter().enumerate() {
-            let [u, v] = joint.links;
-            let other = if u == link {
-                v
-            } else if v == link {
-                u
-            } else {
-                continue;
-            };
-            if !reached[other] {
-                reached[other] = true;
-                parent[other] = Some(j);
-                in_tree[j] = true;
-                queue.push_back(other);
-            }
-        }
-    }
-    if let Some(link) = reached.iter().position(|&r| !r) {
-        return Err(ModelError::Disconnected { link });
-    }
-    let cut = (0..model.joints.len()).filter(|&j| !in_tree[j]).collect();
-    Ok(Tree { parent, order, cut })
-}
-
-fn check_values(model: &Model, values: &[f64]) -> Result<Vec<usize>, ModelError> {
-    let (offsets, n) = model.value_offsets();
-    if values.len() != n {
-        return Err(ModelError::BadLength {
-            expected: n,
-            got: values.len(),
-        });
-    }
-    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-        return Err(ModelError::NonFinite {
-            what: format!("joint value {i}"),
-        });
-    }
-    Ok(offsets)
-}
-
-fn is_finite_pose(t: &Isometry3<f64>) -> bool {
-    t.translation.vector.iter().all(|x| x.is_finite()) && t.rotation.coords.iter().all(|x| x.is_finite())
-}
-
-/// Link poses for a tree already computed; `values` must have been checked.
-fn poses_in_tree(
-    model: &Model,
-    tree: &Tree,
-    offsets: &[usize],
-    values: &[f64],
-) -> Result<Vec<Isometry3<f64>>, ModelError> {
-    let mut poses = vec![Isometry3::identity(); model.links.len()];
-    for &link in &tree.order {
-        let Some(j) = tree.parent[link] else { continue };
-        let joint = &model.joints[j];
-        let t = joint_transform(joint, &values[offsets[j]..offsets[j] + joint.kind.dof()]);
-        poses[link] = if joint.links[1] == link {
-            poses[joint.links[0]] * t
-        } else {
-            poses[joint.links[1]] * t.inverse()
-        };
-        if !is_finite_pose(&poses[link]) {
-            return Err(ModelError::NonFinite {
-                what: format!("the pose of link {link} (through joint {})", joint.name),
-            });
-        }
-    }
-    Ok(poses)
-}
-
-/// The world pose of every link (index = link index) for the joint values
-/// `values` (laid out as by [`Model::value_offsets`]), propagated from the base
-/// along [`spanning_tree`]. Cut joints' values are not used.
-pub fn link_poses(model: &Model, values: &[f64]) -> Result<Vec<Isometry3<f64>>, ModelError> {
-    let tree = spanning_tree(model)?;
-    let offsets = check_values(model, values)?;
-    poses_in_tree(model, &tree, &offsets, values)
-}
-
-/// The closure mismatch of each cut joint, for poses from the tree.
-fn residual_in_tree(
-    model: &Model,
-    tree: &Tree,
-    offsets: &[usize],
-    values: &[f64],
-    poses: &[Isometry3<f64>],
-) -> Result<Vec<f64>, ModelError> {
-    let mut r = Vec::with_capacity(6 * tree.cut.len());
-    for &j in &tree.cut {
-        let joint = &model.joints[j];
-        let [u, v] = joint.links;
-        let predicted = poses[u] * joint_transform(joint, &values[offsets[j]..offsets[j] + joint.kind.dof()]);
-        if !is_finite_pose(&predicted) {
-            return Err(ModelError::NonFinite {
-                what: format!("the transform of joint {}", joint.name),
-            });
-        }
-        let dp = poses[v].translation.vector - predicted.translation.vector;
-        let dr = (poses[v].rotation * predicted.rotation.inverse()).scaled_axis();
-        r.extend(dp.iter().chain(dr.iter()));
-    }
-    Ok(r)
-}
-
-/// The loop-closure residual at `values`: for each cut joint of
-/// [`spanning_tree`] (in declaration order) with `u, v = links`, the
-/// mismatch between `T_v` from [`link_poses`] and `T_u · joint_transform`:
-/// rows `6k..6k+3` the difference of the origins' world positions (length
-/// units), rows `6k+3..6k+6` the rotation vector (radians, angle in [0, π]) of
-/// `R_v · R_predicted⁻¹`, in world axes.
-pub fn loop_residual(model: &Model, values: &[f64]) -> Result<Vec<f64>, ModelError> {
-    let tree = spanning_tree(model)?;
-    let offsets = check_values(model, values)?;
-    let poses = poses_in_tree(model, &tree, &offsets, values)?;
-    residual_in_tree(model, &tree, &offsets, values, &poses)
-}
-
-fn norm3(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-/// The model's size scale `L`: the largest distance of any placed point (joint
-/// places, guide lines' points, named points) from its link's origin, or 1 if
-/// that is 0 or not finite. [`solve_fk`] measures position mismatches in units of `L`.
-pub fn model_scale(model: &Model) -> f64 {
-    let joints = model.joints.iter().flat_map(|j| j.places.iter().map(Place::at));
-    let named = model.points.iter().map(|p| p.at);
-    let l = joints.chain(named).map(norm3).fold(0.0, f64::max);
-    if l > 0.0 && l.is_finite() {
-        l
-    } else {
-        1.0
-    }
-}
-
-/// World coordinates of the named point `name`, for link poses from
-/// [`link_poses`]; `None` if there is no such point or no pose for its link.
-pub fn point(model: &Model, poses: &[Isometry3<f64>], name: &str) -> Option<[f64; 3]> {
-    let p = model.points.iter().find(|p| p.name == name)?;
-    let w = poses.get(p.link)?.transform_point(&Point3::from(p.at));
-    Some([w.x, w.y, w.z])
-}
-
-/// World position of joint `joint`'s point: its place on `links[0]`
-/// transformed by that link's pose, except for a P joint, whose point is its
-/// slider point (the non-guide place, on whichever link it sits; the guide is
-/// `places[0]` if that is a line, as in [`joint_transform`]). Once the loops
-/// are closed this is also the point's position seen from `links[1]` (for R
-/// and S joints).
-///
-/// # Panics
-/// If `joint` is not a joint of `model` or `poses` has no pose for its link.
-pub fn joint_point(model: &Model, poses: &[Isometry3<f64>], joint: usize) -> [f64; 3] {
-    let j = &model.joints[joint];
-    let side = j.point_side();
-    let w = poses[j.links[side]].transform_point(&Point3::from(j.places[side].at()));
-    [w.x, w.y, w.z]
-}
+// The model's kinematics lived here before `crate::kinematics`; generated
+// code and the command line still name them through this module.
+pub use crate::kinematics::{joint_point, link_poses, loop_residual, model_scale, point, spanning_tree, Tree};
 
 /// Options of [`solve_fk`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -356,29 +111,19 @@ const MAX_HALVINGS: usize = 60;
 
 /// The data [`solve_fk`] evaluates the residual with.
 struct Problem<'a> {
-    model: &'a Model,
-    tree: Tree,
-    offsets: Vec<usize>,
+    kinematics: Kinematics<'a, f64>,
     scale: f64,
 }
 
 impl Problem<'_> {
     /// The scaled residual (position rows divided by the scale).
     fn residual(&self, values: &[f64]) -> Result<DVector<f64>, ModelError> {
-        let poses = poses_in_tree(self.model, &self.tree, &self.offsets, values)?;
-        let mut r = residual_in_tree(self.model, &self.tree, &self.offsets, values, &poses)?;
-        for (i, x) in r.iter_mut().enumerate() {
-            if i % 6 < 3 {
-                *x /= self.scale;
-            }
-        }
-        if let Some(i) = r.iter().position(|x| !x.is_finite()) {
-            return Err(ModelError::NonFinite {
-                what: format!("residual row {i}"),
-            });
-        }
-        Ok(DVector::from_vec(r))
+        Ok(DVector::from_vec(self.kinematics.scaled_residual(values, self.scale)?))
     }
+}
+
+fn norm3(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// Wraps solved-for R angles into (−π, π] and S rotation vectors to length ≤ π
@@ -439,6 +184,34 @@ fn least_squares_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f6
             d.iter().all(|x| x.is_finite()).then_some(d)
         }
     }
+}
+
+/// Which entries of a joint-value vector of length `n` are solved for, and
+/// the actuated entries in input order; checks `inputs` against them.
+pub(crate) fn split_entries(
+    model: &Model,
+    offsets: &[usize],
+    n: usize,
+    inputs: &[f64],
+) -> Result<(Vec<bool>, Vec<usize>), NewtonError> {
+    let mut solved = vec![true; n];
+    let mut actuated = Vec::new();
+    for j in model.inputs() {
+        let range = offsets[j]..offsets[j] + model.joints[j].kind.dof();
+        solved[range.clone()].iter_mut().for_each(|s| *s = false);
+        actuated.extend(range);
+    }
+    if inputs.len() != actuated.len() {
+        return Err(bad(format!(
+            "expected {} input values, got {}",
+            actuated.len(),
+            inputs.len()
+        )));
+    }
+    if let Some(i) = inputs.iter().position(|x| !x.is_finite()) {
+        return Err(bad(format!("input {i} is not finite")));
+    }
+    Ok((solved, actuated))
 }
 
 /// Solves the forward kinematics: the joint values that close every loop with
@@ -503,27 +276,11 @@ pub fn solve_fk(
             options.tolerance
         )));
     }
-    let tree = spanning_tree(model)?;
-    let offsets = check_values(model, guess).map_err(|e| bad(format!("guess: {e}")))?;
+    let kinematics = Kinematics::new(model)?;
+    kinematics.check(guess).map_err(|e| bad(format!("guess: {e}")))?;
+    let offsets = kinematics.offsets.clone();
     let n = guess.len();
-    // Which entries are solved for, and the actuated entries in input order.
-    let mut solved = vec![true; n];
-    let mut actuated = Vec::new();
-    for j in model.inputs() {
-        let range = offsets[j]..offsets[j] + model.joints[j].kind.dof();
-        solved[range.clone()].iter_mut().for_each(|s| *s = false);
-        actuated.extend(range);
-    }
-    if inputs.len() != actuated.len() {
-        return Err(bad(format!(
-            "expected {} input values, got {}",
-            actuated.len(),
-            inputs.len()
-        )));
-    }
-    if let Some(i) = inputs.iter().position(|x| !x.is_finite()) {
-        return Err(bad(format!("input {i} is not finite")));
-    }
+    let (solved, actuated) = split_entries(model, &offsets, n, inputs)?;
     let mut values = guess.to_vec();
     for (&i, &x) in actuated.iter().zip(inputs) {
         values[i] = x;
@@ -539,17 +296,12 @@ pub fn solve_fk(
             steps[offsets[j]] = h * scale;
         }
     }
-    let problem = Problem {
-        model,
-        tree,
-        offsets,
-        scale,
-    };
+    let problem = Problem { kinematics, scale };
     let finish = |values: Vec<f64>, residual: f64, iterations: usize| -> Result<NewtonSolution, NewtonError> {
-        let poses = poses_in_tree(model, &problem.tree, &problem.offsets, &values)?;
+        let poses = problem.kinematics.poses(&values)?;
         Ok(NewtonSolution {
             values,
-            poses,
+            poses: poses.into_iter().map(Isometry3::from).collect(),
             residual,
             iterations,
         })
@@ -603,7 +355,7 @@ pub fn solve_fk(
             });
         };
         iterations += 1;
-        normalise(model, &problem.offsets, &solved, &mut next);
+        normalise(model, &offsets, &solved, &mut next);
         values = next;
         r = problem.residual(&values)?;
         norm = r.norm();
@@ -728,6 +480,50 @@ pub fn with_outputs_as_inputs(model: &Model, outputs: &[Output]) -> (Model, Vec<
     (m, order)
 }
 
+/// The forward problem whose solution is the inverse solution of `model`
+/// with the outputs at `given`: the model of [`with_outputs_as_inputs`], its
+/// input values, and a joint-value vector of it that starts from `guess` (the
+/// virtual joints at the outputs' links' places in the guess).
+///
+/// # Errors
+/// [`NewtonError::BadInput`] if `given` has the wrong length or `guess` is unusable.
+pub fn ik_problem(
+    model: &Model,
+    outputs: &[Output],
+    given: &[f64],
+    guess: &[f64],
+) -> Result<(Model, Vec<f64>, Vec<f64>), NewtonError> {
+    let wanted: usize = outputs.iter().map(|o| o.len(model.planar)).sum();
+    if given.len() != wanted {
+        return Err(bad(format!("expected {wanted} output values, got {}", given.len())));
+    }
+    let (m, order) = with_outputs_as_inputs(model, outputs);
+    let inputs: Vec<f64> = order.iter().map(|&i| given.get(i).copied().unwrap_or(0.0)).collect();
+    // The virtual joints' starting values: the link's place in the guess.
+    let poses = link_poses(model, guess).map_err(|e| bad(format!("guess: {e}")))?;
+    let mut start = guess.to_vec();
+    let mut next = 0;
+    for o in outputs {
+        match *o {
+            Output::Joint(_) => {}
+            Output::Pose { link, local, .. } | Output::Point { link, local } => {
+                let p = poses[link].transform_point(&local.into());
+                let n = if model.planar { 2 } else { 3 };
+                start.extend_from_slice(&[p.x, p.y, p.z][..n]);
+                let rotation = poses[link].rotation;
+                match *o {
+                    Output::Pose { about: Some(_), .. } => start.push(given[next + n]),
+                    Output::Pose { about: None, .. } => start.push(0.0),
+                    _ if model.planar => start.push(rotation.euler_angles().2),
+                    _ => start.extend_from_slice(rotation.scaled_axis().as_slice()),
+                }
+            }
+        }
+        next += o.len(model.planar);
+    }
+    Ok((m, inputs, start))
+}
+
 /// The inverse position by Newton: the joint values that close every loop
 /// with the outputs at `given` (in the order of `outputs`), from `guess` (a
 /// joint-value vector of `model`, near the wanted branch). See
@@ -775,34 +571,7 @@ pub fn solve_ik(
     guess: &[f64],
     options: &NewtonOptions,
 ) -> Result<NewtonSolution, NewtonError> {
-    let wanted: usize = outputs.iter().map(|o| o.len(model.planar)).sum();
-    if given.len() != wanted {
-        return Err(bad(format!("expected {wanted} output values, got {}", given.len())));
-    }
-    let (m, order) = with_outputs_as_inputs(model, outputs);
-    let inputs: Vec<f64> = order.iter().map(|&i| given.get(i).copied().unwrap_or(0.0)).collect();
-    // The virtual joints' starting values: the link's place in the guess.
-    let poses = link_poses(model, guess).map_err(|e| bad(format!("guess: {e}")))?;
-    let mut start = guess.to_vec();
-    let mut next = 0;
-    for o in outputs {
-        match *o {
-            Output::Joint(_) => {}
-            Output::Pose { link, local, .. } | Output::Point { link, local } => {
-                let p = poses[link].transform_point(&local.into());
-                let n = if model.planar { 2 } else { 3 };
-                start.extend_from_slice(&[p.x, p.y, p.z][..n]);
-                let rotation = poses[link].rotation;
-                match *o {
-                    Output::Pose { about: Some(_), .. } => start.push(given[next + n]),
-                    Output::Pose { about: None, .. } => start.push(0.0),
-                    _ if model.planar => start.push(rotation.euler_angles().2),
-                    _ => start.extend_from_slice(rotation.scaled_axis().as_slice()),
-                }
-            }
-        }
-        next += o.len(model.planar);
-    }
+    let (m, inputs, start) = ik_problem(model, outputs, given, guess)?;
     let mut solution = solve_fk(&m, &inputs, &start, options)?;
     solution.values.truncate(guess.len());
     solution.poses.truncate(model.links.len());
@@ -812,59 +581,15 @@ pub fn solve_ik(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Joint, NamedPoint};
-    use nalgebra::{UnitQuaternion, Vector3};
+    use crate::kinematics::tests::{four_bar, joint, model, z_axis};
+    use crate::kinematics::ModelError;
+    use crate::model::NamedPoint;
+    use nalgebra::{Point3, UnitQuaternion, Vector3};
 
     const OPTS: NewtonOptions = NewtonOptions {
         tolerance: 1e-12,
         max_iterations: 100,
     };
-
-    fn z_axis(x: f64, y: f64) -> Place {
-        Place::Axis {
-            at: [x, y, 0.0],
-            axis: [0.0, 0.0, 1.0],
-        }
-    }
-
-    fn joint(name: &str, kind: JointType, links: [usize; 2], places: [Place; 2], actuated: bool) -> Joint {
-        Joint {
-            name: name.into(),
-            kind,
-            links,
-            places,
-            actuated,
-        }
-    }
-
-    fn model(name: &str, planar: bool, links: &[&str], joints: Vec<Joint>, points: Vec<NamedPoint>) -> Model {
-        Model {
-            name: name.into(),
-            planar,
-            links: links.iter().map(|s| s.to_string()).collect(),
-            joints,
-            points,
-        }
-    }
-
-    /// The four-bar of the brief: joints R1 (base–crank, actuated), R2
-    /// (crank–coupler), R3 (coupler–rocker), R4 (base–rocker).
-    fn four_bar(l1: f64, l2: f64, l3: f64, l4: f64) -> Model {
-        use JointType::R;
-        let joints = vec![
-            joint("R1", R, [0, 1], [z_axis(0.0, 0.0), z_axis(0.0, 0.0)], true),
-            joint("R2", R, [1, 2], [z_axis(l1, 0.0), z_axis(0.0, 0.0)], false),
-            joint("R3", R, [2, 3], [z_axis(l2, 0.0), z_axis(l3, 0.0)], false),
-            joint("R4", R, [0, 3], [z_axis(l4, 0.0), z_axis(0.0, 0.0)], false),
-        ];
-        model(
-            "four_bar",
-            true,
-            &["base", "crank", "coupler", "rocker"],
-            joints,
-            vec![],
-        )
-    }
 
     /// Hand derivation: the intersection of the circles (b, rb) and (d, rd) on
     /// the left of b→d (`up`) or on its right, by the chord construction.
@@ -930,29 +655,6 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn spanning_tree_and_residual_rows_of_the_four_bar() {
-        let m = four_bar(100.0, 250.0, 200.0, 300.0);
-        let tree = spanning_tree(&m).unwrap();
-        assert_eq!(tree.parent, vec![None, Some(0), Some(1), Some(3)]);
-        assert_eq!(tree.order, vec![0, 1, 3, 2]);
-        assert_eq!(tree.cut, vec![2]);
-        // Hand values: θ = 90°, B = (0, 100); coupler along +x would put R3 at
-        // (250, 100); rocker at 90° puts its R3 at (300, 200).
-        // Mismatch of the rocker's origin: T_v = R4 frame at (300, 0) rotated 90°;
-        // predicted: R3 on the coupler (250, 100), rocker rotated by 90° there, its
-        // origin 200 below: (250, -100). Difference (50, 100, 0); orientations agree.
-        let values = [PI / 2.0, -PI / 2.0, PI / 2.0, PI / 2.0];
-        let r = loop_residual(&m, &values).unwrap();
-        let want = [50.0, 100.0, 0.0, 0.0, 0.0, 0.0];
-        for (x, w) in r.iter().zip(want) {
-            assert!((x - w).abs() < 1e-12, "{r:?}");
-        }
-        // An orientation mismatch of 0.3 rad about z when R3 is off by 0.3.
-        let r = loop_residual(&m, &[PI / 2.0, -PI / 2.0, PI / 2.0 + 0.3, PI / 2.0]).unwrap();
-        assert!((r[5] + 0.3).abs() < 1e-12 && r[3] == 0.0 && r[4] == 0.0, "{r:?}");
     }
 
     /// Slider-crank: R1 base–crank (actuated), R2 crank–rod, R3 rod–slider,

@@ -4,7 +4,8 @@
 //! [`crate::primitives`] use, so that a forward-mode dual number (for
 //! automatic differentiation of generated solvers) can implement it later
 //! without dragging in a numeric-tower dependency. It is implemented here for
-//! `f64` only.
+//! `f64`, and for the 237-bit `f256` in `pkm_runtime::reference` (feature
+//! `high-precision`, for the work-precision reference only).
 //!
 //! Comparisons (`PartialOrd`) are used by the primitives only to choose a
 //! branch or classify a case, never to compute a value; a dual number should

@@ -119,7 +119,7 @@ pub fn point_name(model: &Model, poses: &[Pose3], p: LinkPoint) -> String {
 fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64; 3]) -> String {
     let world = |link: usize, at: [f64; 3]| poses[link].transform_point(&Point3::from(v3(at))).coords;
     let here = world(link, at);
-    let tolerance = 1e-9 * crate::newton::model_scale(model);
+    let tolerance = 1e-9 * crate::kinematics::model_scale(model);
     let aliases: Vec<&str> = model
         .points
         .iter()
@@ -169,7 +169,7 @@ fn joint_point(joint: usize, link: usize) -> LinkPoint {
 pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> Vec<Factor> {
     let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
     let named: Vec<[f64; 3]> = model.points.iter().map(|p| p.at).collect();
-    let scale = crate::newton::model_scale(model);
+    let scale = crate::kinematics::model_scale(model);
     let mut out = Vec::new();
     for (k, step) in plan.steps.iter().enumerate() {
         let world = |link: usize, point: PointRef| {
@@ -340,7 +340,7 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
 }
 
 /// The factor of every dyad of a planar plan at the link poses `poses` (the
-/// model's planar poses in 3-D, as [`crate::newton::link_poses`] gives them).
+/// model's planar poses in 3-D, as [`crate::kinematics::link_poses`] gives them).
 ///
 /// A four-bar (crank 1, coupler 3, rocker 2, base 3) with the crank at 0:
 /// by hand B = (1, 0), C = (3.25, h), h = √3.9375, and the dyad's factor is
@@ -348,7 +348,7 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
 /// ```
 /// use pkm_runtime::model::{Joint, JointType, Model, Place};
 /// use pkm_runtime::plan::{Plan, Step};
-/// use pkm_runtime::{newton, singular};
+/// use pkm_runtime::{kinematics, singular};
 ///
 /// let z = |x: f64| Place::Axis { at: [x, 0.0, 0.0], axis: [0.0, 0.0, 1.0] };
 /// let r = |name: &str, links, places, actuated| Joint { name: name.into(), kind: JointType::R, links, places, actuated };
@@ -366,7 +366,7 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
 /// };
 /// let h = 3.9375f64.sqrt();
 /// let (coupler, rocker) = (h.atan2(2.25), h.atan2(0.25));
-/// let poses = newton::link_poses(&model, &[0.0, coupler, rocker - coupler, rocker]).unwrap();
+/// let poses = kinematics::link_poses(&model, &[0.0, coupler, rocker - coupler, rocker]).unwrap();
 /// let dyad = Step::Rrr { joints: [1, 2, 3], links: [1, 2, 3, 0], branch: 0 };
 /// let plan = Plan { steps: vec![dyad], branches: 1, inputs: vec![0] };
 /// let f = singular::planar_factors(&model, &plan, &poses);
@@ -374,7 +374,7 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
 /// assert_eq!(f[0].describe(&model, &poses), "R2, R3, R4 are collinear");
 /// ```
 pub fn planar_factors(model: &Model, plan: &crate::plan::Plan, poses: &[Pose3]) -> Vec<Factor> {
-    let scale = crate::newton::model_scale(model);
+    let scale = crate::kinematics::model_scale(model);
     let z = Vector3::z();
     let mut out = Vec::new();
     for (k, step) in plan.steps.iter().enumerate() {
@@ -383,7 +383,7 @@ pub fn planar_factors(model: &Model, plan: &crate::plan::Plan, poses: &[Pose3]) 
             crate::plan::Step::Rrp { joints, links, .. } => (joints, links, true),
             _ => continue,
         };
-        let point = |j: usize| v3(crate::newton::joint_point(model, poses, j));
+        let point = |j: usize| v3(crate::kinematics::joint_point(model, poses, j));
         let (a, b) = (point(joints[0]), point(joints[1]));
         // b's velocity turning about a, against the normal of its other path.
         let t = z.cross(&(b - a));

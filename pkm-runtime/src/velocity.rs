@@ -6,7 +6,7 @@
 //! link point at the world origin, both in world axes; a point `p` of the
 //! link moves at `v + ω × p`. Every joint contributes, per unit rate of each
 //! of its variables, the twist of its second link relative to its first;
-//! a link's twist is the sum along the spanning tree of [`crate::newton`],
+//! a link's twist is the sum along the spanning tree of [`crate::kinematics`],
 //! and each cut joint closes a loop: `V_v − V_u − Σ q̇ ξ = 0` (six rows per
 //! loop). With the actuated rates given, the passive rates follow by least
 //! squares, which is exact while the passive columns keep full rank (no
@@ -15,8 +15,9 @@
 //! An S joint's three rates are its angular velocity about the world x, y, z
 //! axes (not the derivative of its rotation vector).
 
+use crate::kinematics::{link_poses, spanning_tree, ModelError};
 use crate::model::{canonical_frame, JointType, Model, Place};
-use crate::newton::{link_poses, spanning_tree, ModelError, Output};
+use crate::newton::Output;
 use nalgebra::{DMatrix, DVector, Dyn, Isometry3, Vector3, SVD};
 use std::fmt;
 
@@ -453,7 +454,7 @@ pub struct Velocities {
 /// Every joint rate and link twist from the inputs' rates.
 pub fn velocities(model: &Model, values: &[f64], input_rates: &[f64]) -> Result<Velocities, VelocityError> {
     let l = loops(model, values)?;
-    let scale = crate::newton::model_scale(model);
+    let scale = crate::kinematics::model_scale(model);
     let rates = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
     let twists = (0..model.links.len()).map(|k| l.link_twist(k, &rates)).collect();
     Ok(Velocities { rates, twists })
@@ -506,7 +507,7 @@ pub fn accelerations(
     input_accels: &[f64],
 ) -> Result<Accelerations, VelocityError> {
     let l = loops(model, values)?;
-    let scale = crate::newton::model_scale(model);
+    let scale = crate::kinematics::model_scale(model);
     let qd = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
     let twists: Vec<Twist> = (0..model.links.len()).map(|k| l.link_twist(k, &qd)).collect();
     let xi_dot = all_twist_rates(model, &l, values, &qd, &twists);
@@ -547,7 +548,7 @@ pub fn point_acceleration(t: &Twist, dt: &Twist, p: &Vector3<f64>) -> Vector3<f6
 /// a generated solution's `points`.
 fn model_points(model: &Model, poses: &[Isometry3<f64>]) -> Vec<(usize, Vector3<f64>)> {
     let joints = model.joints.iter().enumerate().map(|(j, joint)| {
-        let p = crate::newton::joint_point(model, poses, j);
+        let p = crate::kinematics::joint_point(model, poses, j);
         (joint.links[joint.point_side()], Vector3::from(p))
     });
     let named = model
@@ -655,7 +656,7 @@ fn output_matrix(model: &Model, l: &Loops, outputs: &[Output]) -> DMatrix<f64> {
 /// The velocity maps and singularity measures at `values`.
 pub fn jacobians(model: &Model, values: &[f64], outputs: &[Output]) -> Result<Jacobians, VelocityError> {
     let l = loops(model, values)?;
-    let scale = crate::newton::model_scale(model);
+    let scale = crate::kinematics::model_scale(model);
     let (passive, output_sigma) = l.passive_svd(scale);
     let c = output_matrix(model, &l, outputs);
     // Loop rows and output rows over every rate, lengths in units of the size.
