@@ -384,10 +384,8 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             #[inline]
             pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
                 let (result, rows, extent) = self.#f_unverified(given, signs)?;
-                if !::pkm::runtime::consistency::within(&rows, extent) {
-                    if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
-                        return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
-                    }
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
+                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
                 }
                 ::core::result::Result::Ok(result)
             }
@@ -431,22 +429,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let (values, rest) = exprs.split_at(n_joints);
     let (points, rest) = rest.split_at(3 * n_points);
     let (outputs, rest) = rest.split_at(n_outputs);
-    let (residual, origins) = rest.split_at(n_rows);
     let points: Vec<TokenStream> = points.chunks(3).map(xyz).collect();
-    let (rows, extent) = (rows_of(residual), extent_of(origins));
-    let check = if open.is_empty() {
-        quote! {}
-    } else {
-        quote! {
-            let extent = #extent;
-            let rows = #rows;
-            if !::pkm::runtime::consistency::within(&rows, extent) {
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
-                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
-                }
-            }
-        }
-    };
     // The verification of a function whose last roots are the residual rows and the origins.
     let check_of = |rest: &[TokenStream]| -> TokenStream {
         if open.is_empty() {
@@ -457,13 +440,12 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         quote! {
             let extent = #extent;
             let rows = #rows;
-            if !::pkm::runtime::consistency::within(&rows, extent) {
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
-                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
-                }
+            if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
+                return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
             }
         }
     };
+    let check = check_of(rest);
     let solution_doc = format!(" {what} position for one branch: every joint value and every point.");
     let solution = quote! {
         #[doc = #solution_doc]
@@ -503,12 +485,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             quote! {
                 let extent = #extent;
                 let rows = #rows;
-                if !::pkm::runtime::consistency::within(&rows, extent) {
-                  if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::worst(&rows, extent) {
+                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
                     break #label (::core::result::Result::Err(
                         self.#f_inconsistent(given, #rt::signs_of::<#n_choices>(#b), row, gap, extent),
                     ));
-                  }
                 }
                 ::core::result::Result::Ok([#(#result),*])
             }

@@ -66,6 +66,16 @@ pub fn within(residual: &[f64], extent: f64) -> bool {
     residual.iter().all(|r| r.abs() <= tol)
 }
 
+/// [`worst`] behind the fast path [`within`]: what generated solvers check.
+#[inline]
+pub fn beyond(residual: &[f64], extent: f64) -> Option<(usize, f64)> {
+    if within(residual, extent) {
+        None
+    } else {
+        worst(residual, extent)
+    }
+}
+
 /// The largest residual component, if it exceeds [`VERIFY_TOL`]` · extent`
 /// (or is not finite): its index and magnitude.
 pub fn worst(residual: &[f64], extent: f64) -> Option<(usize, f64)> {

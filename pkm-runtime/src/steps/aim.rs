@@ -2,40 +2,23 @@
 //! a turn about the joint's axis (Paden–Kahan subproblem 1) or a slide (the
 //! projection onto the guide).
 
-use super::{as_value, fail, found, Found, Geometry, Given, JointValue, Motion, Solved};
+use super::{Found, JointValue, Motion, Move};
 use crate::plan::{PointRef, SolveError};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, sub, Scalar};
 use crate::spatial::Anchor;
 
-/// Step `k`: the value of `joint` that brings `point` of `to` onto the
+/// The value of the joint that brings `point` of the new link onto the
 /// anchored position `target`.
-#[allow(clippy::too_many_arguments)]
-pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
-    point: PointRef,
-    target: &Anchor,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
-) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let m = j.motion(&state.poses[from], j.links[0] == from, geometry.local(point, to));
-    let target = geometry.anchor(&state.poses, target);
-    let value = match m {
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) -> Result<Found<T>, SolveError> {
+    let (_, m) = mv.motion(point);
+    let target = mv.geometry.anchor(&mv.state.poses, target);
+    Ok(match m {
         Motion::Circle {
             centre, axis, radius, ..
-        } => {
-            let u = sub(target, centre);
-            let turn = turn_onto(axis, radius, u, [k, joint]).map_err(|e| fail(k, joint, given, e))?;
-            as_value(j.kind, turn)
-        }
-        Motion::Line { start, along } => JointValue::Slide(dot(sub(target, start), along)),
-    };
-    Ok(found(geometry, state, joint, from, to, value))
+        } => mv.found(turn_onto(axis, radius, sub(target, centre), mv.site()).map_err(|e| mv.fail(e))?),
+        Motion::Line { start, along } => mv.at(JointValue::Slide(dot(sub(target, start), along))),
+    })
 }
 
 /// The turn `[cos θ, sin θ]` about unit `k` that carries the direction of

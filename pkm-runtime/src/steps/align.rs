@@ -2,39 +2,17 @@
 //! known direction (the same sense): Paden–Kahan subproblem 1 on
 //! directions, [`super::aim::turn_onto`].
 
-use super::{as_value, found, Found, Geometry, Given, Solved};
-use crate::plan::{step_error, SolveError};
+use super::{Found, Move};
+use crate::plan::SolveError;
 use crate::scalar::Scalar;
 use crate::spatial::Direction;
 
-/// Step `k`: the angle of revolute `joint` that makes `group` (a direction
-/// of `to`) parallel to `target`.
-#[allow(clippy::too_many_arguments)]
-pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
-    group: &Direction,
-    target: &Direction,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
-) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let forward = j.links[0] == from;
-    let f = &state.poses[from];
-    let axis = j.turning_axis(f, forward).ok_or_else(|| {
-        step_error(
-            k,
-            (given.name)(joint),
-            super::degenerate("an alignment needs a revolute"),
-        )
-    })?;
+/// The angle of the revolute that makes `group` (a direction of the new
+/// link) parallel to `target`.
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Direction) -> Result<Found<T>, SolveError> {
+    let (axis, zero) = mv.turning("an alignment needs a revolute")?;
     // The group's direction with this joint at 0.
-    let zero = f.then(&j.zero[usize::from(!forward)]);
-    let d = geometry.direction(zero, to, group);
-    let w = geometry.direction(state.poses[target.link], target.link, target);
-    let turn = super::aim::turn_onto(axis, d, w, [k, joint]).map_err(|e| super::fail(k, joint, given, e))?;
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, turn)))
+    let d = mv.geometry.direction(zero, mv.to, group);
+    let w = mv.geometry.direction(mv.state.poses[target.link], target.link, target);
+    Ok(mv.found(super::aim::turn_onto(axis, d, w, mv.site()).map_err(|e| mv.fail(e))?))
 }

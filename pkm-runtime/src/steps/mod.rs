@@ -469,11 +469,6 @@ pub(crate) fn call<T: Scalar>(
     T::kernel(kernel, args, choice, [k, joint]).map_err(|e| step_error(k, (given.name)(joint), e))
 }
 
-/// A kernel's failure as step `k`'s, naming the joint it solves.
-pub(crate) fn fail<T: Scalar>(k: usize, joint: usize, given: &Given<'_, T>, e: GeomError<f64>) -> SolveError {
-    step_error(k, (given.name)(joint), e)
-}
-
 /// Flattens vectors and scalars into one kernel argument list.
 pub(crate) fn args<T: Scalar>(vectors: &[[T; 3]], scalars: &[T]) -> Vec<T> {
     vectors
@@ -494,64 +489,134 @@ pub fn execute<T: Scalar>(
     given: &Given<'_, T>,
 ) -> Result<(), SolveError> {
     use crate::spatial::Constraint;
-    let (g, st) = (geometry, &*state);
-    let (joint, to, pose, value) = match *step {
+    let (joint, from, to) = match *step {
         Step::Place {
             link,
             point,
             input,
             about,
         } => {
-            state.poses[link] = place::execute(link, point, input, about, g, given);
+            state.poses[link] = place::execute(link, point, input, about, geometry, given);
             return Ok(());
         }
-        Step::Transfer { joint, from, to, input } => transfer::execute(joint, from, to, input, g, st, given),
-        Step::Aim {
-            joint,
-            from,
-            to,
-            point,
-            ref target,
-        } => aim::execute(k, joint, from, to, point, target, g, st, given)?,
-        Step::Align {
-            joint,
-            from,
-            to,
-            ref group,
-            ref target,
-        } => align::execute(k, joint, from, to, group, target, g, st, given)?,
-        Step::PaPlane {
-            joint,
-            from,
-            to,
-            pa,
-            ref target,
-        } => pa_plane::execute(k, joint, from, to, pa, target, g, st, given)?,
+        Step::Transfer { joint, from, to, .. }
+        | Step::Aim { joint, from, to, .. }
+        | Step::Align { joint, from, to, .. }
+        | Step::PaPlane { joint, from, to, .. }
+        | Step::Locus { joint, from, to, .. } => (joint, from, to),
+    };
+    let mv = Move {
+        k,
+        joint,
+        from,
+        to,
+        geometry,
+        state,
+        given,
+    };
+    let (joint, to, pose, value) = match step {
+        Step::Place { .. } => return Ok(()),
+        Step::Transfer { input, .. } => transfer::execute(&mv, *input),
+        Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
+        Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
+        Step::PaPlane { pa, target, .. } => pa_plane::execute(&mv, *pa, target)?,
         Step::Locus {
-            joint,
-            from,
-            to,
             point,
-            ref constraint,
+            constraint,
             branch,
+            ..
         } => match constraint {
-            Constraint::Sphere { centre, pa } => {
-                on_sphere::execute(k, joint, from, to, point, centre, *pa, branch, g, st, given)?
-            }
-            Constraint::Plane { normal, anchor } => {
-                on_plane::execute(k, joint, from, to, point, normal, anchor, branch, g, st, given)?
-            }
+            Constraint::Sphere { centre, pa } => on_sphere::execute(&mv, *point, centre, *pa, *branch)?,
+            Constraint::Plane { normal, anchor } => on_plane::execute(&mv, *point, normal, anchor, *branch)?,
             Constraint::Cylinder { hops, joint: h, link } => {
-                on_cylinder::execute(k, joint, from, to, point, hops, *h, *link, branch, g, st, given)?
+                on_cylinder::execute(&mv, *point, hops, *h, *link, *branch)?
             }
             Constraint::Slider { hops, joint: h, link } => {
-                on_slider_plane::execute(k, joint, from, to, point, hops, *h, *link, branch, g, st, given)?
+                on_slider_plane::execute(&mv, *point, hops, *h, *link, *branch)?
             }
         },
     };
     state.poses[to] = pose;
     state.values[joint] = Some(value);
     Ok(())
+}
+
+/// One step solving `joint` between the known link `from` and the new link
+/// `to`: what every step kind's `execute` starts from.
+pub struct Move<'a, T: Scalar> {
+    /// The step's number in the plan (for errors).
+    pub k: usize,
+    /// The joint it solves.
+    pub joint: usize,
+    /// The known link.
+    pub from: usize,
+    /// The new link.
+    pub to: usize,
+    /// The mechanism's geometry.
+    pub geometry: &'a Geometry<T>,
+    /// The poses and values found so far.
+    pub state: &'a Solved<T>,
+    /// The given values and choices.
+    pub given: &'a Given<'a, T>,
+}
+
+impl<T: Scalar> Move<'_, T> {
+    /// The joint's geometry.
+    pub fn joint(&self) -> &JointGeometry<T> {
+        &self.geometry.joints[self.joint]
+    }
+
+    /// Whether the known link is the joint's first.
+    pub fn forward(&self) -> bool {
+        self.joint().links[0] == self.from
+    }
+
+    /// A point of the new link (in its frame) and how the joint moves it.
+    pub fn motion(&self, point: PointRef) -> ([T; 3], Motion<T>) {
+        let x = self.geometry.local(point, self.to);
+        (x, self.joint().motion(&self.state.poses[self.from], self.forward(), x))
+    }
+
+    /// The axis a revolute turns the new link about, and the new link's pose
+    /// at value 0; `what` names the step kind when the joint does not turn.
+    pub fn turning(&self, what: &'static str) -> Result<([T; 3], Frame<T>), SolveError> {
+        let (j, f) = (self.joint(), &self.state.poses[self.from]);
+        let axis = j
+            .turning_axis(f, self.forward())
+            .ok_or_else(|| self.fail(degenerate(what)))?;
+        Ok((axis, f.then(&j.zero[usize::from(!self.forward())])))
+    }
+
+    /// The step's site for kernels: the step and the joint.
+    pub fn site(&self) -> [usize; 2] {
+        [self.k, self.joint]
+    }
+
+    /// A kernel's failure as this step's.
+    pub fn fail(&self, e: GeomError<f64>) -> SolveError {
+        step_error(self.k, (self.given.name)(self.joint), e)
+    }
+
+    /// The root choice of branching step number `branch`.
+    pub fn choice(&self, branch: Option<usize>) -> T::Choice {
+        T::choice(self.given.signs, branch)
+    }
+
+    /// Calls a kernel listed in [`Kernel`].
+    pub fn call(&self, kernel: Kernel, args: &[T], choice: T::Choice) -> Result<[T; 2], SolveError> {
+        call(kernel, args, choice, self.k, self.joint, self.given)
+    }
+
+    /// The new link's pose at the value a kernel found (a turn for R and Pa
+    /// joints, a slide for P).
+    pub fn found(&self, r: [T; 2]) -> Found<T> {
+        self.at(as_value(self.joint().kind, r))
+    }
+
+    /// The new link's pose at `value`.
+    pub fn at(&self, value: JointValue<T>) -> Found<T> {
+        found(self.geometry, self.state, self.joint, self.from, self.to, value)
+    }
 }
 
 /// What a turning or sliding step found: the joint, the new link, its pose and the value.

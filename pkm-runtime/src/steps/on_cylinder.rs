@@ -3,42 +3,34 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
-use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
+use super::{Found, Kernel, Motion, Move};
 use crate::plan::{PointRef, SolveError};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::spatial::Hop;
 
-/// Step `k`: the value of `joint` that puts `point` of `to` at the distance
-/// its carrier across `hops` keeps from the axis of revolute `h` on the
-/// known link `link`.
-#[allow(clippy::too_many_arguments)]
+/// The value of the joint that puts `point` of the new link at the
+/// distance its carrier across `hops` keeps from the axis of revolute `h`
+/// on the known link `link`.
 pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
+    mv: &Move<'_, T>,
     point: PointRef,
     hops: &[Hop],
     h: usize,
     link: usize,
     branch: Option<usize>,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
 ) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let x = geometry.local(point, to);
-    let m = j.motion(&state.poses[from], j.links[0] == from, x);
-    let jh = &geometry.joints[h];
+    let (x, m) = mv.motion(point);
+    let (g, poses) = (mv.geometry, &mv.state.poses);
+    let jh = &g.joints[h];
     let known_side = usize::from(jh.links[0] != link);
-    let line_point = state.poses[link].apply(jh.places[known_side].at());
-    let line_axis = unit(state.poses[link].rotate(super::place_axis(&jh.places[known_side])));
+    let line_point = poses[link].apply(jh.places[known_side].at());
+    let line_axis = unit(poses[link].rotate(super::place_axis(&jh.places[known_side])));
     // The point across the hops, and its distance from h's axis there.
-    let y = geometry.carry(x, hops);
+    let y = g.carry(x, hops);
     let place = jh.places[1 - known_side];
     let radius = norm(reject(sub(y, place.at()), unit(super::place_axis(&place))));
-    let choice = T::choice(given.signs, branch);
+    let choice = mv.choice(branch);
     let r = match m {
         Motion::Circle {
             centre,
@@ -49,18 +41,18 @@ pub fn execute<T: Scalar>(
             // The line's point in the circle's plane: the distance is planar.
             let x0 = add(centre, r);
             let q = add(line_point, scale(dot(line_axis, sub(x0, line_point)), line_axis));
-            super::on_sphere::circle_distance(centre, axis, r, length, q, radius, choice, [k, joint])
-                .map_err(|e| super::fail(k, joint, given, e))?
+            super::on_sphere::circle_distance(centre, axis, r, length, q, radius, choice, mv.site())
+                .map_err(|e| mv.fail(e))?
         }
         Motion::Line { start, along } => {
             // Without the components along the cylinder's axis: a planar line–circle.
             let d = reject(along, line_axis);
             let s0 = sub(start, scale(dot(line_axis, sub(start, line_point)), line_axis));
             let args = super::args(&[s0, d, line_point], &[radius]);
-            call(Kernel::LineCircle, &args, choice, k, joint, given)?
+            mv.call(Kernel::LineCircle, &args, choice)?
         }
     };
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, r)))
+    Ok(mv.found(r))
 }
 
 /// The slide `[t, 0]` along `along` (not unit: the slide's direction with

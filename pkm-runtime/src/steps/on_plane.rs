@@ -2,46 +2,35 @@
 //! direction is that of a known point. On a circle: `a·cosθ + b·sinθ = c`;
 //! on a line: one division.
 
-use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
+use super::{Found, Kernel, Motion, Move};
 use crate::plan::{PointRef, SolveError};
 use crate::primitives::{Error as GeomError, Sign, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
 use crate::spatial::{Anchor, Direction};
 
-/// Step `k`: the value of `joint` that puts `point` of `to` on the plane
+/// The value of the joint that puts `point` of the new link on the plane
 /// with normal `normal` through the anchored `anchor`.
-#[allow(clippy::too_many_arguments)]
 pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
+    mv: &Move<'_, T>,
     point: PointRef,
     normal: &Direction,
     anchor: &Anchor,
     branch: Option<usize>,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
 ) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let m = j.motion(&state.poses[from], j.links[0] == from, geometry.local(point, to));
-    let n = geometry.direction(state.poses[normal.link], normal.link, normal);
-    let offset = dot(n, geometry.anchor(&state.poses, anchor));
-    let r = to_plane(m, n, offset, T::choice(given.signs, branch), k, joint, given)?;
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, r)))
+    let (_, m) = mv.motion(point);
+    let n = mv.geometry.direction(mv.state.poses[normal.link], normal.link, normal);
+    let offset = dot(n, mv.geometry.anchor(&mv.state.poses, anchor));
+    Ok(mv.found(to_plane(mv, m, n, offset, mv.choice(branch))?))
 }
 
 /// The value that puts the moving point on the plane `n·X = offset`.
 pub(crate) fn to_plane<T: Scalar>(
+    mv: &Move<'_, T>,
     m: Motion<T>,
     n: [T; 3],
     offset: T,
     choice: T::Choice,
-    k: usize,
-    joint: usize,
-    given: &Given<'_, T>,
 ) -> Result<[T; 2], SolveError> {
     match m {
         Motion::Circle {
@@ -52,11 +41,11 @@ pub(crate) fn to_plane<T: Scalar>(
             let a = dot(n, r_perp);
             let b = dot(n, cross(axis, r_perp));
             let c = offset - dot(n, centre) - dot(n, r_par);
-            trig_turn(a, b, c, choice, [k, joint], None).map_err(|e| super::fail(k, joint, given, e))
+            trig_turn(a, b, c, choice, mv.site(), None).map_err(|e| mv.fail(e))
         }
         Motion::Line { start, along } => {
             let args = [offset - dot(n, start), dot(n, along), norm(n)];
-            call(Kernel::LinePlane, &args, choice, k, joint, given)
+            mv.call(Kernel::LinePlane, &args, choice)
         }
     }
 }

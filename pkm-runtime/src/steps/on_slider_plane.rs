@@ -2,45 +2,32 @@
 //! motion's axis (its guide and the turning axis span it): a circle meeting
 //! a plane ([`super::on_plane`]).
 
-use super::{as_value, found, Found, Geometry, Given, Motion, Solved};
-use crate::plan::{step_error, PointRef, SolveError};
+use super::{Found, Motion, Move};
+use crate::plan::{PointRef, SolveError};
 use crate::scalar::{cross, dot, Scalar};
 use crate::spatial::Hop;
 
-/// Step `k`: the value of `joint` that puts `point` of `to` (carried across
-/// `hops` to the slider's link) on the plane prismatic `h` (guide on the
-/// known `link`) sweeps with the motion's axis.
-#[allow(clippy::too_many_arguments)]
+/// The value of the joint that puts `point` of the new link (carried
+/// across `hops` to the slider's link) on the plane prismatic `h` (guide on
+/// the known `link`) sweeps with the motion's axis.
 pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
+    mv: &Move<'_, T>,
     point: PointRef,
     hops: &[Hop],
     h: usize,
     link: usize,
     branch: Option<usize>,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
 ) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let x = geometry.local(point, to);
-    let m = j.motion(&state.poses[from], j.links[0] == from, x);
-    let jh = &geometry.joints[h];
-    let y = geometry.carry(x, hops);
+    let (x, m) = mv.motion(point);
+    let jh = &mv.geometry.joints[h];
+    let y = mv.geometry.carry(x, hops);
     let (Motion::Circle { axis, .. }, Motion::Line { start, along }) =
-        (m, jh.motion(&state.poses[link], jh.links[0] == link, y))
+        (m, jh.motion(&mv.state.poses[link], jh.links[0] == link, y))
     else {
-        return Err(step_error(
-            k,
-            (given.name)(joint),
-            super::degenerate("a slider constraint needs a turning joint and a slide"),
-        ));
+        return Err(mv.fail(super::degenerate(
+            "a slider constraint needs a turning joint and a slide",
+        )));
     };
     let n = cross(axis, along);
-    let choice = T::choice(given.signs, branch);
-    let r = super::on_plane::to_plane(m, n, dot(n, start), choice, k, joint, given)?;
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, r)))
+    Ok(mv.found(super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))?))
 }

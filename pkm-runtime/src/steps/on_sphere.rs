@@ -4,47 +4,36 @@
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the stable quadratic).
 
-use super::{as_value, call, found, Found, Geometry, Given, Kernel, Motion, Solved};
+use super::{Found, Kernel, Motion, Move};
 use crate::model::Place;
 use crate::plan::{PointRef, SolveError};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{norm, Scalar};
 use crate::spatial::Anchor;
 
-/// Step `k`: the value of `joint` that puts `point` of `to` at parallelogram
-/// `pa`'s arm length from the anchored `centre`; `branch` picks the root.
-#[allow(clippy::too_many_arguments)]
+/// The value of the joint that puts `point` of the new link at
+/// parallelogram `pa`'s arm length from the anchored `centre`; `branch`
+/// picks the root.
 pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
+    mv: &Move<'_, T>,
     point: PointRef,
     centre: &Anchor,
     pa: usize,
     branch: Option<usize>,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
 ) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let m = j.motion(&state.poses[from], j.links[0] == from, geometry.local(point, to));
-    let q = geometry.anchor(&state.poses, centre);
-    let radius = arm_length(&geometry.joints[pa].places);
-    let choice = T::choice(given.signs, branch);
-    let r = to_distance(m, q, radius, choice, k, joint, given)?;
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, r)))
+    let (_, m) = mv.motion(point);
+    let q = mv.geometry.anchor(&mv.state.poses, centre);
+    let radius = arm_length(&mv.geometry.joints[pa].places);
+    Ok(mv.found(to_distance(mv, m, q, radius, mv.choice(branch))?))
 }
 
 /// The value that puts the moving point at distance `d` from `q`.
 pub(crate) fn to_distance<T: Scalar>(
+    mv: &Move<'_, T>,
     m: Motion<T>,
     q: [T; 3],
     d: T,
     choice: T::Choice,
-    k: usize,
-    joint: usize,
-    given: &Given<'_, T>,
 ) -> Result<[T; 2], SolveError> {
     match m {
         Motion::Circle {
@@ -52,11 +41,10 @@ pub(crate) fn to_distance<T: Scalar>(
             axis,
             radius,
             length,
-        } => circle_distance(centre, axis, radius, length, q, d, choice, [k, joint])
-            .map_err(|e| super::fail(k, joint, given, e)),
+        } => circle_distance(centre, axis, radius, length, q, d, choice, mv.site()).map_err(|e| mv.fail(e)),
         Motion::Line { start, along } => {
             let args = super::args(&[start, along, q], &[d]);
-            call(Kernel::LineDistance, &args, choice, k, joint, given)
+            mv.call(Kernel::LineDistance, &args, choice)
         }
     }
 }

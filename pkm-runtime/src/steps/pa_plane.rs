@@ -1,44 +1,22 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
-use super::{as_value, found, Found, Geometry, Given, Solved};
-use crate::plan::{step_error, SolveError};
+use super::{Found, Move};
+use crate::plan::SolveError;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
 use crate::spatial::Anchor;
 
-/// Step `k`: the angle of revolute `joint` that puts parallelogram `pa`'s
-/// plane (its hinge on `to`) through the anchored point `target`.
-#[allow(clippy::too_many_arguments)]
-pub fn execute<T: Scalar>(
-    k: usize,
-    joint: usize,
-    from: usize,
-    to: usize,
-    pa: usize,
-    target: &Anchor,
-    geometry: &Geometry<T>,
-    state: &Solved<T>,
-    given: &Given<'_, T>,
-) -> Result<Found<T>, SolveError> {
-    let j = &geometry.joints[joint];
-    let forward = j.links[0] == from;
-    let f = &state.poses[from];
-    let axis = j.turning_axis(f, forward).ok_or_else(|| {
-        step_error(
-            k,
-            (given.name)(joint),
-            super::degenerate("a parallelogram turned by a non-revolute"),
-        )
-    })?;
-    let zero = f.then(&j.zero[usize::from(!forward)]);
-    let p = &geometry.joints[pa];
-    let side = usize::from(p.links[0] != to);
+/// The angle of the revolute that puts parallelogram `pa`'s plane (its
+/// hinge on the new link) through the anchored point `target`.
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, pa: usize, target: &Anchor) -> Result<Found<T>, SolveError> {
+    let (axis, zero) = mv.turning("a parallelogram turned by a non-revolute")?;
+    let p = &mv.geometry.joints[pa];
+    let side = usize::from(p.links[0] != mv.to);
     let normal = zero.rotate(super::place_axis(&p.places[side]));
     let hinge = zero.apply(p.places[side].at());
-    let target = geometry.anchor(&state.poses, target);
-    let turn = pa_plane(axis, normal, hinge, target, [k, joint]).map_err(|e| super::fail(k, joint, given, e))?;
-    Ok(found(geometry, state, joint, from, to, as_value(j.kind, turn)))
+    let target = mv.geometry.anchor(&mv.state.poses, target);
+    Ok(mv.found(pa_plane(axis, normal, hinge, target, mv.site()).map_err(|e| mv.fail(e))?))
 }
 
 /// The turn about unit `k` that puts the plane through `hinge` with normal
