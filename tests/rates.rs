@@ -7,7 +7,6 @@
 use pkm::runtime::plan::signs_of;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 
 /// Central differences of `f` at `x`, step `h` in each given value.
 fn differences<const N: usize, const R: usize>(
@@ -68,14 +67,4 @@ fn seed000_a_jacobian_and_rates() {
             );
         }
     }
-}
-
-#[test]
-fn five_bar_pa_jacobian_against_differences() {
-    let solver = FiveBarPa::prepare(&Default::default());
-    let signs = signs_of::<2>(0b01);
-    let q = [-2.0, -1.1, -40.0];
-    let j = solver.fk_jacobian(&q, signs).unwrap();
-    let fd = differences(|g| solver.fk_branch(g, signs).unwrap(), &q, 1e-6);
-    check(&j, &fd, 1e-6, "against central differences");
 }

@@ -116,7 +116,17 @@ struct Branch {
 }
 
 /// Runs the plan on symbols.
-fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[Choice]) -> Result<Branch, String> {
+/// `full`: every joint value and point too (the solution); otherwise only
+/// what the lean solver returns and checks, so that tracing every branch
+/// records no more than the every-branch solver uses.
+fn branch(
+    a: &Analysis,
+    g: &Geometry<Sym>,
+    plan: &Plan,
+    forward: bool,
+    signs: &[Choice],
+    full: bool,
+) -> Result<Branch, String> {
     let m = &a.mechanism;
     let values: Vec<Sym> = (0..plan.n_inputs).map(Sym::given).collect();
     let names: Vec<String> = m.joints.iter().map(|j| j.name.clone()).collect();
@@ -140,20 +150,26 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
             s.named(&|| format!("sin_{}", m.joints[j].name));
         }
     }
-    let joint_values: Vec<Sym> = (0..m.joints.len()).map(|j| steps::value(g, &state, j)).collect();
-    let mut points: Vec<[Sym; 3]> = (0..m.joints.len())
-        .map(|j| {
+    let value = |j: usize| steps::value(g, &state, j);
+    let joint_values: Vec<Sym> = if full {
+        (0..m.joints.len()).map(value).collect()
+    } else {
+        Vec::new()
+    };
+    let mut points: Vec<[Sym; 3]> = Vec::new();
+    if full {
+        points.extend((0..m.joints.len()).map(|j| {
             let l = a.point_link(j);
             state.poses[l].apply(g.local(pkm_runtime::plan::PointRef::Joint(j), l))
-        })
-        .collect();
-    points.extend(
-        a.geometry
-            .points
-            .iter()
-            .enumerate()
-            .map(|(k, p)| state.poses[p.link].apply(g.named[k])),
-    );
+        }));
+        points.extend(
+            a.geometry
+                .points
+                .iter()
+                .enumerate()
+                .map(|(k, p)| state.poses[p.link].apply(g.named[k])),
+        );
+    }
     let mut outputs = Vec::new();
     for o in &a.geometry.outputs {
         match &o.kind {
@@ -167,7 +183,7 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
                 }
             }
             OutputKind::Point { link, point } => outputs.extend(state.poses[*link].apply(g.local(*point, *link))),
-            OutputKind::Joint(j) => outputs.push(joint_values[*j]),
+            OutputKind::Joint(j) => outputs.push(value(*j)),
         }
     }
     let guards = crate::trace::take_guards();
@@ -177,7 +193,7 @@ fn branch(a: &Analysis, g: &Geometry<Sym>, plan: &Plan, forward: bool, signs: &[
     } else {
         (0..m.joints.len())
             .filter(|&j| m.joints[j].actuated)
-            .map(|j| joint_values[j])
+            .map(value)
             .collect()
     };
     Ok(Branch {
@@ -224,19 +240,30 @@ pub fn generate(
         for (forward, plan) in [(true, fk), (false, ik)] {
             let Some(plan) = plan else { continue };
             let given_signs: Vec<Choice> = (0..plan.branches).map(Choice::Given).collect();
-            let given = branch(a, &g, plan, forward, &given_signs)?;
+            let given = branch(a, &g, plan, forward, &given_signs, true)?;
             let every = (0..1usize << plan.branches)
                 .map(|b| {
                     let signs: Vec<Choice> = (0..plan.branches)
                         .map(|k| Choice::Fixed(k, if (b >> k) & 1 == 1 { Sign::Minus } else { Sign::Plus }))
                         .collect();
-                    branch(a, &g, plan, forward, &signs)
+                    branch(a, &g, plan, forward, &signs, false)
                 })
                 .collect::<Result<_, _>>()?;
-            let rates = crate::trace::derivative(&given.result, &Sym::rate);
-            let jacobian = (0..plan.n_inputs)
-                .map(|k| crate::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
-                .collect();
+            // Rates and Jacobians only where the description asks for them.
+            use crate::model::Capability;
+            let m = &a.mechanism;
+            let wanted = [Capability::Jacobian, Capability::Velocity, Capability::Acceleration]
+                .iter()
+                .any(|c| m.wants(*c));
+            let (rates, jacobian) = if wanted {
+                let rates = crate::trace::derivative(&given.result, &Sym::rate);
+                let jacobian = (0..plan.n_inputs)
+                    .map(|k| crate::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
+                    .collect();
+                (rates, jacobian)
+            } else {
+                (None, None)
+            };
             out.push(Direction {
                 forward,
                 plan,

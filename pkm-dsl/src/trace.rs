@@ -231,6 +231,11 @@ fn konst(s: Sym) -> Option<f64> {
     with(|g| g.constant(s))
 }
 
+/// Both operands' constants at once (one access to the graph).
+fn konst2(a: Sym, b: Sym) -> (Option<f64>, Option<f64>) {
+    with(|g| (g.constant(a), g.constant(b)))
+}
+
 impl Sym {
     /// A parameter.
     pub fn param(name: &str) -> Sym {
@@ -263,7 +268,7 @@ impl Sym {
 impl std::ops::Add for Sym {
     type Output = Sym;
     fn add(self, b: Sym) -> Sym {
-        match (konst(self), konst(b)) {
+        match konst2(self, b) {
             (Some(x), Some(y)) => Sym::c(x + y),
             (Some(0.0), _) => b,
             (_, Some(0.0)) => self,
@@ -275,7 +280,7 @@ impl std::ops::Add for Sym {
 impl std::ops::Sub for Sym {
     type Output = Sym;
     fn sub(self, b: Sym) -> Sym {
-        match (konst(self), konst(b)) {
+        match konst2(self, b) {
             (Some(x), Some(y)) => Sym::c(x - y),
             (Some(0.0), _) => -b,
             (_, Some(0.0)) => self,
@@ -290,7 +295,7 @@ impl std::ops::Sub for Sym {
 impl std::ops::Mul for Sym {
     type Output = Sym;
     fn mul(self, b: Sym) -> Sym {
-        match (konst(self), konst(b)) {
+        match konst2(self, b) {
             (Some(x), Some(y)) => Sym::c(x * y),
             (Some(x), _) | (_, Some(x)) if x == 0.0 => Sym::c(0.0),
             (Some(1.0), _) => b,
@@ -305,7 +310,7 @@ impl std::ops::Mul for Sym {
 impl std::ops::Div for Sym {
     type Output = Sym;
     fn div(self, b: Sym) -> Sym {
-        match (konst(self), konst(b)) {
+        match konst2(self, b) {
             (Some(x), Some(y)) => Sym::c(x / y),
             (_, Some(1.0)) => self,
             (_, Some(-1.0)) => -self,
@@ -322,10 +327,14 @@ impl std::ops::Neg for Sym {
         if let Some(x) = konst(self) {
             return Sym::c(-x);
         }
-        match with(|g| g.nodes[self.0 as usize].clone()) {
-            Node::Neg(a) => a,
-            Node::Sub(a, b) => b - a,
-            _ => node(Node::Neg(self)),
+        match with(|g| match g.nodes[self.0 as usize] {
+            Node::Neg(a) => Some((a, None)),
+            Node::Sub(a, b) => Some((a, Some(b))),
+            _ => None,
+        }) {
+            Some((a, None)) => a,
+            Some((a, Some(b))) => b - a,
+            None => node(Node::Neg(self)),
         }
     }
 }
