@@ -12,6 +12,86 @@ use pkm::runtime::plan::signs_of;
 use std::hint::black_box;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
+pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+
+/// The planar four-bar (l1 = 100, l2 = 250, l3 = 200, l4 = 300): the
+/// coupler's far hinge B is where the circles about the crank pin A (l2)
+/// and the rocker pivot D (l3) meet; ψ is the rocker's angle at D.
+mod four_bar {
+    const L1: f64 = 100.0;
+    const L2: f64 = 250.0;
+    const L3: f64 = 200.0;
+    const L4: f64 = 300.0;
+
+    /// The two circles about `p` (radius `rp`) and `q` (radius `rq`) meet at
+    /// `q + a·u ± h·u⊥`, `u` the unit vector from `q` to `p`.
+    #[inline]
+    fn meet(p: [f64; 2], rp: f64, q: [f64; 2], rq: f64, plus: bool) -> Option<[f64; 2]> {
+        let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
+        let d = (dx * dx + dy * dy).sqrt();
+        let a = (rq * rq - rp * rp + d * d) / (2.0 * d);
+        let h2 = rq * rq - a * a;
+        if h2 < 0.0 {
+            return None;
+        }
+        let h = if plus { h2.sqrt() } else { -h2.sqrt() };
+        let (ux, uy) = (dx / d, dy / d);
+        Some([q[0] + a * ux - h * uy, q[1] + a * uy + h * ux])
+    }
+
+    /// ψ from the crank angle.
+    #[inline]
+    pub fn fk(theta: f64, plus: bool) -> Option<f64> {
+        let (s, c) = theta.sin_cos();
+        let b = meet([L1 * c, L1 * s], L2, [L4, 0.0], L3, plus)?;
+        Some(b[1].atan2(b[0] - L4))
+    }
+
+    /// The crank angle from ψ.
+    #[inline]
+    pub fn ik(psi: f64, plus: bool) -> Option<f64> {
+        let (s, c) = psi.sin_cos();
+        let a = meet([L4 + L3 * c, L3 * s], L2, [0.0, 0.0], L1, plus)?;
+        Some(a[1].atan2(a[0]))
+    }
+}
+
+/// The planar slider-crank (r = 50, l = 180, e = 0): the slider on y = e
+/// at l from the crank pin.
+mod slider_crank {
+    const R: f64 = 50.0;
+    const L: f64 = 180.0;
+    const E: f64 = 0.0;
+
+    /// The slide from the crank angle.
+    #[inline]
+    pub fn fk(theta: f64, plus: bool) -> Option<f64> {
+        let (s, c) = theta.sin_cos();
+        let dy = E - R * s;
+        let h2 = L * L - dy * dy;
+        if h2 < 0.0 {
+            return None;
+        }
+        Some(R * c + if plus { h2.sqrt() } else { -h2.sqrt() })
+    }
+
+    /// The crank angle from the slide: the crank pin where the circle of
+    /// radius r about the pivot meets the circle of radius l about the slider.
+    #[inline]
+    pub fn ik(x: f64, plus: bool) -> Option<f64> {
+        let d = (x * x + E * E).sqrt();
+        let a = (R * R - L * L + d * d) / (2.0 * d);
+        let h2 = R * R - a * a;
+        if h2 < 0.0 {
+            return None;
+        }
+        let h = if plus { h2.sqrt() } else { -h2.sqrt() };
+        let (ux, uy) = (x / d, E / d);
+        let p = [a * ux - h * uy, a * uy + h * ux];
+        Some(p[1].atan2(p[0]))
+    }
+}
 
 /// Seed 000 mechanism A (a = 300, l1 = 100, l2 = 200, l3 = 450, l4 = 320).
 /// The five-bar puts C1 = o midway between the sliders, l2 from both
@@ -125,7 +205,43 @@ fn close(a: &[f64], b: &[f64]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * 300.0)
 }
 
+/// A planar mechanism's generated fk and ik (the planar generator, every
+/// joint and point) against the hand-written closed form of its one output.
+macro_rules! planar {
+    ($c:expr, $ty:ident, $hand:ident, $name:expr, $q:expr) => {{
+        let params = Default::default();
+        let q = [$q];
+        let signs = signs_of::<1>(0);
+        let sol = $ty::fk_branch(&params, &q, signs).unwrap();
+        let out = sol.outputs[0];
+        let plus = [true, false]
+            .into_iter()
+            .find(|&p| $hand::fk(q[0], p).is_some_and(|h| (h - out).abs() < 1e-9))
+            .expect("a hand-written fk branch equals the generated one");
+        let mut group = $c.benchmark_group(concat!($name, "/fk"));
+        group.bench_function("generated_branch", |b| {
+            b.iter(|| $ty::fk_branch(&params, black_box(&q), signs))
+        });
+        group.bench_function("hand_branch", |b| b.iter(|| $hand::fk(black_box(q[0]), plus)));
+        group.finish();
+        let x = [out];
+        let back = $ty::ik_branch(&params, &x, signs).unwrap().q[0];
+        let plus = [true, false]
+            .into_iter()
+            .find(|&p| $hand::ik(x[0], p).is_some_and(|h| (h - back).abs() < 1e-9))
+            .expect("a hand-written ik branch equals the generated one");
+        let mut group = $c.benchmark_group(concat!($name, "/ik"));
+        group.bench_function("generated_branch", |b| {
+            b.iter(|| $ty::ik_branch(&params, black_box(&x), signs))
+        });
+        group.bench_function("hand_branch", |b| b.iter(|| $hand::ik(black_box(x[0]), plus)));
+        group.finish();
+    }};
+}
+
 fn handwritten(c: &mut Criterion) {
+    planar!(c, FourBar, four_bar, "four_bar", 0.7);
+    planar!(c, SliderCrank, slider_crank, "slider_crank", 0.7);
     let solver = SeedA::prepare(&Default::default());
     // Seed 000 Table 1's inputs; the paper's assembly.
     let q = [-106.09, 181.67, -70.29];
