@@ -10,10 +10,9 @@ use crate::expr::Expr;
 use crate::geometry::{JointPlace, OutputKind, Vec3};
 use crate::model::JointKind;
 use crate::trace::{record, Choice, Sym};
-use pkm_runtime::frame::Frame;
 use pkm_runtime::model::{JointType, Place};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::scalar::{cross, dot, reject, unit, Scalar};
+use pkm_runtime::scalar::Scalar;
 use pkm_runtime::spatial::Plan;
 use pkm_runtime::steps::{self, Geometry, Given, JointGeometry, RESIDUAL_ROWS};
 use proc_macro2::TokenStream;
@@ -88,17 +87,6 @@ fn geometry(a: &Analysis) -> Geometry<Sym> {
             .collect(),
         named: a.geometry.points.iter().map(|p| sym3(&p.at)).collect(),
     }
-}
-
-/// The angle `pose` is turned about unit `k` from the base's orientation
-/// (`pkm_runtime::spatial::angle_about`).
-fn angle_about(pose: &Frame<Sym>, k: [Sym; 3]) -> Sym {
-    let k = unit(k);
-    let (o, n) = (Sym::c(1.0), Sym::c(0.0));
-    let near_x = |a: Sym, b: Sym| Sym::if_less(k[0].abs(), Sym::c(0.9), a, b);
-    let e = unit(reject([near_x(o, n), near_x(n, o), n], k));
-    let r = pose.rotate(e);
-    dot(k, cross(e, r)).atan2(dot(e, r))
 }
 
 /// One branch's symbols: what the lean solver returns (the outputs, or the
@@ -177,7 +165,7 @@ fn branch(
                 let pose = &state.poses[*link];
                 outputs.extend(pose.apply(g.local(*point, *link)));
                 match about {
-                    Some(k) => outputs.push(angle_about(pose, sym3(k))),
+                    Some(k) => outputs.push(steps::place::angle_about(pose, sym3(k))),
                     None if m.planar => outputs.push(pose.r[1][0].atan2(pose.r[0][0])),
                     None => {}
                 }
@@ -344,16 +332,9 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             .collect();
         (quote! { #ident::OUTPUTS }, quote! { [#(#revolute),*] })
     };
-    let angular: Vec<bool> = {
-        let model = crate::plan::model(a, &Default::default());
-        match model {
-            Ok(model) => {
-                let joints: Vec<pkm_runtime::spatial::Joint3> =
-                    model.joints.iter().map(pkm_runtime::spatial::Joint3::of).collect();
-                d.plan.angular_inputs(&joints)
-            }
-            Err(_) => vec![false; n_given],
-        }
+    let angular: Vec<bool> = match crate::plan::model(a, &Default::default()) {
+        Ok(model) => d.plan.angular_inputs(&model),
+        Err(_) => vec![false; n_given],
     };
     let finite = quote! {
         if !given.iter().all(|v| v.is_finite()) {

@@ -10,7 +10,8 @@ use crate::diagnostics::{Diagnostic, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::model_scale;
 use pkm_runtime::plan::PointRef;
-use pkm_runtime::spatial::{self, Anchor, Constraint, Direction, Hop, Joint3, Plan, Step};
+use pkm_runtime::spatial::{self, Anchor, Constraint, Direction, Hop, Plan, Step};
+use pkm_runtime::steps::Geometry;
 use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Vector3};
@@ -22,8 +23,8 @@ fn v3(a: [f64; 3]) -> Vector3<f64> {
 /// What the planner knows about the nominal model.
 struct Planner<'a> {
     model: &'a Model,
-    /// The model's joints as the runtime's kernels take them.
-    joints: Vec<Joint3>,
+    /// The model's geometry as the steps take it.
+    geometry: Geometry<f64>,
     tol: f64,
     known: Vec<bool>,
     /// Joints whose value an input gives, with its index.
@@ -72,7 +73,7 @@ impl Planner<'_> {
 
     fn zero(&self, j: usize, from: usize) -> Isometry3<f64> {
         let forward = self.model.joints[j].links[0] == from;
-        spatial::transfer(&Isometry3::identity(), &self.joints[j], forward, 0.0)
+        spatial::pose_of(&self.geometry.joints[j].zero[usize::from(!forward)])
     }
 
     fn hop(&self, j: usize, from: usize) -> Hop {
@@ -134,7 +135,8 @@ impl Planner<'_> {
 
     /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
     fn rotation(&self, hops: &[Hop]) -> nalgebra::UnitQuaternion<f64> {
-        spatial::across(&self.joints, Isometry3::identity(), 0, hops).0.rotation
+        let (frame, _) = self.geometry.across(pkm_runtime::frame::Frame::identity(), 0, hops);
+        spatial::pose_of(&frame).rotation
     }
 
     /// Candidate joints: one known link, a new link, value not given.
@@ -583,7 +585,7 @@ fn solve(
     }
     let mut p = Planner {
         model,
-        joints: model.joints.iter().map(Joint3::of).collect(),
+        geometry: Geometry::of(model),
         tol: 1e-9 * model_scale(model).max(1.0),
         known,
         given,

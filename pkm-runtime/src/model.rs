@@ -20,7 +20,7 @@
 
 use nalgebra::Isometry3;
 
-use crate::kinematics::{self, Pose};
+use crate::kinematics;
 
 /// Joint types the numeric model knows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -209,24 +209,6 @@ pub fn joint_transform(joint: &Joint, values: &[f64]) -> Isometry3<f64> {
 /// As [`joint_transform`], from the joint's type and places alone.
 pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> Isometry3<f64> {
     kinematics::joint_pose(kind, places, &kinematics::frames(places), values).into()
-}
-
-/// The canonical frames of a joint's two places ([`canonical_frame`]).
-pub fn place_frames(places: &[Place; 2]) -> [Isometry3<f64>; 2] {
-    places.map(|p| canonical_frame(p.at(), p.axis()))
-}
-
-/// As [`place_transform`], with the places' frames computed once beforehand
-/// (they depend only on the geometry, not on the joint's value). The
-/// scalar-generic [`kinematics::joint_pose`] does the work.
-pub fn framed_transform(
-    kind: JointType,
-    places: &[Place; 2],
-    frames: &[Isometry3<f64>; 2],
-    values: &[f64],
-) -> Isometry3<f64> {
-    let frames = [Pose::from(&frames[0]), Pose::from(&frames[1])];
-    kinematics::joint_pose(kind, places, &frames, values).into()
 }
 
 #[cfg(test)]

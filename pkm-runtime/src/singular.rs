@@ -16,7 +16,8 @@
 
 use crate::model::{JointType, Model};
 use crate::plan::PointRef;
-use crate::spatial::{self, Constraint, Joint3, Motion, Pose3, Step};
+use crate::spatial::{self, Constraint, Pose3, Step};
+use crate::steps::{place_axis, Geometry, Motion};
 use nalgebra::{Point3, Vector3};
 
 /// A point of a link: a joint's place on it, or a named point.
@@ -167,19 +168,17 @@ fn joint_point(joint: usize, link: usize) -> LinkPoint {
 /// the same model). Steps that only place a link from given values (inputs
 /// or a pose) have none.
 pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> Vec<Factor> {
-    let joints: Vec<Joint3> = model.joints.iter().map(Joint3::of).collect();
-    let named: Vec<[f64; 3]> = model.points.iter().map(|p| p.at).collect();
+    // The steps' own geometry and pose algebra: the factors differentiate what they solve.
+    let g = Geometry::of(model);
+    let frames: Vec<_> = poses.iter().map(spatial::frame_of).collect();
     let scale = crate::kinematics::model_scale(model);
     let mut out = Vec::new();
     for (k, step) in plan.steps.iter().enumerate() {
-        let world = |link: usize, point: PointRef| {
-            let local = spatial::local(&joints, &named, point, link);
-            poses[link].transform_point(&Point3::from(v3(local))).coords
-        };
+        let world = |link: usize, point: PointRef| v3(frames[link].apply(g.local(point, link)));
         let anchored = |a: &spatial::Anchor| {
-            let (_, last) = spatial::across(&joints, poses[a.link], a.link, &a.hops);
+            let (_, last) = g.across(frames[a.link], a.link, &a.hops);
             (
-                v3(spatial::anchor(&joints, &named, poses, a)),
+                v3(g.anchor(&frames, a)),
                 LinkPoint {
                     link: last,
                     point: a.point,
@@ -188,11 +187,10 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
         };
         // The moving point's velocity per unit joint rate.
         let path = |joint: usize, from: usize, to: usize, point: PointRef| {
-            let j = &joints[joint];
+            let j = &g.joints[joint];
             let forward = j.links[0] == from;
-            let local = spatial::local(&joints, &named, point, to);
             let p = world(to, point);
-            let t = match spatial::motion(&poses[from], j, forward, local) {
+            let t = match j.motion(&frames[from], forward, g.local(point, to)) {
                 Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
                 Motion::Line { along, .. } => v3(along) * scale,
             };
@@ -215,27 +213,23 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
                         (p - c, Condition::TouchesSphere, at)
                     }
                     Constraint::Plane { normal, anchor } => {
-                        let n = spatial::direction(&joints, poses[normal.link], normal.link, normal);
+                        let n = g.direction(frames[normal.link], normal.link, normal);
                         (v3(n), Condition::TouchesPlane, anchored(anchor).1)
                     }
                     Constraint::Cylinder { joint: h, link, .. } => {
-                        let jh = &joints[*h];
+                        let jh = &g.joints[*h];
                         let side = usize::from(jh.links[0] != *link);
-                        let c = v3(spatial::at(&poses[*link], jh.places[side].at()));
-                        let w = v3(spatial::dir(&poses[*link], jh.places[side].axis())).normalize();
+                        let c = v3(frames[*link].apply(jh.places[side].at()));
+                        let w = v3(frames[*link].rotate(place_axis(&jh.places[side]))).normalize();
                         let d = p - c;
                         (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(*h, *link))
                     }
                     Constraint::Slider { joint: h, link, .. } => {
-                        let jh = &joints[*h];
+                        let jh = &g.joints[*h];
                         let side = usize::from(jh.links[0] != *link);
-                        let along = v3(spatial::dir(&poses[*link], jh.places[side].axis()));
-                        let axis = match spatial::motion(
-                            &poses[*from],
-                            &joints[*joint],
-                            joints[*joint].links[0] == *from,
-                            [0.0; 3],
-                        ) {
+                        let along = v3(frames[*link].rotate(place_axis(&jh.places[side])));
+                        let j = &g.joints[*joint];
+                        let axis = match j.motion(&frames[*from], j.links[0] == *from, [0.0; 3]) {
                             Motion::Circle { axis, .. } => v3(axis),
                             Motion::Line { along, .. } => v3(along),
                         };
@@ -292,12 +286,12 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
                 group,
                 target,
             } => {
-                let j = &joints[*joint];
-                let k_axis = spatial::turning_axis(&poses[*from], j, j.links[0] == *from).unwrap_or([0.0; 3]);
-                let d = spatial::direction(&joints, poses[*to], *to, group);
-                let w = spatial::direction(&joints, poses[target.link], target.link, target);
-                let (_, group_link) = spatial::across(&joints, poses[*to], *to, &group.hops);
-                let (_, target_link) = spatial::across(&joints, poses[target.link], target.link, &target.hops);
+                let j = &g.joints[*joint];
+                let k_axis = j.turning_axis(&frames[*from], j.links[0] == *from).unwrap_or([0.0; 3]);
+                let d = g.direction(frames[*to], *to, group);
+                let w = g.direction(frames[target.link], target.link, target);
+                let (_, group_link) = g.across(frames[*to], *to, &group.hops);
+                let (_, target_link) = g.across(frames[target.link], target.link, &target.hops);
                 Factor {
                     step: k,
                     joint: *joint,
@@ -317,12 +311,12 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
                 pa,
                 target,
             } => {
-                let j = &joints[*joint];
-                let k_axis = v3(spatial::turning_axis(&poses[*from], j, j.links[0] == *from).unwrap_or([0.0; 3]));
-                let p = &joints[*pa];
+                let j = &g.joints[*joint];
+                let k_axis = v3(j.turning_axis(&frames[*from], j.links[0] == *from).unwrap_or([0.0; 3]));
+                let p = &g.joints[*pa];
                 let side = usize::from(p.links[0] != *to);
-                let n = v3(spatial::dir(&poses[*to], p.places[side].axis()));
-                let hinge = v3(spatial::at(&poses[*to], p.places[side].at()));
+                let n = v3(frames[*to].rotate(place_axis(&p.places[side])));
+                let hinge = v3(frames[*to].apply(p.places[side].at()));
                 let (c, at) = anchored(target);
                 // d/dθ (n·u) = (k × n)·u: the plane's normal turning against the target's direction.
                 Factor {

@@ -16,10 +16,11 @@
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
 //! (the point is on their axes) or its coordinate along one direction
-//! (rotations about parallel axes, translations normal to it). Generated
-//! code and this interpreter call the same kernels.
+//! (rotations about parallel axes, translations normal to it). The steps
+//! themselves are [`crate::steps`]: this interpreter runs them at `f64`, and
+//! generated code is their trace.
 
-use crate::model::{framed_transform, place_frames, Joint, JointType, Model, Place};
+use crate::model::{JointType, Model};
 use crate::plan::{PointRef, SolveError};
 use crate::primitives::Sign;
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
@@ -28,66 +29,8 @@ use std::borrow::Cow;
 /// A link's pose in the world.
 pub type Pose3 = Isometry3<f64>;
 
-/// A joint's type and places: all the kernels need (no name, no links).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Joint3 {
-    /// R, P or Pa.
-    pub kind: JointType,
-    /// The two links it joins.
-    pub links: [usize; 2],
-    /// Its places on `links[0]` and `links[1]`.
-    pub places: [Place; 2],
-    /// The places' canonical frames, computed once ([`place_frames`]).
-    pub frames: [Pose3; 2],
-    /// The joint's transform at value 0 and its inverse, computed once (every
-    /// step's motion starts from them).
-    pub zero: [Pose3; 2],
-    /// The inverse of the second place's frame.
-    pub frame_v_inverse: Pose3,
-}
-
-impl Joint3 {
-    /// A joint from its type, links and places.
-    pub fn new(kind: JointType, links: [usize; 2], places: [Place; 2]) -> Joint3 {
-        let frames = place_frames(&places);
-        let zero = framed_transform(kind, &places, &frames, &[0.0; 3]);
-        Joint3 {
-            kind,
-            links,
-            places,
-            frames,
-            zero: [zero, zero.inverse()],
-            frame_v_inverse: frames[1].inverse(),
-        }
-    }
-
-    /// The geometry of a model joint.
-    pub fn of(j: &Joint) -> Joint3 {
-        Joint3::new(j.kind, j.links, j.places)
-    }
-}
-
 fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
-}
-
-/// The pose of the link across joint `j` from the known pose `from`, at
-/// joint value `value`; `forward` when `from` is the joint's first link.
-pub fn transfer(from: &Pose3, j: &Joint3, forward: bool, value: f64) -> Pose3 {
-    let t = match j.kind {
-        // F_u · Rz(θ) · F_v⁻¹ with the frames' parts computed once.
-        JointType::R => {
-            let (sin, cos) = (0.5 * value).sin_cos();
-            let rz = nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(cos, 0.0, 0.0, sin));
-            j.frames[0] * Isometry3::from_parts(nalgebra::Translation3::identity(), rz) * j.frame_v_inverse
-        }
-        _ => framed_transform(j.kind, &j.places, &j.frames, &[value]),
-    };
-    if forward {
-        from * t
-    } else {
-        from * t.inverse()
-    }
 }
 
 /// A world point: `local` on a link at `pose`.
@@ -97,163 +40,9 @@ pub fn at(pose: &Pose3, local: [f64; 3]) -> [f64; 3] {
     [p.x, p.y, p.z]
 }
 
-/// A world direction: `local` on a link at `pose`.
-#[inline]
-pub fn dir(pose: &Pose3, local: [f64; 3]) -> [f64; 3] {
-    let d = pose.rotation * v3(local);
-    [d.x, d.y, d.z]
-}
-
-/// How a point of the new link moves with the joint value: on a circle
-/// `centre + R(axis, θ)·radius` (R and Pa joints) or a line `start + s·along`
-/// (P joints, `along` unit).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Motion {
-    /// `centre + R(axis, θ)·radius`, `axis` unit.
-    Circle {
-        /// Centre (for a parallelogram, the point the arm swings about).
-        centre: [f64; 3],
-        /// Unit axis.
-        axis: [f64; 3],
-        /// The point at θ = 0 minus the centre.
-        radius: [f64; 3],
-        /// The circle's radius from the links' own geometry, exact where
-        /// `|radius|` carries the rounding of the world transform (what keeps
-        /// nearly concentric circles accurate: see [`circle_to_distance`]).
-        length: f64,
-    },
-    /// `start + s·along`, `along` unit.
-    Line {
-        /// The point at s = 0.
-        start: [f64; 3],
-        /// Unit direction.
-        along: [f64; 3],
-    },
-}
-
-fn arr(v: Vector3<f64>) -> [f64; 3] {
-    [v.x, v.y, v.z]
-}
-
-/// The motion of the new link's point `local` as joint `j` turns or slides
-/// from the known pose `from`.
-pub fn motion(from: &Pose3, j: &Joint3, forward: bool, local: [f64; 3]) -> Motion {
-    let zero = from * j.zero[usize::from(!forward)];
-    let x0 = zero.transform_point(&Point3::from(v3(local))).coords;
-    let (side_from, side_new) = if forward { (0, 1) } else { (1, 0) };
-    match j.kind {
-        JointType::P => {
-            let (guide_side, sign) = if matches!(j.places[side_from], Place::Line { .. }) {
-                (side_from, 1.0)
-            } else {
-                (side_new, -1.0)
-            };
-            let guide_pose = if guide_side == side_from { from } else { &zero };
-            let d = guide_pose.rotation * v3(j.places[guide_side].axis()).normalize() * sign;
-            Motion::Line {
-                start: arr(x0),
-                along: arr(d),
-            }
-        }
-        JointType::Pa => {
-            let frame = from * j.frames[side_from];
-            let k = frame.rotation * Vector3::z();
-            let (arm_side, sign) = if matches!(j.places[side_from], Place::Arm { .. }) {
-                (side_from, 1.0)
-            } else {
-                (side_new, -1.0)
-            };
-            let Place::Arm { arm, .. } = j.places[arm_side] else {
-                return Motion::Line {
-                    start: arr(x0),
-                    along: [0.0; 3],
-                };
-            };
-            let arm_pose = if arm_side == side_from { from } else { &zero };
-            let a = arm_pose.rotation * v3(arm) * sign;
-            Motion::Circle {
-                centre: arr(x0 - a),
-                axis: arr(k),
-                radius: arr(a),
-                length: off_axis(v3(arm), v3(j.places[arm_side].axis())),
-            }
-        }
-        _ => {
-            let frame = from * j.frames[side_from];
-            let sign = if forward { 1.0 } else { -1.0 };
-            let k = frame.rotation * Vector3::z() * sign;
-            let c = frame.translation.vector;
-            let place = j.places[side_new];
-            Motion::Circle {
-                centre: arr(c),
-                axis: arr(k),
-                radius: arr(x0 - c),
-                length: off_axis(v3(local) - v3(place.at()), v3(place.axis())),
-            }
-        }
-    }
-}
-
-/// The distance of the offset `x` from an axis along `axis`, in one link's frame.
-fn off_axis(x: Vector3<f64>, axis: Vector3<f64>) -> f64 {
-    let k = axis.normalize();
-    (x - k * k.dot(&x)).norm()
-}
-
-/// The axis a joint turns the new link about, if it turns it (R joints).
-pub fn turning_axis(from: &Pose3, j: &Joint3, forward: bool) -> Option<[f64; 3]> {
-    match j.kind {
-        JointType::R => match motion(from, j, forward, [0.0; 3]) {
-            Motion::Circle { axis, .. } => Some(axis),
-            Motion::Line { .. } => None,
-        },
-        _ => None,
-    }
-}
-
 /// The angle a pose is turned about unit `k` from the base's orientation.
 pub fn angle_about(pose: &Pose3, k: [f64; 3]) -> f64 {
-    let k = v3(k).normalize();
-    let e = if k.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
-    let e = (e - k * k.dot(&e)).normalize();
-    let r = pose.rotation * e;
-    k.dot(&e.cross(&r)).atan2(e.dot(&r))
-}
-
-/// The value of a 1-DOF joint from the poses of its two links.
-pub fn joint_value(j: &Joint3, u: &Pose3, v: &Pose3) -> f64 {
-    let rel = u.inverse() * v;
-    match j.kind {
-        JointType::R => {
-            let m = j.frames[0].inverse() * rel * j.frames[1];
-            let r: Rotation3<f64> = m.rotation.to_rotation_matrix();
-            r[(1, 0)].atan2(r[(0, 0)])
-        }
-        JointType::P => {
-            let (guide, slider, rel) = if matches!(j.places[0], Place::Line { .. }) {
-                (j.places[0], j.places[1], rel)
-            } else {
-                (j.places[1], j.places[0], rel.inverse())
-            };
-            let p = rel.transform_point(&Point3::from(v3(slider.at()))).coords;
-            (p - v3(guide.at())).dot(&v3(guide.axis()).normalize())
-        }
-        JointType::Pa => {
-            let (arm_side, rel) = if matches!(j.places[0], Place::Arm { .. }) {
-                (0, rel)
-            } else {
-                (1, rel.inverse())
-            };
-            let (fa, fo) = (j.frames[arm_side], j.frames[1 - arm_side]);
-            let t = (fa.inverse() * rel * fo).translation.vector;
-            let Place::Arm { arm, .. } = j.places[arm_side] else {
-                return f64::NAN;
-            };
-            let a = fa.rotation.inverse() * v3(arm);
-            (a.x * t.y - a.y * t.x).atan2(a.x * t.x + a.y * t.y)
-        }
-        JointType::S => f64::NAN,
-    }
+    crate::steps::place::angle_about(&frame_of(pose), k)
 }
 
 /// A chain of hops: borrowed in generated code, owned in plans built at run time.
@@ -456,7 +245,7 @@ impl Plan {
     }
 
     /// Which given values are angles: a pose's angle, a revolute's value.
-    pub fn angular_inputs(&self, joints: &[Joint3]) -> Vec<bool> {
+    pub fn angular_inputs(&self, model: &Model) -> Vec<bool> {
         let mut angular = vec![false; self.n_inputs];
         for s in &self.steps {
             match s {
@@ -464,7 +253,7 @@ impl Plan {
                     input, about: Some(_), ..
                 } => angular[input + 3] = true,
                 Step::Transfer { joint, input, .. } => {
-                    angular[*input] = matches!(joints[*joint].kind, JointType::R | JointType::Pa)
+                    angular[*input] = matches!(model.joints[*joint].kind, JointType::R | JointType::Pa)
                 }
                 _ => {}
             }
@@ -484,18 +273,6 @@ pub struct Solution {
 
 fn bad(what: String) -> SolveError {
     SolveError::BadInput { what: Cow::Owned(what) }
-}
-
-/// A point of a link, in that link's frame: a joint's place on it or a named point.
-#[inline]
-pub fn local(joints: &[Joint3], named: &[[f64; 3]], point: PointRef, link: usize) -> [f64; 3] {
-    match point {
-        PointRef::Joint(j) => {
-            let joint = &joints[j];
-            joint.places[usize::from(joint.links[0] != link)].at()
-        }
-        PointRef::Named(n) => named[n],
-    }
 }
 
 /// A point of a link of the model, in that link's frame.
@@ -518,29 +295,6 @@ pub fn local_point(model: &Model, point: PointRef, link: usize) -> Result<[f64; 
     }
 }
 
-/// The pose of the last link of a hop chain (joints crossed at value 0)
-/// from `link` at `pose`, and that link.
-pub fn across(joints: &[Joint3], mut pose: Pose3, mut link: usize, hops: &[Hop]) -> (Pose3, usize) {
-    for h in hops {
-        let j = &joints[h.joint];
-        // At value 0 the joint's transform (and its inverse) is precomputed.
-        pose *= j.zero[usize::from(!h.forward)];
-        link = if h.forward { j.links[1] } else { j.links[0] };
-    }
-    (pose, link)
-}
-
-pub(crate) fn anchor(joints: &[Joint3], named: &[[f64; 3]], poses: &[Pose3], a: &Anchor) -> [f64; 3] {
-    let (pose, l) = across(joints, poses[a.link], a.link, &a.hops);
-    at(&pose, local(joints, named, a.point, l))
-}
-
-pub(crate) fn direction(joints: &[Joint3], pose: Pose3, link: usize, d: &Direction) -> [f64; 3] {
-    let (pose, l) = across(joints, pose, link, &d.hops);
-    let j = &joints[d.joint];
-    dir(&pose, j.places[usize::from(j.links[0] != l)].axis())
-}
-
 /// Runs the plan for one branch and verifies the solution: every open
 /// joint must close ([`crate::consistency`]); where one does not, the error
 /// names the given value the others contradict (`#k`: the plan knows no
@@ -555,7 +309,7 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     let rows = crate::steps::RESIDUAL_ROWS;
     if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
         let owner = Cow::Owned(format!("joint {}", name(open[row / rows])));
-        let angular = plan.angular_inputs(&model.joints.iter().map(Joint3::of).collect::<Vec<_>>());
+        let angular = plan.angular_inputs(model);
         let e = crate::consistency::inconsistent(owner, gap, inputs, &angular, extent, |g| {
             let s = run_frames(model, &geometry, plan, g, signs).ok()?;
             Some(crate::steps::open_residual(&geometry, &s.poses, &open, extent))
@@ -576,6 +330,16 @@ pub fn pose_of(f: &crate::frame::Frame<f64>) -> Pose3 {
     let m = nalgebra::Matrix3::from_fn(|i, j| f.r[i][j]);
     let r = Rotation3::from_matrix_unchecked(m);
     Isometry3::from_parts(v3(f.t).into(), nalgebra::UnitQuaternion::from_rotation_matrix(&r))
+}
+
+/// An isometry as a frame (the steps' pose algebra).
+pub fn frame_of(p: &Pose3) -> crate::frame::Frame<f64> {
+    let m = p.rotation.to_rotation_matrix();
+    let m = m.matrix();
+    crate::frame::Frame {
+        r: core::array::from_fn(|i| core::array::from_fn(|j| m[(i, j)])),
+        t: [p.translation.x, p.translation.y, p.translation.z],
+    }
 }
 
 /// The steps of one branch, unverified.

@@ -202,11 +202,9 @@ pub(super) fn pose_outputs(model: &Model, poses: &[Pose3], outputs: &[Output]) -
             }
             Output::Joint(j) => {
                 let joint = &model.joints[j];
-                v.push(pkm_runtime::spatial::joint_value(
-                    &pkm_runtime::spatial::Joint3::of(joint),
-                    &poses[joint.links[0]],
-                    &poses[joint.links[1]],
-                ));
+                let g = pkm_runtime::steps::JointGeometry::new(joint.kind, joint.links, joint.places);
+                let frame = |l: usize| pkm_runtime::spatial::frame_of(&poses[l]);
+                v.push(g.value_between(&frame(joint.links[0]), &frame(joint.links[1])));
             }
         }
     }

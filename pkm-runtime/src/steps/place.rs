@@ -30,3 +30,14 @@ pub fn execute<T: Scalar>(
     pose.t = sub(position, pose.rotate(local));
     pose
 }
+
+/// The angle `pose` is turned about unit `k` from the base's orientation:
+/// of the direction normal to `k` that a frame about `k` takes for its x
+/// axis ([`super::canonical_frame`]), the angle it has turned through about `k`.
+/// What a pose output's angle is, in the interpreter and generated code alike.
+pub fn angle_about<T: Scalar>(pose: &Frame<T>, k: [T; 3]) -> T {
+    let frame = super::canonical_frame(constant([0.0; 3]), k);
+    let (k, e) = (frame.column(2), frame.column(0));
+    let r = pose.rotate(e);
+    crate::scalar::dot(k, crate::scalar::cross(e, r)).atan2(crate::scalar::dot(e, r))
+}
