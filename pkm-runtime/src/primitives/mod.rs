@@ -47,10 +47,8 @@ mod vec;
 
 pub use paden_kahan::{pk1, pk2, pk3};
 pub use planar::{ppr, prp, rpr, rrp, rrr, LineLine, SliderLine};
-pub use scalar::{stable_quadratic, trig_equation, trig_turn, QuadraticRoots};
-pub use spatial::{
-    circle_to_distance, circle_to_distance_turn, line_plane, line_sphere, rotate_to_distance, trilaterate,
-};
+pub use scalar::{stable_quadratic, trig_equation, QuadraticRoots};
+pub use spatial::{circle_to_distance, line_plane, line_sphere, rotate_to_distance, trilaterate};
 
 /// Relative tolerance for tangency (double roots) and for data consistency.
 ///

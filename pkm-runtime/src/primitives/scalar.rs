@@ -39,37 +39,15 @@ use crate::real::Real;
 /// assert!((m + std::f64::consts::FRAC_PI_2).abs() < 1e-15);
 /// ```
 pub fn trig_equation<T: Real>(a: T, b: T, c: T) -> Result<Roots2<T>, Error<T>> {
-    Ok(trig_turn(a, b, c)?.map(|[cos, sin]| sin.atan2(cos)))
-}
-
-/// [`trig_equation`]'s solutions as turns `[cos θ, sin θ]` (unit to
-/// rounding), before the arctangent: what a solver composes a rotation
-/// from without going through the angle. Same branches, same errors.
-///
-/// # Example
-///
-/// ```
-/// use pkm_runtime::primitives::{trig_turn, Sign};
-///
-/// // cos θ = 0: the turns (0, 1) and (0, −1).
-/// let r = trig_turn(1.0, 0.0, 0.0).unwrap();
-/// assert_eq!(r.branch(Sign::Plus), [0.0, 1.0]);
-/// assert_eq!(r.branch(Sign::Minus), [0.0, -1.0]);
-/// ```
-pub fn trig_turn<T: Real>(a: T, b: T, c: T) -> Result<Roots2<[T; 2]>, Error<T>> {
     ensure_finite(&[a, b, c])?;
-    let h = super::vec::norm([a, b]);
+    let h = a.hypot(b);
     if h == T::zero() {
         return Err(Error::Degenerate { what: "a = b = 0" });
     }
     let abs_c = c.abs();
     if super::classify_excess(abs_c - h, h, "|c| <= hypot(a, b)")? {
         // c ≠ 0 here because |c| ≥ h·(1 − tol) > 0.
-        let value = if c > T::zero() {
-            [a / h, b / h]
-        } else {
-            [-a / h, -b / h]
-        };
+        let value = if c > T::zero() { b.atan2(a) } else { (-b).atan2(-a) };
         return Ok(Roots2::Tangent { value });
     }
     // Work with (a, b, c) / h: scale-free, so nothing under- or overflows.
@@ -77,8 +55,8 @@ pub fn trig_turn<T: Real>(a: T, b: T, c: T) -> Result<Roots2<[T; 2]>, Error<T>> 
     let abs_c = c.abs();
     let one = T::one();
     let s = ((one - abs_c) * (one + abs_c)).sqrt();
-    let plus = [a * c - b * s, b * c + a * s];
-    let minus = [a * c + b * s, b * c - a * s];
+    let plus = b.mul_add(c, a * s).atan2(a.mul_add(c, -(b * s)));
+    let minus = b.mul_add(c, -(a * s)).atan2(a.mul_add(c, b * s));
     Ok(Roots2::Two {
         branches: [plus, minus],
     })

@@ -5,7 +5,7 @@
 //! be unit length.
 
 use super::paden_kahan::axis_pair;
-use super::scalar::trig_turn;
+use super::scalar::trig_equation;
 use super::vec::{axpy, cross3, dot, finite, norm, sub, unit};
 use super::{
     ensure_finite, ensure_finite_roots, half_chord, non_finite_input, non_finite_result, triangle_apex, Error,
@@ -290,19 +290,6 @@ pub fn circle_to_distance<T: Real>(
     q: [T; 3],
     d: T,
 ) -> Result<Roots2<T>, Error<T>> {
-    Ok(circle_to_distance_turn(axis_point, axis_dir, p, rp, q, d)?.map(|[cos, sin]| sin.atan2(cos)))
-}
-
-/// [`circle_to_distance`]'s solutions as turns `[cos θ, sin θ]`, before
-/// the arctangent (see [`super::trig_turn`]). Same branches, same errors.
-pub fn circle_to_distance_turn<T: Real>(
-    axis_point: [T; 3],
-    axis_dir: [T; 3],
-    p: [T; 3],
-    rp: Option<T>,
-    q: [T; 3],
-    d: T,
-) -> Result<Roots2<[T; 2]>, Error<T>> {
     if !(finite(&axis_point) && finite(&axis_dir) && finite(&p) && finite(&q)) {
         return Err(non_finite_input());
     }
@@ -334,7 +321,7 @@ pub fn circle_to_distance_turn<T: Real>(
     };
     let (rq, delta) = (ax.rq, ax.delta);
     let c = sum_of_squares_minus(rp, rq, delta.abs(), d) / T::from_f64(2.0);
-    trig_turn(ax.cos_coef * scale, ax.sin_coef * scale, c).map_err(|e| match e {
+    trig_equation(ax.cos_coef * scale, ax.sin_coef * scale, c).map_err(|e| match e {
         Error::Unreachable { .. } => {
             let dmax = delta.hypot(rp + rq);
             let dmin = delta.hypot(rp - rq);
@@ -365,7 +352,7 @@ fn sum_of_squares_minus<T: Real>(a: T, b: T, c: T, d: T) -> T {
     } else {
         (c, a, b)
     };
-    (x - d) * (x + d) + (y * y + z * z)
+    (x - d) * (x + d) + y.mul_add(y, z * z)
 }
 
 #[cfg(test)]

@@ -51,7 +51,7 @@ pub(crate) fn to_plane<T: Scalar>(
 }
 
 /// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`
-/// ([`crate::primitives::trig_turn`], written for every [`Scalar`]):
+/// (the turns of [`crate::primitives::trig_equation`], written for every [`Scalar`]):
 /// scaled by `h = √(a² + b²)`, `|c| ≤ h` up to the tangency tolerance
 /// (clamped there: a double root), `s = √((1 − |c|)(1 + |c|))`, the turns
 /// `(a c ∓ b s, b c ± a s)`. `far` replaces the error of an unreachable `c`.

@@ -62,7 +62,7 @@ pub fn arm_length<T: Scalar>(places: &[Place<T>; 2]) -> T {
 
 /// The turn `[cos θ, sin θ]` that puts the circle's point
 /// `centre + R(axis, θ)·radius` (`axis` unit) at distance `d` from `q`
-/// ([`crate::primitives::circle_to_distance_turn`], written for every
+/// (the turns of [`crate::primitives::circle_to_distance`], written for every
 /// [`Scalar`]): with `p⊥`, `q⊥` the two points' parts normal to the axis
 /// and `δ` their axial separation, `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
 /// (rp² + rq² + (δ − d)(δ + d))/2`, the circle's radius `rp` the exact
