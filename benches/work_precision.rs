@@ -15,6 +15,8 @@
 //! Writes `docs/work-precision.csv` and `docs/work-precision.png`:
 //! `cargo bench --bench work_precision`.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "../tests/common/work_precision.rs"]
 mod work_precision;
 

@@ -3,6 +3,7 @@
 //! every point, and equal to a hand derivation of the four-bar in the same
 //! precision.
 
+mod common;
 #[path = "common/work_precision.rs"]
 mod work_precision;
 

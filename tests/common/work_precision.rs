@@ -293,7 +293,7 @@ pub fn case(name: &'static str, generated: Generated) -> Case {
             let (ik_signs, ik_start) = (0..1 << branches[1])
                 .find_map(|s| {
                     let q = ik(&given, s)?;
-                    (common_error(&q, &start, &angles, scale) < 1e-8).then_some((s, q))
+                    (crate::common::max_error(&q, &start, &angles, scale) < 1e-8).then_some((s, q))
                 })
                 .unwrap_or_else(|| panic!("{name}: no ik branch at {given:?} returns to {start:?}"));
             let ik_newton = newton::solve_ik(&model, &outputs, &given, &ik_start, &tight).unwrap();
@@ -322,21 +322,6 @@ pub fn case(name: &'static str, generated: Generated) -> Case {
         interpreter,
         points,
     }
-}
-
-/// The largest difference of two f64 joint-value vectors (angles modulo 2π, lengths over the scale).
-pub fn common_error(a: &[f64], b: &[f64], angle: &[bool], scale: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .zip(angle)
-        .map(|((a, b), &angle)| {
-            if angle {
-                plan::wrap_angle(a - b).abs()
-            } else {
-                (a - b).abs() / scale
-            }
-        })
-        .fold(0.0, f64::max)
 }
 
 /// The four cases.
