@@ -7,10 +7,10 @@
 use crate::analysis::Analysis;
 use crate::emit::Emit;
 use crate::expr::Expr;
-use crate::geometry::{JointPlace, OutputKind, Vec3};
+use crate::geometry::{OutputKind, Vec3};
 use crate::model::JointKind;
 use crate::trace::{record, Choice, Sym};
-use pkm_runtime::model::{JointType, Place};
+use pkm_runtime::model::JointType;
 use pkm_runtime::primitives::Sign;
 use pkm_runtime::scalar::Scalar;
 use pkm_runtime::spatial::Plan;
@@ -38,25 +38,6 @@ fn sym3(v: &Vec3) -> [Sym; 3] {
     [sym(&v[0]), sym(&v[1]), sym(&v[2])]
 }
 
-fn place(p: &JointPlace) -> Place<Sym> {
-    match p {
-        JointPlace::Point(at, Some(axis)) => Place::Axis {
-            at: sym3(at),
-            axis: sym3(axis),
-        },
-        JointPlace::Point(at, None) => Place::Point { at: sym3(at) },
-        JointPlace::Line(at, along) => Place::Line {
-            through: sym3(at),
-            along: sym3(along),
-        },
-        JointPlace::Arm(at, axis, arm) => Place::Arm {
-            at: sym3(at),
-            axis: sym3(axis),
-            arm: sym3(arm),
-        },
-    }
-}
-
 /// The runtime's joint type of a joint kind (every kind with a numeric
 /// model: the planners refuse the others before code is generated).
 pub(crate) fn joint_type(kind: JointKind) -> JointType {
@@ -81,7 +62,7 @@ fn geometry(a: &Analysis) -> Geometry<Sym> {
                 JointGeometry::new(
                     joint_type(joint.kind),
                     joint.links,
-                    [place(a.place(j, u)), place(a.place(j, v))],
+                    [a.place(j, u).place(sym3), a.place(j, v).place(sym3)],
                 )
             })
             .collect(),

@@ -40,6 +40,28 @@ pub enum JointPlace {
 }
 
 impl JointPlace {
+    /// The runtime's place, each coordinate triple evaluated by `eval` (to
+    /// numbers for the model, to symbols for the code generator).
+    pub fn place<T>(&self, eval: impl Fn(&Vec3) -> [T; 3]) -> pkm_runtime::model::Place<T> {
+        use pkm_runtime::model::Place as P;
+        match self {
+            JointPlace::Point(at, Some(axis)) => P::Axis {
+                at: eval(at),
+                axis: eval(axis),
+            },
+            JointPlace::Point(at, None) => P::Point { at: eval(at) },
+            JointPlace::Line(at, along) => P::Line {
+                through: eval(at),
+                along: eval(along),
+            },
+            JointPlace::Arm(at, axis, arm) => P::Arm {
+                at: eval(at),
+                axis: eval(axis),
+                arm: eval(arm),
+            },
+        }
+    }
+
     /// The place's point.
     pub fn at(&self) -> &Vec3 {
         match self {

@@ -8,7 +8,7 @@ use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::geometry::JointPlace;
 use crate::model::JointKind;
-use pkm_runtime::model::{Joint, JointType, Model, NamedPoint, Place};
+use pkm_runtime::model::{Joint, JointType, Model, NamedPoint};
 use pkm_runtime::plan::{Plan, Step};
 use std::collections::HashMap;
 
@@ -105,21 +105,11 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
                 )
             }
         };
-        let place = |s: usize| match g.places[j][s].as_ref().expect("complete geometry places every joint") {
-            JointPlace::Point(at, Some(axis)) => Place::Axis {
-                at: eval(at),
-                axis: eval(axis),
-            },
-            JointPlace::Point(at, None) => Place::Point { at: eval(at) },
-            JointPlace::Line(at, along) => Place::Line {
-                through: eval(at),
-                along: eval(along),
-            },
-            JointPlace::Arm(at, axis, arm) => Place::Arm {
-                at: eval(at),
-                axis: eval(axis),
-                arm: eval(arm),
-            },
+        let place = |s: usize| {
+            g.places[j][s]
+                .as_ref()
+                .expect("complete geometry places every joint")
+                .place(eval)
         };
         joints.push(Joint {
             name: joint.name.clone(),
