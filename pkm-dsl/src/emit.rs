@@ -120,12 +120,11 @@ impl<'g> Emit<'g> {
         if !self.live(s) {
             return self.slot(s);
         }
-        self.compute(s, scope, &|s| self.expr(s, scope))
+        self.compute(s, &|s| self.expr(s, scope))
     }
 
     /// The node's own operation on its operands' expressions.
-    fn compute(&self, s: Sym, scope: &Scope, e: &dyn Fn(Sym) -> TokenStream) -> TokenStream {
-        let _ = scope;
+    fn compute(&self, s: Sym, e: &dyn Fn(Sym) -> TokenStream) -> TokenStream {
         match self.node(s) {
             Node::Const(b) => lit(f64::from_bits(*b)),
             Node::Param(n) => {
@@ -240,7 +239,7 @@ impl<'g> Emit<'g> {
             }
             let node = self.node(s);
             if let Node::Guard(_, _, failure, [step, joint]) = node {
-                let cond = self.compute(s, scope, &|o| self.expr(o, scope));
+                let cond = self.compute(s, &|o| self.expr(o, scope));
                 let geom = quote! { ::pkm::runtime::primitives::Error };
                 let error = match failure {
                     Failure::Degenerate(what) => quote! { #geom::Degenerate { what: #what } },
@@ -267,7 +266,7 @@ impl<'g> Emit<'g> {
                 continue;
             }
             let v = self.name(s);
-            let e = self.compute(s, scope, &|o| self.expr(o, scope));
+            let e = self.compute(s, &|o| self.expr(o, scope));
             if let Node::Kernel(_, _, _, [step, joint]) = node {
                 let name = &self.joints[*joint];
                 let err = fail(quote! {
@@ -427,7 +426,7 @@ impl<'g> Emit<'g> {
                 continue;
             }
             let v = self.name(s);
-            let e = self.compute(s, &scope, &|o| self.prepared_expr(o, &scope));
+            let e = self.compute(s, &|o| self.prepared_expr(o, &scope));
             lets.extend(quote! { let #v = #e; });
             scope.bound.borrow_mut().insert(s, quote! { #v });
         }
@@ -442,6 +441,6 @@ impl<'g> Emit<'g> {
         if let Some(t) = scope.bound.borrow().get(&s) {
             return t.clone();
         }
-        self.compute(s, scope, &|o| self.prepared_expr(o, scope))
+        self.compute(s, &|o| self.prepared_expr(o, scope))
     }
 }

@@ -471,10 +471,8 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>
             Node::Add(a, b) => dd(&a) + dd(&b),
             Node::Sub(a, b) => dd(&a) - dd(&b),
             Node::Mul(a, b) => dd(&a) * b + a * dd(&b),
-            Node::Div(a, b) => {
-                let _ = a;
-                (dd(&a) - s * dd(&b)) / b
-            }
+            // (a / b)' = (a' − (a / b)·b') / b.
+            Node::Div(a, b) => (dd(&a) - s * dd(&b)) / b,
             Node::Neg(a) => -dd(&a),
             Node::Sqrt(a) => dd(&a) / (Sym::c(2.0) * s),
             Node::Sin(a) => a.cos() * dd(&a),
@@ -483,7 +481,9 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>
             Node::Atan2(y, x) => (x * dd(&y) - y * dd(&x)) / (x * x + y * y),
             Node::IfLess(a, b, c, e) => Sym::if_less(a, b, dd(&c), dd(&e)),
             Node::Pick(k, p, m) => Sym::pick(Choice::Given(k), dd(&p), dd(&m)),
-            Node::Chosen(k, sign, v) => Sym::pick(Choice::Fixed(k, sign), dd(&v), dd(&v)),
+            // The chosen value's own derivative: derivatives are written only
+            // in one-branch functions, where the choice's mark plays no part.
+            Node::Chosen(_, _, v) => dd(&v),
             Node::Kernel(..) | Node::Result(..) => return None,
         };
     }

@@ -152,11 +152,10 @@ impl<T: Scalar> JointGeometry<T> {
             frames,
             zero: [Frame::identity(); 2],
         };
-        let zero = j.transform(JointValue::Turn(T::c(1.0), T::c(0.0), None));
-        let zero = match kind {
-            JointType::P => j.transform(JointValue::Slide(T::c(0.0))),
-            _ => zero,
-        };
+        let zero = j.transform(match kind {
+            JointType::P => JointValue::Slide(T::c(0.0)),
+            _ => JointValue::Turn(T::c(1.0), T::c(0.0), None),
+        });
         j.zero = [zero, zero.inverse()];
         j
     }
