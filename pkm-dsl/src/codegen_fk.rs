@@ -163,6 +163,8 @@ pub enum PlanRef<'p> {
 pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, direction: Direction) -> TokenStream {
     let sol_ty = format_ident!("{}Solution", ident);
     let mut checks = None;
+    // A spatial plan's solver is prepared once for every branch of `fk`/`ik`.
+    let mut prepared = None;
     let (body, result, branches, inputs, extra) = match plan {
         PlanRef::Planar(p) => {
             let (body, result, branches, inputs) = planar_body(a, p, &sol_ty);
@@ -175,6 +177,7 @@ pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, directi
                 Direction::Forward => format_ident!("fk_solution"),
                 Direction::Inverse => format_ident!("ik_solution"),
             };
+            prepared = Some(f.clone());
             (
                 quote! { let solution = Self::prepare(params).#f(q, signs)?; },
                 quote! { solution },
@@ -184,7 +187,7 @@ pub fn generate(a: &Analysis, plan: PlanRef, ident: &proc_macro2::Ident, directi
             )
         }
     };
-    let solver = wrap(a, ident, direction, body, result, branches, &inputs, checks);
+    let solver = wrap(a, ident, direction, body, result, branches, &inputs, checks, prepared);
     quote! { #solver #extra }
 }
 
@@ -393,6 +396,7 @@ fn wrap(
     n_branches: usize,
     inputs: &[usize],
     checks: Option<Checks>,
+    prepared: Option<proc_macro2::Ident>,
 ) -> TokenStream {
     let m = &a.mechanism;
     let rt = quote! { ::pkm::runtime::plan };
@@ -424,10 +428,18 @@ fn wrap(
             .collect(),
     };
     let n_values = value_names.len();
+    // Every branch from one prepared solver where there is one.
+    let (prelude, solve) = match &prepared {
+        Some(f) => (
+            quote! { let prepared = Self::prepare(params); },
+            quote! { prepared.#f(q, signs) },
+        ),
+        None => (quote! {}, quote! { Self::#f_branch(params, q, signs) }),
+    };
     let branches = (0..n_solutions).map(|i| {
         quote! {{
             let signs = #rt::signs_of::<#n_branches>(#i);
-            #rt::Branch { signs, result: Self::#f_branch(params, q, signs), tangent: false }
+            #rt::Branch { signs, result: #solve, tangent: false }
         }}
     });
     // The outputs' names are the solution's `OUTPUTS`; the inputs' are named here.
@@ -509,6 +521,7 @@ fn wrap(
             /// A branch that is another's solution again (a double root, at a
             /// tangency) is `SolveError::DoubleRoot`, and its twin is `tangent`.
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
+                #prelude
                 let mut all = [#(#branches),*];
                 ::pkm::runtime::consistency::mark_double_roots(&mut all, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]);
                 all
