@@ -8,7 +8,7 @@
 //! `cargo bench --bench handwritten`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use pkm::runtime::plan::signs_of;
+use pkm::runtime::solution::signs_of;
 use std::hint::black_box;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");

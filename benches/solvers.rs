@@ -5,8 +5,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::plan::signs_of;
-use pkm::runtime::{plan, spatial};
+use pkm::runtime::solution::signs_of;
+use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::hint::black_box;
 
@@ -19,28 +19,18 @@ pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
-/// The plan interpreter of one direction, planar or spatial.
+/// The plan interpreter of one direction.
 fn interpreter(
     a: &pkm::dsl::Analysis,
     inverse: bool,
 ) -> impl Fn(&pkm::runtime::model::Model, &[f64], &[pkm::runtime::primitives::Sign]) {
-    enum Either {
-        Planar(plan::Plan),
-        Spatial(spatial::Plan),
-    }
-    let p = match (a.mechanism.planar, inverse) {
-        (true, false) => Either::Planar(pkm::dsl::plan::forward_plan(a).unwrap()),
-        (true, true) => Either::Planar(pkm::dsl::plan::inverse_plan(a).unwrap()),
-        (false, false) => Either::Spatial(pkm::dsl::plan3::forward_plan(a).unwrap()),
-        (false, true) => Either::Spatial(pkm::dsl::plan3::inverse_plan(a).unwrap()),
+    let p = if inverse {
+        pkm::dsl::planner::inverse_plan(a).unwrap()
+    } else {
+        pkm::dsl::planner::forward_plan(a).unwrap()
     };
-    move |model, given, signs| match &p {
-        Either::Planar(p) => {
-            black_box(plan::run(model, p, given, signs).unwrap());
-        }
-        Either::Spatial(p) => {
-            black_box(spatial::run(model, p, given, signs).unwrap());
-        }
+    move |model, given, signs| {
+        black_box(spatial::run(model, &p, given, signs).unwrap());
     }
 }
 
@@ -53,7 +43,7 @@ macro_rules! bench_fk {
     ($c:expr, $ty:ident, $file:expr, $q:expr, $signs:expr) => {{
         let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
         let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
+        let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
         let params = Default::default();
         let q = $q;
         let signs = signs_of($signs);
@@ -83,7 +73,7 @@ macro_rules! bench_ik {
         let params = Default::default();
         let signs = signs_of($signs);
         let run = interpreter(&a, true);
-        let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let mut group = $c.benchmark_group(concat!($file, "/ik"));
         group.bench_function("generated_branch", |b| {
             b.iter(|| $ty::ik_branch(black_box(&params), black_box(&x), signs))

@@ -9,7 +9,7 @@
 mod common;
 
 use pkm::runtime::consistency::Contradicted;
-use pkm::runtime::plan::SolveError;
+use pkm::runtime::solution::SolveError;
 use std::f64::consts::PI;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -184,9 +184,9 @@ fn a_double_root_is_flagged_not_repeated() {
                     coupler { R2 = (0, 0); R3 = (l2, 0); } rocker { R3 = (l3, 0); R4 = (0, 0); } } }",
     )
     .unwrap();
-    let model = pkm::dsl::plan::model(&a, &Default::default()).unwrap();
-    let plan = pkm::dsl::plan::forward_plan(&a).unwrap();
-    let run = pkm::runtime::plan::run_all(&model, &plan, &[theta]);
+    let model = pkm::dsl::numeric::model(&a, &Default::default()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let run = pkm::runtime::spatial::run_all(&model, &plan, &[theta]);
     assert!(run[0].1.is_ok());
     assert_eq!(run[1].1, Err(SolveError::DoubleRoot { twin: 0 }));
     // 1e-6 rad inside the fold (a smaller crank angle brings R2 nearer R4):

@@ -7,7 +7,6 @@ use pkm::dsl::screw::SplitMix;
 use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::plan;
 use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -18,44 +17,25 @@ type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
 /// Every solved branch at the given inputs.
 type Solver = Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>;
 
-/// The model and the closed-form forward solver (planar or spatial plan,
-/// run by the interpreter) of an example.
+/// The model and the closed-form forward solver (its plan run by the
+/// interpreter) of an example.
 fn load(file: &str) -> (Model, Solver) {
     let (text, _) = common::example_text(file);
     let a = pkm::dsl::analyze_source(&text).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let solve: Solver = if a.mechanism.planar {
-        let plan = pkm::dsl::plan::forward_plan(&a).unwrap();
-        Box::new(move |model, q| {
-            plan::run_all(model, &plan, q)
-                .into_iter()
-                .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
-                .map(|(signs, s)| {
-                    let points = (0..model.joints.len())
-                        .map(|j| {
-                            let [x, y] = plan::joint_point(model, &s.poses, j);
-                            [x, y, 0.0]
-                        })
-                        .collect();
-                    (signs, s.values, points)
-                })
-                .collect()
-        })
-    } else {
-        let plan = pkm::dsl::plan3::forward_plan(&a).unwrap();
-        Box::new(move |model, q| {
-            spatial::run_all(model, &plan, q)
-                .into_iter()
-                .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
-                .map(|(signs, s)| {
-                    let points = (0..model.joints.len())
-                        .map(|j| kinematics::joint_point(model, &s.poses, j))
-                        .collect();
-                    (signs, s.values, points)
-                })
-                .collect()
-        })
-    };
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let solve: Solver = Box::new(move |model, q| {
+        spatial::run_all(model, &plan, q)
+            .into_iter()
+            .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
+            .map(|(signs, s)| {
+                let points = (0..model.joints.len())
+                    .map(|j| kinematics::joint_point(model, &s.poses, j))
+                    .collect();
+                (signs, s.values, points)
+            })
+            .collect()
+    });
     (model, solve)
 }
 

@@ -3,7 +3,8 @@
 
 mod common;
 
-use pkm::runtime::plan::{self, signs_of};
+use pkm::runtime::solution::signs_of;
+use pkm::runtime::spatial;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
@@ -11,9 +12,9 @@ pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
-fn interpreter(file: &str) -> (pkm::runtime::model::Model, pkm::runtime::plan::Plan) {
+fn interpreter(file: &str) -> (pkm::runtime::model::Model, spatial::Plan) {
     let (a, model) = common::example(file);
-    (model, pkm::dsl::plan::forward_plan(&a).unwrap())
+    (model, pkm::dsl::planner::forward_plan(&a).unwrap())
 }
 
 /// The generated branch and the interpreted one give the same joint values
@@ -25,7 +26,7 @@ macro_rules! agree {
         assert_eq!(generated.len(), 1 << plan.branches);
         for (i, branch) in generated.iter().enumerate() {
             assert_eq!(branch.signs.to_vec(), signs_of::<16>(i)[..plan.branches].to_vec());
-            let interpreted = plan::run(&model, &plan, &$q, &branch.signs);
+            let interpreted = spatial::run(&model, &plan, &$q, &branch.signs);
             match (&branch.result, &interpreted) {
                 (Ok(g), Ok(s)) => {
                     for (k, (a, b)) in g.q.iter().zip(&s.values).enumerate() {
@@ -36,7 +37,7 @@ macro_rules! agree {
                         );
                     }
                     for (k, name) in $ty::POINTS.iter().enumerate().take(model.joints.len()) {
-                        let p = plan::joint_point(&model, &s.poses, k);
+                        let p = pkm::runtime::newton::joint_point(&model, &s.poses, k);
                         let d = (g.points[k][0] - p[0]).hypot(g.points[k][1] - p[1]);
                         assert!(d <= 1e-12 * p[0].hypot(p[1]).max(1.0), "{} {name}: {d}", $file);
                     }

@@ -1,14 +1,14 @@
 //! Forward position solutions of planar κ = 0 mechanisms by the plan
-//! interpreter, against numbers from independent sources: seed 003's
+//! interpreter (the one for planar and spatial mechanisms alike), against numbers from independent sources: seed 003's
 //! equations (1)–(4) written out here, textbook closed forms, and the joint
 //! conventions of the numeric model (`joint_transform`, a 3-D code path).
 
 mod common;
 
 use pkm::runtime::model::{joint_transform, Model};
-use pkm::runtime::nalgebra::{Isometry3, Vector3};
-use pkm::runtime::plan::{joint_point, run, run_all, FkSolution, Plan, SolveError};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
+use pkm::runtime::solution::SolveError;
+use pkm::runtime::spatial::{run, run_all, Plan, Solution};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -17,17 +17,19 @@ fn load(file: &str, params: &[(&str, f64)]) -> (Model, Plan) {
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|e| panic!("{}", e.render(&text, &path)));
     let values: HashMap<String, f64> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
     (
-        pkm::dsl::plan::model(&a, &values).unwrap(),
-        pkm::dsl::plan::forward_plan(&a).unwrap(),
+        pkm::dsl::numeric::model(&a, &values).unwrap(),
+        pkm::dsl::planner::forward_plan(&a).unwrap(),
     )
 }
 
-fn point(model: &Model, sol: &FkSolution, name: &str) -> [f64; 2] {
+fn point(model: &Model, sol: &Solution, name: &str) -> [f64; 2] {
     let j = model.joints.iter().position(|j| j.name == name).unwrap();
-    joint_point(model, &sol.poses, j)
+    let [x, y, z] = pkm::runtime::newton::joint_point(model, &sol.poses, j);
+    assert_eq!(z, 0.0, "a planar mechanism's point {name} left its plane");
+    [x, y]
 }
 
-fn value(model: &Model, sol: &FkSolution, name: &str) -> f64 {
+fn value(model: &Model, sol: &Solution, name: &str) -> f64 {
     sol.values[model.joints.iter().position(|j| j.name == name).unwrap()]
 }
 
@@ -122,7 +124,7 @@ fn four_bar_coupler_joint_by_circle_intersection() {
 fn five_bar_distal_joint() {
     let (model, plan) = load("five_bar", &[]);
     let (d, a1, b1) = (100.0, 120.0, 160.0f64);
-    for (q1, q5) in [(2.0, 1.0), (1.6, 0.9), (2.5, 0.3)] {
+    for (q1, q5) in [(2.0f64, 1.0f64), (1.6, 0.9), (2.5, 0.3)] {
         for (signs, sol) in run_all(&model, &plan, &[q1, q5]) {
             let sol = sol.unwrap_or_else(|e| panic!("{signs:?}: {e}"));
             let p2 = [-d / 2.0 + a1 * q1.cos(), a1 * q1.sin()];
@@ -147,10 +149,7 @@ fn joint_values_follow_the_model_conventions() {
         let (model, plan) = load(file, &[]);
         for (signs, sol) in run_all(&model, &plan, &q) {
             let Ok(sol) = sol else { continue };
-            let iso = |l: usize| {
-                let p = sol.poses[l];
-                Isometry3::new(Vector3::new(p.x, p.y, 0.0), Vector3::z() * p.angle)
-            };
+            let iso = |l: usize| sol.poses[l];
             for (j, joint) in model.joints.iter().enumerate() {
                 let via = iso(joint.links[0]) * joint_transform(joint, &[sol.values[j]]);
                 let direct = iso(joint.links[1]);

@@ -97,12 +97,12 @@ fn check(text: &str) -> Result<(), TestCaseError> {
             // With geometry: the model, the plan and the interpreter, at two inputs.
             if a.geometry.complete {
                 if let (Ok(model), Ok(plan)) = (
-                    pkm::dsl::plan::model(&a, &Default::default()),
-                    pkm::dsl::plan::forward_plan(&a),
+                    pkm::dsl::numeric::model(&a, &Default::default()),
+                    pkm::dsl::planner::forward_plan(&a),
                 ) {
                     for q in [0.3, -2.0] {
                         let inputs = vec![q; plan.inputs.len()];
-                        for (_, result) in pkm::runtime::plan::run_all(&model, &plan, &inputs) {
+                        for (_, result) in pkm::runtime::spatial::run_all(&model, &plan, &inputs) {
                             if let Ok(sol) = result {
                                 prop_assert!(sol.values.iter().all(|v| !v.is_nan()), "NaN joint value");
                             }

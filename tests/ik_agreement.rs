@@ -23,7 +23,7 @@ pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
         let (a, model) = common::example($file);
-        let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let scale = kinematics::model_scale(&model);
         let params = Default::default();
         let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;

@@ -6,7 +6,7 @@ mod common;
 
 use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::plan::{self, Plan};
+use pkm::runtime::spatial::{self, Plan};
 
 pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
@@ -15,7 +15,7 @@ pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn load(file: &str) -> (pkm::runtime::model::Model, Plan) {
     let (a, model) = common::example(file);
-    (model, pkm::dsl::plan::inverse_plan(&a).unwrap())
+    (model, pkm::dsl::planner::inverse_plan(&a).unwrap())
 }
 
 #[test]
@@ -32,7 +32,7 @@ fn three_rrr_inverse_against_newton_forward() {
         [25.0, -20.0, 0.5],
     ] {
         let generated = ThreeRrr::ik(&Default::default(), &pose);
-        for (branch, g) in plan::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
+        for (branch, g) in spatial::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
             let (signs, result) = branch;
             assert_eq!(signs, g.signs.to_vec());
             let (Ok(sol), Ok(gen)) = (result, &g.result) else {

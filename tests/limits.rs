@@ -310,7 +310,7 @@ fn overrides_recompute_what_reads_them() {
     let a = pkm::dsl::analyze_source(DERIVED).unwrap();
     let model = |values: &[(&str, f64)]| {
         let values: HashMap<String, f64> = values.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-        pkm::dsl::plan::model(&a, &values)
+        pkm::dsl::numeric::model(&a, &values)
     };
     // R4 on the base lies at (l4, 0) = (3 · l1, 0).
     let r4_on_base = |m: &pkm::runtime::model::Model| match m.joints[3].places[0] {

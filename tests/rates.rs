@@ -4,7 +4,7 @@
 //! generated position solver, and the runtime's velocity model (the loop
 //! equations differentiated through link twists, `Name::jacobian`).
 
-use pkm::runtime::plan::signs_of;
+use pkm::runtime::solution::signs_of;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 

@@ -24,8 +24,8 @@ fn load(file: &str, point: &str, about: [f64; 3]) -> Mech {
     let platform = model.links.iter().position(|l| l == "platform").unwrap();
     let point = model.points.iter().find(|p| p.name == point).unwrap().at;
     Mech {
-        fk: pkm::dsl::plan3::forward_plan(&a).unwrap(),
-        ik: pkm::dsl::plan3::inverse_plan(&a).unwrap(),
+        fk: pkm::dsl::planner::forward_plan(&a).unwrap(),
+        ik: pkm::dsl::planner::inverse_plan(&a).unwrap(),
         model,
         platform,
         point,

@@ -26,12 +26,12 @@ struct Setup {
 
 fn setup_file(name: &str) -> Setup {
     let (a, model) = common::example(name);
-    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     Setup {
         model,
         outputs,
-        forward: pkm::dsl::plan3::forward_plan(&a).unwrap(),
-        inverse: pkm::dsl::plan3::inverse_plan(&a).unwrap(),
+        forward: pkm::dsl::planner::forward_plan(&a).unwrap(),
+        inverse: pkm::dsl::planner::inverse_plan(&a).unwrap(),
     }
 }
 

@@ -5,8 +5,8 @@
 
 mod common;
 
-use pkm::runtime::plan::{Branch, SolveError};
 use pkm::runtime::primitives::Sign;
+use pkm::runtime::solution::{Branch, SolveError};
 use pkm::runtime::spatial::{self, Solution};
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -41,8 +41,8 @@ macro_rules! check {
         let p = Default::default();
         let (a, model) = common::example($file);
         let (fk_plan, ik_plan) = (
-            pkm::dsl::plan3::forward_plan(&a).unwrap(),
-            pkm::dsl::plan3::inverse_plan(&a).unwrap(),
+            pkm::dsl::planner::forward_plan(&a).unwrap(),
+            pkm::dsl::planner::inverse_plan(&a).unwrap(),
         );
         let ranges: [(f64, f64); 3] = $ranges;
         let mut rng = pkm::dsl::screw::SplitMix::new(99);

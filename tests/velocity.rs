@@ -59,7 +59,7 @@ fn second(v: &[Vec<f64>], h: f64) -> Vec<f64> {
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr, $rate:expr) => {{
         let (a, model) = common::example($file);
-        let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let scale = pkm::runtime::kinematics::model_scale(&model);
         let params = Default::default();
         let ranges: [(f64, f64); $ty::INPUTS.len()] = $ranges;
@@ -100,7 +100,7 @@ macro_rules! check {
                     .zip(angle)
                     .map(|((a, c), &r)| {
                         if r {
-                            c + pkm::runtime::plan::wrap_angle(a - c)
+                            c + pkm::runtime::solution::wrap_angle(a - c)
                         } else {
                             *a
                         }

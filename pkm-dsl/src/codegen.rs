@@ -242,60 +242,43 @@ fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str
     // The solvers, when asked for and the geometry is there.
     let mut solvers = Vec::new();
     if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
-        let directions = [
-            (Capability::Fk, crate::codegen_fk::Direction::Forward),
-            (Capability::Ik, crate::codegen_fk::Direction::Inverse),
-        ];
-        for (cap, direction) in directions {
-            if !m.wants(cap) {
-                continue;
-            }
-            use crate::codegen_fk::{Direction, PlanRef};
-            let plan = match direction {
-                Direction::Forward => compiled.forward()?,
-                Direction::Inverse => compiled.inverse()?,
-            };
-            let plan = match plan {
-                crate::AnyPlan::Planar(p) => PlanRef::Planar(p),
-                crate::AnyPlan::Spatial(p) => PlanRef::Spatial(p),
-            };
-            let branches = match plan {
-                PlanRef::Planar(p) => p.branches,
-                PlanRef::Spatial(p) => p.branches,
-            };
-            if branches > MAX_FK_CHOICES {
+        use crate::codegen_solution::Direction;
+        let fk = if m.wants(Capability::Fk) {
+            Some(compiled.forward()?)
+        } else {
+            None
+        };
+        let ik = if m.wants(Capability::Ik) {
+            Some(compiled.inverse()?)
+        } else {
+            None
+        };
+        for (cap, plan) in [(Capability::Fk, fk), (Capability::Ik, ik)] {
+            let Some(plan) = plan else { continue };
+            if plan.branches > MAX_FK_CHOICES {
                 return Err(Diagnostic::new(
                     m.name_span(),
                     format!(
                         "the {} solution has {} ± choices; a solver lists at most 2^{MAX_FK_CHOICES} branches",
                         cap.name(),
-                        branches
+                        plan.branches
                     ),
                 )
                 .label("too many branches to list")
                 .into());
             }
-            solvers.push(crate::codegen_fk::generate(a, plan, ident, direction));
         }
-        solvers.insert(0, crate::codegen_fk::solution_items(a, ident, vis));
-        if !m.planar {
-            let fk = if m.wants(Capability::Fk) {
-                Some(crate::plan3::forward_plan(a)?)
-            } else {
-                None
-            };
-            let ik = if m.wants(Capability::Ik) {
-                Some(crate::plan3::inverse_plan(a)?)
-            } else {
-                None
-            };
-            let prepared = crate::codegen_solver::generate(a, ident, vis, fk.as_ref(), ik.as_ref()).map_err(|e| {
-                Diagnostic::new(
-                    m.name_span(),
-                    format!("internal error: the solver's steps failed on symbols: {e}"),
-                )
-            })?;
-            solvers.insert(1, prepared);
+        solvers.push(crate::codegen_solution::solution_items(a, ident, vis));
+        let prepared = crate::codegen_solver::generate(a, ident, vis, fk, ik).map_err(|e| {
+            Diagnostic::new(
+                m.name_span(),
+                format!("internal error: the solver's steps failed on symbols: {e}"),
+            )
+        })?;
+        solvers.push(prepared);
+        for (plan, direction) in [(fk, Direction::Forward), (ik, Direction::Inverse)] {
+            let Some(plan) = plan else { continue };
+            solvers.push(crate::codegen_solution::generate(a, plan, ident, direction));
         }
     }
     solvers.push(crate::codegen_motion::generate(a, ident)?);

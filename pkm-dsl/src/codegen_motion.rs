@@ -6,7 +6,7 @@ use crate::analysis::Analysis;
 use crate::geometry::OutputKind;
 use crate::geometry::{JointPlace, Vec3};
 use crate::model::Capability;
-use pkm_runtime::plan::PointRef;
+use pkm_runtime::solution::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
@@ -18,7 +18,7 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
         return Ok(TokenStream::new());
     }
     // The numeric model must exist (every joint type has one).
-    crate::plan::model(a, &std::collections::HashMap::new())?;
+    crate::numeric::model(a, &std::collections::HashMap::new())?;
     let params_ty = format_ident!("{}Params", ident);
     let rt = quote! { ::pkm::runtime };
     let n_joints = m.joints.len();

@@ -88,22 +88,34 @@ struct Branch {
 /// `full`: every joint value and point too (the solution); otherwise only
 /// what the lean solver returns and checks, so that tracing every branch
 /// records no more than the every-branch solver uses.
+/// The name of each step's loop, for errors (`R2–R3–R4`).
+fn loop_names(a: &Analysis, plan: &Plan) -> Vec<String> {
+    let joints = &a.mechanism.joints;
+    plan.steps
+        .iter()
+        .map(|s| steps::loop_name(s, |j| joints[j].name.clone()))
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
 fn branch(
     a: &Analysis,
     g: &Geometry<Sym>,
     plan: &Plan,
+    sites: usize,
     forward: bool,
     signs: &[Choice],
     full: bool,
 ) -> Result<Branch, String> {
     let m = &a.mechanism;
     let values: Vec<Sym> = (0..plan.n_inputs).map(Sym::given).collect();
-    let names: Vec<String> = m.joints.iter().map(|j| j.name.clone()).collect();
-    let name = |j: usize| std::borrow::Cow::Owned(names[j].clone());
+    let names = loop_names(a, plan);
+    let name = |k: usize| std::borrow::Cow::Owned(names[k].clone());
     let given = Given {
         values: &values,
         signs,
         name: &name,
+        sites,
     };
     crate::trace::take_guards();
     let state = steps::run(plan, g, m.links.len(), &given).map_err(|e| e.to_string())?;
@@ -129,7 +141,7 @@ fn branch(
     if full {
         points.extend((0..m.joints.len()).map(|j| {
             let l = a.point_link(j);
-            state.poses[l].apply(g.local(pkm_runtime::plan::PointRef::Joint(j), l))
+            state.poses[l].apply(g.local(pkm_runtime::solution::PointRef::Joint(j), l))
         }));
         points.extend(
             a.geometry
@@ -139,24 +151,29 @@ fn branch(
                 .map(|(k, p)| state.poses[p.link].apply(g.named[k])),
         );
     }
+    // A planar mechanism's positions are (x, y).
+    let dim = if m.planar { 2 } else { 3 };
     let mut outputs = Vec::new();
     for o in &a.geometry.outputs {
         match &o.kind {
             OutputKind::Pose { link, point, about } => {
                 let pose = &state.poses[*link];
-                outputs.extend(pose.apply(g.local(*point, *link)));
+                outputs.extend(pose.apply(g.local(*point, *link)).into_iter().take(dim));
                 match about {
                     Some(k) => outputs.push(steps::place::angle_about(pose, sym3(k))),
                     None if m.planar => outputs.push(pose.r[1][0].atan2(pose.r[0][0])),
                     None => {}
                 }
             }
-            OutputKind::Point { link, point } => outputs.extend(state.poses[*link].apply(g.local(*point, *link))),
+            OutputKind::Point { link, point } => {
+                outputs.extend(state.poses[*link].apply(g.local(*point, *link)).into_iter().take(dim))
+            }
             OutputKind::Joint(j) => outputs.push(value(*j)),
         }
     }
     let guards = crate::trace::take_guards();
-    let residual = steps::open_residual(g, &state.poses, &plan.open_joints(m.joints.len()), Sym::c(1.0));
+    let checks = plan.checks(m.joints.len());
+    let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, Sym::c(1.0));
     let result = if forward {
         outputs.clone()
     } else {
@@ -208,14 +225,16 @@ pub fn generate(
         let mut out = Vec::new();
         for (forward, plan) in [(true, fk), (false, ik)] {
             let Some(plan) = plan else { continue };
+            // The steps' sites: fk's, then ik's.
+            let sites = if forward { 0 } else { fk.map_or(0, |p| p.steps.len()) };
             let given_signs: Vec<Choice> = (0..plan.branches).map(Choice::Given).collect();
-            let given = branch(a, &g, plan, forward, &given_signs, true)?;
+            let given = branch(a, &g, plan, sites, forward, &given_signs, true)?;
             let every = (0..1usize << plan.branches)
                 .map(|b| {
                     let signs: Vec<Choice> = (0..plan.branches)
                         .map(|k| Choice::Fixed(k, if (b >> k) & 1 == 1 { Sign::Minus } else { Sign::Plus }))
                         .collect();
-                    branch(a, &g, plan, forward, &signs, false)
+                    branch(a, &g, plan, sites, forward, &signs, false)
                 })
                 .collect::<Result<_, _>>()?;
             // Rates and Jacobians only where the description asks for them.
@@ -245,7 +264,8 @@ pub fn generate(
         Ok(out)
     });
     let directions = directions?;
-    let emit = Emit::new(&graph, a.mechanism.joints.iter().map(|j| j.name.clone()).collect());
+    let sites = [fk, ik].into_iter().flatten().flat_map(|p| loop_names(a, p)).collect();
+    let emit = Emit::new(&graph, sites);
     let mut fns = Vec::new();
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
@@ -282,7 +302,7 @@ pub fn generate(
 /// The prepared functions of one direction.
 fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
     let m = &a.mechanism;
-    let rt = quote! { ::pkm::runtime::plan };
+    let rt = quote! { ::pkm::runtime::solution };
     let prepared = format_ident!("{}Prepared", ident);
     let sol_ty = format_ident!("{}Solution", ident);
     let (name, what) = if d.forward {
@@ -299,8 +319,12 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let n_choices = d.plan.branches;
     let n_result = d.given.result.len();
     let n_rows = d.given.residual.len();
-    let open = d.plan.open_joints(m.joints.len());
-    let open_names: Vec<&str> = open.iter().map(|&j| m.joints[j].name.as_str()).collect();
+    // What the solution is verified by, and whose it is (for errors).
+    let open = d.plan.checks(m.joints.len());
+    let open_names: Vec<String> = open
+        .iter()
+        .map(|c| c.owner(d.plan, |j| m.joints[j].name.clone(), |l| m.links[l].name.clone()))
+        .collect();
     let n_open = open.len();
     let (given_names, result_angles) = if d.forward {
         (quote! { #ident::INPUTS }, quote! { #ident::OUTPUT_ANGLES })
@@ -313,7 +337,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             .collect();
         (quote! { #ident::OUTPUTS }, quote! { [#(#revolute),*] })
     };
-    let angular: Vec<bool> = match crate::plan::model(a, &Default::default()) {
+    let angular: Vec<bool> = match crate::numeric::model(a, &Default::default()) {
         Ok(model) => d.plan.angular_inputs(&model),
         Err(_) => vec![false; n_given],
     };
@@ -395,7 +419,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             fn #f_inconsistent(&self, #given_sig, row: usize, gap: f64, extent: f64) -> #rt::SolveError {
                 const OPEN: [&str; #n_open] = [#(#open_names),*];
                 const ANGULAR: [bool; #n_given] = [#(#angular),*];
-                let owner = ::std::borrow::Cow::Owned(::std::format!("joint {}", OPEN[row / #RESIDUAL_ROWS]));
+                let owner = ::std::borrow::Cow::Borrowed(OPEN[row / #RESIDUAL_ROWS]);
                 let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
                     let g: &[f64; #n_given] = g.try_into().ok()?;
                     self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
@@ -418,7 +442,9 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let (values, rest) = exprs.split_at(n_joints);
     let (points, rest) = rest.split_at(3 * n_points);
     let (outputs, rest) = rest.split_at(n_outputs);
-    let points: Vec<TokenStream> = points.chunks(3).map(xyz).collect();
+    // A planar mechanism's points are (x, y): its plane is z = 0.
+    let dim = if m.planar { 2 } else { 3 };
+    let points: Vec<TokenStream> = points.chunks(3).map(|p| xyz(&p[..dim])).collect();
     // The verification of a function whose last roots are the residual rows and the origins.
     let check_of = |rest: &[TokenStream]| -> TokenStream {
         if open.is_empty() {
@@ -538,7 +564,7 @@ fn derivative_fns(
     let (Some(rates), Some(jacobian)) = (&d.rates, &d.jacobian) else {
         return TokenStream::new();
     };
-    let rt = quote! { ::pkm::runtime::plan };
+    let rt = quote! { ::pkm::runtime::solution };
     let (n_given, n_result) = (d.plan.n_inputs, d.given.result.len());
     let tail = |roots: &mut Vec<Sym>| {
         roots.extend(&d.given.residual);

@@ -19,8 +19,8 @@ pub struct Emit<'g> {
     g: &'g Graph,
     slots: RefCell<Vec<Sym>>,
     slot_of: RefCell<HashMap<Sym, usize>>,
-    /// The joint names, for errors.
-    joints: Vec<String>,
+    /// The name of each kernel site's loop, for errors.
+    sites: Vec<String>,
 }
 
 /// A literal f64 (NaN and infinities by name).
@@ -49,13 +49,13 @@ struct Scope {
 }
 
 impl<'g> Emit<'g> {
-    /// An emitter for `g`; `joints` names the joints for errors.
-    pub fn new(g: &'g Graph, joints: Vec<String>) -> Self {
+    /// An emitter for `g`; `sites` names the loop of each kernel's site, for errors.
+    pub fn new(g: &'g Graph, sites: Vec<String>) -> Self {
         Emit {
             g,
             slots: RefCell::default(),
             slot_of: RefCell::default(),
-            joints,
+            sites,
         }
     }
 
@@ -217,7 +217,19 @@ impl<'g> Emit<'g> {
 
     fn name(&self, s: Sym) -> proc_macro2::Ident {
         match &self.g.names[s.0 as usize] {
-            Some(n) => format_ident!("{}_{}", n, s.0),
+            Some(n) => {
+                // A description's names may be numbers or non-ASCII words.
+                let n: String = n
+                    .chars()
+                    .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                    .collect();
+                let prefix = if n.starts_with(|c: char| c.is_ascii_digit()) {
+                    "n"
+                } else {
+                    ""
+                };
+                format_ident!("{}{}_{}", prefix, n, s.0)
+            }
             None => format_ident!("v{}", s.0),
         }
     }
@@ -238,7 +250,7 @@ impl<'g> Emit<'g> {
                 continue;
             }
             let node = self.node(s);
-            if let Node::Guard(_, _, failure, [step, joint]) = node {
+            if let Node::Guard(_, _, failure, [step, site]) = node {
                 let cond = self.compute(s, &|o| self.expr(o, scope));
                 let geom = quote! { ::pkm::runtime::primitives::Error };
                 let error = match failure {
@@ -252,9 +264,9 @@ impl<'g> Emit<'g> {
                         quote! { ::pkm::runtime::scalar::unreachable_distance(#d, #dmax, #dmin) }
                     }
                 };
-                let name = &self.joints[*joint];
+                let name = &self.sites[*site];
                 let err = fail(quote! {
-                    ::pkm::runtime::plan::step_error(#step, ::std::borrow::Cow::Borrowed(#name), #error)
+                    ::pkm::runtime::solution::step_error(#step, ::std::borrow::Cow::Borrowed(#name), #error)
                 });
                 out.extend(quote! { if #cond { #err } });
                 scope.bound.borrow_mut().insert(s, quote! { () });
@@ -267,10 +279,10 @@ impl<'g> Emit<'g> {
             }
             let v = self.name(s);
             let e = self.compute(s, &|o| self.expr(o, scope));
-            if let Node::Kernel(_, _, _, [step, joint]) = node {
-                let name = &self.joints[*joint];
+            if let Node::Kernel(_, _, _, [step, site]) = node {
+                let name = &self.sites[*site];
                 let err = fail(quote! {
-                    ::pkm::runtime::plan::step_error(#step, ::std::borrow::Cow::Borrowed(#name), e)
+                    ::pkm::runtime::solution::step_error(#step, ::std::borrow::Cow::Borrowed(#name), e)
                 });
                 out.extend(quote! {
                     let #v = match #e {
@@ -377,7 +389,7 @@ impl<'g> Emit<'g> {
                 .iter()
                 .map(|b| quote! { out[#b] = ::core::result::Result::Err(e.clone()); });
             quote! {
-                let r: ::core::result::Result<(), ::pkm::runtime::plan::SolveError> = #label: {
+                let r: ::core::result::Result<(), ::pkm::runtime::solution::SolveError> = #label: {
                     #lets
                     #inner
                     ::core::result::Result::Ok(())

@@ -115,7 +115,7 @@ pub enum OutputKind {
         /// The link.
         link: usize,
         /// The point: a named point of the link, or a joint placed on it.
-        point: pkm_runtime::plan::PointRef,
+        point: pkm_runtime::solution::PointRef,
         /// Spatial: the world axis the link turns about, if it turns.
         about: Option<Box<Vec3>>,
     },
@@ -125,7 +125,7 @@ pub enum OutputKind {
         /// The link.
         link: usize,
         /// A named point of the link, or a joint placed on it.
-        point: pkm_runtime::plan::PointRef,
+        point: pkm_runtime::solution::PointRef,
     },
     /// The value of joint `joint`.
     Joint(usize),
@@ -491,8 +491,8 @@ fn link_point(
     link: &crate::ast::Name,
     at: &crate::ast::Name,
     errors: &mut Vec<Diagnostic>,
-) -> Option<(usize, pkm_runtime::plan::PointRef)> {
-    use pkm_runtime::plan::PointRef;
+) -> Option<(usize, pkm_runtime::solution::PointRef)> {
+    use pkm_runtime::solution::PointRef;
     let Some(l) = mech.links.iter().position(|x| x.name == link.text) else {
         errors.push(Diagnostic::new(link.span, format!("unknown link `{}`", link.text)).label("no joint touches it"));
         return None;

@@ -67,7 +67,7 @@ pub enum Node {
     Atan2(Sym, Sym),
     /// `if a < b { c } else { d }`.
     IfLess(Sym, Sym, Sym, Sym),
-    /// A kernel call: its arguments, root choice and site (step, joint).
+    /// A kernel call: its arguments, root choice and site (step, index among the sites).
     Kernel(Kernel, Vec<Sym>, Choice, [usize; 2]),
     /// Result `i` of a kernel call.
     Result(Sym, usize),

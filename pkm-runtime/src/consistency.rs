@@ -16,8 +16,8 @@
 //! [`mark_double_roots`] keeps the first and turns the second into
 //! [`SolveError::DoubleRoot`], naming its twin.
 
-use crate::plan::{wrap_angle, Branch, SolveError};
 use crate::primitives::TANGENCY_TOL;
+use crate::solution::{wrap_angle, Branch, SolveError};
 use nalgebra::{DMatrix, DVector};
 use std::borrow::Cow;
 

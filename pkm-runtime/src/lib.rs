@@ -8,13 +8,13 @@ pub mod frame;
 pub mod kinematics;
 pub mod model;
 pub mod newton;
-pub mod plan;
 pub mod primitives;
 pub mod real;
 #[cfg(feature = "high-precision")]
 pub mod reference;
 pub mod scalar;
 pub mod singular;
+pub mod solution;
 pub mod spatial;
 pub mod steps;
 pub mod topology;

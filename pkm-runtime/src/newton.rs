@@ -11,7 +11,7 @@
 //! [`solve_ik`] solves the model whose inputs are the outputs
 //! ([`with_outputs_as_inputs`]) the same way.
 
-use crate::plan::wrap_angle;
+use crate::solution::wrap_angle;
 use std::f64::consts::PI;
 use std::fmt;
 

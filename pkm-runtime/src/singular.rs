@@ -15,7 +15,7 @@
 //! configuration, are those of `det J_i` (input singularities).
 
 use crate::model::{JointType, Model};
-use crate::plan::PointRef;
+use crate::solution::PointRef;
 use crate::spatial::{self, Constraint, Pose3, Step};
 use crate::steps::{place_axis, Geometry, Motion};
 use nalgebra::{Point3, Vector3};
@@ -329,74 +329,6 @@ pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> 
             }
         };
         out.push(factor);
-    }
-    out
-}
-
-/// The factor of every dyad of a planar plan at the link poses `poses` (the
-/// model's planar poses in 3-D, as [`crate::kinematics::link_poses`] gives them).
-///
-/// A four-bar (crank 1, coupler 3, rocker 2, base 3) with the crank at 0:
-/// by hand B = (1, 0), C = (3.25, h), h = √3.9375, and the dyad's factor is
-/// the sine of the angle BCD, |(C − B) × (C − D)| / (3 · 2) = h / 3.
-/// ```
-/// use pkm_runtime::model::{Joint, JointType, Model, Place};
-/// use pkm_runtime::plan::{Plan, Step};
-/// use pkm_runtime::{kinematics, singular};
-///
-/// let z = |x: f64| Place::Axis { at: [x, 0.0, 0.0], axis: [0.0, 0.0, 1.0] };
-/// let r = |name: &str, links, places, actuated| Joint { name: name.into(), kind: JointType::R, links, places, actuated };
-/// let model = Model {
-///     name: "four_bar".into(),
-///     planar: true,
-///     links: vec!["base".into(), "crank".into(), "coupler".into(), "rocker".into()],
-///     joints: vec![
-///         r("R1", [0, 1], [z(0.0), z(0.0)], true),
-///         r("R2", [1, 2], [z(1.0), z(0.0)], false),
-///         r("R3", [2, 3], [z(3.0), z(2.0)], false),
-///         r("R4", [0, 3], [z(3.0), z(0.0)], false),
-///     ],
-///     points: vec![],
-/// };
-/// let h = 3.9375f64.sqrt();
-/// let (coupler, rocker) = (h.atan2(2.25), h.atan2(0.25));
-/// let poses = kinematics::link_poses(&model, &[0.0, coupler, rocker - coupler, rocker]).unwrap();
-/// let dyad = Step::Rrr { joints: [1, 2, 3], links: [1, 2, 3, 0], branch: 0 };
-/// let plan = Plan { steps: vec![dyad], branches: 1, inputs: vec![0] };
-/// let f = singular::planar_factors(&model, &plan, &poses);
-/// assert!((f[0].value - h / 3.0).abs() < 1e-12);
-/// assert_eq!(f[0].describe(&model, &poses), "R2, R3, R4 are collinear");
-/// ```
-pub fn planar_factors(model: &Model, plan: &crate::plan::Plan, poses: &[Pose3]) -> Vec<Factor> {
-    let scale = crate::kinematics::model_scale(model);
-    let z = Vector3::z();
-    let mut out = Vec::new();
-    for (k, step) in plan.steps.iter().enumerate() {
-        let (joints, links, rrp) = match *step {
-            crate::plan::Step::Rrr { joints, links, .. } => (joints, links, false),
-            crate::plan::Step::Rrp { joints, links, .. } => (joints, links, true),
-            _ => continue,
-        };
-        let point = |j: usize| v3(crate::kinematics::joint_point(model, poses, j));
-        let (a, b) = (point(joints[0]), point(joints[1]));
-        // b's velocity turning about a, against the normal of its other path.
-        let t = z.cross(&(b - a));
-        let (n, condition) = if rrp {
-            let c = &model.joints[joints[2]];
-            let side = usize::from(c.links[0] != links[3]);
-            let along = poses[links[3]].rotation * v3(c.places[side].axis());
-            (z.cross(&along), Condition::NormalToGuide)
-        } else {
-            (b - point(joints[2]), Condition::Collinear)
-        };
-        let at = |i: usize, link: usize| joint_point(joints[i], link);
-        out.push(Factor {
-            step: k,
-            joint: joints[0],
-            condition,
-            points: [at(0, links[1]), at(1, links[1]), at(2, links[2])],
-            value: crossing(t, n, scale),
-        });
     }
     out
 }

@@ -21,8 +21,8 @@
 //! generated code is their trace.
 
 use crate::model::{JointType, Model};
-use crate::plan::{PointRef, SolveError};
 use crate::primitives::Sign;
+use crate::solution::{PointRef, SolveError};
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
 use std::borrow::Cow;
 
@@ -121,11 +121,48 @@ pub enum Constraint {
     },
 }
 
+/// How a placed link is turned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Turn {
+    /// Not at all: it keeps the base's orientation (a translating link).
+    Fixed,
+    /// By the given value after the position, an angle about this world axis.
+    About([f64; 3]),
+    /// Unknown: only the point is given (a point output). The link is
+    /// pinned there, not known: a later step turns it, and the solution is
+    /// verified to keep the point where it was given.
+    Free,
+}
+
+/// What a solution is verified by once the steps are done
+/// ([`Plan::checks`]); each gives [`crate::steps::RESIDUAL_ROWS`] rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Check {
+    /// A joint no step solves: it must close.
+    Joint(usize),
+    /// The place step at this index pinned a link by a point: the point
+    /// must still be where it was given.
+    Pin(usize),
+}
+
+impl Check {
+    /// What the check is about, for errors: `joint R3`, `the output point of link coupler`.
+    pub fn owner(&self, plan: &Plan, joint: impl Fn(usize) -> String, link: impl Fn(usize) -> String) -> String {
+        match *self {
+            Check::Joint(j) => format!("joint {}", joint(j)),
+            Check::Pin(k) => match plan.steps.get(k) {
+                Some(Step::Place { link: l, .. }) => format!("the output point of link {}", link(*l)),
+                _ => format!("step {k}"),
+            },
+        }
+    }
+}
+
 /// One step of a spatial plan.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
-    /// A link placed by a pose output: its point at inputs `input..input+3`,
-    /// turned by `inputs[input + 3]` about `about` if given.
+    /// A link placed by an output: its point at the given position
+    /// (`inputs[input..]`: x, y, and z unless `planar`), turned as `turn` says.
     Place {
         /// The link.
         link: usize,
@@ -133,8 +170,11 @@ pub enum Step {
         point: PointRef,
         /// Index of x in the inputs.
         input: usize,
-        /// The world axis of the given angle.
-        about: Option<[f64; 3]>,
+        /// Only x and y are given (z is the point's own, as every link of a
+        /// planar mechanism moves in its plane).
+        planar: bool,
+        /// How the link is turned.
+        turn: Turn,
     },
     /// Through a joint whose value is input `input`.
     Transfer {
@@ -218,6 +258,47 @@ pub struct Plan {
 }
 
 impl Step {
+    /// The joints of the loop the step closes, for errors: the joint it
+    /// solves, then those its constraint reaches through, in order, each once.
+    pub fn loop_joints(&self) -> Vec<usize> {
+        let mut out: Vec<usize> = self.joint().into_iter().collect();
+        let mut add = |j: usize| {
+            if !out.contains(&j) {
+                out.push(j);
+            }
+        };
+        let hops = |h: &Hops| h.iter().map(|h| h.joint).collect::<Vec<_>>();
+        match self {
+            Step::Place { .. } | Step::Transfer { .. } => {}
+            Step::Aim { target, .. } => hops(&target.hops).into_iter().rev().for_each(&mut add),
+            Step::Align { group, target, .. } => {
+                hops(&group.hops).into_iter().for_each(&mut add);
+                add(group.joint);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+                add(target.joint);
+            }
+            Step::PaPlane { pa, target, .. } => {
+                add(*pa);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
+            Step::Locus { constraint, .. } => match constraint {
+                Constraint::Sphere { centre, pa } => {
+                    add(*pa);
+                    hops(&centre.hops).into_iter().rev().for_each(&mut add);
+                }
+                Constraint::Plane { normal, anchor } => {
+                    hops(&anchor.hops).into_iter().rev().for_each(&mut add);
+                    add(normal.joint);
+                }
+                Constraint::Cylinder { hops: h, joint, .. } | Constraint::Slider { hops: h, joint, .. } => {
+                    hops(h).into_iter().for_each(&mut add);
+                    add(*joint);
+                }
+            },
+        }
+        out
+    }
+
     /// The joint this step solves (and so closes), if any.
     pub fn joint(&self) -> Option<usize> {
         match self {
@@ -244,14 +325,57 @@ impl Plan {
         (0..n_joints).filter(|&j| !solved[j]).collect()
     }
 
+    /// How many ± choices the plan makes: it has 2^choices branches.
+    pub fn choices(&self) -> usize {
+        self.branches
+    }
+
+    /// The joints a forward plan takes its given values for, in their order
+    /// (an inverse plan's given values are the outputs: the model's inputs).
+    pub fn input_joints(&self, model: &Model) -> Vec<usize> {
+        if self.inputs.len() == self.n_inputs {
+            self.inputs.clone()
+        } else {
+            model.inputs()
+        }
+    }
+
+    /// Every joint value of one branch, verified ([`run`]).
+    pub fn solve(&self, model: &Model, given: &[f64], signs: &[Sign]) -> Result<Vec<f64>, SolveError> {
+        run(model, self, given, signs).map(|s| s.values)
+    }
+
+    /// Its steps' determinant factors at the link poses `poses`
+    /// ([`crate::singular::spatial_factors`]).
+    pub fn factors(&self, model: &Model, poses: &[Pose3]) -> Vec<crate::singular::Factor> {
+        crate::singular::spatial_factors(model, self, poses)
+    }
+
+    /// What a solution is verified by after the last step: the joints no
+    /// step closes, then the pinned links' points.
+    pub fn checks(&self, n_joints: usize) -> Vec<Check> {
+        let pins = self.steps.iter().enumerate().filter_map(|(k, s)| match s {
+            Step::Place { turn: Turn::Free, .. } => Some(Check::Pin(k)),
+            _ => None,
+        });
+        self.open_joints(n_joints)
+            .into_iter()
+            .map(Check::Joint)
+            .chain(pins)
+            .collect()
+    }
+
     /// Which given values are angles: a pose's angle, a revolute's value.
     pub fn angular_inputs(&self, model: &Model) -> Vec<bool> {
         let mut angular = vec![false; self.n_inputs];
         for s in &self.steps {
             match s {
                 Step::Place {
-                    input, about: Some(_), ..
-                } => angular[input + 3] = true,
+                    input,
+                    planar,
+                    turn: Turn::About(_),
+                    ..
+                } => angular[input + if *planar { 2 } else { 3 }] = true,
                 Step::Transfer { joint, input, .. } => {
                     angular[*input] = matches!(model.joints[*joint].kind, JointType::R | JointType::Pa)
                 }
@@ -301,18 +425,19 @@ pub fn local_point(model: &Model, point: PointRef, link: usize) -> Result<[f64; 
 /// names for the given values, see [`crate::consistency::name_given`]).
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<Solution, SolveError> {
     let geometry = crate::steps::Geometry::of(model);
-    let open = plan.open_joints(geometry.joints.len());
-    let name = |j: usize| model.joints[j].name.clone();
+    let checks = plan.checks(geometry.joints.len());
     let state = run_frames(model, &geometry, plan, inputs, signs)?;
     let extent = crate::consistency::extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
-    let residual = crate::steps::open_residual(&geometry, &state.poses, &open, extent);
+    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state.poses, inputs, extent);
     let rows = crate::steps::RESIDUAL_ROWS;
     if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
-        let owner = Cow::Owned(format!("joint {}", name(open[row / rows])));
+        let owner = checks[row / rows].owner(plan, |j| model.joints[j].name.clone(), |l| model.links[l].clone());
         let angular = plan.angular_inputs(model);
-        let e = crate::consistency::inconsistent(owner, gap, inputs, &angular, extent, |g| {
+        let e = crate::consistency::inconsistent(Cow::Owned(owner), gap, inputs, &angular, extent, |g| {
             let s = run_frames(model, &geometry, plan, g, signs).ok()?;
-            Some(crate::steps::open_residual(&geometry, &s.poses, &open, extent))
+            Some(crate::steps::check_residual(
+                &geometry, plan, &checks, &s.poses, g, extent,
+            ))
         });
         return Err(crate::consistency::name_given(e, &[]));
     }
@@ -359,11 +484,16 @@ fn run_frames(
     if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
         return Err(bad(format!("given value {} is {}", i + 1, inputs[i])));
     }
-    let name = |j: usize| -> Cow<'static, str> { Cow::Owned(model.joints[j].name.clone()) };
+    let name = |k: usize| -> Cow<'static, str> {
+        Cow::Owned(crate::steps::loop_name(&plan.steps[k], |j| {
+            model.joints[j].name.clone()
+        }))
+    };
     let given = crate::steps::Given {
         values: inputs,
         signs,
         name: &name,
+        sites: 0,
     };
     crate::steps::run(plan, geometry, model.links.len(), &given)
 }
@@ -372,7 +502,7 @@ fn run_frames(
 /// Every branch of the plan; a branch that repeats an earlier one's solution
 /// (a double root) says so ([`SolveError::DoubleRoot`]).
 pub fn run_all(model: &Model, plan: &Plan, inputs: &[f64]) -> Vec<(Vec<Sign>, Result<Solution, SolveError>)> {
-    let mut all = crate::plan::every_branch(plan.branches, |signs| run(model, plan, inputs, signs));
+    let mut all = crate::solution::every_branch(plan.branches, |signs| run(model, plan, inputs, signs));
     let revolute: Vec<bool> = model
         .joints
         .iter()

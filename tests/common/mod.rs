@@ -32,8 +32,8 @@ pub fn example_text(stem: &str) -> (String, String) {
 pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
     let (text, path) = example_text(stem);
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
-    let model =
-        pkm::dsl::plan::model(&a, &Default::default()).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
+    let model = pkm::dsl::numeric::model(&a, &Default::default())
+        .unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
     (a, model)
 }
 
@@ -45,7 +45,7 @@ pub fn max_error(a: &[f64], b: &[f64], angle: &[bool], scale: f64) -> f64 {
         .zip(angle)
         .map(|((a, b), &angle)| {
             if angle {
-                pkm::runtime::plan::wrap_angle(a - b).abs()
+                pkm::runtime::solution::wrap_angle(a - b).abs()
             } else {
                 (a - b).abs() / scale
             }
@@ -78,7 +78,7 @@ pub fn inconsistency(
     let angle = pkm::runtime::spatial::angle_about(&poses[link], axis);
     let output = (0..3)
         .map(|i| (at[i] - given[i]).abs() / extent)
-        .fold(pkm::runtime::plan::wrap_angle(angle - given[3]).abs(), f64::max);
+        .fold(pkm::runtime::solution::wrap_angle(angle - given[3]).abs(), f64::max);
     closure.max(output)
 }
 

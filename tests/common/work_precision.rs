@@ -12,10 +12,10 @@ use std::collections::HashMap;
 
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions, NewtonSolution, Output};
-use pkm::runtime::plan::signs_of;
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::reference::{self, f256, Reference};
-use pkm::runtime::{plan, spatial};
+use pkm::runtime::solution::signs_of;
+use pkm::runtime::spatial;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
@@ -116,21 +116,13 @@ pub fn seed000_b() -> Generated {
     prepared!(SeedB, SeedBPrepared, 0b011)
 }
 
-/// The plan interpreter of one direction, planar or spatial.
-pub enum Interpreter {
-    /// A planar plan.
-    Planar(plan::Plan),
-    /// A spatial plan.
-    Spatial(spatial::Plan),
-}
+/// The plan interpreter of one direction.
+pub struct Interpreter(pub spatial::Plan);
 
 impl Interpreter {
     /// The joint values on the branch `signs`, or `None` if it fails.
     pub fn run(&self, model: &Model, given: &[f64], signs: &[Sign]) -> Option<Vec<f64>> {
-        match self {
-            Interpreter::Planar(p) => plan::run(model, p, given, signs).ok().map(|s| s.values),
-            Interpreter::Spatial(p) => spatial::run(model, p, given, signs).ok().map(|s| s.values),
-        }
+        spatial::run(model, &self.0, given, signs).ok().map(|s| s.values)
     }
 }
 
@@ -247,23 +239,14 @@ fn nearby(given: &[f64], solve: impl Fn(&[f64]) -> Option<Vec<f64>>) -> Vec<f64>
 pub fn case(name: &'static str, generated: Generated) -> Case {
     let path = format!("{}/examples/mechanisms/{name}.pkm", env!("CARGO_MANIFEST_DIR"));
     let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    let (interpreter, branches) = if a.mechanism.planar {
-        let (f, i) = (
-            pkm::dsl::plan::forward_plan(&a).unwrap(),
-            pkm::dsl::plan::inverse_plan(&a).unwrap(),
-        );
-        let b = [f.branches, i.branches];
-        ([Interpreter::Planar(f), Interpreter::Planar(i)], b)
-    } else {
-        let (f, i) = (
-            pkm::dsl::plan3::forward_plan(&a).unwrap(),
-            pkm::dsl::plan3::inverse_plan(&a).unwrap(),
-        );
-        let b = [f.branches, i.branches];
-        ([Interpreter::Spatial(f), Interpreter::Spatial(i)], b)
-    };
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let (f, i) = (
+        pkm::dsl::planner::forward_plan(&a).unwrap(),
+        pkm::dsl::planner::inverse_plan(&a).unwrap(),
+    );
+    let branches = [f.branches, i.branches];
+    let interpreter = [Interpreter(f), Interpreter(i)];
     let scale = pkm::runtime::kinematics::model_scale(&model);
     let n_values = model.value_offsets().1;
     let n_outputs: usize = outputs.iter().map(|o| o.len(model.planar)).sum();

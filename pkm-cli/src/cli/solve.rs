@@ -3,13 +3,12 @@
 //! `points`), and when no branch solves the failure names the causes.
 
 use super::failure::{Failure, Kind};
-use pkm_dsl::AnyPlan;
 use pkm_dsl::{Analysis, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
-use pkm_runtime::plan::{Pose2, SolveError};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::spatial::Pose3;
+use pkm_runtime::solution::SolveError;
+use pkm_runtime::spatial::{Plan, Pose3};
 use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 
@@ -63,14 +62,14 @@ struct Loaded {
 
 fn load(r: &Request) -> Result<Loaded, Failure> {
     let analysis = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?.analysis;
-    let nominal = pkm_dsl::plan::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
+    let nominal = pkm_dsl::numeric::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
     let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
     check_lengths(&analysis, &nominal, &values)?;
-    let model = pkm_dsl::plan::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
+    let model = pkm_dsl::numeric::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
     if let Some(why) = non_finite_place(&model) {
         return Err(Failure::input(format!("at the given parameters {why}")));
     }
-    let outputs = pkm_dsl::plan::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
+    let outputs = pkm_dsl::numeric::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
     Ok(Loaded {
         analysis,
         model,
@@ -160,7 +159,7 @@ fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -
     for name in names {
         let v = values[name];
         // A model that does not build fails later with its own diagnostics.
-        let Ok(changed) = pkm_dsl::plan::model(a, &HashMap::from([(name.clone(), v)])) else {
+        let Ok(changed) = pkm_dsl::numeric::model(a, &HashMap::from([(name.clone(), v)])) else {
             continue;
         };
         for (link, link_name) in nominal.links.iter().enumerate() {
@@ -203,46 +202,25 @@ fn angular(kind: JointType) -> bool {
     matches!(kind, JointType::R | JointType::Pa)
 }
 
-/// Link poses of one solution, planar or spatial.
-enum Poses {
-    Planar(Vec<Pose2>),
-    Spatial(Vec<Pose3>),
-}
-
 /// One solution: link poses and joint values.
 struct Configuration {
-    poses: Poses,
+    poses: Vec<Pose3>,
     values: Vec<f64>,
 }
 
 impl Configuration {
     /// The world position of `local`, a point of `link`.
     fn point(&self, link: usize, local: [f64; 3]) -> [f64; 3] {
-        match &self.poses {
-            Poses::Planar(p) => {
-                let w = p[link].apply([local[0], local[1]]);
-                [w[0], w[1], 0.0]
-            }
-            Poses::Spatial(p) => pkm_runtime::spatial::at(&p[link], local),
-        }
+        pkm_runtime::spatial::at(&self.poses[link], local)
     }
 
     /// The angle `link` has turned about world axis `k` (planar: about z).
     fn angle(&self, link: usize, k: [f64; 3]) -> f64 {
-        match &self.poses {
-            Poses::Planar(p) => p[link].angle,
-            Poses::Spatial(p) => pkm_runtime::spatial::angle_about(&p[link], k),
-        }
+        pkm_runtime::spatial::angle_about(&self.poses[link], k)
     }
 
     fn joint_point(&self, model: &Model, j: usize) -> [f64; 3] {
-        match &self.poses {
-            Poses::Planar(p) => {
-                let w = pkm_runtime::plan::joint_point(model, p, j);
-                [w[0], w[1], 0.0]
-            }
-            Poses::Spatial(p) => pkm_runtime::newton::joint_point(model, p, j),
-        }
+        pkm_runtime::newton::joint_point(model, &self.poses, j)
     }
 }
 
@@ -250,29 +228,17 @@ impl Configuration {
 type Run = (Vec<Sign>, Result<Configuration, SolveError>);
 
 /// Every branch of `plan` at the values `given`, with its link poses.
-fn run_all(plan: &AnyPlan, model: &Model, given: &[f64]) -> Vec<Run> {
-    match plan {
-        AnyPlan::Planar(plan) => pkm_runtime::plan::run_all(model, plan, given)
-            .into_iter()
-            .map(|(signs, r)| {
-                let c = r.map(|s| Configuration {
-                    poses: Poses::Planar(s.poses),
-                    values: s.values,
-                });
-                (signs, c)
-            })
-            .collect(),
-        AnyPlan::Spatial(plan) => pkm_runtime::spatial::run_all(model, plan, given)
-            .into_iter()
-            .map(|(signs, r)| {
-                let c = r.map(|s| Configuration {
-                    poses: Poses::Spatial(s.poses),
-                    values: s.values,
-                });
-                (signs, c)
-            })
-            .collect(),
-    }
+fn run_all(plan: &Plan, model: &Model, given: &[f64]) -> Vec<Run> {
+    pkm_runtime::spatial::run_all(model, plan, given)
+        .into_iter()
+        .map(|(signs, r)| {
+            let c = r.map(|s| Configuration {
+                poses: s.poses,
+                values: s.values,
+            });
+            (signs, c)
+        })
+        .collect()
 }
 
 /// The kind of a branch's failure.
@@ -463,8 +429,8 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
 /// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
 pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let plan = AnyPlan::forward(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
-    let inputs = plan.inputs(&l.model);
+    let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+    let inputs = plan.input_joints(&l.model);
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
     if q.len() != inputs.len() {
         return Err(Failure::input(format!(
@@ -496,7 +462,7 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
 /// `pkm ik`: every branch at the declared outputs `pose` (by name).
 pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let l = load(r)?;
-    let plan = AnyPlan::inverse(&l.analysis, l.model.planar).map_err(|d| r.parse_failure(d))?;
+    let plan = pkm_dsl::planner::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
     let declared = output_names(&l);
     let list = declared.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
     let mut given: HashMap<&str, f64> = HashMap::new();

@@ -2,7 +2,7 @@
 //! one: what the inverse solution shows instead of the input sweep.
 
 use super::html::{html_escape, sign_text, tuple_text, Page};
-use super::loaded::{default_point, output_columns, point_of, reach, signs, AnyPlan, Loaded};
+use super::loaded::{default_point, output_columns, point_of, reach, signs, Loaded, Plan};
 use super::settings::{check_duration, check_nodes};
 use super::workspace::measure;
 use super::{invalid, io, ReportError, ReportOptions};
@@ -111,7 +111,7 @@ pub(super) fn inverse_only(
 /// that reaches it, regular if one is.
 fn sample_branch(
     l: &Loaded,
-    plan: &AnyPlan,
+    plan: &Plan,
     pose: &[f64],
     given: Option<usize>,
     file: &str,
@@ -148,7 +148,7 @@ fn sample_branch(
 /// sample pose and branch, and the point followed.
 struct Held<'a> {
     l: &'a Loaded,
-    plan: &'a AnyPlan,
+    plan: &'a Plan,
     /// The sample pose: every output's value.
     pose: Vec<f64>,
     branch: usize,
@@ -262,8 +262,8 @@ fn circle(
         let Some(next) = (0..1usize << choices)
             .filter_map(|b| plan.solve(model, &p, &signs(choices, b)).ok())
             .min_by(|x, y| {
-                pkm_runtime::plan::joint_distance(x, &previous, &revolute)
-                    .total_cmp(&pkm_runtime::plan::joint_distance(y, &previous, &revolute))
+                pkm_runtime::solution::joint_distance(x, &previous, &revolute)
+                    .total_cmp(&pkm_runtime::solution::joint_distance(y, &previous, &revolute))
             })
         else {
             break;

@@ -3,10 +3,10 @@
 //! and what the sections read off it (points by name, units, outputs).
 
 use super::{invalid, ReportError};
-pub(super) use pkm_dsl::AnyPlan;
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::{self, Output};
 use pkm_runtime::primitives::Sign;
+pub(super) use pkm_runtime::spatial::Plan;
 use pkm_runtime::spatial::Pose3;
 use std::collections::HashMap;
 
@@ -16,9 +16,9 @@ pub(super) struct Loaded {
     pub(super) model: Model,
     pub(super) outputs: Vec<Output>,
     /// The forward plan, or why there is none (κ ≠ 0).
-    pub(super) forward: Result<AnyPlan, String>,
+    pub(super) forward: Result<Plan, String>,
     /// The inverse plan, if the file declares outputs.
-    pub(super) inverse: Option<AnyPlan>,
+    pub(super) inverse: Option<Plan>,
     /// The parameter values used.
     pub(super) values: HashMap<String, f64>,
 }
@@ -55,12 +55,12 @@ pub(super) fn load(
     if !a.geometry.complete {
         return Ok((a, None));
     }
-    let model = pkm_dsl::plan::model(&a, &values).map_err(render)?;
-    let outputs = pkm_dsl::plan::newton_outputs(&a, &model, &values).map_err(render)?;
+    let model = pkm_dsl::numeric::model(&a, &values).map_err(render)?;
+    let outputs = pkm_dsl::numeric::newton_outputs(&a, &model, &values).map_err(render)?;
     // Every parameter's value, for the study block's expressions.
-    let values = pkm_dsl::plan::parameter_values(&a, &values).map_err(render)?;
-    let forward = AnyPlan::forward(&a, model.planar).map_err(|d| headline(&d));
-    let inverse = AnyPlan::inverse(&a, model.planar).ok();
+    let values = pkm_dsl::numeric::parameter_values(&a, &values).map_err(render)?;
+    let forward = pkm_dsl::planner::forward_plan(&a).map_err(|d| headline(&d));
+    let inverse = pkm_dsl::planner::inverse_plan(&a).ok();
     Ok((
         a.clone(),
         Some(Loaded {
@@ -135,8 +135,8 @@ pub(super) fn default_point(l: &Loaded) -> String {
     let named = a.geometry.outputs.iter().find_map(|out| match &out.kind {
         pkm_dsl::geometry::OutputKind::Pose { point, .. } | pkm_dsl::geometry::OutputKind::Point { point, .. } => {
             Some(match point {
-                pkm_runtime::plan::PointRef::Named(k) => a.geometry.points[*k].name.clone(),
-                pkm_runtime::plan::PointRef::Joint(j) => model.joints[*j].name.clone(),
+                pkm_runtime::solution::PointRef::Named(k) => a.geometry.points[*k].name.clone(),
+                pkm_runtime::solution::PointRef::Joint(j) => model.joints[*j].name.clone(),
             })
         }
         _ => None,

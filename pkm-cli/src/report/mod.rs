@@ -21,7 +21,7 @@ mod workspace;
 use crate::drawing::{self, View};
 use crate::plots;
 use html::{head, html_escape, Page};
-use loaded::{load, point_of, signs, AnyPlan, Loaded};
+use loaded::{load, point_of, signs, Loaded, Plan};
 use pkm_runtime::primitives::Sign;
 use settings::{settings, settings_html, Settings};
 use singularities::named_factors;
@@ -325,7 +325,7 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
 /// plan, the settings resolved, and the point and branch followed.
 struct Sampling<'a> {
     l: &'a Loaded,
-    plan: &'a AnyPlan,
+    plan: &'a Plan,
     s: &'a Settings,
     /// The followed point: its link and place on it.
     point: (usize, [f64; 3]),
@@ -340,7 +340,7 @@ struct Sampling<'a> {
 fn numeric(
     page: &mut Page,
     l: &Loaded,
-    plan: &AnyPlan,
+    plan: &Plan,
     s: &Settings,
     o: &ReportOptions,
     file: &str,

@@ -109,7 +109,7 @@ pub(super) fn solutions(page: &mut Page, at: &Sampling) -> Result<(), ReportErro
                     page,
                     "<tr><td>{b}</td><td>{label}</td><td colspan={} class=l>no solution: {}</td></tr>",
                     4 + columns.len(),
-                    html_escape(&e)
+                    html_escape(&e.to_string())
                 );
             }
         }

@@ -3,7 +3,7 @@
 //! what was used and where it came from.
 
 use super::html::{html_escape, tuple_text};
-use super::loaded::{default_point, joint_unit, point_of, reach, signs, AnyPlan, Loaded};
+use super::loaded::{default_point, joint_unit, point_of, reach, signs, Loaded, Plan};
 use super::{invalid, ReportError, ReportOptions, MAX_DURATION, MAX_GRID};
 use pkm_dsl::study::{Motion, Resolved};
 use pkm_runtime::model::{JointType, Model};
@@ -91,7 +91,7 @@ pub(super) struct Settings {
 /// branch reaches.
 fn reachable_start(
     model: &Model,
-    plan: &AnyPlan,
+    plan: &Plan,
     ranges: &[(f64, f64)],
     wanted: &[f64],
     branch: Option<usize>,
@@ -142,7 +142,7 @@ fn reachable_start(
 /// checks every value.
 pub(super) fn settings(
     l: &Loaded,
-    plan: &AnyPlan,
+    plan: &Plan,
     study: &Resolved,
     o: &ReportOptions,
     file: &str,
@@ -208,7 +208,7 @@ fn full_turn(model: &Model, j: usize, lo: f64, hi: f64) -> bool {
 /// block, the command line, and the actuated joints with their names.
 struct Resolving<'a> {
     l: &'a Loaded,
-    plan: &'a AnyPlan,
+    plan: &'a Plan,
     study: &'a Resolved,
     o: &'a ReportOptions,
     /// The file's path as its errors show it.

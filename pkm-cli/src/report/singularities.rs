@@ -3,7 +3,7 @@
 //! near-singular nodes by σ_in and σ_out and by each factor.
 
 use super::html::{html_escape, Page};
-use super::loaded::{AnyPlan, Loaded};
+use super::loaded::{Loaded, Plan};
 use super::workspace::{largest_pair, plane_name, AXES};
 use super::{ReportError, Sampling};
 use pkm_runtime::newton;
@@ -17,7 +17,7 @@ const NEAR: f64 = 0.05;
 
 /// Every factor of det J_o (the forward plan's) and det J_i (the inverse
 /// plan's) at `poses`: a label (`J_o step 3`), its value, what it says.
-pub(super) fn named_factors(l: &Loaded, plan: &AnyPlan, poses: &[Pose3]) -> Vec<(String, f64, String)> {
+pub(super) fn named_factors(l: &Loaded, plan: &Plan, poses: &[Pose3]) -> Vec<(String, f64, String)> {
     plan_factors(l, plan, poses)
         .map(|(jacobian, f)| {
             (
@@ -33,7 +33,7 @@ pub(super) fn named_factors(l: &Loaded, plan: &AnyPlan, poses: &[Pose3]) -> Vec<
 /// Jacobian's name (the order of [`named_factors`]).
 fn plan_factors<'a>(
     l: &'a Loaded,
-    plan: &'a AnyPlan,
+    plan: &'a Plan,
     poses: &'a [Pose3],
 ) -> impl Iterator<Item = (&'static str, singular::Factor)> + 'a {
     [("J_o", Some(plan)), ("J_i", l.inverse.as_ref())]

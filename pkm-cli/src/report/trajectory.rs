@@ -52,8 +52,8 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
         let chosen = match &previous {
             None => candidates.into_iter().next(),
             Some(p) => candidates.into_iter().min_by(|x, y| {
-                pkm_runtime::plan::joint_distance(x, p, &revolute)
-                    .total_cmp(&pkm_runtime::plan::joint_distance(y, p, &revolute))
+                pkm_runtime::solution::joint_distance(x, p, &revolute)
+                    .total_cmp(&pkm_runtime::solution::joint_distance(y, p, &revolute))
             }),
         };
         let Some(v) = chosen else {

@@ -4,7 +4,7 @@
 //! `--compare` table of other files' workspaces.
 
 use super::html::{html_escape, sign_text, tuple_text, Page};
-use super::loaded::{joint_unit, load, point_of, signs, world, AnyPlan, Loaded};
+use super::loaded::{joint_unit, load, point_of, signs, world, Loaded, Plan};
 use super::{invalid, ReportError, ReportOptions, Sampling};
 use crate::plots;
 use pkm_runtime::model::Model;
@@ -20,7 +20,7 @@ pub(super) const AXES: [&str; 3] = ["x", "y", "z"];
 /// branch (all cores).
 pub(super) fn sweep_point(
     model: &Model,
-    plan: &AnyPlan,
+    plan: &Plan,
     grid: &Grid,
     signs: &[Sign],
     point: (usize, [f64; 3]),
@@ -251,7 +251,7 @@ fn section(
 /// with the reason it is skipped.
 fn compare_table(
     this: &Loaded,
-    plan: &AnyPlan,
+    plan: &Plan,
     name: &str,
     o: &ReportOptions,
     grid: &Grid,
@@ -264,7 +264,7 @@ fn compare_table(
          <th class=l>workspace</th></tr>",
         grid.len()
     );
-    let row = |html: &mut String, mech: &str, l: &Loaded, p: &AnyPlan| -> Result<(), ReportError> {
+    let row = |html: &mut String, mech: &str, l: &Loaded, p: &Plan| -> Result<(), ReportError> {
         let Some(at) = point_of(&l.model, point) else {
             let _ = writeln!(
                 html,

@@ -3,9 +3,9 @@
 //! projection onto the guide).
 
 use super::{Found, JointValue, Motion, Move};
-use crate::plan::{PointRef, SolveError};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, sub, Scalar};
+use crate::solution::{PointRef, SolveError};
 use crate::spatial::Anchor;
 
 /// The value of the joint that brings `point` of the new link onto the

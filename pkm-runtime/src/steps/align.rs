@@ -3,8 +3,8 @@
 //! directions, [`super::aim::turn_onto`].
 
 use super::{Found, Move};
-use crate::plan::SolveError;
 use crate::scalar::Scalar;
+use crate::solution::SolveError;
 use crate::spatial::Direction;
 
 /// The angle of the revolute that makes `group` (a direction of the new

@@ -23,10 +23,10 @@ pub mod transfer;
 
 use crate::frame::Frame;
 use crate::model::{JointType, Place};
-use crate::plan::{step_error, PointRef, SolveError};
 use crate::primitives::{Error as GeomError, Sign};
 use crate::scalar::{constant, cross, dot, norm, reject, scale, sub, unit, Scalar};
-use crate::spatial::{Anchor, Direction, Hop, Step};
+use crate::solution::{step_error, PointRef, SolveError};
+use crate::spatial::{Anchor, Check, Direction, Hop, Plan, Step};
 use std::borrow::Cow;
 
 /// The kernels generated code calls as functions rather than writing out
@@ -446,26 +446,34 @@ pub struct Solved<T> {
 }
 
 /// What a step needs besides the geometry: the given values, the ± choices,
-/// and joint names for errors.
+/// and the names of the steps' loops for errors.
 pub struct Given<'a, T: Scalar> {
     /// The given values (inputs, or output coordinates).
     pub values: &'a [T],
     /// The ± choices, one per branching step.
     pub signs: &'a [T::Choice],
-    /// Joint names for errors.
+    /// The name of the loop step `k` closes ([`crate::spatial::Step::loop_joints`]), for errors.
     pub name: &'a dyn Fn(usize) -> Cow<'static, str>,
+    /// Where this plan's steps start among the sites a kernel is called
+    /// from (step `k`'s site is `sites + k`): the code generator names the
+    /// sites of two plans in one table; the interpreter's is 0.
+    pub sites: usize,
 }
 
-/// Calls `kernel` for step `k` solving `joint`: a failure names the step and joint.
+/// Calls `kernel` for step `k`: a failure names the step's loop.
 pub(crate) fn call<T: Scalar>(
     kernel: Kernel,
     args: &[T],
     choice: T::Choice,
     k: usize,
-    joint: usize,
     given: &Given<'_, T>,
 ) -> Result<[T; 2], SolveError> {
-    T::kernel(kernel, args, choice, [k, joint]).map_err(|e| step_error(k, (given.name)(joint), e))
+    T::kernel(kernel, args, choice, [k, given.sites + k]).map_err(|e| step_error(k, (given.name)(k), e))
+}
+
+/// The name of a step's loop: its joints, `R2–R3–R4`.
+pub fn loop_name(step: &Step, joint: impl Fn(usize) -> String) -> String {
+    step.loop_joints().into_iter().map(joint).collect::<Vec<_>>().join("–")
 }
 
 /// Flattens vectors and scalars into one kernel argument list.
@@ -493,9 +501,10 @@ pub fn execute<T: Scalar>(
             link,
             point,
             input,
-            about,
+            planar,
+            turn,
         } => {
-            state.poses[link] = place::execute(link, point, input, about, geometry, given);
+            state.poses[link] = place::execute(link, point, input, planar, turn, geometry, given);
             return Ok(());
         }
         Step::Transfer { joint, from, to, .. }
@@ -586,14 +595,14 @@ impl<T: Scalar> Move<'_, T> {
         Ok((axis, f.then(&j.zero[usize::from(!self.forward())])))
     }
 
-    /// The step's site for kernels: the step and the joint.
+    /// The step's site for kernels: the step, and its index among the sites ([`Given::sites`]).
     pub fn site(&self) -> [usize; 2] {
-        [self.k, self.joint]
+        [self.k, self.given.sites + self.k]
     }
 
     /// A kernel's failure as this step's.
     pub fn fail(&self, e: GeomError<f64>) -> SolveError {
-        step_error(self.k, (self.given.name)(self.joint), e)
+        step_error(self.k, (self.given.name)(self.k), e)
     }
 
     /// The root choice of branching step number `branch`.
@@ -603,7 +612,7 @@ impl<T: Scalar> Move<'_, T> {
 
     /// Calls a kernel listed in [`Kernel`].
     pub fn call(&self, kernel: Kernel, args: &[T], choice: T::Choice) -> Result<[T; 2], SolveError> {
-        call(kernel, args, choice, self.k, self.joint, self.given)
+        call(kernel, args, choice, self.k, self.given)
     }
 
     /// The new link's pose at the value a kernel found (a turn for R and Pa
@@ -693,12 +702,40 @@ pub fn value<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> 
     }
 }
 
-/// The closure residual of every joint in `open` ([`RESIDUAL_ROWS`] rows each).
-pub fn open_residual<T: Scalar>(geometry: &Geometry<T>, poses: &[Frame<T>], open: &[usize], extent: T) -> Vec<T> {
-    open.iter()
-        .flat_map(|&k| {
-            let j = &geometry.joints[k];
-            j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent)
+/// The residual of every check ([`RESIDUAL_ROWS`] rows each): an open
+/// joint's closure ([`JointGeometry::closure_residual`]), a pinned point's
+/// distance from where it was given (3 lengths, then zeros).
+pub fn check_residual<T: Scalar>(
+    geometry: &Geometry<T>,
+    plan: &Plan,
+    checks: &[Check],
+    poses: &[Frame<T>],
+    given: &[T],
+    extent: T,
+) -> Vec<T> {
+    let zero = T::c(0.0);
+    checks
+        .iter()
+        .flat_map(|check| match *check {
+            Check::Joint(k) => {
+                let j = &geometry.joints[k];
+                j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent)
+            }
+            Check::Pin(k) => match &plan.steps[k] {
+                Step::Place {
+                    link,
+                    point,
+                    input,
+                    planar,
+                    ..
+                } => {
+                    let local = geometry.local(*point, *link);
+                    let (want, _) = place::given_point(given, *input, *planar, local[2]);
+                    let d = sub(poses[*link].apply(local), want);
+                    [d[0], d[1], d[2], zero, zero, zero, zero, zero, zero]
+                }
+                _ => [zero; RESIDUAL_ROWS],
+            },
         })
         .collect()
 }

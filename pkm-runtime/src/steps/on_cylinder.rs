@@ -4,9 +4,9 @@
 //! planar line–circle intersection.
 
 use super::{Found, Kernel, Motion, Move};
-use crate::plan::{PointRef, SolveError};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
+use crate::solution::{PointRef, SolveError};
 use crate::spatial::Hop;
 
 /// The value of the joint that puts `point` of the new link at the

@@ -3,10 +3,10 @@
 //! on a line: one division.
 
 use super::{Found, Kernel, Motion, Move};
-use crate::plan::{PointRef, SolveError};
 use crate::primitives::{Error as GeomError, Sign, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
+use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Direction};
 
 /// The value of the joint that puts `point` of the new link on the plane

@@ -1,10 +1,11 @@
 //! A point of the new link held on the plane a known slider sweeps with the
 //! motion's axis (its guide and the turning axis span it): a circle meeting
-//! a plane ([`super::on_plane`]).
+//! a plane ([`super::on_plane`]). `Plus` is the point farther along the
+//! guide (a slider-crank's open assembly).
 
 use super::{Found, Motion, Move};
-use crate::plan::{PointRef, SolveError};
 use crate::scalar::{cross, dot, Scalar};
+use crate::solution::{PointRef, SolveError};
 use crate::spatial::Hop;
 
 /// The value of the joint that puts `point` of the new link (carried
@@ -28,6 +29,8 @@ pub fn execute<T: Scalar>(
             "a slider constraint needs a turning joint and a slide",
         )));
     };
-    let n = cross(axis, along);
+    // Normal `along × axis`: then `Plus` is the root farther along the
+    // guide (see `on_plane::to_plane`: its + root lies along axis × n).
+    let n = cross(along, axis);
     Ok(mv.found(super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))?))
 }

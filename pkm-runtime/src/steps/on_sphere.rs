@@ -6,9 +6,9 @@
 
 use super::{Found, Kernel, Motion, Move};
 use crate::model::Place;
-use crate::plan::{PointRef, SolveError};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{norm, Scalar};
+use crate::solution::{PointRef, SolveError};
 use crate::spatial::Anchor;
 
 /// The value of the joint that puts `point` of the new link at

@@ -2,9 +2,9 @@
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
 use super::{Found, Move};
-use crate::plan::SolveError;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::solution::SolveError;
 use crate::spatial::Anchor;
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its

@@ -4,31 +4,44 @@
 
 use super::{Geometry, Given};
 use crate::frame::Frame;
-use crate::plan::PointRef;
 use crate::scalar::{constant, sub, unit, Scalar};
+use crate::solution::PointRef;
+use crate::spatial::Turn;
 
-/// The pose of `link` whose `point` is at the given values `input..input+3`,
-/// turned by the value `input + 3` about the world axis `about` if given.
+/// The pose of `link` whose `point` is at the given values from `input`
+/// (x, y, and z unless `planar`), turned as `turn` says: by the next value
+/// about a world axis, or not at all (a pinned link keeps the base's
+/// orientation until a later step turns it).
 pub fn execute<T: Scalar>(
     link: usize,
     point: PointRef,
     input: usize,
-    about: Option<[f64; 3]>,
+    planar: bool,
+    turn: Turn,
     geometry: &Geometry<T>,
     given: &Given<'_, T>,
 ) -> Frame<T> {
-    let v = given.values;
-    let position = [v[input], v[input + 1], v[input + 2]];
     let local = geometry.local(point, link);
-    let mut pose = match about {
-        Some(k) => {
-            let angle = v[input + 3];
+    let (position, next) = given_point(given.values, input, planar, local[2]);
+    let mut pose = match turn {
+        Turn::About(k) => {
+            let angle = given.values[next];
             Frame::about(unit(constant(k)), angle.cos(), angle.sin())
         }
-        None => Frame::identity(),
+        Turn::Fixed | Turn::Free => Frame::identity(),
     };
     pose.t = sub(position, pose.rotate(local));
     pose
+}
+
+/// The given position from `input` and the index after it: x, y and z, or
+/// in a planar mechanism x, y and the point's own `z`.
+pub fn given_point<T: Scalar>(values: &[T], input: usize, planar: bool, z: T) -> ([T; 3], usize) {
+    if planar {
+        ([values[input], values[input + 1], z], input + 2)
+    } else {
+        ([values[input], values[input + 1], values[input + 2]], input + 3)
+    }
 }
 
 /// The angle `pose` is turned about unit `k` from the base's orientation:

@@ -9,8 +9,8 @@ use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::model_scale;
-use pkm_runtime::plan::PointRef;
-use pkm_runtime::spatial::{self, Anchor, Constraint, Direction, Hop, Plan, Step};
+use pkm_runtime::solution::PointRef;
+use pkm_runtime::spatial::{self, Anchor, Constraint, Direction, Hop, Plan, Step, Turn};
 use pkm_runtime::steps::Geometry;
 use std::collections::HashMap;
 
@@ -30,6 +30,9 @@ struct Planner<'a> {
     /// Joints whose value an input gives, with its index.
     given: Vec<Option<usize>>,
     used: Vec<bool>,
+    /// Links pinned by a point output: the point, in the link's frame. A
+    /// pinned link is not known (its turn is not), but that point of it is.
+    pins: Vec<Option<Vector3<f64>>>,
     steps: Vec<Step>,
     branches: usize,
 }
@@ -173,7 +176,13 @@ impl Planner<'_> {
     fn push(&mut self, step: Step, to: usize, j: usize) {
         self.steps.push(step);
         self.known[to] = true;
+        self.pins[to] = None;
         self.used[j] = true;
+    }
+
+    /// Whether `x` (in `l`'s frame) is the point `l` is pinned by.
+    fn pinned_at(&self, l: usize, x: Vector3<f64>) -> bool {
+        self.pins[l].is_some_and(|p| (p - x).norm() <= self.tol)
     }
 
     fn transfers(&mut self) -> bool {
@@ -203,10 +212,11 @@ impl Planner<'_> {
     fn try_aim(&mut self) -> bool {
         for (j, from, to) in self.candidates() {
             for (point, x) in self.points_of(to, j) {
+                // A known link, or a pinned one at its pin (the new link's own pin too).
                 let found = self
                     .fixed_reach(to, x, &[j])
                     .into_iter()
-                    .find(|r| self.known[r.link] && !r.hops.is_empty());
+                    .find(|r| (self.known[r.link] && !r.hops.is_empty()) || self.pinned_at(r.link, r.x));
                 if let Some(r) = found {
                     let target = Anchor {
                         link: r.link,
@@ -228,9 +238,17 @@ impl Planner<'_> {
         false
     }
 
-    /// The axis of a revolute's place on `l`, in `l`'s frame.
+    /// The direction of joint `j` in `l`'s frame: a revolute's axis or a
+    /// slide's guide. A slide placed on `l` by a point alone takes its guide
+    /// from the other link, turned into `l`'s frame at value 0.
     fn axis(&self, j: usize, l: usize) -> Vector3<f64> {
-        v3(self.place(j, l).axis())
+        match self.place(j, l) {
+            Place::Point { .. } => {
+                let other = self.model.joints[j].places[1 - self.side(j, l)];
+                self.zero(j, self.other(j, l)).rotation * v3(other.axis())
+            }
+            p => v3(p.axis()),
+        }
     }
 
     fn try_align(&mut self) -> bool {
@@ -379,14 +397,7 @@ impl Planner<'_> {
         let mut out = Vec::new();
         let circle = self.kind(j) != JointType::P;
         // The motion's axis (circle) or direction (line) in `to`'s frame.
-        let k = match self.place(j, to) {
-            Place::Arm { axis, .. } | Place::Axis { axis, .. } | Place::Line { along: axis, .. } => v3(axis),
-            Place::Point { .. } => {
-                let other = self.model.joints[j].places[1 - self.side(j, to)];
-                let r = self.zero(j, self.other(j, to));
-                r.rotation * v3(other.axis())
-            }
-        };
+        let k = self.axis(j, to);
         for r in self.fixed_reach(to, x, &[j]) {
             if self.known[r.link] {
                 continue;
@@ -426,7 +437,13 @@ impl Planner<'_> {
                             ));
                         }
                     }
-                    JointType::R if circle && self.known[next] && hops_parallel => {
+                    // A planar mechanism's link pinned at the revolute turns about it as if known.
+                    JointType::R
+                        if circle
+                            && hops_parallel
+                            && (self.known[next]
+                                || (self.model.planar && self.pinned_at(next, v3(self.place(q, next).at())))) =>
+                    {
                         let dir = rot * self.axis(q, r.link);
                         if Self::parallel(dir, k) {
                             out.push((
@@ -578,9 +595,17 @@ fn solve(
     let m = &a.mechanism;
     let mut known = vec![false; model.links.len()];
     known[0] = true;
+    let mut pins = vec![None; model.links.len()];
     for s in &start {
-        if let Step::Place { link, .. } = s {
-            known[*link] = true;
+        if let Step::Place { link, point, turn, .. } = s {
+            match turn {
+                Turn::Free => {
+                    let at = spatial::local_point(model, *point, *link)
+                        .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))?;
+                    pins[*link] = Some(v3(at));
+                }
+                Turn::Fixed | Turn::About(_) => known[*link] = true,
+            }
         }
     }
     let mut p = Planner {
@@ -590,6 +615,7 @@ fn solve(
         known,
         given,
         used: vec![false; model.joints.len()],
+        pins,
         steps: start,
         branches: 0,
     };
@@ -636,7 +662,7 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         .label("in this mechanism")
         .into());
     }
-    let model = crate::plan::model(a, &HashMap::new())?;
+    let model = crate::numeric::model(a, &HashMap::new())?;
     let inputs = model.inputs();
     let mut given = vec![None; model.joints.len()];
     for (i, &j) in inputs.iter().enumerate() {
@@ -656,22 +682,35 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                 .into(),
         );
     }
-    let model = crate::plan::model(a, &HashMap::new())?;
+    let model = crate::numeric::model(a, &HashMap::new())?;
     let nominal = a.geometry.nominal();
     let mut given = vec![None; model.joints.len()];
     let mut start = Vec::new();
     let mut next = 0;
+    let planar = m.planar;
     for o in &a.geometry.outputs {
         match &o.kind {
             OutputKind::Pose { link, point, about } => {
-                let about = about.as_ref().map(|v| crate::geometry::eval_vec3(v, &nominal));
+                let turn = match about {
+                    Some(k) => Turn::About(crate::geometry::eval_vec3(k, &nominal)),
+                    None if planar => Turn::About([0.0, 0.0, 1.0]),
+                    None => Turn::Fixed,
+                };
                 start.push(Step::Place {
                     link: *link,
                     point: *point,
                     input: next,
-                    about,
+                    planar,
+                    turn,
                 });
             }
+            OutputKind::Point { link, point } if planar => start.push(Step::Place {
+                link: *link,
+                point: *point,
+                input: next,
+                planar,
+                turn: Turn::Free,
+            }),
             OutputKind::Point { .. } => {
                 return Err(Diagnostic::new(
                     m.name_span(),
