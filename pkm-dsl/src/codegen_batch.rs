@@ -1,0 +1,222 @@
+//! Batch solvers over structure-of-arrays slices: `fk_batch`, `ik_batch`
+//! (the lean result of `fk_branch`, `ik_branch`) and `fk_point_batch`,
+//! `ik_point_batch` (one point of the solution), written from the same
+//! recorded graph as the one-branch solvers ([`crate::emit::Emit::lanes`]).
+//!
+//! Each lane is the branch's straight-line body without a return: a guard
+//! clears the lane's flag, the open joints' verification clears it too (the
+//! tolerance of [`pkm_runtime::consistency::within`]), and a cleared lane
+//! writes zeros. Where the body has no call (sqrt, division and selects
+//! only), the loop has no control flow and LLVM vectorises it; sin, cos,
+//! atan2 (libm) and the kernels the steps call are calls, and a body with
+//! them runs lane after lane.
+
+use super::{Branch, Direction};
+use crate::analysis::Analysis;
+use crate::emit::Emit;
+use crate::trace::Sym;
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// The batch functions of one direction, on `NamePrepared`.
+pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
+    let m = &a.mechanism;
+    let prepared = format_ident!("{}Prepared", ident);
+    let name = if d.forward { "fk" } else { "ik" };
+    let g = &d.given;
+    let n_given = d.plan.n_inputs;
+    let n_choices = d.plan.branches;
+    let verify = !d.plan.open_joints(m.joints.len()).is_empty();
+
+    let mut roots = g.result.clone();
+    let lean = lanes_fn(
+        emit,
+        g,
+        &mut roots,
+        &format_ident!("{name}_batch"),
+        &format_ident!("{name}_lanes"),
+        n_given,
+        n_choices,
+        verify,
+        &|results| {
+            let o = (0..results.len()).map(|i| format_ident!("out_{i}"));
+            quote! { #(#o[i] = if lane_ok { #results } else { 0.0 };)* }
+        },
+        g.result.len(),
+        None,
+        &batch_doc(name, d.forward),
+    );
+
+    let mut roots: Vec<Sym> = g.points.iter().flatten().copied().collect();
+    let n_points = g.points.len();
+    let point = lanes_fn(
+        emit,
+        g,
+        &mut roots,
+        &format_ident!("{name}_point_batch"),
+        &format_ident!("{name}_point_lanes"),
+        n_given,
+        n_choices,
+        verify,
+        &|coords| {
+            let arms = coords.chunks(3).enumerate().map(|(p, c)| quote! { #p => [#(#c),*], });
+            quote! {
+                let point: [f64; 3] = match P {
+                    #(#arms)*
+                    _ => [0.0; 3],
+                };
+                out_0[i] = if lane_ok { point[0] } else { 0.0 };
+                out_1[i] = if lane_ok { point[1] } else { 0.0 };
+                out_2[i] = if lane_ok { point[2] } else { 0.0 };
+            }
+        },
+        3,
+        Some(n_points),
+        &point_doc(name),
+    );
+    quote! {
+        #[automatically_derived]
+        impl #prepared {
+            #lean
+            #point
+        }
+    }
+}
+
+fn batch_doc(name: &str, forward: bool) -> String {
+    let what = if forward {
+        "the declared outputs (`OUTPUTS`)"
+    } else {
+        "the actuators' values (`INPUTS`)"
+    };
+    format!(
+        " `{name}_branch` over many lanes, structure of arrays: lane i's given values are `given[k][i]`, its \
+         result ({what}) goes to `out[r][i]`, and `ok[i]` says whether it is a verified solution; a lane \
+         that fails (unreachable, degenerate, not finite, open joints that do not close) is `false` with \
+         zeros, never NaN. Lane i equals `{name}_branch` on lane i's values, bit for bit.\n\n \
+         Every slice must have `ok.len()` entries (any number), else `SolveError::BadInput` and no lane \
+         is solved. Where the branch needs only arithmetic, square roots and selects, the loop has no \
+         control flow and vectorises; sin, cos, atan2 (libm) and the steps' kernel calls do not, and a \
+         branch with them runs lane after lane."
+    )
+}
+
+fn point_doc(name: &str) -> String {
+    format!(
+        " Point `P` (an index into `POINTS`; another is a compile-time error) of `{name}_solution` over \
+         many lanes, as [`Self::{name}_batch`]: lane i's point goes to `out[0..3][i]` (zeros where \
+         `ok[i]` is `false`), what the other points need is not computed. The workspace sweep's solver."
+    )
+}
+
+/// A public batch function `f` checking the slices' lengths and calling
+/// its private loop `f_lanes` (whose slices, as arguments, do not alias:
+/// what lets LLVM vectorise without run-time overlap checks).
+/// `store(exprs)` writes lane i from the roots' expressions; `points`:
+/// the function is generic over the point `P` of that many.
+#[allow(clippy::too_many_arguments)]
+fn lanes_fn(
+    emit: &Emit,
+    g: &Branch,
+    roots: &mut Vec<Sym>,
+    f: &proc_macro2::Ident,
+    f_lanes: &proc_macro2::Ident,
+    n_given: usize,
+    n_choices: usize,
+    verify: bool,
+    store: &dyn Fn(&[TokenStream]) -> TokenStream,
+    n_out: usize,
+    points: Option<usize>,
+    doc: &str,
+) -> TokenStream {
+    let n_roots = roots.len();
+    let n_rows = g.residual.len();
+    if verify {
+        roots.extend(&g.residual);
+        roots.extend(g.origins.iter().flatten());
+    }
+    let (lets, exprs) = emit.lanes(roots, &g.guards);
+    let (values, rest) = exprs.split_at(n_roots);
+    let check = if verify {
+        let (residual, origins) = rest.split_at(n_rows);
+        // As `fk_branch`: rotation rows scale with the extent, the largest
+        // coordinate of the links' origins, at least 1; every row within
+        // `VERIFY_TOL` of it (NaN is not).
+        let rows = residual.iter().enumerate().map(|(i, r)| {
+            if i % pkm_runtime::steps::RESIDUAL_ROWS >= 3 {
+                quote! { lane_ok &= (#r * extent).abs() <= tol; }
+            } else {
+                quote! { lane_ok &= (#r).abs() <= tol; }
+            }
+        });
+        let coords = origins.iter().map(|o| quote! { .max(#o.abs()) });
+        quote! {
+            let extent = 1f64 #(#coords)*;
+            let tol = ::pkm::runtime::consistency::VERIFY_TOL * extent;
+            #(#rows)*
+        }
+    } else {
+        quote! {}
+    };
+    let store = store(values);
+    let given: Vec<_> = (0..n_given).map(|k| format_ident!("given_{k}")).collect();
+    let out: Vec<_> = (0..n_out).map(|k| format_ident!("out_{k}")).collect();
+    let name = f.to_string();
+    let sign = quote! { ::pkm::runtime::primitives::Sign };
+    let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
+    let (generics, turbofish, assert) = match points {
+        Some(n) => (
+            quote! { <const P: usize> },
+            quote! { ::<P> },
+            quote! { const { assert!(P < #n, "P is not an index into POINTS") }; },
+        ),
+        None => (quote! {}, quote! {}, quote! {}),
+    };
+    quote! {
+        #[doc = #doc]
+        pub fn #f #generics(
+            &self,
+            given: [&[f64]; #n_given],
+            signs: [#sign; #n_choices],
+            out: [&mut [f64]; #n_out],
+            ok: &mut [bool],
+        ) -> ::core::result::Result<(), ::pkm::runtime::plan::SolveError> {
+            #assert
+            ::pkm::runtime::batch::check_lanes(
+                #name,
+                ok.len(),
+                &given.map(|g| g.len()),
+                &out.each_ref().map(|o| o.len()),
+            )?;
+            let [#(#given),*] = given;
+            let [#(#out),*] = out;
+            self.#f_lanes #turbofish(signs, #(#given,)* #(#out,)* ok);
+            ::core::result::Result::Ok(())
+        }
+
+        /// The loop of the function above, its slices checked to `ok.len()`.
+        #[inline]
+        #[allow(clippy::too_many_arguments, clippy::needless_range_loop, unused_mut)]
+        fn #f_lanes #generics(
+            &self,
+            signs: [#sign; #n_choices],
+            #(#given: &[f64],)*
+            #(#out: &mut [f64],)*
+            ok: &mut [bool],
+        ) {
+            let _ = &signs;
+            let lanes = ok.len();
+            // Cut to the lane count once, so the loop has no bounds checks.
+            #(let #given = &#given[..lanes];)*
+            #(let #out = &mut #out[..lanes];)*
+            for i in 0..lanes {
+                let given = [#(#given[i]),*];
+                let mut lane_ok = true #(#finite)*;
+                #lets
+                #check
+                #store
+                ok[i] = lane_ok;
+            }
+        }
+    }
+}
