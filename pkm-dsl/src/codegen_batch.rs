@@ -18,6 +18,10 @@ use crate::trace::Sym;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
+/// How many lanes a batch loop's iteration solves (each from its own part
+/// of the slices): their chains of divisions and square roots overlap.
+const WAYS: usize = 2;
+
 /// The batch functions of one direction, on `NamePrepared`.
 pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
     let m = &a.mechanism;
@@ -39,10 +43,7 @@ pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d:
         n_given,
         n_choices,
         verify,
-        &|results| {
-            let o = (0..results.len()).map(|i| format_ident!("out_{i}"));
-            quote! { #(#o[i] = if lane_ok { #results } else { 0.0 };)* }
-        },
+        &|results| quote! { [#(#results),*] },
         g.result.len(),
         None,
         &batch_doc(name, d.forward),
@@ -63,13 +64,10 @@ pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d:
         &|coords| {
             let arms = coords.chunks(3).enumerate().map(|(p, c)| quote! { #p => [#(#c),*], });
             quote! {
-                let point: [f64; 3] = match P {
+                match P {
                     #(#arms)*
                     _ => [0.0; 3],
-                };
-                out_0[i] = if lane_ok { point[0] } else { 0.0 };
-                out_1[i] = if lane_ok { point[1] } else { 0.0 };
-                out_2[i] = if lane_ok { point[2] } else { 0.0 };
+                }
             }
         },
         3,
@@ -117,7 +115,7 @@ fn point_doc(name: &str) -> String {
 /// inlined there, so that it is compiled with AVX2 where the processor has
 /// it; its slices, as the loop's arguments, do not alias: what lets LLVM
 /// vectorise without run-time overlap checks).
-/// `store(exprs)` writes lane i from the roots' expressions; `points`:
+/// `store(exprs)` is the lane's result from the roots' expressions; `points`:
 /// the function is generic over the point `P` of that many.
 #[allow(clippy::too_many_arguments)]
 fn lanes_fn(
@@ -178,6 +176,8 @@ fn lanes_fn(
     let store = store(values);
     let given: Vec<_> = (0..n_given).map(|k| format_ident!("given_{k}")).collect();
     let out: Vec<_> = (0..n_out).map(|k| format_ident!("out_{k}")).collect();
+    let out_index: Vec<usize> = (0..n_out).collect();
+    let f_lane = format_ident!("{}", f_lanes.to_string().trim_end_matches('s'));
     let name = f.to_string();
     let sign = quote! { ::pkm::runtime::primitives::Sign };
     let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
@@ -191,6 +191,41 @@ fn lanes_fn(
         ),
         None => (quote! {}, quote! {}, quote! {}, quote! {}, quote! {}),
     };
+    // The loop's parts: slice x cut into `x_0` … (`part` lanes each).
+    let part_of = |x: &str, w: usize| format_ident!("{x}_{w}");
+    let mut parts = TokenStream::new();
+    let slices = given.iter().map(|g| (g.to_string(), false));
+    for (x, mutable) in slices
+        .chain(out.iter().map(|o| (o.to_string(), true)))
+        .chain([("ok".to_string(), true)])
+    {
+        let whole = format_ident!("{x}");
+        let (split, all) = if mutable {
+            (quote! { split_at_mut }, quote! { &mut *#whole })
+        } else {
+            (quote! { split_at }, quote! { #whole })
+        };
+        parts.extend(quote! { let rest = #all; });
+        for w in 0..WAYS {
+            let p = part_of(&x, w);
+            if w + 1 < WAYS {
+                parts.extend(quote! { let (#p, rest) = rest.#split(part); });
+            } else {
+                parts.extend(quote! { let (#p, _) = rest.#split(part); });
+            }
+        }
+    }
+    let calls = (0..WAYS).map(|w| {
+        let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
+        let g = given.iter().map(|g| part_of(&g.to_string(), w));
+        quote! { let (#r, #r_ok) = self.#f_lane #turbofish(signs, [#(#g[i]),*]); }
+    });
+    let stores = (0..WAYS).map(|w| {
+        let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
+        let o = out.iter().map(|o| part_of(&o.to_string(), w));
+        let ok_w = part_of("ok", w);
+        quote! { #(#o[i] = #r[#out_index];)* #ok_w[i] = #r_ok; }
+    });
     quote! {
         #[doc = #doc]
         pub fn #f #generics(
@@ -227,10 +262,26 @@ fn lanes_fn(
             ::core::result::Result::Ok(())
         }
 
+        /// One lane of the loop below: its result (zeros where refused) and
+        /// whether it is a verified solution.
+        #[inline(always)]
+        #[allow(unused_mut)]
+        fn #f_lane #generics(&self, signs: [#sign; #n_choices], given: [f64; #n_given]) -> ([f64; #n_out], bool) {
+            let _ = &signs;
+            let mut lane_ok = true #(#finite)*;
+            #lets
+            #check
+            let result: [f64; #n_out] = #store;
+            (if lane_ok { result } else { [0.0; #n_out] }, lane_ok)
+        }
+
         /// The loop of the function above, its slices checked to `ok.len()`
         /// (as arguments, they do not alias: no run-time overlap checks).
+        /// `WAYS` lanes an iteration, one from each part of the slices:
+        /// independent chains of dependent divisions and square roots that
+        /// the processor overlaps.
         #[inline(always)]
-        #[allow(clippy::too_many_arguments, clippy::needless_range_loop, unused_mut)]
+        #[allow(clippy::too_many_arguments)]
         fn #f_lanes #generics(
             &self,
             signs: [#sign; #n_choices],
@@ -238,18 +289,22 @@ fn lanes_fn(
             #(#out: &mut [f64],)*
             ok: &mut [bool],
         ) {
-            let _ = &signs;
             let lanes = ok.len();
+            let part = lanes / #WAYS;
             // Cut to the lane count once, so the loop has no bounds checks.
             #(let #given = &#given[..lanes];)*
             #(let #out = &mut #out[..lanes];)*
-            for i in 0..lanes {
-                let given = [#(#given[i]),*];
-                let mut lane_ok = true #(#finite)*;
-                #lets
-                #check
-                #store
-                ok[i] = lane_ok;
+            {
+                #parts
+                for i in 0..part {
+                    #(#calls)*
+                    #(#stores)*
+                }
+            }
+            for j in part * #WAYS..lanes {
+                let (r, r_ok) = self.#f_lane #turbofish(signs, [#(#given[j]),*]);
+                #(#out[j] = r[#out_index];)*
+                ok[j] = r_ok;
             }
         }
     }
