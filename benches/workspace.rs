@@ -174,12 +174,14 @@ fn workspace(c: &mut Criterion) {
 
     // The two loops alone, one core, the same prefilled lanes.
     let n = grid.len();
-    let mut q = [0.0; 3];
-    let mut given = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
-    for i in 0..n {
-        grid.node(i, &mut q);
-        (0..3).for_each(|k| given[k][i] = q[k]);
-    }
+    let inputs: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let mut q = [0.0; 3];
+            grid.node(i, &mut q);
+            q
+        })
+        .collect();
+    let given: [Vec<f64>; 3] = std::array::from_fn(|k| inputs.iter().map(|q| q[k]).collect());
     let (mut gx, mut gy, mut gz, mut ok) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![false; n]);
     let mut group = c.benchmark_group("kernel_1e6_one_core");
     group.sample_size(20);
