@@ -7,9 +7,11 @@
 //! clears the lane's flag, the open joints' verification clears it too (the
 //! tolerance of [`pkm_runtime::consistency::within`]), and a cleared lane
 //! writes zeros. Where the body has no call (sqrt, division and selects
-//! only), the loop has no control flow and LLVM vectorises it; sin, cos,
-//! atan2 (libm) and the kernels the steps call are calls, and a body with
-//! them runs lane after lane.
+//! only), the loop has no control flow and LLVM vectorises it (AVX2 where
+//! the processor has it, through `pkm_runtime::batch::wide`; two lanes an
+//! iteration, from either half of the slices); sin, cos, atan2 (libm) and
+//! the kernels the steps call are calls, and a body with them runs lane
+//! after lane.
 
 use super::{Branch, Direction};
 use crate::analysis::Analysis;
@@ -32,14 +34,12 @@ pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d:
     let n_choices = d.plan.branches;
     let verify = !d.plan.open_joints(m.joints.len()).is_empty();
 
-    let mut roots = g.result.clone();
     let lean = lanes_fn(
         &prepared,
         emit,
         g,
-        &mut roots,
-        &format_ident!("{name}_batch"),
-        &format_ident!("{name}_lanes"),
+        g.result.clone(),
+        name,
         n_given,
         n_choices,
         verify,
@@ -49,15 +49,13 @@ pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d:
         &batch_doc(name, d.forward),
     );
 
-    let mut roots: Vec<Sym> = g.points.iter().flatten().copied().collect();
     let n_points = g.points.len();
     let point = lanes_fn(
         &prepared,
         emit,
         g,
-        &mut roots,
-        &format_ident!("{name}_point_batch"),
-        &format_ident!("{name}_point_lanes"),
+        g.points.iter().flatten().copied().collect(),
+        &format!("{name}_point"),
         n_given,
         n_choices,
         verify,
@@ -110,25 +108,24 @@ fn point_doc(name: &str) -> String {
     )
 }
 
-/// A public batch function `f` checking the slices' lengths and running
-/// its private loop `f_lanes` through `pkm::runtime::batch::wide` (the loop
+/// A public batch function `{stem}_batch` checking the slices' lengths and
+/// running its private loop `{stem}_lanes` (one lane: `{stem}_lane`) through `pkm::runtime::batch::wide` (the loop
 /// inlined there, so that it is compiled with AVX2 where the processor has
 /// it; its slices, as the loop's arguments, do not alias: what lets LLVM
 /// vectorise without run-time overlap checks).
-/// `store(exprs)` is the lane's result from the roots' expressions; `points`:
+/// `result(exprs)` is the lane's result from the expressions of `roots`; `points`:
 /// the function is generic over the point `P` of that many.
 #[allow(clippy::too_many_arguments)]
 fn lanes_fn(
     prepared: &proc_macro2::Ident,
     emit: &Emit,
     g: &Branch,
-    roots: &mut Vec<Sym>,
-    f: &proc_macro2::Ident,
-    f_lanes: &proc_macro2::Ident,
+    mut roots: Vec<Sym>,
+    stem: &str,
     n_given: usize,
     n_choices: usize,
     verify: bool,
-    store: &dyn Fn(&[TokenStream]) -> TokenStream,
+    result: &dyn Fn(&[TokenStream]) -> TokenStream,
     n_out: usize,
     points: Option<usize>,
     doc: &str,
@@ -139,7 +136,7 @@ fn lanes_fn(
         roots.extend(&g.residual);
         roots.extend(g.origins.iter().flatten());
     }
-    let (lets, exprs) = emit.lanes(roots, &g.guards);
+    let (lets, exprs) = emit.lanes(&roots, &g.guards);
     let (values, rest) = exprs.split_at(n_roots);
     let check = if verify {
         let (residual, origins) = rest.split_at(n_rows);
@@ -173,11 +170,15 @@ fn lanes_fn(
     } else {
         quote! {}
     };
-    let store = store(values);
+    let result = result(values);
+    let (f, f_lanes, f_lane) = (
+        format_ident!("{stem}_batch"),
+        format_ident!("{stem}_lanes"),
+        format_ident!("{stem}_lane"),
+    );
     let given: Vec<_> = (0..n_given).map(|k| format_ident!("given_{k}")).collect();
     let out: Vec<_> = (0..n_out).map(|k| format_ident!("out_{k}")).collect();
     let out_index: Vec<usize> = (0..n_out).collect();
-    let f_lane = format_ident!("{}", f_lanes.to_string().trim_end_matches('s'));
     let name = f.to_string();
     let sign = quote! { ::pkm::runtime::primitives::Sign };
     let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
@@ -271,7 +272,7 @@ fn lanes_fn(
             let mut lane_ok = true #(#finite)*;
             #lets
             #check
-            let result: [f64; #n_out] = #store;
+            let result: [f64; #n_out] = #result;
             (if lane_ok { result } else { [0.0; #n_out] }, lane_ok)
         }
 
