@@ -2,13 +2,15 @@
 //! generated forward solutions over x1 ∈ [−250, 0], x2 ∈ [0, 250],
 //! x3 ∈ [−300, 300] mm, for the platform's midpoint G (its centroid), on
 //! the paper's assembly (the five-bar above the sliders), each root of the
-//! platform's angle. Prints the volume (the image of the input
-//! grid, `image_volume`) and the sweep's time.
+//! platform's angle, through the batch path (`sweep_batch` handing chunks
+//! of nodes to the generated `fk_point_batch`). Prints the volume (the
+//! image of the input grid, `image_volume`) and the sweep's time.
 //!
 //! `cargo run --release --example workspace [nodes per input]` (default 100).
 
+use pkm::runtime::plan::SolveError;
 use pkm::runtime::primitives::Sign;
-use pkm::runtime::workspace::{bounds, image_volume, sweep_nodes, Grid, Sample};
+use pkm::runtime::workspace::{bounds, image_volume, sweep_batch, Grid, Lanes, Sample};
 use std::time::Instant;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -22,14 +24,16 @@ fn main() {
     };
     // Prepared once; per node only the steps.
     let (sa, sb) = (SeedA::prepare(&Default::default()), SeedB::prepare(&Default::default()));
-    let g = |names: &[&str]| names.iter().position(|p| *p == "G").unwrap();
-    let (ga, gb) = (g(&SeedA::POINTS), g(&SeedB::POINTS));
+    // G's index among each mechanism's points (a constant: the batch
+    // solver's point is a compile-time choice).
+    const GA: usize = index(&SeedA::POINTS, "G");
+    const GB: usize = index(&SeedB::POINTS, "G");
     // The paper's assembly: the five-bar above the sliders (its first sign
     // Minus in both), each root of the platform's angle.
     let (m, p) = (Sign::Minus, Sign::Plus);
-    type Solve = Box<dyn Fn(&[f64; 3]) -> Option<[f64; 3]> + Sync>;
-    let a = move |signs| -> Solve { Box::new(move |q| sa.fk_solution(q, signs).ok().map(|s| s.points[ga])) };
-    let b = move |signs| -> Solve { Box::new(move |q| sb.fk_solution(q, signs).ok().map(|s| s.points[gb])) };
+    type Solve = Box<dyn Fn(Lanes<3>) -> Result<(), SolveError> + Sync>;
+    let a = move |signs| -> Solve { Box::new(move |(g, out, ok)| sa.fk_point_batch::<GA>(g, signs, out, ok)) };
+    let b = move |signs| -> Solve { Box::new(move |(g, out, ok)| sb.fk_point_batch::<GB>(g, signs, out, ok)) };
     let runs: [(&str, Solve); 4] = [
         ("A (−, +)", a([m, p])),
         ("A (−, −)", a([m, m])),
@@ -38,7 +42,13 @@ fn main() {
     ];
     for (name, solve) in runs {
         let start = Instant::now();
-        let nodes = sweep_nodes::<3>(&grid, |q| solve(q));
+        let nodes = match sweep_batch::<3, _>(&grid, |lanes| solve(lanes)) {
+            Ok(points) => points.nodes(),
+            Err(e) => {
+                eprintln!("{name}: {e}");
+                std::process::exit(1);
+            }
+        };
         let took = start.elapsed();
         let reached: Vec<_> = nodes
             .iter()
@@ -61,4 +71,23 @@ fn main() {
             hi[2]
         );
     }
+}
+
+/// The index of `name` in `names` (a compile-time error if absent).
+const fn index(names: &[&str], name: &str) -> usize {
+    let mut i = 0;
+    while i < names.len() {
+        let (a, b) = (names[i].as_bytes(), name.as_bytes());
+        if a.len() == b.len() {
+            let mut k = 0;
+            while k < a.len() && a[k] == b[k] {
+                k += 1;
+            }
+            if k == a.len() {
+                return i;
+            }
+        }
+        i += 1;
+    }
+    panic!("no such point")
 }

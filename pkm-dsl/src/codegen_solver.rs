@@ -18,6 +18,10 @@ use pkm_runtime::steps::{self, Geometry, Given, JointGeometry, RESIDUAL_ROWS};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
+// A child module: it reads this one's traced branches.
+#[path = "codegen_batch.rs"]
+mod batch;
+
 /// A parameter expression as a symbol: arithmetic traced, anything else
 /// (powers, functions) kept as Rust source.
 fn sym(e: &Expr) -> Sym {
@@ -269,6 +273,7 @@ pub fn generate(
     let mut fns = Vec::new();
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
+        fns.push(batch::generate(a, ident, &emit, d));
     }
     let prepared = format_ident!("{}Prepared", ident);
     let params_ty = format_ident!("{}Params", ident);

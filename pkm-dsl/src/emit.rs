@@ -86,6 +86,11 @@ impl<'g> Emit<'g> {
     /// The live nodes reachable from `roots` (not through parameter-only
     /// nodes), in recorded order, with their use counts.
     fn reach(&self, roots: &[Sym]) -> (Vec<Sym>, HashMap<Sym, usize>) {
+        self.reach_by(roots, &|n| operands(n))
+    }
+
+    /// [`Self::reach`] through the operands `of` each node.
+    fn reach_by(&self, roots: &[Sym], of: &dyn Fn(&Node) -> Vec<Sym>) -> (Vec<Sym>, HashMap<Sym, usize>) {
         let mut uses: HashMap<Sym, usize> = HashMap::default();
         let mut seen = vec![false; self.g.nodes.len()];
         let mut stack: Vec<Sym> = roots.to_vec();
@@ -97,7 +102,7 @@ impl<'g> Emit<'g> {
                 continue;
             }
             seen[s.0 as usize] = true;
-            for o in operands(self.node(s)) {
+            for o in of(self.node(s)) {
                 *uses.entry(o).or_default() += 1;
                 stack.push(o);
             }
@@ -315,6 +320,57 @@ impl<'g> Emit<'g> {
         );
         let out = roots.iter().map(|r| self.expr(*r, &scope)).collect();
         (lets, out)
+    }
+
+    /// One lane of a batch loop computing `roots` (one branch, signs as
+    /// given), without control flow where the graph has none: each guard
+    /// clears the lane's flag `lane_ok` instead of returning (its error's
+    /// values are not computed), a failing kernel call clears it and gives
+    /// zeros. What a cleared lane computes after is garbage (NaN, ∞) the
+    /// caller must not let out. The statements, and the roots' expressions.
+    pub fn lanes(&self, roots: &[Sym], guards: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
+        let all: Vec<Sym> = roots.iter().chain(guards).copied().collect();
+        // A guard needs its condition's operands only.
+        let (order, uses) = self.reach_by(&all, &|n| match n {
+            Node::Guard(a, b, ..) => vec![*a, *b],
+            n => operands(n),
+        });
+        let scope = Scope {
+            uses,
+            bound: RefCell::default(),
+        };
+        let mut out = TokenStream::new();
+        for &s in &order {
+            let node = self.node(s);
+            if let Node::Guard(a, b, ..) = node {
+                let (a, b) = (self.expr(*a, &scope), self.expr(*b, &scope));
+                out.extend(quote! { lane_ok &= #a < #b; });
+                continue;
+            }
+            let is_kernel = matches!(node, Node::Kernel(..));
+            let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
+            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
+                continue;
+            }
+            let v = self.name(s);
+            let e = self.compute(s, &|o| self.expr(o, &scope));
+            if is_kernel {
+                out.extend(quote! {
+                    let #v = match #e {
+                        ::core::result::Result::Ok(r) => r,
+                        ::core::result::Result::Err(_) => {
+                            lane_ok = false;
+                            [0.0f64; 2]
+                        }
+                    };
+                });
+            } else {
+                out.extend(quote! { let #v = #e; });
+            }
+            scope.bound.borrow_mut().insert(s, quote! { #v });
+        }
+        let exprs = roots.iter().map(|r| self.expr(*r, &scope)).collect();
+        (out, exprs)
     }
 
     /// Every branch at once, each branch's roots computed under nested

@@ -3,6 +3,7 @@
 //! The small runtime of pkm: shared types that generated code refers to.
 #![deny(missing_docs)]
 
+pub mod batch;
 pub mod consistency;
 pub mod frame;
 pub mod kinematics;

@@ -104,6 +104,203 @@ pub fn sweep_nodes<const N: usize>(
     parts.concat()
 }
 
+/// What a batch sweep's solver fills: the lanes' given values (one slice
+/// per input), the point's x, y and z, and whether each lane is reachable.
+pub type Lanes<'a, const N: usize> = ([&'a [f64]; N], [&'a mut [f64]; 3], &'a mut [bool]);
+
+/// A batch sweep's points, structure of arrays in node order: `ok[i]`
+/// says whether node i is reachable; its point is `(x[i], y[i], z[i])`
+/// (zeros where it is not).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Points {
+    /// x of each node's point.
+    pub x: Vec<f64>,
+    /// y of each node's point.
+    pub y: Vec<f64>,
+    /// z of each node's point.
+    pub z: Vec<f64>,
+    /// Whether each node is reachable.
+    pub ok: Vec<bool>,
+}
+
+impl Points {
+    /// As [`sweep_nodes`] returns them: one entry per node, `None` where
+    /// unreachable.
+    pub fn nodes(&self) -> Vec<Option<[f64; 3]>> {
+        (0..self.ok.len())
+            .map(|i| self.ok[i].then(|| [self.x[i], self.y[i], self.z[i]]))
+            .collect()
+    }
+}
+
+/// Why a batch sweep stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SweepError<E> {
+    /// The grid does not have one range per input of the solver.
+    Dimensions {
+        /// The grid's number of ranges.
+        grid: usize,
+        /// The solver's number of inputs.
+        inputs: usize,
+    },
+    /// The solver refused a chunk (its slices, not a lane: lanes that
+    /// cannot be solved are `ok = false`).
+    Solver(E),
+}
+
+impl<E: std::fmt::Display> std::fmt::Display for SweepError<E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SweepError::Dimensions { grid, inputs } => {
+                write!(f, "the grid has {grid} ranges for a solver of {inputs} inputs")
+            }
+            SweepError::Solver(e) => write!(f, "the batch solver failed: {e}"),
+        }
+    }
+}
+
+impl<E: std::fmt::Debug + std::fmt::Display> std::error::Error for SweepError<E> {}
+
+/// How many nodes a batch sweep hands its solver at once: the input
+/// buffers (8 KiB per input) stay in the first-level cache.
+pub const SWEEP_CHUNK: usize = 1024;
+
+/// Every node of `grid` through a batch solver, on all cores: each thread
+/// takes a contiguous share of the nodes, fills structure-of-arrays input
+/// buffers [`SWEEP_CHUNK`] nodes at a time and has `solve` write the
+/// point and the reachable flag of each straight into the result (a
+/// generated `fk_point_batch` fits: see benches/workspace.rs). The same
+/// nodes, with the same values, as [`sweep_nodes`].
+///
+/// # Example
+/// The unit disc again, eight lanes at a time or not:
+/// ```
+/// use pkm_runtime::workspace::{sweep_batch, Grid, Lanes};
+/// let grid = Grid { ranges: vec![(-1.0, 1.0), (-1.0, 1.0)], counts: vec![21, 21] };
+/// let points = sweep_batch::<2, ()>(&grid, |(given, [x, y, z], ok): Lanes<2>| {
+///     for i in 0..ok.len() {
+///         let (u, v) = (given[0][i], given[1][i]);
+///         ok[i] = u.hypot(v) <= 1.0;
+///         (x[i], y[i], z[i]) = if ok[i] { (u, v, 0.0) } else { (0.0, 0.0, 0.0) };
+///     }
+///     Ok(())
+/// })
+/// .unwrap();
+/// assert_eq!(points.ok.iter().filter(|&&ok| ok).count(), 317);
+/// ```
+pub fn sweep_batch<const N: usize, E: Send>(
+    grid: &Grid,
+    solve: impl Fn(Lanes<N>) -> Result<(), E> + Sync,
+) -> Result<Points, SweepError<E>> {
+    if grid.counts.len() != N || grid.ranges.len() != N {
+        return Err(SweepError::Dimensions {
+            grid: grid.counts.len().max(grid.ranges.len()),
+            inputs: N,
+        });
+    }
+    let total = grid.len();
+    // Each input's values, as `Grid::node` computes them.
+    let values: Vec<Vec<f64>> = (0..N)
+        .map(|a| {
+            let (lo, hi) = grid.ranges[a];
+            let n = grid.counts[a];
+            (0..n)
+                .map(|k| {
+                    if n > 1 {
+                        lo + (hi - lo) * k as f64 / (n - 1) as f64
+                    } else {
+                        lo
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut points = Points {
+        x: vec![0.0; total],
+        y: vec![0.0; total],
+        z: vec![0.0; total],
+        ok: vec![false; total],
+    };
+    if total == 0 {
+        return Ok(points);
+    }
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(total);
+    // Whole chunks per thread, so that only the last chunk is short.
+    let share = total.div_ceil(threads).div_ceil(SWEEP_CHUNK) * SWEEP_CHUNK;
+    let (solve, values) = (&solve, &values);
+    let Points { x, y, z, ok } = &mut points;
+    let results: Vec<Result<(), E>> = std::thread::scope(|s| {
+        let handles: Vec<_> = x
+            .chunks_mut(share)
+            .zip(y.chunks_mut(share))
+            .zip(z.chunks_mut(share))
+            .zip(ok.chunks_mut(share))
+            .enumerate()
+            .map(|(t, (((x, y), z), ok))| {
+                s.spawn(move || {
+                    let mut buffers = [[0.0; SWEEP_CHUNK]; N];
+                    let chunks = x
+                        .chunks_mut(SWEEP_CHUNK)
+                        .zip(y.chunks_mut(SWEEP_CHUNK))
+                        .zip(z.chunks_mut(SWEEP_CHUNK))
+                        .zip(ok.chunks_mut(SWEEP_CHUNK));
+                    for (c, (((x, y), z), ok)) in chunks.enumerate() {
+                        let start = t * share + c * SWEEP_CHUNK;
+                        let lanes = ok.len();
+                        fill(grid, values, start, lanes, &mut buffers);
+                        let given: [&[f64]; N] = std::array::from_fn(|a| &buffers[a][..lanes]);
+                        solve((given, [x, y, z], ok))?;
+                    }
+                    Ok(())
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    for r in results {
+        r.map_err(SweepError::Solver)?;
+    }
+    Ok(points)
+}
+
+/// The inputs of nodes `start..start + lanes` into `buffers[input]`: runs of
+/// the last input (the fastest) copied from its values, the others held.
+fn fill<const N: usize>(
+    grid: &Grid,
+    values: &[Vec<f64>],
+    start: usize,
+    lanes: usize,
+    buffers: &mut [[f64; SWEEP_CHUNK]; N],
+) {
+    let mut digit = [0usize; N];
+    let mut index = start;
+    for a in (0..N).rev() {
+        digit[a] = index % grid.counts[a];
+        index /= grid.counts[a];
+    }
+    let last = N - 1;
+    let mut j = 0;
+    while j < lanes {
+        let run = (grid.counts[last] - digit[last]).min(lanes - j);
+        buffers[last][j..j + run].copy_from_slice(&values[last][digit[last]..digit[last] + run]);
+        for a in 0..last {
+            buffers[a][j..j + run].fill(values[a][digit[a]]);
+        }
+        j += run;
+        digit[last] += run;
+        // Carry into the slower inputs.
+        let mut a = last;
+        while a > 0 && digit[a] == grid.counts[a] {
+            digit[a] = 0;
+            a -= 1;
+            digit[a] += 1;
+        }
+    }
+}
+
 /// The volume a three-input sweep's points fill, as the image of the input
 /// grid: every grid cell whose eight corners are reachable is split into
 /// six tetrahedra (along its main diagonal) and the volumes of their images
@@ -220,6 +417,55 @@ mod tests {
         let v = image_volume(&g, &nodes);
         // Chords cut the sphere: a relative error below 1e-3 at this spacing.
         assert!((v / (4.0 * std::f64::consts::PI / 3.0) - 1.0).abs() < 1e-3, "{v}");
+    }
+
+    #[test]
+    fn batch_sweep_visits_the_nodes_of_sweep_nodes() {
+        // Chunks that end inside a run of the last input (7 does not divide
+        // 1024), a short last chunk, a single-value input.
+        let g = Grid {
+            ranges: vec![(-1.0, 2.0), (0.0, 5.0), (3.0, 3.5), (-0.25, 0.25)],
+            counts: vec![13, 1, 23, 7],
+        };
+        // Reachable where the second coordinate's node is even: a pattern of
+        // the values, so a misplaced value shows.
+        let point = |q: [f64; 4]| {
+            let reachable = ((q[2] - 3.0) / 0.5 * 22.0).round() as i64 % 2 == 0;
+            reachable.then_some([q[0] + q[1], q[2] * q[3], q[3] - q[0]])
+        };
+        let expected = sweep_nodes::<4>(&g, |q| point(*q));
+        let got = sweep_batch::<4, ()>(&g, |(given, [x, y, z], ok): Lanes<4>| {
+            for i in 0..ok.len() {
+                let p = point([given[0][i], given[1][i], given[2][i], given[3][i]]);
+                ok[i] = p.is_some();
+                [x[i], y[i], z[i]] = p.unwrap_or_default();
+            }
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(got.ok.len(), 13 * 23 * 7);
+        assert!(got.ok.iter().any(|&o| o) && got.ok.iter().any(|&o| !o));
+        assert_eq!(got.nodes(), expected);
+    }
+
+    #[test]
+    fn batch_sweep_errors() {
+        let g = Grid {
+            ranges: vec![(0.0, 1.0), (0.0, 1.0)],
+            counts: vec![3000, 2],
+        };
+        let e = sweep_batch::<3, &str>(&g, |_| Ok(())).unwrap_err();
+        assert_eq!(e, SweepError::Dimensions { grid: 2, inputs: 3 });
+        assert_eq!(e.to_string(), "the grid has 2 ranges for a solver of 3 inputs");
+        // The solver's own error comes back.
+        let e = sweep_batch::<2, &str>(&g, |_| Err("lengths")).unwrap_err();
+        assert_eq!(e, SweepError::Solver("lengths"));
+        // An empty grid: no call, no point.
+        let empty = Grid {
+            ranges: vec![(0.0, 1.0)],
+            counts: vec![0],
+        };
+        assert_eq!(sweep_batch::<1, ()>(&empty, |_| Err(())), Ok(Points::default()));
     }
 
     #[test]
