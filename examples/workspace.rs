@@ -8,8 +8,8 @@
 //!
 //! `cargo run --release --example workspace [nodes per input]` (default 100).
 
-use pkm::runtime::plan::SolveError;
 use pkm::runtime::primitives::Sign;
+use pkm::runtime::solution::SolveError;
 use pkm::runtime::workspace::{bounds, image_volume, sweep_batch, Grid, Lanes, Sample};
 use std::time::Instant;
 

@@ -7,7 +7,7 @@
 //! Seed 000 A's point G is also checked against its closed form (derived by
 //! hand in benches/handwritten.rs).
 
-use pkm::runtime::plan::{signs_of, SolveError};
+use pkm::runtime::solution::{signs_of, SolveError};
 use std::f64::consts::PI;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");

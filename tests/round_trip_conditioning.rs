@@ -36,8 +36,8 @@ struct Mechanism {
 fn mechanism() -> Mechanism {
     let (text, path) = common::example_text("seed000_b");
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
-    let model = pkm::dsl::plan::model(&a, &HashMap::new()).unwrap();
-    let outputs = pkm::dsl::plan::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     Mechanism { model, outputs }
 }
 

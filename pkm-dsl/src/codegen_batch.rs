@@ -235,7 +235,7 @@ fn lanes_fn(
             signs: [#sign; #n_choices],
             out: [&mut [f64]; #n_out],
             ok: &mut [bool],
-        ) -> ::core::result::Result<(), ::pkm::runtime::plan::SolveError> {
+        ) -> ::core::result::Result<(), ::pkm::runtime::solution::SolveError> {
             #assert
             ::pkm::runtime::batch::check_lanes(
                 #name,

@@ -8,7 +8,7 @@
 //! number, 0 included); anything else is [`SolveError::BadInput`] before a
 //! lane is solved.
 
-use crate::plan::SolveError;
+use crate::solution::SolveError;
 use std::borrow::Cow;
 
 /// `Ok` when every given and result slice has `lanes` entries (`ok.len()`),
