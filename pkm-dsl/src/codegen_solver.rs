@@ -357,7 +357,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         // Rotation rows scale with the extent (see `closure_residual`).
         let rows = residual.iter().enumerate().map(|(i, r)| {
             if i % RESIDUAL_ROWS >= 3 {
-                quote! { #r * extent }
+                quote! { (#r * extent) }
             } else {
                 quote! { #r }
             }
