@@ -205,36 +205,44 @@ fn close(a: &[f64], b: &[f64]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * 300.0)
 }
 
-/// A planar mechanism's generated fk and ik (the planar generator, every
-/// joint and point) against the hand-written closed form of its one output.
+/// A planar mechanism's prepared fk and ik (the one pipeline's straight-line
+/// code: the declared output, or the actuator) against the hand-written
+/// closed form of its one output, one branch and both.
 macro_rules! planar {
     ($c:expr, $ty:ident, $hand:ident, $name:expr, $q:expr) => {{
-        let params = Default::default();
+        let solver = $ty::prepare(&Default::default());
         let q = [$q];
         let signs = signs_of::<1>(0);
-        let sol = $ty::fk_branch(&params, &q, signs).unwrap();
-        let out = sol.outputs[0];
+        let out = solver.fk_branch(&q, signs).unwrap()[0];
         let plus = [true, false]
             .into_iter()
             .find(|&p| $hand::fk(q[0], p).is_some_and(|h| (h - out).abs() < 1e-9))
             .expect("a hand-written fk branch equals the generated one");
         let mut group = $c.benchmark_group(concat!($name, "/fk"));
         group.bench_function("generated_branch", |b| {
-            b.iter(|| $ty::fk_branch(&params, black_box(&q), signs))
+            b.iter(|| solver.fk_branch(black_box(&q), signs))
         });
         group.bench_function("hand_branch", |b| b.iter(|| $hand::fk(black_box(q[0]), plus)));
+        group.bench_function("generated_all", |b| b.iter(|| solver.fk(black_box(&q))));
+        group.bench_function("hand_all", |b| {
+            b.iter(|| [$hand::fk(black_box(q[0]), true), $hand::fk(black_box(q[0]), false)])
+        });
         group.finish();
         let x = [out];
-        let back = $ty::ik_branch(&params, &x, signs).unwrap().q[0];
+        let back = solver.ik_branch(&x, signs).unwrap()[0];
         let plus = [true, false]
             .into_iter()
             .find(|&p| $hand::ik(x[0], p).is_some_and(|h| (h - back).abs() < 1e-9))
             .expect("a hand-written ik branch equals the generated one");
         let mut group = $c.benchmark_group(concat!($name, "/ik"));
         group.bench_function("generated_branch", |b| {
-            b.iter(|| $ty::ik_branch(&params, black_box(&x), signs))
+            b.iter(|| solver.ik_branch(black_box(&x), signs))
         });
         group.bench_function("hand_branch", |b| b.iter(|| $hand::ik(black_box(x[0]), plus)));
+        group.bench_function("generated_all", |b| b.iter(|| solver.ik(black_box(&x))));
+        group.bench_function("hand_all", |b| {
+            b.iter(|| [$hand::ik(black_box(x[0]), true), $hand::ik(black_box(x[0]), false)])
+        });
         group.finish();
     }};
 }
