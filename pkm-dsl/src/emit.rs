@@ -220,6 +220,17 @@ impl<'g> Emit<'g> {
         }
     }
 
+    /// A node bound by a `let` (a kernel call, or a value used twice): its
+    /// name and value; `None` for one written where it is used.
+    fn binding(&self, s: Sym, node: &Node, scope: &Scope) -> Option<(proc_macro2::Ident, TokenStream)> {
+        let is_kernel = matches!(node, Node::Kernel(..));
+        let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
+        if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
+            return None;
+        }
+        Some((self.name(s), self.compute(s, &|o| self.expr(o, scope))))
+    }
+
     fn name(&self, s: Sym) -> proc_macro2::Ident {
         match &self.g.names[s.0 as usize] {
             Some(n) => {
@@ -277,13 +288,9 @@ impl<'g> Emit<'g> {
                 scope.bound.borrow_mut().insert(s, quote! { () });
                 continue;
             }
-            let is_kernel = matches!(node, Node::Kernel(..));
-            let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
-            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
+            let Some((v, e)) = self.binding(s, node, scope) else {
                 continue;
-            }
-            let v = self.name(s);
-            let e = self.compute(s, &|o| self.expr(o, scope));
+            };
             if let Node::Kernel(_, _, _, [step, site]) = node {
                 let name = &self.sites[*site];
                 let err = fail(quote! {
@@ -347,14 +354,10 @@ impl<'g> Emit<'g> {
                 out.extend(quote! { lane_ok &= #a < #b; });
                 continue;
             }
-            let is_kernel = matches!(node, Node::Kernel(..));
-            let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
-            if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
+            let Some((v, e)) = self.binding(s, node, &scope) else {
                 continue;
-            }
-            let v = self.name(s);
-            let e = self.compute(s, &|o| self.expr(o, &scope));
-            if is_kernel {
+            };
+            if matches!(node, Node::Kernel(..)) {
                 out.extend(quote! {
                     let #v = match #e {
                         ::core::result::Result::Ok(r) => r,
