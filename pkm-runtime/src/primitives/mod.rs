@@ -29,8 +29,6 @@
 //! # Families
 //!
 //! * [`scalar`]: [`trig_equation`], [`stable_quadratic`].
-//! * [`planar`]: dyads (Assur groups of class II) [`rrr`], [`rrp`], [`rpr`],
-//!   [`prp`], [`ppr`].
 //! * [`spatial`]: [`line_plane`], [`line_sphere`], [`trilaterate`],
 //!   [`rotate_to_distance`], [`circle_to_distance`].
 //! * [`paden_kahan`]: [`pk1`], [`pk2`], [`pk3`].
@@ -38,7 +36,6 @@
 use crate::real::Real;
 
 pub mod paden_kahan;
-pub mod planar;
 pub mod scalar;
 pub mod spatial;
 #[cfg(test)]
@@ -46,7 +43,6 @@ mod testing;
 mod vec;
 
 pub use paden_kahan::{pk1, pk2, pk3};
-pub use planar::{ppr, prp, rpr, rrp, rrr, LineLine, SliderLine};
 pub use scalar::{stable_quadratic, trig_equation, QuadraticRoots};
 pub use spatial::{circle_to_distance, line_plane, line_sphere, rotate_to_distance, trilaterate};
 
@@ -264,11 +260,11 @@ impl<S: Copy> Roots2<S> {
 /// # Example
 ///
 /// ```
-/// use pkm_runtime::primitives::{rrr, Error};
+/// use pkm_runtime::primitives::{line_sphere, Error};
 ///
-/// // Two unit circles whose centres are 3 apart: out of reach by 1.
-/// match rrr([0.0, 0.0], 1.0, [3.0, 0.0], 1.0) {
-///     Err(Error::Unreachable { by, .. }) => assert!((by - 1.0_f64).abs() < 1e-15),
+/// // The x axis and the unit sphere about (0, 3, 0): out of reach by 2.
+/// match line_sphere([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 3.0, 0.0], 1.0) {
+///     Err(Error::Unreachable { by, .. }) => assert!((by - 2.0_f64).abs() < 1e-15),
 ///     other => panic!("{other:?}"),
 /// }
 /// ```

@@ -62,7 +62,7 @@ pub fn line_plane<T: Real>(
 /// Intersection of the line `{line_point + t·unit(line_dir)}` with the
 /// sphere of `radius` about `centre`.
 ///
-/// The 3D analogue of [`rrp`](super::rrp): with `t0` the foot of the centre
+/// With `t0` the foot of the centre
 /// on the line and `e = |u × (centre − line_point)|` its distance,
 /// `t = t0 ± sqrt((radius − e)(radius + e))`; `Plus` is the larger `t`.
 ///
@@ -121,7 +121,7 @@ pub fn line_sphere<T: Real>(
 /// subtracted:
 ///
 /// 1. spheres 1 and 2 meet in a circle in the plane `x = x0`, of radius `ρ`
-///    ([`rrr`](super::rrr)'s foot and Kahan height for the triangle `(d, r1, r2)`);
+///    (the foot and Kahan height of the triangle `(d, r1, r2)`);
 /// 2. sphere 3 cuts that plane in a circle of radius
 ///    `ρ3 = sqrt((r3 − |x0 − i|)(r3 + |x0 − i|))` about `c1 + x0·ex + j·ey`;
 /// 3. the two circles meet, within the plane, at `y`, `±z` (Kahan again).

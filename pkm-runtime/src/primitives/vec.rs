@@ -52,16 +52,6 @@ pub(crate) fn unit<T: Real, const N: usize>(a: [T; N], what: &'static str) -> Re
     Ok(core::array::from_fn(|i| a[i] / n))
 }
 
-/// Planar cross product `a.x b.y − a.y b.x` (sine of the angle times the lengths).
-pub(crate) fn cross2<T: Real>(a: [T; 2], b: [T; 2]) -> T {
-    a[0].mul_add(b[1], -(a[1] * b[0]))
-}
-
-/// `a` rotated by +90°: `(−a.y, a.x)` (the left normal).
-pub(crate) fn perp2<T: Real>(a: [T; 2]) -> [T; 2] {
-    [-a[1], a[0]]
-}
-
 /// Spatial cross product `a × b`.
 pub(crate) fn cross3<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
     [
@@ -91,8 +81,6 @@ mod tests {
         assert_eq!(norm([2e200, 3e200, 6e200]), 7e200);
         assert!((norm([2e-200, 3e-200, 6e-200]) / 7e-200 - 1.0).abs() < 1e-15);
         assert_eq!(norm([0.0, 0.0]), 0.0);
-        assert_eq!(cross2([1.0, 0.0], [0.0, 1.0]), 1.0);
-        assert_eq!(perp2([1.0, 2.0]), [-2.0, 1.0]);
         assert_eq!(cross3([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
         assert_eq!(unit([0.0, 3.0, 4.0], "z"), Ok([0.0, 0.6, 0.8]));
         assert_eq!(unit([0.0, 0.0], "z"), Err(Error::Degenerate { what: "z" }));
