@@ -70,6 +70,21 @@ pub fn trig_turns<T: Scalar>(
     site: [usize; 2],
     far: Option<Failure<T>>,
 ) -> Result<[[T; 2]; 2], GeomError<f64>> {
+    trig_turns_with_sine(a, b, c, None, site, far)
+}
+
+/// [`trig_turns`] with the root's sine `s` given where the caller forms it
+/// more accurately than `√((1 − |c|)(1 + |c|))` does near a double root
+/// (Kahan's triangle area, [`super::on_sphere::circle_distance`]).
+#[inline]
+pub(crate) fn trig_turns_with_sine<T: Scalar>(
+    a: T,
+    b: T,
+    c: T,
+    sine: Option<T>,
+    site: [usize; 2],
+    far: Option<Failure<T>>,
+) -> Result<[[T; 2]; 2], GeomError<f64>> {
     let h = (a * a + b * b).sqrt();
     T::require(T::c(0.0), h, Failure::Degenerate("a = b = 0"), site)?;
     let excess = c.abs() - h;
@@ -79,8 +94,13 @@ pub fn trig_turns<T: Scalar>(
     // Within the tolerance beyond tangency: the double root.
     let one = T::c(1.0);
     let c = T::if_less(one, c, one, T::if_less(c, -one, -one, c));
-    let abs_c = c.abs();
-    let s = ((one - abs_c) * (one + abs_c)).sqrt();
+    let s = match sine {
+        Some(s) => s,
+        None => {
+            let abs_c = c.abs();
+            ((one - abs_c) * (one + abs_c)).sqrt()
+        }
+    };
     Ok([[a * c - b * s, b * c + a * s], [a * c + b * s, b * c - a * s]])
 }
 
@@ -94,7 +114,21 @@ pub fn trig_turn<T: Scalar>(
     site: [usize; 2],
     far: Option<Failure<T>>,
 ) -> Result<[T; 2], GeomError<f64>> {
-    let [p, m] = trig_turns(a, b, c, site, far)?;
+    trig_turn_with_sine(a, b, c, None, choice, site, far)
+}
+
+/// The turn of [`trig_turns_with_sine`] that `choice` picks.
+#[inline]
+pub(crate) fn trig_turn_with_sine<T: Scalar>(
+    a: T,
+    b: T,
+    c: T,
+    sine: Option<T>,
+    choice: T::Choice,
+    site: [usize; 2],
+    far: Option<Failure<T>>,
+) -> Result<[T; 2], GeomError<f64>> {
+    let [p, m] = trig_turns_with_sine(a, b, c, sine, site, far)?;
     Ok([T::pick(choice, p[0], m[0]), T::pick(choice, p[1], m[1])])
 }
 

@@ -117,7 +117,45 @@ pub fn circle_distance<T: Scalar>(
         dmax: (delta * delta + sum * sum).sqrt(),
         dmin: (delta * delta + diff * diff).sqrt(),
     };
-    super::on_plane::trig_turn(cos_coef, sin_coef, c, choice, site, Some(far))
+    // The sine of the angle between p⊥ and q⊥'s turn, from the triangle
+    // (rp, rq, d⊥) by Kahan's area: accurate where the roots meet (a
+    // dyad near its fold), where √((1 − c)(1 + c)) loses half the digits.
+    let d_perp = ((d - ad) * (d + ad)).sqrt();
+    let sine = kahan_sine(length, rq, d_perp);
+    super::on_plane::trig_turn_with_sine(cos_coef, sin_coef, c, Some(sine), choice, site, Some(far))
+}
+
+/// The sine of the angle between sides `p` and `q` of the triangle with
+/// sides `p`, `q`, `r`: `2·area/(p·q)`, the area by Kahan's formula
+/// (`¼√((a + (b + c))(c − (a − b))(c + (a − b))(a + (b − c)))`, `a ≥ b ≥ c`),
+/// exact to a few ulps however flat the triangle; 0 where the sides are a
+/// hair past flat (the tangency the caller allows).
+///
+/// ```
+/// use pkm_runtime::steps::on_sphere::kahan_sine;
+///
+/// // The 3-4-5 triangle: the right angle is between 3 and 4.
+/// assert!((kahan_sine(3.0, 4.0, 5.0) - 1.0).abs() < 1e-15);
+/// // A needle: sides 1, 1 and r = 2 − 2⁻⁴⁰ (exact), so by hand
+/// // sin = (r/2)·√((4 − 2⁻⁴⁰)·2⁻⁴⁰), within 2⁻⁴¹ of 2⁻¹⁹ (the cosine
+/// // route, √((1 − c)(1 + c)) with c = (2 − r²)/2, is 4.5e-13 off here).
+/// let r = 2.0 - 2f64.powi(-40);
+/// let s = kahan_sine(1.0, 1.0, r);
+/// let exact = (r / 2.0) * ((4.0 - 2f64.powi(-40)) * 2f64.powi(-40)).sqrt();
+/// assert!((s / exact - 1.0).abs() < 4.0 * f64::EPSILON, "{s}");
+/// ```
+#[inline]
+pub fn kahan_sine<T: Scalar>(p: T, q: T, r: T) -> T {
+    use crate::scalar::max;
+    let min = |x: T, y: T| T::if_less(x, y, x, y);
+    let a = max(max(p, q), r);
+    let b = max(min(p, q), min(max(p, q), r));
+    let c = min(min(p, q), r);
+    let zero = T::c(0.0);
+    let neck = c - (a - b);
+    let neck = T::if_less(neck, zero, zero, neck);
+    let area4 = ((a + (b + c)) * (a + (b - c))).sqrt() * (neck * (c + (a - b))).sqrt();
+    area4 / (T::c(2.0) * p * q)
 }
 
 /// The slide `[t, 0]` that puts the line's point `start + t·along` (`along`
