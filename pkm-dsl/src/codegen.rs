@@ -130,6 +130,15 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
     let m = &a.mechanism;
     let t = &a.topology;
     for (cap, span) in &m.capabilities {
+        if *cap == Capability::Workspace && !m.wants(Capability::Fk) && !m.wants(Capability::Ik) {
+            errors.push(
+                Diagnostic::new(
+                    *span,
+                    "`workspace` sweeps the position solvers: request `fk` or `ik` too",
+                )
+                .label("needs `fk` or `ik`"),
+            );
+        }
         if *cap == Capability::Fk && t.kappa != 0 {
             let mut d = Diagnostic::new(
                 *span,
@@ -379,5 +388,30 @@ fn parameter_struct(input: &MacroInput, a: &Analysis) -> TokenStream {
             /// Every parameter's name and nominal value, in declaration order.
             pub const PARAMETERS: &'static [(&'static str, f64)] = &[#(#list),*];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The messages `check_capabilities` gives for a four-bar's capability list.
+    fn check(capabilities: &str, want: &[&str]) {
+        let text = format!("mechanism m {{ capabilities {capabilities}; planar; base R1* ∥ R2 ∥ R3 ∥ R4 base; }}");
+        let a = crate::analyze_source(&text).unwrap();
+        let got: Vec<String> = super::check_capabilities(&a)
+            .0
+            .iter()
+            .map(|d| d.message.clone())
+            .collect();
+        assert_eq!(got, want, "{capabilities}");
+    }
+
+    #[test]
+    fn workspace_needs_a_position_solver() {
+        check(
+            "workspace",
+            &["`workspace` sweeps the position solvers: request `fk` or `ik` too"],
+        );
+        check("fk, workspace", &[]);
+        check("ik, workspace", &[]);
     }
 }

@@ -273,7 +273,10 @@ pub fn generate(
     let mut fns = Vec::new();
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
-        fns.push(batch::generate(a, ident, &emit, d));
+        // The slice solvers only where the description asks for sweeps.
+        if a.mechanism.wants(crate::model::Capability::Workspace) {
+            fns.push(batch::generate(a, ident, &emit, d));
+        }
     }
     let prepared = format_ident!("{}Prepared", ident);
     let params_ty = format_ident!("{}Params", ident);
