@@ -31,14 +31,28 @@ impl Grid {
             let n = self.counts[i];
             let k = index % n;
             index /= n;
-            let (lo, hi) = self.ranges[i];
-            q[i] = if n > 1 {
-                lo + (hi - lo) * k as f64 / (n - 1) as f64
-            } else {
-                lo
-            };
+            q[i] = self.value(i, k);
         }
     }
+
+    /// Input `i`'s `k`-th value.
+    pub fn value(&self, i: usize, k: usize) -> f64 {
+        let (lo, hi) = self.ranges[i];
+        let n = self.counts[i];
+        if n > 1 {
+            lo + (hi - lo) * k as f64 / (n - 1) as f64
+        } else {
+            lo
+        }
+    }
+}
+
+/// How many threads a sweep of `total` nodes takes: one per core, at most
+/// one per node, at least one.
+fn threads(total: usize) -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(total.max(1))
 }
 
 /// One reachable sample: the inputs and the point reached.
@@ -80,10 +94,8 @@ pub fn sweep_nodes<const N: usize>(
     solve: impl Fn(&[f64; N]) -> Option<[f64; 3]> + Sync,
 ) -> Vec<Option<[f64; 3]>> {
     let total = grid.len();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(total.max(1));
-    let chunk = total.div_ceil(threads.max(1));
+    let threads = threads(total);
+    let chunk = total.div_ceil(threads);
     let solve = &solve;
     let parts: Vec<Vec<Option<[f64; 3]>>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
@@ -199,21 +211,9 @@ pub fn sweep_batch<const N: usize, E: Send>(
         });
     }
     let total = grid.len();
-    // Each input's values, as `Grid::node` computes them.
+    // Each input's values.
     let values: Vec<Vec<f64>> = (0..N)
-        .map(|a| {
-            let (lo, hi) = grid.ranges[a];
-            let n = grid.counts[a];
-            (0..n)
-                .map(|k| {
-                    if n > 1 {
-                        lo + (hi - lo) * k as f64 / (n - 1) as f64
-                    } else {
-                        lo
-                    }
-                })
-                .collect()
-        })
+        .map(|a| (0..grid.counts[a]).map(|k| grid.value(a, k)).collect())
         .collect();
     let mut points = Points {
         x: vec![0.0; total],
@@ -224,7 +224,7 @@ pub fn sweep_batch<const N: usize, E: Send>(
     if total == 0 {
         return Ok(points);
     }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(total);
+    let threads = threads(total);
     // Whole chunks per thread, so that only the last chunk is short.
     let share = total.div_ceil(threads).div_ceil(SWEEP_CHUNK) * SWEEP_CHUNK;
     let (solve, values) = (&solve, &values);
