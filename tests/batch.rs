@@ -293,3 +293,62 @@ fn lengths_are_checked() {
         "bad input: fk_batch: given[0] has 2 values, ok has 5",
     );
 }
+
+// A four-bar given its coupler's point R3 and its rocker angle: the plan pins
+// the coupler at R3 and checks the pin at the end (tests/consistency.rs has
+// the scalar solver's case).
+pkm::mechanism!(
+    FourBarOver,
+    "mechanism four_bar_over {
+    capabilities fk, ik, workspace;
+    planar;
+    base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;
+    parameters { l1 = 100; l2 = 250; l3 = 200; l4 = 300; }
+    geometry {
+        base    { R1 = (0, 0); R4 = (l4, 0); }
+        crank   { R1 = (0, 0); R2 = (l1, 0); }
+        coupler { R2 = (0, 0); R3 = (l2, 0); }
+        rocker  { R3 = (l3, 0); R4 = (0, 0); }
+    }
+    outputs { x, y = point R3 of coupler; psi = joint R4; }
+}"
+);
+
+/// A pinned point is verified lane by lane: consistent outputs (from fk)
+/// solve as `ik_branch` does, and the same with y moved by 1 are refused
+/// on every branch, as `ik_branch` refuses them.
+#[test]
+fn pinned_points_are_verified_per_lane() {
+    let s = FourBarOver::prepare(&Default::default());
+    let mut poses = Vec::new();
+    for k in 0..40 {
+        let theta = -3.0 + 0.15 * k as f64;
+        if let Some(out) = s.fk(&[theta]).iter().find_map(|b| b.result.as_ref().ok().copied()) {
+            poses.push(out);
+            poses.push([out[0], out[1] + 1.0, out[2]]);
+        }
+    }
+    assert!(poses.len() >= 40);
+    let cols = columns(&poses);
+    let given: [&[f64]; 3] = std::array::from_fn(|k| &cols[k][..]);
+    let mut refused = 0;
+    for (b, branch) in s.ik(&poses[0]).iter().enumerate() {
+        let signs = branch.signs;
+        let n = poses.len();
+        let mut out = vec![vec![0.0; n]; 1];
+        let mut ok = vec![false; n];
+        {
+            let [o0] = &mut out[..] else { unreachable!() };
+            s.ik_batch(given, signs, [&mut o0[..]], &mut ok).unwrap();
+        }
+        for i in 0..n {
+            let scalar = s.ik_branch(&poses[i], signs);
+            check_lane(&scalar, ok[i], [out[0][i]], &format!("lane {i} branch {b}"));
+            if i % 2 == 1 {
+                assert!(!ok[i], "lane {i} (y + 1) solved on branch {b}");
+                refused += 1;
+            }
+        }
+    }
+    assert!(refused >= 40);
+}

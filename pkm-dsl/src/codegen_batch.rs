@@ -32,7 +32,8 @@ pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d:
     let g = &d.given;
     let n_given = d.plan.n_inputs;
     let n_choices = d.plan.branches;
-    let verify = !d.plan.open_joints(m.joints.len()).is_empty();
+    // Open joints and pinned points alike (`Plan::checks`, the residual rows).
+    let verify = !d.plan.checks(m.joints.len()).is_empty();
 
     let lean = lanes_fn(
         &prepared,
