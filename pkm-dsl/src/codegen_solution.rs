@@ -90,16 +90,6 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
         Direction::Forward => format_ident!("fk_solution"),
         Direction::Inverse => format_ident!("ik_solution"),
     };
-    wrap(a, ident, direction, plan, &f)
-}
-
-fn wrap(
-    a: &Analysis,
-    ident: &proc_macro2::Ident,
-    direction: Direction,
-    plan: &Plan,
-    f: &proc_macro2::Ident,
-) -> TokenStream {
     let m = &a.mechanism;
     let (n_branches, inputs) = (plan.branches, &plan.inputs);
     let rt = quote! { ::pkm::runtime::solution };
@@ -132,14 +122,10 @@ fn wrap(
     };
     let n_values = value_names.len();
     // Every branch from one prepared solver.
-    let (prelude, solve) = (
-        quote! { let prepared = Self::prepare(params); },
-        quote! { prepared.#f(q, signs) },
-    );
     let branches = (0..n_solutions).map(|i| {
         quote! {{
             let signs = #rt::signs_of::<#n_branches>(#i);
-            #rt::Branch { signs, result: #solve, tangent: false }
+            #rt::Branch { signs, result: prepared.#f(q, signs), tangent: false }
         }}
     });
     // The outputs' names are the solution's `OUTPUTS`; the inputs' are named here.
@@ -177,7 +163,7 @@ fn wrap(
             /// A branch that is another's solution again (a double root, at a
             /// tangency) is `SolveError::DoubleRoot`, and its twin is `tangent`.
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
-                #prelude
+                let prepared = Self::prepare(params);
                 let mut all = [#(#branches),*];
                 ::pkm::runtime::consistency::mark_double_roots(&mut all, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]);
                 all
