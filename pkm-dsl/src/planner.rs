@@ -1,5 +1,5 @@
-//! Spatial solution plans (see `pkm_runtime::spatial`): links are solved one
-//! joint at a time, each joint value from what the rest of the mechanism
+//! Solution plans of every mechanism, planar and spatial (see
+//! `pkm_runtime::spatial`): links are solved one joint at a time, each joint value from what the rest of the mechanism
 //! fixes about one point or direction of the new link. The structural
 //! conditions (a point on an axis, parallel axes, a plane that is not
 //! parallel to the motion) are checked on the geometry at its nominal
@@ -634,7 +634,7 @@ fn solve(
             return Err(Diagnostic::new(
                 m.name_span(),
                 format!(
-                    "no closed-form {what} plan: links {} are not reached by the spatial catalogue \
+                    "no closed-form {what} plan: links {} are not reached by the step catalogue \
                      (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder)",
                     left.join(", ")
                 ),
