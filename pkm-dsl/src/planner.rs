@@ -1,6 +1,7 @@
 //! Solution plans of every mechanism, planar and spatial (see
-//! `pkm_runtime::spatial`): links are solved one joint at a time, each joint value from what the rest of the mechanism
-//! fixes about one point or direction of the new link. The structural
+//! `pkm_runtime::spatial`): links are solved one joint at a time, each
+//! joint value from what the rest of the mechanism fixes about one point or
+//! direction of the new link. The structural
 //! conditions (a point on an axis, parallel axes, a plane that is not
 //! parallel to the motion) are checked on the geometry at its nominal
 //! dimensions; no mechanism is named here.
