@@ -135,36 +135,22 @@ fn lanes_fn(
     let n_rows = g.residual.len();
     if verify {
         roots.extend(&g.residual);
-        roots.extend(g.origins.iter().flatten());
+        roots.push(g.extent);
     }
     let (lets, exprs) = emit.lanes(&roots, &g.guards);
     let (values, rest) = exprs.split_at(n_roots);
     let check = if verify {
-        let (residual, origins) = rest.split_at(n_rows);
-        // As `fk_branch`: rotation rows scale with the extent, the largest
-        // coordinate of the links' origins, at least 1; every row within
-        // `VERIFY_TOL` of it (NaN is not).
-        // A row that is 0 is within any tolerance (a rotation row's 0 times
-        // an infinite extent is NaN, which is not: kept, as `fk_branch` has it).
+        let (residual, extent) = rest.split_at(n_rows);
+        let extent = &extent[0];
+        // As `fk_branch`: every row within `VERIFY_TOL` of the extent (NaN
+        // is not); a row that is 0 is within any tolerance.
         let zero = crate::emit::lit(0.0).to_string();
-        let rows = residual.iter().enumerate().filter_map(|(i, r)| {
-            if i % pkm_runtime::steps::RESIDUAL_ROWS >= 3 {
-                Some(quote! { lane_ok &= (#r * extent).abs() <= tol; })
-            } else if r.to_string() == zero {
-                None
-            } else {
-                Some(quote! { lane_ok &= (#r).abs() <= tol; })
-            }
-        });
-        // The largest of the same coordinates taken once each is the same:
-        // the first of each, and no 0 (the maximum starts at 1).
-        let mut seen = std::collections::HashSet::from([zero.clone()]);
-        let coords = origins
+        let rows = residual
             .iter()
-            .filter(|o| seen.insert(o.to_string()))
-            .map(|o| quote! { .max(#o.abs()) });
+            .filter(|r| r.to_string() != zero)
+            .map(|r| quote! { lane_ok &= (#r).abs() <= tol; });
         quote! {
-            let extent = 1f64 #(#coords)*;
+            let extent = #extent;
             let tol = ::pkm::runtime::consistency::VERIFY_TOL * extent;
             #(#rows)*
         }

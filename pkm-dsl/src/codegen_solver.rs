@@ -76,8 +76,8 @@ fn geometry(a: &Analysis) -> Geometry<Sym> {
 
 /// One branch's symbols: what the lean solver returns (the outputs, or the
 /// actuators' values), every joint value, every point, the declared
-/// outputs, the open joints' residual rows (rotation rows unscaled) and
-/// every link's origin.
+/// outputs, the open joints' residual rows (rotation rows times the
+/// extent) and the extent they are measured against.
 struct Branch {
     guards: Vec<Sym>,
     result: Vec<Sym>,
@@ -85,7 +85,22 @@ struct Branch {
     points: Vec<[Sym; 3]>,
     outputs: Vec<Sym>,
     residual: Vec<Sym>,
-    origins: Vec<[Sym; 3]>,
+    extent: Sym,
+}
+
+/// The largest finite coordinate magnitude of the links' origins, at least 1
+/// (as `consistency::extent`): each coordinate taken once, constants folded
+/// now, and those that depend on the parameters alone first, so that their
+/// maximum is prepared once.
+fn extent(origins: &[[Sym; 3]]) -> Sym {
+    let mut coords: Vec<Sym> = origins.iter().flatten().copied().collect();
+    coords.sort();
+    coords.dedup();
+    coords.sort_by_key(|c| c.is_live());
+    coords.into_iter().fold(Sym::c(1.0), |m, c| {
+        let a = c.abs();
+        Sym::if_less(a, Sym::c(f64::INFINITY), Sym::if_less(m, a, a, m), m)
+    })
 }
 
 /// Runs the plan on symbols.
@@ -177,7 +192,9 @@ fn branch(
     }
     let guards = crate::trace::take_guards();
     let checks = plan.checks(m.joints.len());
-    let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, Sym::c(1.0));
+    let extent = extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
+    // Rotation rows scale with the extent (see `closure_residual`).
+    let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, extent);
     let result = if forward {
         outputs.clone()
     } else {
@@ -193,7 +210,7 @@ fn branch(
         points,
         outputs,
         residual,
-        origins: state.poses.iter().map(|p| p.t).collect(),
+        extent,
     })
 }
 
@@ -356,31 +373,19 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             });
         }
     };
-    let rows_of = |residual: &[TokenStream]| -> TokenStream {
-        // Rotation rows scale with the extent (see `closure_residual`).
-        let rows = residual.iter().enumerate().map(|(i, r)| {
-            if i % RESIDUAL_ROWS >= 3 {
-                quote! { (#r * extent) }
-            } else {
-                quote! { #r }
-            }
-        });
-        quote! { [#(#rows),*] }
-    };
-    // The largest coordinate of the links' origins, at least 1 (`consistency::extent`).
-    let extent_of = |origins: &[TokenStream]| {
-        let coords = origins.iter().map(|o| quote! { .max(#o.abs()) });
-        quote! { 1f64 #(#coords)* }
+    // The residual rows, then the extent they are measured against.
+    let rows_of = |rest: &[TokenStream]| -> (TokenStream, TokenStream) {
+        let (residual, extent) = rest.split_at(n_rows);
+        (quote! { [#(#residual),*] }, extent[0].clone())
     };
 
     // One branch, the caller's signs: the result, then the residual rows.
     let mut roots = d.given.result.clone();
     roots.extend(&d.given.residual);
-    roots.extend(d.given.origins.iter().flatten());
+    roots.push(d.given.extent);
     let (lets, exprs) = emit.straight(&roots, &d.given.guards);
     let (result, rest) = exprs.split_at(n_result);
-    let (residual, origins) = rest.split_at(n_rows);
-    let (rows, extent) = (rows_of(residual), extent_of(origins));
+    let (rows, extent) = rows_of(rest);
     let verified_doc = " Verified: the joints no step closes must close.";
     let lean_doc = if d.forward {
         format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the declared outputs (`OUTPUTS`).")
@@ -442,7 +447,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     roots.extend(d.given.points.iter().flatten());
     roots.extend(&d.given.outputs);
     roots.extend(&d.given.residual);
-    roots.extend(d.given.origins.iter().flatten());
+    roots.push(d.given.extent);
     let (lets, exprs) = emit.straight(&roots, &d.given.guards);
     let n_joints = m.joints.len();
     let n_points = d.given.points.len();
@@ -453,13 +458,12 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     // A planar mechanism's points are (x, y): its plane is z = 0.
     let dim = if m.planar { 2 } else { 3 };
     let points: Vec<TokenStream> = points.chunks(3).map(|p| xyz(&p[..dim])).collect();
-    // The verification of a function whose last roots are the residual rows and the origins.
+    // The verification of a function whose last roots are the residual rows and the extent.
     let check_of = |rest: &[TokenStream]| -> TokenStream {
         if open.is_empty() {
             return quote! {};
         }
-        let (residual, origins) = rest.split_at(n_rows);
-        let (rows, extent) = (rows_of(residual), extent_of(origins));
+        let (rows, extent) = rows_of(rest);
         quote! {
             let extent = #extent;
             let rows = #rows;
@@ -492,7 +496,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         .map(|b| {
             let mut r = b.result.clone();
             r.extend(&b.residual);
-            r.extend(b.origins.iter().flatten());
+            r.push(b.extent);
             r
         })
         .collect();
@@ -500,11 +504,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let guards: Vec<Vec<Sym>> = d.every.iter().map(|b| b.guards.clone()).collect();
     let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
         let (result, rest) = exprs.split_at(n_result);
-        let (residual, origins) = rest.split_at(n_rows);
         if open.is_empty() {
             quote! { ::core::result::Result::Ok([#(#result),*]) }
         } else {
-            let (rows, extent) = (rows_of(residual), extent_of(origins));
+            let (rows, extent) = rows_of(rest);
             quote! {
                 let extent = #extent;
                 let rows = #rows;
@@ -576,7 +579,7 @@ fn derivative_fns(
     let (n_given, n_result) = (d.plan.n_inputs, d.given.result.len());
     let tail = |roots: &mut Vec<Sym>| {
         roots.extend(&d.given.residual);
-        roots.extend(d.given.origins.iter().flatten());
+        roots.push(d.given.extent);
     };
     let f_rates = format_ident!("{}_rates", name);
     let f_jacobian = format_ident!("{}_jacobian", name);

@@ -257,6 +257,11 @@ impl Sym {
         node(Node::Given(k))
     }
 
+    /// Whether this node depends on a given value (else it is prepared once).
+    pub fn is_live(self) -> bool {
+        with(|g| g.live[self.0 as usize])
+    }
+
     fn unary(self, f: fn(f64) -> f64, n: fn(Sym) -> Node) -> Sym {
         match konst(self) {
             Some(a) => Sym::c(f(a)),
