@@ -312,6 +312,13 @@ impl std::ops::Mul for Sym {
     }
 }
 
+/// Whether `y` is a power of two whose inverse is normal too, so that
+/// `x / y` and `x · (1/y)` are the same number for every `x`.
+fn exact_inverse(y: f64) -> bool {
+    let mantissa = y.to_bits() & ((1u64 << 52) - 1);
+    y.is_normal() && mantissa == 0 && (1.0 / y).is_normal()
+}
+
 impl std::ops::Div for Sym {
     type Output = Sym;
     fn div(self, b: Sym) -> Sym {
@@ -319,6 +326,8 @@ impl std::ops::Div for Sym {
             (Some(x), Some(y)) => Sym::c(x / y),
             (_, Some(1.0)) => self,
             (_, Some(-1.0)) => -self,
+            // Dividing by a power of two is multiplying by its inverse, exactly.
+            (_, Some(y)) if exact_inverse(y) => self * Sym::c(1.0 / y),
             // 0 / x: every divisor the steps use is checked non-zero first.
             (Some(0.0), _) => Sym::c(0.0),
             _ => node(Node::Div(self, b)),
