@@ -118,7 +118,17 @@ macro_rules! round_trips {
 
             let usable: Vec<_> = back.iter().filter(|s| !singular(&inputs.map(|j| s.q[j]))).collect();
             t.singular += back.len() - usable.len();
-            let qi = inputs.map(|j| usable[t.reachable % usable.len()].q[j]);
+            // Cycled in the order of their inputs, not of the branches: the
+            // draws do not change with the order a plan lists branches in.
+            let mut ordered: Vec<[f64; $ty::INPUTS.len()]> = usable.iter().map(|s| inputs.map(|j| s.q[j])).collect();
+            ordered.sort_by(|a, b| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| x.total_cmp(y))
+                    .find(|o| o.is_ne())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            });
+            let qi = ordered[t.reachable % ordered.len()];
             let again = $ty::fk(&params, &qi);
             let again: Vec<_> = again.iter().filter_map(|b| b.result.as_ref().ok()).collect();
             let (e, gap) = best_and_gap(
