@@ -288,7 +288,8 @@ fn handwritten(c: &mut Criterion) {
     group.finish();
 
     // What the velocity capabilities cost against one fk branch (issue 11
-    // asks for at most 5×): the Jacobians and the velocities at the solution.
+    // asks for at most 5×): the Jacobians, the velocities and the
+    // accelerations at the solution.
     let params = Default::default();
     let all = SeedA::fk_branch(&params, &q, signs_of::<2>(0b01)).unwrap().q;
     let rates = [1.0, -0.5, 0.25];
@@ -301,6 +302,10 @@ fn handwritten(c: &mut Criterion) {
     });
     group.bench_function("fk_jacobian", |b| {
         b.iter(|| solver.fk_jacobian(black_box(&q), signs_of::<2>(0b01)))
+    });
+    let accelerations = [-2.0, 0.75, 1.5];
+    group.bench_function("fk_accelerations", |b| {
+        b.iter(|| solver.fk_accelerations(black_box(&q), signs_of::<2>(0b01), &rates, black_box(&accelerations)))
     });
     group.bench_function("jacobian", |b| b.iter(|| SeedA::jacobian(&params, black_box(&all))));
     group.bench_function("velocity", |b| {

@@ -68,3 +68,60 @@ fn seed000_a_jacobian_and_rates() {
         }
     }
 }
+
+/// `fk_accelerations` (the rates differentiated again, straight-line)
+/// against central differences of `fk_rates` along the trajectory
+/// q(t) = q + q̇t + ½q̈t² (whose rate is q̇ + q̈t), and against the runtime's
+/// acceleration model (twist derivatives through the loop equations): the
+/// base point o's acceleration and the platform's angular acceleration
+/// about x, which is α̈ (the platform turns about x alone).
+#[test]
+fn seed000_a_accelerations() {
+    let params = Default::default();
+    let solver = SeedA::prepare(&params);
+    let signs = signs_of::<2>(0b01);
+    let model = SeedA::model(&params);
+    let platform = model.links.iter().position(|l| l == "platform").unwrap();
+    let o = SeedA::POINTS.iter().position(|p| *p == "o").unwrap();
+    let (rates, accelerations) = ([1.0, -0.5, 0.25], [-2.0, 0.75, 1.5]);
+    for q in [[-106.09, 181.67, -70.29], [-60.0, 120.0, 40.0], [-150.0, 90.0, -200.0]] {
+        let (out, dout, ddout) = solver.fk_accelerations(&q, signs, &rates, &accelerations).unwrap();
+        // By hand: o is midway between the sliders, x = (x1 + x2)/2, y = −a.
+        assert!((ddout[0] - 0.5 * (accelerations[0] + accelerations[1])).abs() < 1e-12);
+        assert_eq!(ddout[1], 0.0);
+        assert_eq!(out, solver.fk_branch(&q, signs).unwrap());
+        assert_eq!(dout, solver.fk_rates(&q, signs, &rates).unwrap().1);
+
+        // Central differences of the rates along the trajectory, h = 1e-4 s:
+        // truncation ~h²·(third derivative), rounding ~ε·|rate|/h, both < 1e-7.
+        let h = 1e-4;
+        let at = |t: f64| {
+            let q: [f64; 3] = std::array::from_fn(|k| q[k] + rates[k] * t + 0.5 * accelerations[k] * t * t);
+            let qd: [f64; 3] = std::array::from_fn(|k| rates[k] + accelerations[k] * t);
+            solver.fk_rates(&q, signs, &qd).unwrap().1
+        };
+        let (ahead, behind) = (at(h), at(-h));
+        for r in 0..4 {
+            let fd = (ahead[r] - behind[r]) / (2.0 * h);
+            assert!(
+                (ddout[r] - fd).abs() <= 1e-6 * (1.0 + fd.abs()),
+                "output {r} at {q:?}: {} vs central differences {fd}",
+                ddout[r]
+            );
+        }
+
+        // The runtime's acceleration model at the same solution.
+        let all = SeedA::fk_branch(&params, &q, signs).unwrap().q;
+        let a = SeedA::acceleration(&params, &all, &rates, &accelerations).unwrap();
+        let points = SeedA::point_accelerations(&params, &all, &a).unwrap();
+        let want = [points[o][0], points[o][1], points[o][2], a.twists[platform].w[0]];
+        for r in 0..4 {
+            assert!(
+                (ddout[r] - want[r]).abs() <= 1e-9 * (1.0 + want[r].abs()),
+                "output {r} at {q:?}: {} vs the acceleration model {}",
+                ddout[r],
+                want[r]
+            );
+        }
+    }
+}

@@ -88,21 +88,6 @@ struct Branch {
     extent: Sym,
 }
 
-/// The largest finite coordinate magnitude of the links' origins, at least 1
-/// (as `consistency::extent`): each coordinate taken once, constants folded
-/// now, and those that depend on the parameters alone first, so that their
-/// maximum is prepared once.
-fn extent(origins: &[[Sym; 3]]) -> Sym {
-    let mut coords: Vec<Sym> = origins.iter().flatten().copied().collect();
-    coords.sort();
-    coords.dedup();
-    coords.sort_by_key(|c| c.is_live());
-    coords.into_iter().fold(Sym::c(1.0), |m, c| {
-        let a = c.abs();
-        Sym::if_less(a, Sym::c(f64::INFINITY), Sym::if_less(m, a, a, m), m)
-    })
-}
-
 /// Runs the plan on symbols.
 /// `full`: every joint value and point too (the solution); otherwise only
 /// what the lean solver returns and checks, so that tracing every branch
@@ -192,7 +177,8 @@ fn branch(
     }
     let guards = crate::trace::take_guards();
     let checks = plan.checks(m.joints.len());
-    let extent = extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
+    // The largest coordinate of the links' origins, at least 1.
+    let extent = Sym::extent(&state.poses.iter().flat_map(|p| p.t).collect::<Vec<_>>());
     // Rotation rows scale with the extent (see `closure_residual`).
     let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, extent);
     let result = if forward {
@@ -226,6 +212,9 @@ struct Direction<'p> {
     rates: Option<Vec<Sym>>,
     /// The result's derivative along each given value (columns).
     jacobian: Option<Vec<Vec<Sym>>>,
+    /// The result's second derivative in time for the given values' rates
+    /// and accelerations, where `acceleration` is asked for.
+    accelerations: Option<Vec<Sym>>,
 }
 
 fn xyz(p: &[TokenStream]) -> TokenStream {
@@ -273,6 +262,19 @@ pub fn generate(
             } else {
                 (None, None)
             };
+            // d²f/dt² = D²f[q̇, q̇] + Df·q̈: the rates differentiated again
+            // along the rates (constant in that derivative), plus the result
+            // differentiated along the accelerations.
+            let accelerations = match &rates {
+                Some(rates) if m.wants(Capability::Acceleration) => {
+                    let curvature = crate::trace::derivative(rates, &Sym::rate);
+                    let along = crate::trace::derivative(&given.result, &Sym::accel);
+                    curvature
+                        .zip(along)
+                        .map(|(c, a)| c.iter().zip(&a).map(|(&c, &a)| c + a).collect())
+                }
+                _ => None,
+            };
             out.push(Direction {
                 forward,
                 plan,
@@ -280,6 +282,7 @@ pub fn generate(
                 every,
                 rates,
                 jacobian,
+                accelerations,
             });
         }
         Ok(out)
@@ -561,7 +564,8 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
 
 /// `fk_rates` and `fk_jacobian` (or `ik_…`): the result's derivative along
 /// given rates and along each given value, written out with the solution,
-/// verified like it. Nothing where a step's kernel is a called function.
+/// verified like it; `fk_accelerations` where `acceleration` is asked for.
+/// Nothing where a step's kernel is a called function.
 #[allow(clippy::too_many_arguments)]
 fn derivative_fns(
     emit: &Emit,
@@ -604,7 +608,40 @@ fn derivative_fns(
     });
     let jacobian_doc =
         format!(" {what} Jacobian for one branch: row r, column k is the derivative of result r along given value k.");
+    let accelerations = d.accelerations.as_ref().map(|accelerations| {
+        let f_accelerations = format_ident!("{}_accelerations", name);
+        let mut roots = d.given.result.clone();
+        roots.extend(rates);
+        roots.extend(accelerations);
+        tail(&mut roots);
+        let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+        let (result, rest) = exprs.split_at(n_result);
+        let (rate, rest) = rest.split_at(n_result);
+        let (acceleration, rest) = rest.split_at(n_result);
+        let check = check_of(rest);
+        let doc = format!(
+            " {what} position, its rates and its accelerations for one branch: the result of `{name}_branch`, its first derivative in time for the given values' `rates`, and its second for their `rates` and `accelerations` (d²f/dt² = D²f[q̇, q̇] + Df·q̈), written out with it."
+        );
+        quote! {
+            #[doc = #doc]
+            #[allow(clippy::type_complexity)]
+            pub fn #f_accelerations(
+                &self,
+                #given_sig,
+                rates: &[f64; #n_given],
+                accelerations: &[f64; #n_given],
+            ) -> ::core::result::Result<([f64; #n_result], [f64; #n_result], [f64; #n_result]), #rt::SolveError> {
+                let _ = (&signs, rates, accelerations);
+                #finite
+                #lets
+                #check
+                ::core::result::Result::Ok(([#(#result),*], [#(#rate),*], [#(#acceleration),*]))
+            }
+        }
+    });
     quote! {
+        #accelerations
+
         #[doc = #rates_doc]
         pub fn #f_rates(&self, #given_sig, rates: &[f64; #n_given]) -> ::core::result::Result<([f64; #n_result], [f64; #n_result]), #rt::SolveError> {
             let _ = (&signs, rates);

@@ -138,6 +138,7 @@ impl<'g> Emit<'g> {
             }
             Node::Given(k) => quote! { given[#k] },
             Node::Rate(k) => quote! { rates[#k] },
+            Node::Accel(k) => quote! { accelerations[#k] },
             Node::Add(a, b) => {
                 let (a, b) = (e(*a), e(*b));
                 quote! { (#a + #b) }
@@ -182,6 +183,10 @@ impl<'g> Emit<'g> {
                 let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
                 quote! { if #a < #b { #c } else { #d } }
             }
+            Node::Extent(values) => {
+                let values = values.iter().map(|v| e(*v));
+                quote! { ::pkm::runtime::consistency::extent(&[[#(#values),*]]) }
+            }
             Node::Raw(text) => text.parse().unwrap_or_else(|_| quote! { ::core::f64::NAN }),
             Node::Kernel(k, args, choice, _) => {
                 let (m, f) = k.path();
@@ -225,7 +230,7 @@ impl<'g> Emit<'g> {
     fn binding(&self, s: Sym, node: &Node, scope: &Scope) -> Option<(proc_macro2::Ident, TokenStream)> {
         let is_kernel = matches!(node, Node::Kernel(..));
         let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
-        if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_)) {
+        if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_) | Node::Accel(_)) {
             return None;
         }
         Some((self.name(s), self.compute(s, &|o| self.expr(o, scope))))

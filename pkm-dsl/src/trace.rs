@@ -42,6 +42,8 @@ pub enum Node {
     Given(usize),
     /// The rate of given value number k (the derivative's direction).
     Rate(usize),
+    /// The second derivative of given value number k in time.
+    Accel(usize),
     /// A parameter expression the steps cannot trace (a power, a tangent):
     /// Rust source in `params`.
     Raw(String),
@@ -67,6 +69,9 @@ pub enum Node {
     Atan2(Sym, Sym),
     /// `if a < b { c } else { d }`.
     IfLess(Sym, Sym, Sym, Sym),
+    /// The largest finite magnitude among the values, at least 1
+    /// (`consistency::extent`): what verification scales residuals by.
+    Extent(Vec<Sym>),
     /// A kernel call: its arguments, root choice and site (step, index among the sites).
     Kernel(Kernel, Vec<Sym>, Choice, [usize; 2]),
     /// Result `i` of a kernel call.
@@ -172,7 +177,7 @@ impl Graph {
         let operands = operands(&n);
         let mut live = matches!(
             n,
-            Node::Given(_) | Node::Rate(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..)
+            Node::Given(_) | Node::Rate(_) | Node::Accel(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..)
         );
         let mut signs = (0u64, 0u64);
         for o in &operands {
@@ -200,7 +205,8 @@ impl Graph {
 /// The operands of a node.
 pub fn operands(n: &Node) -> Vec<Sym> {
     match n {
-        Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Rate(_) | Node::Raw(_) => vec![],
+        Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Rate(_) | Node::Accel(_) | Node::Raw(_) => vec![],
+        Node::Extent(values) => values.clone(),
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => vec![*a, *b],
         Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) | Node::Result(a, _) => vec![*a],
         Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
@@ -252,9 +258,43 @@ impl Sym {
         node(Node::Rate(k))
     }
 
+    /// The second derivative of given value number `k` in time.
+    pub fn accel(k: usize) -> Sym {
+        node(Node::Accel(k))
+    }
+
     /// Given value number `k`.
     pub fn given(k: usize) -> Sym {
         node(Node::Given(k))
+    }
+
+    /// The largest finite magnitude of `values`, at least 1 (as
+    /// `consistency::extent`), each value taken once: constants folded now,
+    /// and those that depend on the parameters alone in one prepared node.
+    pub fn extent(values: &[Sym]) -> Sym {
+        let mut values = values.to_vec();
+        values.sort();
+        values.dedup();
+        let largest = |c: &[f64]| c.iter().map(|c| c.abs()).filter(|c| c.is_finite()).fold(1.0, f64::max);
+        let constants: Vec<f64> = values.iter().filter_map(|&v| konst(v)).collect();
+        let (live, fixed): (Vec<Sym>, Vec<Sym>) = values
+            .into_iter()
+            .filter(|&v| konst(v).is_none())
+            .partition(|v| v.is_live());
+        let mut args = Vec::new();
+        let c = largest(&constants);
+        if c > 1.0 {
+            args.push(Sym::c(c));
+        }
+        if !fixed.is_empty() {
+            args.push(node(Node::Extent(fixed)));
+        }
+        args.extend(live);
+        match args.as_slice() {
+            [] => Sym::c(1.0),
+            [one] if konst(*one).is_some() || !one.is_live() => *one,
+            _ => node(Node::Extent(args)),
+        }
     }
 
     /// Whether this node depends on a given value (else it is prepared once).
@@ -480,7 +520,10 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>
         let node = with(|g| g.nodes[i].clone());
         let dd = |x: &Sym| d[x.0 as usize];
         d[i] = match node {
-            Node::Const(_) | Node::Param(_) | Node::Raw(_) | Node::Rate(_) | Node::Guard(..) => zero,
+            // Rates and accelerations are the directions, constant along them.
+            Node::Const(_) | Node::Param(_) | Node::Raw(_) | Node::Rate(_) | Node::Accel(_) | Node::Guard(..) => zero,
+            // A scale, not a value: the residuals it scales are not differentiated.
+            Node::Extent(_) => zero,
             Node::Given(k) => rate(k),
             Node::Add(a, b) => dd(&a) + dd(&b),
             Node::Sub(a, b) => dd(&a) - dd(&b),
