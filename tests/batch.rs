@@ -294,25 +294,8 @@ fn lengths_are_checked() {
     );
 }
 
-// A four-bar given its coupler's point R3 and its rocker angle: the plan pins
-// the coupler at R3 and checks the pin at the end (tests/consistency.rs has
-// the scalar solver's case).
-pkm::mechanism!(
-    FourBarOver,
-    "mechanism four_bar_over {
-    capabilities fk, ik, workspace;
-    planar;
-    base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;
-    parameters { l1 = 100; l2 = 250; l3 = 200; l4 = 300; }
-    geometry {
-        base    { R1 = (0, 0); R4 = (l4, 0); }
-        crank   { R1 = (0, 0); R2 = (l1, 0); }
-        coupler { R2 = (0, 0); R3 = (l2, 0); }
-        rocker  { R3 = (l3, 0); R4 = (0, 0); }
-    }
-    outputs { x, y = point R3 of coupler; psi = joint R4; }
-}"
-);
+// A four-bar whose plan pins a point (the fixture says how).
+pkm::mechanism!(FourBarOver, file = "tests/fixtures/four_bar_over.pkm");
 
 /// A pinned point is verified lane by lane: consistent outputs (from fk)
 /// solve as `ik_branch` does, and the same with y moved by 1 are refused

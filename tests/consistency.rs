@@ -15,24 +15,8 @@ use std::f64::consts::PI;
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
-// A four-bar given its coupler's point R3 and its rocker angle: one DOF,
-// three outputs; the plan pins the point, then moves the coupler about it.
-pkm::mechanism!(
-    FourBarOver,
-    "mechanism four_bar_over {
-    capabilities fk, ik;
-    planar;
-    base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;
-    parameters { l1 = 100; l2 = 250; l3 = 200; l4 = 300; }
-    geometry {
-        base    { R1 = (0, 0); R4 = (l4, 0); }
-        crank   { R1 = (0, 0); R2 = (l1, 0); }
-        coupler { R2 = (0, 0); R3 = (l2, 0); }
-        rocker  { R3 = (l3, 0); R4 = (0, 0); }
-    }
-    outputs { x, y = point R3 of coupler; psi = joint R4; }
-}"
-);
+// A four-bar whose plan pins a point (the fixture says how).
+pkm::mechanism!(FourBarOver, file = "tests/fixtures/four_bar_over.pkm");
 
 /// The issue's case: y is fixed at −300 for mechanism A (its platform's POC
 /// set has no translation along y); y = −250 must be refused on every
