@@ -275,14 +275,13 @@ impl Sym {
         let mut values = values.to_vec();
         values.sort();
         values.dedup();
-        let largest = |c: &[f64]| c.iter().map(|c| c.abs()).filter(|c| c.is_finite()).fold(1.0, f64::max);
-        let constants: Vec<f64> = values.iter().filter_map(|&v| konst(v)).collect();
+        let constants: Vec<[f64; 1]> = values.iter().filter_map(|&v| konst(v)).map(|c| [c]).collect();
         let (live, fixed): (Vec<Sym>, Vec<Sym>) = values
             .into_iter()
             .filter(|&v| konst(v).is_none())
             .partition(|v| v.is_live());
         let mut args = Vec::new();
-        let c = largest(&constants);
+        let c = pkm_runtime::consistency::extent(&constants);
         if c > 1.0 {
             args.push(Sym::c(c));
         }
