@@ -69,6 +69,46 @@ fn seed000_a_jacobian_and_rates() {
     }
 }
 
+/// `ik_jacobian` and `ik_rates` (ik's steps, a line meeting a sphere
+/// among them, are traced like fk's): the inverse solution's Jacobian is
+/// the inverse of the forward one on the platform's motions, J_ik·J_fk = I
+/// (the chain rule through ik∘fk = id), and ∂x_i/∂x = 1 by hand (each
+/// slider moves with the platform's x).
+#[test]
+#[allow(clippy::needless_range_loop)] // Matrix products read best by index.
+fn seed000_a_inverse_jacobian() {
+    let solver = SeedA::prepare(&Default::default());
+    let signs = signs_of::<2>(0b01);
+    for q in [[-106.09, 181.67, -70.29], [-60.0, 120.0, 40.0], [-150.0, 90.0, -200.0]] {
+        let pose = solver.fk_branch(&q, signs).unwrap();
+        let jf = solver.fk_jacobian(&q, signs).unwrap();
+        let ik = (0..8)
+            .map(signs_of::<3>)
+            .find(|&s| {
+                solver
+                    .ik_branch(&pose, s)
+                    .is_ok_and(|back| back.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9))
+            })
+            .expect("an ik branch gives the inputs back");
+        let ji = solver.ik_jacobian(&pose, ik).unwrap();
+        for r in 0..3 {
+            for c in 0..3 {
+                let product: f64 = (0..4).map(|k| ji[r][k] * jf[k][c]).sum();
+                let want = if r == c { 1.0 } else { 0.0 };
+                assert!((product - want).abs() < 1e-9, "(J_ik J_fk)[{r}][{c}] = {product}");
+            }
+            assert!((ji[r][0] - 1.0).abs() < 1e-12, "∂x{r}/∂x = {}", ji[r][0]);
+        }
+        let rates = [0.5, 0.0, -1.0, 0.01];
+        let (out, dout) = solver.ik_rates(&pose, ik, &rates).unwrap();
+        assert_eq!(out, solver.ik_branch(&pose, ik).unwrap());
+        for r in 0..3 {
+            let want: f64 = (0..4).map(|k| ji[r][k] * rates[k]).sum();
+            assert!((dout[r] - want).abs() <= 1e-12 * (1.0 + want.abs()), "rate {r}");
+        }
+    }
+}
+
 /// `fk_accelerations` (the rates differentiated again, straight-line)
 /// against central differences of `fk_rates` along the trajectory
 /// q(t) = q + q̇t + ½q̈t² (whose rate is q̇ + q̈t), and against the runtime's

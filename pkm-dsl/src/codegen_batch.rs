@@ -9,9 +9,8 @@
 //! writes zeros. Where the body has no call (sqrt, division and selects
 //! only), the loop has no control flow and LLVM vectorises it (AVX2 where
 //! the processor has it, through `pkm_runtime::batch::wide`; two lanes an
-//! iteration, from either half of the slices); sin, cos, atan2 (libm) and
-//! the kernels the steps call are calls, and a body with them runs lane
-//! after lane.
+//! iteration, from either half of the slices); sin, cos and atan2 (libm)
+//! are calls, and a body with them runs lane after lane.
 
 use super::{Branch, Direction};
 use crate::analysis::Analysis;
@@ -96,7 +95,7 @@ fn batch_doc(name: &str, forward: bool) -> String {
          Every slice must have `ok.len()` entries (any number), else `SolveError::BadInput` and no lane \
          is solved. Where the branch needs only arithmetic, square roots and selects, the loop has no \
          control flow and vectorises (four lanes at a time with AVX2, detected at run time on x86-64, \
-         else two); sin, cos, atan2 (libm) and the steps' kernel calls do not, and a branch with them \
+         else two); sin, cos and atan2 (libm) do not, and a branch with them \
          runs lane after lane."
     )
 }

@@ -207,8 +207,8 @@ struct Direction<'p> {
     plan: &'p Plan,
     given: Branch,
     every: Vec<Branch>,
-    /// The result's rates along the given values' rates, where every step's
-    /// kernel is written out (differentiable as recorded).
+    /// The result's rates along the given values' rates, where the
+    /// description asks for velocity, Jacobians or accelerations.
     rates: Option<Vec<Sym>>,
     /// The result's derivative along each given value (columns).
     jacobian: Option<Vec<Vec<Sym>>>,
@@ -258,7 +258,7 @@ pub fn generate(
                 let jacobian = (0..plan.n_inputs)
                     .map(|k| crate::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
                     .collect();
-                (rates, jacobian)
+                (Some(rates), Some(jacobian))
             } else {
                 (None, None)
             };
@@ -269,9 +269,7 @@ pub fn generate(
                 Some(rates) if m.wants(Capability::Acceleration) => {
                     let curvature = crate::trace::derivative(rates, &Sym::rate);
                     let along = crate::trace::derivative(&given.result, &Sym::accel);
-                    curvature
-                        .zip(along)
-                        .map(|(c, a)| c.iter().zip(&a).map(|(&c, &a)| c + a).collect())
+                    Some(curvature.iter().zip(&along).map(|(&c, &a)| c + a).collect())
                 }
                 _ => None,
             };
@@ -565,7 +563,6 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
 /// `fk_rates` and `fk_jacobian` (or `ik_…`): the result's derivative along
 /// given rates and along each given value, written out with the solution,
 /// verified like it; `fk_accelerations` where `acceleration` is asked for.
-/// Nothing where a step's kernel is a called function.
 #[allow(clippy::too_many_arguments)]
 fn derivative_fns(
     emit: &Emit,

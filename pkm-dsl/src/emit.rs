@@ -2,11 +2,11 @@
 //!
 //! A node that depends on the parameters alone becomes a slot of the
 //! prepared solver, computed once by `prepare`; a node that depends on the
-//! given values becomes a `let` where it is used more than once (or is a
-//! kernel call, which can fail), and is written inline where it is used
-//! once. Constants are literals.
+//! given values becomes a `let` where it is used more than once, and is
+//! written inline where it is used once; a guard becomes an early return
+//! with the step's typed error. Constants are literals.
 
-use crate::trace::{operands, Choice, Failure, Graph, Node, Sym};
+use crate::trace::{operands, Failure, Graph, Node, Sym};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::cell::RefCell;
@@ -177,7 +177,7 @@ impl<'g> Emit<'g> {
             }
             Node::Atan2(a, b) => {
                 let (a, b) = (e(*a), e(*b));
-                quote! { #a.atan2(#b) }
+                quote! { ::pkm::runtime::scalar::angle(#a, #b) }
             }
             Node::IfLess(a, b, c, d) => {
                 let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
@@ -188,26 +188,6 @@ impl<'g> Emit<'g> {
                 quote! { ::pkm::runtime::consistency::extent(&[[#(#values),*]]) }
             }
             Node::Raw(text) => text.parse().unwrap_or_else(|_| quote! { ::core::f64::NAN }),
-            Node::Kernel(k, args, choice, _) => {
-                let (m, f) = k.path();
-                let (m, f) = (format_ident!("{}", m), format_ident!("{}", f));
-                let args = args.iter().map(|a| e(*a));
-                let sign = match choice {
-                    Choice::One => quote! { ::pkm::runtime::primitives::Sign::Plus },
-                    Choice::Fixed(_, pkm_runtime::primitives::Sign::Plus) => {
-                        quote! { ::pkm::runtime::primitives::Sign::Plus }
-                    }
-                    Choice::Fixed(_, pkm_runtime::primitives::Sign::Minus) => {
-                        quote! { ::pkm::runtime::primitives::Sign::Minus }
-                    }
-                    Choice::Given(b) => quote! { signs[#b] },
-                };
-                quote! { ::pkm::runtime::steps::#m::#f(&[#(#args),*], #sign) }
-            }
-            Node::Result(call, i) => {
-                let c = e(*call);
-                quote! { #c[#i] }
-            }
             Node::Chosen(_, _, v) => e(*v),
             Node::Pick(k, p, m) => {
                 let (p, m) = (e(*p), e(*m));
@@ -225,12 +205,11 @@ impl<'g> Emit<'g> {
         }
     }
 
-    /// A node bound by a `let` (a kernel call, or a value used twice): its
-    /// name and value; `None` for one written where it is used.
+    /// A node bound by a `let` (a value used twice): its name and value;
+    /// `None` for one written where it is used.
     fn binding(&self, s: Sym, node: &Node, scope: &Scope) -> Option<(proc_macro2::Ident, TokenStream)> {
-        let is_kernel = matches!(node, Node::Kernel(..));
         let many = scope.uses.get(&s).copied().unwrap_or(0) >= 2;
-        if !(is_kernel || many) || matches!(node, Node::Result(..) | Node::Given(_) | Node::Rate(_) | Node::Accel(_)) {
+        if !many || matches!(node, Node::Given(_) | Node::Rate(_) | Node::Accel(_)) {
             return None;
         }
         Some((self.name(s), self.compute(s, &|o| self.expr(o, scope))))
@@ -256,8 +235,8 @@ impl<'g> Emit<'g> {
     }
 
     /// `let` statements for the nodes of `order` that `keep` selects, where
-    /// bound (used twice, a kernel call); kernel failures go to `fail`
-    /// (given the error expression).
+    /// bound (used twice); guards' failures go to `fail` (given the error
+    /// expression).
     fn lets(
         &self,
         order: &[Sym],
@@ -296,20 +275,7 @@ impl<'g> Emit<'g> {
             let Some((v, e)) = self.binding(s, node, scope) else {
                 continue;
             };
-            if let Node::Kernel(_, _, _, [step, site]) = node {
-                let name = &self.sites[*site];
-                let err = fail(quote! {
-                    ::pkm::runtime::solution::step_error(#step, ::std::borrow::Cow::Borrowed(#name), e)
-                });
-                out.extend(quote! {
-                    let #v = match #e {
-                        ::core::result::Result::Ok(r) => r,
-                        ::core::result::Result::Err(e) => #err,
-                    };
-                });
-            } else {
-                out.extend(quote! { let #v = #e; });
-            }
+            out.extend(quote! { let #v = #e; });
             scope.bound.borrow_mut().insert(s, quote! { #v });
         }
         out
@@ -337,8 +303,7 @@ impl<'g> Emit<'g> {
     /// One lane of a batch loop computing `roots` (one branch, signs as
     /// given), without control flow where the graph has none: each guard
     /// clears the lane's flag `lane_ok` instead of returning (its error's
-    /// values are not computed), a failing kernel call clears it and gives
-    /// zeros. What a cleared lane computes after is garbage (NaN, ∞) the
+    /// values are not computed). What a cleared lane computes after is garbage (NaN, ∞) the
     /// caller must not let out. The statements, and the roots' expressions.
     pub fn lanes(&self, roots: &[Sym], guards: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
         let all: Vec<Sym> = roots.iter().chain(guards).copied().collect();
@@ -362,19 +327,7 @@ impl<'g> Emit<'g> {
             let Some((v, e)) = self.binding(s, node, &scope) else {
                 continue;
             };
-            if matches!(node, Node::Kernel(..)) {
-                out.extend(quote! {
-                    let #v = match #e {
-                        ::core::result::Result::Ok(r) => r,
-                        ::core::result::Result::Err(_) => {
-                            lane_ok = false;
-                            [0.0f64; 2]
-                        }
-                    };
-                });
-            } else {
-                out.extend(quote! { let #v = #e; });
-            }
+            out.extend(quote! { let #v = #e; });
             scope.bound.borrow_mut().insert(s, quote! { #v });
         }
         let exprs = roots.iter().map(|r| self.expr(*r, &scope)).collect();

@@ -11,7 +11,6 @@
 
 use pkm_runtime::primitives::{Error as GeomError, Sign};
 use pkm_runtime::scalar::Scalar;
-use pkm_runtime::steps::Kernel;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -72,10 +71,6 @@ pub enum Node {
     /// The largest finite magnitude among the values, at least 1
     /// (`consistency::extent`): what verification scales residuals by.
     Extent(Vec<Sym>),
-    /// A kernel call: its arguments, root choice and site (step, index among the sites).
-    Kernel(Kernel, Vec<Sym>, Choice, [usize; 2]),
-    /// Result `i` of a kernel call.
-    Result(Sym, usize),
     /// A kernel's condition: fails the step (its site) unless `a < b`.
     Guard(Sym, Sym, Failure, [usize; 2]),
     /// `signs[k]`'s pick of two values, at run time.
@@ -177,7 +172,7 @@ impl Graph {
         let operands = operands(&n);
         let mut live = matches!(
             n,
-            Node::Given(_) | Node::Rate(_) | Node::Accel(_) | Node::Kernel(..) | Node::Pick(..) | Node::Guard(..)
+            Node::Given(_) | Node::Rate(_) | Node::Accel(_) | Node::Pick(..) | Node::Guard(..)
         );
         let mut signs = (0u64, 0u64);
         for o in &operands {
@@ -185,7 +180,7 @@ impl Graph {
             let (w, v) = self.signs[o.0 as usize];
             signs = (signs.0 | w, signs.1 | v);
         }
-        if let Node::Kernel(_, _, Choice::Fixed(b, sign), _) | Node::Chosen(b, sign, _) = &n {
+        if let Node::Chosen(b, sign, _) = &n {
             let bit = 1u64 << b;
             signs.0 |= bit;
             if *sign == Sign::Minus {
@@ -208,9 +203,8 @@ pub fn operands(n: &Node) -> Vec<Sym> {
         Node::Const(_) | Node::Param(_) | Node::Given(_) | Node::Rate(_) | Node::Accel(_) | Node::Raw(_) => vec![],
         Node::Extent(values) => values.clone(),
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => vec![*a, *b],
-        Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) | Node::Result(a, _) => vec![*a],
+        Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) => vec![*a],
         Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
-        Node::Kernel(_, args, _, _) => args.clone(),
         Node::Guard(a, b, f, _) => {
             let mut v = vec![*a, *b];
             match f {
@@ -419,7 +413,7 @@ impl Scalar for Sym {
     }
     fn atan2(self, x: Self) -> Self {
         match (konst(self), konst(x)) {
-            (Some(a), Some(b)) => Sym::c(a.atan2(b)),
+            (Some(a), Some(b)) => Sym::c(pkm_runtime::scalar::angle(a, b)),
             _ => node(Node::Atan2(self, x)),
         }
     }
@@ -437,10 +431,6 @@ impl Scalar for Sym {
             }
             _ => node(Node::IfLess(a, b, then, otherwise)),
         }
-    }
-    fn kernel(kernel: Kernel, args: &[Self], choice: Choice, site: [usize; 2]) -> Result<[Self; 2], GeomError<f64>> {
-        let call = node(Node::Kernel(kernel, args.to_vec(), choice, site));
-        Ok([node(Node::Result(call, 0)), node(Node::Result(call, 1))])
     }
     fn require(
         a: Self,
@@ -498,9 +488,8 @@ impl Scalar for Sym {
 /// The derivative of `roots` along the given values' rates (`rate(k)` for
 /// given value k), by the chain rule through the recorded operations in
 /// their order: forward-mode differentiation of the straight-line solver,
-/// itself straight-line. `None` where a root depends on a kernel called as a
-/// function (its derivative is not written out).
-pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>> {
+/// itself straight-line.
+pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
     let n = with(|g| g.nodes.len());
     let mut seen = vec![false; n];
     let mut stack = roots.to_vec();
@@ -540,13 +529,10 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Option<Vec<Sym>
             // The chosen value's own derivative: derivatives are written only
             // in one-branch functions, where the choice's mark plays no part.
             Node::Chosen(_, _, v) => dd(&v),
-            Node::Kernel(..) | Node::Result(..) => return None,
         };
     }
-    Some(
-        roots
-            .iter()
-            .map(|r| if seen[r.0 as usize] { d[r.0 as usize] } else { zero })
-            .collect(),
-    )
+    roots
+        .iter()
+        .map(|r| if seen[r.0 as usize] { d[r.0 as usize] } else { zero })
+        .collect()
 }

@@ -39,27 +39,22 @@ impl<T: Scalar> Frame<T> {
     }
 
     /// A rotation by the angle (cosine `c`, sine `s`) about unit `k`
-    /// (Rodrigues: `c·I + s·[k]ₓ + (1 − c)·k kᵀ`).
+    /// (Rodrigues: `c·I + s·[k]ₓ + (1 − c)·k kᵀ`). The diagonal is written
+    /// `kᵢ² + c·(1 − kᵢ²)`, so that about a coordinate axis it folds to the
+    /// exact 1 and `c` where `c + (1 − c)` would round.
     pub fn about(k: [T; 3], c: T, s: T) -> Self {
-        let v = T::c(1.0) - c;
+        let one = T::c(1.0);
+        let v = one - c;
+        let diagonal = |x: T| {
+            let xx = x * x;
+            xx + c * (one - xx)
+        };
         let z = T::c(0.0);
         Frame {
             r: [
-                [
-                    c + v * k[0] * k[0],
-                    v * k[0] * k[1] - s * k[2],
-                    v * k[0] * k[2] + s * k[1],
-                ],
-                [
-                    v * k[1] * k[0] + s * k[2],
-                    c + v * k[1] * k[1],
-                    v * k[1] * k[2] - s * k[0],
-                ],
-                [
-                    v * k[2] * k[0] - s * k[1],
-                    v * k[2] * k[1] + s * k[0],
-                    c + v * k[2] * k[2],
-                ],
+                [diagonal(k[0]), v * k[0] * k[1] - s * k[2], v * k[0] * k[2] + s * k[1]],
+                [v * k[1] * k[0] + s * k[2], diagonal(k[1]), v * k[1] * k[2] - s * k[0]],
+                [v * k[2] * k[0] - s * k[1], v * k[2] * k[1] + s * k[0], diagonal(k[2])],
             ],
             t: [z, z, z],
         }

@@ -7,15 +7,15 @@
 //! straight-line solver: one source for both, so the two agree by
 //! construction and the interpreter stays the oracle.
 //!
-//! The closed-form kernels themselves (a circle meeting a sphere, a turn
-//! onto a direction) are not traced: they branch on values (tangency, which
-//! root) and are called as functions, [`Kernel::eval`].
+//! The closed-form kernels are traced too: where they branch on values (a
+//! tangency, which root) they say so through [`Scalar::require`],
+//! [`Scalar::if_less`] and [`Scalar::pick`], which generated code writes as
+//! guards and selects.
 
 use crate::primitives::{Error as GeomError, Sign};
-use crate::steps::Kernel;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-/// Arithmetic, the elementary functions the steps use, and the kernel calls.
+/// Arithmetic, the elementary functions the steps use, and their decisions.
 ///
 /// # Example
 ///
@@ -42,22 +42,13 @@ pub trait Scalar:
     fn sin(self) -> Self;
     /// Cosine.
     fn cos(self) -> Self;
-    /// Four-quadrant arctangent of `self / x`.
+    /// Four-quadrant arctangent of `self / x`, in (−π, π] ([`angle`]).
     fn atan2(self, x: Self) -> Self;
     /// Absolute value.
     fn abs(self) -> Self;
     /// `then` where `a < b`, else `otherwise` (decided once, where it depends
     /// on the geometry only).
     fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self;
-    /// The closed-form kernel `kernel` on `args`, the root `choice` where it
-    /// has two; two results (a turn's cosine and sine, or a length and 0).
-    /// `site` is the step and the joint it solves (for generated errors).
-    fn kernel(
-        kernel: Kernel,
-        args: &[Self],
-        choice: Self::Choice,
-        site: [usize; 2],
-    ) -> Result<[Self; 2], GeomError<f64>>;
     /// `Ok` where `a < b`; otherwise (NaN included) the kernel fails with
     /// `failure`. `site` is the step and the joint it solves.
     fn require(a: Self, b: Self, failure: Failure<Self>, site: [usize; 2]) -> Result<(), GeomError<f64>>;
@@ -92,7 +83,7 @@ impl Scalar for f64 {
     }
     #[inline]
     fn atan2(self, x: Self) -> Self {
-        f64::atan2(self, x)
+        angle(self, x)
     }
     #[inline]
     fn abs(self) -> Self {
@@ -105,10 +96,6 @@ impl Scalar for f64 {
         } else {
             otherwise
         }
-    }
-    #[inline]
-    fn kernel(kernel: Kernel, args: &[Self], choice: Sign, _site: [usize; 2]) -> Result<[Self; 2], GeomError<f64>> {
-        kernel.eval(args, choice)
     }
     #[inline]
     fn require(a: Self, b: Self, failure: Failure<Self>, _site: [usize; 2]) -> Result<(), GeomError<f64>> {
@@ -128,6 +115,27 @@ impl Scalar for f64 {
     #[inline]
     fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
         k.map_or(Sign::Plus, |k| signs[k])
+    }
+}
+
+/// The angle of `(x, y)` in (−π, π]: `atan2(y, x)`, but π where `y` is a
+/// negative zero and `x < 0` (where atan2 gives −π). Folding a sum with an
+/// exact zero may turn +0 into −0, so the code generator and the
+/// interpreter agree on the angle only where ±0 name one angle.
+///
+/// ```
+/// use pkm_runtime::scalar::angle;
+///
+/// assert_eq!(angle(-0.0, -1.0), std::f64::consts::PI);
+/// assert_eq!(angle(1.0, 0.0), std::f64::consts::FRAC_PI_2);
+/// ```
+#[inline]
+pub fn angle(y: f64, x: f64) -> f64 {
+    let a = f64::atan2(y, x);
+    if a == -core::f64::consts::PI {
+        core::f64::consts::PI
+    } else {
+        a
     }
 }
 

@@ -5,8 +5,8 @@
 //! One file per step kind holds what it does and its closed-form kernels:
 //! [`place`], [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four
 //! loci a point can be held to, [`on_sphere`], [`on_plane`],
-//! [`on_cylinder`], [`on_slider_plane`]. [`Kernel`] lists every kernel once:
-//! adding a step kind touches its file and that list.
+//! [`on_cylinder`], [`on_slider_plane`]. Every kernel is written for every
+//! [`Scalar`], so generated code writes it out, and its derivatives with it.
 //!
 //! Geometry that depends on the parameters alone ([`Geometry`]: each joint's
 //! places, frames and zero transforms) is prepared once, not per call.
@@ -23,51 +23,11 @@ pub mod transfer;
 
 use crate::frame::Frame;
 use crate::model::{JointType, Place};
-use crate::primitives::{Error as GeomError, Sign};
+use crate::primitives::Error as GeomError;
 use crate::scalar::{constant, cross, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::solution::{step_error, PointRef, SolveError};
 use crate::spatial::{Anchor, Check, Direction, Hop, Plan, Step};
 use std::borrow::Cow;
-
-/// The kernels generated code calls as functions rather than writing out
-/// (their branches on values are many: the stable quadratic's), by the step
-/// kind that owns them. The others are written for every [`Scalar`] and
-/// traced into the generated code with the steps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Kernel {
-    /// [`on_sphere::line_distance`]: a line's point at a distance from a point.
-    LineDistance,
-    /// [`on_cylinder::line_circle`]: a slide's point at a distance from an axis.
-    LineCircle,
-    /// [`on_plane::line_plane`]: a slide onto a plane.
-    LinePlane,
-}
-
-impl Kernel {
-    /// Runs the kernel on `args` (laid out as its function documents).
-    #[inline]
-    pub fn eval(self, args: &[f64], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-        match self {
-            Kernel::LineDistance => on_sphere::line_distance(arr(args), sign),
-            Kernel::LineCircle => on_cylinder::line_circle(arr(args), sign),
-            Kernel::LinePlane => on_plane::line_plane(arr(args), sign),
-        }
-    }
-
-    /// The kernel function's path below `pkm_runtime::steps`, for generated code.
-    pub fn path(self) -> (&'static str, &'static str) {
-        match self {
-            Kernel::LineDistance => ("on_sphere", "line_distance"),
-            Kernel::LineCircle => ("on_cylinder", "line_circle"),
-            Kernel::LinePlane => ("on_plane", "line_plane"),
-        }
-    }
-}
-
-fn arr<const N: usize>(args: &[f64]) -> &[f64; N] {
-    // The step that builds the call lays out exactly N values.
-    args.try_into().unwrap_or(&[f64::NAN; N])
-}
 
 fn degenerate(what: &'static str) -> GeomError<f64> {
     GeomError::Degenerate { what }
@@ -415,13 +375,16 @@ impl<T: Scalar> JointGeometry<T> {
                 let frame = from.then(&self.frames[side_from]);
                 let sign = if forward { 1.0 } else { -1.0 };
                 let k = scale(T::c(sign), frame.column(2));
-                let c = frame.t;
                 let place = self.places[side_new];
+                // The offset from the joint's own place, turned: the value-0
+                // pose carries that place onto the centre, and the difference
+                // of two world points would round twice.
+                let offset = sub(local, place.at());
                 Motion::Circle {
-                    centre: c,
+                    centre: frame.t,
                     axis: k,
-                    radius: sub(x0, c),
-                    length: norm(reject(sub(local, place.at()), unit(place_axis(&place)))),
+                    radius: zero.rotate(offset),
+                    length: norm(reject(offset, unit(place_axis(&place)))),
                 }
             }
         }
@@ -460,30 +423,9 @@ pub struct Given<'a, T: Scalar> {
     pub sites: usize,
 }
 
-/// Calls `kernel` for step `k`: a failure names the step's loop.
-pub(crate) fn call<T: Scalar>(
-    kernel: Kernel,
-    args: &[T],
-    choice: T::Choice,
-    k: usize,
-    given: &Given<'_, T>,
-) -> Result<[T; 2], SolveError> {
-    T::kernel(kernel, args, choice, [k, given.sites + k]).map_err(|e| step_error(k, (given.name)(k), e))
-}
-
 /// The name of a step's loop: its joints, `R2–R3–R4`.
 pub fn loop_name(step: &Step, joint: impl Fn(usize) -> String) -> String {
     step.loop_joints().into_iter().map(joint).collect::<Vec<_>>().join("–")
-}
-
-/// Flattens vectors and scalars into one kernel argument list.
-pub(crate) fn args<T: Scalar>(vectors: &[[T; 3]], scalars: &[T]) -> Vec<T> {
-    vectors
-        .iter()
-        .flatten()
-        .copied()
-        .chain(scalars.iter().copied())
-        .collect()
 }
 
 /// Executes step number `k`: sets the pose of the link it solves and the
@@ -608,11 +550,6 @@ impl<T: Scalar> Move<'_, T> {
     /// The root choice of branching step number `branch`.
     pub fn choice(&self, branch: Option<usize>) -> T::Choice {
         T::choice(self.given.signs, branch)
-    }
-
-    /// Calls a kernel listed in [`Kernel`].
-    pub fn call(&self, kernel: Kernel, args: &[T], choice: T::Choice) -> Result<[T; 2], SolveError> {
-        call(kernel, args, choice, self.k, self.given)
     }
 
     /// The new link's pose at the value a kernel found (a turn for R and Pa

@@ -3,8 +3,9 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
-use super::{Found, Kernel, Motion, Move};
-use crate::primitives::{line_sphere, Error as GeomError, Sign};
+use super::{Found, Motion, Move};
+use crate::primitives::Error as GeomError;
+use crate::scalar::Failure;
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::Hop;
@@ -48,8 +49,7 @@ pub fn execute<T: Scalar>(
             // Without the components along the cylinder's axis: a planar line–circle.
             let d = reject(along, line_axis);
             let s0 = sub(start, scale(dot(line_axis, sub(start, line_point)), line_axis));
-            let args = super::args(&[s0, d, line_point], &[radius]);
-            mv.call(Kernel::LineCircle, &args, choice)?
+            line_circle(s0, d, line_point, radius, choice, mv.site()).map_err(|e| mv.fail(e))?
         }
     };
     Ok(mv.found(r))
@@ -58,8 +58,8 @@ pub fn execute<T: Scalar>(
 /// The slide `[t, 0]` along `along` (not unit: the slide's direction with
 /// its component along the cylinder's axis removed) from `start` that puts
 /// the point at distance `d` from `q`, all in the plane normal to the
-/// cylinder's axis ([`line_sphere`] along the unit direction, divided by
-/// `|along|`). `args = [start, along, q, d]`.
+/// cylinder's axis: [`super::on_sphere::line_distance`] along the unit
+/// direction, divided by `|along|`; `choice` picks the root.
 ///
 /// # Errors
 /// [`GeomError::Degenerate`] when the slide is parallel to the cylinder's
@@ -70,19 +70,23 @@ pub fn execute<T: Scalar>(
 /// use pkm_runtime::steps::on_cylinder::line_circle;
 ///
 /// // Along x at half speed (|along| = 0.5): the circle of radius 5 about (0, 3) at x = ±4.
-/// let a = [0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 3.0, 0.0, 5.0];
-/// assert_eq!(line_circle(&a, Sign::Plus).unwrap()[0].abs(), 8.0);
+/// let (o, x, q) = ([0.0; 3], [0.5, 0.0, 0.0], [0.0, 3.0, 0.0]);
+/// assert_eq!(line_circle(o, x, q, 5.0, Sign::Plus, [0, 0]).unwrap(), [8.0, 0.0]);
+/// assert!(line_circle(o, [0.0; 3], q, 5.0, Sign::Plus, [0, 0]).is_err());
 /// ```
 #[inline]
-pub fn line_circle(args: &[f64; 10], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let start = [args[0], args[1], args[2]];
-    let along = [args[3], args[4], args[5]];
-    let q = [args[6], args[7], args[8]];
+pub fn line_circle<T: Scalar>(
+    start: [T; 3],
+    along: [T; 3],
+    q: [T; 3],
+    d: T,
+    choice: T::Choice,
+    site: [usize; 2],
+) -> Result<[T; 2], GeomError<f64>> {
     let n = norm(along);
-    if n <= 1e-12 {
-        return Err(GeomError::Degenerate {
-            what: "the slide is parallel to the cylinder's axis",
-        });
-    }
-    Ok([line_sphere(start, along, q, args[9])?.branch(sign).t / n, 0.0])
+    let parallel = Failure::Degenerate("the slide is parallel to the cylinder's axis");
+    T::require(T::c(1e-12), n, parallel, site)?;
+    let u = [along[0] / n, along[1] / n, along[2] / n];
+    let [plus, minus] = super::on_sphere::line_distance(start, u, q, d, site)?;
+    Ok([T::pick(choice, plus, minus) / n, T::c(0.0)])
 }

@@ -2,8 +2,8 @@
 //! direction is that of a known point. On a circle: `a·cosθ + b·sinθ = c`;
 //! on a line: one division.
 
-use super::{Found, Kernel, Motion, Move};
-use crate::primitives::{Error as GeomError, Sign, TANGENCY_TOL};
+use super::{Found, Motion, Move};
+use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
 use crate::solution::{PointRef, SolveError};
@@ -44,8 +44,8 @@ pub(crate) fn to_plane<T: Scalar>(
             trig_turn(a, b, c, choice, mv.site(), None).map_err(|e| mv.fail(e))
         }
         Motion::Line { start, along } => {
-            let args = [offset - dot(n, start), dot(n, along), norm(n)];
-            mv.call(Kernel::LinePlane, &args, choice)
+            let _ = choice;
+            line_plane(offset - dot(n, start), dot(n, along), norm(n), mv.site()).map_err(|e| mv.fail(e))
         }
     }
 }
@@ -134,26 +134,21 @@ pub(crate) fn trig_turn_with_sine<T: Scalar>(
 
 /// The slide `[num / den, 0]` onto a plane, `num` the plane's offset from
 /// the line's start along the normal, `den` the normal's component along
-/// the line, `scale` the normal's length. `args = [num, den, scale]`.
+/// the line, `scale` the normal's length.
 ///
 /// # Errors
 /// [`GeomError::Degenerate`] when the slide is parallel to the plane
 /// (`|den| ≤ 1e-12·scale`).
 ///
 /// ```
-/// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::on_plane::line_plane;
 ///
-/// assert_eq!(line_plane(&[3.0, 2.0, 2.0], Sign::Plus).unwrap(), [1.5, 0.0]);
-/// assert!(line_plane(&[3.0, 0.0, 2.0], Sign::Plus).is_err());
+/// assert_eq!(line_plane(3.0, 2.0, 2.0, [0, 0]).unwrap(), [1.5, 0.0]);
+/// assert!(line_plane(3.0, 0.0, 2.0, [0, 0]).is_err());
 /// ```
 #[inline]
-pub fn line_plane(args: &[f64; 3], _sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let [num, den, scale] = *args;
-    if den.abs() <= 1e-12 * scale {
-        return Err(GeomError::Degenerate {
-            what: "the slide is parallel to the plane it must reach",
-        });
-    }
-    Ok([num / den, 0.0])
+pub fn line_plane<T: Scalar>(num: T, den: T, scale: T, site: [usize; 2]) -> Result<[T; 2], GeomError<f64>> {
+    let parallel = Failure::Degenerate("the slide is parallel to the plane it must reach");
+    T::require(T::c(1e-12) * scale, den.abs(), parallel, site)?;
+    Ok([num / den, T::c(0.0)])
 }

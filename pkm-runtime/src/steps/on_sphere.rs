@@ -4,9 +4,9 @@
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the stable quadratic).
 
-use super::{Found, Kernel, Motion, Move};
+use super::{Found, Motion, Move};
 use crate::model::Place;
-use crate::primitives::{line_sphere, Error as GeomError, Sign};
+use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::{norm, Scalar};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::Anchor;
@@ -43,8 +43,8 @@ pub(crate) fn to_distance<T: Scalar>(
             length,
         } => circle_distance(centre, axis, radius, length, q, d, choice, mv.site()).map_err(|e| mv.fail(e)),
         Motion::Line { start, along } => {
-            let args = super::args(&[start, along, q], &[d]);
-            mv.call(Kernel::LineDistance, &args, choice)
+            let [plus, minus] = line_distance(start, along, q, d, mv.site()).map_err(|e| mv.fail(e))?;
+            Ok([T::pick(choice, plus, minus), T::c(0.0)])
         }
     }
 }
@@ -158,22 +158,77 @@ pub fn kahan_sine<T: Scalar>(p: T, q: T, r: T) -> T {
     area4 / (T::c(2.0) * p * q)
 }
 
-/// The slide `[t, 0]` that puts the line's point `start + t·along` (`along`
-/// unit) at distance `d` from `q` ([`line_sphere`]).
-/// `args = [start, along, q, d]`; `Plus` and `Minus` as there.
+/// The slides `[t₊, t₋]` that put the line's point `start + t·u` (`u`
+/// unit) at distance `d` from `q`, a line meeting a sphere (the roots of
+/// [`crate::primitives::line_sphere`], written for every [`Scalar`]): with
+/// `w = q − start`, the foot of the perpendicular `t₀ = u·w` and the line's
+/// distance from `q` `e = |u × w|`, `t = t₀ ± √((d − e)(d + e))`, no squared
+/// lengths subtracted. Within `TANGENCY_TOL·e` beyond tangency both are the
+/// double root `t₀`.
 ///
 /// ```
-/// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::on_sphere::line_distance;
 ///
 /// // The x axis meets the sphere of radius 5 about (0, 3, 0) at x = ±4.
-/// let a = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 3.0, 0.0, 5.0];
-/// assert_eq!(line_distance(&a, Sign::Plus).unwrap()[0].abs(), 4.0);
+/// let (o, x, q) = ([0.0; 3], [1.0, 0.0, 0.0], [0.0, 3.0, 0.0]);
+/// assert_eq!(line_distance(o, x, q, 5.0, [0, 0]).unwrap(), [4.0, -4.0]);
+/// assert!(line_distance(o, x, q, 2.0, [0, 0]).is_err());
 /// ```
 #[inline]
-pub fn line_distance(args: &[f64; 10], sign: Sign) -> Result<[f64; 2], GeomError<f64>> {
-    let start = [args[0], args[1], args[2]];
-    let along = [args[3], args[4], args[5]];
-    let q = [args[6], args[7], args[8]];
-    Ok([line_sphere(start, along, q, args[9])?.branch(sign).t, 0.0])
+pub fn line_distance<T: Scalar>(
+    start: [T; 3],
+    u: [T; 3],
+    q: [T; 3],
+    d: T,
+    site: [usize; 2],
+) -> Result<[T; 2], GeomError<f64>> {
+    use crate::scalar::{cross, dot, sub, Failure};
+    let w = sub(q, start);
+    let t0 = dot(u, w);
+    let e = norm(cross(u, w));
+    let excess = e - d;
+    let far = Failure::Unreachable("distance(centre, line) <= radius", excess);
+    T::require(excess, T::c(TANGENCY_TOL) * e * T::c(1.0 + f64::EPSILON), far, site)?;
+    // Within the tolerance beyond tangency: the double root.
+    let zero = T::c(0.0);
+    let short = d - e;
+    let s = (T::if_less(short, zero, zero, short) * (d + e)).sqrt();
+    Ok([t0 + s, t0 - s])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The x axis against the sphere of radius `d` about `(x0, e, 0)`: the
+    /// slides by hand are `x0 ± √(d² − e²)`.
+    fn check(x0: f64, e: f64, d: f64, expect: Result<[f64; 2], &str>) {
+        let got = line_distance([0.0; 3], [1.0, 0.0, 0.0], [x0, e, 0.0], d, [0, 0]);
+        match (got, expect) {
+            (Ok(t), Ok(want)) => {
+                for (t, w) in t.iter().zip(want) {
+                    assert!(
+                        (t - w).abs() <= 4.0 * f64::EPSILON * w.abs().max(x0.abs()),
+                        "{t} vs {w}"
+                    );
+                }
+            }
+            (Err(GeomError::Unreachable { constraint, .. }), Err(w)) => assert!(constraint.contains(w)),
+            (got, want) => panic!("{got:?} vs {want:?}"),
+        }
+    }
+
+    #[test]
+    fn meets_refuses_and_keeps_digits_near_tangency() {
+        check(0.0, 3.0, 5.0, Ok([4.0, -4.0]));
+        check(10.0, 0.0, 2.0, Ok([12.0, 8.0]));
+        // Near tangency d² − e² cancels; (d − e)(d + e) does not:
+        // d − e = 2⁻⁴⁰ exactly, so the half-chord is √(2⁻⁴⁰·(2 + 2⁻⁴⁰)).
+        let tiny = 2f64.powi(-40);
+        let half = (tiny * (2.0 + tiny)).sqrt();
+        check(0.0, 1.0, 1.0 + tiny, Ok([half, -half]));
+        // A hair beyond tangency (within TANGENCY_TOL·e): the double root.
+        check(7.0, 1.0, 1.0 - 1e-12, Ok([7.0, 7.0]));
+        check(0.0, 3.0, 2.0, Err("distance(centre, line)"));
+    }
 }
