@@ -19,6 +19,7 @@ pub mod on_slider_plane;
 pub mod on_sphere;
 pub mod pa_plane;
 pub mod place;
+pub mod search;
 pub mod transfer;
 
 use crate::frame::Frame;
@@ -738,4 +739,94 @@ pub fn check_residual<T: Scalar>(
             },
         })
         .collect()
+}
+
+/// The step kinds' matches in the order the planner tries them
+/// ([`search::Search::step`] takes the first that finds a step): a given
+/// value first, then aim, align, the parallelogram plane, a locus without
+/// a branch, and last a locus with one.
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 6] = [
+    transfer::find,
+    aim::find,
+    align::find,
+    pa_plane::find,
+    |s| find_locus(s, false),
+    |s| find_locus(s, true),
+];
+
+/// The planner's match for a locus step: a point of the new link that the
+/// rest of the mechanism holds on a sphere, plane, cylinder or slider plane
+/// ([`constraints`]), the first whose step branches as `want_branch` says.
+fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
+    for (j, from, to) in s.candidates() {
+        for (point, x) in s.points_of(to, j) {
+            let found = constraints(s, j, to, point, x)
+                .into_iter()
+                .find(|(_, two)| *two == want_branch);
+            if let Some((constraint, two)) = found {
+                let branch = if two {
+                    s.branches += 1;
+                    Some(s.branches - 1)
+                } else {
+                    None
+                };
+                let step = Step::Locus {
+                    joint: j,
+                    from,
+                    to,
+                    point,
+                    constraint,
+                    branch,
+                };
+                s.push(step, to, j);
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Constraints on point `x` of `to` from the rest of the mechanism, moved
+/// by joint `j`, with whether each step branches: along each reach out of
+/// `to` that keeps the point put, the loci the joints met there hold it on
+/// (a parallelogram's sphere, a revolute's cylinder, a slide's plane), in
+/// the order of those joints, then the reach's plane. The order decides
+/// the plans.
+fn constraints(
+    s: &search::Search<'_>,
+    j: usize,
+    to: usize,
+    point: PointRef,
+    x: nalgebra::Vector3<f64>,
+) -> Vec<(crate::spatial::Constraint, bool)> {
+    let mut out = Vec::new();
+    let circle = s.kind(j) != JointType::P;
+    // The motion's axis (circle) or direction (line) in `to`'s frame.
+    let k = s.axis(j, to);
+    for r in s.fixed_reach(to, x, &[j]) {
+        if s.known[r.link] {
+            continue;
+        }
+        let rot = s.rotation(&r.hops);
+        // The hops that carry the point must turn about the motion's axis too.
+        let hops_parallel = r.hops.iter().enumerate().all(|(i, h)| {
+            let pre = &r.hops[..i];
+            search::Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), k)
+        });
+        let turning = circle && hops_parallel;
+        for (q, joint) in s.model.joints.iter().enumerate() {
+            if q == j || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == q) {
+                continue;
+            }
+            let found = match joint.kind {
+                JointType::Pa => on_sphere::find(s, j, &r, q),
+                JointType::R => on_cylinder::find(s, &r, q, k, rot, turning),
+                JointType::P => on_slider_plane::find(s, &r, q, k, rot, turning),
+                JointType::S => None,
+            };
+            out.extend(found.map(|c| (c, true)));
+        }
+        out.extend(on_plane::find(s, j, point, &r, k, circle));
+    }
+    out
 }

@@ -3,11 +3,13 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
+use super::search::{v3, Reach, Search};
 use super::{Found, Kernel, Motion, Move};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Hop;
+use crate::spatial::{Constraint, Hop};
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link at the
 /// distance its carrier across `hops` keeps from the axis of revolute `h`
@@ -85,4 +87,31 @@ pub fn line_circle(args: &[f64; 10], sign: Sign) -> Result<[f64; 2], GeomError<f
         });
     }
     Ok([line_sphere(start, along, q, args[9])?.branch(sign).t / n, 0.0])
+}
+
+/// The planner's match for a cylinder: revolute `q`, met on the link the
+/// reach `r` ends at, parallel to the motion's axis `k` (in the new link's
+/// frame; `rot` turns the reach's link's frame into it), its other link
+/// known (or, in a planar mechanism, pinned at `q`: it turns about `q` as
+/// if known). `turning`: the point moves on a circle and the hops that
+/// carry it turn about `k` too.
+pub(crate) fn find(
+    s: &Search<'_>,
+    r: &Reach,
+    q: usize,
+    k: Vector3<f64>,
+    rot: UnitQuaternion<f64>,
+    turning: bool,
+) -> Option<Constraint> {
+    let next = s.other(q, r.link);
+    let held = s.known[next] || (s.model.planar && s.pinned_at(next, v3(s.place(q, next).at())));
+    if !(turning && held) {
+        return None;
+    }
+    let dir = rot * s.axis(q, r.link);
+    Search::parallel(dir, k).then(|| Constraint::Cylinder {
+        hops: r.hops.clone().into(),
+        joint: q,
+        link: next,
+    })
 }

@@ -3,10 +3,12 @@
 //! a plane ([`super::on_plane`]). `Plus` is the point farther along the
 //! guide (a slider-crank's open assembly).
 
+use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::scalar::{cross, dot, Scalar};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Hop;
+use crate::spatial::{Constraint, Hop};
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link (carried
 /// across `hops` to the slider's link) on the plane prismatic `h` (guide on
@@ -33,4 +35,29 @@ pub fn execute<T: Scalar>(
     // guide (see `on_plane::to_plane`: its + root lies along axis × n).
     let n = cross(along, axis);
     Ok(mv.found(super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))?))
+}
+
+/// The planner's match for a slider plane: prismatic `q`, met on the link
+/// the reach `r` ends at, its guide normal to the motion's axis `k` (in the
+/// new link's frame; `rot` turns the reach's link's frame into it), its
+/// other link known. `turning`: the point moves on a circle and the hops
+/// that carry it turn about `k` too.
+pub(crate) fn find(
+    s: &Search<'_>,
+    r: &Reach,
+    q: usize,
+    k: Vector3<f64>,
+    rot: UnitQuaternion<f64>,
+    turning: bool,
+) -> Option<Constraint> {
+    let next = s.other(q, r.link);
+    if !(turning && s.known[next]) {
+        return None;
+    }
+    let dir = rot * s.axis(q, r.link);
+    (dir.normalize().dot(&k.normalize()).abs() <= 1e-9).then(|| Constraint::Slider {
+        hops: r.hops.clone().into(),
+        joint: q,
+        link: next,
+    })
 }

@@ -4,12 +4,13 @@
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the stable quadratic).
 
+use super::search::{reversed, v3, Reach, Search};
 use super::{Found, Kernel, Motion, Move};
 use crate::model::Place;
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{norm, Scalar};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Anchor;
+use crate::spatial::{Anchor, Constraint};
 
 /// The value of the joint that puts `point` of the new link at
 /// parallelogram `pa`'s arm length from the anchored `centre`; `branch`
@@ -176,4 +177,27 @@ pub fn line_distance(args: &[f64; 10], sign: Sign) -> Result<[f64; 2], GeomError
     let along = [args[3], args[4], args[5]];
     let q = [args[6], args[7], args[8]];
     Ok([line_sphere(start, along, q, args[9])?.branch(sign).t, 0.0])
+}
+
+/// The planner's match for a sphere: parallelogram `q`, met on the link the
+/// reach `r` ends at, hinged at the point, with its other hinge staying put
+/// along a reach to a known link (the centre); the point keeps the arm's
+/// length from it. `j` is the joint that moves the point.
+pub(crate) fn find(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Constraint> {
+    if (r.x - v3(s.place(q, r.link).at())).norm() > s.tol {
+        return None;
+    }
+    let next = s.other(q, r.link);
+    let b = v3(s.place(q, next).at());
+    let mut excl = vec![j, q];
+    excl.extend(r.hops.iter().map(|h| h.joint));
+    let c = s.fixed_reach(next, b, &excl).into_iter().find(|c| s.known[c.link])?;
+    Some(Constraint::Sphere {
+        centre: Anchor {
+            link: c.link,
+            hops: reversed(&c.hops),
+            point: PointRef::Joint(q),
+        },
+        pa: q,
+    })
 }

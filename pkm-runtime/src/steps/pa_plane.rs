@@ -1,11 +1,14 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
+use super::search::{reversed, v3, Search};
 use super::{Found, Move};
+use crate::model::JointType;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::solution::PointRef;
 use crate::solution::SolveError;
-use crate::spatial::Anchor;
+use crate::spatial::{Anchor, Step};
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its
 /// hinge on the new link) through the anchored point `target`.
@@ -52,4 +55,44 @@ pub fn pa_plane<T: Scalar>(
     // The root with the larger cosine.
     let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
     Ok([nearer(p[0], m[0]), nearer(p[1], m[1])])
+}
+
+/// The planner's match: a revolute whose axis carries the hinge of a
+/// parallelogram on the new link (and is not parallel to the parallelogram's
+/// axis), the other hinge staying put along a reach to a known link: the
+/// revolute turns the parallelogram's plane through that hinge.
+pub(crate) fn find(s: &mut Search<'_>) -> bool {
+    for (j, from, to) in s.candidates() {
+        if s.kind(j) != JointType::R {
+            continue;
+        }
+        for (p, joint) in s.model.joints.iter().enumerate() {
+            if p == j || joint.kind != JointType::Pa || !joint.links.contains(&to) {
+                continue;
+            }
+            let hinge = v3(s.place(p, to).at());
+            if !s.on_axis(j, to, hinge) || Search::parallel(s.axis(p, to), s.axis(j, to)) {
+                continue;
+            }
+            let b = s.other(p, to);
+            let x = v3(s.place(p, b).at());
+            let found = s.fixed_reach(b, x, &[j, p]).into_iter().find(|r| s.known[r.link]);
+            if let Some(r) = found {
+                let step = Step::PaPlane {
+                    joint: j,
+                    from,
+                    to,
+                    pa: p,
+                    target: Anchor {
+                        link: r.link,
+                        hops: reversed(&r.hops),
+                        point: PointRef::Joint(p),
+                    },
+                };
+                s.push(step, to, j);
+                return true;
+            }
+        }
+    }
+    false
 }
