@@ -6,6 +6,7 @@ use super::search::{reversed, Search};
 use super::{Found, JointValue, Motion, Move};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, sub, Scalar};
+use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Step};
 
@@ -81,6 +82,32 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
     }
     false
+}
+
+/// The aim's factor: the moving point's distance from the joint's axis, in
+/// units of the model's size (0: the point is on the axis, every turn aims it).
+pub(crate) fn factor(
+    at: &Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    target: &Anchor,
+) -> Factor {
+    let (_, t) = at.path(joint, from, to, point);
+    Factor {
+        step: k,
+        joint,
+        condition: Condition::OnAxis,
+        points: [
+            joint_point(joint, from),
+            LinkPoint { link: to, point },
+            at.anchored(target).1,
+        ],
+        // The point's distance from the axis, in units of the size.
+        value: (t.norm() / at.scale).min(1.0),
+    }
 }
 
 #[cfg(test)]

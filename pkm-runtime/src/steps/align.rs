@@ -6,6 +6,7 @@ use super::search::{reversed, Search};
 use super::{Found, Move};
 use crate::model::JointType;
 use crate::scalar::Scalar;
+use crate::singular::{joint_point, sine, v3, Condition, Configuration, Factor};
 use crate::solution::SolveError;
 use crate::spatial::{Direction, Hop, Step};
 use nalgebra::Vector3;
@@ -122,4 +123,36 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
     }
     false
+}
+
+/// The alignment's factor: the sine between the turning axis and the
+/// group's direction, or the target's if smaller (0: turning does not move
+/// the group's direction, or the target lies along the axis).
+pub(crate) fn factor(
+    at: &Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    group: &Direction,
+    target: &Direction,
+) -> Factor {
+    let (g, frames) = (&at.g, &at.frames);
+    let j = &g.joints[joint];
+    let k_axis = j.turning_axis(&frames[from], j.links[0] == from).unwrap_or([0.0; 3]);
+    let d = g.direction(frames[to], to, group);
+    let w = g.direction(frames[target.link], target.link, target);
+    let (_, group_link) = g.across(frames[to], to, &group.hops);
+    let (_, target_link) = g.across(frames[target.link], target.link, &target.hops);
+    Factor {
+        step: k,
+        joint,
+        condition: Condition::AxisParallel,
+        points: [
+            joint_point(joint, from),
+            joint_point(group.joint, group_link),
+            joint_point(target.joint, target_link),
+        ],
+        value: sine(v3(k_axis), v3(d)).min(sine(v3(k_axis), v3(w))),
+    }
 }

@@ -830,3 +830,70 @@ fn constraints(
     }
     out
 }
+
+/// Step number `k`'s factor at the configuration `at`: its kind's
+/// `factor`; none for the steps that only place a link from given values
+/// (inputs or a pose).
+pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step) -> Option<crate::singular::Factor> {
+    Some(match step {
+        Step::Place { .. } | Step::Transfer { .. } => return None,
+        Step::Aim {
+            joint,
+            from,
+            to,
+            point,
+            target,
+        } => aim::factor(at, k, *joint, *from, *to, *point, target),
+        Step::Align {
+            joint,
+            from,
+            to,
+            group,
+            target,
+        } => align::factor(at, k, *joint, *from, *to, group, target),
+        Step::PaPlane {
+            joint,
+            from,
+            to,
+            pa,
+            target,
+        } => pa_plane::factor(at, k, *joint, *from, *to, *pa, target),
+        Step::Locus {
+            joint,
+            from,
+            to,
+            point,
+            constraint,
+            ..
+        } => locus_factor(at, k, *joint, *from, *to, *point, constraint),
+    })
+}
+
+/// A locus step's factor: the cosine between the moving point's path and
+/// the normal of the surface it must reach (its constraint's `normal`).
+fn locus_factor(
+    at: &crate::singular::Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    constraint: &crate::spatial::Constraint,
+) -> crate::singular::Factor {
+    use crate::singular::{crossing, joint_point, Factor, LinkPoint};
+    use crate::spatial::Constraint;
+    let (p, t) = at.path(joint, from, to, point);
+    let (n, condition, other) = match constraint {
+        Constraint::Sphere { centre, .. } => on_sphere::normal(at, p, centre),
+        Constraint::Plane { normal, anchor } => on_plane::normal(at, normal, anchor),
+        Constraint::Cylinder { joint: h, link, .. } => on_cylinder::normal(at, p, *h, *link),
+        Constraint::Slider { joint: h, link, .. } => on_slider_plane::normal(at, joint, from, *h, *link),
+    };
+    Factor {
+        step: k,
+        joint,
+        condition,
+        points: [joint_point(joint, from), LinkPoint { link: to, point }, other],
+        value: crossing(t, n, at.scale),
+    }
+}

@@ -3,10 +3,11 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
-use super::search::{v3, Reach, Search};
+use super::search::{Reach, Search};
 use super::{Found, Kernel, Motion, Move};
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
+use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -114,4 +115,21 @@ pub(crate) fn find(
         joint: q,
         link: next,
     })
+}
+
+/// The cylinder's normal at the moving point `p`: `p`'s offset from the
+/// axis of revolute `h` on `link`, for the locus's factor
+/// ([`super::locus_factor`]).
+pub(crate) fn normal(
+    at: &Configuration,
+    p: Vector3<f64>,
+    h: usize,
+    link: usize,
+) -> (Vector3<f64>, Condition, LinkPoint) {
+    let jh = &at.g.joints[h];
+    let side = usize::from(jh.links[0] != link);
+    let c = v3(at.frames[link].apply(jh.places[side].at()));
+    let w = v3(at.frames[link].rotate(super::place_axis(&jh.places[side]))).normalize();
+    let d = p - c;
+    (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(h, link))
 }

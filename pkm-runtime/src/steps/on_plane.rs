@@ -8,6 +8,7 @@ use crate::model::JointType;
 use crate::primitives::{Error as GeomError, Sign, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
+use crate::singular::{v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Direction};
 use crate::spatial::{Constraint, Hop};
@@ -244,4 +245,11 @@ pub(crate) fn find(
         }
     }
     None
+}
+
+/// The plane's normal (`normal` seen from its link), for the locus's
+/// factor ([`super::locus_factor`]).
+pub(crate) fn normal(at: &Configuration, normal: &Direction, anchor: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
+    let n = at.g.direction(at.frames[normal.link], normal.link, normal);
+    (v3(n), Condition::TouchesPlane, at.anchored(anchor).1)
 }

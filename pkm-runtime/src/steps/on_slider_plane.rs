@@ -6,6 +6,7 @@
 use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::scalar::{cross, dot, Scalar};
+use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -60,4 +61,25 @@ pub(crate) fn find(
         joint: q,
         link: next,
     })
+}
+
+/// The normal of the plane prismatic `h` (guide on `link`) sweeps with the
+/// axis of `joint` (turning from `from`): `axis × guide`, for the locus's
+/// factor ([`super::locus_factor`]).
+pub(crate) fn normal(
+    at: &Configuration,
+    joint: usize,
+    from: usize,
+    h: usize,
+    link: usize,
+) -> (Vector3<f64>, Condition, LinkPoint) {
+    let jh = &at.g.joints[h];
+    let side = usize::from(jh.links[0] != link);
+    let along = v3(at.frames[link].rotate(super::place_axis(&jh.places[side])));
+    let j = &at.g.joints[joint];
+    let axis = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
+        Motion::Circle { axis, .. } => v3(axis),
+        Motion::Line { along, .. } => v3(along),
+    };
+    (axis.cross(&along), Condition::TouchesSliderPlane, joint_point(h, link))
 }

@@ -9,8 +9,10 @@ use super::{Found, Kernel, Motion, Move};
 use crate::model::Place;
 use crate::primitives::{line_sphere, Error as GeomError, Sign};
 use crate::scalar::{norm, Scalar};
+use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Constraint};
+use nalgebra::Vector3;
 
 /// The value of the joint that puts `point` of the new link at
 /// parallelogram `pa`'s arm length from the anchored `centre`; `branch`
@@ -200,4 +202,11 @@ pub(crate) fn find(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Cons
         },
         pa: q,
     })
+}
+
+/// The sphere's normal at the moving point `p` (from the anchored
+/// `centre`), for the locus's factor ([`super::locus_factor`]).
+pub(crate) fn normal(at: &Configuration, p: Vector3<f64>, centre: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
+    let (c, point) = at.anchored(centre);
+    (p - c, Condition::TouchesSphere, point)
 }

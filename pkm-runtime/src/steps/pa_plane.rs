@@ -1,11 +1,12 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
-use super::search::{reversed, v3, Search};
+use super::search::{reversed, Search};
 use super::{Found, Move};
 use crate::model::JointType;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::singular::{crossing, joint_point, v3, Condition, Configuration, Factor};
 use crate::solution::PointRef;
 use crate::solution::SolveError;
 use crate::spatial::{Anchor, Step};
@@ -95,4 +96,34 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
     }
     false
+}
+
+/// The parallelogram plane's factor: how fast the plane's normal turns
+/// against the direction from its hinge to the target (0: the plane only
+/// touches the target as the joint turns).
+pub(crate) fn factor(
+    at: &Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    pa: usize,
+    target: &Anchor,
+) -> Factor {
+    let (g, frames) = (&at.g, &at.frames);
+    let j = &g.joints[joint];
+    let k_axis = v3(j.turning_axis(&frames[from], j.links[0] == from).unwrap_or([0.0; 3]));
+    let p = &g.joints[pa];
+    let side = usize::from(p.links[0] != to);
+    let n = v3(frames[to].rotate(super::place_axis(&p.places[side])));
+    let hinge = v3(frames[to].apply(p.places[side].at()));
+    let (c, point) = at.anchored(target);
+    // d/dθ (n·u) = (k × n)·u: the plane's normal turning against the target's direction.
+    Factor {
+        step: k,
+        joint,
+        condition: Condition::PlaneTouches,
+        points: [joint_point(joint, from), joint_point(pa, to), point],
+        value: crossing(k_axis.cross(&n), c - hinge, at.scale),
+    }
 }
