@@ -2,11 +2,17 @@
 //! are the plan interpreter (the oracle), traced by the code generator they
 //! are the generated straight-line solvers.
 //!
-//! One file per step kind holds what it does and its closed-form kernels:
-//! [`place`], [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four
-//! loci a point can be held to, [`on_sphere`], [`on_plane`],
-//! [`on_cylinder`], [`on_slider_plane`]. [`Kernel`] lists every kernel once:
-//! adding a step kind touches its file and that list.
+//! One file per step kind holds what it does (`execute`), its closed-form
+//! kernels, its structural match (`find`: when the planner may use it) and
+//! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four loci a
+//! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
+//! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
+//! the locus step's own match and factor are here). [`Kernel`] lists every
+//! kernel once; `FIND_ORDER` lists the kinds in the order the planner tries
+//! them ([`search`]: what it knows while it searches); [`execute`] and
+//! `factor` have one arm per kind. Adding a step kind touches its file and
+//! those lists.
 //!
 //! Geometry that depends on the parameters alone ([`Geometry`]: each joint's
 //! places, frames and zero transforms) is prepared once, not per call.
