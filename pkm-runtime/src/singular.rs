@@ -14,10 +14,11 @@
 //! seed 000 §2.3's f-terms); the inverse plan's, evaluated at the same
 //! configuration, are those of `det J_i` (input singularities).
 
+use crate::frame::Frame;
 use crate::model::{JointType, Model};
 use crate::solution::PointRef;
-use crate::spatial::{self, Constraint, Pose3, Step};
-use crate::steps::{place_axis, Geometry, Motion};
+use crate::spatial::{self, Pose3};
+use crate::steps::{Geometry, Motion};
 use nalgebra::{Point3, Vector3};
 
 /// A point of a link: a joint's place on it, or a named point.
@@ -134,12 +135,12 @@ fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64;
     }
 }
 
-fn v3(a: [f64; 3]) -> Vector3<f64> {
+pub(crate) fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
 /// |cos| of the angle between `t` and `n`: 0 when either is (relatively) zero.
-fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {
+pub(crate) fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {
     let (a, b) = (t.norm(), n.norm());
     if a <= 1e-12 * scale || b <= 1e-12 * scale {
         return 0.0;
@@ -148,7 +149,7 @@ fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {
 }
 
 /// |sin| of the angle between `a` and `b`: 0 when either is zero.
-fn sine(a: Vector3<f64>, b: Vector3<f64>) -> f64 {
+pub(crate) fn sine(a: Vector3<f64>, b: Vector3<f64>) -> f64 {
     let (x, y) = (a.norm(), b.norm());
     if x == 0.0 || y == 0.0 {
         return 0.0;
@@ -156,179 +157,71 @@ fn sine(a: Vector3<f64>, b: Vector3<f64>) -> f64 {
     (a.cross(&b).norm() / (x * y)).min(1.0)
 }
 
-fn joint_point(joint: usize, link: usize) -> LinkPoint {
+pub(crate) fn joint_point(joint: usize, link: usize) -> LinkPoint {
     LinkPoint {
         link,
         point: PointRef::Joint(joint),
     }
 }
 
+/// One configuration of a model as the factors measure it: the steps' own
+/// geometry and pose algebra (the factors differentiate what they solve),
+/// the link poses as frames, and the model's size.
+pub(crate) struct Configuration {
+    pub(crate) g: Geometry<f64>,
+    pub(crate) frames: Vec<Frame<f64>>,
+    pub(crate) scale: f64,
+}
+
+impl Configuration {
+    fn of(model: &Model, poses: &[Pose3]) -> Self {
+        Configuration {
+            g: Geometry::of(model),
+            frames: poses.iter().map(spatial::frame_of).collect(),
+            scale: crate::kinematics::model_scale(model),
+        }
+    }
+
+    /// A point of a link in the world.
+    pub(crate) fn world(&self, link: usize, point: PointRef) -> Vector3<f64> {
+        v3(self.frames[link].apply(self.g.local(point, link)))
+    }
+
+    /// An anchored point in the world, and the link point it names.
+    pub(crate) fn anchored(&self, a: &spatial::Anchor) -> (Vector3<f64>, LinkPoint) {
+        let (_, last) = self.g.across(self.frames[a.link], a.link, &a.hops);
+        (
+            v3(self.g.anchor(&self.frames, a)),
+            LinkPoint {
+                link: last,
+                point: a.point,
+            },
+        )
+    }
+
+    /// The moving point in the world and its velocity per unit joint rate.
+    pub(crate) fn path(&self, joint: usize, from: usize, to: usize, point: PointRef) -> (Vector3<f64>, Vector3<f64>) {
+        let j = &self.g.joints[joint];
+        let forward = j.links[0] == from;
+        let p = self.world(to, point);
+        let t = match j.motion(&self.frames[from], forward, self.g.local(point, to)) {
+            Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
+            Motion::Line { along, .. } => v3(along) * self.scale,
+        };
+        (p, t)
+    }
+}
+
 /// The factor of every solving step of a spatial plan at the link poses
 /// `poses` (from any solution: a branch of the plan, or of another plan of
 /// the same model). Steps that only place a link from given values (inputs
-/// or a pose) have none.
+/// or a pose) have none; each other step kind's factor is its `factor`, in
+/// its file in [`crate::steps`].
 pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> Vec<Factor> {
-    // The steps' own geometry and pose algebra: the factors differentiate what they solve.
-    let g = Geometry::of(model);
-    let frames: Vec<_> = poses.iter().map(spatial::frame_of).collect();
-    let scale = crate::kinematics::model_scale(model);
-    let mut out = Vec::new();
-    for (k, step) in plan.steps.iter().enumerate() {
-        let world = |link: usize, point: PointRef| v3(frames[link].apply(g.local(point, link)));
-        let anchored = |a: &spatial::Anchor| {
-            let (_, last) = g.across(frames[a.link], a.link, &a.hops);
-            (
-                v3(g.anchor(&frames, a)),
-                LinkPoint {
-                    link: last,
-                    point: a.point,
-                },
-            )
-        };
-        // The moving point's velocity per unit joint rate.
-        let path = |joint: usize, from: usize, to: usize, point: PointRef| {
-            let j = &g.joints[joint];
-            let forward = j.links[0] == from;
-            let p = world(to, point);
-            let t = match j.motion(&frames[from], forward, g.local(point, to)) {
-                Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
-                Motion::Line { along, .. } => v3(along) * scale,
-            };
-            (p, t)
-        };
-        let factor = match step {
-            Step::Place { .. } | Step::Transfer { .. } => continue,
-            Step::Locus {
-                joint,
-                from,
-                to,
-                point,
-                constraint,
-                ..
-            } => {
-                let (p, t) = path(*joint, *from, *to, *point);
-                let (n, condition, other) = match constraint {
-                    Constraint::Sphere { centre, .. } => {
-                        let (c, at) = anchored(centre);
-                        (p - c, Condition::TouchesSphere, at)
-                    }
-                    Constraint::Plane { normal, anchor } => {
-                        let n = g.direction(frames[normal.link], normal.link, normal);
-                        (v3(n), Condition::TouchesPlane, anchored(anchor).1)
-                    }
-                    Constraint::Cylinder { joint: h, link, .. } => {
-                        let jh = &g.joints[*h];
-                        let side = usize::from(jh.links[0] != *link);
-                        let c = v3(frames[*link].apply(jh.places[side].at()));
-                        let w = v3(frames[*link].rotate(place_axis(&jh.places[side]))).normalize();
-                        let d = p - c;
-                        (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(*h, *link))
-                    }
-                    Constraint::Slider { joint: h, link, .. } => {
-                        let jh = &g.joints[*h];
-                        let side = usize::from(jh.links[0] != *link);
-                        let along = v3(frames[*link].rotate(place_axis(&jh.places[side])));
-                        let j = &g.joints[*joint];
-                        let axis = match j.motion(&frames[*from], j.links[0] == *from, [0.0; 3]) {
-                            Motion::Circle { axis, .. } => v3(axis),
-                            Motion::Line { along, .. } => v3(along),
-                        };
-                        (
-                            axis.cross(&along),
-                            Condition::TouchesSliderPlane,
-                            joint_point(*h, *link),
-                        )
-                    }
-                };
-                Factor {
-                    step: k,
-                    joint: *joint,
-                    condition,
-                    points: [
-                        joint_point(*joint, *from),
-                        LinkPoint {
-                            link: *to,
-                            point: *point,
-                        },
-                        other,
-                    ],
-                    value: crossing(t, n, scale),
-                }
-            }
-            Step::Aim {
-                joint,
-                from,
-                to,
-                point,
-                target,
-            } => {
-                let (_, t) = path(*joint, *from, *to, *point);
-                Factor {
-                    step: k,
-                    joint: *joint,
-                    condition: Condition::OnAxis,
-                    points: [
-                        joint_point(*joint, *from),
-                        LinkPoint {
-                            link: *to,
-                            point: *point,
-                        },
-                        anchored(target).1,
-                    ],
-                    // The point's distance from the axis, in units of the size.
-                    value: (t.norm() / scale).min(1.0),
-                }
-            }
-            Step::Align {
-                joint,
-                from,
-                to,
-                group,
-                target,
-            } => {
-                let j = &g.joints[*joint];
-                let k_axis = j.turning_axis(&frames[*from], j.links[0] == *from).unwrap_or([0.0; 3]);
-                let d = g.direction(frames[*to], *to, group);
-                let w = g.direction(frames[target.link], target.link, target);
-                let (_, group_link) = g.across(frames[*to], *to, &group.hops);
-                let (_, target_link) = g.across(frames[target.link], target.link, &target.hops);
-                Factor {
-                    step: k,
-                    joint: *joint,
-                    condition: Condition::AxisParallel,
-                    points: [
-                        joint_point(*joint, *from),
-                        joint_point(group.joint, group_link),
-                        joint_point(target.joint, target_link),
-                    ],
-                    value: sine(v3(k_axis), v3(d)).min(sine(v3(k_axis), v3(w))),
-                }
-            }
-            Step::PaPlane {
-                joint,
-                from,
-                to,
-                pa,
-                target,
-            } => {
-                let j = &g.joints[*joint];
-                let k_axis = v3(j.turning_axis(&frames[*from], j.links[0] == *from).unwrap_or([0.0; 3]));
-                let p = &g.joints[*pa];
-                let side = usize::from(p.links[0] != *to);
-                let n = v3(frames[*to].rotate(place_axis(&p.places[side])));
-                let hinge = v3(frames[*to].apply(p.places[side].at()));
-                let (c, at) = anchored(target);
-                // d/dθ (n·u) = (k × n)·u: the plane's normal turning against the target's direction.
-                Factor {
-                    step: k,
-                    joint: *joint,
-                    condition: Condition::PlaneTouches,
-                    points: [joint_point(*joint, *from), joint_point(*pa, *to), at],
-                    value: crossing(k_axis.cross(&n), c - hinge, scale),
-                }
-            }
-        };
-        out.push(factor);
-    }
-    out
+    let at = Configuration::of(model, poses);
+    plan.steps
+        .iter()
+        .enumerate()
+        .filter_map(|(k, step)| crate::steps::factor(&at, k, step))
+        .collect()
 }

@@ -2,11 +2,13 @@
 //! a turn about the joint's axis (Paden–Kahan subproblem 1) or a slide (the
 //! projection onto the guide).
 
+use super::search::{reversed, Search};
 use super::{Found, JointValue, Motion, Move};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, sub, Scalar};
+use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Anchor;
+use crate::spatial::{Anchor, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
 /// anchored position `target`.
@@ -48,6 +50,64 @@ pub fn turn_onto<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3], site: [usize; 2]) -
     let [c, s] = super::turn_terms(k, vp, up);
     let h = (c * c + s * s).sqrt();
     Ok([c / h, s / h])
+}
+
+/// The planner's match: a point of the new link that stays put along a
+/// reach to a known link (or to a pinned link at its pin, the new link's
+/// own pin too): the joint turns or slides the point onto it.
+pub(crate) fn find(s: &mut Search<'_>) -> bool {
+    for (j, from, to) in s.candidates() {
+        for (point, x) in s.points_of(to, j) {
+            // A known link, or a pinned one at its pin (the new link's own pin too).
+            let found = s
+                .fixed_reach(to, x, &[j])
+                .into_iter()
+                .find(|r| (s.known[r.link] && !r.hops.is_empty()) || s.pinned_at(r.link, r.x));
+            if let Some(r) = found {
+                let target = Anchor {
+                    link: r.link,
+                    hops: reversed(&r.hops),
+                    point,
+                };
+                let step = Step::Aim {
+                    joint: j,
+                    from,
+                    to,
+                    point,
+                    target,
+                };
+                s.push(step, to, j);
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// The aim's factor: the moving point's distance from the joint's axis, in
+/// units of the model's size (0: the point is on the axis, every turn aims it).
+pub(crate) fn factor(
+    at: &Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    target: &Anchor,
+) -> Factor {
+    let (_, t) = at.path(joint, from, to, point);
+    Factor {
+        step: k,
+        joint,
+        condition: Condition::OnAxis,
+        points: [
+            joint_point(joint, from),
+            LinkPoint { link: to, point },
+            at.anchored(target).1,
+        ],
+        // The point's distance from the axis, in units of the size.
+        value: (t.norm() / at.scale).min(1.0),
+    }
 }
 
 #[cfg(test)]

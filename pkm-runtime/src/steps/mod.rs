@@ -2,11 +2,18 @@
 //! are the plan interpreter (the oracle), traced by the code generator they
 //! are the generated straight-line solvers.
 //!
-//! One file per step kind holds what it does and its closed-form kernels:
-//! [`place`], [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four
-//! loci a point can be held to, [`on_sphere`], [`on_plane`],
-//! [`on_cylinder`], [`on_slider_plane`]. Every kernel is written for every
-//! [`Scalar`], so generated code writes it out, and its derivatives with it.
+//! One file per step kind holds what it does (`execute`), its closed-form
+//! kernels, its structural match (`find`: when the planner may use it) and
+//! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four loci a
+//! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
+//! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
+//! the locus step's own match and factor are here). Every kernel is written
+//! for every [`Scalar`], so generated code writes it out, and its
+//! derivatives with it. `FIND_ORDER` lists the kinds in the order the planner tries
+//! them ([`search`]: what it knows while it searches); [`execute`] and
+//! `factor` have one arm per kind. Adding a step kind touches its file and
+//! those lists.
 //!
 //! Geometry that depends on the parameters alone ([`Geometry`]: each joint's
 //! places, frames and zero transforms) is prepared once, not per call.
@@ -19,6 +26,7 @@ pub mod on_slider_plane;
 pub mod on_sphere;
 pub mod pa_plane;
 pub mod place;
+pub mod search;
 pub mod transfer;
 
 use crate::frame::Frame;
@@ -675,4 +683,161 @@ pub fn check_residual<T: Scalar>(
             },
         })
         .collect()
+}
+
+/// The step kinds' matches in the order the planner tries them
+/// ([`search::Search::step`] takes the first that finds a step): a given
+/// value first, then aim, align, the parallelogram plane, a locus without
+/// a branch, and last a locus with one.
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 6] = [
+    transfer::find,
+    aim::find,
+    align::find,
+    pa_plane::find,
+    |s| find_locus(s, false),
+    |s| find_locus(s, true),
+];
+
+/// The planner's match for a locus step: a point of the new link that the
+/// rest of the mechanism holds on a sphere, plane, cylinder or slider plane
+/// ([`constraints`]), the first whose step branches as `want_branch` says.
+fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
+    for (j, from, to) in s.candidates() {
+        for (point, x) in s.points_of(to, j) {
+            let found = constraints(s, j, to, point, x)
+                .into_iter()
+                .find(|(_, two)| *two == want_branch);
+            if let Some((constraint, two)) = found {
+                let branch = if two {
+                    s.branches += 1;
+                    Some(s.branches - 1)
+                } else {
+                    None
+                };
+                let step = Step::Locus {
+                    joint: j,
+                    from,
+                    to,
+                    point,
+                    constraint,
+                    branch,
+                };
+                s.push(step, to, j);
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Constraints on point `x` of `to` from the rest of the mechanism, moved
+/// by joint `j`, with whether each step branches: along each reach out of
+/// `to` that keeps the point put, the loci the joints met there hold it on
+/// (a parallelogram's sphere, a revolute's cylinder, a slide's plane), in
+/// the order of those joints, then the reach's plane. The order decides
+/// the plans.
+fn constraints(
+    s: &search::Search<'_>,
+    j: usize,
+    to: usize,
+    point: PointRef,
+    x: nalgebra::Vector3<f64>,
+) -> Vec<(crate::spatial::Constraint, bool)> {
+    let mut out = Vec::new();
+    let circle = s.kind(j) != JointType::P;
+    // The motion's axis (circle) or direction (line) in `to`'s frame.
+    let k = s.axis(j, to);
+    for r in s.fixed_reach(to, x, &[j]) {
+        if s.known[r.link] {
+            continue;
+        }
+        let rot = s.rotation(&r.hops);
+        // The hops that carry the point must turn about the motion's axis too.
+        let hops_parallel = r.hops.iter().enumerate().all(|(i, h)| {
+            let pre = &r.hops[..i];
+            search::Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), k)
+        });
+        let turning = circle && hops_parallel;
+        for (q, joint) in s.model.joints.iter().enumerate() {
+            if q == j || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == q) {
+                continue;
+            }
+            let found = match joint.kind {
+                JointType::Pa => on_sphere::find(s, j, &r, q),
+                JointType::R => on_cylinder::find(s, &r, q, k, rot, turning),
+                JointType::P => on_slider_plane::find(s, &r, q, k, rot, turning),
+                JointType::S => None,
+            };
+            out.extend(found.map(|c| (c, true)));
+        }
+        out.extend(on_plane::find(s, j, point, &r, k, circle));
+    }
+    out
+}
+
+/// Step number `k`'s factor at the configuration `at`: its kind's
+/// `factor`; none for the steps that only place a link from given values
+/// (inputs or a pose).
+pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step) -> Option<crate::singular::Factor> {
+    Some(match step {
+        Step::Place { .. } | Step::Transfer { .. } => return None,
+        Step::Aim {
+            joint,
+            from,
+            to,
+            point,
+            target,
+        } => aim::factor(at, k, *joint, *from, *to, *point, target),
+        Step::Align {
+            joint,
+            from,
+            to,
+            group,
+            target,
+        } => align::factor(at, k, *joint, *from, *to, group, target),
+        Step::PaPlane {
+            joint,
+            from,
+            to,
+            pa,
+            target,
+        } => pa_plane::factor(at, k, *joint, *from, *to, *pa, target),
+        Step::Locus {
+            joint,
+            from,
+            to,
+            point,
+            constraint,
+            ..
+        } => locus_factor(at, k, *joint, *from, *to, *point, constraint),
+    })
+}
+
+/// A locus step's factor: the cosine between the moving point's path and
+/// the normal of the surface it must reach (its constraint's `normal`).
+fn locus_factor(
+    at: &crate::singular::Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    point: PointRef,
+    constraint: &crate::spatial::Constraint,
+) -> crate::singular::Factor {
+    use crate::singular::{crossing, joint_point, Factor, LinkPoint};
+    use crate::spatial::Constraint;
+    let (p, t) = at.path(joint, from, to, point);
+    let (n, condition, other) = match constraint {
+        Constraint::Sphere { centre, .. } => on_sphere::normal(at, p, centre),
+        Constraint::Plane { normal, anchor } => on_plane::normal(at, normal, anchor),
+        Constraint::Cylinder { joint: h, link, .. } => on_cylinder::normal(at, p, *h, *link),
+        Constraint::Slider { joint: h, link, .. } => on_slider_plane::normal(at, joint, from, *h, *link),
+    };
+    Factor {
+        step: k,
+        joint,
+        condition,
+        points: [joint_point(joint, from), LinkPoint { link: to, point }, other],
+        value: crossing(t, n, at.scale),
+    }
 }

@@ -3,12 +3,15 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
+use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::primitives::Error as GeomError;
 use crate::scalar::Failure;
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
+use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Hop;
+use crate::spatial::{Constraint, Hop};
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link at the
 /// distance its carrier across `hops` keeps from the axis of revolute `h`
@@ -89,4 +92,48 @@ pub fn line_circle<T: Scalar>(
     let u = [along[0] / n, along[1] / n, along[2] / n];
     let [plus, minus] = super::on_sphere::line_distance(start, u, q, d, site)?;
     Ok([T::pick(choice, plus, minus) / n, T::c(0.0)])
+}
+
+/// The planner's match for a cylinder: revolute `q`, met on the link the
+/// reach `r` ends at, parallel to the motion's axis `k` (in the new link's
+/// frame; `rot` turns the reach's link's frame into it), its other link
+/// known (or, in a planar mechanism, pinned at `q`: it turns about `q` as
+/// if known). `turning`: the point moves on a circle and the hops that
+/// carry it turn about `k` too.
+pub(crate) fn find(
+    s: &Search<'_>,
+    r: &Reach,
+    q: usize,
+    k: Vector3<f64>,
+    rot: UnitQuaternion<f64>,
+    turning: bool,
+) -> Option<Constraint> {
+    let next = s.other(q, r.link);
+    let held = s.known[next] || (s.model.planar && s.pinned_at(next, v3(s.place(q, next).at())));
+    if !(turning && held) {
+        return None;
+    }
+    let dir = rot * s.axis(q, r.link);
+    Search::parallel(dir, k).then(|| Constraint::Cylinder {
+        hops: r.hops.clone().into(),
+        joint: q,
+        link: next,
+    })
+}
+
+/// The cylinder's normal at the moving point `p`: `p`'s offset from the
+/// axis of revolute `h` on `link`, for the locus's factor
+/// ([`super::locus_factor`]).
+pub(crate) fn normal(
+    at: &Configuration,
+    p: Vector3<f64>,
+    h: usize,
+    link: usize,
+) -> (Vector3<f64>, Condition, LinkPoint) {
+    let jh = &at.g.joints[h];
+    let side = usize::from(jh.links[0] != link);
+    let c = v3(at.frames[link].apply(jh.places[side].at()));
+    let w = v3(at.frames[link].rotate(super::place_axis(&jh.places[side]))).normalize();
+    let d = p - c;
+    (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(h, link))
 }

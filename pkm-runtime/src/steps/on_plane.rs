@@ -2,12 +2,17 @@
 //! direction is that of a known point. On a circle: `a·cosθ + b·sinθ = c`;
 //! on a line: one division.
 
+use super::search::{reversed, Reach, Search};
 use super::{Found, Motion, Move};
+use crate::model::JointType;
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
+use crate::singular::{v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Direction};
+use crate::spatial::{Constraint, Hop};
+use nalgebra::Vector3;
 
 /// The value of the joint that puts `point` of the new link on the plane
 /// with normal `normal` through the anchored `anchor`.
@@ -151,4 +156,95 @@ pub fn line_plane<T: Scalar>(num: T, den: T, scale: T, site: [usize; 2]) -> Resu
     let parallel = Failure::Degenerate("the slide is parallel to the plane it must reach");
     T::require(T::c(1e-12) * scale, den.abs(), parallel, site)?;
     Ok([num / den, T::c(0.0)])
+}
+
+/// The planner's match for a plane: from the link the reach `r` ends at, a
+/// path of revolutes (and parallelograms) parallel to one direction, and
+/// translations normal to it, to a known link; the plane's normal is that
+/// direction and it must cut the motion (`k` in the new link's frame, a
+/// circle's axis or a line's direction). The bool: whether the step
+/// branches (a circle meets a plane twice, a line once).
+pub(crate) fn find(
+    s: &Search<'_>,
+    j: usize,
+    point: PointRef,
+    r: &Reach,
+    k: Vector3<f64>,
+    circle: bool,
+) -> Option<(Constraint, bool)> {
+    type Node = (Vec<Hop>, usize, Option<(usize, Vector3<f64>)>);
+    let rot0 = s.rotation(&r.hops);
+    let mut queue: Vec<Node> = vec![(vec![], r.link, None)];
+    let mut seen = vec![r.link];
+    let mut i = 0;
+    while i < queue.len() {
+        let (hops, link, w) = queue[i].clone();
+        i += 1;
+        if s.known[link] && !hops.is_empty() {
+            let Some((g, wdir)) = w else { continue };
+            // The plane must cut the motion: not parallel to a circle's plane or a line.
+            let wk = wdir.normalize().dot(&k.normalize()).abs();
+            if (circle && wk >= 1.0 - 1e-9) || (!circle && wk <= 1e-9) {
+                continue;
+            }
+            let Some(g_pos) = hops.iter().position(|h| h.joint == g) else {
+                continue;
+            };
+            let mut all = r.hops.clone();
+            all.extend(hops.iter().copied());
+            // The normal: g's axis on the link before it, seen from the known link.
+            let normal = Direction {
+                link,
+                hops: reversed(&hops[g_pos..]),
+                joint: g,
+            };
+            return Some((
+                Constraint::Plane {
+                    normal,
+                    anchor: Anchor {
+                        link,
+                        hops: reversed(&all),
+                        point,
+                    },
+                },
+                circle,
+            ));
+        }
+        if s.known[link] {
+            continue;
+        }
+        let rot = rot0 * s.rotation(&hops);
+        for (q, joint) in s.model.joints.iter().enumerate() {
+            if q == j
+                || !joint.links.contains(&link)
+                || hops.iter().any(|h| h.joint == q)
+                || r.hops.iter().any(|h| h.joint == q)
+            {
+                continue;
+            }
+            let next = s.other(q, link);
+            if seen.contains(&next) {
+                continue;
+            }
+            let dir = rot * s.axis(q, link);
+            let w_next = match (joint.kind, w) {
+                (JointType::R | JointType::Pa, None) => Some((q, dir)),
+                (JointType::R | JointType::Pa, Some((_, wd))) if Search::parallel(dir, wd) => w,
+                (JointType::P, Some((_, wd))) if dir.normalize().dot(&wd.normalize()).abs() <= 1e-9 => w,
+                _ => continue,
+            };
+            seen.push(next);
+            let mut h = hops.clone();
+            h.push(s.hop(q, link));
+            queue.push((h, next, w_next));
+        }
+    }
+    None
+}
+
+/// The plane's normal (`normal` seen from its link), for the locus's
+/// factor ([`super::locus_factor`]).
+pub(crate) fn normal(at: &Configuration, normal: &Direction, anchor: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
+    let n = at.g.direction(at.frames[normal.link], normal.link, normal);
+    (v3(n), Condition::TouchesPlane, at.anchored(anchor).1)
 }

@@ -3,10 +3,13 @@
 //! a plane ([`super::on_plane`]). `Plus` is the point farther along the
 //! guide (a slider-crank's open assembly).
 
+use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::scalar::{cross, dot, Scalar};
+use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Hop;
+use crate::spatial::{Constraint, Hop};
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link (carried
 /// across `hops` to the slider's link) on the plane prismatic `h` (guide on
@@ -33,4 +36,50 @@ pub fn execute<T: Scalar>(
     // guide (see `on_plane::to_plane`: its + root lies along axis × n).
     let n = cross(along, axis);
     Ok(mv.found(super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))?))
+}
+
+/// The planner's match for a slider plane: prismatic `q`, met on the link
+/// the reach `r` ends at, its guide normal to the motion's axis `k` (in the
+/// new link's frame; `rot` turns the reach's link's frame into it), its
+/// other link known. `turning`: the point moves on a circle and the hops
+/// that carry it turn about `k` too.
+pub(crate) fn find(
+    s: &Search<'_>,
+    r: &Reach,
+    q: usize,
+    k: Vector3<f64>,
+    rot: UnitQuaternion<f64>,
+    turning: bool,
+) -> Option<Constraint> {
+    let next = s.other(q, r.link);
+    if !(turning && s.known[next]) {
+        return None;
+    }
+    let dir = rot * s.axis(q, r.link);
+    (dir.normalize().dot(&k.normalize()).abs() <= 1e-9).then(|| Constraint::Slider {
+        hops: r.hops.clone().into(),
+        joint: q,
+        link: next,
+    })
+}
+
+/// The normal of the plane prismatic `h` (guide on `link`) sweeps with the
+/// axis of `joint` (turning from `from`): `axis × guide`, for the locus's
+/// factor ([`super::locus_factor`]).
+pub(crate) fn normal(
+    at: &Configuration,
+    joint: usize,
+    from: usize,
+    h: usize,
+    link: usize,
+) -> (Vector3<f64>, Condition, LinkPoint) {
+    let jh = &at.g.joints[h];
+    let side = usize::from(jh.links[0] != link);
+    let along = v3(at.frames[link].rotate(super::place_axis(&jh.places[side])));
+    let j = &at.g.joints[joint];
+    let axis = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
+        Motion::Circle { axis, .. } => v3(axis),
+        Motion::Line { along, .. } => v3(along),
+    };
+    (axis.cross(&along), Condition::TouchesSliderPlane, joint_point(h, link))
 }

@@ -4,12 +4,15 @@
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the stable quadratic).
 
+use super::search::{reversed, v3, Reach, Search};
 use super::{Found, Motion, Move};
 use crate::model::Place;
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::{norm, Scalar};
+use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::Anchor;
+use crate::spatial::{Anchor, Constraint};
+use nalgebra::Vector3;
 
 /// The value of the joint that puts `point` of the new link at
 /// parallelogram `pa`'s arm length from the anchored `centre`; `branch`
@@ -194,6 +197,36 @@ pub fn line_distance<T: Scalar>(
     let short = d - e;
     let s = (T::if_less(short, zero, zero, short) * (d + e)).sqrt();
     Ok([t0 + s, t0 - s])
+}
+
+/// The planner's match for a sphere: parallelogram `q`, met on the link the
+/// reach `r` ends at, hinged at the point, with its other hinge staying put
+/// along a reach to a known link (the centre); the point keeps the arm's
+/// length from it. `j` is the joint that moves the point.
+pub(crate) fn find(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Constraint> {
+    if (r.x - v3(s.place(q, r.link).at())).norm() > s.tol {
+        return None;
+    }
+    let next = s.other(q, r.link);
+    let b = v3(s.place(q, next).at());
+    let mut excl = vec![j, q];
+    excl.extend(r.hops.iter().map(|h| h.joint));
+    let c = s.fixed_reach(next, b, &excl).into_iter().find(|c| s.known[c.link])?;
+    Some(Constraint::Sphere {
+        centre: Anchor {
+            link: c.link,
+            hops: reversed(&c.hops),
+            point: PointRef::Joint(q),
+        },
+        pa: q,
+    })
+}
+
+/// The sphere's normal at the moving point `p` (from the anchored
+/// `centre`), for the locus's factor ([`super::locus_factor`]).
+pub(crate) fn normal(at: &Configuration, p: Vector3<f64>, centre: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
+    let (c, point) = at.anchored(centre);
+    (p - c, Condition::TouchesSphere, point)
 }
 
 #[cfg(test)]

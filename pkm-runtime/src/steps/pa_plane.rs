@@ -1,11 +1,15 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
+use super::search::{reversed, Search};
 use super::{Found, Move};
+use crate::model::JointType;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::singular::{crossing, joint_point, v3, Condition, Configuration, Factor};
+use crate::solution::PointRef;
 use crate::solution::SolveError;
-use crate::spatial::Anchor;
+use crate::spatial::{Anchor, Step};
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its
 /// hinge on the new link) through the anchored point `target`.
@@ -52,4 +56,74 @@ pub fn pa_plane<T: Scalar>(
     // The root with the larger cosine.
     let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
     Ok([nearer(p[0], m[0]), nearer(p[1], m[1])])
+}
+
+/// The planner's match: a revolute whose axis carries the hinge of a
+/// parallelogram on the new link (and is not parallel to the parallelogram's
+/// axis), the other hinge staying put along a reach to a known link: the
+/// revolute turns the parallelogram's plane through that hinge.
+pub(crate) fn find(s: &mut Search<'_>) -> bool {
+    for (j, from, to) in s.candidates() {
+        if s.kind(j) != JointType::R {
+            continue;
+        }
+        for (p, joint) in s.model.joints.iter().enumerate() {
+            if p == j || joint.kind != JointType::Pa || !joint.links.contains(&to) {
+                continue;
+            }
+            let hinge = v3(s.place(p, to).at());
+            if !s.on_axis(j, to, hinge) || Search::parallel(s.axis(p, to), s.axis(j, to)) {
+                continue;
+            }
+            let b = s.other(p, to);
+            let x = v3(s.place(p, b).at());
+            let found = s.fixed_reach(b, x, &[j, p]).into_iter().find(|r| s.known[r.link]);
+            if let Some(r) = found {
+                let step = Step::PaPlane {
+                    joint: j,
+                    from,
+                    to,
+                    pa: p,
+                    target: Anchor {
+                        link: r.link,
+                        hops: reversed(&r.hops),
+                        point: PointRef::Joint(p),
+                    },
+                };
+                s.push(step, to, j);
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// The parallelogram plane's factor: how fast the plane's normal turns
+/// against the direction from its hinge to the target (0: the plane only
+/// touches the target as the joint turns).
+pub(crate) fn factor(
+    at: &Configuration,
+    k: usize,
+    joint: usize,
+    from: usize,
+    to: usize,
+    pa: usize,
+    target: &Anchor,
+) -> Factor {
+    let (g, frames) = (&at.g, &at.frames);
+    let j = &g.joints[joint];
+    let k_axis = v3(j.turning_axis(&frames[from], j.links[0] == from).unwrap_or([0.0; 3]));
+    let p = &g.joints[pa];
+    let side = usize::from(p.links[0] != to);
+    let n = v3(frames[to].rotate(super::place_axis(&p.places[side])));
+    let hinge = v3(frames[to].apply(p.places[side].at()));
+    let (c, point) = at.anchored(target);
+    // d/dθ (n·u) = (k × n)·u: the plane's normal turning against the target's direction.
+    Factor {
+        step: k,
+        joint,
+        condition: Condition::PlaneTouches,
+        points: [joint_point(joint, from), joint_point(pa, to), point],
+        value: crossing(k_axis.cross(&n), c - hinge, at.scale),
+    }
 }

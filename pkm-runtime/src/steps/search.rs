@@ -1,0 +1,248 @@
+//! What the planner knows while it searches a plan: the known links, the
+//! given joints, the reaches along which a point stays put. Each step
+//! kind's `find` (in its own file) looks at a [`Search`] for a joint it can
+//! solve and adds its step; [`Search::step`] tries them in the order of
+//! `steps::FIND_ORDER`. The structural conditions (a point on an axis, parallel
+//! axes, a plane that is not parallel to the motion) are checked on the
+//! geometry at its nominal dimensions.
+
+use super::Geometry;
+use crate::model::{JointType, Model, Place};
+use crate::solution::PointRef;
+use crate::spatial::{self, Hop, Plan, Step};
+use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+
+pub(crate) fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+/// What the planner knows about the nominal model while it searches a plan.
+pub struct Search<'a> {
+    pub(crate) model: &'a Model,
+    /// The model's geometry as the steps take it.
+    pub(crate) geometry: Geometry<f64>,
+    pub(crate) tol: f64,
+    pub(crate) known: Vec<bool>,
+    /// Joints whose value an input gives, with its index.
+    pub(crate) given: Vec<Option<usize>>,
+    pub(crate) used: Vec<bool>,
+    /// Links pinned by a point output: the point, in the link's frame. A
+    /// pinned link is not known (its turn is not), but that point of it is.
+    pub(crate) pins: Vec<Option<Vector3<f64>>>,
+    pub(crate) steps: Vec<Step>,
+    pub(crate) branches: usize,
+}
+
+/// One way out of a link along which a point stays put: the hops taken,
+/// the link reached and the point in its frame.
+#[derive(Clone)]
+pub(crate) struct Reach {
+    pub(crate) hops: Vec<Hop>,
+    pub(crate) link: usize,
+    pub(crate) x: Vector3<f64>,
+}
+
+pub(crate) fn reversed(hops: &[Hop]) -> spatial::Hops {
+    hops.iter()
+        .rev()
+        .map(|h| Hop {
+            joint: h.joint,
+            forward: !h.forward,
+        })
+        .collect()
+}
+
+impl<'a> Search<'a> {
+    /// The search of a plan for `model` that starts from the steps `start`
+    /// (pose outputs placing links): `known` links (the base and those
+    /// placed), links `pinned` at a point (in the link's frame) by a point
+    /// output, and the joints whose value an input gives (`given`, with the
+    /// input's index).
+    pub fn new(
+        model: &'a Model,
+        given: Vec<Option<usize>>,
+        known: Vec<bool>,
+        pinned: Vec<Option<[f64; 3]>>,
+        start: Vec<Step>,
+    ) -> Self {
+        Search {
+            model,
+            geometry: Geometry::of(model),
+            tol: 1e-9 * crate::kinematics::model_scale(model).max(1.0),
+            known,
+            given,
+            used: vec![false; model.joints.len()],
+            pins: pinned.into_iter().map(|p| p.map(v3)).collect(),
+            steps: start,
+            branches: 0,
+        }
+    }
+
+    /// Which links are known so far.
+    pub fn known(&self) -> &[bool] {
+        &self.known
+    }
+
+    /// Adds the next step: the first step kind of `steps::FIND_ORDER` that
+    /// finds one. False when none does.
+    pub fn step(&mut self) -> bool {
+        super::FIND_ORDER.iter().any(|find| find(self))
+    }
+
+    /// The plan found, for `n_inputs` given values (`inputs`: the input
+    /// joints of a forward plan).
+    pub fn into_plan(self, n_inputs: usize, inputs: Vec<usize>) -> Plan {
+        Plan {
+            steps: self.steps,
+            branches: self.branches,
+            n_inputs,
+            inputs,
+        }
+    }
+
+    pub(crate) fn other(&self, j: usize, l: usize) -> usize {
+        let ls = self.model.joints[j].links;
+        if ls[0] == l {
+            ls[1]
+        } else {
+            ls[0]
+        }
+    }
+
+    pub(crate) fn side(&self, j: usize, l: usize) -> usize {
+        usize::from(self.model.joints[j].links[0] != l)
+    }
+
+    pub(crate) fn place(&self, j: usize, l: usize) -> Place {
+        self.model.joints[j].places[self.side(j, l)]
+    }
+
+    pub(crate) fn zero(&self, j: usize, from: usize) -> Isometry3<f64> {
+        let forward = self.model.joints[j].links[0] == from;
+        spatial::pose_of(&self.geometry.joints[j].zero[usize::from(!forward)])
+    }
+
+    pub(crate) fn hop(&self, j: usize, from: usize) -> Hop {
+        Hop {
+            joint: j,
+            forward: self.model.joints[j].links[0] == from,
+        }
+    }
+
+    pub(crate) fn kind(&self, j: usize) -> JointType {
+        self.model.joints[j].kind
+    }
+
+    /// Whether `x` (in `l`'s frame) is on the axis of revolute `j`.
+    pub(crate) fn on_axis(&self, j: usize, l: usize, x: Vector3<f64>) -> bool {
+        if self.kind(j) != JointType::R {
+            return false;
+        }
+        let p = self.place(j, l);
+        let a = v3(p.axis()).normalize();
+        (x - v3(p.at())).cross(&a).norm() <= self.tol
+    }
+
+    pub(crate) fn parallel(a: Vector3<f64>, b: Vector3<f64>) -> bool {
+        a.normalize().cross(&b.normalize()).norm() <= 1e-9
+    }
+
+    /// The links reached from `start` through revolutes whose axes carry
+    /// the point `x` (so it does not move), stopping at known links.
+    pub(crate) fn fixed_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize]) -> Vec<Reach> {
+        let mut out = vec![Reach {
+            hops: vec![],
+            link: start,
+            x,
+        }];
+        let mut i = 0;
+        while i < out.len() {
+            let r = out[i].clone();
+            i += 1;
+            if self.known[r.link] && !r.hops.is_empty() {
+                continue;
+            }
+            for (k, joint) in self.model.joints.iter().enumerate() {
+                if exclude.contains(&k) || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == k) {
+                    continue;
+                }
+                let next = self.other(k, r.link);
+                if out.iter().any(|o| o.link == next) || !self.on_axis(k, r.link, r.x) {
+                    continue;
+                }
+                let x = self.zero(k, r.link).inverse_transform_point(&r.x.into()).coords;
+                let mut hops = r.hops.clone();
+                hops.push(self.hop(k, r.link));
+                out.push(Reach { hops, link: next, x });
+            }
+        }
+        out
+    }
+
+    /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
+    pub(crate) fn rotation(&self, hops: &[Hop]) -> UnitQuaternion<f64> {
+        let (frame, _) = self.geometry.across(crate::frame::Frame::identity(), 0, hops);
+        spatial::pose_of(&frame).rotation
+    }
+
+    /// Candidate joints: one known link, a new link, value not given.
+    pub(crate) fn candidates(&self) -> Vec<(usize, usize, usize)> {
+        let mut out = Vec::new();
+        for (j, joint) in self.model.joints.iter().enumerate() {
+            if self.used[j] || self.given[j].is_some() || joint.kind == JointType::S {
+                continue;
+            }
+            let [u, v] = joint.links;
+            if self.known[u] != self.known[v] {
+                let (from, to) = if self.known[u] { (u, v) } else { (v, u) };
+                out.push((j, from, to));
+            }
+        }
+        out
+    }
+
+    /// Points of `to` to consider: its joints' places.
+    pub(crate) fn points_of(&self, to: usize, j: usize) -> Vec<(PointRef, Vector3<f64>)> {
+        let mut out = Vec::new();
+        for (k, joint) in self.model.joints.iter().enumerate() {
+            if k != j && joint.links.contains(&to) {
+                let x = v3(self.place(k, to).at());
+                // A point on the joint's own axis does not move with it.
+                if !self.on_axis(j, to, x) {
+                    out.push((PointRef::Joint(k), x));
+                }
+            }
+        }
+        out
+    }
+
+    pub(crate) fn push(&mut self, step: Step, to: usize, j: usize) {
+        self.steps.push(step);
+        self.known[to] = true;
+        self.pins[to] = None;
+        self.used[j] = true;
+    }
+
+    /// Whether `x` (in `l`'s frame) is the point `l` is pinned by.
+    pub(crate) fn pinned_at(&self, l: usize, x: Vector3<f64>) -> bool {
+        self.pins[l].is_some_and(|p| (p - x).norm() <= self.tol)
+    }
+
+    /// The direction of joint `j` in `l`'s frame: a revolute's axis or a
+    /// slide's guide. A slide placed on `l` by a point alone takes its guide
+    /// from the other link, turned into `l`'s frame at value 0.
+    pub(crate) fn axis(&self, j: usize, l: usize) -> Vector3<f64> {
+        match self.place(j, l) {
+            Place::Point { .. } => {
+                let other = self.model.joints[j].places[1 - self.side(j, l)];
+                self.zero(j, self.other(j, l)).rotation * v3(other.axis())
+            }
+            p => v3(p.axis()),
+        }
+    }
+
+    /// The link at the end of `hops` from `start`.
+    pub(crate) fn link_after(&self, start: usize, hops: &[Hop]) -> usize {
+        hops.iter().fold(start, |l, h| self.other(h.joint, l))
+    }
+}
