@@ -214,11 +214,8 @@ pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spatial::v3;
     use nalgebra::Vector3;
-
-    fn v3(a: [f64; 3]) -> Vector3<f64> {
-        Vector3::new(a[0], a[1], a[2])
-    }
 
     fn close(a: Vector3<f64>, b: [f64; 3]) -> bool {
         (a - v3(b)).norm() < 1e-12

@@ -135,9 +135,7 @@ fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64;
     }
 }
 
-pub(crate) fn v3(a: [f64; 3]) -> Vector3<f64> {
-    Vector3::new(a[0], a[1], a[2])
-}
+pub(crate) use crate::spatial::v3;
 
 /// |cos| of the angle between `t` and `n`: 0 when either is (relatively) zero.
 pub(crate) fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {

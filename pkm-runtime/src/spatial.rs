@@ -29,7 +29,8 @@ use std::borrow::Cow;
 /// A link's pose in the world.
 pub type Pose3 = Isometry3<f64>;
 
-fn v3(a: [f64; 3]) -> Vector3<f64> {
+/// An array as a nalgebra vector.
+pub(crate) fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 

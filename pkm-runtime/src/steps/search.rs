@@ -12,9 +12,7 @@ use crate::solution::PointRef;
 use crate::spatial::{self, Hop, Plan, Step};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-pub(crate) fn v3(a: [f64; 3]) -> Vector3<f64> {
-    Vector3::new(a[0], a[1], a[2])
-}
+pub(crate) use crate::spatial::v3;
 
 /// What the planner knows about the nominal model while it searches a plan.
 pub struct Search<'a> {
