@@ -702,7 +702,12 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 6] = [
 /// rest of the mechanism holds on a sphere, plane, cylinder or slider plane
 /// ([`constraints`]), the first whose step branches as `want_branch` says.
 fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
-    for (j, from, to) in s.candidates() {
+    // Slides first: a slide's value is found along its line directly
+    // (t₀ ± √((d − e)(d + e))), where a turn's would reach it only through
+    // an angle and a composed rotation, a few roundings more.
+    let mut candidates = s.candidates();
+    candidates.sort_by_key(|&(j, ..)| s.kind(j) != JointType::P);
+    for (j, from, to) in candidates {
         for (point, x) in s.points_of(to, j) {
             let found = constraints(s, j, to, point, x)
                 .into_iter()
@@ -764,7 +769,8 @@ fn constraints(
             }
             let found = match joint.kind {
                 JointType::Pa => on_sphere::find(s, j, &r, q),
-                JointType::R => on_cylinder::find(s, &r, q, k, rot, turning),
+                JointType::R if circle => on_cylinder::find(s, &r, q, k, rot, turning),
+                JointType::R => on_cylinder::find_slide(s, to, &r, q, k, rot),
                 JointType::P => on_slider_plane::find(s, &r, q, k, rot, turning),
                 JointType::S => None,
             };

@@ -121,6 +121,34 @@ pub(crate) fn find(
     })
 }
 
+/// The planner's match for a slide against a cylinder: revolute `q`, met on
+/// the link the reach `r` ends at, its other link known, its axis normal to
+/// the slide `k` (in the new link's frame, `to`'s; `rot` turns the reach's
+/// link's frame into it), and the hops that carry the point turning about
+/// that axis, so the point stays in the plane the circle about `q` lies in:
+/// a planar slider dyad, its slide found along the line directly.
+pub(crate) fn find_slide(
+    s: &Search<'_>,
+    to: usize,
+    r: &Reach,
+    q: usize,
+    k: Vector3<f64>,
+    rot: UnitQuaternion<f64>,
+) -> Option<Constraint> {
+    let next = s.other(q, r.link);
+    let dir = rot * s.axis(q, r.link);
+    let about_dir = r.hops.iter().enumerate().all(|(i, h)| {
+        let pre = &r.hops[..i];
+        Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), dir)
+    });
+    let normal = dir.normalize().dot(&k.normalize()).abs() <= 1e-9;
+    (s.known[next] && about_dir && normal).then(|| Constraint::Cylinder {
+        hops: r.hops.clone().into(),
+        joint: q,
+        link: next,
+    })
+}
+
 /// The cylinder's normal at the moving point `p`: `p`'s offset from the
 /// axis of revolute `h` on `link`, for the locus's factor
 /// ([`super::locus_factor`]).
