@@ -141,8 +141,7 @@ pub(crate) fn find_slide(
         let pre = &r.hops[..i];
         Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), dir)
     });
-    let normal = dir.normalize().dot(&k.normalize()).abs() <= 1e-9;
-    (s.known[next] && about_dir && normal).then(|| Constraint::Cylinder {
+    (s.known[next] && about_dir && Search::normal(dir, k)).then(|| Constraint::Cylinder {
         hops: r.hops.clone().into(),
         joint: q,
         link: next,

@@ -230,7 +230,7 @@ pub(crate) fn find(
             let w_next = match (joint.kind, w) {
                 (JointType::R | JointType::Pa, None) => Some((q, dir)),
                 (JointType::R | JointType::Pa, Some((_, wd))) if Search::parallel(dir, wd) => w,
-                (JointType::P, Some((_, wd))) if dir.normalize().dot(&wd.normalize()).abs() <= 1e-9 => w,
+                (JointType::P, Some((_, wd))) if Search::normal(dir, wd) => w,
                 _ => continue,
             };
             seen.push(next);

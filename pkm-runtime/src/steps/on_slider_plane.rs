@@ -56,7 +56,7 @@ pub(crate) fn find(
         return None;
     }
     let dir = rot * s.axis(q, r.link);
-    (dir.normalize().dot(&k.normalize()).abs() <= 1e-9).then(|| Constraint::Slider {
+    Search::normal(dir, k).then(|| Constraint::Slider {
         hops: r.hops.clone().into(),
         joint: q,
         link: next,

@@ -145,6 +145,11 @@ impl<'a> Search<'a> {
         a.normalize().cross(&b.normalize()).norm() <= 1e-9
     }
 
+    /// Whether `a` and `b` are normal to each other (to the same 1e-9 as [`Search::parallel`]).
+    pub(crate) fn normal(a: Vector3<f64>, b: Vector3<f64>) -> bool {
+        a.normalize().dot(&b.normalize()).abs() <= 1e-9
+    }
+
     /// The links reached from `start` through revolutes whose axes carry
     /// the point `x` (so it does not move), stopping at known links.
     pub(crate) fn fixed_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize]) -> Vec<Reach> {
