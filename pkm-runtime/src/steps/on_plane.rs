@@ -55,11 +55,14 @@ pub(crate) fn to_plane<T: Scalar>(
     }
 }
 
-/// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`
-/// (the turns of [`crate::primitives::trig_equation`], written for every [`Scalar`]):
-/// scaled by `h = √(a² + b²)`, `|c| ≤ h` up to the tangency tolerance
-/// (clamped there: a double root), `s = √((1 − |c|)(1 + |c|))`, the turns
-/// `(a c ∓ b s, b c ± a s)`. `far` replaces the error of an unreachable `c`.
+/// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`,
+/// for every [`Scalar`]. With `h = √(a² + b²)` and `φ = atan2(b, a)` the
+/// equation is `h·cos(θ − φ) = c`, so `θ = φ ± δ`, `cos δ = c/h`: scaled by
+/// `h`, `|c| ≤ h` up to the tangency tolerance (clamped there: a double
+/// root), `s = √((1 − |c|)(1 + |c|))` (no cancellation near `|c| = 1`), the
+/// turns `(a c ∓ b s, b c ± a s)`, Plus `θ = φ + δ`. `a = b = 0` is
+/// degenerate. `far` replaces the error of an unreachable `c` (by default
+/// `|c| − h` out of reach).
 ///
 /// ```
 /// use pkm_runtime::steps::on_plane::trig_turns;

@@ -2,7 +2,7 @@
 //! from a known point. The joint moves the point on a circle (R, Pa) or a
 //! line (P): a circle meeting a sphere (`a·cosθ + b·sinθ = c`, the constant
 //! term formed stably near concentric circles) or a line meeting a sphere
-//! (the stable quadratic).
+//! (the foot of the perpendicular ± the half-chord).
 
 use super::search::{reversed, v3, Reach, Search};
 use super::{Found, Motion, Move};
@@ -64,14 +64,20 @@ pub fn arm_length<T: Scalar>(places: &[Place<T>; 2]) -> T {
 }
 
 /// The turn `[cos θ, sin θ]` that puts the circle's point
-/// `centre + R(axis, θ)·radius` (`axis` unit) at distance `d` from `q`
-/// (the turns of [`crate::primitives::circle_to_distance`], written for every
-/// [`Scalar`]): with `p⊥`, `q⊥` the two points' parts normal to the axis
-/// and `δ` their axial separation, `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
-/// (rp² + rq² + (δ − d)(δ + d))/2`, the circle's radius `rp` the exact
-/// `length` (the measured `|p⊥|` only gives the direction), the largest
-/// of `rp`, `rq`, `|δ|` paired with `d` so that nearly concentric circles
-/// cancel exactly. `Plus` and `Minus` as there.
+/// `centre + R(axis, θ)·radius` (`axis` unit, the turn right-handed) at
+/// distance `d` from `q`, for every [`Scalar`]: with `p⊥`, `q⊥` the two
+/// points' parts normal to the axis and `δ` their axial separation,
+/// `|R(θ)p − q|² = δ² + rp² + rq² − 2((p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ)`,
+/// so `θ` solves `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
+/// (rp² + rq² + (δ − d)(δ + d))/2` by [`super::on_plane::trig_turns`]'s
+/// formula, the circle's radius `rp` the exact `length` (the measured
+/// `|p⊥|` only gives the direction), the largest of `rp`, `rq`, `|δ|`
+/// paired with `d` so that nearly concentric circles cancel exactly, and the
+/// root's sine by [`kahan_sine`]. `Plus` is the root counter-clockwise
+/// (about the axis) of `q⊥`'s direction. A `d` beyond
+/// `dmax = √(δ² + (rp + rq)²)` or short of `dmin = √(δ² + (rp − rq)²)` by
+/// more than the tangency tolerance is out of reach by the difference; `p`
+/// or `q` on the axis is degenerate.
 ///
 /// ```
 /// use pkm_runtime::primitives::Sign;
@@ -162,12 +168,12 @@ pub fn kahan_sine<T: Scalar>(p: T, q: T, r: T) -> T {
 }
 
 /// The slides `[t₊, t₋]` that put the line's point `start + t·u` (`u`
-/// unit) at distance `d` from `q`, a line meeting a sphere (the roots of
-/// [`crate::primitives::line_sphere`], written for every [`Scalar`]): with
-/// `w = q − start`, the foot of the perpendicular `t₀ = u·w` and the line's
-/// distance from `q` `e = |u × w|`, `t = t₀ ± √((d − e)(d + e))`, no squared
-/// lengths subtracted. Within `TANGENCY_TOL·e` beyond tangency both are the
-/// double root `t₀`.
+/// unit) at distance `d` from `q`, a line meeting a sphere, for every
+/// [`Scalar`]: with `w = q − start`, the foot of the perpendicular
+/// `t₀ = u·w` and the line's distance from `q` `e = |u × w|`,
+/// `t = t₀ ± √((d − e)(d + e))`, no squared lengths subtracted. Within
+/// `TANGENCY_TOL·e` beyond tangency both are the double root `t₀`; beyond
+/// that, out of reach by `e − d`.
 ///
 /// ```
 /// use pkm_runtime::steps::on_sphere::line_distance;
