@@ -1,15 +1,19 @@
-//! The scalar abstraction the closed-form primitives are generic over.
+//! The scalar the model's kinematics are generic over.
 //!
-//! [`Real`] is deliberately tiny: exactly the operations the primitives in
-//! [`crate::primitives`] use, so that a forward-mode dual number (for
-//! automatic differentiation of generated solvers) can implement it later
-//! without dragging in a numeric-tower dependency. It is implemented here for
-//! `f64`, and for the 237-bit `f256` in `pkm_runtime::reference` (feature
-//! `high-precision`, for the work-precision reference only).
+//! [`Real`] is deliberately tiny: the operations that
+//! [`crate::kinematics`]'s link poses and loop residual (through
+//! [`crate::kinematics::Kinematics`]) and `reference.rs`'s Newton iteration
+//! use, so that the same code runs in `f64` (for
+//! [`crate::newton`]) and in a higher precision without a numeric-tower
+//! dependency. It is implemented here for `f64`, and for the 237-bit `f256`
+//! in `pkm_runtime::reference` (feature `high-precision`, for the
+//! work-precision reference only). The plan steps' kernels are generic over
+//! another trait, [`crate::scalar::Scalar`], which the code generator's
+//! symbolic scalar implements too.
 //!
-//! Comparisons (`PartialOrd`) are used by the primitives only to choose a
-//! branch or classify a case, never to compute a value; a dual number should
-//! therefore compare by its primal (value) part.
+//! Comparisons (`PartialOrd`) are meant to choose a branch or classify a
+//! case, never to compute a value; a dual number should therefore compare by
+//! its primal (value) part.
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -55,7 +59,7 @@ pub trait Real:
     /// Machine epsilon of the underlying floating-point format (`f64::EPSILON`).
     fn epsilon() -> Self;
 
-    /// Square root; the primitives call it only on non-negative arguments.
+    /// Square root (of non-negative arguments).
     fn sqrt(self) -> Self;
 
     /// Absolute value.

@@ -151,4 +151,40 @@ mod tests {
             Err("on the turning axis"),
         );
     }
+
+    #[test]
+    fn turns_about_a_slanted_axis_and_by_the_sign_of_the_turn() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let d = 1.0 / 3f64.sqrt();
+        // A third of a turn about the diagonal carries x to y (and y to z, z to x).
+        check([d, d, d, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], Ok(2.0 * PI / 3.0));
+        check([d, d, d, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0], Ok(2.0 * PI / 3.0));
+        // Onto itself: no turn; onto −y from x about z: a quarter turn back.
+        check([0.0, 0.0, 1.0, 3.0, 4.0, 0.0, 3.0, 4.0, 0.0], Ok(0.0));
+        check([0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, -1.0, 0.0], Ok(-FRAC_PI_2));
+    }
+
+    /// `v` turned by `theta` about the unit `k` (Rodrigues:
+    /// `v cosθ + (k × v) sinθ + k (k·v)(1 − cosθ)`), written out here.
+    fn rodrigues(k: [f64; 3], theta: f64, v: [f64; 3]) -> [f64; 3] {
+        let kxv = [
+            k[1] * v[2] - k[2] * v[1],
+            k[2] * v[0] - k[0] * v[2],
+            k[0] * v[1] - k[1] * v[0],
+        ];
+        let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+        let (s, c) = theta.sin_cos();
+        std::array::from_fn(|i| v[i] * c + kxv[i] * s + k[i] * kv * (1.0 - c))
+    }
+
+    #[test]
+    fn recovers_the_turn_that_made_the_target() {
+        let n = (0.3f64 * 0.3 + 0.9 * 0.9 + 0.1 * 0.1).sqrt();
+        let k = [0.3 / n, -0.9 / n, 0.1 / n];
+        let v = [1.0, 2.0, 0.5];
+        for theta in [-3.0, -1.2, -0.01, 0.4, 1.5, 2.9] {
+            let u = rodrigues(k, theta, v);
+            check([k[0], k[1], k[2], v[0], v[1], v[2], u[0], u[1], u[2]], Ok(theta));
+        }
+    }
 }

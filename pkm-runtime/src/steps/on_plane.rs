@@ -55,11 +55,14 @@ pub(crate) fn to_plane<T: Scalar>(
     }
 }
 
-/// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`
-/// (the turns of [`crate::primitives::trig_equation`], written for every [`Scalar`]):
-/// scaled by `h = √(a² + b²)`, `|c| ≤ h` up to the tangency tolerance
-/// (clamped there: a double root), `s = √((1 − |c|)(1 + |c|))`, the turns
-/// `(a c ∓ b s, b c ± a s)`. `far` replaces the error of an unreachable `c`.
+/// Both turns `[cos θ, sin θ]` (Plus, Minus) solving `a·cosθ + b·sinθ = c`,
+/// for every [`Scalar`]. With `h = √(a² + b²)` and `φ = atan2(b, a)` the
+/// equation is `h·cos(θ − φ) = c`, so `θ = φ ± δ`, `cos δ = c/h`: scaled by
+/// `h`, `|c| ≤ h` up to the tangency tolerance (clamped there: a double
+/// root), `s = √((1 − |c|)(1 + |c|))` (no cancellation near `|c| = 1`), the
+/// turns `(a c ∓ b s, b c ± a s)`, Plus `θ = φ + δ`. `a = b = 0` is
+/// degenerate. `far` replaces the error of an unreachable `c` (by default
+/// `|c| − h` out of reach).
 ///
 /// ```
 /// use pkm_runtime::steps::on_plane::trig_turns;
@@ -247,4 +250,83 @@ pub(crate) fn find(
 pub(crate) fn normal(at: &Configuration, normal: &Direction, anchor: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
     let n = at.g.direction(at.frames[normal.link], normal.link, normal);
     (v3(n), Condition::TouchesPlane, at.anchored(anchor).1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    /// What `a·cosθ + b·sinθ = c` should give.
+    #[derive(Debug)]
+    enum Want {
+        /// The Plus and Minus angles.
+        Roots([f64; 2]),
+        /// Out of reach by this much (`|c| − √(a² + b²)`).
+        Far(f64),
+        /// No isolated root.
+        Degenerate,
+    }
+
+    fn check(a: f64, b: f64, c: f64, want: Want) {
+        match (trig_turns(a, b, c, [0, 0], None), &want) {
+            (Ok(turns), Want::Roots(angles)) => {
+                for ([cos, sin], angle) in turns.iter().zip(angles) {
+                    assert!(
+                        (cos - angle.cos()).abs() < 1e-15 && (sin - angle.sin()).abs() < 1e-15,
+                        "({a}, {b}, {c}): {cos} {sin} vs {angle}"
+                    );
+                }
+            }
+            (Err(GeomError::Unreachable { by, .. }), Want::Far(far)) => {
+                assert!((by - far).abs() <= 1e-9 * far, "({a}, {b}, {c}): by {by} vs {far}")
+            }
+            (Err(GeomError::Degenerate { .. }), Want::Degenerate) => {}
+            (got, _) => panic!("({a}, {b}, {c}): {got:?} vs {want:?}"),
+        }
+    }
+
+    /// By hand: with `φ = atan2(b, a)` the equation is `√(a² + b²)·cos(θ − φ) = c`,
+    /// so `θ = φ ± acos(c/√(a² + b²))`, Plus the `+`.
+    #[test]
+    fn both_roots_tangency_and_refusals() {
+        use Want::*;
+        let phi = 4f64.atan2(3.0);
+        check(1.0, 0.0, 0.0, Roots([FRAC_PI_2, -FRAC_PI_2]));
+        check(0.0, 1.0, 0.0, Roots([PI, 0.0]));
+        check(3.0, 4.0, 0.0, Roots([phi + FRAC_PI_2, phi - FRAC_PI_2]));
+        // cosθ + sinθ = 1: θ = 0 or π/2.
+        check(1.0, 1.0, 1.0, Roots([FRAC_PI_2, 0.0]));
+        // −2 cosθ = 1: cosθ = −1/2, φ = π, and π ± π/3.
+        check(-2.0, 0.0, 1.0, Roots([PI + PI / 3.0, PI - PI / 3.0]));
+        // c/h = 1/2: φ ± π/3.
+        check(3.0, 4.0, 2.5, Roots([phi + PI / 3.0, phi - PI / 3.0]));
+        // Large coefficients scale out: cos(θ − φ) = 2/√10.
+        let (phi3, delta) = ((-3f64).atan2(1.0), (2.0 / 10f64.sqrt()).acos());
+        check(1e150, -3e150, 2e150, Roots([phi3 + delta, phi3 - delta]));
+        // |c| = h: the double root φ, or φ + π for negative c.
+        check(3.0, 4.0, 5.0, Roots([phi, phi]));
+        check(3.0, 4.0, -5.0, Roots([phi - PI, phi - PI]));
+        check(0.0, 2.0, 2.0, Roots([FRAC_PI_2, FRAC_PI_2]));
+        // Beyond tangency by 1e-12 of h (within TANGENCY_TOL): the double root.
+        check(3.0, 4.0, 5.0 * (1.0 + 1e-12), Roots([phi, phi]));
+        check(3.0, 4.0, -5.0 * (1.0 + 1e-12), Roots([phi - PI, phi - PI]));
+        // Beyond by more: out of reach by |c| − h.
+        check(3.0, 4.0, 5.0 + 1e-6, Far(1e-6));
+        check(1.0, 0.0, -2.0, Far(1.0));
+        check(0.0, 0.0, 0.0, Degenerate);
+        check(0.0, 0.0, 1.0, Degenerate);
+    }
+
+    #[test]
+    fn keeps_the_digits_of_two_roots_near_tangency() {
+        // cosθ = 1 − 2⁻⁴⁰ (exact): sinθ = ±√((1 − c)(1 + c)) = ±√(2⁻⁴⁰(2 − 2⁻⁴⁰)),
+        // two distinct roots ~1.3e-6 either side of 0, Plus above.
+        let tiny = 2f64.powi(-40);
+        let sin = (tiny * (2.0 - tiny)).sqrt();
+        let [[cp, sp], [cm, sm]] = trig_turns(1.0, 0.0, 1.0 - tiny, [0, 0], None).unwrap();
+        assert_eq!([cp, cm], [1.0 - tiny; 2]);
+        assert!((sp / sin - 1.0).abs() <= 2.0 * f64::EPSILON, "{sp} vs {sin}");
+        assert!((sm / -sin - 1.0).abs() <= 2.0 * f64::EPSILON, "{sm} vs {}", -sin);
+    }
 }

@@ -2,7 +2,7 @@
 //! from a known point. The joint moves the point on a circle (R, Pa) or a
 //! line (P): a circle meeting a sphere (`a·cosθ + b·sinθ = c`, the constant
 //! term formed stably near concentric circles) or a line meeting a sphere
-//! (the stable quadratic).
+//! (the foot of the perpendicular ± the half-chord).
 
 use super::search::{reversed, v3, Reach, Search};
 use super::{Found, Motion, Move};
@@ -64,14 +64,20 @@ pub fn arm_length<T: Scalar>(places: &[Place<T>; 2]) -> T {
 }
 
 /// The turn `[cos θ, sin θ]` that puts the circle's point
-/// `centre + R(axis, θ)·radius` (`axis` unit) at distance `d` from `q`
-/// (the turns of [`crate::primitives::circle_to_distance`], written for every
-/// [`Scalar`]): with `p⊥`, `q⊥` the two points' parts normal to the axis
-/// and `δ` their axial separation, `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
-/// (rp² + rq² + (δ − d)(δ + d))/2`, the circle's radius `rp` the exact
-/// `length` (the measured `|p⊥|` only gives the direction), the largest
-/// of `rp`, `rq`, `|δ|` paired with `d` so that nearly concentric circles
-/// cancel exactly. `Plus` and `Minus` as there.
+/// `centre + R(axis, θ)·radius` (`axis` unit, the turn right-handed) at
+/// distance `d` from `q`, for every [`Scalar`]: with `p⊥`, `q⊥` the two
+/// points' parts normal to the axis and `δ` their axial separation,
+/// `|R(θ)p − q|² = δ² + rp² + rq² − 2((p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ)`,
+/// so `θ` solves `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
+/// (rp² + rq² + (δ − d)(δ + d))/2` by [`super::on_plane::trig_turns`]'s
+/// formula, the circle's radius `rp` the exact `length` (the measured
+/// `|p⊥|` only gives the direction), the largest of `rp`, `rq`, `|δ|`
+/// paired with `d` so that nearly concentric circles cancel exactly, and the
+/// root's sine by [`kahan_sine`]. `Plus` is the root counter-clockwise
+/// (about the axis) of `q⊥`'s direction. A `d` beyond
+/// `dmax = √(δ² + (rp + rq)²)` or short of `dmin = √(δ² + (rp − rq)²)` by
+/// more than the tangency tolerance is out of reach by the difference; `p`
+/// or `q` on the axis is degenerate.
 ///
 /// ```
 /// use pkm_runtime::primitives::Sign;
@@ -162,12 +168,12 @@ pub fn kahan_sine<T: Scalar>(p: T, q: T, r: T) -> T {
 }
 
 /// The slides `[t₊, t₋]` that put the line's point `start + t·u` (`u`
-/// unit) at distance `d` from `q`, a line meeting a sphere (the roots of
-/// [`crate::primitives::line_sphere`], written for every [`Scalar`]): with
-/// `w = q − start`, the foot of the perpendicular `t₀ = u·w` and the line's
-/// distance from `q` `e = |u × w|`, `t = t₀ ± √((d − e)(d + e))`, no squared
-/// lengths subtracted. Within `TANGENCY_TOL·e` beyond tangency both are the
-/// double root `t₀`.
+/// unit) at distance `d` from `q`, a line meeting a sphere, for every
+/// [`Scalar`]: with `w = q − start`, the foot of the perpendicular
+/// `t₀ = u·w` and the line's distance from `q` `e = |u × w|`,
+/// `t = t₀ ± √((d − e)(d + e))`, no squared lengths subtracted. Within
+/// `TANGENCY_TOL·e` beyond tangency both are the double root `t₀`; beyond
+/// that, out of reach by `e − d`.
 ///
 /// ```
 /// use pkm_runtime::steps::on_sphere::line_distance;
@@ -232,6 +238,7 @@ pub(crate) fn normal(at: &Configuration, p: Vector3<f64>, centre: &Anchor) -> (V
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::primitives::Sign;
 
     /// The x axis against the sphere of radius `d` about `(x0, e, 0)`: the
     /// slides by hand are `x0 ± √(d² − e²)`.
@@ -263,5 +270,167 @@ mod tests {
         // A hair beyond tangency (within TANGENCY_TOL·e): the double root.
         check(7.0, 1.0, 1.0 - 1e-12, Ok([7.0, 7.0]));
         check(0.0, 3.0, 2.0, Err("distance(centre, line)"));
+    }
+
+    /// The line `start + t·u` against the sphere of radius `d` about `q`:
+    /// the slides `[t₊, t₋]` by hand, or the excess out of reach.
+    fn check_line(start: [f64; 3], u: [f64; 3], q: [f64; 3], d: f64, expect: Result<[f64; 2], f64>) {
+        match (line_distance(start, u, q, d, [0, 0]), expect) {
+            (Ok(t), Ok(want)) => {
+                let scale = want[0].abs().max(want[1].abs()).max(d);
+                for (t, w) in t.iter().zip(want) {
+                    assert!((t - w).abs() <= 4.0 * f64::EPSILON * scale, "{t} vs {w}");
+                }
+            }
+            (Err(GeomError::Unreachable { by, .. }), Err(far)) => {
+                assert!((by - far).abs() <= 1e-9 * far, "by {by} vs {far}")
+            }
+            (got, want) => panic!("{got:?} vs {want:?}"),
+        }
+    }
+
+    #[test]
+    fn lines_in_any_direction_meet_the_sphere() {
+        let (o, x) = ([0.0; 3], [1.0, 0.0, 0.0]);
+        // From (−10, 0, 0) along x to the sphere of radius 5 about (0, 0, −3): x = ±4.
+        check_line([-10.0, 0.0, 0.0], x, [0.0, 0.0, -3.0], 5.0, Ok([14.0, 6.0]));
+        // Along the diagonal through the centre: ±the radius.
+        let d = 1.0 / 3f64.sqrt();
+        check_line(o, [d, d, d], o, 3.0, Ok([3.0, -3.0]));
+        // From (1, 2, 2), on the sphere of radius 3, towards and through the centre.
+        let u = [-1.0 / 3.0, -2.0 / 3.0, -2.0 / 3.0];
+        check_line([1.0, 2.0, 2.0], u, o, 3.0, Ok([6.0, 0.0]));
+        // Tangent exactly, and a hair beyond (within TANGENCY_TOL): the foot twice.
+        check_line([-10.0, 5.0, 0.0], x, o, 5.0, Ok([10.0, 10.0]));
+        check_line([-10.0, 0.0, 5.0 * (1.0 + 1e-12)], x, o, 5.0, Ok([10.0, 10.0]));
+        // Out of reach by the line's distance less the radius.
+        check_line([-10.0, 0.0, 5.001], x, o, 5.0, Err(0.001));
+        check_line([-10.0, 3.0, 4.0], x, o, 4.0, Err(1.0));
+    }
+
+    /// What a circle's turn to a distance should give.
+    #[derive(Debug)]
+    enum Want {
+        /// The Plus and Minus angles.
+        Roots([f64; 2]),
+        /// Out of reach by this much, the constraint naming this word.
+        Far(f64, &'static str),
+        /// No isolated root; the reason names this.
+        Degenerate(&'static str),
+    }
+
+    /// The circle about the unit `k` through `centre` that `radius` sweeps
+    /// (`length` its exact radius) against the sphere of radius `d` about `q`.
+    fn check_circle(centre: [f64; 3], k: [f64; 3], radius: [f64; 3], length: f64, q: [f64; 3], d: f64, want: Want) {
+        let got = [Sign::Plus, Sign::Minus].map(|s| circle_distance(centre, k, radius, length, q, d, s, [0, 0]));
+        match (got, &want) {
+            ([Ok(p), Ok(m)], Want::Roots(angles)) => {
+                for ([cos, sin], angle) in [p, m].iter().zip(angles) {
+                    assert!(
+                        (cos - angle.cos()).abs() < 1e-15 && (sin - angle.sin()).abs() < 1e-15,
+                        "d = {d}: {cos} {sin} vs {angle}"
+                    );
+                }
+            }
+            ([Err(GeomError::Unreachable { by, constraint }), _], Want::Far(far, word)) => {
+                assert!((by - far).abs() <= 1e-9 * far, "d = {d}: by {by} vs {far}");
+                assert!(constraint.contains(word), "{constraint}");
+            }
+            ([Err(GeomError::Degenerate { what }), _], Want::Degenerate(word)) => {
+                assert!(what.contains(word), "{what}")
+            }
+            (got, _) => panic!("d = {d}: {got:?} vs {want:?}"),
+        }
+    }
+
+    /// By hand: (1, 0, 0) turned by θ about z is `d` from (0, 2, 0) where
+    /// `d² = cos²θ + (sinθ − 2)² = 5 − 4 sinθ`; with the point lifted to
+    /// (1, 0, 1), `d² = 6 − 4 sinθ`. Plus is the root counter-clockwise of
+    /// the direction to `q` (φ = π/2 here).
+    #[test]
+    fn circle_meets_sphere_tangency_and_refusals() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        use Want::*;
+        let (o, z, p, q) = ([0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0]);
+        check_circle(o, z, p, 1.0, q, 5f64.sqrt(), Roots([PI, 0.0]));
+        check_circle(o, z, p, 1.0, q, 3f64.sqrt(), Roots([5.0 * PI / 6.0, PI / 6.0]));
+        check_circle(o, z, p, 1.0, q, 7f64.sqrt(), Roots([-5.0 * PI / 6.0, -PI / 6.0]));
+        // About −z the turns change sign.
+        let down = [0.0, 0.0, -1.0];
+        check_circle(o, down, p, 1.0, q, 3f64.sqrt(), Roots([-PI / 6.0, -5.0 * PI / 6.0]));
+        // Moved to the centre (1, 1, 1): the same turns.
+        check_circle([1.0; 3], z, p, 1.0, [1.0, 3.0, 1.0], 5f64.sqrt(), Roots([PI, 0.0]));
+        // The nearest (1) and farthest (3) distances: one turn each.
+        check_circle(o, z, p, 1.0, q, 1.0, Roots([FRAC_PI_2; 2]));
+        check_circle(o, z, p, 1.0, q, 3.0, Roots([-FRAC_PI_2; 2]));
+        // A hair beyond them (within TANGENCY_TOL): the same double roots.
+        check_circle(o, z, p, 1.0, q, 1.0 - 1e-12, Roots([FRAC_PI_2; 2]));
+        check_circle(o, z, p, 1.0, q, 3.0 + 1e-12, Roots([-FRAC_PI_2; 2]));
+        // Beyond by more: out by the distance past 3, or short of 1.
+        check_circle(o, z, p, 1.0, q, 3.5, Far(0.5, "largest"));
+        check_circle(o, z, p, 1.0, q, 0.5, Far(0.5, "smallest"));
+        // Lifted a unit along the axis: distances √2 … √10.
+        let lifted = [1.0, 0.0, 1.0];
+        check_circle(o, z, lifted, 1.0, q, 2.0, Roots([5.0 * PI / 6.0, PI / 6.0]));
+        check_circle(o, z, lifted, 1.0, q, 10f64.sqrt(), Roots([-FRAC_PI_2; 2]));
+        check_circle(o, z, lifted, 1.0, q, 4.0, Far(4.0 - 10f64.sqrt(), "largest"));
+        check_circle(o, z, lifted, 1.0, q, 1.0, Far(2f64.sqrt() - 1.0, "smallest"));
+        // On the axis, the distance does not depend on the turn.
+        check_circle(o, z, [0.0, 0.0, 1.0], 0.0, q, 2.0, Degenerate("p on the rotation axis"));
+        check_circle(o, z, p, 1.0, [0.0, 0.0, 3.0], 2.0, Degenerate("q on the rotation axis"));
+    }
+
+    /// Two circles of radius `r` in one plane, the second's centre `ulps`
+    /// steps of 1.0 along y from the first's: they meet on the bisector,
+    /// `half` (exact: half the centres' exact distance) from either centre
+    /// along y, so the first circle's point there has `r·sinθ = half`
+    /// and `|r·cosθ| = √(r² − half²)`, to an ulp or so of `r`.
+    #[test]
+    fn nearly_concentric_circles_keep_their_digits() {
+        for (r, x0) in [(1.0, 0.0), (7.3, -3.7), (0.25, 4.2), (9.9, 1e-3)] {
+            let o = [x0, 1.0, 0.0];
+            let mut q = o;
+            for ulps in 1..=10 {
+                q[1] = f64::next_up(q[1]);
+                let half = (q[1] - o[1]) / 2.0;
+                for s in [Sign::Plus, Sign::Minus] {
+                    let [c, sin] = circle_distance(o, [0.0, 0.0, 1.0], [r, 0.0, 0.0], r, q, r, s, [0, 0]).unwrap();
+                    assert!(
+                        (r * sin - half).abs() <= 4.0 * f64::EPSILON * r,
+                        "r {r}, {ulps} ulps: {} vs {half}",
+                        r * sin
+                    );
+                    let chord = (r * r - half * half).sqrt();
+                    assert!(((r * c).abs() - chord).abs() <= 4.0 * f64::EPSILON * r, "{c}");
+                }
+            }
+        }
+    }
+
+    /// The sine of the angle between the first two sides.
+    fn check_sine(p: f64, q: f64, r: f64, want: f64) {
+        let got = kahan_sine(p, q, r);
+        assert!(
+            (got - want).abs() <= 4.0 * f64::EPSILON * want,
+            "({p}, {q}, {r}): {got} vs {want}"
+        );
+    }
+
+    #[test]
+    fn kahan_sine_of_any_angle_and_of_needles() {
+        // 3-4-5: the right angle between 3 and 4; sin = 4/5 between 3 and 5, 3/5 between 4 and 5.
+        check_sine(3.0, 4.0, 5.0, 1.0);
+        check_sine(3.0, 5.0, 4.0, 0.8);
+        check_sine(5.0, 4.0, 3.0, 0.6);
+        check_sine(1.0, 1.0, 1.0, 0.75f64.sqrt());
+        // Flat, and a hair past flat (the tangency the caller allows): 0.
+        check_sine(1.0, 2.0, 3.0, 0.0);
+        check_sine(1.0, 1.0, 2.0 + 4.0 * f64::EPSILON, 0.0);
+        // A needle: unit sides over the base b = 2 − 1e-12 (2 − b exact). The
+        // apex's height is h = √(1 − b²/4) = √((2 − b)(2 + b))/2, the area b·h/2,
+        // so the sine between the unit sides is b·h.
+        let b: f64 = 2.0 - 1e-12;
+        let h = ((2.0 - b) * (2.0 + b)).sqrt() / 2.0;
+        check_sine(1.0, 1.0, b, b * h);
     }
 }
