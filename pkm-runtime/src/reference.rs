@@ -32,10 +32,6 @@ impl Real for f256 {
         f256::ONE
     }
 
-    fn epsilon() -> Self {
-        f256::EPSILON
-    }
-
     fn sqrt(self) -> Self {
         f256::sqrt(self)
     }
@@ -70,14 +66,6 @@ impl Real for f256 {
         } else {
             ::f256::consts::FRAC_PI_2.copysign(self)
         }
-    }
-
-    fn hypot(self, other: Self) -> Self {
-        f256::hypot(self, other)
-    }
-
-    fn mul_add(self, a: Self, b: Self) -> Self {
-        f256::mul_add(self, a, b)
     }
 
     fn is_finite(self) -> bool {

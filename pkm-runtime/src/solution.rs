@@ -136,7 +136,7 @@ pub fn wrap_angle(x: f64) -> f64 {
     }
 }
 
-/// A primitive's error as the error of plan step `step`, at `joint`.
+/// A step kernel's error as the error of plan step `step`, at `joint`.
 pub fn step_error(step: usize, joint: impl Into<Cow<'static, str>>, e: GeomError<f64>) -> SolveError {
     match e {
         GeomError::Unreachable { constraint, by } => SolveError::Unreachable {
@@ -176,7 +176,7 @@ pub struct Branch<S, const D: usize> {
 }
 
 /// The sign vector of branch number `index` (bit k set: choice k is `Minus`),
-/// the order in which generated solvers and [`run_all`] list branches.
+/// the order in which generated solvers and [`crate::spatial::run_all`] list branches.
 pub const fn signs_of<const D: usize>(index: usize) -> [Sign; D] {
     let mut signs = [Sign::Plus; D];
     let mut k = 0;

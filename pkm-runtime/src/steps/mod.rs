@@ -618,7 +618,7 @@ impl Geometry<f64> {
 }
 
 /// Runs every step of `plan` from the base (link 0 at the identity) for
-/// `n_links` links; unverified (see [`open_residual`]).
+/// `n_links` links; unverified (see [`check_residual`]).
 pub fn run<T: Scalar>(
     plan: &crate::spatial::Plan,
     geometry: &Geometry<T>,
