@@ -758,11 +758,7 @@ fn constraints(
         }
         let rot = s.rotation(&r.hops);
         // The hops that carry the point must turn about the motion's axis too.
-        let hops_parallel = r.hops.iter().enumerate().all(|(i, h)| {
-            let pre = &r.hops[..i];
-            search::Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), k)
-        });
-        let turning = circle && hops_parallel;
+        let turning = circle && s.hops_about(to, &r.hops, k);
         for (q, joint) in s.model.joints.iter().enumerate() {
             if q == j || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == q) {
                 continue;

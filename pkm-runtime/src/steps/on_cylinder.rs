@@ -137,11 +137,7 @@ pub(crate) fn find_slide(
 ) -> Option<Constraint> {
     let next = s.other(q, r.link);
     let dir = rot * s.axis(q, r.link);
-    let about_dir = r.hops.iter().enumerate().all(|(i, h)| {
-        let pre = &r.hops[..i];
-        Search::parallel(s.rotation(pre) * s.axis(h.joint, s.link_after(to, pre)), dir)
-    });
-    (s.known[next] && about_dir && Search::normal(dir, k)).then(|| Constraint::Cylinder {
+    (s.known[next] && s.hops_about(to, &r.hops, dir) && Search::normal(dir, k)).then(|| Constraint::Cylinder {
         hops: r.hops.clone().into(),
         joint: q,
         link: next,

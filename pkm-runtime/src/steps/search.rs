@@ -145,6 +145,15 @@ impl<'a> Search<'a> {
         a.normalize().cross(&b.normalize()).norm() <= 1e-9
     }
 
+    /// Whether every hop of `hops` out of `start` turns about an axis
+    /// parallel to `k` (in `start`'s frame), so that `k` stays put across them.
+    pub(crate) fn hops_about(&self, start: usize, hops: &[Hop], k: Vector3<f64>) -> bool {
+        hops.iter().enumerate().all(|(i, h)| {
+            let pre = &hops[..i];
+            Self::parallel(self.rotation(pre) * self.axis(h.joint, self.link_after(start, pre)), k)
+        })
+    }
+
     /// Whether `a` and `b` are normal to each other (to the same 1e-9 as [`Search::parallel`]).
     pub(crate) fn normal(a: Vector3<f64>, b: Vector3<f64>) -> bool {
         a.normalize().dot(&b.normalize()).abs() <= 1e-9
