@@ -340,10 +340,10 @@ impl<T: Scalar> JointGeometry<T> {
     /// slides from the known pose `from`.
     pub fn motion(&self, from: &Frame<T>, forward: bool, local: [T; 3]) -> Motion<T> {
         let zero = from.then(&self.zero[usize::from(!forward)]);
-        let x0 = zero.apply(local);
         let (side_from, side_new) = if forward { (0, 1) } else { (1, 0) };
         match self.kind {
             JointType::P => {
+                let x0 = zero.apply(local);
                 let (guide_side, sign) = if matches!(self.places[side_from], Place::Line { .. }) {
                     (side_from, 1.0)
                 } else {
@@ -357,6 +357,7 @@ impl<T: Scalar> JointGeometry<T> {
                 }
             }
             JointType::Pa => {
+                let x0 = zero.apply(local);
                 let frame = from.then(&self.frames[side_from]);
                 let k = frame.column(2);
                 let (arm_side, sign) = if matches!(self.places[side_from], Place::Arm { .. }) {

@@ -49,7 +49,6 @@ pub(crate) fn to_plane<T: Scalar>(
             trig_turn(a, b, c, choice, mv.site(), None).map_err(|e| mv.fail(e))
         }
         Motion::Line { start, along } => {
-            let _ = choice;
             line_plane(offset - dot(n, start), dot(n, along), norm(n), mv.site()).map_err(|e| mv.fail(e))
         }
     }
