@@ -143,11 +143,12 @@ fn lanes_fn(
         let extent = &extent[0];
         // As `fk_branch`: every row within `VERIFY_TOL` of the extent (NaN
         // is not); a row that is 0 is within any tolerance.
-        let zero = crate::emit::lit(0.0).to_string();
-        let rows = residual
+        let rows = g
+            .residual
             .iter()
-            .filter(|r| r.to_string() != zero)
-            .map(|r| quote! { lane_ok &= (#r).abs() <= tol; });
+            .zip(residual)
+            .filter(|(s, _)| emit.constant(**s) != Some(0.0))
+            .map(|(_, r)| quote! { lane_ok &= (#r).abs() <= tol; });
         quote! {
             let extent = #extent;
             let tol = ::pkm::runtime::consistency::VERIFY_TOL * extent;

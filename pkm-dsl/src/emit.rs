@@ -49,7 +49,7 @@ struct Scope {
 }
 
 impl<'g> Emit<'g> {
-    /// An emitter for `g`; `sites` names the loop of each kernel's site, for errors.
+    /// An emitter for `g`; `sites` names the loop of each guard's site, for errors.
     pub fn new(g: &'g Graph, sites: Vec<String>) -> Self {
         Emit {
             g,
@@ -76,6 +76,11 @@ impl<'g> Emit<'g> {
             slots.len() - 1
         });
         quote! { self.k[#i] }
+    }
+
+    /// The constant a node is, if it is one.
+    pub fn constant(&self, s: Sym) -> Option<f64> {
+        self.g.constant(s)
     }
 
     /// How many slots the prepared solver has.
