@@ -135,7 +135,7 @@ fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64;
     }
 }
 
-pub(crate) use crate::spatial::v3;
+use crate::spatial::v3;
 
 /// |cos| of the angle between `t` and `n`: 0 when either is (relatively) zero.
 pub(crate) fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {

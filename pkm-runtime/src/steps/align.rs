@@ -6,8 +6,9 @@ use super::search::{reversed, Search};
 use super::{Found, Move};
 use crate::model::JointType;
 use crate::scalar::Scalar;
-use crate::singular::{joint_point, sine, v3, Condition, Configuration, Factor};
+use crate::singular::{joint_point, sine, Condition, Configuration, Factor};
 use crate::solution::SolveError;
+use crate::spatial::v3;
 use crate::spatial::{Direction, Hop, Step};
 use nalgebra::Vector3;
 

@@ -8,8 +8,9 @@ use super::{Found, Motion, Move};
 use crate::primitives::Error as GeomError;
 use crate::scalar::Failure;
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
-use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
+use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::spatial::v3;
 use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
 

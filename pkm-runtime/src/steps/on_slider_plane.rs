@@ -6,8 +6,9 @@
 use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::scalar::{cross, dot, Scalar};
-use crate::singular::{joint_point, v3, Condition, Configuration, LinkPoint};
+use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::spatial::v3;
 use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
 

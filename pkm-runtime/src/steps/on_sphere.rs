@@ -4,13 +4,14 @@
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the foot of the perpendicular ± the half-chord).
 
-use super::search::{reversed, v3, Reach, Search};
+use super::search::{reversed, Reach, Search};
 use super::{Found, Motion, Move};
 use crate::model::Place;
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::{norm, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::spatial::v3;
 use crate::spatial::{Anchor, Constraint};
 use nalgebra::Vector3;
 

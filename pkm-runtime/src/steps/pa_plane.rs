@@ -6,9 +6,10 @@ use super::{Found, Move};
 use crate::model::JointType;
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, Scalar};
-use crate::singular::{crossing, joint_point, v3, Condition, Configuration, Factor};
+use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::PointRef;
 use crate::solution::SolveError;
+use crate::spatial::v3;
 use crate::spatial::{Anchor, Step};
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its

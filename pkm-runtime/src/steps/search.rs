@@ -12,7 +12,7 @@ use crate::solution::PointRef;
 use crate::spatial::{self, Hop, Plan, Step};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-pub(crate) use crate::spatial::v3;
+use crate::spatial::v3;
 
 /// What the planner knows about the nominal model while it searches a plan.
 pub struct Search<'a> {
