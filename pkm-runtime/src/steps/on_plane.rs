@@ -81,20 +81,37 @@ pub fn trig_turns<T: Scalar>(
     trig_turns_with_sine(a, b, c, None, site, far)
 }
 
-/// [`trig_turns`] with the root's sine `s` given where the caller forms it
-/// more accurately than `√((1 − |c|)(1 + |c|))` does near a double root
-/// (Kahan's triangle area, [`super::on_sphere::circle_distance`]).
+/// What a caller of [`trig_turns_with_sine`] knows better than the
+/// generic formulas: `h = √(a² + b²)` as a product of lengths it already
+/// has (positive, checked by the caller: one square root and the test of
+/// `a = b = 0` fewer), and the root's sine `s`, formed more accurately than
+/// `√((1 − |c|)(1 + |c|))` near a double root (Kahan's triangle area,
+/// [`super::on_sphere::circle_distance`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Known<T> {
+    pub(crate) norm: T,
+    pub(crate) sine: T,
+}
+
+/// [`trig_turns`], with `h` and the root's sine given where the caller
+/// knows them ([`Known`]).
 #[inline]
 pub(crate) fn trig_turns_with_sine<T: Scalar>(
     a: T,
     b: T,
     c: T,
-    sine: Option<T>,
+    known: Option<Known<T>>,
     site: [usize; 2],
     far: Option<Failure<T>>,
 ) -> Result<[[T; 2]; 2], GeomError<f64>> {
-    let h = (a * a + b * b).sqrt();
-    T::require(T::c(0.0), h, Failure::Degenerate("a = b = 0"), site)?;
+    let h = match known {
+        Some(k) => k.norm,
+        None => {
+            let h = (a * a + b * b).sqrt();
+            T::require(T::c(0.0), h, Failure::Degenerate("a = b = 0"), site)?;
+            h
+        }
+    };
     let excess = c.abs() - h;
     let far = far.unwrap_or(Failure::Unreachable("|c| <= hypot(a, b)", excess));
     T::require(excess, T::c(TANGENCY_TOL) * h * T::c(1.0 + f64::EPSILON), far, site)?;
@@ -102,8 +119,8 @@ pub(crate) fn trig_turns_with_sine<T: Scalar>(
     // Within the tolerance beyond tangency: the double root.
     let one = T::c(1.0);
     let c = T::if_less(one, c, one, T::if_less(c, -one, -one, c));
-    let s = match sine {
-        Some(s) => s,
+    let s = match known {
+        Some(k) => k.sine,
         None => {
             let abs_c = c.abs();
             ((one - abs_c) * (one + abs_c)).sqrt()
@@ -131,12 +148,12 @@ pub(crate) fn trig_turn_with_sine<T: Scalar>(
     a: T,
     b: T,
     c: T,
-    sine: Option<T>,
+    known: Option<Known<T>>,
     choice: T::Choice,
     site: [usize; 2],
     far: Option<Failure<T>>,
 ) -> Result<[T; 2], GeomError<f64>> {
-    let [p, m] = trig_turns_with_sine(a, b, c, sine, site, far)?;
+    let [p, m] = trig_turns_with_sine(a, b, c, known, site, far)?;
     Ok([T::pick(choice, p[0], m[0]), T::pick(choice, p[1], m[1])])
 }
 

@@ -71,8 +71,9 @@ pub fn arm_length<T: Scalar>(places: &[Place<T>; 2]) -> T {
 /// `|R(θ)p − q|² = δ² + rp² + rq² − 2((p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ)`,
 /// so `θ` solves `(p⊥·q⊥) cosθ + (k·(p⊥ × q⊥)) sinθ =
 /// (rp² + rq² + (δ − d)(δ + d))/2` by [`super::on_plane::trig_turns`]'s
-/// formula, the circle's radius `rp` the exact `length` (the measured
-/// `|p⊥|` only gives the direction), the largest of `rp`, `rq`, `|δ|`
+/// formula, the circle's radius `rp` the exact `length` (a rotation keeps
+/// `|p⊥|`, so `√(a² + b²) = rp·rq` needs no square root), the largest of
+/// `rp`, `rq`, `|δ|`
 /// paired with `d` so that nearly concentric circles cancel exactly, and the
 /// root's sine by [`kahan_sine`]. `Plus` is the root counter-clockwise
 /// (about the axis) of `q⊥`'s direction. A `d` beyond
@@ -107,14 +108,13 @@ pub fn circle_distance<T: Scalar>(
     let qv = sub(q, centre);
     let qp = reject(qv, k);
     let delta = dot(k, sub(radius, qv));
-    let (rp, rq) = (norm(pp), norm(qp));
+    let rq = norm(qp);
     let zero = T::c(0.0);
-    T::require(zero, rp, Failure::Degenerate("p on the rotation axis"), site)?;
     T::require(zero, length, Failure::Degenerate("p on the rotation axis"), site)?;
     T::require(zero, rq, Failure::Degenerate("q on the rotation axis"), site)?;
-    // The coefficients scale with the exact radius; p's direction is all that is measured.
-    let scale = length / rp;
-    let (cos_coef, sin_coef) = (dot(pp, qp) * scale, dot(k, cross(pp, qp)) * scale);
+    // |p⊥| is the exact `length` (a rotation keeps it); measured, it would
+    // differ by rounding only, at the cost of a square root and a division.
+    let (cos_coef, sin_coef) = (dot(pp, qp), dot(k, cross(pp, qp)));
     // The largest of length, rq, |δ| is paired with d: (x − d)(x + d) + y² + z².
     let ad = delta.abs();
     let (x1, y1) = (max(length, rq), T::if_less(length, rq, length, rq));
@@ -131,8 +131,11 @@ pub fn circle_distance<T: Scalar>(
     // (rp, rq, d⊥) by Kahan's area: accurate where the roots meet (a
     // dyad near its fold), where √((1 − c)(1 + c)) loses half the digits.
     let d_perp = ((d - ad) * (d + ad)).sqrt();
-    let sine = kahan_sine(length, rq, d_perp);
-    super::on_plane::trig_turn_with_sine(cos_coef, sin_coef, c, Some(sine), choice, site, Some(far))
+    let known = super::on_plane::Known {
+        norm: length * rq,
+        sine: kahan_sine(length, rq, d_perp),
+    };
+    super::on_plane::trig_turn_with_sine(cos_coef, sin_coef, c, Some(known), choice, site, Some(far))
 }
 
 /// The sine of the angle between sides `p` and `q` of the triangle with
