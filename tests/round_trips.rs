@@ -70,6 +70,12 @@ struct Tally {
     near_switch: usize,
     worst_ik_fk: f64,
     worst_fk_ik: f64,
+    /// The worst error times the gap (at most 1): next to a double root the
+    /// error is about ε/gap by the problem's conditioning, so this is the
+    /// part a change of formulas moves (the worst alone follows whichever
+    /// draw lands nearest a switch).
+    scaled_ik_fk: f64,
+    scaled_fk_ik: f64,
 }
 
 macro_rules! round_trips {
@@ -114,6 +120,7 @@ macro_rules! round_trips {
                 stringify!($ty)
             );
             t.near_switch += usize::from(gap < 1e-5);
+            t.scaled_ik_fk = t.scaled_ik_fk.max(e * gap.min(1.0));
             t.worst_ik_fk = t.worst_ik_fk.max(e);
 
             let usable: Vec<_> = back.iter().filter(|s| !singular(&inputs.map(|j| s.q[j]))).collect();
@@ -144,6 +151,7 @@ macro_rules! round_trips {
                 stringify!($ty)
             );
             t.near_switch += usize::from(gap < 1e-5);
+            t.scaled_fk_ik = t.scaled_fk_ik.max(e * gap.min(1.0));
             t.worst_fk_ik = t.worst_fk_ik.max(e);
         }
         eprintln!("{}: {t:?}", stringify!($ty));
