@@ -56,7 +56,15 @@ pub fn turn_onto<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3], site: [usize; 2]) -
 /// reach to a known link (or to a pinned link at its pin, the new link's
 /// own pin too): the joint turns or slides the point onto it.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
-    for (j, from, to) in s.candidates() {
+    // From the links known at the start (the base, a placed output link)
+    // first: a link aimed from there composes no rotation, and a joint
+    // output is then the step's own angle (the four-bar's rocker). Deeper
+    // links are not ranked by depth: aiming the five-bar's distal link
+    // from the other arm moved its output point off the step that solved
+    // it and tripled its worst error next to concentric circles.
+    let mut candidates = s.candidates();
+    candidates.sort_by_key(|&(_, from, _)| s.depth[from] != 0);
+    for (j, from, to) in candidates {
         for (point, x) in s.points_of(to, j) {
             // A known link, or a pinned one at its pin (the new link's own pin too).
             let found = s

@@ -29,6 +29,9 @@ pub struct Search<'a> {
     pub(crate) pins: Vec<Option<Vector3<f64>>>,
     pub(crate) steps: Vec<Step>,
     pub(crate) branches: usize,
+    /// How many solved joints separate each known link from the links known
+    /// at the start: each adds a composed rotation to its pose.
+    pub(crate) depth: Vec<usize>,
 }
 
 /// One way out of a link along which a point stays put: the hops taken,
@@ -73,6 +76,7 @@ impl<'a> Search<'a> {
             pins: pinned.into_iter().map(|p| p.map(v3)).collect(),
             steps: start,
             branches: 0,
+            depth: vec![0; model.links.len()],
         }
     }
 
@@ -229,6 +233,7 @@ impl<'a> Search<'a> {
     }
 
     pub(crate) fn push(&mut self, step: Step, to: usize, j: usize) {
+        self.depth[to] = self.depth[self.other(j, to)] + 1;
         self.steps.push(step);
         self.known[to] = true;
         self.pins[to] = None;
