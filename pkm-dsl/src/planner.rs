@@ -12,6 +12,7 @@
 
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::geometry::OutputKind;
 use pkm_runtime::model::Model;
 use pkm_runtime::spatial::{self, Plan, Step, Turn};
 use pkm_runtime::steps::search::Search;
@@ -81,12 +82,21 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     for (i, &j) in inputs.iter().enumerate() {
         given[j] = Some(i);
     }
-    solve(a, &model, given, vec![], inputs.len(), inputs, "forward")
+    let mut plan = solve(a, &model, given, vec![], inputs.len(), inputs, "forward")?;
+    // The outputs read their links' poses; a joint output, both of its links'.
+    let mut needed = vec![false; model.links.len()];
+    for o in &a.geometry.outputs {
+        match o.kind {
+            OutputKind::Pose { link, .. } | OutputKind::Point { link, .. } => needed[link] = true,
+            OutputKind::Joint(j) => model.joints[j].links.iter().for_each(|&l| needed[l] = true),
+        }
+    }
+    plan.check_by_miss(&model, &needed, m.planar);
+    Ok(plan)
 }
 
 /// The spatial inverse-position plan from the declared outputs.
 pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
-    use crate::geometry::OutputKind;
     let m = &a.mechanism;
     if a.geometry.outputs.is_empty() {
         return Err(
@@ -136,5 +146,12 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         }
         next += o.names.len();
     }
-    solve(a, &model, given, start, next, vec![], "inverse")
+    let mut plan = solve(a, &model, given, start, next, vec![], "inverse")?;
+    // The actuators' values read both of their links' poses.
+    let mut needed = vec![false; model.links.len()];
+    for j in model.joints.iter().filter(|j| j.actuated) {
+        j.links.iter().for_each(|&l| needed[l] = true);
+    }
+    plan.check_by_miss(&model, &needed, planar);
+    Ok(plan)
 }

@@ -256,9 +256,36 @@ pub struct Plan {
     pub n_inputs: usize,
     /// Forward plans: the input joints in input order.
     pub inputs: Vec<usize>,
+    /// Open joints whose closure is checked by the miss of the aim that
+    /// left them open ([`crate::steps::aim::miss`]), not by the aimed
+    /// link's pose: set where nothing else reads that pose
+    /// ([`Plan::check_by_miss`]), so that solving for the outputs alone
+    /// skips the aim's turn.
+    pub by_miss: Vec<usize>,
 }
 
 impl Step {
+    /// Whether the step reads `link`'s pose: as its known link or where an
+    /// anchor, direction or constraint starts.
+    pub fn reads(&self, link: usize) -> bool {
+        match self {
+            Step::Place { .. } => false,
+            Step::Transfer { from, .. } => *from == link,
+            Step::Aim { from, target, .. } | Step::PaPlane { from, target, .. } => *from == link || target.link == link,
+            Step::Align {
+                from, group, target, ..
+            } => *from == link || group.link == link || target.link == link,
+            Step::Locus { from, constraint, .. } => {
+                *from == link
+                    || match constraint {
+                        Constraint::Sphere { centre, .. } => centre.link == link,
+                        Constraint::Plane { normal, anchor } => normal.link == link || anchor.link == link,
+                        Constraint::Cylinder { link: l, .. } | Constraint::Slider { link: l, .. } => *l == link,
+                    }
+            }
+        }
+    }
+
     /// The joints of the loop the step closes, for errors: the joint it
     /// solves, then those its constraint reaches through, in order, each once.
     pub fn loop_joints(&self) -> Vec<usize> {
@@ -352,6 +379,35 @@ impl Plan {
         crate::singular::spatial_factors(model, self, poses)
     }
 
+    /// Marks the open joints an aim leaves, whose closure its miss can check
+    /// ([`Plan::by_miss`]): where no later step, no other check and none of
+    /// `needed` (the links whose poses the results read) reads the aimed
+    /// link, and the joint's closure is its centres alone (a spherical
+    /// joint, or a revolute whose axes are all parallel: `planar`).
+    pub fn check_by_miss(&mut self, model: &Model, needed: &[bool], planar: bool) {
+        let open = self.open_joints(model.joints.len());
+        let mut by_miss = Vec::new();
+        for (k, step) in self.steps.iter().enumerate() {
+            let Step::Aim { to, point, target, .. } = step else {
+                continue;
+            };
+            let [hop] = &target.hops[..] else { continue };
+            let closes = match model.joints[hop.joint].kind {
+                JointType::S => true,
+                JointType::R => planar,
+                _ => false,
+            };
+            let read_later = self.steps[k + 1..].iter().any(|s| s.reads(*to));
+            let read_by_check = open
+                .iter()
+                .any(|&j| j != hop.joint && model.joints[j].links.contains(to));
+            if closes && *point == PointRef::Joint(hop.joint) && !needed[*to] && !read_later && !read_by_check {
+                by_miss.push(hop.joint);
+            }
+        }
+        self.by_miss = by_miss;
+    }
+
     /// What a solution is verified by after the last step: the joints no
     /// step closes, then the pinned links' points.
     pub fn checks(&self, n_joints: usize) -> Vec<Check> {
@@ -429,16 +485,14 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     let checks = plan.checks(geometry.joints.len());
     let state = run_frames(model, &geometry, plan, inputs, signs)?;
     let extent = crate::consistency::extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
-    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state.poses, inputs, extent);
+    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state, inputs, extent);
     let rows = crate::steps::RESIDUAL_ROWS;
     if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
         let owner = checks[row / rows].owner(plan, |j| model.joints[j].name.clone(), |l| model.links[l].clone());
         let angular = plan.angular_inputs(model);
         let e = crate::consistency::inconsistent(Cow::Owned(owner), gap, inputs, &angular, extent, |g| {
             let s = run_frames(model, &geometry, plan, g, signs).ok()?;
-            Some(crate::steps::check_residual(
-                &geometry, plan, &checks, &s.poses, g, extent,
-            ))
+            Some(crate::steps::check_residual(&geometry, plan, &checks, &s, g, extent))
         });
         return Err(crate::consistency::name_given(e, &[]));
     }

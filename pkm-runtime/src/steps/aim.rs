@@ -4,23 +4,89 @@
 
 use super::search::{reversed, Search};
 use super::{Found, JointValue, Motion, Move};
+use crate::model::JointType;
 use crate::primitives::Error as GeomError;
-use crate::scalar::{dot, sub, Scalar};
+use crate::scalar::{dot, scale, sub, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
-/// anchored position `target`.
-pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) -> Result<Found<T>, SolveError> {
+/// anchored position `target`; and where the target is that point across
+/// one joint (a joint the aim leaves open), that joint and the [`miss`]
+/// (its place on its first link minus that on its second).
+#[allow(clippy::type_complexity)]
+pub fn execute<T: Scalar>(
+    mv: &Move<'_, T>,
+    point: PointRef,
+    target: &Anchor,
+) -> Result<(Found<T>, Option<(usize, [T; 3])>), SolveError> {
     let (_, m) = mv.motion(point);
-    let target = mv.geometry.anchor(&mv.state.poses, target);
-    Ok(match m {
+    let anchored = mv.geometry.anchor(&mv.state.poses, target);
+    let found = match m {
         Motion::Circle {
             centre, axis, radius, ..
-        } => mv.found(turn_onto(axis, radius, sub(target, centre), mv.site()).map_err(|e| mv.fail(e))?),
-        Motion::Line { start, along } => mv.at(JointValue::Slide(dot(sub(target, start), along))),
-    })
+        } => mv.found(turn_onto(axis, radius, sub(anchored, centre), mv.site()).map_err(|e| mv.fail(e))?),
+        Motion::Line { start, along } => mv.at(JointValue::Slide(dot(sub(anchored, start), along))),
+    };
+    let open = match (&target.hops[..], point) {
+        ([hop], PointRef::Joint(k)) if hop.joint == k => Some(k),
+        _ => None,
+    };
+    let open = open.filter(|&k| matches!(mv.geometry.joints[k].kind, JointType::R | JointType::S));
+    Ok((
+        found,
+        open.map(|k| {
+            let d = miss(m, anchored);
+            let sign = if mv.geometry.joints[k].links[0] == mv.to {
+                1.0
+            } else {
+                -1.0
+            };
+            (k, scale(T::c(sign), d))
+        }),
+    ))
+}
+
+/// Where the aim leaves its point relative to the target, `P − Q`, known
+/// before the turn: a turn about `k` carries `p⊥` (of length `rp`, the
+/// motion's exact `length`) onto `q⊥`'s direction and keeps the axial
+/// parts, so `P − Q = ((rp − |q⊥|)/|q⊥|)·q⊥ + (k·(p − q))·k` with `p`, `q`
+/// from the circle's centre, `|q⊥|` as `h/rp`, `h = |p⊥ × q⊥, p⊥·q⊥|` the
+/// norm [`turn_onto`] forms (the same value, so solved code forms it once):
+/// `(rp − |q⊥|)/|q⊥| = (rp² − h)/h`. A slide leaves `−(Q − start)⊥`
+/// (normal to the guide). Zero, to rounding, exactly when the joint beyond
+/// closes.
+///
+/// ```
+/// use pkm_runtime::steps::aim::miss;
+/// use pkm_runtime::steps::Motion;
+///
+/// // Radius 1 about z, 0.5 up; the target at 3 from the axis, 2 up: the
+/// // point lands at 1 along the target's direction, 1.5 short below it.
+/// let m = Motion::Circle { centre: [0.0; 3], axis: [0.0, 0.0, 1.0], radius: [1.0, 0.0, 0.5], length: 1.0 };
+/// assert_eq!(miss(m, [0.0, 3.0, 2.0]), [0.0, -2.0, -1.5]);
+/// ```
+pub fn miss<T: Scalar>(m: Motion<T>, target: [T; 3]) -> [T; 3] {
+    use crate::scalar::{add, reject};
+    match m {
+        Motion::Circle {
+            centre,
+            axis,
+            radius,
+            length,
+        } => {
+            let q = sub(target, centre);
+            let (vp, up) = (reject(radius, axis), reject(q, axis));
+            let [c, s] = super::turn_terms(axis, vp, up);
+            let h = (c * c + s * s).sqrt();
+            add(
+                scale((length * length - h) / h, up),
+                scale(dot(axis, sub(radius, q)), axis),
+            )
+        }
+        Motion::Line { start, along } => scale(T::c(-1.0), reject(sub(target, start), along)),
+    }
 }
 
 /// The turn `[cos θ, sin θ]` about unit `k` that carries the direction of
@@ -194,5 +260,46 @@ mod tests {
             let u = rodrigues(k, theta, v);
             check([k[0], k[1], k[2], v[0], v[1], v[2], u[0], u[1], u[2]], Ok(theta));
         }
+    }
+
+    /// The miss against the point the turn really puts there (Rodrigues'
+    /// formula at turn_onto's angle), for oblique axes and axial offsets.
+    #[test]
+    fn miss_is_where_the_turn_leaves_the_point() {
+        use crate::scalar::{add, cross, norm, reject, scale, sub, unit};
+        type V = [f64; 3];
+        let cases: [(V, V, V, V); 3] = [
+            ([0.0, 0.0, 1.0], [1.0, 2.0, 0.5], [2.0, -1.0, 3.0], [0.5, -3.0, 1.0]),
+            ([1.0, 2.0, 2.0], [0.2, -0.3, 1.0], [3.0, 1.0, -2.0], [-1.0, 4.0, 0.0]),
+            ([0.0, 1.0, 0.0], [5.0, 0.0, 0.0], [0.0, 7.0, 5.0], [0.0, 0.0, 0.0]),
+        ];
+        for (k, centre, radius, target) in cases {
+            let k = unit(k);
+            let length = norm(reject(radius, k));
+            let [c, s] = turn_onto(k, radius, sub(target, centre), [0, 0]).unwrap();
+            // R(θ)r = r c + (k × r) s + k (k·r)(1 − c).
+            let turned = add(
+                add(scale(c, radius), scale(s, cross(k, radius))),
+                scale(dot(k, radius) * (1.0 - c), k),
+            );
+            let want = sub(add(centre, turned), target);
+            let m = Motion::Circle {
+                centre,
+                axis: k,
+                radius,
+                length,
+            };
+            let got = miss(m, target);
+            assert!(
+                norm(sub(got, want)) < 1e-14 * norm(target).max(10.0),
+                "{got:?} vs {want:?}"
+            );
+        }
+        // A slide leaves the part normal to its guide.
+        let line = Motion::Line {
+            start: [1.0, 0.0, 0.0],
+            along: [1.0, 0.0, 0.0],
+        };
+        assert_eq!(miss(line, [4.0, 2.0, -1.0]), [0.0, -2.0, 1.0]);
     }
 }

@@ -99,6 +99,7 @@ impl<'a> Search<'a> {
             branches: self.branches,
             n_inputs,
             inputs,
+            by_miss: Vec::new(),
         }
     }
 
