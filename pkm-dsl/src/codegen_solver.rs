@@ -180,7 +180,7 @@ fn branch(
     // The largest coordinate of the links' origins, at least 1.
     let extent = Sym::extent(&state.poses.iter().flat_map(|p| p.t).collect::<Vec<_>>());
     // Rotation rows scale with the extent (see `closure_residual`).
-    let residual = steps::check_residual(g, plan, &checks, &state, &values, extent);
+    let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, extent);
     let result = if forward {
         outputs.clone()
     } else {

@@ -258,10 +258,10 @@ pub struct Plan {
     pub inputs: Vec<usize>,
     /// Open joints whose closure is checked by the miss of the aim that
     /// left them open ([`crate::steps::aim::miss`]), not by the aimed
-    /// link's pose: set where nothing else reads that pose
-    /// ([`Plan::check_by_miss`]), so that solving for the outputs alone
-    /// skips the aim's turn.
-    pub by_miss: Vec<usize>,
+    /// link's pose, each with that aim's step: set where nothing else reads
+    /// that pose ([`Plan::check_by_miss`]), so that solving for the outputs
+    /// alone skips the aim's turn.
+    pub by_miss: Vec<(usize, usize)>,
 }
 
 impl Step {
@@ -402,7 +402,7 @@ impl Plan {
                 .iter()
                 .any(|&j| j != hop.joint && model.joints[j].links.contains(to));
             if closes && *point == PointRef::Joint(hop.joint) && !needed[*to] && !read_later && !read_by_check {
-                by_miss.push(hop.joint);
+                by_miss.push((hop.joint, k));
             }
         }
         self.by_miss = by_miss;
@@ -485,14 +485,16 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     let checks = plan.checks(geometry.joints.len());
     let state = run_frames(model, &geometry, plan, inputs, signs)?;
     let extent = crate::consistency::extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
-    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state, inputs, extent);
+    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state.poses, inputs, extent);
     let rows = crate::steps::RESIDUAL_ROWS;
     if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
         let owner = checks[row / rows].owner(plan, |j| model.joints[j].name.clone(), |l| model.links[l].clone());
         let angular = plan.angular_inputs(model);
         let e = crate::consistency::inconsistent(Cow::Owned(owner), gap, inputs, &angular, extent, |g| {
             let s = run_frames(model, &geometry, plan, g, signs).ok()?;
-            Some(crate::steps::check_residual(&geometry, plan, &checks, &s, g, extent))
+            Some(crate::steps::check_residual(
+                &geometry, plan, &checks, &s.poses, g, extent,
+            ))
         });
         return Err(crate::consistency::name_given(e, &[]));
     }

@@ -3,49 +3,52 @@
 //! projection onto the guide).
 
 use super::search::{reversed, Search};
-use super::{Found, JointValue, Motion, Move};
-use crate::model::JointType;
+use super::{Found, Geometry, JointValue, Motion, Move};
+use crate::frame::Frame;
 use crate::primitives::Error as GeomError;
-use crate::scalar::{dot, scale, sub, Scalar};
+use crate::scalar::{constant, dot, scale, sub, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{Anchor, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
-/// anchored position `target`; and where the target is that point across
-/// one joint (a joint the aim leaves open), that joint and the [`miss`]
-/// (its place on its first link minus that on its second).
-#[allow(clippy::type_complexity)]
-pub fn execute<T: Scalar>(
-    mv: &Move<'_, T>,
-    point: PointRef,
-    target: &Anchor,
-) -> Result<(Found<T>, Option<(usize, [T; 3])>), SolveError> {
+/// anchored position `target`.
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) -> Result<Found<T>, SolveError> {
     let (_, m) = mv.motion(point);
-    let anchored = mv.geometry.anchor(&mv.state.poses, target);
-    let found = match m {
+    let target = mv.geometry.anchor(&mv.state.poses, target);
+    Ok(match m {
         Motion::Circle {
             centre, axis, radius, ..
-        } => mv.found(turn_onto(axis, radius, sub(anchored, centre), mv.site()).map_err(|e| mv.fail(e))?),
-        Motion::Line { start, along } => mv.at(JointValue::Slide(dot(sub(anchored, start), along))),
+        } => mv.found(turn_onto(axis, radius, sub(target, centre), mv.site()).map_err(|e| mv.fail(e))?),
+        Motion::Line { start, along } => mv.at(JointValue::Slide(dot(sub(target, start), along))),
+    })
+}
+
+/// The closure of the joint `open` that the aim `step` left open (its
+/// target is that joint's place across it, [`crate::spatial::Plan::by_miss`]), from the
+/// poses the aim started from: its place on its first link minus that on
+/// its second, by [`miss`]. The same motion and target as [`execute`]'s,
+/// so solved code forms them once.
+pub(crate) fn closure<T: Scalar>(geometry: &Geometry<T>, poses: &[Frame<T>], step: &Step, open: usize) -> [T; 3] {
+    let Step::Aim {
+        joint,
+        from,
+        to,
+        point,
+        target,
+    } = step
+    else {
+        return constant([f64::NAN; 3]);
     };
-    let open = match (&target.hops[..], point) {
-        ([hop], PointRef::Joint(k)) if hop.joint == k => Some(k),
-        _ => None,
+    let j = &geometry.joints[*joint];
+    let m = j.motion(&poses[*from], j.links[0] == *from, geometry.local(*point, *to));
+    let d = miss(m, geometry.anchor(poses, target));
+    let sign = if geometry.joints[open].links[0] == *to {
+        1.0
+    } else {
+        -1.0
     };
-    let open = open.filter(|&k| matches!(mv.geometry.joints[k].kind, JointType::R | JointType::S));
-    Ok((
-        found,
-        open.map(|k| {
-            let d = miss(m, anchored);
-            let sign = if mv.geometry.joints[k].links[0] == mv.to {
-                1.0
-            } else {
-                -1.0
-            };
-            (k, scale(T::c(sign), d))
-        }),
-    ))
+    scale(T::c(sign), d)
 }
 
 /// Where the aim leaves its point relative to the target, `P − Q`, known

@@ -415,10 +415,6 @@ pub struct Solved<T> {
     pub poses: Vec<Frame<T>>,
     /// Joint values, where a step solved the joint.
     pub values: Vec<Option<JointValue<T>>>,
-    /// Open joints an aim closed: where the joint's place on its first link
-    /// is minus where it is on its second ([`aim::miss`]), formed before
-    /// the turn, so that the check needs no pose the outputs do not.
-    pub misses: Vec<Option<[T; 3]>>,
 }
 
 /// What a step needs besides the geometry: the given values, the ± choices,
@@ -480,13 +476,7 @@ pub fn execute<T: Scalar>(
     let (joint, to, pose, value) = match step {
         Step::Place { .. } => return Ok(()),
         Step::Transfer { input, .. } => transfer::execute(&mv, *input),
-        Step::Aim { point, target, .. } => {
-            let (found, miss) = aim::execute(&mv, *point, target)?;
-            if let Some((open, d)) = miss {
-                state.misses[open] = Some(d);
-            }
-            found
-        }
+        Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
         Step::PaPlane { pa, target, .. } => pa_plane::execute(&mv, *pa, target)?,
         Step::Locus {
@@ -639,7 +629,6 @@ pub fn run<T: Scalar>(
     let mut state = Solved {
         poses: vec![Frame::identity(); n_links],
         values: vec![None; geometry.joints.len()],
-        misses: vec![None; geometry.joints.len()],
     };
     for (k, step) in plan.steps.iter().enumerate() {
         execute(k, step, geometry, &mut state, given)?;
@@ -666,22 +655,21 @@ pub fn check_residual<T: Scalar>(
     geometry: &Geometry<T>,
     plan: &Plan,
     checks: &[Check],
-    state: &Solved<T>,
+    poses: &[Frame<T>],
     given: &[T],
     extent: T,
 ) -> Vec<T> {
     let zero = T::c(0.0);
-    let poses = &state.poses;
     checks
         .iter()
         .flat_map(|check| match *check {
             Check::Joint(k) => {
                 let j = &geometry.joints[k];
                 let mut rows = j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent);
-                // The aim that left it open left only this miss (the same
+                // The aim that left it open left only its miss (the same
                 // vector, to rounding, without the turn's pose).
-                if let (true, Some(d)) = (plan.by_miss.contains(&k), state.misses[k]) {
-                    rows[..3].copy_from_slice(&d);
+                if let Some(&(_, step)) = plan.by_miss.iter().find(|(j, _)| *j == k) {
+                    rows[..3].copy_from_slice(&aim::closure(geometry, poses, &plan.steps[step], k));
                 }
                 rows
             }
