@@ -136,7 +136,7 @@ fn lanes_fn(
         roots.extend(&g.residual);
         roots.push(g.extent);
     }
-    let (lets, exprs) = emit.lanes(&roots, &g.guards);
+    let (lets, exprs) = emit.lanes(&roots, &emit.needed_guards(&roots, &g.guards, &g.waivable));
     let (values, rest) = exprs.split_at(n_roots);
     let check = if verify {
         let (residual, extent) = rest.split_at(n_rows);

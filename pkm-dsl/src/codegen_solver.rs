@@ -80,6 +80,9 @@ fn geometry(a: &Analysis) -> Geometry<Sym> {
 /// extent) and the extent they are measured against.
 struct Branch {
     guards: Vec<Sym>,
+    /// The steps a miss stands for ([`Plan::by_miss`]), each with the
+    /// values it solves: their guards bind only where something reads those.
+    waivable: Vec<(usize, Vec<Sym>)>,
     result: Vec<Sym>,
     values: Vec<Sym>,
     points: Vec<[Sym; 3]>,
@@ -177,8 +180,9 @@ fn branch(
     }
     let guards = crate::trace::take_guards();
     let checks = plan.checks(m.joints.len());
-    // The largest coordinate of the links' origins, at least 1.
-    let extent = Sym::extent(&state.poses.iter().flat_map(|p| p.t).collect::<Vec<_>>());
+    // The largest coordinate of the origins of the links the results need, at least 1.
+    let origins: Vec<[Sym; 3]> = state.poses.iter().map(|p| p.t).collect();
+    let extent = Sym::extent(&plan.measured(&origins).into_iter().flatten().collect::<Vec<_>>());
     // Rotation rows scale with the extent (see `closure_residual`).
     let residual = steps::check_residual(g, plan, &checks, &state.poses, &values, extent);
     let result = if forward {
@@ -189,8 +193,25 @@ fn branch(
             .map(value)
             .collect()
     };
+    let waivable = plan
+        .by_miss
+        .iter()
+        .flat_map(|b| [Some(b.aim), b.plane])
+        .flatten()
+        .filter_map(|k| {
+            let v = state.values[plan.steps[k].joint()?]?;
+            Some((
+                k,
+                match v {
+                    steps::JointValue::Turn(c, s, _) => vec![c, s],
+                    steps::JointValue::Slide(t) => vec![t],
+                },
+            ))
+        })
+        .collect();
     Ok(Branch {
         guards,
+        waivable,
         result,
         values: joint_values,
         points,
@@ -384,7 +405,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let mut roots = d.given.result.clone();
     roots.extend(&d.given.residual);
     roots.push(d.given.extent);
-    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
     let (result, rest) = exprs.split_at(n_result);
     let (rows, extent) = rows_of(rest);
     let verified_doc = " Verified: the joints no step closes must close.";
@@ -449,7 +470,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     roots.extend(&d.given.outputs);
     roots.extend(&d.given.residual);
     roots.push(d.given.extent);
-    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
     let n_joints = m.joints.len();
     let n_points = d.given.points.len();
     let n_outputs = d.given.outputs.len();
@@ -502,7 +523,12 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         })
         .collect();
     let n_solutions = d.every.len();
-    let guards: Vec<Vec<Sym>> = d.every.iter().map(|b| b.guards.clone()).collect();
+    let guards: Vec<Vec<Sym>> = d
+        .every
+        .iter()
+        .zip(&roots)
+        .map(|(b, r)| emit.needed_guards(r, &b.guards, &b.waivable))
+        .collect();
     let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
         let (result, rest) = exprs.split_at(n_result);
         if open.is_empty() {
@@ -587,7 +613,7 @@ fn derivative_fns(
     let mut roots = d.given.result.clone();
     roots.extend(rates);
     tail(&mut roots);
-    let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
     let (result, rest) = exprs.split_at(n_result);
     let (rate, rest) = rest.split_at(n_result);
     let check = check_of(rest);
@@ -596,7 +622,7 @@ fn derivative_fns(
     );
     let mut roots: Vec<Sym> = jacobian.iter().flatten().copied().collect();
     tail(&mut roots);
-    let (jlets, jexprs) = emit.straight(&roots, &d.given.guards);
+    let (jlets, jexprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
     let (columns, rest) = jexprs.split_at(n_given * n_result);
     let jcheck = check_of(rest);
     let rows = (0..n_result).map(|r| {
@@ -611,7 +637,7 @@ fn derivative_fns(
         roots.extend(rates);
         roots.extend(accelerations);
         tail(&mut roots);
-        let (lets, exprs) = emit.straight(&roots, &d.given.guards);
+        let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
         let (result, rest) = exprs.split_at(n_result);
         let (rate, rest) = rest.split_at(n_result);
         let (acceleration, rest) = rest.split_at(n_result);

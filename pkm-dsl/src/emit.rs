@@ -88,6 +88,27 @@ impl<'g> Emit<'g> {
         self.slots.borrow().len()
     }
 
+    /// The guards of `guards` a function computing `roots` must check: all
+    /// but those of the steps in `waivable` (each with the values it solves)
+    /// whose values `roots` do not read. Such a step (an aim a miss stands
+    /// for, [`pkm_runtime::spatial::Plan::by_miss`]) is not computed, and
+    /// its guards only ask that its turn be defined.
+    pub fn needed_guards(&self, roots: &[Sym], guards: &[Sym], waivable: &[(usize, Vec<Sym>)]) -> Vec<Sym> {
+        let (order, _) = self.reach(roots);
+        let read = |v: &Sym| order.binary_search(v).is_ok();
+        guards
+            .iter()
+            .copied()
+            .filter(|&g| match self.node(g) {
+                Node::Guard(.., [step, _]) => waivable
+                    .iter()
+                    .find(|(k, _)| k == step)
+                    .is_none_or(|(_, values)| values.iter().any(read)),
+                _ => true,
+            })
+            .collect()
+    }
+
     /// The live nodes reachable from `roots` (not through parameter-only
     /// nodes), in recorded order, with their use counts.
     fn reach(&self, roots: &[Sym]) -> (Vec<Sym>, HashMap<Sym, usize>) {

@@ -1230,7 +1230,7 @@ fn expression(
     s
 }
 
-/// [`signed`], the papers' way of writing a Δ (`+1`, `0`, `−1`).
+/// A Δ written the papers' way (`+1`, `0`, `−1`).
 pub fn delta_unicode(d: i32) -> String {
     signed(d)
 }

@@ -258,10 +258,24 @@ pub struct Plan {
     pub inputs: Vec<usize>,
     /// Open joints whose closure is checked by the miss of the aim that
     /// left them open ([`crate::steps::aim::miss`]), not by the aimed
-    /// link's pose, each with that aim's step: set where nothing else reads
-    /// that pose ([`Plan::check_by_miss`]), so that solving for the outputs
-    /// alone skips the aim's turn.
-    pub by_miss: Vec<(usize, usize)>,
+    /// link's pose: set where nothing else reads that pose
+    /// ([`Plan::check_by_miss`]), so that solving for the outputs alone
+    /// skips the aim's turn.
+    pub by_miss: Vec<ByMiss>,
+}
+
+/// An open joint checked by a miss ([`Plan::by_miss`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ByMiss {
+    /// The open joint.
+    pub joint: usize,
+    /// The aim that left it open.
+    pub aim: usize,
+    /// The parallelogram plane that turned the aim's known link, where the
+    /// two together carry the aim's point over a whole sphere and nothing
+    /// else reads that link either: the sphere's miss checks the joint
+    /// ([`crate::steps::pa_plane::sphere_miss`]) and both turns are skipped.
+    pub plane: Option<usize>,
 }
 
 impl Step {
@@ -382,30 +396,95 @@ impl Plan {
     /// Marks the open joints an aim leaves, whose closure its miss can check
     /// ([`Plan::by_miss`]): where no later step, no other check and none of
     /// `needed` (the links whose poses the results read) reads the aimed
-    /// link, and the joint's closure is its centres alone (a spherical
-    /// joint, or a revolute whose axes are all parallel: `planar`).
+    /// link, and the joint's closure is its centres alone once the turn is
+    /// undone (a spherical joint, or a revolute whose axis the turn keeps:
+    /// parallel to the aim's axis, `planar`, or an aim that slides or swings
+    /// a parallelogram). Where a parallelogram plane turned the aim's known
+    /// link and the two reach a whole sphere, that link unread too, the
+    /// sphere's miss checks the joint and both turns go.
     pub fn check_by_miss(&mut self, model: &Model, needed: &[bool], planar: bool) {
+        use crate::steps::{pa_plane, Geometry};
+        let geometry = Geometry::of(model);
+        let tol = 1e-9 * crate::kinematics::model_scale(model).max(1.0);
         let open = self.open_joints(model.joints.len());
+        // Nothing but the steps `skip` from `after` on, no other open
+        // joint's check and no result reads `link`.
+        let unread = |link: usize, after: usize, skip: &[usize], o: usize| {
+            !needed[link]
+                && !self.steps[after..]
+                    .iter()
+                    .enumerate()
+                    .any(|(i, s)| !skip.contains(&(after + i)) && s.reads(link))
+                && !open.iter().any(|&j| j != o && model.joints[j].links.contains(&link))
+        };
         let mut by_miss = Vec::new();
         for (k, step) in self.steps.iter().enumerate() {
-            let Step::Aim { to, point, target, .. } = step else {
+            let Step::Aim {
+                joint,
+                from,
+                to,
+                point,
+                target,
+            } = step
+            else {
                 continue;
             };
             let [hop] = &target.hops[..] else { continue };
-            let closes = match model.joints[hop.joint].kind {
+            let o = hop.joint;
+            if *point != PointRef::Joint(o) || !unread(*to, k + 1, &[], o) {
+                continue;
+            }
+            let centres_only = |keeps_axis: bool| match model.joints[o].kind {
                 JointType::S => true,
-                JointType::R => planar,
+                JointType::R => planar || keeps_axis,
                 _ => false,
             };
-            let read_later = self.steps[k + 1..].iter().any(|s| s.reads(*to));
-            let read_by_check = open
+            let plane = self.steps[..k]
                 .iter()
-                .any(|&j| j != hop.joint && model.joints[j].links.contains(to));
-            if closes && *point == PointRef::Joint(hop.joint) && !needed[*to] && !read_later && !read_by_check {
-                by_miss.push((hop.joint, k));
+                .position(|s| matches!(s, Step::PaPlane { to: t, pa, .. } if t == from && pa == joint));
+            let plane = plane.filter(|&kp| {
+                unread(*from, kp + 1, &[k], o)
+                    && pa_plane::reaches_sphere(&geometry, &self.steps[kp], step, tol).is_some_and(centres_only)
+            });
+            if plane.is_some() || centres_only(crate::steps::aim::keeps_axis(&geometry, step, o)) {
+                by_miss.push(ByMiss {
+                    joint: o,
+                    aim: k,
+                    plane,
+                });
             }
         }
         self.by_miss = by_miss;
+    }
+
+    /// The links whose poses nothing needs once the open joints of
+    /// [`Plan::by_miss`] are checked by their misses (the aims' links, and
+    /// the planes' that turned their known links): solving for the results
+    /// skips them, so the checks' scale does not measure them ([`Plan::measured`]).
+    pub fn unread_links(&self) -> Vec<usize> {
+        let to = |k: usize| match self.steps[k] {
+            Step::Aim { to, .. } | Step::PaPlane { to, .. } => Some(to),
+            _ => None,
+        };
+        self.by_miss
+            .iter()
+            .flat_map(|b| [Some(b.aim), b.plane])
+            .flatten()
+            .filter_map(to)
+            .collect()
+    }
+
+    /// The link origins the scale of a solution's checks measures
+    /// ([`crate::consistency::extent`]): those of the links the results
+    /// need, not [`Plan::unread_links`].
+    pub fn measured<T: Copy>(&self, origins: &[[T; 3]]) -> Vec<[T; 3]> {
+        let unread = self.unread_links();
+        origins
+            .iter()
+            .enumerate()
+            .filter(|(l, _)| !unread.contains(l))
+            .map(|(_, t)| *t)
+            .collect()
     }
 
     /// What a solution is verified by after the last step: the joints no
@@ -484,7 +563,7 @@ pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result
     let geometry = crate::steps::Geometry::of(model);
     let checks = plan.checks(geometry.joints.len());
     let state = run_frames(model, &geometry, plan, inputs, signs)?;
-    let extent = crate::consistency::extent(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>());
+    let extent = crate::consistency::extent(&plan.measured(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>()));
     let residual = crate::steps::check_residual(&geometry, plan, &checks, &state.poses, inputs, extent);
     let rows = crate::steps::RESIDUAL_ROWS;
     if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {

@@ -3,13 +3,13 @@
 //! projection onto the guide).
 
 use super::search::{reversed, Search};
-use super::{Found, Geometry, JointValue, Motion, Move};
+use super::{pa_plane, Found, Geometry, JointValue, Motion, Move, RESIDUAL_ROWS};
 use crate::frame::Frame;
 use crate::primitives::Error as GeomError;
-use crate::scalar::{constant, dot, scale, sub, Scalar};
+use crate::scalar::{dot, scale, sub, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{Anchor, Step};
+use crate::spatial::{Anchor, ByMiss, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
 /// anchored position `target`.
@@ -24,31 +24,79 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) ->
     })
 }
 
-/// The closure of the joint `open` that the aim `step` left open (its
-/// target is that joint's place across it, [`crate::spatial::Plan::by_miss`]), from the
-/// poses the aim started from: its place on its first link minus that on
-/// its second, by [`miss`]. The same motion and target as [`execute`]'s,
-/// so solved code forms them once.
-pub(crate) fn closure<T: Scalar>(geometry: &Geometry<T>, poses: &[Frame<T>], step: &Step, open: usize) -> [T; 3] {
+/// The closure rows of the joint the aim `by.aim` left open
+/// ([`crate::spatial::Plan::by_miss`]) without the aimed link's pose: the
+/// joint's [`super::JointGeometry::closure_residual`] with that link at the aim's
+/// zero (its axis rows are the same: the turn keeps the joint's axis), its
+/// centres' rows the [`miss`] (or, after a parallelogram plane, the
+/// sphere's, [`pa_plane::sphere_miss`]). The same motion and target as
+/// [`execute`]'s, so solved code forms them once.
+pub(crate) fn closure<T: Scalar>(
+    geometry: &Geometry<T>,
+    poses: &[Frame<T>],
+    steps: &[Step],
+    by: &ByMiss,
+    extent: T,
+) -> [T; RESIDUAL_ROWS] {
+    let aim = &steps[by.aim];
     let Step::Aim {
         joint,
         from,
         to,
         point,
         target,
-    } = step
+    } = aim
     else {
-        return constant([f64::NAN; 3]);
+        return [T::c(f64::NAN); RESIDUAL_ROWS];
     };
     let j = &geometry.joints[*joint];
-    let m = j.motion(&poses[*from], j.links[0] == *from, geometry.local(*point, *to));
-    let d = miss(m, geometry.anchor(poses, target));
-    let sign = if geometry.joints[open].links[0] == *to {
-        1.0
-    } else {
-        -1.0
+    let forward = j.links[0] == *from;
+    let q = geometry.anchor(poses, target);
+    // The known link's pose (at the plane's zero where a plane turned it)
+    // and the point's miss from there.
+    let (known, d) = match by.plane.map(|kp| &steps[kp]) {
+        Some(plane @ Step::PaPlane { from: f, .. }) => {
+            let (known, m) = pa_plane::swing(geometry, &poses[*f], plane, aim);
+            (known, pa_plane::sphere_miss(m, q))
+        }
+        _ => (
+            poses[*from],
+            miss(j.motion(&poses[*from], forward, geometry.local(*point, *to)), q),
+        ),
     };
-    scale(T::c(sign), d)
+    let unturned = known.then(&j.zero[usize::from(!forward)]);
+    let o = &geometry.joints[by.joint];
+    let (mut rows, sign) = if o.links[0] == *to {
+        (o.closure_residual(&unturned, &poses[o.links[1]], extent), 1.0)
+    } else {
+        (o.closure_residual(&poses[o.links[0]], &unturned, extent), -1.0)
+    };
+    rows[..3].copy_from_slice(&scale(T::c(sign), d));
+    rows
+}
+
+/// Whether the aim `step`'s motion keeps the axis of joint `o` on the aimed
+/// link: a slide or a parallelogram's swing turns nothing, a revolute keeps
+/// an axis parallel to its own.
+pub(crate) fn keeps_axis(geometry: &Geometry<f64>, step: &Step, o: usize) -> bool {
+    let Step::Aim { joint, from, .. } = step else {
+        return false;
+    };
+    let j = &geometry.joints[*joint];
+    let forward = j.links[0] == *from;
+    let Some(k) = j.turning_axis(&Frame::identity(), forward) else {
+        return true;
+    };
+    let aimed = j.zero[usize::from(!forward)];
+    let og = &geometry.joints[o];
+    let side = usize::from(og.links[0] != j.links[usize::from(forward)]);
+    parallel(aimed.then(&og.frames[side]).column(2), k)
+}
+
+/// Whether unit-ish directions `a` and `b` are parallel (either sense) to 1e-9.
+pub(crate) fn parallel(a: [f64; 3], b: [f64; 3]) -> bool {
+    use crate::scalar::{cross, norm};
+    norm(cross(a, b)) <= 1e-9 * norm(a) * norm(b)
 }
 
 /// Where the aim leaves its point relative to the target, `P − Q`, known

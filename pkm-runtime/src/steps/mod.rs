@@ -664,14 +664,13 @@ pub fn check_residual<T: Scalar>(
         .iter()
         .flat_map(|check| match *check {
             Check::Joint(k) => {
-                let j = &geometry.joints[k];
-                let mut rows = j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent);
                 // The aim that left it open left only its miss (the same
                 // vector, to rounding, without the turn's pose).
-                if let Some(&(_, step)) = plan.by_miss.iter().find(|(j, _)| *j == k) {
-                    rows[..3].copy_from_slice(&aim::closure(geometry, poses, &plan.steps[step], k));
+                if let Some(by) = plan.by_miss.iter().find(|b| b.joint == k) {
+                    return aim::closure(geometry, poses, &plan.steps, by, extent);
                 }
-                rows
+                let j = &geometry.joints[k];
+                j.closure_residual(&poses[j.links[0]], &poses[j.links[1]], extent)
             }
             Check::Pin(k) => match &plan.steps[k] {
                 Step::Place {

@@ -2,10 +2,11 @@
 //! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
 
 use super::search::{reversed, Search};
-use super::{Found, Move};
+use super::{Found, Geometry, Motion, Move};
+use crate::frame::Frame;
 use crate::model::JointType;
 use crate::primitives::Error as GeomError;
-use crate::scalar::{cross, dot, scale, sub, Scalar};
+use crate::scalar::{constant, cross, dot, scale, sub, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::PointRef;
 use crate::solution::SolveError;
@@ -57,6 +58,110 @@ pub fn pa_plane<T: Scalar>(
     // The root with the larger cosine.
     let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
     Ok([nearer(p[0], m[0]), nearer(p[1], m[1])])
+}
+
+/// The pose of the plane's known link at the plane's zero (from that of
+/// the link it turns from, `from`) and the aim's point's motion as the
+/// parallelogram swings from there: the aim `aim` across the plane's
+/// parallelogram, which the plane's turn then carries about its axis.
+pub(crate) fn swing<T: Scalar>(
+    geometry: &Geometry<T>,
+    from: &Frame<T>,
+    plane: &Step,
+    aim: &Step,
+) -> (Frame<T>, Motion<T>) {
+    let (
+        Step::PaPlane { joint, from: f, .. },
+        Step::Aim {
+            joint: pa, to, point, ..
+        },
+    ) = (plane, aim)
+    else {
+        return (
+            Frame::identity(),
+            Motion::Line {
+                start: constant([f64::NAN; 3]),
+                along: constant([f64::NAN; 3]),
+            },
+        );
+    };
+    let j = &geometry.joints[*joint];
+    let known = from.then(&j.zero[usize::from(j.links[0] != *f)]);
+    let p = &geometry.joints[*pa];
+    let m = p.motion(&known, p.links[0] != *to, geometry.local(*point, *to));
+    (known, m)
+}
+
+/// Where a plane's turn and the swing across its parallelogram leave the
+/// swung point relative to the target `Q`, where together they reach the
+/// whole sphere about the swing's centre `c` (its axis normal to the
+/// plane's, its arm normal to its own axis, the centre on the plane's
+/// axis, as the planner checks): the point lands on the sphere towards `Q`, so
+/// `P − Q = ((r − |d|)/|d|)·d` with `d = Q − c` and `r` the swing's exact
+/// length. Zero, to rounding, exactly when the joint beyond closes.
+///
+/// ```
+/// use pkm_runtime::steps::pa_plane::sphere_miss;
+/// use pkm_runtime::steps::Motion;
+///
+/// // Radius 2 about the origin; the target 4 up: the point stops 2 short.
+/// let m = Motion::Circle { centre: [0.0; 3], axis: [0.0, 1.0, 0.0], radius: [0.0, 0.0, 2.0], length: 2.0 };
+/// assert_eq!(sphere_miss(m, [0.0, 0.0, 4.0]), [0.0, 0.0, -2.0]);
+/// ```
+pub fn sphere_miss<T: Scalar>(m: Motion<T>, target: [T; 3]) -> [T; 3] {
+    match m {
+        Motion::Circle { centre, length, .. } => {
+            let d = sub(target, centre);
+            let n = dot(d, d).sqrt();
+            scale((length - n) / n, d)
+        }
+        Motion::Line { .. } => constant([f64::NAN; 3]),
+    }
+}
+
+/// Whether the plane `plane` and the aim `aim` across its parallelogram
+/// carry the aim's point over a whole sphere ([`sphere_miss`]), checked at
+/// the model's dimensions within `tol`: if so, whether the turn keeps the
+/// axis of the aim's open joint `o` (parallel to the plane's axis; the
+/// swing turns nothing).
+pub(crate) fn reaches_sphere(geometry: &Geometry<f64>, plane: &Step, aim: &Step, tol: f64) -> Option<bool> {
+    use crate::scalar::norm;
+    let (
+        Step::PaPlane { joint, from, .. },
+        Step::Aim {
+            joint: pa,
+            from: known_link,
+            to,
+            target,
+            ..
+        },
+    ) = (plane, aim)
+    else {
+        return None;
+    };
+    let j = &geometry.joints[*joint];
+    let base = Frame::identity();
+    let forward = j.links[0] == *from;
+    let k = j.turning_axis(&base, forward)?;
+    let Motion::Circle { centre: on_axis, .. } = j.motion(&base, forward, constant([0.0; 3])) else {
+        return None;
+    };
+    let (known, m) = swing(geometry, &base, plane, aim);
+    let Motion::Circle {
+        centre, axis, radius, ..
+    } = m
+    else {
+        return None;
+    };
+    let sphere =
+        norm(cross(sub(centre, on_axis), k)) <= tol && dot(axis, k).abs() <= 1e-9 && dot(radius, axis).abs() <= tol;
+    let [hop] = &target.hops[..] else { return None };
+    // The swung link at the swing's zero: the open joint's axis there.
+    let p = &geometry.joints[*pa];
+    let swung = known.then(&p.zero[usize::from(p.links[0] != *known_link)]);
+    let o = &geometry.joints[hop.joint];
+    let o_axis = swung.then(&o.frames[usize::from(o.links[0] != *to)]).column(2);
+    sphere.then(|| super::aim::parallel(o_axis, k))
 }
 
 /// The planner's match: a revolute whose axis carries the hinge of a
@@ -126,5 +231,66 @@ pub(crate) fn factor(
         condition: Condition::PlaneTouches,
         points: [joint_point(joint, from), joint_point(pa, to), point],
         value: crossing(k_axis.cross(&n), c - hinge, at.scale),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scalar::{add, norm, unit};
+
+    /// `v` turned by the turn `[c, s]` about unit `k` (Rodrigues), written out.
+    fn turn(k: [f64; 3], [c, s]: [f64; 2], v: [f64; 3]) -> [f64; 3] {
+        add(add(scale(c, v), scale(s, cross(k, v))), scale(dot(k, v) * (1.0 - c), k))
+    }
+
+    /// The sphere's miss against where the two turns really leave the
+    /// point: the plane's turn (this kernel) carries the swing's axis and
+    /// arm about `k`, then the aim's turn swings the arm towards the target.
+    #[test]
+    fn sphere_miss_is_where_the_plane_and_the_swing_leave_the_point() {
+        type V = [f64; 3];
+        // (the plane's axis k, the swing's axis ⊥ k, its arm ⊥ that axis, a point on k, the target)
+        let cases: [(V, V, V, V, V); 3] = [
+            (
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 320.0],
+                [0.0, 300.0, 100.0],
+                [40.0, -150.0, 20.0],
+            ),
+            (
+                [0.0, 0.0, 1.0],
+                [1.0, 1.0, 0.0],
+                [-2.0, 2.0, 1.0],
+                [1.0, 2.0, 3.0],
+                [4.0, 0.0, 2.0],
+            ),
+            (
+                [1.0, 2.0, 2.0],
+                [2.0, -1.0, 0.0],
+                [2.0, 4.0, -5.0],
+                [0.0, 0.0, 0.0],
+                [3.0, -1.0, 8.0],
+            ),
+        ];
+        for (k, a, arm, c, q) in cases {
+            let (k, a) = (unit(k), unit(a));
+            let plane = pa_plane(k, a, c, q, [0, 0]).unwrap();
+            let (a1, arm1) = (turn(k, plane, a), turn(k, plane, arm));
+            let swing = crate::steps::aim::turn_onto(a1, arm1, sub(q, c), [0, 0]).unwrap();
+            let want = sub(add(c, turn(a1, swing, arm1)), q);
+            let m = Motion::Circle {
+                centre: c,
+                axis: a,
+                radius: arm,
+                length: norm(arm),
+            };
+            let got = sphere_miss(m, q);
+            assert!(
+                norm(sub(got, want)) < 1e-12 * norm(q).max(norm(arm)),
+                "{got:?} vs {want:?}"
+            );
+        }
     }
 }
