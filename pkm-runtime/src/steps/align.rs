@@ -3,9 +3,10 @@
 //! directions, [`super::aim::turn_onto`].
 
 use super::search::{reversed, Search};
-use super::{Found, Move};
+use super::{Found, JointValue, Move};
+use crate::frame::Frame;
 use crate::model::JointType;
-use crate::scalar::Scalar;
+use crate::scalar::{cross, dot, reject, scale, sub, unit, Failure, Scalar};
 use crate::singular::{joint_point, sine, Condition, Configuration, Factor};
 use crate::solution::SolveError;
 use crate::spatial::v3;
@@ -13,13 +14,61 @@ use crate::spatial::{Direction, Hop, Step};
 use nalgebra::Vector3;
 
 /// The angle of the revolute that makes `group` (a direction of the new
-/// link) parallel to `target`.
+/// link) parallel to `target`, and the new link's frame from the two
+/// directions it is now known by ([`triad`]): exact to rounding where the
+/// turn composed onto the known link's frame would carry that frame's
+/// rounding, and constant where both directions are (the known link's
+/// turn then cancels, as in a planar chain aligned with a fixed axis).
 pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Direction) -> Result<Found<T>, SolveError> {
     let (axis, zero) = mv.turning("an alignment needs a revolute")?;
-    // The group's direction with this joint at 0.
-    let d = mv.geometry.direction(zero, mv.to, group);
+    let j = mv.joint();
+    // In the new link's own frame: the joint's axis (the sense `axis`
+    // turns by) and the group's direction, constants of the geometry.
+    let side = usize::from(j.links[0] != mv.to);
+    let sense = T::c(if mv.forward() { 1.0 } else { -1.0 });
+    let k_local = scale(sense, j.frames[side].column(2));
+    let d_local = mv.geometry.direction(Frame::identity(), mv.to, group);
     let w = mv.geometry.direction(mv.state.poses[target.link], target.link, target);
-    Ok(mv.found(super::aim::turn_onto(axis, d, w, mv.site()).map_err(|e| mv.fail(e))?))
+    let (d_perp, w_perp) = (reject(d_local, k_local), reject(w, axis));
+    // The lengths normal to the axis decide degeneracy: the group's from
+    // the link's own geometry, the target's as it stands.
+    let on_axis = || Failure::Degenerate("the point or direction lies on the turning axis");
+    let site = mv.site();
+    T::require(T::c(1e-24) * dot(d_local, d_local), dot(d_perp, d_perp), on_axis(), site).map_err(|e| mv.fail(e))?;
+    T::require(T::c(1e-24) * dot(w, w), dot(w_perp, w_perp), on_axis(), site).map_err(|e| mv.fail(e))?;
+    // The turn from the group's direction at 0 onto the target's.
+    let [c, s] = super::turn_terms(axis, reject(zero.rotate(d_local), axis), w_perp);
+    let h = (c * c + s * s).sqrt();
+    let value = JointValue::Turn(c / h, s / h, None);
+    let r = triad([axis, unit(w_perp)], [k_local, unit(d_perp)]);
+    // The joint's centre stays put: on the known link and on the new one.
+    let place = |l: usize| j.places[usize::from(j.links[0] != l)].at();
+    let centre = mv.state.poses[mv.from].apply(place(mv.from));
+    let turned = Frame { r, ..Frame::identity() };
+    let pose = Frame {
+        r,
+        t: sub(centre, turned.rotate(place(mv.to))),
+    };
+    Ok((mv.joint, mv.to, pose, value))
+}
+
+/// The rotation that carries the orthonormal pair `local` onto the
+/// orthonormal pair `world` (the TRIAD method): `[a, b, a × b]` in the world
+/// times the transpose of the same in the link.
+///
+/// ```
+/// use pkm_runtime::steps::align::triad;
+///
+/// // x, y onto y, −x: a quarter turn about z.
+/// let r = triad([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+/// assert_eq!(r, [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+/// ```
+pub fn triad<T: Scalar>(world: [[T; 3]; 2], local: [[T; 3]; 2]) -> [[T; 3]; 3] {
+    let w = [world[0], world[1], cross(world[0], world[1])];
+    let l = [local[0], local[1], cross(local[0], local[1])];
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| w[0][i] * l[0][j] + w[1][i] * l[1][j] + w[2][i] * l[2][j])
+    })
 }
 
 /// The planner's match: a revolute whose axis is not parallel to a group
