@@ -34,7 +34,13 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Directio
     // the link's own geometry, the target's as it stands.
     let on_axis = || Failure::Degenerate("the point or direction lies on the turning axis");
     let site = mv.site();
-    T::require(T::c(1e-24) * dot(d_local, d_local), dot(d_perp, d_perp), on_axis(), site).map_err(|e| mv.fail(e))?;
+    T::require(
+        T::c(1e-24) * dot(d_local, d_local),
+        dot(d_perp, d_perp),
+        on_axis(),
+        site,
+    )
+    .map_err(|e| mv.fail(e))?;
     T::require(T::c(1e-24) * dot(w, w), dot(w_perp, w_perp), on_axis(), site).map_err(|e| mv.fail(e))?;
     // The turn from the group's direction at 0 onto the target's.
     let [c, s] = super::turn_terms(axis, reject(zero.rotate(d_local), axis), w_perp);
@@ -66,9 +72,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Directio
 pub fn triad<T: Scalar>(world: [[T; 3]; 2], local: [[T; 3]; 2]) -> [[T; 3]; 3] {
     let w = [world[0], world[1], cross(world[0], world[1])];
     let l = [local[0], local[1], cross(local[0], local[1])];
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| w[0][i] * l[0][j] + w[1][i] * l[1][j] + w[2][i] * l[2][j])
-    })
+    std::array::from_fn(|i| std::array::from_fn(|j| w[0][i] * l[0][j] + w[1][i] * l[1][j] + w[2][i] * l[2][j]))
 }
 
 /// The planner's match: a revolute whose axis is not parallel to a group
