@@ -210,3 +210,43 @@ pub(crate) fn factor(
         value: sine(v3(k_axis), v3(d)).min(sine(v3(k_axis), v3(w))),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scalar::{add, norm};
+
+    /// Rodrigues' rotation about unit `k` by `theta`, by rows, written out.
+    fn rodrigues(k: [f64; 3], theta: f64) -> [[f64; 3]; 3] {
+        let (s, c) = theta.sin_cos();
+        let e = |i: usize| std::array::from_fn::<f64, 3, _>(|j| f64::from(u8::from(i == j)));
+        let col = |v: [f64; 3]| add(add(scale(c, v), scale(s, cross(k, v))), scale(dot(k, v) * (1.0 - c), k));
+        let cols = [col(e(0)), col(e(1)), col(e(2))];
+        std::array::from_fn(|i| std::array::from_fn(|j| cols[j][i]))
+    }
+
+    /// The frame from two directions is the rotation that made them: a
+    /// slanted turn carries an orthonormal pair of the link into the world.
+    #[test]
+    fn triad_recovers_the_rotation_that_carried_the_pair() {
+        let pairs = [
+            ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            (unit([1.0, 2.0, 2.0]), unit([2.0, -1.0, 0.0])),
+            (unit([0.0, -3.0, 4.0]), [1.0, 0.0, 0.0]),
+        ];
+        for (k, theta) in [
+            ([0.0, 0.0, 1.0], 0.3),
+            (unit([1.0, -2.0, 0.5]), 2.9),
+            (unit([3.0, 1.0, 1.0]), -1.7),
+        ] {
+            let r = rodrigues(k, theta);
+            let turned = Frame { r, ..Frame::identity() };
+            for (a, b) in pairs {
+                let got = triad([turned.rotate(a), turned.rotate(b)], [a, b]);
+                for i in 0..3 {
+                    assert!(norm(sub(got[i], r[i])) < 1e-15, "{got:?} vs {r:?}");
+                }
+            }
+        }
+    }
+}
