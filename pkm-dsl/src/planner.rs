@@ -158,35 +158,45 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
 
 #[cfg(test)]
 mod tests {
-    /// The open joints each plan of `file` checks by a miss
-    /// ([`pkm_runtime::spatial::Plan::by_miss`]), by name, and whether a
-    /// parallelogram plane's sphere stands for the aim: `(forward, inverse)`.
-    type Misses<'a> = &'a [(&'a str, bool)];
+    /// `(joint, a plane's sphere stands in, the turns skipped)`.
+    type Misses<'a> = &'a [(&'a str, bool, bool)];
 
+    /// The open joints each plan of `file` checks by a miss
+    /// ([`pkm_runtime::spatial::Plan::by_miss`]), by name: `(forward, inverse)`.
     fn check(file: &str, want: (Misses<'_>, Misses<'_>)) {
         let path = format!("{}/../examples/mechanisms/{file}", env!("CARGO_MANIFEST_DIR"));
         let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
         let joints = &c.analysis.mechanism.joints;
-        let names = |p: &pkm_runtime::spatial::Plan| -> Vec<(String, bool)> {
+        let names = |p: &pkm_runtime::spatial::Plan| -> Vec<(String, bool, bool)> {
             p.by_miss
                 .iter()
-                .map(|b| (joints[b.joint].name.clone(), b.plane.is_some()))
+                .map(|b| (joints[b.joint].name.clone(), b.plane.is_some(), b.skipped))
                 .collect()
         };
-        let owned = |w: Misses<'_>| -> Vec<(String, bool)> { w.iter().map(|&(n, p)| (n.into(), p)).collect() };
+        let owned =
+            |w: Misses<'_>| -> Vec<(String, bool, bool)> { w.iter().map(|&(n, p, s)| (n.into(), p, s)).collect() };
         assert_eq!(names(c.forward().unwrap()), owned(want.0), "{file} forward");
         assert_eq!(names(c.inverse().unwrap()), owned(want.1), "{file} inverse");
     }
 
     #[test]
-    fn misses_stand_for_the_turns_nothing_reads() {
+    fn misses_check_the_joints_aims_leave_open() {
         // The rod turned onto the slider's pin, which nothing reads after.
-        check("slider_crank.pkm", (&[("R3", false)], &[("R3", false)]));
-        // Seed 000 A: R5 turns the parallelogram's plane through R6 and the
-        // parallelogram swings onto it; its arm (l4) is normal to its axis,
-        // its axis normal to R5 and R6 ∥ R5, so the two reach the sphere of
-        // radius l4 about B3 and keep R6's axis: the sphere checks R6. The
-        // inverse aims c1 about R11 onto R12, whose axis R11's keeps.
-        check("seed000_a.pkm", (&[("R6", true)], &[("R12", false), ("R6", true)]));
+        check("slider_crank.pkm", (&[("R3", false, true)], &[("R3", false, true)]));
+        // Seed 000 A. Forward: c2 turns about R12 onto R13, whose axis the
+        // turn keeps, but the alignment of R3 starts from c2 (R13's miss
+        // checks it, the turn stays); R5 turns the parallelogram's plane
+        // through R6 and the parallelogram swings onto it: its arm (l4) is
+        // normal to its axis, its axis normal to R5, R6 ∥ R5, so the two
+        // reach the sphere of radius l4 about B3 and keep R6's axis, and
+        // nothing reads r5 or pc. Inverse: c1 turns about R11 onto R12,
+        // whose axis R11's keeps, and nothing reads c1 after; R6 as before.
+        check(
+            "seed000_a.pkm",
+            (
+                &[("R13", false, false), ("R6", true, true)],
+                &[("R12", false, true), ("R6", true, true)],
+            ),
+        );
     }
 }

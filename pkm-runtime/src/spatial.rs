@@ -258,9 +258,8 @@ pub struct Plan {
     pub inputs: Vec<usize>,
     /// Open joints whose closure is checked by the miss of the aim that
     /// left them open ([`crate::steps::aim::miss`]), not by the aimed
-    /// link's pose: set where nothing else reads that pose
-    /// ([`Plan::check_by_miss`]), so that solving for the outputs alone
-    /// skips the aim's turn.
+    /// link's pose ([`Plan::check_by_miss`]): where nothing else reads that
+    /// pose, solving for the outputs alone skips the aim's turn.
     pub by_miss: Vec<ByMiss>,
 }
 
@@ -276,6 +275,10 @@ pub struct ByMiss {
     /// else reads that link either: the sphere's miss checks the joint
     /// ([`crate::steps::pa_plane::sphere_miss`]) and both turns are skipped.
     pub plane: Option<usize>,
+    /// Whether nothing else reads the aimed link (nor the plane's): solving
+    /// for the results skips the turns. Otherwise the miss still checks
+    /// the joint, and the turn is computed where what reads it needs it.
+    pub skipped: bool,
 }
 
 impl Step {
@@ -394,13 +397,13 @@ impl Plan {
     }
 
     /// Marks the open joints an aim leaves, whose closure its miss can check
-    /// ([`Plan::by_miss`]): where no later step, no other check and none of
-    /// `needed` (the links whose poses the results read) reads the aimed
-    /// link, and the joint's closure is its centres alone once the turn is
-    /// undone (a spherical joint, or a revolute whose axis the turn keeps:
+    /// ([`Plan::by_miss`]): where the joint's closure is its centres alone
+    /// once the turn is undone (a spherical joint, or a revolute whose axis the turn keeps:
     /// parallel to the aim's axis, `planar`, or an aim that slides or swings
-    /// a parallelogram). Where a parallelogram plane turned the aim's known
-    /// link and the two reach a whole sphere, that link unread too, the
+    /// a parallelogram). [`ByMiss::skipped`] where no later step, no other
+    /// check and none of `needed` (the links whose poses the results read)
+    /// reads the aimed link. Where a parallelogram plane turned the aim's
+    /// known link and the two reach a whole sphere, both links unread, the
     /// sphere's miss checks the joint and both turns go.
     pub fn check_by_miss(&mut self, model: &Model, needed: &[bool], planar: bool) {
         use crate::steps::{pa_plane, Geometry};
@@ -431,9 +434,10 @@ impl Plan {
             };
             let [hop] = &target.hops[..] else { continue };
             let o = hop.joint;
-            if *point != PointRef::Joint(o) || !unread(*to, k + 1, &[], o) {
+            if *point != PointRef::Joint(o) {
                 continue;
             }
+            let skipped = unread(*to, k + 1, &[], o);
             let centres_only = |keeps_axis: bool| match model.joints[o].kind {
                 JointType::S => true,
                 JointType::R => planar || keeps_axis,
@@ -443,7 +447,8 @@ impl Plan {
                 .iter()
                 .position(|s| matches!(s, Step::PaPlane { to: t, pa, .. } if t == from && pa == joint));
             let plane = plane.filter(|&kp| {
-                unread(*from, kp + 1, &[k], o)
+                skipped
+                    && unread(*from, kp + 1, &[k], o)
                     && pa_plane::reaches_sphere(&geometry, &self.steps[kp], step, tol).is_some_and(centres_only)
             });
             if plane.is_some() || centres_only(crate::steps::aim::keeps_axis(&geometry, step, o)) {
@@ -451,6 +456,7 @@ impl Plan {
                     joint: o,
                     aim: k,
                     plane,
+                    skipped,
                 });
             }
         }
@@ -468,6 +474,7 @@ impl Plan {
         };
         self.by_miss
             .iter()
+            .filter(|b| b.skipped)
             .flat_map(|b| [Some(b.aim), b.plane])
             .flatten()
             .filter_map(to)
