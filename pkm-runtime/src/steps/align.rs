@@ -45,7 +45,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Directio
     // The turn from the group's direction at 0 onto the target's.
     let [c, s] = super::turn_terms(axis, reject(zero.rotate(d_local), axis), w_perp);
     let h = (c * c + s * s).sqrt();
-    let value = JointValue::Turn(c / h, s / h, None);
+    let value = JointValue::Turn(c / h, s / h, Some(s.atan2(c)));
     let r = triad([axis, unit(w_perp)], [k_local, unit(d_perp)]);
     // The joint's centre stays put: on the known link and on the new one.
     let place = |l: usize| j.places[usize::from(j.links[0] != l)].at();

@@ -82,10 +82,11 @@ pub fn canonical_frame<T: Scalar>(at: [T; 3], axis: [T; 3]) -> Frame<T> {
 }
 
 /// How a joint's value is held: the turn of an R or Pa joint (cosine and
-/// sine, and the angle itself where it was given), the slide of a P joint.
+/// sine, and the angle itself where it was given or a kernel forms it from
+/// its terms before normalising them), the slide of a P joint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum JointValue<T> {
-    /// `cos θ`, `sin θ`, and `θ` where it was given.
+    /// `cos θ`, `sin θ`, and `θ` where it was given or formed.
     Turn(T, T, Option<T>),
     /// The slide.
     Slide(T),
