@@ -35,7 +35,8 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) ->
 /// zero (its axis rows are the same: the turn keeps the joint's axis), its
 /// centres' rows the [`miss`] (or, after a parallelogram plane, the
 /// sphere's, [`pa_plane::sphere_miss`]). The same motion and target as
-/// [`execute`]'s, so solved code forms them once.
+/// [`execute`]'s, so solved code forms them once. The misses are lengths
+/// to first order, not the centres' difference as a vector.
 pub(crate) fn closure<T: Scalar>(
     geometry: &Geometry<T>,
     poses: &[Frame<T>],
@@ -104,27 +105,29 @@ pub(crate) fn parallel(a: [f64; 3], b: [f64; 3]) -> bool {
     norm(cross(a, b)) <= 1e-9 * norm(a) * norm(b)
 }
 
-/// Where the aim leaves its point relative to the target, `P − Q`, known
-/// before the turn: a turn about `k` carries `p⊥` (of length `rp`, the
-/// motion's exact `length`) onto `q⊥`'s direction and keeps the axial
-/// parts, so `P − Q = ((rp − |q⊥|)/|q⊥|)·q⊥ + (k·(p − q))·k` with `p`, `q`
-/// from the circle's centre, `|q⊥|` as `h/rp`, `h = |p⊥ × q⊥, p⊥·q⊥|` the
-/// norm [`turn_onto`] forms (the same value, so solved code forms it once):
-/// `(rp − |q⊥|)/|q⊥| = (rp² − h)/h`. A slide leaves `−(Q − start)⊥`
-/// (normal to the guide). Zero, to rounding, exactly when the joint beyond
-/// closes.
+/// How far the aim leaves its point from the target, known before the
+/// turn and without a square root: a turn about `k` carries `p⊥` (of length
+/// `rp`, the motion's exact `length`) onto `q⊥`'s direction and keeps the
+/// axial parts (`p`, `q` from the circle's centre), so it misses by
+/// `rp − |q⊥|` across the axis and `k·(p − q)` along it. The rows are
+/// `[(rp² − |q⊥|²)/(2·rp), k·(p − q), 0]`: the first is `rp − |q⊥|` to
+/// first order (times `(rp + |q⊥|)/(2·rp)`), zero exactly when it is and
+/// never small when it is not (`rp/2` with the target on the axis). A
+/// slide leaves `−(Q − start)⊥` (normal to the guide), as a vector. Zero,
+/// to rounding, exactly when the joint beyond closes.
 ///
 /// ```
 /// use pkm_runtime::steps::aim::miss;
 /// use pkm_runtime::steps::Motion;
 ///
 /// // Radius 1 about z, 0.5 up; the target at 3 from the axis, 2 up: the
-/// // point lands at 1 along the target's direction, 1.5 short below it.
+/// // point lands 2 short across the axis, (1 − 9)/2 = −4 to first order,
+/// // and 1.5 below it.
 /// let m = Motion::Circle { centre: [0.0; 3], axis: [0.0, 0.0, 1.0], radius: [1.0, 0.0, 0.5], length: 1.0 };
-/// assert_eq!(miss(m, [0.0, 3.0, 2.0]), [0.0, -2.0, -1.5]);
+/// assert_eq!(miss(m, [0.0, 3.0, 2.0]), [-4.0, -1.5, 0.0]);
 /// ```
 pub fn miss<T: Scalar>(m: Motion<T>, target: [T; 3]) -> [T; 3] {
-    use crate::scalar::{add, reject};
+    use crate::scalar::reject;
     match m {
         Motion::Circle {
             centre,
@@ -133,13 +136,9 @@ pub fn miss<T: Scalar>(m: Motion<T>, target: [T; 3]) -> [T; 3] {
             length,
         } => {
             let q = sub(target, centre);
-            let (vp, up) = (reject(radius, axis), reject(q, axis));
-            let [c, s] = super::turn_terms(axis, vp, up);
-            let h = (c * c + s * s).sqrt();
-            add(
-                scale((length * length - h) / h, up),
-                scale(dot(axis, sub(radius, q)), axis),
-            )
+            let up = reject(q, axis);
+            let across = (length * length - dot(up, up)) * (T::c(0.5) / length);
+            [across, dot(axis, sub(radius, q)), T::c(0.0)]
         }
         Motion::Line { start, along } => scale(T::c(-1.0), reject(sub(target, start), along)),
     }
@@ -326,7 +325,9 @@ mod tests {
     }
 
     /// The miss against the point the turn really puts there (Rodrigues'
-    /// formula at turn_onto's angle), for oblique axes and axial offsets.
+    /// formula at turn_onto's angle), for oblique axes and axial offsets:
+    /// across the axis `rp − |q⊥|` times `(rp + |q⊥|)/(2·rp)`, along it
+    /// the axial part.
     #[test]
     fn miss_is_where_the_turn_leaves_the_point() {
         use crate::scalar::{add, cross, norm, reject, scale, sub, unit};
@@ -345,7 +346,10 @@ mod tests {
                 add(scale(c, radius), scale(s, cross(k, radius))),
                 scale(dot(k, radius) * (1.0 - c), k),
             );
-            let want = sub(add(centre, turned), target);
+            let d = sub(add(centre, turned), target);
+            let q = reject(sub(target, centre), k);
+            let (n, across) = (norm(q), scale(1.0 / norm(q), q));
+            let want = [dot(d, across) * (length + n) / (2.0 * length), dot(d, k), 0.0];
             let m = Motion::Circle {
                 centre,
                 axis: k,
@@ -354,9 +358,11 @@ mod tests {
             };
             let got = miss(m, target);
             assert!(
-                norm(sub(got, want)) < 1e-14 * norm(target).max(10.0),
+                norm(sub(got, want)) < 1e-14 * norm(target).max(10.0).powi(2),
                 "{got:?} vs {want:?}"
             );
+            // Nothing is left across the axis but along the target's direction.
+            assert!(norm(reject(reject(d, k), across)) < 1e-13, "{d:?}");
         }
         // A slide leaves the part normal to its guide.
         let line = Motion::Line {
@@ -364,5 +370,13 @@ mod tests {
             along: [1.0, 0.0, 0.0],
         };
         assert_eq!(miss(line, [4.0, 2.0, -1.0]), [0.0, -2.0, 1.0]);
+        // The target on the axis: half the radius, not nothing.
+        let m = Motion::Circle {
+            centre: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            radius: [2.0, 0.0, 0.0],
+            length: 2.0,
+        };
+        assert_eq!(miss(m, [0.0, 0.0, 0.0]), [1.0, 0.0, 0.0]);
     }
 }

@@ -92,28 +92,31 @@ pub(crate) fn swing<T: Scalar>(
     (known, m)
 }
 
-/// Where a plane's turn and the swing across its parallelogram leave the
-/// swung point relative to the target `Q`, where together they reach the
-/// whole sphere about the swing's centre `c` (its axis normal to the
-/// plane's, its arm normal to its own axis, the centre on the plane's
-/// axis, as the planner checks): the point lands on the sphere towards `Q`, so
-/// `P − Q = ((r − |d|)/|d|)·d` with `d = Q − c` and `r` the swing's exact
-/// length. Zero, to rounding, exactly when the joint beyond closes.
+/// How far a plane's turn and the swing across its parallelogram leave the
+/// swung point from the target `Q`, where together they reach the whole
+/// sphere about the swing's centre `c` (its axis normal to the plane's,
+/// its arm normal to its own axis, the centre on the plane's axis, as the
+/// planner checks): the point lands on the sphere towards `Q`, `r − |d|`
+/// short of it (`d = Q − c`, `r` the swing's exact length). The rows are
+/// `[(r² − |d|²)/(2·r), 0, 0]`, that distance to first order without a
+/// square root ([`super::aim::miss`]'s form). Zero, to rounding, exactly
+/// when the joint beyond closes.
 ///
 /// ```
 /// use pkm_runtime::steps::pa_plane::sphere_miss;
 /// use pkm_runtime::steps::Motion;
 ///
-/// // Radius 2 about the origin; the target 4 up: the point stops 2 short.
+/// // Radius 2 about the origin; the target 4 up: 2 short, (4 − 16)/4 = −3
+/// // to first order.
 /// let m = Motion::Circle { centre: [0.0; 3], axis: [0.0, 1.0, 0.0], radius: [0.0, 0.0, 2.0], length: 2.0 };
-/// assert_eq!(sphere_miss(m, [0.0, 0.0, 4.0]), [0.0, 0.0, -2.0]);
+/// assert_eq!(sphere_miss(m, [0.0, 0.0, 4.0]), [-3.0, 0.0, 0.0]);
 /// ```
 pub fn sphere_miss<T: Scalar>(m: Motion<T>, target: [T; 3]) -> [T; 3] {
     match m {
         Motion::Circle { centre, length, .. } => {
             let d = sub(target, centre);
-            let n = dot(d, d).sqrt();
-            scale((length - n) / n, d)
+            let across = (length * length - dot(d, d)) * (T::c(0.5) / length);
+            [across, T::c(0.0), T::c(0.0)]
         }
         Motion::Line { .. } => constant([f64::NAN; 3]),
     }
@@ -246,7 +249,8 @@ mod tests {
 
     /// The sphere's miss against where the two turns really leave the
     /// point: the plane's turn (this kernel) carries the swing's axis and
-    /// arm about `k`, then the aim's turn swings the arm towards the target.
+    /// arm about `k`, then the aim's turn swings the arm towards the target,
+    /// `r − |d|` short of it (times `(r + |d|)/(2·r)`).
     #[test]
     fn sphere_miss_is_where_the_plane_and_the_swing_leave_the_point() {
         type V = [f64; 3];
@@ -279,18 +283,21 @@ mod tests {
             let plane = pa_plane(k, a, c, q, [0, 0]).unwrap();
             let (a1, arm1) = (turn(k, plane, a), turn(k, plane, arm));
             let swing = crate::steps::aim::turn_onto(a1, arm1, sub(q, c), [0, 0]).unwrap();
-            let want = sub(add(c, turn(a1, swing, arm1)), q);
+            let d = sub(add(c, turn(a1, swing, arm1)), q);
+            // The point lands towards the target: along d = Q − c only.
+            let (r, dq) = (norm(arm), sub(q, c));
+            let out = scale(1.0 / norm(dq), dq);
+            assert!(norm(sub(d, scale(dot(d, out), out))) < 1e-12 * r, "{d:?}");
+            let want = dot(d, out) * (r + norm(dq)) / (2.0 * r);
             let m = Motion::Circle {
                 centre: c,
                 axis: a,
                 radius: arm,
-                length: norm(arm),
+                length: r,
             };
             let got = sphere_miss(m, q);
-            assert!(
-                norm(sub(got, want)) < 1e-12 * norm(q).max(norm(arm)),
-                "{got:?} vs {want:?}"
-            );
+            assert!((got[0] - want).abs() < 1e-12 * norm(dq).max(r), "{got:?} vs {want}");
+            assert_eq!([got[1], got[2]], [0.0, 0.0]);
         }
     }
 }
