@@ -49,13 +49,17 @@ pub struct Contradicted {
 
 /// The extent of a solution: the largest coordinate magnitude of its
 /// points, at least 1 (the scale residuals are measured against).
+#[inline]
 pub fn extent<const N: usize>(points: &[[f64; N]]) -> f64 {
-    points
-        .iter()
-        .flat_map(|p| p.iter())
-        .map(|c| c.abs())
-        .filter(|c| c.is_finite())
-        .fold(1.0, f64::max)
+    let mut m = 1.0f64;
+    for c in points.iter().flatten() {
+        let a = c.abs();
+        // NaN compares false; an infinity is no scale.
+        if a > m && a < f64::INFINITY {
+            m = a;
+        }
+    }
+    m
 }
 
 /// Whether every residual component is within [`VERIFY_TOL`]` · extent`
@@ -275,37 +279,71 @@ pub fn name_given(mut e: SolveError, names: &[&str]) -> SolveError {
 
 /// Two solutions are one when their joint values (angles modulo 2π) agree
 /// to [`VERIFY_TOL`] of the larger value magnitude (at least 1).
+#[inline]
 pub fn same_solution(a: &[f64], b: &[f64], revolute: &[bool]) -> bool {
-    let scale = a.iter().chain(b).map(|v| v.abs()).fold(1.0, f64::max);
+    same_within(a, b, revolute, VERIFY_TOL * magnitude(a).max(magnitude(b)))
+}
+
+/// The largest magnitude of `v`, at least 1 (NaN compares false).
+#[inline]
+fn magnitude(v: &[f64]) -> f64 {
+    let mut m = 1.0f64;
+    for x in v {
+        if x.abs() > m {
+            m = x.abs();
+        }
+    }
+    m
+}
+
+/// Whether every value of `a` is within `tol` of `b`'s (angles modulo 2π).
+#[inline]
+fn same_within(a: &[f64], b: &[f64], revolute: &[bool], tol: f64) -> bool {
     a.iter().zip(b).zip(revolute).all(|((x, y), &r)| {
         // S joints have no single value (NaN on both sides).
         if x.is_nan() && y.is_nan() {
             return true;
         }
         let d = if r { wrap_angle(x - y) } else { x - y };
-        d.abs() <= VERIFY_TOL * scale
+        d.abs() <= tol
     })
 }
 
 /// The earliest branch before `i` whose solution branch `i` repeats (by
 /// [`same_solution`]); `solution(k)` is branch `k`'s joint values, if it
-/// solved. No allocation: generated `fk` and `ik` call this on every call.
+/// solved.
 fn twin_of<'a>(i: usize, revolute: &[bool], solution: impl Fn(usize) -> Option<&'a [f64]>) -> Option<usize> {
     let s = solution(i)?;
     (0..i).find(|&k| solution(k).is_some_and(|t| same_solution(s, t, revolute)))
 }
 
 /// Marks double roots in a list of branches: a branch whose solution is one
-/// an earlier branch already has becomes [`SolveError::DoubleRoot`] naming
-/// that twin, which is flagged `tangent`.
+/// an earlier branch already has ([`same_solution`]) becomes
+/// [`SolveError::DoubleRoot`] naming that twin, which is flagged `tangent`.
+/// No allocation: generated `fk` and `ik` call this on every call, so each
+/// solution's magnitude is measured once (for up to 64 branches).
 pub fn mark_double_roots<S, const D: usize>(
     branches: &mut [Branch<S, D>],
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
+    const KEPT: usize = 64;
+    let mut size = [0.0f64; KEPT];
+    for (m, b) in size.iter_mut().zip(branches.iter()) {
+        *m = b.result.as_ref().map_or(0.0, |s| magnitude(values(s)));
+    }
+    let size_of = |k: usize, v: &[f64]| if k < KEPT { size[k] } else { magnitude(v) };
     for i in 1..branches.len() {
         let all = &*branches;
-        if let Some(k) = twin_of(i, revolute, |k| all[k].result.as_ref().ok().map(&values)) {
+        let Ok(s) = &all[i].result else { continue };
+        let a = values(s);
+        let twin = (0..i).find(|&k| {
+            all[k].result.as_ref().is_ok_and(|t| {
+                let b = values(t);
+                same_within(a, b, revolute, VERIFY_TOL * size_of(i, a).max(size_of(k, b)))
+            })
+        });
+        if let Some(k) = twin {
             branches[i].result = Err(SolveError::DoubleRoot { twin: k });
             branches[k].tangent = true;
         }

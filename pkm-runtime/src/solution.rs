@@ -123,6 +123,7 @@ fn short(v: f64) -> String {
 /// assert!((wrap_angle(0.5 + 4.0 * PI) - 0.5).abs() < 1e-12);
 /// assert_eq!(wrap_angle(-PI), PI);
 /// ```
+#[inline]
 pub fn wrap_angle(x: f64) -> f64 {
     use core::f64::consts::{PI, TAU};
     if x > -PI && x <= PI {
