@@ -555,21 +555,16 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         /// A branch that is another's solution again (a double root) is
         /// `SolveError::DoubleRoot`, and its twin is `tangent`.
         pub fn #f_all(&self, given: &[f64; #n_given]) -> [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] {
-            let mut out: [::core::result::Result<[f64; #n_result], #rt::SolveError>; #n_solutions] =
-                ::core::array::from_fn(|_| ::core::result::Result::Err(#rt::SolveError::BadInput {
+            let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
+                signs: #rt::signs_of::<#n_choices>(i),
+                result: ::core::result::Result::Err(#rt::SolveError::BadInput {
                     what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-                }));
+                }),
+                tangent: false,
+            });
             if given.iter().all(|v| v.is_finite()) {
                 #body
             }
-            let mut out = out.into_iter();
-            let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
-                signs: #rt::signs_of::<#n_choices>(i),
-                result: out.next().unwrap_or_else(|| ::core::result::Result::Err(#rt::SolveError::BadInput {
-                    what: ::std::borrow::Cow::Borrowed("no branch"),
-                })),
-                tangent: false,
-            });
             ::pkm::runtime::consistency::mark_double_roots(&mut all, &#result_angles, |s: &[f64; #n_result]| &s[..]);
             all
         }

@@ -363,7 +363,7 @@ impl<'g> Emit<'g> {
     /// Every branch at once, each branch's roots computed under nested
     /// blocks per ± choice so that what branches share is computed once:
     /// `leaf(b, roots)` writes branch b's result from its roots'
-    /// expressions; statements assign `out[b]`.
+    /// expressions; statements assign `all[b].result`.
     pub fn branches(
         &self,
         roots: &[Vec<Sym>],
@@ -416,7 +416,7 @@ impl<'g> Emit<'g> {
             let b = below[0];
             let exprs = roots[b].iter().map(|r| self.expr(*r, scope)).collect();
             let body = leaf(b, exprs, &label);
-            quote! { out[#b] = #label: { #lets #body }; }
+            quote! { all[#b].result = #label: { #lets #body }; }
         } else {
             let mut t = TokenStream::new();
             for bit in [0u64, 1] {
@@ -430,7 +430,7 @@ impl<'g> Emit<'g> {
         } else {
             let fan = below
                 .iter()
-                .map(|b| quote! { out[#b] = ::core::result::Result::Err(e.clone()); });
+                .map(|b| quote! { all[#b].result = ::core::result::Result::Err(e.clone()); });
             quote! {
                 let r: ::core::result::Result<(), ::pkm::runtime::solution::SolveError> = #label: {
                     #lets
