@@ -102,6 +102,10 @@ pub struct Graph {
     pub signs: Vec<(u64, u64)>,
     /// A name for the node, where the steps gave one.
     pub names: Vec<Option<String>>,
+    /// Whether a node is never negative by its making (NaN aside): a root,
+    /// a magnitude, a square, a non-negative constant, and sums, products,
+    /// quotients and choices of those, or a chosen one.
+    non_negative: Vec<bool>,
     /// The guards met since [`take_guards`], in order.
     guards: Vec<Sym>,
     index: HashMap<Node, Sym, BuildHasherDefault<FastHash>>,
@@ -187,9 +191,20 @@ impl Graph {
                 signs.1 |= bit;
             }
         }
+        let nn = |a: &Sym| self.non_negative[a.0 as usize];
+        let non_negative = match &n {
+            Node::Const(bits) => f64::from_bits(*bits) >= 0.0,
+            Node::Sqrt(_) | Node::Abs(_) | Node::Extent(_) => true,
+            Node::Mul(a, b) if a == b => true,
+            Node::Add(a, b) | Node::Mul(a, b) | Node::Div(a, b) => nn(a) && nn(b),
+            Node::IfLess(_, _, c, d) | Node::Pick(_, c, d) => nn(c) && nn(d),
+            Node::Chosen(_, _, a) => nn(a),
+            _ => false,
+        };
         let s = Sym(self.nodes.len() as u32);
         self.nodes.push(n.clone());
         self.live.push(live);
+        self.non_negative.push(non_negative);
         self.signs.push(signs);
         self.names.push(None);
         self.index.insert(n, s);
@@ -229,6 +244,11 @@ fn node(n: Node) -> Sym {
 
 fn konst(s: Sym) -> Option<f64> {
     with(|g| g.constant(s))
+}
+
+/// Whether `s` is never negative ([`Graph::non_negative`]).
+fn non_negative(s: Sym) -> bool {
+    with(|g| g.non_negative[s.0 as usize])
 }
 
 /// Both operands' constants at once (one access to the graph).
@@ -409,6 +429,10 @@ impl Scalar for Sym {
         self.unary(f64::cos, Node::Cos)
     }
     fn abs(self) -> Self {
+        // A value never negative is its own magnitude (NaN too).
+        if non_negative(self) && konst(self).is_none() {
+            return self;
+        }
         self.unary(f64::abs, Node::Abs)
     }
     fn atan2(self, x: Self) -> Self {
@@ -429,6 +453,8 @@ impl Scalar for Sym {
                     otherwise
                 }
             }
+            // A value never negative is not below 0.
+            (_, Some(y)) if y <= 0.0 && non_negative(a) => otherwise,
             _ => node(Node::IfLess(a, b, then, otherwise)),
         }
     }
@@ -535,4 +561,28 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
         .iter()
         .map(|r| if seen[r.0 as usize] { d[r.0 as usize] } else { zero })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What the trace knows is never negative folds its tests against 0
+    /// and its magnitudes; what it does not know stays a node.
+    #[test]
+    fn non_negative_values_fold_their_sign_tests() {
+        let ((), _) = record(|| {
+            let (x, y, a, b) = (Sym::given(0), Sym::given(1), Sym::given(2), Sym::given(3));
+            let h = (x * x + y * y).sqrt();
+            let zero = Sym::c(0.0);
+            assert_eq!(Sym::if_less(h, zero, a, b), b);
+            assert_eq!(h.abs(), h);
+            let r = h / (Sym::c(2.0) + x.abs());
+            assert_eq!(Sym::if_less(r, zero, a, b), b);
+            // x may be negative, and h − x is a difference.
+            let kind = |s: Sym| with(|g| g.nodes[s.0 as usize].clone());
+            assert!(matches!(kind(Sym::if_less(x, zero, a, b)), Node::IfLess(..)));
+            assert!(matches!(kind((h - x).abs()), Node::Abs(_)));
+        });
+    }
 }
