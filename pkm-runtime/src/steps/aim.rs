@@ -9,7 +9,7 @@ use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, scale, sub, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{Anchor, ByMiss, Step};
+use crate::spatial::{v3, Anchor, ByMiss, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
 /// anchored position `target`.
@@ -96,13 +96,7 @@ pub(crate) fn keeps_axis(geometry: &Geometry<f64>, step: &Step, o: usize) -> boo
     let aimed = j.zero[usize::from(!forward)];
     let og = &geometry.joints[o];
     let side = usize::from(og.links[0] != j.links[usize::from(forward)]);
-    parallel(aimed.then(&og.frames[side]).column(2), k)
-}
-
-/// Whether unit-ish directions `a` and `b` are parallel (either sense) to 1e-9.
-pub(crate) fn parallel(a: [f64; 3], b: [f64; 3]) -> bool {
-    use crate::scalar::{cross, norm};
-    norm(cross(a, b)) <= 1e-9 * norm(a) * norm(b)
+    Search::parallel(v3(aimed.then(&og.frames[side]).column(2)), v3(k))
 }
 
 /// How far the aim leaves its point from the target, known before the

@@ -164,7 +164,7 @@ pub(crate) fn reaches_sphere(geometry: &Geometry<f64>, plane: &Step, aim: &Step,
     let swung = known.then(&p.zero[usize::from(p.links[0] != *known_link)]);
     let o = &geometry.joints[hop.joint];
     let o_axis = swung.then(&o.frames[usize::from(o.links[0] != *to)]).column(2);
-    sphere.then(|| super::aim::parallel(o_axis, k))
+    sphere.then(|| Search::parallel(v3(o_axis), v3(k)))
 }
 
 /// The planner's match: a revolute whose axis carries the hinge of a
