@@ -91,7 +91,7 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
             OutputKind::Joint(j) => model.joints[j].links.iter().for_each(|&l| needed[l] = true),
         }
     }
-    plan.check_by_miss(&model, &needed, m.planar);
+    plan.check_by_miss(&model, &needed);
     Ok(plan)
 }
 
@@ -152,7 +152,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     for j in model.joints.iter().filter(|j| j.actuated) {
         j.links.iter().for_each(|&l| needed[l] = true);
     }
-    plan.check_by_miss(&model, &needed, planar);
+    plan.check_by_miss(&model, &needed);
     Ok(plan)
 }
 

@@ -399,13 +399,13 @@ impl Plan {
     /// Marks the open joints an aim leaves, whose closure its miss can check
     /// ([`Plan::by_miss`]): where the joint's closure is its centres alone
     /// once the turn is undone (a spherical joint, or a revolute whose axis the turn keeps:
-    /// parallel to the aim's axis, `planar`, or an aim that slides or swings
-    /// a parallelogram). [`ByMiss::skipped`] where no later step, no other
+    /// parallel to the aim's axis, as every axis of a planar mechanism is,
+    /// or an aim that slides or swings a parallelogram). [`ByMiss::skipped`] where no later step, no other
     /// check and none of `needed` (the links whose poses the results read)
     /// reads the aimed link. Where a parallelogram plane turned the aim's
     /// known link and the two reach a whole sphere, both links unread, the
     /// sphere's miss checks the joint and both turns go.
-    pub fn check_by_miss(&mut self, model: &Model, needed: &[bool], planar: bool) {
+    pub fn check_by_miss(&mut self, model: &Model, needed: &[bool]) {
         use crate::steps::{pa_plane, Geometry};
         let geometry = Geometry::of(model);
         let tol = 1e-9 * crate::kinematics::model_scale(model).max(1.0);
@@ -440,7 +440,7 @@ impl Plan {
             let skipped = unread(*to, k + 1, &[], o);
             let centres_only = |keeps_axis: bool| match model.joints[o].kind {
                 JointType::S => true,
-                JointType::R => planar || keeps_axis,
+                JointType::R => keeps_axis,
                 _ => false,
             };
             let plane = self.steps[..k]
