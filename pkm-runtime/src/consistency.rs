@@ -309,10 +309,17 @@ fn same_within(a: &[f64], b: &[f64], revolute: &[bool], tol: f64) -> bool {
 
 /// The earliest branch before `i` whose solution branch `i` repeats (by
 /// [`same_solution`]); `solution(k)` is branch `k`'s joint values, if it
-/// solved.
-fn twin_of<'a>(i: usize, revolute: &[bool], solution: impl Fn(usize) -> Option<&'a [f64]>) -> Option<usize> {
+/// solved, and `size(k, values)` their [`magnitude`] (which a caller may
+/// keep rather than measure again for every pair).
+#[inline]
+fn twin_of<'a>(
+    i: usize,
+    revolute: &[bool],
+    solution: impl Fn(usize) -> Option<&'a [f64]>,
+    size: impl Fn(usize, &[f64]) -> f64,
+) -> Option<usize> {
     let s = solution(i)?;
-    (0..i).find(|&k| solution(k).is_some_and(|t| same_solution(s, t, revolute)))
+    (0..i).find(|&k| solution(k).is_some_and(|t| same_within(s, t, revolute, VERIFY_TOL * size(i, s).max(size(k, t)))))
 }
 
 /// Marks double roots in a list of branches: a branch whose solution is one
@@ -333,15 +340,7 @@ pub fn mark_double_roots<S, const D: usize>(
     let size_of = |k: usize, v: &[f64]| if k < KEPT { size[k] } else { magnitude(v) };
     for i in 1..branches.len() {
         let all = &*branches;
-        let Ok(s) = &all[i].result else { continue };
-        let a = values(s);
-        let twin = (0..i).find(|&k| {
-            all[k].result.as_ref().is_ok_and(|t| {
-                let b = values(t);
-                same_within(a, b, revolute, VERIFY_TOL * size_of(i, a).max(size_of(k, b)))
-            })
-        });
-        if let Some(k) = twin {
+        if let Some(k) = twin_of(i, revolute, |k| all[k].result.as_ref().ok().map(&values), size_of) {
             branches[i].result = Err(SolveError::DoubleRoot { twin: k });
             branches[k].tangent = true;
         }
@@ -356,7 +355,12 @@ pub fn mark_double_roots_in<S>(
 ) {
     for i in 1..branches.len() {
         let all = &*branches;
-        if let Some(k) = twin_of(i, revolute, |k| all[k].1.as_ref().ok().map(&values)) {
+        if let Some(k) = twin_of(
+            i,
+            revolute,
+            |k| all[k].1.as_ref().ok().map(&values),
+            |_, v| magnitude(v),
+        ) {
             branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
         }
     }
