@@ -189,13 +189,16 @@ mod tests {
         // through R6 and the parallelogram swings onto it: its arm (l4) is
         // normal to its axis, its axis normal to R5, R6 ∥ R5, so the two
         // reach the sphere of radius l4 about B3 and keep R6's axis, and
-        // nothing reads r5 or pc. Inverse: c1 turns about R11 onto R12,
-        // whose axis R11's keeps, and nothing reads c1 after; R6 as before.
+        // nothing reads r5 or pc. Inverse: c2 turns about R3 (its hinge
+        // with the cross link, coaxial with R12) onto R13, whose axis the
+        // turn keeps, and P1's circle reads R12's axis from c2 (the turn
+        // stays, R13's miss checks it); c1 turns about R11 onto R12, whose
+        // axis R11's keeps, and nothing reads c1 after; R6 as before.
         check(
             "seed000_a.pkm",
             (
                 &[("R13", false, false), ("R6", true, true)],
-                &[("R12", false, true), ("R6", true, true)],
+                &[("R13", false, false), ("R12", false, true), ("R6", true, true)],
             ),
         );
     }

@@ -310,6 +310,11 @@ impl Sym {
         }
     }
 
+    /// Whether this node is `−b`.
+    fn negates(self, b: Sym) -> bool {
+        with(|g| matches!(g.nodes[self.0 as usize], Node::Neg(a) if a == b))
+    }
+
     /// Whether this node depends on a given value (else it is prepared once).
     pub fn is_live(self) -> bool {
         with(|g| g.live[self.0 as usize])
@@ -330,6 +335,9 @@ impl std::ops::Add for Sym {
             (Some(x), Some(y)) => Sym::c(x + y),
             (Some(0.0), _) => b,
             (_, Some(0.0)) => self,
+            // a + (−a) = 0, exact for the finite values the solvers take
+            // (a point crossed onto a coaxial joint and back).
+            _ if self.negates(b) || b.negates(self) => Sym::c(0.0),
             _ => node(Node::Add(self, b)),
         }
     }

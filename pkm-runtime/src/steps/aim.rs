@@ -184,8 +184,11 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
     // links are not ranked by depth: aiming the five-bar's distal link
     // from the other arm moved its output point off the step that solved
     // it and tripled its worst error next to concentric circles.
+    // Among the rest, a joint coaxial with another of the new link's
+    // joints first (a compound hinge): that joint's axis does not move with
+    // the turn, so what later steps read from it does not wait for the aim.
     let mut candidates = s.candidates();
-    candidates.sort_by_key(|&(_, from, _)| s.depth[from] != 0);
+    candidates.sort_by_key(|&(j, from, to)| (s.depth[from] != 0, !s.carries_coaxial(j, to)));
     for (j, from, to) in candidates {
         for (point, x) in s.points_of(to, j) {
             // A known link, or a pinned one at its pin (the new link's own pin too).

@@ -289,17 +289,21 @@ impl<T: Scalar> Geometry<T> {
         (pose, link)
     }
 
-    /// An anchored point's world position.
+    /// An anchored point's world position. The hops are crossed at value 0
+    /// from the identity, so the point in the known link's frame depends
+    /// on the dimensions alone (solved code prepares it once), and the
+    /// link's pose is applied to it once.
     pub fn anchor(&self, poses: &[Frame<T>], a: &Anchor) -> [T; 3] {
-        let (pose, l) = self.across(poses[a.link], a.link, &a.hops);
-        pose.apply(self.local(a.point, l))
+        let (hops, l) = self.across(Frame::identity(), a.link, &a.hops);
+        poses[a.link].apply(hops.apply(self.local(a.point, l)))
     }
 
-    /// A direction known through hops: the axis of a joint's place on the last link.
+    /// A direction known through hops: the axis of a joint's place on the
+    /// last link, turned into the known link's frame as [`Geometry::anchor`] does.
     pub fn direction(&self, pose: Frame<T>, link: usize, d: &Direction) -> [T; 3] {
-        let (pose, l) = self.across(pose, link, &d.hops);
+        let (hops, l) = self.across(Frame::identity(), link, &d.hops);
         let j = &self.joints[d.joint];
-        pose.rotate(place_axis(&j.places[usize::from(j.links[0] != l)]))
+        pose.rotate(hops.rotate(place_axis(&j.places[usize::from(j.links[0] != l)])))
     }
 
     /// A point of a link in the frame of the last link of `hops` (at value 0).

@@ -146,6 +146,18 @@ impl<'a> Search<'a> {
         (x - v3(p.at())).cross(&a).norm() <= self.tol
     }
 
+    /// Whether another revolute of `l` shares the axis of revolute `j`
+    /// (a compound hinge): both its point and its direction lie on it.
+    pub(crate) fn carries_coaxial(&self, j: usize, l: usize) -> bool {
+        self.model.joints.iter().enumerate().any(|(k, joint)| {
+            k != j
+                && joint.kind == JointType::R
+                && joint.links.contains(&l)
+                && self.on_axis(j, l, v3(self.place(k, l).at()))
+                && Self::parallel(self.axis(k, l), self.axis(j, l))
+        })
+    }
+
     pub(crate) fn parallel(a: Vector3<f64>, b: Vector3<f64>) -> bool {
         a.normalize().cross(&b.normalize()).norm() <= 1e-9
     }
