@@ -239,12 +239,19 @@ fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str
         quote! { #[doc = #default_doc] }
     };
     let source_const = include.map(|rel| {
-        let rel = format!("/{rel}");
         let c = format_ident!("__PKM_SOURCE");
+        // An absolute path is the file itself (the description was read
+        // by `Path::join`, which keeps it); a relative one is the crate's.
+        let path = if std::path::Path::new(rel).is_absolute() {
+            quote! { #rel }
+        } else {
+            let rel = format!("/{rel}");
+            quote! { ::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel) }
+        };
         quote! {
             // Ties the build to the file so that edits rebuild.
             #[doc(hidden)]
-            const #c: &'static str = ::core::include_str!(::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel));
+            const #c: &'static str = ::core::include_str!(#path);
         }
     });
     let params = parameter_struct(input, a);
@@ -413,5 +420,26 @@ mod tests {
         );
         check("fk, workspace", &[]);
         check("ik, workspace", &[]);
+    }
+
+    /// The file a description is read from is the one the expansion ties
+    /// the build to: relative to the crate, or absolute as given.
+    #[test]
+    fn the_source_file_is_included_where_it_was_read() {
+        let relative = "../examples/mechanisms/four_bar.pkm";
+        let absolute = format!("{}/{relative}", env!("CARGO_MANIFEST_DIR"));
+        for (file, want) in [
+            (absolute.clone(), format!("include_str ! ({absolute:?})")),
+            (
+                relative.to_string(),
+                format!(
+                    r#"include_str ! (:: core :: concat ! (:: core :: env ! ("CARGO_MANIFEST_DIR") , "/{relative}"))"#
+                ),
+            ),
+        ] {
+            let tokens: proc_macro2::TokenStream = format!("FourBar, file = {file:?}").parse().unwrap();
+            let out = crate::expand(tokens).unwrap().to_string();
+            assert!(out.contains(&want), "{file}: no `{want}` in the expansion");
+        }
     }
 }
