@@ -27,12 +27,13 @@ fn seed000_a_refuses_a_y_it_cannot_reach() {
     for b in SeedA::ik(&p, &[37.79, -250.0, 238.9192, -0.7097]) {
         match b.result {
             Err(SolveError::Inconsistent {
-                contradicted: Some(Contradicted {
-                    name, given, nearest, ..
-                }),
+                contradicted: Some(c),
                 gap,
                 ..
             }) => {
+                let Contradicted {
+                    name, given, nearest, ..
+                } = *c;
                 assert_eq!((name.as_ref(), given), ("y", -250.0));
                 assert!((nearest + 300.0).abs() < 1e-9, "nearest y = {nearest}");
                 assert!((gap - 50.0).abs() < 1e-6, "gap {gap}");

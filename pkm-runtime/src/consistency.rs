@@ -229,7 +229,8 @@ pub fn inconsistent(
     SolveError::Inconsistent {
         owner,
         gap,
-        contradicted,
+        // Boxed: the failure path's detail, kept out of every result's size.
+        contradicted: contradicted.map(Box::new),
     }
 }
 

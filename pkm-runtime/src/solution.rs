@@ -54,7 +54,7 @@ pub enum SolveError {
         gap: f64,
         /// The given value the others contradict, where the projection onto
         /// consistent values found it.
-        contradicted: Option<crate::consistency::Contradicted>,
+        contradicted: Option<Box<crate::consistency::Contradicted>>,
     },
     /// This branch is the same solution as branch number `twin`: a double
     /// root (tangency) of one step, where its two signs meet.
