@@ -518,7 +518,11 @@ fn check_sizes(ast: &MechanismAst) -> Result<(), Diagnostic> {
     Ok(())
 }
 
-/// Builds the semantic model from the syntax tree, collecting every error.
+/// Builds the semantic model from the syntax tree, collecting every error:
+/// the capabilities, the joints and links (declared, then along the
+/// chains), the relations (written, then implied), the checks that every
+/// link hangs in the mechanism and every branch reaches the platform, and
+/// the base point.
 pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     check_sizes(ast)?;
     let mut b = Builder {
@@ -536,404 +540,25 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         span: Span::default(),
     });
     b.links[0].span = None;
-
-    let mut capabilities = Vec::new();
-    for c in &ast.capabilities {
-        let implemented: Vec<&str> = Capability::ALL
-            .iter()
-            .filter(|(k, _)| k.implemented())
-            .map(|(_, n)| *n)
-            .collect();
-        match Capability::ALL.iter().find(|(_, n)| *n == c.text) {
-            Some((k, _)) if k.implemented() => capabilities.push((*k, c.span)),
-            Some(_) => b.errors.push(
-                Diagnostic::new(
-                    c.span,
-                    format!(
-                        "capability `{}` is not implemented yet; implemented: {}",
-                        c.text,
-                        implemented.join(", ")
-                    ),
-                )
-                .label("not implemented"),
-            ),
-            None => b.errors.push(
-                Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
-                    .label("not a capability")
-                    .note(format!("implemented capabilities: {}", implemented.join(", "))),
-            ),
-        }
-    }
-
-    // Explicit joints (planar link/joint lists); k links on one axis make k − 1 coaxial joints.
-    for decl in &ast.joints {
-        let Some(kind) = JointKind::from_symbol(&decl.kind.text) else {
-            b.errors.push(
-                Diagnostic::new(decl.kind.span, format!("unknown joint type `{}`", decl.kind.text))
-                    .label("expected R, P, H, C, U, S or Pa"),
-            );
-            continue;
-        };
-        let links: Vec<usize> = decl.links.iter().map(|l| b.link(l)).collect();
-        if links.len() > 2 && !kind.has_axis_line() {
-            b.errors.push(
-                Diagnostic::new(
-                    decl.kind.span,
-                    format!("a compound hinge needs an axis line; `{}` has none", decl.kind.text),
-                )
-                .label("compound joints must be R, H, C or U"),
-            );
-            continue;
-        }
-        let first = b.joints.len();
-        for (k, &other) in links.iter().enumerate().skip(1) {
-            let n = if k == 1 {
-                decl.name.clone()
-            } else {
-                Name {
-                    text: format!("{}.{}", decl.name.text, k),
-                    span: decl.name.span,
-                }
-            };
-            b.add_joint(&n, kind, [links[0], other], decl.actuated && k == 1, None);
-            if k > 1 && b.joints.len() > first + k - 1 {
-                let j = b.joints.len() - 1;
-                b.relations.push(Relation {
-                    kind: RelationKind::Coaxial,
-                    a: DirectionItem::Joint(first),
-                    b: DirectionItem::Joint(j),
-                    span: None,
-                });
-            }
-        }
-    }
-
-    // Chains: joints in order, anonymous links between them unless labelled.
-    for chain in &ast.chains {
-        // A chain is a single open chain: no inner link twice, none equal to an end.
-        let mut seen: Vec<&str> = vec![chain.start.text.as_str(), chain.end.text.as_str()];
-        for label in chain.connectors.iter().filter_map(|c| c.label.as_ref()) {
-            if seen.contains(&label.text.as_str()) {
-                b.errors.push(
-                    Diagnostic::new(label.span, format!("link `{}` appears twice in one chain", label.text))
-                        .label("a chain visits each link once")
-                        .note("close a loop with a second chain that starts or ends at this link"),
-                );
-            }
-            seen.push(label.text.as_str());
-        }
-        let start = b.link(&chain.start);
-        let end = b.link(&chain.end);
-        let mut prev_link = start;
-        let mut prev_joint: Option<usize> = None;
-        for (i, cj) in chain.joints.iter().enumerate() {
-            let Some(kind) = JointKind::from_name_prefix(&cj.name.text) else {
-                b.errors.push(
-                    Diagnostic::new(cj.name.span, format!("unknown joint type in `{}`", cj.name.text))
-                        .label("a joint's name starts with its type")
-                        .note("joint types: R, P, H, C, U, S and Pa (parallelogram)"),
-                );
-                continue;
-            };
-            let next_link = if i + 1 == chain.joints.len() {
-                end
-            } else {
-                let conn = &chain.connectors[i];
-                match &conn.label {
-                    Some(label) => b.link(label),
-                    None => b.anonymous_link(&cj.name.text, &chain.joints[i + 1].name.text),
-                }
-            };
-            let before = b.joints.len();
-            b.add_joint(&cj.name, kind, [prev_link, next_link], cj.actuated, chain.branch);
-            let this = if b.joints.len() > before { Some(before) } else { None };
-            if let (Some(p), Some(t), Some(conn)) = (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k])) {
-                if let Some((kind, span)) = conn.relation {
-                    if let Some(sj) = [p, t].into_iter().find(|&x| !b.joints[x].kind.has_direction()) {
-                        b.errors.push(
-                            Diagnostic::new(
-                                span,
-                                format!("joint `{}` is spherical and has no axis to relate", b.joints[sj].name),
-                            )
-                            .label("write `-` next to an S joint"),
-                        );
-                        prev_joint = this;
-                        prev_link = next_link;
-                        continue;
-                    }
-                    b.relations.push(Relation {
-                        kind,
-                        a: DirectionItem::Joint(p),
-                        b: DirectionItem::Joint(t),
-                        span: Some(span),
-                    });
-                }
-            }
-            prev_joint = this;
-            prev_link = next_link;
-        }
-    }
-
-    for decl in &ast.links {
-        let i = b.link(&decl.name);
-        if decl.description.is_some() {
-            b.links[i].description.clone_from(&decl.description);
-        }
-    }
-
-    // Relation statements. A plane stands for its normal: `X ∥ ◇P` says X is
-    // perpendicular to P's normal, `X ⊥ ◇P` that it is parallel to it.
-    for stmt in &ast.relations {
-        let items: Vec<Option<(DirectionItem, bool)>> = stmt.items.iter().map(|d| b.direction_ref(d)).collect();
-        for (k, (kind, span)) in stmt.ops.iter().enumerate() {
-            if let (Some((a, a_plane)), Some((c, c_plane))) = (items[k], items[k + 1]) {
-                let kind = match *kind {
-                    RelationKind::Coaxial if a_plane || c_plane => {
-                        b.errors.push(
-                            Diagnostic::new(*span, "a plane cannot be coaxial with anything").label("not a line"),
-                        );
-                        continue;
-                    }
-                    RelationKind::Parallel if a_plane != c_plane => RelationKind::Perpendicular,
-                    RelationKind::Perpendicular if a_plane != c_plane => RelationKind::Parallel,
-                    k => k,
-                };
-                b.relations.push(Relation {
-                    kind,
-                    a,
-                    b: c,
-                    span: Some(*span),
-                });
-            }
-        }
-    }
-
+    let capabilities = b.capabilities(ast);
+    b.declared_joints(ast);
+    b.chains(ast);
+    b.link_descriptions(ast);
+    b.relation_statements(ast);
     let planar = ast.planar.is_some();
-    let mut frame_declared = [false; 3];
-    for r in &b.relations {
-        for item in [r.a, r.b] {
-            if let DirectionItem::Frame(i) = item {
-                frame_declared[i] = true;
-            }
-        }
-    }
-
-    // Implied relations: the frame is orthonormal, U axes are perpendicular,
-    // and a planar mechanism's rotations are about z and its slides lie in xy.
-    let implied = |kind, a, b| Relation { kind, a, b, span: None };
-    b.relations.push(implied(
-        RelationKind::Perpendicular,
-        DirectionItem::Frame(0),
-        DirectionItem::Frame(1),
-    ));
-    b.relations.push(implied(
-        RelationKind::Perpendicular,
-        DirectionItem::Frame(1),
-        DirectionItem::Frame(2),
-    ));
-    b.relations.push(implied(
-        RelationKind::Perpendicular,
-        DirectionItem::Frame(0),
-        DirectionItem::Frame(2),
-    ));
-    for (j, joint) in b.joints.clone().iter().enumerate() {
-        if joint.kind == JointKind::U {
-            b.relations.push(implied(
-                RelationKind::Perpendicular,
-                DirectionItem::Joint(j),
-                DirectionItem::USecond(j),
-            ));
-        }
-        if planar {
-            match joint.kind {
-                JointKind::R | JointKind::Pa => b.relations.push(implied(
-                    RelationKind::Parallel,
-                    DirectionItem::Joint(j),
-                    DirectionItem::Frame(2),
-                )),
-                JointKind::P => b.relations.push(implied(
-                    RelationKind::Perpendicular,
-                    DirectionItem::Joint(j),
-                    DirectionItem::Frame(2),
-                )),
-                _ => b.errors.push(
-                    Diagnostic::new(
-                        joint.span,
-                        format!(
-                            "joint `{}` ({}) cannot move in a plane",
-                            joint.name,
-                            joint.kind.symbol()
-                        ),
-                    )
-                    .label("planar mechanisms have R, P and Pa joints only"),
-                ),
-            }
-        }
-    }
+    let mut frame_declared = b.frame_axes_related();
+    b.implied_relations(planar);
     if planar {
         frame_declared[2] = true;
     }
-
-    for r in &b.relations {
-        if r.kind == RelationKind::Coaxial {
-            if !matches!((r.a, r.b), (DirectionItem::Joint(_), DirectionItem::Joint(_))) {
-                if let Some(span) = r.span {
-                    b.errors.push(
-                        Diagnostic::new(span, "only two joints can be coaxial")
-                            .label("a frame axis or plane has no position"),
-                    );
-                }
-                continue;
-            }
-            for item in [r.a, r.b] {
-                if let DirectionItem::Joint(j) = item {
-                    let joint = &b.joints[j];
-                    if !joint.kind.has_axis_line() {
-                        b.errors.push(
-                            Diagnostic::new(
-                                r.span.unwrap_or(joint.span),
-                                format!(
-                                    "joint `{}` ({}) has no axis line to share",
-                                    joint.name,
-                                    joint.kind.symbol()
-                                ),
-                            )
-                            .label("coaxial joints must be R, H, C or U"),
-                        );
-                    }
-                }
-            }
-        }
-    }
+    b.check_coaxial();
     check_relations(&b.joints, &b.relations, &mut b.errors);
-
-    // Checked before the connectivity pass below, which is quadratic in the links.
-    if b.joints.len() > MAX_JOINTS || b.links.len() > MAX_JOINTS {
-        b.errors.push(
-            Diagnostic::new(
-                ast.name.span,
-                format!(
-                    "the mechanism has {} joints and {} links; the limit is {MAX_JOINTS} of each",
-                    b.joints.len(),
-                    b.links.len()
-                ),
-            )
-            .label("too large"),
-        );
-    }
-    // Every link must hang in the mechanism: reached from the base, held by two joints.
-    if b.errors.is_empty() {
-        let all: Vec<usize> = (0..b.joints.len()).collect();
-        for (i, link) in b.links.iter().enumerate().skip(1) {
-            let degree = b.joints.iter().filter(|j| j.links.contains(&i)).count();
-            let span = link.span.unwrap_or_default();
-            if !connected(&b.joints, &all, 0, i) {
-                b.errors.push(
-                    Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name))
-                        .label("unreachable link"),
-                );
-            } else if degree < 2 {
-                let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
-                    .label("dangling link")
-                    .note("every link of a parallel mechanism lies on a loop");
-                if let Some(s) = suggest(
-                    &link.name,
-                    b.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name),
-                ) {
-                    d = d.note(format!("did you mean `{s}`?"));
-                }
-                b.errors.push(d);
-            }
-        }
-        if b.joints.is_empty() {
-            b.errors
-                .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
-        }
-    }
-
-    let branches: Vec<Branch> = ast
-        .branches
-        .iter()
-        .enumerate()
-        .map(|(i, n)| Branch {
-            name: n.text.clone(),
-            joints: (0..b.joints.len()).filter(|&j| b.joints[j].branch == Some(i)).collect(),
-            span: n.span,
-        })
-        .collect();
-
-    let platform = match &ast.platform {
-        Some(n) => match b.link_by_name.get(&n.text) {
-            Some(&i) => Some(i),
-            None => {
-                b.errors
-                    .push(Diagnostic::new(n.span, format!("unknown link `{}`", n.text)).label("no joint touches it"));
-                None
-            }
-        },
-        None => b.link_by_name.get("platform").copied(),
-    };
-    if platform == Some(0) {
-        if let Some(n) = &ast.platform {
-            b.errors
-                .push(Diagnostic::new(n.span, "the platform cannot be the base").label("the base"));
-        }
-    }
-
-    // Branches run from the base to the platform.
-    if !branches.is_empty() && platform.is_none() {
-        b.errors.push(
-            Diagnostic::new(branches[0].span, "branches need a platform")
-                .label("branch without a platform")
-                .note("name a link `platform`, or write `platform = LINK;`"),
-        );
-    }
-    if let Some(p) = platform {
-        for br in &branches {
-            if !connected(&b.joints, &br.joints, 0, p) {
-                b.errors.push(
-                    Diagnostic::new(
-                        br.span,
-                        format!("branch `{}` never reaches the platform `{}`", br.name, b.links[p].name),
-                    )
-                    .label("a branch must connect the base to the platform"),
-                );
-            }
-        }
-    }
-
-    let base_point = ast
-        .point
-        .as_ref()
-        .and_then(|(_, jn)| match b.joint_by_name.get(&jn.text) {
-            Some(&j) => {
-                let joint = &b.joints[j];
-                if platform.is_some_and(|p| !joint.links.contains(&p)) {
-                    b.errors.push(
-                        Diagnostic::new(jn.span, format!("joint `{}` does not touch the platform", jn.text))
-                            .label("the base point must lie on a platform joint"),
-                    );
-                } else if matches!(joint.kind, JointKind::P | JointKind::Pa) {
-                    b.errors.push(
-                        Diagnostic::new(
-                            jn.span,
-                            format!(
-                                "joint `{}` ({}) has no axis line for the base point",
-                                jn.text,
-                                joint.kind.symbol()
-                            ),
-                        )
-                        .label("needs R, H, C, U or S"),
-                    );
-                }
-                Some(j)
-            }
-            None => {
-                b.errors
-                    .push(Diagnostic::new(jn.span, format!("unknown joint `{}`", jn.text)).label("not declared"));
-                None
-            }
-        });
+    b.check_size(ast);
+    b.check_links_hang(ast);
+    let branches = b.branches(ast);
+    let platform = b.platform(ast);
+    b.check_branches(&branches, platform);
+    let base_point = b.base_point(ast, platform);
 
     let Builder {
         errors,
@@ -964,6 +589,451 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         frame_declared,
         planes,
     })
+}
+
+/// The steps of [`build`], each one named part of the description.
+impl Builder {
+    /// The requested capabilities; an unknown or unimplemented one is an error.
+    fn capabilities(&mut self, ast: &MechanismAst) -> Vec<(Capability, Span)> {
+        let mut capabilities = Vec::new();
+        for c in &ast.capabilities {
+            let implemented: Vec<&str> = Capability::ALL
+                .iter()
+                .filter(|(k, _)| k.implemented())
+                .map(|(_, n)| *n)
+                .collect();
+            match Capability::ALL.iter().find(|(_, n)| *n == c.text) {
+                Some((k, _)) if k.implemented() => capabilities.push((*k, c.span)),
+                Some(_) => self.errors.push(
+                    Diagnostic::new(
+                        c.span,
+                        format!(
+                            "capability `{}` is not implemented yet; implemented: {}",
+                            c.text,
+                            implemented.join(", ")
+                        ),
+                    )
+                    .label("not implemented"),
+                ),
+                None => self.errors.push(
+                    Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
+                        .label("not a capability")
+                        .note(format!("implemented capabilities: {}", implemented.join(", "))),
+                ),
+            }
+        }
+        capabilities
+    }
+
+    /// Explicit joints (planar link/joint lists); k links on one axis make k − 1 coaxial joints.
+    fn declared_joints(&mut self, ast: &MechanismAst) {
+        for decl in &ast.joints {
+            let Some(kind) = JointKind::from_symbol(&decl.kind.text) else {
+                self.errors.push(
+                    Diagnostic::new(decl.kind.span, format!("unknown joint type `{}`", decl.kind.text))
+                        .label("expected R, P, H, C, U, S or Pa"),
+                );
+                continue;
+            };
+            let links: Vec<usize> = decl.links.iter().map(|l| self.link(l)).collect();
+            if links.len() > 2 && !kind.has_axis_line() {
+                self.errors.push(
+                    Diagnostic::new(
+                        decl.kind.span,
+                        format!("a compound hinge needs an axis line; `{}` has none", decl.kind.text),
+                    )
+                    .label("compound joints must be R, H, C or U"),
+                );
+                continue;
+            }
+            let first = self.joints.len();
+            for (k, &other) in links.iter().enumerate().skip(1) {
+                let n = if k == 1 {
+                    decl.name.clone()
+                } else {
+                    Name {
+                        text: format!("{}.{}", decl.name.text, k),
+                        span: decl.name.span,
+                    }
+                };
+                self.add_joint(&n, kind, [links[0], other], decl.actuated && k == 1, None);
+                if k > 1 && self.joints.len() > first + k - 1 {
+                    let j = self.joints.len() - 1;
+                    self.relations.push(Relation {
+                        kind: RelationKind::Coaxial,
+                        a: DirectionItem::Joint(first),
+                        b: DirectionItem::Joint(j),
+                        span: None,
+                    });
+                }
+            }
+        }
+    }
+
+    /// Chains: joints in order, anonymous links between them unless labelled.
+    fn chains(&mut self, ast: &MechanismAst) {
+        for chain in &ast.chains {
+            // A chain is a single open chain: no inner link twice, none equal to an end.
+            let mut seen: Vec<&str> = vec![chain.start.text.as_str(), chain.end.text.as_str()];
+            for label in chain.connectors.iter().filter_map(|c| c.label.as_ref()) {
+                if seen.contains(&label.text.as_str()) {
+                    self.errors.push(
+                        Diagnostic::new(label.span, format!("link `{}` appears twice in one chain", label.text))
+                            .label("a chain visits each link once")
+                            .note("close a loop with a second chain that starts or ends at this link"),
+                    );
+                }
+                seen.push(label.text.as_str());
+            }
+            let start = self.link(&chain.start);
+            let end = self.link(&chain.end);
+            let mut prev_link = start;
+            let mut prev_joint: Option<usize> = None;
+            for (i, cj) in chain.joints.iter().enumerate() {
+                let Some(kind) = JointKind::from_name_prefix(&cj.name.text) else {
+                    self.errors.push(
+                        Diagnostic::new(cj.name.span, format!("unknown joint type in `{}`", cj.name.text))
+                            .label("a joint's name starts with its type")
+                            .note("joint types: R, P, H, C, U, S and Pa (parallelogram)"),
+                    );
+                    continue;
+                };
+                let next_link = if i + 1 == chain.joints.len() {
+                    end
+                } else {
+                    let conn = &chain.connectors[i];
+                    match &conn.label {
+                        Some(label) => self.link(label),
+                        None => self.anonymous_link(&cj.name.text, &chain.joints[i + 1].name.text),
+                    }
+                };
+                let before = self.joints.len();
+                self.add_joint(&cj.name, kind, [prev_link, next_link], cj.actuated, chain.branch);
+                let this = if self.joints.len() > before { Some(before) } else { None };
+                if let (Some(p), Some(t), Some(conn)) =
+                    (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k]))
+                {
+                    if let Some((kind, span)) = conn.relation {
+                        if let Some(sj) = [p, t].into_iter().find(|&x| !self.joints[x].kind.has_direction()) {
+                            self.errors.push(
+                                Diagnostic::new(
+                                    span,
+                                    format!(
+                                        "joint `{}` is spherical and has no axis to relate",
+                                        self.joints[sj].name
+                                    ),
+                                )
+                                .label("write `-` next to an S joint"),
+                            );
+                            prev_joint = this;
+                            prev_link = next_link;
+                            continue;
+                        }
+                        self.relations.push(Relation {
+                            kind,
+                            a: DirectionItem::Joint(p),
+                            b: DirectionItem::Joint(t),
+                            span: Some(span),
+                        });
+                    }
+                }
+                prev_joint = this;
+                prev_link = next_link;
+            }
+        }
+    }
+
+    /// The links' descriptions, where the links list gives them.
+    fn link_descriptions(&mut self, ast: &MechanismAst) {
+        for decl in &ast.links {
+            let i = self.link(&decl.name);
+            if decl.description.is_some() {
+                self.links[i].description.clone_from(&decl.description);
+            }
+        }
+    }
+
+    /// Relation statements. A plane stands for its normal: `X ∥ ◇P` says X is
+    /// perpendicular to P's normal, `X ⊥ ◇P` that it is parallel to it.
+    fn relation_statements(&mut self, ast: &MechanismAst) {
+        for stmt in &ast.relations {
+            let items: Vec<Option<(DirectionItem, bool)>> = stmt.items.iter().map(|d| self.direction_ref(d)).collect();
+            for (k, (kind, span)) in stmt.ops.iter().enumerate() {
+                if let (Some((a, a_plane)), Some((c, c_plane))) = (items[k], items[k + 1]) {
+                    let kind = match *kind {
+                        RelationKind::Coaxial if a_plane || c_plane => {
+                            self.errors.push(
+                                Diagnostic::new(*span, "a plane cannot be coaxial with anything").label("not a line"),
+                            );
+                            continue;
+                        }
+                        RelationKind::Parallel if a_plane != c_plane => RelationKind::Perpendicular,
+                        RelationKind::Perpendicular if a_plane != c_plane => RelationKind::Parallel,
+                        k => k,
+                    };
+                    self.relations.push(Relation {
+                        kind,
+                        a,
+                        b: c,
+                        span: Some(*span),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Which frame axes the written relations name.
+    fn frame_axes_related(&self) -> [bool; 3] {
+        let mut frame_declared = [false; 3];
+        for r in &self.relations {
+            for item in [r.a, r.b] {
+                if let DirectionItem::Frame(i) = item {
+                    frame_declared[i] = true;
+                }
+            }
+        }
+        frame_declared
+    }
+
+    /// Implied relations: the frame is orthonormal, U axes are perpendicular,
+    /// and a planar mechanism's rotations are about z and its slides lie in xy.
+    fn implied_relations(&mut self, planar: bool) {
+        let implied = |kind, a, b| Relation { kind, a, b, span: None };
+        self.relations.push(implied(
+            RelationKind::Perpendicular,
+            DirectionItem::Frame(0),
+            DirectionItem::Frame(1),
+        ));
+        self.relations.push(implied(
+            RelationKind::Perpendicular,
+            DirectionItem::Frame(1),
+            DirectionItem::Frame(2),
+        ));
+        self.relations.push(implied(
+            RelationKind::Perpendicular,
+            DirectionItem::Frame(0),
+            DirectionItem::Frame(2),
+        ));
+        for (j, joint) in self.joints.clone().iter().enumerate() {
+            if joint.kind == JointKind::U {
+                self.relations.push(implied(
+                    RelationKind::Perpendicular,
+                    DirectionItem::Joint(j),
+                    DirectionItem::USecond(j),
+                ));
+            }
+            if planar {
+                match joint.kind {
+                    JointKind::R | JointKind::Pa => self.relations.push(implied(
+                        RelationKind::Parallel,
+                        DirectionItem::Joint(j),
+                        DirectionItem::Frame(2),
+                    )),
+                    JointKind::P => self.relations.push(implied(
+                        RelationKind::Perpendicular,
+                        DirectionItem::Joint(j),
+                        DirectionItem::Frame(2),
+                    )),
+                    _ => self.errors.push(
+                        Diagnostic::new(
+                            joint.span,
+                            format!(
+                                "joint `{}` ({}) cannot move in a plane",
+                                joint.name,
+                                joint.kind.symbol()
+                            ),
+                        )
+                        .label("planar mechanisms have R, P and Pa joints only"),
+                    ),
+                }
+            }
+        }
+    }
+
+    /// Only two joints can be coaxial, and only joints with an axis line.
+    fn check_coaxial(&mut self) {
+        for r in &self.relations {
+            if r.kind == RelationKind::Coaxial {
+                if !matches!((r.a, r.b), (DirectionItem::Joint(_), DirectionItem::Joint(_))) {
+                    if let Some(span) = r.span {
+                        self.errors.push(
+                            Diagnostic::new(span, "only two joints can be coaxial")
+                                .label("a frame axis or plane has no position"),
+                        );
+                    }
+                    continue;
+                }
+                for item in [r.a, r.b] {
+                    if let DirectionItem::Joint(j) = item {
+                        let joint = &self.joints[j];
+                        if !joint.kind.has_axis_line() {
+                            self.errors.push(
+                                Diagnostic::new(
+                                    r.span.unwrap_or(joint.span),
+                                    format!(
+                                        "joint `{}` ({}) has no axis line to share",
+                                        joint.name,
+                                        joint.kind.symbol()
+                                    ),
+                                )
+                                .label("coaxial joints must be R, H, C or U"),
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The limit on joints and links, checked before the connectivity
+    /// pass, which is quadratic in the links.
+    fn check_size(&mut self, ast: &MechanismAst) {
+        if self.joints.len() > MAX_JOINTS || self.links.len() > MAX_JOINTS {
+            self.errors.push(
+                Diagnostic::new(
+                    ast.name.span,
+                    format!(
+                        "the mechanism has {} joints and {} links; the limit is {MAX_JOINTS} of each",
+                        self.joints.len(),
+                        self.links.len()
+                    ),
+                )
+                .label("too large"),
+            );
+        }
+    }
+
+    /// Every link must hang in the mechanism: reached from the base, held by two joints.
+    fn check_links_hang(&mut self, ast: &MechanismAst) {
+        if self.errors.is_empty() {
+            let all: Vec<usize> = (0..self.joints.len()).collect();
+            for (i, link) in self.links.iter().enumerate().skip(1) {
+                let degree = self.joints.iter().filter(|j| j.links.contains(&i)).count();
+                let span = link.span.unwrap_or_default();
+                if !connected(&self.joints, &all, 0, i) {
+                    self.errors.push(
+                        Diagnostic::new(span, format!("link `{}` is not connected to the base", link.name))
+                            .label("unreachable link"),
+                    );
+                } else if degree < 2 {
+                    let mut d = Diagnostic::new(span, format!("link `{}` hangs on a single joint", link.name))
+                        .label("dangling link")
+                        .note("every link of a parallel mechanism lies on a loop");
+                    if let Some(s) = suggest(
+                        &link.name,
+                        self.links.iter().map(|l| l.name.as_str()).filter(|n| *n != link.name),
+                    ) {
+                        d = d.note(format!("did you mean `{s}`?"));
+                    }
+                    self.errors.push(d);
+                }
+            }
+            if self.joints.is_empty() {
+                self.errors
+                    .push(Diagnostic::new(ast.name.span, "the mechanism has no joints").label("empty mechanism"));
+            }
+        }
+    }
+
+    /// The branches and the joints each holds.
+    fn branches(&self, ast: &MechanismAst) -> Vec<Branch> {
+        ast.branches
+            .iter()
+            .enumerate()
+            .map(|(i, n)| Branch {
+                name: n.text.clone(),
+                joints: (0..self.joints.len())
+                    .filter(|&j| self.joints[j].branch == Some(i))
+                    .collect(),
+                span: n.span,
+            })
+            .collect()
+    }
+
+    /// The platform: the named link, or the link called `platform`.
+    fn platform(&mut self, ast: &MechanismAst) -> Option<usize> {
+        let platform = match &ast.platform {
+            Some(n) => match self.link_by_name.get(&n.text) {
+                Some(&i) => Some(i),
+                None => {
+                    self.errors.push(
+                        Diagnostic::new(n.span, format!("unknown link `{}`", n.text)).label("no joint touches it"),
+                    );
+                    None
+                }
+            },
+            None => self.link_by_name.get("platform").copied(),
+        };
+        if platform == Some(0) {
+            if let Some(n) = &ast.platform {
+                self.errors
+                    .push(Diagnostic::new(n.span, "the platform cannot be the base").label("the base"));
+            }
+        }
+        platform
+    }
+
+    /// Branches run from the base to the platform.
+    fn check_branches(&mut self, branches: &[Branch], platform: Option<usize>) {
+        if !branches.is_empty() && platform.is_none() {
+            self.errors.push(
+                Diagnostic::new(branches[0].span, "branches need a platform")
+                    .label("branch without a platform")
+                    .note("name a link `platform`, or write `platform = LINK;`"),
+            );
+        }
+        if let Some(p) = platform {
+            for br in branches {
+                if !connected(&self.joints, &br.joints, 0, p) {
+                    self.errors.push(
+                        Diagnostic::new(
+                            br.span,
+                            format!(
+                                "branch `{}` never reaches the platform `{}`",
+                                br.name, self.links[p].name
+                            ),
+                        )
+                        .label("a branch must connect the base to the platform"),
+                    );
+                }
+            }
+        }
+    }
+
+    /// The base point's joint: on the platform, with an axis line.
+    fn base_point(&mut self, ast: &MechanismAst, platform: Option<usize>) -> Option<usize> {
+        ast.point
+            .as_ref()
+            .and_then(|(_, jn)| match self.joint_by_name.get(&jn.text) {
+                Some(&j) => {
+                    let joint = &self.joints[j];
+                    if platform.is_some_and(|p| !joint.links.contains(&p)) {
+                        self.errors.push(
+                            Diagnostic::new(jn.span, format!("joint `{}` does not touch the platform", jn.text))
+                                .label("the base point must lie on a platform joint"),
+                        );
+                    } else if matches!(joint.kind, JointKind::P | JointKind::Pa) {
+                        self.errors.push(
+                            Diagnostic::new(
+                                jn.span,
+                                format!(
+                                    "joint `{}` ({}) has no axis line for the base point",
+                                    jn.text,
+                                    joint.kind.symbol()
+                                ),
+                            )
+                            .label("needs R, H, C, U or S"),
+                        );
+                    }
+                    Some(j)
+                }
+                None => {
+                    self.errors
+                        .push(Diagnostic::new(jn.span, format!("unknown joint `{}`", jn.text)).label("not declared"));
+                    None
+                }
+            })
+    }
 }
 
 fn connected(joints: &[Joint], subset: &[usize], from: usize, to: usize) -> bool {
