@@ -537,7 +537,42 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let total_rank = ctx.loop_rank(all);
     let dof = total_f - total_rank;
     let loops = n + 1 - mech.links.len();
+    check_actuator_count(mech, dof, total_f, total_rank)?;
+    check_actuators_drive(mech, &ctx, dof)?;
+    let order = soc_order(mech, &mut ctx, all, loops)?;
+    let socs = ordered_socs(&mut ctx, order);
+    let (mut skcs, kappa) = sub_kinematic_chains(&socs);
+    let xi_by_poc_formula = cross_check(mech, &ctx, &socs, total_f, dof)?;
+    let joint_poc = (0..n).map(|j| joint_poc(mech, j)).collect();
+    let Platform {
+        platform_poc,
+        base_point,
+        branch_poc,
+        decoupling,
+    } = platform_characteristics(mech, &ctx);
+    for skc in &mut skcs {
+        skc.kind = skc_kind(mech, &socs[skc.socs.clone()], &branch_poc);
+    }
+    let expression = expression(mech, dof, &socs, &skcs, kappa, platform_poc.as_ref());
+    Ok(Topology {
+        dof,
+        total_f,
+        loops,
+        socs,
+        skcs,
+        kappa,
+        joint_poc,
+        branch_poc,
+        platform_poc,
+        base_point,
+        decoupling,
+        xi_by_poc_formula,
+        expression,
+    })
+}
 
+/// The number of actuated joints must be the DOF F = Σf − Σξ_L.
+fn check_actuator_count(mech: &Mechanism, dof: usize, total_f: usize, total_rank: usize) -> Result<(), Diagnostics> {
     let actuators = mech.actuator_count();
     if actuators != dof {
         let names: Vec<&str> = mech
@@ -568,9 +603,12 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         d = d.note("mark exactly F joints as actuated with `*`");
         return Err(d.into());
     }
+    Ok(())
+}
 
-    // Locking the actuators must make the mechanism rigid at a generic configuration.
-    // The generic rank is the largest; stop at the first configuration that reaches F.
+/// Locking the actuators must make the mechanism rigid at a generic configuration.
+/// The generic rank is the largest; stop at the first configuration that reaches F.
+fn check_actuators_drive(mech: &Mechanism, ctx: &Context, dof: usize) -> Result<(), Diagnostics> {
     let mut driven = 0;
     for (sys, kernel) in &ctx.whole {
         let input = input_rows(mech, sys, kernel);
@@ -596,14 +634,19 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         .note("an actuator in a loop that is already driven over-constrains it and leaves another loop free")
         .into());
     }
+    Ok(())
+}
 
-    // Greedy first: a step of least |Δ| each time. If it reaches Σ|Δ| = 0 it is
-    // optimal (every Δ is 0, so every SOC is its own SKC: the most SKCs).
-    let order = match greedy_order(&mut ctx, all) {
+/// The order of single open chains: greedy first, a step of least |Δ| each
+/// time. If it reaches Σ|Δ| = 0 it is optimal (every Δ is 0, so every SOC
+/// is its own SKC: the most SKCs); otherwise the bounded exhaustive search
+/// for the least Σ|Δ|.
+fn soc_order(mech: &Mechanism, ctx: &mut Context, all: u64, loops: usize) -> Result<Vec<Candidate>, Diagnostics> {
+    Ok(match greedy_order(ctx, all) {
         Some(order) => order,
         None => {
             let mut search = Search {
-                ctx: &mut ctx,
+                ctx,
                 all,
                 best: HashMap::new(),
                 choices: HashMap::new(),
@@ -649,9 +692,11 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
             }
             order
         }
-    };
+    })
+}
 
-    // The SOCs of the chosen order.
+/// The SOCs of the chosen order, with their ξ_L and Δ.
+fn ordered_socs(ctx: &mut Context, order: Vec<Candidate>) -> Vec<Soc> {
     let mut socs = Vec::new();
     let mut used = 0u64;
     let mut run_before = 0i64;
@@ -669,14 +714,19 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
             actuators: ctx.actuators_of(mask),
             xi,
             delta: (run_after - run_before) as i32,
-            notation: notation(&ctx, &path),
+            notation: notation(ctx, &path),
             joints: path,
             ends,
         });
         used |= mask;
         run_before = run_after;
     }
+    socs
+}
 
+/// The SKCs: the SOCs grouped where the running Σ Δ returns to zero, each
+/// with its coupling degree κ = Σ|Δ|/2; and the mechanism's κ, the largest.
+fn sub_kinematic_chains(socs: &[Soc]) -> (Vec<Skc>, usize) {
     let mut skcs = Vec::new();
     let mut start = 0;
     let mut run = 0;
@@ -697,9 +747,19 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         }
     }
     let kappa = skcs.iter().map(|s| s.kappa).max().unwrap_or(0);
+    (skcs, kappa)
+}
 
-    // Cross-check: the POC formula at independent configurations.
-    let xi_by_poc_formula = poc_formula_xi(&ctx, &socs);
+/// ξ_L by the POC formula at independent configurations must equal ξ_L by
+/// the loop-closure rank, and F must be Σf − Σξ_L by both.
+fn cross_check(
+    mech: &Mechanism,
+    ctx: &Context,
+    socs: &[Soc],
+    total_f: usize,
+    dof: usize,
+) -> Result<Vec<usize>, Diagnostics> {
+    let xi_by_poc_formula = poc_formula_xi(ctx, socs);
     let dof_check = total_f as i64 - xi_by_poc_formula.iter().sum::<usize>() as i64;
     let mut errors = Diagnostics::default();
     for (j, (soc, x)) in socs.iter().zip(&xi_by_poc_formula).enumerate() {
@@ -726,18 +786,23 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
             format!("analysis error: F is {dof} by rank but {dof_check} by Σf − Σξ"),
         ));
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    errors.into_result(xi_by_poc_formula)
+}
 
+/// What the topology says of the platform.
+struct Platform {
+    platform_poc: Option<PocSet>,
+    base_point: Option<usize>,
+    branch_poc: Vec<PocSet>,
+    decoupling: Vec<Dependence>,
+}
+
+/// The platform's POC set at its base point (the platform joint whose POC
+/// set has the fewest translations, or the declared one), each branch's
+/// POC set at that point, and the outputs' motion decoupling.
+fn platform_characteristics(mech: &Mechanism, ctx: &Context) -> Platform {
     let inst = &ctx.primary[0];
-    let labeller = Labeller::new(&ctx, mech.platform, None);
-    let joint_poc = mech
-        .joints
-        .iter()
-        .enumerate()
-        .map(|(j, _)| joint_poc(mech, j))
-        .collect();
+    let labeller = Labeller::new(ctx, mech.platform, None);
 
     let mut platform_poc = None;
     let mut base_point = None;
@@ -748,7 +813,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         let twists = sys.relative_twists(kernel, 0, p);
         let candidates: Vec<usize> = match mech.base_point {
             Some(j) => vec![j],
-            None => (0..n)
+            None => (0..mech.joints.len())
                 .filter(|&j| {
                     mech.joints[j].links.contains(&p) && !matches!(mech.joints[j].kind, JointKind::P | JointKind::Pa)
                 })
@@ -767,32 +832,17 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         for br in &mech.branches {
             let sys = VelocitySystem::new(mech, inst, ctx.joint_mask(&br.joints));
             let kernel = sys.kernel();
-            let labeller = Labeller::new(&ctx, mech.platform, Some(&br.joints));
+            let labeller = Labeller::new(ctx, mech.platform, Some(&br.joints));
             branch_poc.push(labeller.poc(&sys.relative_twists(&kernel, 0, p), &o));
         }
-        decoupling = motion_decoupling(&ctx, p, base_point);
+        decoupling = motion_decoupling(ctx, p, base_point);
     }
-
-    for skc in &mut skcs {
-        skc.kind = skc_kind(mech, &socs[skc.socs.clone()], &branch_poc);
-    }
-
-    let expression = expression(mech, dof, &socs, &skcs, kappa, platform_poc.as_ref());
-    Ok(Topology {
-        dof,
-        total_f,
-        loops,
-        socs,
-        skcs,
-        kappa,
-        joint_poc,
-        branch_poc,
+    Platform {
         platform_poc,
         base_point,
+        branch_poc,
         decoupling,
-        xi_by_poc_formula,
-        expression,
-    })
+    }
 }
 
 fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
