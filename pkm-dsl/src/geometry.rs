@@ -4,7 +4,7 @@
 //! links in the form its type needs, and that the declared ∥ / ⊥ / ≡
 //! relations hold between axes placed on a common link.
 
-use crate::ast::{AxisRef, MechanismAst, Place, RelationKind, Tuple};
+use crate::ast::{AxisRef, LinkGeometry, MechanismAst, Place, Placement, RelationKind, Tuple};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
 use crate::expr::{Definition, Expr};
 use crate::model::{suggest, DirectionItem, JointKind, Mechanism};
@@ -153,15 +153,66 @@ fn eval3(v: &Vec3, values: &HashMap<String, f64>) -> Vector3<f64> {
     Vector3::from(eval_vec3(v, values))
 }
 
-/// Builds and checks the geometry of `mech` from its syntax tree.
+/// Builds and checks the geometry of `mech` from its syntax tree: the
+/// parameters' values, every link's placements (joints and named points),
+/// the checks of the joints' forms and of the relations against the
+/// numbers, and the outputs.
 pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnostics> {
     let mut errors: Vec<Diagnostic> = Vec::new();
+    let (parameters, values) = parameters(ast, &mut errors);
+    let coordinates = Coordinates { mech, values: &values };
+    let mut placed = Placements {
+        places: vec![[None, None]; mech.joints.len()],
+        spans: vec![[None, None]; mech.joints.len()],
+        points: Vec::new(),
+    };
+    for lg in &ast.geometry {
+        placed.link_geometry(lg, mech, &coordinates, &mut errors);
+    }
+    let Placements {
+        mut places,
+        spans: place_span,
+        points,
+    } = placed;
+
+    let complete = !ast.geometry.is_empty();
+    if complete && errors.is_empty() {
+        check_forms(mech, &mut places, &place_span, &values, &mut errors);
+        if errors.is_empty() {
+            check_relations(mech, &places, &values, &mut errors);
+        }
+    }
+    let abouts: Vec<Option<Vec3>> = ast
+        .outputs
+        .iter()
+        .map(|o| match &o.what {
+            crate::ast::OutputWhat::Pose { about: Some(a), .. } => coordinates.axis(a, &mut errors),
+            _ => None,
+        })
+        .collect();
+    let outputs = resolve_outputs(ast, mech, &places, &points, &abouts, complete, &mut errors);
+    if errors.is_empty() {
+        Ok(Geometry {
+            parameters,
+            places,
+            points,
+            complete,
+            outputs,
+        })
+    } else {
+        Err(Diagnostics(errors))
+    }
+}
+
+/// The parameters, each defined once and not a reserved word, with their
+/// values in dependency order, whatever the order of definition.
+fn parameters(ast: &MechanismAst, errors: &mut Vec<Diagnostic>) -> (Vec<Parameter>, HashMap<String, f64>) {
     let mut first_span: HashMap<String, Span> = HashMap::new();
     for (name, _) in &ast.parameters {
         first_span.entry(name.text.clone()).or_insert(name.span);
     }
     for (name, e) in &ast.parameters {
-        e.check(&|n: &str| first_span.contains_key(n), &mut errors);
+        e.check(&|n: &str| first_span.contains_key(n), errors);
         if RUST_KEYWORDS.contains(&name.text.as_str()) || name.text == "pi" {
             errors.push(
                 Diagnostic::new(name.span, format!("`{}` cannot name a parameter", name.text)).label("reserved word"),
@@ -196,10 +247,22 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
             value: values.get(&name.text).copied().unwrap_or(f64::NAN),
         })
         .collect();
+    (parameters, values)
+}
 
-    let dims = if mech.planar { 2 } else { 3 };
-    let zero = Expr::Num(0.0);
-    let to3 = |t: &Tuple, errors: &mut Vec<Diagnostic>| -> Option<Vec3> {
+/// Coordinates written in a geometry block, as expressions of the parameters.
+struct Coordinates<'a> {
+    mech: &'a Mechanism,
+    values: &'a HashMap<String, f64>,
+}
+
+impl Coordinates<'_> {
+    /// A point `(x, y)` or `(x, y, z)`: as many coordinates as the
+    /// mechanism has dimensions, each an expression of known parameters.
+    fn point(&self, t: &Tuple, errors: &mut Vec<Diagnostic>) -> Option<Vec3> {
+        let (mech, values) = (self.mech, self.values);
+        let dims = if mech.planar { 2 } else { 3 };
+        let zero = Expr::Num(0.0);
         if t.items.len() != dims {
             errors.push(
                 Diagnostic::new(t.span, format!("expected {dims} coordinates, found {}", t.items.len())).label(
@@ -218,10 +281,14 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
         }
         let mut it = t.items.iter().cloned();
         Some([it.next()?, it.next()?, it.next().unwrap_or_else(|| zero.clone())])
-    };
-    let axis3 = |a: &AxisRef, errors: &mut Vec<Diagnostic>| -> Option<Vec3> {
+    }
+
+    /// A direction: a vector `(…)` or a frame axis (`z` alone in a planar mechanism).
+    fn axis(&self, a: &AxisRef, errors: &mut Vec<Diagnostic>) -> Option<Vec3> {
+        let mech = self.mech;
+        let zero = Expr::Num(0.0);
         match a {
-            AxisRef::Vector(t) => to3(t, errors),
+            AxisRef::Vector(t) => self.point(t, errors),
             AxisRef::Frame(n) => {
                 let k = ["x", "y", "z"].iter().position(|x| *x == n.text);
                 match k {
@@ -241,12 +308,26 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                 }
             }
         }
-    };
+    }
+}
 
-    let mut places: Vec<[Option<JointPlace>; 2]> = vec![[None, None]; mech.joints.len()];
-    let mut place_span: Vec<[Option<Span>; 2]> = vec![[None, None]; mech.joints.len()];
-    let mut points: Vec<NamedPoint> = Vec::new();
-    for lg in &ast.geometry {
+/// The joints' places on their two links (with where each was written)
+/// and the named points, as the geometry blocks give them.
+struct Placements {
+    places: Vec<[Option<JointPlace>; 2]>,
+    spans: Vec<[Option<Span>; 2]>,
+    points: Vec<NamedPoint>,
+}
+
+impl Placements {
+    /// One link's block: its named points and its joints' places.
+    fn link_geometry(
+        &mut self,
+        lg: &LinkGeometry,
+        mech: &Mechanism,
+        coordinates: &Coordinates,
+        errors: &mut Vec<Diagnostic>,
+    ) {
         let Some(link) = mech
             .links
             .iter()
@@ -258,136 +339,135 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
                 d = d.note(format!("did you mean `{s}`?"));
             }
             errors.push(d);
-            continue;
+            return;
         };
         for p in &lg.placements {
             if p.extra_point {
-                if mech.joint_index(&p.name.text).is_some() || points.iter().any(|q| q.name == p.name.text) {
-                    errors.push(
-                        Diagnostic::new(p.name.span, format!("`{}` is already a joint or a point", p.name.text))
-                            .label("name taken"),
-                    );
-                    continue;
-                }
-                match &p.place {
-                    Place::Point(t, None) => {
-                        if let Some(at) = to3(t, &mut errors) {
-                            points.push(NamedPoint {
-                                name: p.name.text.clone(),
-                                link,
-                                at,
-                            });
-                        }
-                    }
-                    _ => errors
-                        .push(Diagnostic::new(p.span, "a named point is a plain point `(…)`").label("no axis or line")),
-                }
-                continue;
-            }
-            // A compound hinge `G` is the joints G, G.2, …: the name places
-            // every one of them that touches this link.
-            let group: Vec<usize> = (0..mech.joints.len())
-                .filter(|&j| {
-                    let n = &mech.joints[j].name;
-                    n == &p.name.text || n.strip_prefix(p.name.text.as_str()).is_some_and(|r| r.starts_with('.'))
-                })
-                .collect();
-            if group.is_empty() {
-                let mut d = Diagnostic::new(p.name.span, format!("unknown joint `{}`", p.name.text))
-                    .label("not declared")
-                    .note("write `point NAME = (…);` for a named point of the link");
-                if let Some(s) = suggest(&p.name.text, mech.joints.iter().map(|j| j.name.as_str())) {
-                    d = d.note(format!("did you mean `{s}`?"));
-                }
-                errors.push(d);
-                continue;
-            }
-            let touching: Vec<usize> = group
-                .iter()
-                .copied()
-                .filter(|&j| mech.joints[j].links.contains(&link))
-                .collect();
-            if touching.is_empty() {
-                let joint = &mech.joints[group[0]];
-                errors.push(
-                    Diagnostic::new(
-                        p.name.span,
-                        format!("joint `{}` does not touch link `{}`", p.name.text, lg.link.text),
-                    )
-                    .label("placed on the wrong link")
-                    .note(format!(
-                        "it connects `{}` and `{}`",
-                        mech.links[joint.links[0]].name, mech.links[joint.links[1]].name
-                    )),
-                );
-                continue;
-            }
-            for j in touching {
-                let joint = &mech.joints[j];
-                let side = joint.links.iter().position(|&l| l == link).expect("touching");
-                if let Some(first) = place_span[j][side] {
-                    errors.push(
-                        Diagnostic::new(
-                            p.name.span,
-                            format!("joint `{}` is placed twice on link `{}`", joint.name, lg.link.text),
-                        )
-                        .label("second placement")
-                        .also(first, "first placed"),
-                    );
-                    continue;
-                }
-                let resolved = match &p.place {
-                    Place::Point(t, a) => {
-                        let at = to3(t, &mut errors);
-                        let axis = match a {
-                            Some(a) => axis3(a, &mut errors),
-                            None => None,
-                        };
-                        at.map(|at| JointPlace::Point(at, axis))
-                    }
-                    Place::Line(t, a) => match (to3(t, &mut errors), axis3(a, &mut errors)) {
-                        (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
-                        _ => None,
-                    },
-                    Place::Arm(t, a, arm) => {
-                        match (to3(t, &mut errors), axis3(a, &mut errors), to3(arm, &mut errors)) {
-                            (Some(at), Some(d), Some(arm)) => Some(JointPlace::Arm(at, d, arm)),
-                            _ => None,
-                        }
-                    }
-                };
-                place_span[j][side] = Some(p.span);
-                places[j][side] = resolved;
+                self.named_point(p, link, mech, coordinates, errors);
+            } else {
+                self.joint_placement(p, lg, link, mech, coordinates, errors);
             }
         }
     }
 
-    let complete = !ast.geometry.is_empty();
-    if complete && errors.is_empty() {
-        check_forms(mech, &mut places, &place_span, &values, &mut errors);
-        if errors.is_empty() {
-            check_relations(mech, &places, &values, &mut errors);
+    /// `point NAME = (…);`: a named point of the link.
+    fn named_point(
+        &mut self,
+        p: &Placement,
+        link: usize,
+        mech: &Mechanism,
+        coordinates: &Coordinates,
+        errors: &mut Vec<Diagnostic>,
+    ) {
+        if mech.joint_index(&p.name.text).is_some() || self.points.iter().any(|q| q.name == p.name.text) {
+            errors.push(
+                Diagnostic::new(p.name.span, format!("`{}` is already a joint or a point", p.name.text))
+                    .label("name taken"),
+            );
+            return;
+        }
+        match &p.place {
+            Place::Point(t, None) => {
+                if let Some(at) = coordinates.point(t, errors) {
+                    self.points.push(NamedPoint {
+                        name: p.name.text.clone(),
+                        link,
+                        at,
+                    });
+                }
+            }
+            _ => errors.push(Diagnostic::new(p.span, "a named point is a plain point `(…)`").label("no axis or line")),
         }
     }
-    let abouts: Vec<Option<Vec3>> = ast
-        .outputs
-        .iter()
-        .map(|o| match &o.what {
-            crate::ast::OutputWhat::Pose { about: Some(a), .. } => axis3(a, &mut errors),
-            _ => None,
-        })
-        .collect();
-    let outputs = resolve_outputs(ast, mech, &places, &points, &abouts, complete, &mut errors);
-    if errors.is_empty() {
-        Ok(Geometry {
-            parameters,
-            places,
-            points,
-            complete,
-            outputs,
-        })
-    } else {
-        Err(Diagnostics(errors))
+
+    /// A joint's place on the link. A compound hinge `G` is the joints G,
+    /// G.2, …: the name places every one of them that touches this link.
+    fn joint_placement(
+        &mut self,
+        p: &Placement,
+        lg: &LinkGeometry,
+        link: usize,
+        mech: &Mechanism,
+        coordinates: &Coordinates,
+        errors: &mut Vec<Diagnostic>,
+    ) {
+        let group: Vec<usize> = (0..mech.joints.len())
+            .filter(|&j| {
+                let n = &mech.joints[j].name;
+                n == &p.name.text || n.strip_prefix(p.name.text.as_str()).is_some_and(|r| r.starts_with('.'))
+            })
+            .collect();
+        if group.is_empty() {
+            let mut d = Diagnostic::new(p.name.span, format!("unknown joint `{}`", p.name.text))
+                .label("not declared")
+                .note("write `point NAME = (…);` for a named point of the link");
+            if let Some(s) = suggest(&p.name.text, mech.joints.iter().map(|j| j.name.as_str())) {
+                d = d.note(format!("did you mean `{s}`?"));
+            }
+            errors.push(d);
+            return;
+        }
+        let touching: Vec<usize> = group
+            .iter()
+            .copied()
+            .filter(|&j| mech.joints[j].links.contains(&link))
+            .collect();
+        if touching.is_empty() {
+            let joint = &mech.joints[group[0]];
+            errors.push(
+                Diagnostic::new(
+                    p.name.span,
+                    format!("joint `{}` does not touch link `{}`", p.name.text, lg.link.text),
+                )
+                .label("placed on the wrong link")
+                .note(format!(
+                    "it connects `{}` and `{}`",
+                    mech.links[joint.links[0]].name, mech.links[joint.links[1]].name
+                )),
+            );
+            return;
+        }
+        for j in touching {
+            let joint = &mech.joints[j];
+            let side = joint.links.iter().position(|&l| l == link).expect("touching");
+            if let Some(first) = self.spans[j][side] {
+                errors.push(
+                    Diagnostic::new(
+                        p.name.span,
+                        format!("joint `{}` is placed twice on link `{}`", joint.name, lg.link.text),
+                    )
+                    .label("second placement")
+                    .also(first, "first placed"),
+                );
+                continue;
+            }
+            let resolved = match &p.place {
+                Place::Point(t, a) => {
+                    let at = coordinates.point(t, errors);
+                    let axis = match a {
+                        Some(a) => coordinates.axis(a, errors),
+                        None => None,
+                    };
+                    at.map(|at| JointPlace::Point(at, axis))
+                }
+                Place::Line(t, a) => match (coordinates.point(t, errors), coordinates.axis(a, errors)) {
+                    (Some(at), Some(d)) => Some(JointPlace::Line(at, d)),
+                    _ => None,
+                },
+                Place::Arm(t, a, arm) => {
+                    match (
+                        coordinates.point(t, errors),
+                        coordinates.axis(a, errors),
+                        coordinates.point(arm, errors),
+                    ) {
+                        (Some(at), Some(d), Some(arm)) => Some(JointPlace::Arm(at, d, arm)),
+                        _ => None,
+                    }
+                }
+            };
+            self.spans[j][side] = Some(p.span);
+            self.places[j][side] = resolved;
+        }
     }
 }
 
