@@ -346,33 +346,23 @@ pub fn generate(
     })
 }
 
-/// The prepared functions of one direction.
+/// The prepared functions of one direction: one branch (lean and with the
+/// whole solution), every branch, and the derivatives.
 fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
     let m = &a.mechanism;
-    let rt = quote! { ::pkm::runtime::solution };
-    let prepared = format_ident!("{}Prepared", ident);
-    let sol_ty = format_ident!("{}Solution", ident);
     let (name, what) = if d.forward {
         ("fk", "Forward")
     } else {
         ("ik", "Inverse")
     };
-    let f_branch = format_ident!("{}_branch", name);
-    let f_all = format_ident!("{}", name);
-    let f_solution = format_ident!("{}_solution", name);
-    let f_unverified = format_ident!("{}_unverified", name);
-    let f_inconsistent = format_ident!("{}_inconsistent", name);
     let n_given = d.plan.n_inputs;
     let n_choices = d.plan.branches;
-    let n_result = d.given.result.len();
-    let n_rows = d.given.residual.len();
     // What the solution is verified by, and whose it is (for errors).
     let open = d.plan.checks(m.joints.len());
     let open_names: Vec<String> = open
         .iter()
         .map(|c| c.owner(d.plan, |j| m.joints[j].name.clone(), |l| m.links[l].name.clone()))
         .collect();
-    let n_open = open.len();
     let (given_names, result_angles) = if d.forward {
         (quote! { #ident::INPUTS }, quote! { #ident::OUTPUT_ANGLES })
     } else {
@@ -388,104 +378,79 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         Ok(model) => d.plan.angular_inputs(&model),
         Err(_) => vec![false; n_given],
     };
-    let finite = quote! {
-        if !given.iter().all(|v| v.is_finite()) {
-            return ::core::result::Result::Err(#rt::SolveError::BadInput {
-                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-            });
-        }
-    };
-    // The residual rows, then the extent they are measured against.
-    let rows_of = |rest: &[TokenStream]| -> (TokenStream, TokenStream) {
-        let (residual, extent) = rest.split_at(n_rows);
-        (quote! { [#(#residual),*] }, extent[0].clone())
-    };
-
-    // One branch, the caller's signs: the result, then the residual rows.
-    let mut roots = d.given.result.clone();
-    roots.extend(&d.given.residual);
-    roots.push(d.given.extent);
-    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
-    let (result, rest) = exprs.split_at(n_result);
-    let (rows, extent) = rows_of(rest);
-    let verified_doc = " Verified: the joints no step closes must close.";
-    let lean_doc = if d.forward {
-        format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the declared outputs (`OUTPUTS`).")
-    } else {
-        format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the actuators' values (`INPUTS`).")
-    };
-    let given_sig = quote! { given: &[f64; #n_given], signs: [::pkm::runtime::primitives::Sign; #n_choices] };
-    let lean = if open.is_empty() {
-        quote! {
-            #[doc = #lean_doc]
-            pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
-                let _ = &signs;
-                #finite
-                #lets
-                ::core::result::Result::Ok([#(#result),*])
-            }
-        }
-    } else {
-        quote! {
-            #[doc = #lean_doc]
-            #[doc = #verified_doc]
-            #[inline]
-            pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
-                let (result, rows, extent) = self.#f_unverified(given, signs)?;
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
-                    return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
-                }
-                ::core::result::Result::Ok(result)
-            }
-
-            /// One branch unverified: the result, the open joints' residual rows, their extent.
-            #[inline]
-            fn #f_unverified(&self, #given_sig) -> ::core::result::Result<([f64; #n_result], [f64; #n_rows], f64), #rt::SolveError> {
-                let _ = &signs;
-                #finite
-                #lets
-                let extent = #extent;
-                ::core::result::Result::Ok(([#(#result),*], #rows, extent))
-            }
-
-            /// Why a branch whose open joint does not close is inconsistent:
-            /// the given value the others contradict, found by re-solving nearby.
-            #[cold]
-            fn #f_inconsistent(&self, #given_sig, row: usize, gap: f64, extent: f64) -> #rt::SolveError {
-                const OPEN: [&str; #n_open] = [#(#open_names),*];
-                const ANGULAR: [bool; #n_given] = [#(#angular),*];
-                let owner = ::std::borrow::Cow::Borrowed(OPEN[row / #RESIDUAL_ROWS]);
-                let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
-                    let g: &[f64; #n_given] = g.try_into().ok()?;
-                    self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
+    let parts = Parts {
+        emit,
+        d,
+        what,
+        rt: quote! { ::pkm::runtime::solution },
+        f_branch: format_ident!("{}_branch", name),
+        f_unverified: format_ident!("{}_unverified", name),
+        f_inconsistent: format_ident!("{}_inconsistent", name),
+        n_result: d.given.result.len(),
+        n_rows: d.given.residual.len(),
+        verified: !open.is_empty(),
+        given_sig: quote! { given: &[f64; #n_given], signs: [::pkm::runtime::primitives::Sign; #n_choices] },
+        finite: quote! {
+            if !given.iter().all(|v| v.is_finite()) {
+                return ::core::result::Result::Err(::pkm::runtime::solution::SolveError::BadInput {
+                    what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
                 });
-                ::pkm::runtime::consistency::name_given(e, &#given_names)
             }
-        }
+        },
     };
+    let lean = parts.lean(&open_names, &angular, &given_names);
+    let solution = parts.solution(
+        &format_ident!("{}_solution", name),
+        &format_ident!("{}Solution", ident),
+        m,
+    );
+    let all = parts.every_branch(&format_ident!("{}", name), &result_angles);
+    let check_of = |rest: &[TokenStream]| parts.check_of(rest);
+    let derivatives = derivative_fns(emit, d, &parts.given_sig, &parts.finite, &check_of, name, what);
+    let prepared = format_ident!("{}Prepared", ident);
+    quote! {
+        #[automatically_derived]
+        impl #prepared {
+            #lean
+            #all
+            #solution
+            #derivatives
+        }
+    }
+}
 
-    // The whole solution, one branch.
-    let mut roots: Vec<Sym> = d.given.values.clone();
-    roots.extend(d.given.points.iter().flatten());
-    roots.extend(&d.given.outputs);
-    roots.extend(&d.given.residual);
-    roots.push(d.given.extent);
-    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
-    let n_joints = m.joints.len();
-    let n_points = d.given.points.len();
-    let n_outputs = d.given.outputs.len();
-    let (values, rest) = exprs.split_at(n_joints);
-    let (points, rest) = rest.split_at(3 * n_points);
-    let (outputs, rest) = rest.split_at(n_outputs);
-    // A planar mechanism's points are (x, y): its plane is z = 0.
-    let dim = if m.planar { 2 } else { 3 };
-    let points: Vec<TokenStream> = points.chunks(3).map(|p| xyz(&p[..dim])).collect();
-    // The verification of a function whose last roots are the residual rows and the extent.
-    let check_of = |rest: &[TokenStream]| -> TokenStream {
-        if open.is_empty() {
+/// What the functions of one direction share: names, sizes and the
+/// pieces of code every one of them writes.
+struct Parts<'a> {
+    emit: &'a Emit<'a>,
+    d: &'a Direction<'a>,
+    what: &'static str,
+    rt: TokenStream,
+    f_branch: proc_macro2::Ident,
+    f_unverified: proc_macro2::Ident,
+    f_inconsistent: proc_macro2::Ident,
+    n_result: usize,
+    n_rows: usize,
+    /// Whether some joint no step closes (or a pin) verifies the solution.
+    verified: bool,
+    given_sig: TokenStream,
+    finite: TokenStream,
+}
+
+impl Parts<'_> {
+    /// The residual rows, then the extent they are measured against.
+    fn rows_of(&self, rest: &[TokenStream]) -> (TokenStream, TokenStream) {
+        let (residual, extent) = rest.split_at(self.n_rows);
+        (quote! { [#(#residual),*] }, extent[0].clone())
+    }
+
+    /// The verification of a function whose last roots are the residual rows and the extent.
+    fn check_of(&self, rest: &[TokenStream]) -> TokenStream {
+        if !self.verified {
             return quote! {};
         }
-        let (rows, extent) = rows_of(rest);
+        let f_inconsistent = &self.f_inconsistent;
+        let (rows, extent) = self.rows_of(rest);
         quote! {
             let extent = #extent;
             let rows = #rows;
@@ -493,48 +458,174 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
                 return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
             }
         }
-    };
-    let check = check_of(rest);
-    let solution_doc = format!(" {what} position for one branch: every joint value and every point.");
-    let solution = quote! {
-        #[doc = #solution_doc]
-        pub fn #f_solution(&self, #given_sig) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
-            let _ = &signs;
-            #finite
-            #lets
-            #check
-            ::core::result::Result::Ok(#sol_ty {
-                q: [#(#values),*],
-                points: [#(#points),*],
-                outputs: [#(#outputs),*],
-            })
-        }
-    };
+    }
 
-    // Every branch, what they share computed once.
-    let roots: Vec<Vec<Sym>> = d
-        .every
-        .iter()
-        .map(|b| {
-            let mut r = b.result.clone();
-            r.extend(&b.residual);
-            r.push(b.extent);
-            r
-        })
-        .collect();
-    let n_solutions = d.every.len();
-    let guards: Vec<Vec<Sym>> = d
-        .every
-        .iter()
-        .zip(&roots)
-        .map(|(b, r)| emit.needed_guards(r, &b.guards, &b.waivable))
-        .collect();
-    let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
-        let (result, rest) = exprs.split_at(n_result);
-        if open.is_empty() {
+    /// One branch, the caller's signs: the result alone (with its
+    /// unverified core and the inconsistency it may find).
+    fn lean(&self, open_names: &[String], angular: &[bool], given_names: &TokenStream) -> TokenStream {
+        let Parts {
+            emit,
+            d,
+            what,
+            rt,
+            f_branch,
+            f_unverified,
+            f_inconsistent,
+            n_result,
+            n_rows,
+            given_sig,
+            finite,
+            ..
+        } = self;
+        let n_given = d.plan.n_inputs;
+        let n_open = open_names.len();
+        let mut roots = d.given.result.clone();
+        roots.extend(&d.given.residual);
+        roots.push(d.given.extent);
+        let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
+        let (result, rest) = exprs.split_at(*n_result);
+        let (rows, extent) = self.rows_of(rest);
+        let verified_doc = " Verified: the joints no step closes must close.";
+        let lean_doc = if d.forward {
+            format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the declared outputs (`OUTPUTS`).")
+        } else {
+            format!(" {what} position for one branch (`signs[k]` for the plan's k-th ± choice): the actuators' values (`INPUTS`).")
+        };
+        if !self.verified {
+            quote! {
+                #[doc = #lean_doc]
+                pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
+                    let _ = &signs;
+                    #finite
+                    #lets
+                    ::core::result::Result::Ok([#(#result),*])
+                }
+            }
+        } else {
+            quote! {
+                #[doc = #lean_doc]
+                #[doc = #verified_doc]
+                #[inline]
+                pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
+                    let (result, rows, extent) = self.#f_unverified(given, signs)?;
+                    if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
+                        return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                    }
+                    ::core::result::Result::Ok(result)
+                }
+
+                /// One branch unverified: the result, the open joints' residual rows, their extent.
+                #[inline]
+                fn #f_unverified(&self, #given_sig) -> ::core::result::Result<([f64; #n_result], [f64; #n_rows], f64), #rt::SolveError> {
+                    let _ = &signs;
+                    #finite
+                    #lets
+                    let extent = #extent;
+                    ::core::result::Result::Ok(([#(#result),*], #rows, extent))
+                }
+
+                /// Why a branch whose open joint does not close is inconsistent:
+                /// the given value the others contradict, found by re-solving nearby.
+                #[cold]
+                fn #f_inconsistent(&self, #given_sig, row: usize, gap: f64, extent: f64) -> #rt::SolveError {
+                    const OPEN: [&str; #n_open] = [#(#open_names),*];
+                    const ANGULAR: [bool; #n_given] = [#(#angular),*];
+                    let owner = ::std::borrow::Cow::Borrowed(OPEN[row / #RESIDUAL_ROWS]);
+                    let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
+                        let g: &[f64; #n_given] = g.try_into().ok()?;
+                        self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
+                    });
+                    ::pkm::runtime::consistency::name_given(e, &#given_names)
+                }
+            }
+        }
+    }
+
+    /// The whole solution, one branch: every joint value and every point.
+    fn solution(
+        &self,
+        f_solution: &proc_macro2::Ident,
+        sol_ty: &proc_macro2::Ident,
+        m: &crate::model::Mechanism,
+    ) -> TokenStream {
+        let Parts {
+            emit,
+            d,
+            what,
+            rt,
+            given_sig,
+            finite,
+            ..
+        } = self;
+        let mut roots: Vec<Sym> = d.given.values.clone();
+        roots.extend(d.given.points.iter().flatten());
+        roots.extend(&d.given.outputs);
+        roots.extend(&d.given.residual);
+        roots.push(d.given.extent);
+        let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
+        let n_joints = m.joints.len();
+        let n_points = d.given.points.len();
+        let n_outputs = d.given.outputs.len();
+        let (values, rest) = exprs.split_at(n_joints);
+        let (points, rest) = rest.split_at(3 * n_points);
+        let (outputs, rest) = rest.split_at(n_outputs);
+        // A planar mechanism's points are (x, y): its plane is z = 0.
+        let dim = if m.planar { 2 } else { 3 };
+        let points: Vec<TokenStream> = points.chunks(3).map(|p| xyz(&p[..dim])).collect();
+        let check = self.check_of(rest);
+        let solution_doc = format!(" {what} position for one branch: every joint value and every point.");
+        quote! {
+            #[doc = #solution_doc]
+            pub fn #f_solution(&self, #given_sig) -> ::core::result::Result<#sol_ty, #rt::SolveError> {
+                let _ = &signs;
+                #finite
+                #lets
+                #check
+                ::core::result::Result::Ok(#sol_ty {
+                    q: [#(#values),*],
+                    points: [#(#points),*],
+                    outputs: [#(#outputs),*],
+                })
+            }
+        }
+    }
+
+    /// Every branch, what they share computed once; double roots marked.
+    fn every_branch(&self, f_all: &proc_macro2::Ident, result_angles: &TokenStream) -> TokenStream {
+        let Parts {
+            emit,
+            d,
+            what,
+            rt,
+            f_inconsistent,
+            n_result,
+            ..
+        } = self;
+        let n_given = d.plan.n_inputs;
+        let n_choices = d.plan.branches;
+        let roots: Vec<Vec<Sym>> = d
+            .every
+            .iter()
+            .map(|b| {
+                let mut r = b.result.clone();
+                r.extend(&b.residual);
+                r.push(b.extent);
+                r
+            })
+            .collect();
+        let n_solutions = d.every.len();
+        let guards: Vec<Vec<Sym>> = d
+            .every
+            .iter()
+            .zip(&roots)
+            .map(|(b, r)| emit.needed_guards(r, &b.guards, &b.waivable))
+            .collect();
+        let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
+        let (result, rest) = exprs.split_at(*n_result);
+        if !self.verified {
             quote! { ::core::result::Result::Ok([#(#result),*]) }
         } else {
-            let (rows, extent) = rows_of(rest);
+            let (rows, extent) = self.rows_of(rest);
             quote! {
                 let extent = #extent;
                 let rows = #rows;
@@ -547,36 +638,27 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             }
         }
     });
-    let all_doc = format!(
+        let all_doc = format!(
         " {what} position, every branch ({n_solutions}, in `signs_of` order), what the branches share computed once."
     );
-    let all = quote! {
-        #[doc = #all_doc]
-        /// A branch that is another's solution again (a double root) is
-        /// `SolveError::DoubleRoot`, and its twin is `tangent`.
-        pub fn #f_all(&self, given: &[f64; #n_given]) -> [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] {
-            let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
-                signs: #rt::signs_of::<#n_choices>(i),
-                result: ::core::result::Result::Err(#rt::SolveError::BadInput {
-                    what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-                }),
-                tangent: false,
-            });
-            if given.iter().all(|v| v.is_finite()) {
-                #body
+        quote! {
+            #[doc = #all_doc]
+            /// A branch that is another's solution again (a double root) is
+            /// `SolveError::DoubleRoot`, and its twin is `tangent`.
+            pub fn #f_all(&self, given: &[f64; #n_given]) -> [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] {
+                let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
+                    signs: #rt::signs_of::<#n_choices>(i),
+                    result: ::core::result::Result::Err(#rt::SolveError::BadInput {
+                        what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+                    }),
+                    tangent: false,
+                });
+                if given.iter().all(|v| v.is_finite()) {
+                    #body
+                }
+                ::pkm::runtime::consistency::mark_double_roots(&mut all, &#result_angles, |s: &[f64; #n_result]| &s[..]);
+                all
             }
-            ::pkm::runtime::consistency::mark_double_roots(&mut all, &#result_angles, |s: &[f64; #n_result]| &s[..]);
-            all
-        }
-    };
-    let derivatives = derivative_fns(emit, d, &given_sig, &finite, &check_of, name, what);
-    quote! {
-        #[automatically_derived]
-        impl #prepared {
-            #lean
-            #all
-            #solution
-            #derivatives
         }
     }
 }
