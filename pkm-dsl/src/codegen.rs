@@ -175,6 +175,20 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
 
 fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
     let a = &compiled.analysis;
+    let topology = topology_items(input, a, include);
+    let params = parameter_struct(input, a);
+    let mut solvers = solver_items(input, compiled)?;
+    solvers.push(crate::codegen_motion::generate(a, &input.ident)?);
+    Ok(quote! {
+        #topology
+        #params
+        #(#solvers)*
+    })
+}
+
+/// The mechanism's type and its topology as constants (`DOF`, `KAPPA`,
+/// `XI`, `DELTA`, the whole `REPORT`), tied to its source file.
+fn topology_items(input: &MacroInput, a: &Analysis, include: Option<&str>) -> TokenStream {
     let MacroInput { attrs, vis, ident, .. } = input;
     let m = &a.mechanism;
     let t = &a.topology;
@@ -238,69 +252,10 @@ fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str
     } else {
         quote! { #[doc = #default_doc] }
     };
-    let source_const = include.map(|rel| {
-        let c = format_ident!("__PKM_SOURCE");
-        // An absolute path is the file itself (the description was read
-        // by `Path::join`, which keeps it); a relative one is the crate's.
-        let path = if std::path::Path::new(rel).is_absolute() {
-            quote! { #rel }
-        } else {
-            let rel = format!("/{rel}");
-            quote! { ::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel) }
-        };
-        quote! {
-            // Ties the build to the file so that edits rebuild.
-            #[doc(hidden)]
-            const #c: &'static str = ::core::include_str!(#path);
-        }
-    });
-    let params = parameter_struct(input, a);
-    // The solvers, when asked for and the geometry is there.
-    let mut solvers = Vec::new();
-    if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
-        use crate::codegen_solution::Direction;
-        let fk = if m.wants(Capability::Fk) {
-            Some(compiled.forward()?)
-        } else {
-            None
-        };
-        let ik = if m.wants(Capability::Ik) {
-            Some(compiled.inverse()?)
-        } else {
-            None
-        };
-        for (cap, plan) in [(Capability::Fk, fk), (Capability::Ik, ik)] {
-            let Some(plan) = plan else { continue };
-            if plan.branches > MAX_FK_CHOICES {
-                return Err(Diagnostic::new(
-                    m.name_span(),
-                    format!(
-                        "the {} solution has {} ± choices; a solver lists at most 2^{MAX_FK_CHOICES} branches",
-                        cap.name(),
-                        plan.branches
-                    ),
-                )
-                .label("too many branches to list")
-                .into());
-            }
-        }
-        solvers.push(crate::codegen_solution::solution_items(a, ident, vis));
-        let prepared = crate::codegen_solver::generate(a, ident, vis, fk, ik).map_err(|e| {
-            Diagnostic::new(
-                m.name_span(),
-                format!("internal error: the solver's steps failed on symbols: {e}"),
-            )
-        })?;
-        solvers.push(prepared);
-        for (plan, direction) in [(fk, Direction::Forward), (ik, Direction::Inverse)] {
-            let Some(plan) = plan else { continue };
-            solvers.push(crate::codegen_solution::generate(a, plan, ident, direction));
-        }
-    }
-    solvers.push(crate::codegen_motion::generate(a, ident)?);
+    let source_const = include.map(source_const);
     let kappa_doc = format!(" Coupling degree κ = {kappa}.");
     let dof_doc = format!(" Full-cycle degrees of freedom F = {dof}.");
-    Ok(quote! {
+    quote! {
         #(#attrs)*
         #doc
         #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -344,9 +299,76 @@ fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str
             #source_const
         }
 
-        #params
-        #(#solvers)*
-    })
+    }
+}
+
+/// The constant that ties the build to the description's file, so that
+/// edits rebuild.
+fn source_const(rel: &str) -> TokenStream {
+    let c = format_ident!("__PKM_SOURCE");
+    // An absolute path is the file itself (the description was read
+    // by `Path::join`, which keeps it); a relative one is the crate's.
+    let path = if std::path::Path::new(rel).is_absolute() {
+        quote! { #rel }
+    } else {
+        let rel = format!("/{rel}");
+        quote! { ::core::concat!(::core::env!("CARGO_MANIFEST_DIR"), #rel) }
+    };
+    quote! {
+        // Ties the build to the file so that edits rebuild.
+        #[doc(hidden)]
+        const #c: &'static str = ::core::include_str!(#path);
+    }
+}
+
+/// The solvers, when asked for and the geometry is there: the solution
+/// types, the prepared solvers, and the functions of each direction.
+fn solver_items(input: &MacroInput, compiled: &crate::Compiled) -> Result<Vec<TokenStream>, Diagnostics> {
+    let a = &compiled.analysis;
+    let m = &a.mechanism;
+    let MacroInput { vis, ident, .. } = input;
+    let mut solvers = Vec::new();
+    if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
+        use crate::codegen_solution::Direction;
+        let fk = if m.wants(Capability::Fk) {
+            Some(compiled.forward()?)
+        } else {
+            None
+        };
+        let ik = if m.wants(Capability::Ik) {
+            Some(compiled.inverse()?)
+        } else {
+            None
+        };
+        for (cap, plan) in [(Capability::Fk, fk), (Capability::Ik, ik)] {
+            let Some(plan) = plan else { continue };
+            if plan.branches > MAX_FK_CHOICES {
+                return Err(Diagnostic::new(
+                    m.name_span(),
+                    format!(
+                        "the {} solution has {} ± choices; a solver lists at most 2^{MAX_FK_CHOICES} branches",
+                        cap.name(),
+                        plan.branches
+                    ),
+                )
+                .label("too many branches to list")
+                .into());
+            }
+        }
+        solvers.push(crate::codegen_solution::solution_items(a, ident, vis));
+        let prepared = crate::codegen_solver::generate(a, ident, vis, fk, ik).map_err(|e| {
+            Diagnostic::new(
+                m.name_span(),
+                format!("internal error: the solver's steps failed on symbols: {e}"),
+            )
+        })?;
+        solvers.push(prepared);
+        for (plan, direction) in [(fk, Direction::Forward), (ik, Direction::Inverse)] {
+            let Some(plan) = plan else { continue };
+            solvers.push(crate::codegen_solution::generate(a, plan, ident, direction));
+        }
+    }
+    Ok(solvers)
 }
 
 /// `NameParams` with one `f64` field per parameter; `Default` is the nominal design.
