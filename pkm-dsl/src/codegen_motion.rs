@@ -19,21 +19,64 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
     }
     // The numeric model must exist (every joint type has one).
     crate::numeric::model(a, &std::collections::HashMap::new())?;
-    let params_ty = format_ident!("{}Params", ident);
-    let rt = quote! { ::pkm::runtime };
-    let n_joints = m.joints.len();
-    let n_inputs = m.joints.iter().filter(|j| j.actuated).count();
-    let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
-    let n_points = m.joints.len() + a.geometry.points.len();
-    let dim = if m.planar { 2usize } else { 3 };
-    // Copies the runtime's 3-D point list into the solution's point array.
-    let points_array = quote! {
-        let mut out = [[0.0; #dim]; #n_points];
-        for (o, p) in out.iter_mut().zip(&points) {
-            o.copy_from_slice(&p[..#dim]);
+    let s = Signature::of(a, ident);
+    let model = model_fns(a, &s);
+    let jacobian = m.wants(Capability::Jacobian).then(|| jacobian_fn(&s));
+    let velocity = m.wants(Capability::Velocity).then(|| velocity_fns(&s));
+    let acceleration = m.wants(Capability::Acceleration).then(|| acceleration_fns(&s));
+    Ok(quote! {
+        #[automatically_derived]
+        impl #ident {
+            #model
+            #jacobian
+            #velocity
+            #acceleration
         }
-        ::core::result::Result::Ok(out)
-    };
+    })
+}
+
+/// The types and sizes the velocity functions are written with.
+struct Signature {
+    params_ty: proc_macro2::Ident,
+    n_joints: usize,
+    n_inputs: usize,
+    n_outputs: usize,
+    n_points: usize,
+    dim: usize,
+}
+
+impl Signature {
+    fn of(a: &Analysis, ident: &proc_macro2::Ident) -> Self {
+        let m = &a.mechanism;
+        Signature {
+            params_ty: format_ident!("{}Params", ident),
+            n_joints: m.joints.len(),
+            n_inputs: m.joints.iter().filter(|j| j.actuated).count(),
+            n_outputs: a.geometry.outputs.iter().map(|o| o.names.len()).sum(),
+            n_points: m.joints.len() + a.geometry.points.len(),
+            dim: if m.planar { 2 } else { 3 },
+        }
+    }
+
+    /// Copies the runtime's 3-D point list into the solution's point array.
+    fn points_array(&self) -> TokenStream {
+        let Signature { dim, n_points, .. } = self;
+        quote! {
+            let mut out = [[0.0; #dim]; #n_points];
+            for (o, p) in out.iter_mut().zip(&points) {
+                o.copy_from_slice(&p[..#dim]);
+            }
+            ::core::result::Result::Ok(out)
+        }
+    }
+}
+
+/// `model` (the numeric model at `params`) and `output_specs` (the
+/// declared outputs in numbers), the velocity analysis's data.
+fn model_fns(a: &Analysis, s: &Signature) -> TokenStream {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime };
+    let params_ty = &s.params_ty;
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
         let kind = joint_type(joint.kind);
         let [u, v] = joint.links;
@@ -80,108 +123,132 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
         OutputKind::Joint(j) => quote! { #rt::newton::Output::Joint(#j) },
     });
     let (name, planar) = (&m.name, m.planar);
+    quote! {
+        /// The numeric model at `params`, which the velocity analysis reads.
+        pub fn model(params: &#params_ty) -> #rt::model::Model {
+            let _ = params;
+            #rt::model::Model {
+                name: ::std::string::String::from(#name),
+                planar: #planar,
+                links: ::std::vec::Vec::from([#(::std::string::String::from(#links)),*]),
+                joints: ::std::vec::Vec::from([#(#joints),*]),
+                points: ::std::vec::Vec::from([#(#points),*]),
+            }
+        }
+
+        /// The declared outputs in numbers at `params`.
+        pub fn output_specs(params: &#params_ty) -> ::std::vec::Vec<#rt::newton::Output> {
+            let _ = params;
+            ::std::vec::Vec::from([#(#outputs),*])
+        }
+    }
+}
+
+/// `jacobian`: the forward and inverse velocity maps at joint values.
+fn jacobian_fn(s: &Signature) -> TokenStream {
+    let Signature {
+        params_ty, n_joints, ..
+    } = s;
+    let v = quote! { ::pkm::runtime::velocity };
+    quote! {
+        /// The forward velocity map (outputs per input rate) and the
+        /// inverse one (inputs per output rate) at the joint values `q`,
+        /// and how far `q` is from an output and an input singularity.
+        pub fn jacobian(params: &#params_ty, q: &[f64; #n_joints]) -> ::core::result::Result<#v::Jacobians, #v::VelocityError> {
+            #v::jacobians(&Self::model(params), q, &Self::output_specs(params))
+        }
+    }
+}
+
+/// `velocity`, `output_rates` and `point_velocities`.
+fn velocity_fns(s: &Signature) -> TokenStream {
+    let Signature {
+        params_ty,
+        n_joints,
+        n_inputs,
+        n_outputs,
+        n_points,
+        dim,
+    } = s;
+    let rt = quote! { ::pkm::runtime };
     let v = quote! { #rt::velocity };
-    let jacobian = m.wants(Capability::Jacobian).then(|| {
-        quote! {
-            /// The forward velocity map (outputs per input rate) and the
-            /// inverse one (inputs per output rate) at the joint values `q`,
-            /// and how far `q` is from an output and an input singularity.
-            pub fn jacobian(params: &#params_ty, q: &[f64; #n_joints]) -> ::core::result::Result<#v::Jacobians, #v::VelocityError> {
-                #v::jacobians(&Self::model(params), q, &Self::output_specs(params))
-            }
+    let points_array = s.points_array();
+    quote! {
+        /// Every joint rate and link twist at the joint values `q` for the
+        /// inputs' rates (their order is `INPUTS`'s).
+        pub fn velocity(
+            params: &#params_ty,
+            q: &[f64; #n_joints],
+            input_rates: &[f64; #n_inputs],
+        ) -> ::core::result::Result<#v::Velocities, #v::VelocityError> {
+            #v::velocities(&Self::model(params), q, input_rates)
         }
-    });
-    let velocity = m.wants(Capability::Velocity).then(|| {
-        quote! {
-            /// Every joint rate and link twist at the joint values `q` for the
-            /// inputs' rates (their order is `INPUTS`'s).
-            pub fn velocity(
-                params: &#params_ty,
-                q: &[f64; #n_joints],
-                input_rates: &[f64; #n_inputs],
-            ) -> ::core::result::Result<#v::Velocities, #v::VelocityError> {
-                #v::velocities(&Self::model(params), q, input_rates)
-            }
 
-            /// The declared outputs' rates (order `OUTPUTS`) for velocities at `q`.
-            pub fn output_rates(
-                params: &#params_ty,
-                q: &[f64; #n_joints],
-                v: &#v::Velocities,
-            ) -> ::core::result::Result<[f64; #n_outputs], #v::VelocityError> {
-                let model = Self::model(params);
-                let poses = #rt::newton::link_poses(&model, q)?;
-                let rates = #v::output_rates(&model, &poses, &Self::output_specs(params), &v.rates, &v.twists);
-                let mut out = [0.0; #n_outputs];
-                out.copy_from_slice(&rates);
-                ::core::result::Result::Ok(out)
-            }
-
-            /// The velocity of every point (order `POINTS`) for velocities at `q`.
-            pub fn point_velocities(
-                params: &#params_ty,
-                q: &[f64; #n_joints],
-                v: &#v::Velocities,
-            ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
-                let model = Self::model(params);
-                let poses = #rt::newton::link_poses(&model, q)?;
-                let points = #v::point_velocities(&model, &poses, &v.twists);
-                #points_array
-            }
+        /// The declared outputs' rates (order `OUTPUTS`) for velocities at `q`.
+        pub fn output_rates(
+            params: &#params_ty,
+            q: &[f64; #n_joints],
+            v: &#v::Velocities,
+        ) -> ::core::result::Result<[f64; #n_outputs], #v::VelocityError> {
+            let model = Self::model(params);
+            let poses = #rt::kinematics::link_poses(&model, q)?;
+            let rates = #v::output_rates(&model, &poses, &Self::output_specs(params), &v.rates, &v.twists);
+            let mut out = [0.0; #n_outputs];
+            out.copy_from_slice(&rates);
+            ::core::result::Result::Ok(out)
         }
-    });
-    let acceleration = m.wants(Capability::Acceleration).then(|| {
-        quote! {
-            /// Every joint's rate and second derivative and every link's twist
-            /// and twist rate at `q` for the inputs' rates and second derivatives.
-            pub fn acceleration(
-                params: &#params_ty,
-                q: &[f64; #n_joints],
-                input_rates: &[f64; #n_inputs],
-                input_accelerations: &[f64; #n_inputs],
-            ) -> ::core::result::Result<#v::Accelerations, #v::VelocityError> {
-                #v::accelerations(&Self::model(params), q, input_rates, input_accelerations)
-            }
 
-            /// The acceleration of every point (order `POINTS`) for accelerations at `q`.
-            pub fn point_accelerations(
-                params: &#params_ty,
-                q: &[f64; #n_joints],
-                a: &#v::Accelerations,
-            ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
-                let model = Self::model(params);
-                let poses = #rt::newton::link_poses(&model, q)?;
-                let points = #v::point_accelerations(&model, &poses, a);
-                #points_array
-            }
+        /// The velocity of every point (order `POINTS`) for velocities at `q`.
+        pub fn point_velocities(
+            params: &#params_ty,
+            q: &[f64; #n_joints],
+            v: &#v::Velocities,
+        ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
+            let model = Self::model(params);
+            let poses = #rt::kinematics::link_poses(&model, q)?;
+            let points = #v::point_velocities(&model, &poses, &v.twists);
+            #points_array
         }
-    });
-    Ok(quote! {
-        #[automatically_derived]
-        impl #ident {
-            /// The numeric model at `params`, which the velocity analysis reads.
-            pub fn model(params: &#params_ty) -> #rt::model::Model {
-                let _ = params;
-                #rt::model::Model {
-                    name: ::std::string::String::from(#name),
-                    planar: #planar,
-                    links: ::std::vec::Vec::from([#(::std::string::String::from(#links)),*]),
-                    joints: ::std::vec::Vec::from([#(#joints),*]),
-                    points: ::std::vec::Vec::from([#(#points),*]),
-                }
-            }
+    }
+}
 
-            /// The declared outputs in numbers at `params`.
-            pub fn output_specs(params: &#params_ty) -> ::std::vec::Vec<#rt::newton::Output> {
-                let _ = params;
-                ::std::vec::Vec::from([#(#outputs),*])
-            }
-
-            #jacobian
-            #velocity
-            #acceleration
+/// `acceleration` and `point_accelerations`.
+fn acceleration_fns(s: &Signature) -> TokenStream {
+    let Signature {
+        params_ty,
+        n_joints,
+        n_inputs,
+        n_points,
+        dim,
+        ..
+    } = s;
+    let rt = quote! { ::pkm::runtime };
+    let v = quote! { #rt::velocity };
+    let points_array = s.points_array();
+    quote! {
+        /// Every joint's rate and second derivative and every link's twist
+        /// and twist rate at `q` for the inputs' rates and second derivatives.
+        pub fn acceleration(
+            params: &#params_ty,
+            q: &[f64; #n_joints],
+            input_rates: &[f64; #n_inputs],
+            input_accelerations: &[f64; #n_inputs],
+        ) -> ::core::result::Result<#v::Accelerations, #v::VelocityError> {
+            #v::accelerations(&Self::model(params), q, input_rates, input_accelerations)
         }
-    })
+
+        /// The acceleration of every point (order `POINTS`) for accelerations at `q`.
+        pub fn point_accelerations(
+            params: &#params_ty,
+            q: &[f64; #n_joints],
+            a: &#v::Accelerations,
+        ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
+            let model = Self::model(params);
+            let poses = #rt::kinematics::link_poses(&model, q)?;
+            let points = #v::point_accelerations(&model, &poses, a);
+            #points_array
+        }
+    }
 }
 
 pub(crate) fn xyz(v: &Vec3) -> TokenStream {
