@@ -401,28 +401,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                     ast.links.push(LinkDecl { name: n, description });
                 }
             }
-            Rule::joint_stmt => {
-                let span = span_of(&stmt);
-                let mut it = stmt.into_inner().skip(1);
-                let jname = name(it.next().expect("joint name"));
-                let kind = name(it.next().expect("joint kind"));
-                let mut links = Vec::new();
-                let mut actuated = false;
-                for p in it {
-                    match p.as_rule() {
-                        Rule::name => links.push(name(p)),
-                        Rule::actuated => actuated = true,
-                        _ => {}
-                    }
-                }
-                ast.joints.push(JointDecl {
-                    name: jname,
-                    kind,
-                    links,
-                    actuated,
-                    span,
-                });
-            }
+            Rule::joint_stmt => ast.joints.push(joint_decl(stmt)),
             Rule::branch_stmt => {
                 let mut it = stmt.into_inner().skip(1);
                 let bname = name(it.next().expect("branch name"));
@@ -443,46 +422,11 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
             Rule::study_stmt => ast.studies.push(crate::study::build(stmt)),
-            Rule::outputs_stmt => {
-                for o in stmt.into_inner().filter(|p| p.as_rule() == Rule::output) {
-                    let span = span_of(&o);
-                    let mut names = Vec::new();
-                    let mut what = None;
-                    for q in o.into_inner() {
-                        match q.as_rule() {
-                            Rule::ident => names.push(name(q)),
-                            Rule::pose_output => {
-                                let inner: Vec<_> = q.into_inner().collect();
-                                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
-                                let link = name(it.next().expect("pose link").clone());
-                                let at = name(it.next().expect("pose point").clone());
-                                let about = inner.iter().find(|r| r.as_rule() == Rule::axis).cloned().map(axis);
-                                what = Some(OutputWhat::Pose { link, at, about });
-                            }
-                            Rule::point_output => {
-                                let inner: Vec<_> = q.into_inner().collect();
-                                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
-                                let at = name(it.next().expect("point output's point").clone());
-                                let link = name(it.next().expect("point output's link").clone());
-                                what = Some(OutputWhat::Point { link, at });
-                            }
-                            Rule::joint_output => {
-                                let j = q
-                                    .into_inner()
-                                    .find(|r| r.as_rule() == Rule::ident)
-                                    .expect("output joint");
-                                what = Some(OutputWhat::Joint(name(j)));
-                            }
-                            _ => {}
-                        }
-                    }
-                    ast.outputs.push(OutputDecl {
-                        names,
-                        what: what.expect("output kind"),
-                        span,
-                    });
-                }
-            }
+            Rule::outputs_stmt => ast.outputs.extend(
+                stmt.into_inner()
+                    .filter(|p| p.as_rule() == Rule::output)
+                    .map(output_decl),
+            ),
             Rule::parameters_stmt => {
                 for p in stmt.into_inner().filter(|p| p.as_rule() == Rule::parameter) {
                     let mut it = p.into_inner();
@@ -498,30 +442,98 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                     ast.geometry.push(LinkGeometry { link, placements });
                 }
             }
-            Rule::relation_stmt => {
-                let mut items = Vec::new();
-                let mut ops = Vec::new();
-                for p in stmt.into_inner() {
-                    match relation_kind(&p) {
-                        Some(k) => ops.push((k, span_of(&p))),
-                        None if p.as_rule() == Rule::plane => {
-                            let span = span_of(&p);
-                            let mut names = p.into_inner().map(name);
-                            let first = names.next().expect("a plane names something");
-                            items.push(match names.next() {
-                                Some(second) => DirectionRef::PlaneOf(first, second, span),
-                                None => DirectionRef::FramePlane(Name { text: first.text, span }),
-                            });
-                        }
-                        None => items.push(DirectionRef::Axis(name(p))),
-                    }
-                }
-                ast.relations.push(RelationStmt { items, ops });
-            }
+            Rule::relation_stmt => ast.relations.push(relation_stmt(stmt)),
             _ => {}
         }
     }
     ast
+}
+
+/// `joint NAME = KIND(LINK, LINK, …) *;`: a joint declared on its own
+/// (`*` marks it actuated; more than two links make a compound hinge).
+fn joint_decl(stmt: Pair<Rule>) -> JointDecl {
+    let span = span_of(&stmt);
+    let mut it = stmt.into_inner().skip(1);
+    let jname = name(it.next().expect("joint name"));
+    let kind = name(it.next().expect("joint kind"));
+    let mut links = Vec::new();
+    let mut actuated = false;
+    for p in it {
+        match p.as_rule() {
+            Rule::name => links.push(name(p)),
+            Rule::actuated => actuated = true,
+            _ => {}
+        }
+    }
+    JointDecl {
+        name: jname,
+        kind,
+        links,
+        actuated,
+        span,
+    }
+}
+
+/// One declared output: its names and what they measure (a pose, a point or a joint).
+fn output_decl(o: Pair<Rule>) -> OutputDecl {
+    let span = span_of(&o);
+    let mut names = Vec::new();
+    let mut what = None;
+    for q in o.into_inner() {
+        match q.as_rule() {
+            Rule::ident => names.push(name(q)),
+            Rule::pose_output => {
+                let inner: Vec<_> = q.into_inner().collect();
+                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
+                let link = name(it.next().expect("pose link").clone());
+                let at = name(it.next().expect("pose point").clone());
+                let about = inner.iter().find(|r| r.as_rule() == Rule::axis).cloned().map(axis);
+                what = Some(OutputWhat::Pose { link, at, about });
+            }
+            Rule::point_output => {
+                let inner: Vec<_> = q.into_inner().collect();
+                let mut it = inner.iter().filter(|r| matches!(r.as_rule(), Rule::name | Rule::ident));
+                let at = name(it.next().expect("point output's point").clone());
+                let link = name(it.next().expect("point output's link").clone());
+                what = Some(OutputWhat::Point { link, at });
+            }
+            Rule::joint_output => {
+                let j = q
+                    .into_inner()
+                    .find(|r| r.as_rule() == Rule::ident)
+                    .expect("output joint");
+                what = Some(OutputWhat::Joint(name(j)));
+            }
+            _ => {}
+        }
+    }
+    OutputDecl {
+        names,
+        what: what.expect("output kind"),
+        span,
+    }
+}
+
+/// `A ∥ B ⊥ ◇C …`: the directions and the relations between neighbours.
+fn relation_stmt(stmt: Pair<Rule>) -> RelationStmt {
+    let mut items = Vec::new();
+    let mut ops = Vec::new();
+    for p in stmt.into_inner() {
+        match relation_kind(&p) {
+            Some(k) => ops.push((k, span_of(&p))),
+            None if p.as_rule() == Rule::plane => {
+                let span = span_of(&p);
+                let mut names = p.into_inner().map(name);
+                let first = names.next().expect("a plane names something");
+                items.push(match names.next() {
+                    Some(second) => DirectionRef::PlaneOf(first, second, span),
+                    None => DirectionRef::FramePlane(Name { text: first.text, span }),
+                });
+            }
+            None => items.push(DirectionRef::Axis(name(p))),
+        }
+    }
+    RelationStmt { items, ops }
 }
 
 fn placement(p: Pair<Rule>) -> Placement {
