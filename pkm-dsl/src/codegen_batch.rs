@@ -158,63 +158,72 @@ fn lanes_fn(
         quote! {}
     };
     let result = result(values);
-    let (f, f_lanes, f_lane) = (
-        format_ident!("{stem}_batch"),
-        format_ident!("{stem}_lanes"),
-        format_ident!("{stem}_lane"),
-    );
-    let given: Vec<_> = (0..n_given).map(|k| format_ident!("given_{k}")).collect();
-    let out: Vec<_> = (0..n_out).map(|k| format_ident!("out_{k}")).collect();
-    let out_index: Vec<usize> = (0..n_out).collect();
-    let name = f.to_string();
-    let sign = quote! { ::pkm::runtime::primitives::Sign };
-    let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
-    let (generics, turbofish, assert, const_p, p_arg) = match points {
-        Some(n) => (
-            quote! { <const P: usize> },
-            quote! { ::<P> },
-            quote! { const { assert!(P < #n, "P is not an index into POINTS") }; },
-            quote! { const P: usize },
-            quote! { P },
-        ),
-        None => (quote! {}, quote! {}, quote! {}, quote! {}, quote! {}),
+    let sig = LaneSig {
+        prepared,
+        f: format_ident!("{stem}_batch"),
+        f_lanes: format_ident!("{stem}_lanes"),
+        f_lane: format_ident!("{stem}_lane"),
+        given: (0..n_given).map(|k| format_ident!("given_{k}")).collect(),
+        out: (0..n_out).map(|k| format_ident!("out_{k}")).collect(),
+        n_choices,
+        points,
     };
-    // The loop's parts: slice x cut into `x_0` … (`part` lanes each).
-    let part_of = |x: &str, w: usize| format_ident!("{x}_{w}");
-    let mut parts = TokenStream::new();
-    let slices = given.iter().map(|g| (g.to_string(), false));
-    for (x, mutable) in slices
-        .chain(out.iter().map(|o| (o.to_string(), true)))
-        .chain([("ok".to_string(), true)])
-    {
-        let whole = format_ident!("{x}");
-        let (split, all) = if mutable {
-            (quote! { split_at_mut }, quote! { &mut *#whole })
-        } else {
-            (quote! { split_at }, quote! { #whole })
-        };
-        parts.extend(quote! { let rest = #all; });
-        for w in 0..WAYS {
-            let p = part_of(&x, w);
-            if w + 1 < WAYS {
-                parts.extend(quote! { let (#p, rest) = rest.#split(part); });
-            } else {
-                parts.extend(quote! { let (#p, _) = rest.#split(part); });
-            }
+    let batch = sig.batch_fn(doc);
+    let lane = sig.lane_fn(&lets, &check, &result);
+    let lanes = sig.lanes_loop_fn();
+    quote! {
+        #batch
+        #lane
+        #lanes
+    }
+}
+
+/// What the three functions of one batch solver name and share.
+struct LaneSig<'a> {
+    prepared: &'a proc_macro2::Ident,
+    f: proc_macro2::Ident,
+    f_lanes: proc_macro2::Ident,
+    f_lane: proc_macro2::Ident,
+    given: Vec<proc_macro2::Ident>,
+    out: Vec<proc_macro2::Ident>,
+    n_choices: usize,
+    /// Generic over the point `P` of that many.
+    points: Option<usize>,
+}
+
+impl LaneSig<'_> {
+    /// `<const P: usize>`, `::<P>`, the assertion on `P`, `const P: usize`
+    /// and `P`, where the function is generic over a point; else nothing.
+    fn generics(&self) -> [TokenStream; 5] {
+        match self.points {
+            Some(n) => [
+                quote! { <const P: usize> },
+                quote! { ::<P> },
+                quote! { const { assert!(P < #n, "P is not an index into POINTS") }; },
+                quote! { const P: usize },
+                quote! { P },
+            ],
+            None => Default::default(),
         }
     }
-    let calls = (0..WAYS).map(|w| {
-        let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
-        let g = given.iter().map(|g| part_of(&g.to_string(), w));
-        quote! { let (#r, #r_ok) = self.#f_lane #turbofish(signs, [#(#g[i]),*]); }
-    });
-    let stores = (0..WAYS).map(|w| {
-        let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
-        let o = out.iter().map(|o| part_of(&o.to_string(), w));
-        let ok_w = part_of("ok", w);
-        quote! { #(#o[i] = #r[#out_index];)* #ok_w[i] = #r_ok; }
-    });
-    quote! {
+
+    /// The public function: the slices' lengths checked, then the loop run
+    /// through `pkm::runtime::batch::wide`.
+    fn batch_fn(&self, doc: &str) -> TokenStream {
+        let LaneSig {
+            prepared,
+            f,
+            f_lanes,
+            given,
+            out,
+            n_choices,
+            ..
+        } = self;
+        let (n_given, n_out) = (given.len(), out.len());
+        let name = f.to_string();
+        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let [generics, turbofish, assert, const_p, p_arg] = self.generics();
+        quote! {
         #[doc = #doc]
         pub fn #f #generics(
             &self,
@@ -249,7 +258,20 @@ fn lanes_fn(
             ::pkm::runtime::batch::wide(Lanes #turbofish { solver: self, signs, given, out, ok });
             ::core::result::Result::Ok(())
         }
+        }
+    }
 
+    /// One lane: its result (zeros where refused) and whether it is verified.
+    fn lane_fn(&self, lets: &TokenStream, check: &TokenStream, result: &TokenStream) -> TokenStream {
+        let LaneSig {
+            f_lane, n_choices, out, ..
+        } = self;
+        let n_given = self.given.len();
+        let n_out = out.len();
+        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
+        let [generics, ..] = self.generics();
+        quote! {
         /// One lane of the loop below: its result (zeros where refused) and
         /// whether it is a verified solution.
         #[inline(always)]
@@ -262,7 +284,59 @@ fn lanes_fn(
             let result: [f64; #n_out] = #result;
             (if lane_ok { result } else { [0.0; #n_out] }, lane_ok)
         }
+        }
+    }
 
+    /// The loop over the lanes, `WAYS` an iteration, one from each part of
+    /// the slices.
+    fn lanes_loop_fn(&self) -> TokenStream {
+        let LaneSig {
+            f_lanes,
+            f_lane,
+            given,
+            out,
+            n_choices,
+            ..
+        } = self;
+        let out_index: Vec<usize> = (0..out.len()).collect();
+        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let [generics, turbofish, ..] = self.generics();
+        // The loop's parts: slice x cut into `x_0` … (`part` lanes each).
+        let part_of = |x: &str, w: usize| format_ident!("{x}_{w}");
+        let mut parts = TokenStream::new();
+        let slices = given.iter().map(|g| (g.to_string(), false));
+        for (x, mutable) in slices
+            .chain(out.iter().map(|o| (o.to_string(), true)))
+            .chain([("ok".to_string(), true)])
+        {
+            let whole = format_ident!("{x}");
+            let (split, all) = if mutable {
+                (quote! { split_at_mut }, quote! { &mut *#whole })
+            } else {
+                (quote! { split_at }, quote! { #whole })
+            };
+            parts.extend(quote! { let rest = #all; });
+            for w in 0..WAYS {
+                let p = part_of(&x, w);
+                if w + 1 < WAYS {
+                    parts.extend(quote! { let (#p, rest) = rest.#split(part); });
+                } else {
+                    parts.extend(quote! { let (#p, _) = rest.#split(part); });
+                }
+            }
+        }
+        let calls = (0..WAYS).map(|w| {
+            let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
+            let g = given.iter().map(|g| part_of(&g.to_string(), w));
+            quote! { let (#r, #r_ok) = self.#f_lane #turbofish(signs, [#(#g[i]),*]); }
+        });
+        let stores = (0..WAYS).map(|w| {
+            let (r, r_ok) = (format_ident!("r_{w}"), format_ident!("r_ok_{w}"));
+            let o = out.iter().map(|o| part_of(&o.to_string(), w));
+            let ok_w = part_of("ok", w);
+            quote! { #(#o[i] = #r[#out_index];)* #ok_w[i] = #r_ok; }
+        });
+        quote! {
         /// The loop of the function above, its slices checked to `ok.len()`
         /// (as arguments, they do not alias: no run-time overlap checks).
         /// `WAYS` lanes an iteration, one from each part of the slices:
@@ -294,6 +368,7 @@ fn lanes_fn(
                 #(#out[j] = r[#out_index];)*
                 ok[j] = r_ok;
             }
+        }
         }
     }
 }
