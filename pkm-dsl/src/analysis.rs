@@ -2,7 +2,7 @@
 //! (`analyze_source`), and the topology report `pkm analyze` prints and the
 //! generated type's `REPORT` holds.
 
-use crate::model::Mechanism;
+use crate::mechanism::Mechanism;
 use crate::topology::{delta_unicode, Topology};
 use std::fmt::Write;
 
@@ -153,7 +153,7 @@ impl Analysis {
 /// ```
 pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
     let ast = crate::parse(source)?;
-    let mechanism = crate::model::build(&ast)?;
+    let mechanism = crate::mechanism::build(&ast)?;
     let geometry = crate::geometry::build(&ast, &mechanism);
     let topology = crate::topology::analyze(&mechanism);
     // Report geometry and topology errors together.

@@ -5,7 +5,7 @@
 
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::model::Capability;
+use crate::mechanism::Capability;
 use crate::topology::delta_unicode;
 use proc_macro2::{Span as PmSpan, TokenStream};
 use quote::{format_ident, quote};

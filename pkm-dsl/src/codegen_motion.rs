@@ -5,7 +5,7 @@
 use crate::analysis::Analysis;
 use crate::geometry::OutputKind;
 use crate::geometry::{JointPlace, Vec3};
-use crate::model::Capability;
+use crate::mechanism::Capability;
 use pkm_runtime::solution::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -284,7 +284,7 @@ pub(crate) fn place(p: &JointPlace) -> TokenStream {
 }
 
 /// The runtime's joint type of a joint kind, as tokens.
-fn joint_type(kind: crate::model::JointKind) -> TokenStream {
+fn joint_type(kind: crate::mechanism::JointKind) -> TokenStream {
     let t = match crate::codegen_solver::joint_type(kind) {
         pkm_runtime::model::JointType::P => quote! { P },
         pkm_runtime::model::JointType::Pa => quote! { Pa },

@@ -26,7 +26,11 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
     point_names.extend(a.geometry.points.iter().map(|p| p.name.clone()));
     let n_points = point_names.len();
     let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
-    let revolute: Vec<bool> = m.joints.iter().map(|j| j.kind != crate::model::JointKind::P).collect();
+    let revolute: Vec<bool> = m
+        .joints
+        .iter()
+        .map(|j| j.kind != crate::mechanism::JointKind::P)
+        .collect();
     let dim: usize = if m.planar { 2 } else { 3 };
     let output_names: Vec<&str> = a
         .geometry
@@ -44,7 +48,7 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             (0..n).map(move |i| match &o.kind {
                 crate::geometry::OutputKind::Pose { about, .. } => i == 3 || (m.planar && i == 2 && about.is_none()),
                 crate::geometry::OutputKind::Point { .. } => false,
-                crate::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::model::JointKind::P,
+                crate::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::mechanism::JointKind::P,
             })
         })
         .collect();

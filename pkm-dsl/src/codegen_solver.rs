@@ -8,7 +8,7 @@ use crate::analysis::Analysis;
 use crate::emit::Emit;
 use crate::expr::Expr;
 use crate::geometry::{OutputKind, Vec3};
-use crate::model::JointKind;
+use crate::mechanism::JointKind;
 use crate::trace::{record, Choice, Sym};
 use pkm_runtime::model::JointType;
 use pkm_runtime::primitives::Sign;
@@ -269,7 +269,7 @@ pub fn generate(
                 })
                 .collect::<Result<_, _>>()?;
             // Rates and Jacobians only where the description asks for them.
-            use crate::model::Capability;
+            use crate::mechanism::Capability;
             let m = &a.mechanism;
             let wanted = [Capability::Jacobian, Capability::Velocity, Capability::Acceleration]
                 .iter()
@@ -313,7 +313,7 @@ pub fn generate(
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
         // The slice solvers only where the description asks for sweeps.
-        if a.mechanism.wants(crate::model::Capability::Workspace) {
+        if a.mechanism.wants(crate::mechanism::Capability::Workspace) {
             fns.push(batch::generate(a, ident, &emit, d));
         }
     }
@@ -546,7 +546,7 @@ impl Parts<'_> {
         &self,
         f_solution: &proc_macro2::Ident,
         sol_ty: &proc_macro2::Ident,
-        m: &crate::model::Mechanism,
+        m: &crate::mechanism::Mechanism,
     ) -> TokenStream {
         let Parts {
             emit,

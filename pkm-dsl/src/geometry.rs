@@ -7,7 +7,7 @@
 use crate::ast::{AxisRef, LinkGeometry, MechanismAst, Place, Placement, RelationKind, Tuple};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
 use crate::expr::{Definition, Expr};
-use crate::model::{suggest, DirectionItem, JointKind, Mechanism};
+use crate::mechanism::{suggest, DirectionItem, JointKind, Mechanism};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -799,7 +799,7 @@ fn check_relations(
 mod tests {
     fn check(source: &str, expected: &[&str]) {
         let result = crate::parse(source).map_err(crate::Diagnostics::from).and_then(|ast| {
-            let m = crate::model::build(&ast)?;
+            let m = crate::mechanism::build(&ast)?;
             super::build(&ast, &m)
         });
         let messages: Vec<String> = match result {

@@ -16,7 +16,7 @@ mod parser;
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;
 pub mod analysis;
-pub mod model;
+pub mod mechanism;
 pub mod numeric;
 pub mod params;
 pub mod planner;

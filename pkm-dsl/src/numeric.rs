@@ -4,7 +4,7 @@
 
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::model::JointKind;
+use crate::mechanism::JointKind;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint};
 use std::collections::HashMap;
 

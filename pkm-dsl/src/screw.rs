@@ -8,7 +8,7 @@
 //! velocity of the body point at the origin.
 
 use crate::diagnostics::Diagnostic;
-use crate::model::{DirectionClasses, DirectionItem, JointKind, Mechanism};
+use crate::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
 use nalgebra::{DMatrix, Vector3, Vector6};
 
 /// Singular values below this fraction of the largest count as zero.
@@ -591,7 +591,7 @@ mod tests {
     /// (joint names, expected kernel dimension of the whole system, expected loop rank).
     fn check_kernel(source: &str, subsets: &[(&[&str], usize, usize)]) {
         let ast = crate::parse(source).unwrap();
-        let mech = crate::model::build(&ast).unwrap();
+        let mech = crate::mechanism::build(&ast).unwrap();
         let classes = DirectionClasses::new(&mech.joints, &mech.relations);
         let inst = realize(&mech, &classes, 11).unwrap();
         for (names, nullity, loop_rank) in subsets {

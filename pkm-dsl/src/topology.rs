@@ -14,7 +14,7 @@
 
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::limits::MAX_ORDERING_WORK;
-use crate::model::{DirectionClasses, DirectionItem, JointKind, Mechanism};
+use crate::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
 use crate::screw::{self, Instance, VelocitySystem};
 use nalgebra::{DMatrix, Vector3};
 use std::collections::HashMap;
@@ -525,7 +525,7 @@ fn notation(ctx: &Context, joints: &[usize]) -> String {
 ///
 /// ```
 /// let ast = pkm_dsl::parse("mechanism four_bar { planar; base R1* - R2 - R3 - R4 base; }").unwrap();
-/// let mech = pkm_dsl::model::build(&ast).unwrap();
+/// let mech = pkm_dsl::mechanism::build(&ast).unwrap();
 /// let topo = pkm_dsl::topology::analyze(&mech).unwrap();
 /// assert_eq!((topo.dof, topo.xi(), topo.delta(), topo.kappa), (1, vec![3], vec![0], 0));
 /// ```

@@ -18,11 +18,11 @@ pub mod singular;
 pub mod solution;
 pub mod spatial;
 pub mod steps;
-pub mod topology;
+pub mod topology_report;
 pub mod velocity;
 pub mod workspace;
 
-pub use topology::{SkcReport, SocReport, TopologyReport};
+pub use topology_report::{SkcReport, SocReport, TopologyReport};
 
 /// The linear-algebra crate the runtime's types use, re-exported so that
 /// generated code and users name one version.
