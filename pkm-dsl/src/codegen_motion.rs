@@ -58,15 +58,34 @@ impl Signature {
         }
     }
 
-    /// Copies the runtime's 3-D point list into the solution's point array.
-    fn points_array(&self) -> TokenStream {
-        let Signature { dim, n_points, .. } = self;
+    /// A function of every point's motion (order `POINTS`) at `q`: the
+    /// link poses there, `points` (the runtime's 3-D list, from `model`
+    /// and `poses`) copied into the solution's point array.
+    fn points_fn(&self, doc: &str, name: &TokenStream, arg: &TokenStream, points: &TokenStream) -> TokenStream {
+        let Signature {
+            params_ty,
+            n_joints,
+            n_points,
+            dim,
+            ..
+        } = self;
+        let rt = quote! { ::pkm::runtime };
         quote! {
-            let mut out = [[0.0; #dim]; #n_points];
-            for (o, p) in out.iter_mut().zip(&points) {
-                o.copy_from_slice(&p[..#dim]);
+            #[doc = #doc]
+            pub fn #name(
+                params: &#params_ty,
+                q: &[f64; #n_joints],
+                #arg,
+            ) -> ::core::result::Result<[[f64; #dim]; #n_points], #rt::velocity::VelocityError> {
+                let model = Self::model(params);
+                let poses = #rt::kinematics::link_poses(&model, q)?;
+                let points = #points;
+                let mut out = [[0.0; #dim]; #n_points];
+                for (o, p) in out.iter_mut().zip(&points) {
+                    o.copy_from_slice(&p[..#dim]);
+                }
+                ::core::result::Result::Ok(out)
             }
-            ::core::result::Result::Ok(out)
         }
     }
 }
@@ -167,12 +186,16 @@ fn velocity_fns(s: &Signature) -> TokenStream {
         n_joints,
         n_inputs,
         n_outputs,
-        n_points,
-        dim,
+        ..
     } = s;
     let rt = quote! { ::pkm::runtime };
     let v = quote! { #rt::velocity };
-    let points_array = s.points_array();
+    let point_velocities = s.points_fn(
+        " The velocity of every point (order `POINTS`) for velocities at `q`.",
+        &quote! { point_velocities },
+        &quote! { v: &#v::Velocities },
+        &quote! { #v::point_velocities(&model, &poses, &v.twists) },
+    );
     quote! {
         /// Every joint rate and link twist at the joint values `q` for the
         /// inputs' rates (their order is `INPUTS`'s).
@@ -198,17 +221,7 @@ fn velocity_fns(s: &Signature) -> TokenStream {
             ::core::result::Result::Ok(out)
         }
 
-        /// The velocity of every point (order `POINTS`) for velocities at `q`.
-        pub fn point_velocities(
-            params: &#params_ty,
-            q: &[f64; #n_joints],
-            v: &#v::Velocities,
-        ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
-            let model = Self::model(params);
-            let poses = #rt::kinematics::link_poses(&model, q)?;
-            let points = #v::point_velocities(&model, &poses, &v.twists);
-            #points_array
-        }
+        #point_velocities
     }
 }
 
@@ -218,13 +231,15 @@ fn acceleration_fns(s: &Signature) -> TokenStream {
         params_ty,
         n_joints,
         n_inputs,
-        n_points,
-        dim,
         ..
     } = s;
-    let rt = quote! { ::pkm::runtime };
-    let v = quote! { #rt::velocity };
-    let points_array = s.points_array();
+    let v = quote! { ::pkm::runtime::velocity };
+    let point_accelerations = s.points_fn(
+        " The acceleration of every point (order `POINTS`) for accelerations at `q`.",
+        &quote! { point_accelerations },
+        &quote! { a: &#v::Accelerations },
+        &quote! { #v::point_accelerations(&model, &poses, a) },
+    );
     quote! {
         /// Every joint's rate and second derivative and every link's twist
         /// and twist rate at `q` for the inputs' rates and second derivatives.
@@ -237,17 +252,7 @@ fn acceleration_fns(s: &Signature) -> TokenStream {
             #v::accelerations(&Self::model(params), q, input_rates, input_accelerations)
         }
 
-        /// The acceleration of every point (order `POINTS`) for accelerations at `q`.
-        pub fn point_accelerations(
-            params: &#params_ty,
-            q: &[f64; #n_joints],
-            a: &#v::Accelerations,
-        ) -> ::core::result::Result<[[f64; #dim]; #n_points], #v::VelocityError> {
-            let model = Self::model(params);
-            let poses = #rt::kinematics::link_poses(&model, q)?;
-            let points = #v::point_accelerations(&model, &poses, a);
-            #points_array
-        }
+        #point_accelerations
     }
 }
 
