@@ -29,9 +29,10 @@ pub struct Search<'a> {
     pub(crate) pins: Vec<Option<Vector3<f64>>>,
     pub(crate) steps: Vec<Step>,
     pub(crate) branches: usize,
-    /// How many solved joints separate each known link from the links known
-    /// at the start: each adds a composed rotation to its pose.
-    pub(crate) depth: Vec<usize>,
+    /// Whether each link was known at the start (the base, a placed output
+    /// link), not solved by a step: a link aimed from there composes no
+    /// rotation.
+    pub(crate) at_start: Vec<bool>,
 }
 
 /// One way out of a link along which a point stays put: the hops taken,
@@ -76,7 +77,7 @@ impl<'a> Search<'a> {
             pins: pinned.into_iter().map(|p| p.map(v3)).collect(),
             steps: start,
             branches: 0,
-            depth: vec![0; model.links.len()],
+            at_start: vec![true; model.links.len()],
         }
     }
 
@@ -246,7 +247,7 @@ impl<'a> Search<'a> {
     }
 
     pub(crate) fn push(&mut self, step: Step, to: usize, j: usize) {
-        self.depth[to] = self.depth[self.other(j, to)] + 1;
+        self.at_start[to] = false;
         self.steps.push(step);
         self.known[to] = true;
         self.pins[to] = None;
