@@ -593,4 +593,20 @@ mod tests {
             assert!(matches!(kind((h - x).abs()), Node::Abs(_)));
         });
     }
+
+    /// The exact folds of sums and differences: x − x and x + (−x) are 0
+    /// either way round; x + (−y) and (x + y) − y are not folded.
+    #[test]
+    fn opposite_terms_cancel_exactly() {
+        let ((), _) = record(|| {
+            let (x, y) = (Sym::given(0), Sym::given(1));
+            let zero = Sym::c(0.0);
+            assert_eq!(x - x, zero);
+            assert_eq!(x + (-x), zero);
+            assert_eq!((-x) + x, zero);
+            let kind = |s: Sym| with(|g| g.nodes[s.0 as usize].clone());
+            assert!(matches!(kind(x + (-y)), Node::Add(..)));
+            assert!(matches!(kind((x + y) - y), Node::Sub(..)));
+        });
+    }
 }
