@@ -446,16 +446,32 @@ impl Parts<'_> {
 
     /// The verification of a function whose last roots are the residual rows and the extent.
     fn check_of(&self, rest: &[TokenStream]) -> TokenStream {
+        self.check(
+            rest,
+            &quote! { signs },
+            |e| quote! { return ::core::result::Result::Err(#e); },
+        )
+    }
+
+    /// The residual rows measured against the extent: where one is beyond,
+    /// `exit` leaves with the inconsistency of the branch `signs`.
+    fn check(
+        &self,
+        rest: &[TokenStream],
+        signs: &TokenStream,
+        exit: impl FnOnce(TokenStream) -> TokenStream,
+    ) -> TokenStream {
         if !self.verified {
             return quote! {};
         }
         let f_inconsistent = &self.f_inconsistent;
         let (rows, extent) = self.rows_of(rest);
+        let exit = exit(quote! { self.#f_inconsistent(given, #signs, row, gap, extent) });
         quote! {
             let extent = #extent;
             let rows = #rows;
             if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
-                return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
+                #exit
             }
         }
     }
@@ -597,7 +613,6 @@ impl Parts<'_> {
             d,
             what,
             rt,
-            f_inconsistent,
             n_result,
             ..
         } = self;
@@ -621,26 +636,22 @@ impl Parts<'_> {
             .map(|(b, r)| emit.needed_guards(r, &b.guards, &b.waivable))
             .collect();
         let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
-        let (result, rest) = exprs.split_at(*n_result);
-        if !self.verified {
-            quote! { ::core::result::Result::Ok([#(#result),*]) }
-        } else {
-            let (rows, extent) = self.rows_of(rest);
+            let (result, rest) = exprs.split_at(*n_result);
+            let signs = quote! { #rt::signs_of::<#n_choices>(#b) };
+            let check = self.check(
+                rest,
+                &signs,
+                |e| quote! { break #label (::core::result::Result::Err(#e)); },
+            );
             quote! {
-                let extent = #extent;
-                let rows = #rows;
-                if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
-                    break #label (::core::result::Result::Err(
-                        self.#f_inconsistent(given, #rt::signs_of::<#n_choices>(#b), row, gap, extent),
-                    ));
-                }
+                #check
                 ::core::result::Result::Ok([#(#result),*])
             }
-        }
-    });
+        });
         let all_doc = format!(
-        " {what} position, every branch ({n_solutions}, in `signs_of` order), what the branches share computed once."
-    );
+            " {what} position, every branch ({n_solutions}, in `signs_of` order), \
+             what the branches share computed once."
+        );
         quote! {
             #[doc = #all_doc]
             /// A branch that is another's solution again (a double root) is
