@@ -188,7 +188,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
     // joints first (a compound hinge): that joint's axis does not move with
     // the turn, so what later steps read from it does not wait for the aim.
     let mut candidates = s.candidates();
-    candidates.sort_by_key(|&(j, from, to)| (!s.at_start[from], !s.carries_coaxial(j, to)));
+    candidates.sort_by_cached_key(|&(j, from, to)| (!s.at_start[from], !s.carries_coaxial(j, to)));
     for (j, from, to) in candidates {
         for (point, x) in s.points_of(to, j) {
             // A known link, or a pinned one at its pin (the new link's own pin too).
