@@ -13,7 +13,6 @@
 //! are calls, and a body with them runs lane after lane.
 
 use super::{Branch, Direction};
-use crate::analysis::Analysis;
 use crate::emit::Emit;
 use crate::trace::Sym;
 use proc_macro2::TokenStream;
@@ -24,15 +23,14 @@ use quote::{format_ident, quote};
 const WAYS: usize = 2;
 
 /// The batch functions of one direction, on `NamePrepared`.
-pub(super) fn generate(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
-    let m = &a.mechanism;
+pub(super) fn generate(ident: &proc_macro2::Ident, emit: &Emit, d: &Direction) -> TokenStream {
     let prepared = format_ident!("{}Prepared", ident);
     let name = if d.forward { "fk" } else { "ik" };
     let g = &d.given;
     let n_given = d.plan.n_inputs;
     let n_choices = d.plan.branches;
-    // Open joints and pinned points alike (`Plan::checks`, the residual rows).
-    let verify = !d.plan.checks(m.joints.len()).is_empty();
+    // Open joints and pinned points alike (`Plan::checks`), the rows that can fail.
+    let verify = !d.rows.is_empty();
 
     let lean = lanes_fn(
         &prepared,
@@ -142,13 +140,8 @@ fn lanes_fn(
         let (residual, extent) = rest.split_at(n_rows);
         let extent = &extent[0];
         // As `fk_branch`: every row within `VERIFY_TOL` of the extent (NaN
-        // is not); a row that is 0 is within any tolerance.
-        let rows = g
-            .residual
-            .iter()
-            .zip(residual)
-            .filter(|(s, _)| emit.constant(**s) != Some(0.0))
-            .map(|(_, r)| quote! { lane_ok &= (#r).abs() <= tol; });
+        // is not); the rows exactly 0 are already dropped.
+        let rows = residual.iter().map(|r| quote! { lane_ok &= (#r).abs() <= tol; });
         quote! {
             let extent = #extent;
             let tol = ::pkm::runtime::consistency::VERIFY_TOL * extent;

@@ -228,6 +228,10 @@ struct Direction<'p> {
     plan: &'p Plan,
     given: Branch,
     every: Vec<Branch>,
+    /// Which of the plan's residual rows each branch keeps, in order (a
+    /// row is `Plan::checks`' `row / RESIDUAL_ROWS`-th check's): a row that
+    /// is exactly 0 in every branch checks nothing and is not emitted.
+    rows: Vec<usize>,
     /// The result's rates along the given values' rates, where the
     /// description asks for velocity, Jacobians or accelerations.
     rates: Option<Vec<Sym>>,
@@ -236,6 +240,23 @@ struct Direction<'p> {
     /// The result's second derivative in time for the given values' rates
     /// and accelerations, where `acceleration` is asked for.
     accelerations: Option<Vec<Sym>>,
+}
+
+/// Drops the residual rows that are exactly 0 in every branch (a check's
+/// rows the joint's freedom leaves unconstrained, folded to 0 by the
+/// trace): the solvers then measure only rows that can fail.
+fn keep_live_rows(emit: &Emit, d: &mut Direction) {
+    let n = d.given.residual.len();
+    let live = |i: usize| {
+        std::iter::once(&d.given)
+            .chain(&d.every)
+            .any(|b| emit.constant(b.residual[i]) != Some(0.0))
+    };
+    let rows: Vec<usize> = (0..n).filter(|&i| live(i)).collect();
+    for b in std::iter::once(&mut d.given).chain(&mut d.every) {
+        b.residual = rows.iter().map(|&i| b.residual[i]).collect();
+    }
+    d.rows = rows;
 }
 
 fn xyz(p: &[TokenStream]) -> TokenStream {
@@ -297,6 +318,7 @@ pub fn generate(
             out.push(Direction {
                 forward,
                 plan,
+                rows: (0..given.residual.len()).collect(),
                 given,
                 every,
                 rates,
@@ -306,15 +328,18 @@ pub fn generate(
         }
         Ok(out)
     });
-    let directions = directions?;
+    let mut directions = directions?;
     let sites = [fk, ik].into_iter().flatten().flat_map(|p| loop_names(a, p)).collect();
     let emit = Emit::new(&graph, sites);
+    for d in &mut directions {
+        keep_live_rows(&emit, d);
+    }
     let mut fns = Vec::new();
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
         // The slice solvers only where the description asks for sweeps.
         if a.mechanism.wants(crate::mechanism::Capability::Workspace) {
-            fns.push(batch::generate(a, ident, &emit, d));
+            fns.push(batch::generate(ident, &emit, d));
         }
     }
     let prepared = format_ident!("{}Prepared", ident);
@@ -363,6 +388,8 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         .iter()
         .map(|c| c.owner(d.plan, |j| m.joints[j].name.clone(), |l| m.links[l].name.clone()))
         .collect();
+    // The owner of each emitted row.
+    let row_owners: Vec<String> = d.rows.iter().map(|r| open_names[r / RESIDUAL_ROWS].clone()).collect();
     let (given_names, result_angles) = if d.forward {
         (quote! { #ident::INPUTS }, quote! { #ident::OUTPUT_ANGLES })
     } else {
@@ -388,7 +415,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         f_inconsistent: format_ident!("{}_inconsistent", name),
         n_result: d.given.result.len(),
         n_rows: d.given.residual.len(),
-        verified: !open.is_empty(),
+        verified: !d.rows.is_empty(),
         given_sig: quote! { given: &[f64; #n_given], signs: [::pkm::runtime::primitives::Sign; #n_choices] },
         finite: quote! {
             if !given.iter().all(|v| v.is_finite()) {
@@ -398,7 +425,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             }
         },
     };
-    let lean = parts.lean(&open_names, &angular, &given_names);
+    let lean = parts.lean(&row_owners, &angular, &given_names);
     let solution = parts.solution(
         &format_ident!("{}_solution", name),
         &format_ident!("{}Solution", ident),
@@ -478,7 +505,7 @@ impl Parts<'_> {
 
     /// One branch, the caller's signs: the result alone (with its
     /// unverified core and the inconsistency it may find).
-    fn lean(&self, open_names: &[String], angular: &[bool], given_names: &TokenStream) -> TokenStream {
+    fn lean(&self, row_owners: &[String], angular: &[bool], given_names: &TokenStream) -> TokenStream {
         let Parts {
             emit,
             d,
@@ -494,7 +521,6 @@ impl Parts<'_> {
             ..
         } = self;
         let n_given = d.plan.n_inputs;
-        let n_open = open_names.len();
         let mut roots = d.given.result.clone();
         roots.extend(&d.given.residual);
         roots.push(d.given.extent);
@@ -544,9 +570,9 @@ impl Parts<'_> {
                 /// the given value the others contradict, found by re-solving nearby.
                 #[cold]
                 fn #f_inconsistent(&self, #given_sig, row: usize, gap: f64, extent: f64) -> #rt::SolveError {
-                    const OPEN: [&str; #n_open] = [#(#open_names),*];
+                    const OWNER: [&str; #n_rows] = [#(#row_owners),*];
                     const ANGULAR: [bool; #n_given] = [#(#angular),*];
-                    let owner = ::std::borrow::Cow::Borrowed(OPEN[row / #RESIDUAL_ROWS]);
+                    let owner = ::std::borrow::Cow::Borrowed(OWNER[row]);
                     let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
                         let g: &[f64; #n_given] = g.try_into().ok()?;
                         self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
