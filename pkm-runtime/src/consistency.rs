@@ -327,21 +327,21 @@ fn twin_of<'a>(
 /// an earlier branch already has ([`same_solution`]) becomes
 /// [`SolveError::DoubleRoot`] naming that twin, which is flagged `tangent`.
 /// No allocation: generated `fk` and `ik` call this on every call, so each
-/// solution's magnitude is measured once (for up to 64 branches).
-pub fn mark_double_roots<S, const D: usize>(
-    branches: &mut [Branch<S, D>],
+/// solution's magnitude is measured once, on the stack (`N` of them).
+pub fn mark_double_roots<S, const D: usize, const N: usize>(
+    branches: &mut [Branch<S, D>; N],
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    const KEPT: usize = 64;
-    let mut size = [0.0f64; KEPT];
-    for (m, b) in size.iter_mut().zip(branches.iter()) {
-        *m = b.result.as_ref().map_or(0.0, |s| magnitude(values(s)));
-    }
-    let size_of = |k: usize, v: &[f64]| if k < KEPT { size[k] } else { magnitude(v) };
-    for i in 1..branches.len() {
+    let size: [f64; N] = core::array::from_fn(|k| branches[k].result.as_ref().map_or(0.0, |s| magnitude(values(s))));
+    for i in 1..N {
         let all = &*branches;
-        if let Some(k) = twin_of(i, revolute, |k| all[k].result.as_ref().ok().map(&values), size_of) {
+        if let Some(k) = twin_of(
+            i,
+            revolute,
+            |k| all[k].result.as_ref().ok().map(&values),
+            |k, _| size[k],
+        ) {
             branches[i].result = Err(SolveError::DoubleRoot { twin: k });
             branches[k].tangent = true;
         }
