@@ -15,6 +15,8 @@ pub struct Analysis {
     pub topology: Topology,
     /// Parameters and geometry.
     pub geometry: crate::geometry::Geometry,
+    /// Units, mass properties, gravity and loads.
+    pub mass_and_loads: crate::mass_and_loads::MassAndLoads,
 }
 
 impl Analysis {
@@ -156,12 +158,23 @@ pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
     let mechanism = crate::mechanism::build(&ast)?;
     let geometry = crate::geometry::build(&ast, &mechanism);
     let topology = crate::topology::analyze(&mechanism);
+    // Mass properties and loads read the geometry's parameters and points.
+    let geometry = geometry.and_then(|g| {
+        let declared = crate::mass_and_loads::Declared {
+            units: &ast.units,
+            masses: &ast.masses,
+            gravity: &ast.gravity,
+            loads: &ast.loads,
+        };
+        crate::mass_and_loads::resolve(declared, &mechanism, &g).map(|d| (g, d))
+    });
     // Report geometry and topology errors together.
     match (geometry, topology) {
-        (Ok(geometry), Ok(topology)) => Ok(Analysis {
+        (Ok((geometry, mass_and_loads)), Ok(topology)) => Ok(Analysis {
             mechanism,
             topology,
             geometry,
+            mass_and_loads,
         }),
         (Err(mut g), Err(t)) => {
             g.0.extend(t.0);

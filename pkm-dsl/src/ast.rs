@@ -68,6 +68,14 @@ pub struct MechanismAst {
     pub outputs: Vec<OutputDecl>,
     /// `study { … }` blocks: what `pkm report` samples (one allowed; a second is reported there).
     pub studies: Vec<crate::study::Study>,
+    /// `units { … }` blocks (one allowed; a second is reported).
+    pub units: Vec<crate::mass_and_loads::UnitsDecl>,
+    /// `masses { … }` blocks: their entries and the block's span.
+    pub masses: Vec<(Vec<crate::mass_and_loads::MassDecl>, Span)>,
+    /// `gravity (…);` statements (one allowed).
+    pub gravity: Vec<crate::mass_and_loads::Value>,
+    /// The loads of `loads { … }` blocks.
+    pub loads: Vec<crate::mass_and_loads::LoadDecl>,
 }
 
 /// `x, y, phi = pose of platform at o;` or `psi = joint R4;`.

@@ -562,9 +562,9 @@ fn resolve_outputs(
     out
 }
 
-/// An output's link and its point (a named point of the link, or a joint
-/// placed on it by a point).
-fn link_point(
+/// An output's (or a load's) link and its point (a named point of the
+/// link, or a joint placed on it by a point).
+pub(crate) fn link_point(
     mech: &Mechanism,
     places: &[[Option<JointPlace>; 2]],
     points: &[NamedPoint],

@@ -11,6 +11,7 @@ pub mod diagnostics;
 pub mod expr;
 pub mod geometry;
 pub mod limits;
+pub mod mass_and_loads;
 mod parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};

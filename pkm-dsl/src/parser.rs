@@ -331,6 +331,24 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::kw_duration
         | Rule::kw_sections
         | Rule::kw_nodes => crate::study::rule_name(r),
+        Rule::units_stmt
+        | Rule::unit_item
+        | Rule::masses_stmt
+        | Rule::massless_item
+        | Rule::link_mass
+        | Rule::mass_item
+        | Rule::gravity_stmt
+        | Rule::loads_stmt
+        | Rule::load
+        | Rule::load_part
+        | Rule::value
+        | Rule::kw_units
+        | Rule::kw_masses
+        | Rule::kw_massless
+        | Rule::kw_gravity
+        | Rule::kw_loads
+        | Rule::kw_force
+        | Rule::kw_moment => crate::mass_and_loads::rule_name(r),
     }
 }
 
@@ -381,6 +399,10 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         geometry: Vec::new(),
         outputs: Vec::new(),
         studies: Vec::new(),
+        units: Vec::new(),
+        masses: Vec::new(),
+        gravity: Vec::new(),
+        loads: Vec::new(),
     };
     for stmt in inner {
         match stmt.as_rule() {
@@ -422,6 +444,13 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
             Rule::study_stmt => ast.studies.push(crate::study::build(stmt)),
+            Rule::units_stmt => ast.units.push(crate::mass_and_loads::build_units(stmt)),
+            Rule::masses_stmt => {
+                let span = span_of(&stmt);
+                ast.masses.push((crate::mass_and_loads::build_masses(stmt), span));
+            }
+            Rule::gravity_stmt => ast.gravity.push(crate::mass_and_loads::build_gravity(stmt)),
+            Rule::loads_stmt => ast.loads.extend(crate::mass_and_loads::build_loads(stmt)),
             Rule::outputs_stmt => ast.outputs.extend(
                 stmt.into_inner()
                     .filter(|p| p.as_rule() == Rule::output)

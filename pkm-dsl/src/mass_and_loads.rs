@@ -1,0 +1,993 @@
+//! What inverse dynamics needs besides the geometry: the file's `units`,
+//! each link's mass properties (`masses`), `gravity` and external `loads`,
+//! as written ([`build_units`], [`build_masses`], [`build_gravity`],
+//! [`build_loads`]) and checked against the mechanism ([`resolve`]).
+//!
+//! Units: lengths in the file's length unit (`length = m | cm | mm`),
+//! masses in its mass unit (`mass = kg | g`), inertias in mass unit ·
+//! length unit² about the centroid, in the link's frame; gravity in m/s²;
+//! forces in N and moments in N·(length unit), as the seed papers print them.
+//!
+//! ```
+//! let c = pkm_dsl::compile("mechanism m { planar; base R1* [a] ∥ R2 [b] ∥ R3 [c] ∥ R4 base;
+//!     parameters { l = 100; }
+//!     geometry { base { R1 = (0, 0); R4 = (3 * l, 0); } a { R1 = (0, 0); R2 = (l, 0); }
+//!                b { R2 = (0, 0); R3 = (2.5 * l, 0); } c { R3 = (2 * l, 0); R4 = (0, 0); } }
+//!     units { length = mm; mass = kg; }
+//!     masses { a { mass = 0.1; centroid = (l / 2, 0); inertia = 83.3; } massless b, c; } }").unwrap();
+//! let d = &c.analysis.mass_and_loads;
+//! assert_eq!(d.masses[0].mass, 0.1);
+//! assert_eq!(d.gravity, [0.0, -9.81, 0.0]);
+//! ```
+
+use crate::ast::{Name, Tuple};
+use crate::diagnostics::{Diagnostic, Diagnostics, Span};
+use crate::expr::Expr;
+use crate::geometry::Geometry;
+use crate::mechanism::{suggest, Mechanism};
+use crate::parser::{self, Rule};
+use pest::iterators::Pair;
+use pkm_runtime::solution::PointRef;
+use std::collections::HashMap;
+
+/// A value as written: a tuple, or one expression (with its span).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// `(e1, e2, …)`.
+    Tuple(Tuple),
+    /// One expression.
+    Scalar(Expr, Span),
+}
+
+impl Value {
+    fn span(&self) -> Span {
+        match self {
+            Value::Tuple(t) => t.span,
+            Value::Scalar(_, s) => *s,
+        }
+    }
+
+    /// The expressions: a tuple's items, or the one expression.
+    fn items(&self) -> Vec<&Expr> {
+        match self {
+            Value::Tuple(t) => t.items.iter().collect(),
+            Value::Scalar(e, _) => vec![e],
+        }
+    }
+}
+
+/// `units { length = mm; mass = kg; }` as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitsDecl {
+    /// Each `key = unit;`.
+    pub items: Vec<(Name, Name)>,
+    /// The whole block.
+    pub span: Span,
+}
+
+/// One entry of a `masses { … }` block.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MassDecl {
+    /// `LINK { mass = …; centroid = (…); inertia = …; }`.
+    Link {
+        /// The link.
+        link: Name,
+        /// Each `key = value;`.
+        items: Vec<(Name, Value)>,
+    },
+    /// `massless LINK, LINK;`: links declared without mass or inertia.
+    Massless(Vec<Name>),
+}
+
+/// `NAME = force (…) moment (…) on LINK at POINT;` as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadDecl {
+    /// The load's name.
+    pub name: Name,
+    /// `force` and `moment` parts, in order, each with its keyword.
+    pub parts: Vec<(Name, Value)>,
+    /// The link it acts on.
+    pub link: Name,
+    /// The point a force acts at.
+    pub at: Option<Name>,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// A length unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LengthUnit {
+    /// Metre.
+    M,
+    /// Centimetre.
+    Cm,
+    /// Millimetre.
+    Mm,
+}
+
+impl LengthUnit {
+    /// The unit in metres.
+    pub fn metres(self) -> f64 {
+        match self {
+            LengthUnit::M => 1.0,
+            LengthUnit::Cm => 1e-2,
+            LengthUnit::Mm => 1e-3,
+        }
+    }
+}
+
+/// A mass unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MassUnit {
+    /// Kilogram.
+    Kg,
+    /// Gram.
+    G,
+}
+
+impl MassUnit {
+    /// The unit in kilograms.
+    pub fn kilograms(self) -> f64 {
+        match self {
+            MassUnit::Kg => 1.0,
+            MassUnit::G => 1e-3,
+        }
+    }
+}
+
+/// The file's units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Units {
+    /// Lengths (geometry, centroids, load points) and the solutions' lengths.
+    pub length: LengthUnit,
+    /// Masses; inertias are in mass unit · length unit².
+    pub mass: MassUnit,
+}
+
+/// An inertia tensor about the centroid, in the link's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Inertia {
+    /// None declared: a point mass.
+    Point,
+    /// Planar: the moment about z.
+    Planar(Expr),
+    /// Principal moments along the link's axes `(Ixx, Iyy, Izz)`.
+    Principal([Expr; 3]),
+    /// The whole symmetric tensor `(Ixx, Iyy, Izz, Ixy, Ixz, Iyz)`, its
+    /// off-diagonal entries as they stand in the tensor (`Ixy = −∫xy dm`).
+    Full([Expr; 6]),
+}
+
+/// One link's mass properties, as expressions of the parameters and at
+/// their nominal values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkMass {
+    /// The link.
+    pub link: usize,
+    /// Its mass (mass unit).
+    pub mass_expr: Expr,
+    /// Its mass at the nominal parameters.
+    pub mass: f64,
+    /// Its centroid in the link's frame (z = 0 in planar mechanisms).
+    pub centroid: [Expr; 3],
+    /// Its inertia about the centroid.
+    pub inertia: Inertia,
+}
+
+/// An external load on a link: a force at one of its points and a moment,
+/// in base coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    /// Its name.
+    pub name: String,
+    /// The link.
+    pub link: usize,
+    /// Where the force acts.
+    pub at: Option<PointRef>,
+    /// The force (N), zeros where none is given.
+    pub force: [Expr; 3],
+    /// The moment (N·length unit), zeros where none is given.
+    pub moment: [Expr; 3],
+}
+
+/// A mechanism's mass properties and loads, checked.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MassAndLoads {
+    /// The file's units, if declared.
+    pub units: Option<Units>,
+    /// The links with mass.
+    pub masses: Vec<LinkMass>,
+    /// The links declared `massless`.
+    pub massless: Vec<usize>,
+    /// Gravity in base coordinates (m/s²): the declared vector, or 9.81
+    /// along −z (spatial) or −y (planar).
+    pub gravity: [f64; 3],
+    /// External loads.
+    pub loads: Vec<Load>,
+}
+
+/// The grammar's name for a rule of these blocks, for syntax errors.
+pub(crate) fn rule_name(r: Rule) -> &'static str {
+    match r {
+        Rule::units_stmt | Rule::kw_units => "`units { length = mm; mass = kg; }`",
+        Rule::unit_item => "a unit `length = mm;`",
+        Rule::masses_stmt | Rule::kw_masses => "`masses { LINK { … } }`",
+        Rule::massless_item | Rule::kw_massless => "`massless LINK, …;`",
+        Rule::link_mass => "a link's mass properties `LINK { mass = …; centroid = (…); inertia = …; }`",
+        Rule::mass_item => "`mass = …;`, `centroid = (…);` or `inertia = …;`",
+        Rule::gravity_stmt | Rule::kw_gravity => "`gravity (…);`",
+        Rule::loads_stmt | Rule::kw_loads => "`loads { NAME = force (…) on LINK at POINT; }`",
+        Rule::load => "a load `NAME = force (…) on LINK at POINT;`",
+        Rule::load_part | Rule::kw_force | Rule::kw_moment => "`force (…)` or `moment (…)`",
+        _ => "a value",
+    }
+}
+
+fn value(p: Pair<Rule>) -> Value {
+    match p.as_rule() {
+        Rule::tuple => Value::Tuple(parser::tuple(p)),
+        _ => {
+            let span = parser::span_of(&p);
+            Value::Scalar(parser::expr(p), span)
+        }
+    }
+}
+
+/// Builds a `units` block from its parse.
+pub(crate) fn build_units(p: Pair<Rule>) -> UnitsDecl {
+    let span = parser::span_of(&p);
+    let items = p
+        .into_inner()
+        .filter(|q| q.as_rule() == Rule::unit_item)
+        .map(|q| {
+            let mut it = q.into_inner();
+            let key = parser::name(it.next().expect("unit's key"));
+            (key, parser::name(it.next().expect("unit's name")))
+        })
+        .collect();
+    UnitsDecl { items, span }
+}
+
+/// Builds the entries of a `masses` block from its parse.
+pub(crate) fn build_masses(p: Pair<Rule>) -> Vec<MassDecl> {
+    p.into_inner()
+        .filter_map(|q| match q.as_rule() {
+            Rule::massless_item => Some(MassDecl::Massless(
+                q.into_inner()
+                    .filter(|r| r.as_rule() == Rule::name)
+                    .map(parser::name)
+                    .collect(),
+            )),
+            Rule::link_mass => {
+                let mut it = q.into_inner();
+                let link = parser::name(it.next().expect("the link"));
+                let items = it
+                    .map(|item| {
+                        let mut kv = item.into_inner();
+                        let key = parser::name(kv.next().expect("the key"));
+                        (key, value(kv.next().expect("the value")))
+                    })
+                    .collect();
+                Some(MassDecl::Link { link, items })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// Builds a `gravity` statement from its parse.
+pub(crate) fn build_gravity(p: Pair<Rule>) -> Value {
+    value(p.into_inner().nth(1).expect("gravity's value"))
+}
+
+/// Builds the loads of a `loads` block from its parse.
+pub(crate) fn build_loads(p: Pair<Rule>) -> Vec<LoadDecl> {
+    p.into_inner()
+        .filter(|q| q.as_rule() == Rule::load)
+        .map(|q| {
+            let span = parser::span_of(&q);
+            let mut it = q.into_inner();
+            let name = parser::name(it.next().expect("the load's name"));
+            let mut parts = Vec::new();
+            let mut names = Vec::new();
+            for r in it {
+                match r.as_rule() {
+                    Rule::load_part => {
+                        let mut kv = r.into_inner();
+                        let key = parser::name(kv.next().expect("force or moment"));
+                        parts.push((key, value(kv.next().expect("its value"))));
+                    }
+                    Rule::name | Rule::ident => names.push(parser::name(r)),
+                    _ => {}
+                }
+            }
+            let mut names = names.into_iter();
+            LoadDecl {
+                name,
+                parts,
+                link: names.next().expect("the load's link"),
+                at: names.next(),
+                span,
+            }
+        })
+        .collect()
+}
+
+/// Everything [`resolve`] reads from the syntax tree.
+#[derive(Debug, Clone, Copy)]
+pub struct Declared<'a> {
+    /// `units` blocks.
+    pub units: &'a [UnitsDecl],
+    /// `masses` blocks, each a list of entries, with the block's span.
+    pub masses: &'a [(Vec<MassDecl>, Span)],
+    /// `gravity` statements.
+    pub gravity: &'a [Value],
+    /// `loads` entries.
+    pub loads: &'a [LoadDecl],
+}
+
+/// Checks the declared units, masses, gravity and loads against the
+/// mechanism and its geometry, the values at the nominal parameters.
+///
+/// Errors point at the span: a unit that is not one of the listed, a key
+/// given twice, masses or loads without units, an unknown link (or the
+/// base), a link given twice, an unknown key, a missing `mass` or
+/// `centroid`, a tuple of the wrong length, a negative mass, an inertia
+/// that is not positive semi-definite or whose principal moments break the
+/// triangle inequality, a load without a force or a moment, a force
+/// without its point, a point not on the load's link.
+pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<MassAndLoads, Diagnostics> {
+    let mut errors = Diagnostics::default();
+    let values = geometry.nominal();
+    let known = |n: &str| values.contains_key(n);
+    let units = units(d.units, &mut errors);
+    let planar = mech.planar;
+    // A block with a wrong unit is reported there, not as missing.
+    if d.units.is_empty() {
+        let first = d.masses.first().map(|(_, s)| *s).or(d.loads.first().map(|l| l.span));
+        if let Some(span) = first {
+            errors.push(
+                Diagnostic::new(span, "masses and loads need the file's units")
+                    .label("in which units?")
+                    .note("declare them once: `units { length = mm; mass = kg; }`"),
+            );
+        }
+    }
+    let mut out = MassAndLoads {
+        units,
+        gravity: if planar { [0.0, -9.81, 0.0] } else { [0.0, 0.0, -9.81] },
+        ..Default::default()
+    };
+    let mut given: HashMap<usize, Span> = HashMap::new();
+    for entry in d.masses.iter().flat_map(|(e, _)| e) {
+        match entry {
+            MassDecl::Massless(links) => {
+                for l in links {
+                    if let Some(i) = moving_link(mech, l, &mut given, &mut errors) {
+                        out.massless.push(i);
+                    }
+                }
+            }
+            MassDecl::Link { link, items } => {
+                let Some(i) = moving_link(mech, link, &mut given, &mut errors) else {
+                    continue;
+                };
+                if let Some(m) = link_mass(i, link, items, planar, &values, &known, &mut errors) {
+                    out.masses.push(m);
+                }
+            }
+        }
+    }
+    if let Some(second) = d.gravity.get(1) {
+        errors.push(Diagnostic::new(second.span(), "gravity is given twice").label("again"));
+    }
+    if let Some(g) = d.gravity.first() {
+        if let Some(v) = vector(g, planar, "gravity", &known, &mut errors) {
+            let g = v.map(|e| e.eval(&values));
+            if g.iter().all(|x| x.is_finite()) {
+                out.gravity = g;
+            } else {
+                errors.push(Diagnostic::new(d.gravity[0].span(), "gravity is not finite").label("here"));
+            }
+        }
+    }
+    out.loads = loads(d.loads, mech, geometry, &known, &mut errors);
+    errors.into_result(out)
+}
+
+/// The one `units` block, checked.
+fn units(blocks: &[UnitsDecl], errors: &mut Diagnostics) -> Option<Units> {
+    if let Some(second) = blocks.get(1) {
+        errors.push(
+            Diagnostic::new(second.span, "a mechanism has one `units` block")
+                .label("a second one")
+                .also(blocks[0].span, "the first"),
+        );
+    }
+    let block = blocks.first()?;
+    let (mut length, mut mass) = (None, None);
+    for (key, unit) in &block.items {
+        let (slot, parsed) = match key.text.as_str() {
+            "length" => (
+                &mut length,
+                match unit.text.as_str() {
+                    "m" => Some(UnitKind::Length(LengthUnit::M)),
+                    "cm" => Some(UnitKind::Length(LengthUnit::Cm)),
+                    "mm" => Some(UnitKind::Length(LengthUnit::Mm)),
+                    _ => None,
+                },
+            ),
+            "mass" => (
+                &mut mass,
+                match unit.text.as_str() {
+                    "kg" => Some(UnitKind::Mass(MassUnit::Kg)),
+                    "g" => Some(UnitKind::Mass(MassUnit::G)),
+                    _ => None,
+                },
+            ),
+            _ => {
+                errors.push(
+                    Diagnostic::new(key.span, format!("unknown unit `{}`", key.text))
+                        .label("not a quantity")
+                        .note("the units are `length` (m, cm, mm) and `mass` (kg, g); time is in s"),
+                );
+                continue;
+            }
+        };
+        let Some(parsed) = parsed else {
+            let choices = if key.text == "length" { "m, cm or mm" } else { "kg or g" };
+            errors.push(
+                Diagnostic::new(unit.span, format!("`{}` is not a unit of {}", unit.text, key.text)).label(choices),
+            );
+            continue;
+        };
+        if slot.replace((parsed, key.span)).is_some() {
+            errors.push(Diagnostic::new(key.span, format!("`{}` is given twice", key.text)).label("again"));
+        }
+    }
+    // A key written with a wrong unit is reported above, not as missing.
+    let written = |k: &str| block.items.iter().any(|(key, _)| key.text == k);
+    let missing: Vec<&str> = ["length", "mass"].into_iter().filter(|k| !written(k)).collect();
+    if !missing.is_empty() {
+        errors.push(
+            Diagnostic::new(block.span, format!("`units` needs `{}`", missing.join("` and `")))
+                .label("incomplete")
+                .note("for example `units { length = mm; mass = kg; }`"),
+        );
+        return None;
+    }
+    match (length, mass) {
+        (Some((UnitKind::Length(length), _)), Some((UnitKind::Mass(mass), _))) => Some(Units { length, mass }),
+        _ => None,
+    }
+}
+
+/// A parsed unit, of either quantity.
+#[derive(Debug, Clone, Copy)]
+enum UnitKind {
+    Length(LengthUnit),
+    Mass(MassUnit),
+}
+
+/// The moving link `l` names, recorded as given (the base, an unknown link
+/// and a second entry for one link are errors).
+fn moving_link(
+    mech: &Mechanism,
+    l: &Name,
+    given: &mut HashMap<usize, Span>,
+    errors: &mut Diagnostics,
+) -> Option<usize> {
+    let Some(i) = mech.links.iter().position(|x| x.name == l.text) else {
+        let mut e = Diagnostic::new(l.span, format!("unknown link `{}`", l.text)).label("no such link");
+        if let Some(s) = suggest(&l.text, mech.links.iter().map(|x| x.name.as_str())) {
+            e = e.note(format!("did you mean `{s}`?"));
+        }
+        errors.push(e);
+        return None;
+    };
+    if i == 0 {
+        errors.push(
+            Diagnostic::new(l.span, "the base has no mass properties")
+                .label("fixed")
+                .note("its mass does not enter the dynamics; the reactions on it are computed"),
+        );
+        return None;
+    }
+    if let Some(first) = given.insert(i, l.span) {
+        errors.push(
+            Diagnostic::new(l.span, format!("link `{}` is given twice", l.text))
+                .label("again")
+                .also(first, "first here"),
+        );
+        return None;
+    }
+    Some(i)
+}
+
+/// A link's `{ mass = …; centroid = (…); inertia = …; }`, checked.
+fn link_mass(
+    link: usize,
+    name: &Name,
+    items: &[(Name, Value)],
+    planar: bool,
+    values: &HashMap<String, f64>,
+    known: &dyn Fn(&str) -> bool,
+    errors: &mut Diagnostics,
+) -> Option<LinkMass> {
+    let mut seen: HashMap<&str, Span> = HashMap::new();
+    let (mut mass, mut centroid, mut inertia) = (None, None, Inertia::Point);
+    for (key, v) in items {
+        if let Some(first) = seen.insert(key.text.as_str(), key.span) {
+            errors.push(
+                Diagnostic::new(key.span, format!("`{}` is given twice", key.text))
+                    .label("again")
+                    .also(first, "first here"),
+            );
+            continue;
+        }
+        match key.text.as_str() {
+            "mass" => mass = scalar(v, "a mass", known, errors).map(|e| (e, v.span())),
+            "centroid" => centroid = vector(v, planar, "the centroid", known, errors),
+            "inertia" => {
+                if let Some(i) = inertia_of(v, planar, values, known, errors) {
+                    inertia = i;
+                }
+            }
+            _ => errors.push(
+                Diagnostic::new(key.span, format!("unknown mass property `{}`", key.text))
+                    .label("not a property")
+                    .note("a link takes `mass`, `centroid` and `inertia` (about the centroid)"),
+            ),
+        }
+    }
+    for (key, missing) in [("mass", mass.is_none()), ("centroid", centroid.is_none())] {
+        if missing && !seen.contains_key(key) {
+            errors.push(
+                Diagnostic::new(name.span, format!("link `{}` needs its `{key}`", name.text))
+                    .label(format!("no `{key}`"))
+                    .note("or declare it `massless`"),
+            );
+        }
+    }
+    let ((mass_expr, span), centroid) = (mass?, centroid?);
+    let m = mass_expr.eval(values);
+    if !m.is_finite() || m < 0.0 {
+        errors.push(
+            Diagnostic::new(span, format!("the mass of `{}` is {m}", name.text))
+                .label("a mass is finite and not negative"),
+        );
+        return None;
+    }
+    Some(LinkMass {
+        link,
+        mass_expr,
+        mass: m,
+        centroid,
+        inertia,
+    })
+}
+
+/// Expressions whose names are all parameters (the unknown ones are errors).
+fn known_names(v: &Value, known: &dyn Fn(&str) -> bool, errors: &mut Diagnostics) -> bool {
+    let mut found = Vec::new();
+    for e in v.items() {
+        e.check(known, &mut found);
+    }
+    let ok = found.is_empty();
+    errors.0.extend(found);
+    ok
+}
+
+fn scalar(v: &Value, what: &str, known: &dyn Fn(&str) -> bool, errors: &mut Diagnostics) -> Option<Expr> {
+    let items = v.items();
+    if items.len() != 1 {
+        errors.push(Diagnostic::new(v.span(), format!("{what} is one value")).label(format!("{} given", items.len())));
+        return None;
+    }
+    known_names(v, known, errors).then(|| items[0].clone())
+}
+
+/// A point or vector: two values in a planar mechanism (z = 0), three in a
+/// spatial one.
+fn vector(
+    v: &Value,
+    planar: bool,
+    what: &str,
+    known: &dyn Fn(&str) -> bool,
+    errors: &mut Diagnostics,
+) -> Option<[Expr; 3]> {
+    let items = v.items();
+    let (wanted, how) = if planar { (2, "(x, y)") } else { (3, "(x, y, z)") };
+    if items.len() != wanted || matches!(v, Value::Scalar(..)) {
+        errors.push(
+            Diagnostic::new(
+                v.span(),
+                format!(
+                    "{what} has {wanted} values {how} in a {} mechanism",
+                    if planar { "planar" } else { "spatial" }
+                ),
+            )
+            .label(format!("{} given", items.len())),
+        );
+        return None;
+    }
+    if !known_names(v, known, errors) {
+        return None;
+    }
+    let z = Expr::Num(0.0);
+    Some([
+        items[0].clone(),
+        items[1].clone(),
+        items.get(2).map_or(z, |e| (*e).clone()),
+    ])
+}
+
+/// `inertia = I;` (planar: about z), `(Ixx, Iyy, Izz)` or
+/// `(Ixx, Iyy, Izz, Ixy, Ixz, Iyz)`, checked at the nominal parameters.
+fn inertia_of(
+    v: &Value,
+    planar: bool,
+    values: &HashMap<String, f64>,
+    known: &dyn Fn(&str) -> bool,
+    errors: &mut Diagnostics,
+) -> Option<Inertia> {
+    let items = v.items();
+    let form = match (planar, items.len()) {
+        (true, 1) => Inertia::Planar(items[0].clone()),
+        (false, 3) if matches!(v, Value::Tuple(_)) => Inertia::Principal(std::array::from_fn(|i| items[i].clone())),
+        (false, 6) => Inertia::Full(std::array::from_fn(|i| items[i].clone())),
+        _ => {
+            let how = if planar {
+                "a planar link's inertia is one value, its moment about z"
+            } else {
+                "a spatial link's inertia is (Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, Ixy, Ixz, Iyz)"
+            };
+            errors.push(Diagnostic::new(v.span(), how).label(format!("{} values given", items.len())));
+            return None;
+        }
+    };
+    if !known_names(v, known, errors) {
+        return None;
+    }
+    let n: Vec<f64> = items.iter().map(|e| e.eval(values)).collect();
+    if let Some(problem) = inertia_problem(&n) {
+        errors.push(Diagnostic::new(v.span(), problem).label("not an inertia"));
+        return None;
+    }
+    Some(form)
+}
+
+/// Why the moments `n` (one about z; three principal; or the six entries
+/// of the tensor) are not a rigid body's inertia, if they are not: every
+/// value finite, the tensor positive semi-definite, and its principal
+/// moments satisfy the triangle inequality `I₁ + I₂ ≥ I₃` (to 1e-9 of the
+/// trace, for rounded tables).
+pub fn inertia_problem(n: &[f64]) -> Option<String> {
+    if n.iter().any(|x| !x.is_finite()) {
+        return Some("an inertia is finite".into());
+    }
+    let principal: Vec<f64> = match n.len() {
+        1 => return (n[0] < 0.0).then(|| format!("the moment of inertia is {}, negative", n[0])),
+        3 => n.to_vec(),
+        _ => {
+            let t = nalgebra::Matrix3::new(n[0], n[3], n[4], n[3], n[1], n[5], n[4], n[5], n[2]);
+            t.symmetric_eigenvalues().iter().copied().collect()
+        }
+    };
+    let trace: f64 = principal.iter().sum();
+    let slack = 1e-9 * trace.abs();
+    if let Some(m) = principal.iter().find(|&&m| m < -slack) {
+        return Some(format!(
+            "a principal moment of inertia is {m}, negative: the tensor is not positive semi-definite"
+        ));
+    }
+    for k in 0..3 {
+        let others = trace - principal[k];
+        if principal[k] > others + slack {
+            return Some(format!(
+                "the principal moments {:?} break the triangle inequality: {} exceeds the sum of the other two ({others})",
+                principal, principal[k]
+            ));
+        }
+    }
+    None
+}
+
+/// The loads, checked.
+fn loads(
+    decls: &[LoadDecl],
+    mech: &Mechanism,
+    geometry: &Geometry,
+    known: &dyn Fn(&str) -> bool,
+    errors: &mut Diagnostics,
+) -> Vec<Load> {
+    let planar = mech.planar;
+    let mut out: Vec<Load> = Vec::new();
+    let mut names: HashMap<&str, Span> = HashMap::new();
+    for d in decls {
+        if let Some(first) = names.insert(d.name.text.as_str(), d.name.span) {
+            errors.push(
+                Diagnostic::new(d.name.span, format!("load `{}` is given twice", d.name.text))
+                    .label("again")
+                    .also(first, "first here"),
+            );
+            continue;
+        }
+        let zero = || [Expr::Num(0.0), Expr::Num(0.0), Expr::Num(0.0)];
+        let (mut force, mut moment) = (None, None);
+        for (key, v) in &d.parts {
+            let (slot, parsed) = if key.text == "force" {
+                (&mut force, vector(v, planar, "a force", known, errors))
+            } else if planar {
+                let m = scalar(v, "a planar moment (about z)", known, errors);
+                (&mut moment, m.map(|e| [Expr::Num(0.0), Expr::Num(0.0), e]))
+            } else {
+                (&mut moment, vector(v, false, "a moment", known, errors))
+            };
+            if slot.is_some() {
+                errors.push(
+                    Diagnostic::new(key.span, format!("the load's `{}` is given twice", key.text)).label("again"),
+                );
+            }
+            *slot = parsed.or(slot.take());
+        }
+        let at = match &d.at {
+            Some(p) => {
+                let mut found = Vec::new();
+                let point =
+                    crate::geometry::link_point(mech, &geometry.places, &geometry.points, &d.link, p, &mut found);
+                errors.0.extend(found);
+                match point {
+                    Some((_, point)) => Some(point),
+                    None => continue,
+                }
+            }
+            None => {
+                if d.parts.iter().any(|(k, _)| k.text == "force") {
+                    errors.push(
+                        Diagnostic::new(d.span, format!("load `{}` has a force but no point", d.name.text))
+                            .label("where does it act?")
+                            .note("name the point: `… on LINK at POINT;`"),
+                    );
+                    continue;
+                }
+                None
+            }
+        };
+        let Some(link) = mech.links.iter().position(|x| x.name == d.link.text) else {
+            errors.push(Diagnostic::new(d.link.span, format!("unknown link `{}`", d.link.text)).label("no such link"));
+            continue;
+        };
+        out.push(Load {
+            name: d.name.text.clone(),
+            link,
+            at,
+            force: force.unwrap_or_else(zero),
+            moment: moment.unwrap_or_else(zero),
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A planar four-bar with named links, placed; `extra` adds statements.
+    fn four_bar(extra: &str) -> String {
+        format!(
+            "mechanism m {{ planar; base R1* [a] ∥ R2 [b] ∥ R3 [c] ∥ R4 base;
+             parameters {{ l = 100; }}
+             geometry {{ base {{ R1 = (0, 0); R4 = (3 * l, 0); }} a {{ R1 = (0, 0); R2 = (l, 0); point M = (l / 2, 0); }}
+                         b {{ R2 = (0, 0); R3 = (2.5 * l, 0); }} c {{ R3 = (2 * l, 0); R4 = (0, 0); }} }}
+             {extra} }}"
+        )
+    }
+
+    /// The four-bar declared spatially (axes along z): three-value forms.
+    fn spatial(extra: &str) -> String {
+        format!(
+            "mechanism m {{ base R1* [a] ∥ R2 [b] ∥ R3 [c] ∥ R4 base;
+             parameters {{ l = 100; }}
+             geometry {{ base {{ R1 = (0, 0, 0) along z; R4 = (3 * l, 0, 0) along z; }}
+                         a {{ R1 = (0, 0, 0) along z; R2 = (l, 0, 0) along z; }}
+                         b {{ R2 = (0, 0, 0) along z; R3 = (2.5 * l, 0, 0) along z; }}
+                         c {{ R3 = (2 * l, 0, 0) along z; R4 = (0, 0, 0) along z; }} }}
+             {extra} }}"
+        )
+    }
+
+    /// The messages of every error the text produces, in order.
+    fn check(source: &str, expected: &[&str]) {
+        let messages: Vec<String> = match crate::analyze_source(source) {
+            Ok(_) => Vec::new(),
+            Err(d) => d.0.into_iter().map(|e| e.message).collect(),
+        };
+        assert_eq!(messages, expected, "{source}");
+    }
+
+    fn resolved(source: &str) -> MassAndLoads {
+        crate::analyze_source(source).expect("no error").mass_and_loads
+    }
+
+    const UNITS: &str = "units { length = mm; mass = kg; }";
+
+    #[test]
+    fn masses_gravity_and_loads_are_read_in_the_files_units() {
+        let d = resolved(&four_bar(&format!(
+            "{UNITS} masses {{ a {{ mass = 0.1 * 2; centroid = (l / 2, 0); inertia = 83.3; }} massless b; c {{ mass = 1; centroid = (l, 0); }} }}
+             gravity (0, -9.8);
+             loads {{ push = force (10, 0) on a at M; brake = moment 5 on c; }}"
+        )));
+        assert_eq!(
+            d.units,
+            Some(Units {
+                length: LengthUnit::Mm,
+                mass: MassUnit::Kg
+            })
+        );
+        assert_eq!(d.units.map(|u| u.length.metres()), Some(1e-3));
+        assert_eq!((d.masses[0].link, d.masses[0].mass), (1, 0.2));
+        assert_eq!(d.masses[0].inertia, Inertia::Planar(Expr::Num(83.3)));
+        assert_eq!((d.masses[1].link, d.masses[1].inertia.clone()), (3, Inertia::Point));
+        assert_eq!(d.massless, vec![2]);
+        assert_eq!(d.gravity, [0.0, -9.8, 0.0]);
+        assert_eq!(d.loads.len(), 2);
+        assert_eq!((d.loads[0].link, d.loads[0].at), (1, Some(PointRef::Named(0))));
+        assert_eq!(d.loads[1].moment[2], Expr::Num(5.0));
+        assert_eq!(d.loads[1].at, None);
+    }
+
+    #[test]
+    fn gravity_defaults_to_minus_y_planar_and_minus_z_spatial() {
+        assert_eq!(resolved(&four_bar("")).gravity, [0.0, -9.81, 0.0]);
+        assert_eq!(resolved(&spatial("")).gravity, [0.0, 0.0, -9.81]);
+        assert_eq!(resolved(&four_bar("")).units, None);
+    }
+
+    #[test]
+    fn units_are_one_block_with_a_length_and_a_mass() {
+        check(
+            &four_bar("units { length = inch; mass = kg; time = s; }"),
+            &["`inch` is not a unit of length", "unknown unit `time`"],
+        );
+        check(&four_bar("units { length = mm; }"), &["`units` needs `mass`"]);
+        check(
+            &four_bar("units { length = mm; mass = kg; length = m; }"),
+            &["`length` is given twice"],
+        );
+        check(
+            &four_bar(&format!("{UNITS} {UNITS}")),
+            &["a mechanism has one `units` block"],
+        );
+        check(
+            &four_bar("masses { massless a, b, c; }"),
+            &["masses and loads need the file's units"],
+        );
+    }
+
+    #[test]
+    fn each_moving_link_once_with_mass_and_centroid() {
+        check(
+            &four_bar(&format!(
+                "{UNITS} masses {{ base {{ mass = 1; centroid = (0, 0); }} d {{ mass = 1; centroid = (0, 0); }}
+                 a {{ mass = 1; }} massless a; b {{ centroid = (0, 0); colour = 3; }} }}"
+            )),
+            &[
+                "the base has no mass properties",
+                "unknown link `d`",
+                "link `a` needs its `centroid`",
+                "link `a` is given twice",
+                "unknown mass property `colour`",
+                "link `b` needs its `mass`",
+            ],
+        );
+        check(
+            &four_bar(&format!(
+                "{UNITS} masses {{ a {{ mass = 1; mass = 2; centroid = (0, 0, 0); }} }}"
+            )),
+            &[
+                "`mass` is given twice",
+                "the centroid has 2 values (x, y) in a planar mechanism",
+            ],
+        );
+        check(
+            &four_bar(&format!("{UNITS} masses {{ a {{ mass = q; centroid = (0, 0); }} }}")),
+            &["unknown parameter `q`"],
+        );
+    }
+
+    #[test]
+    fn a_mass_is_not_negative() {
+        check(
+            &four_bar(&format!(
+                "{UNITS} masses {{ a {{ mass = 1 - l; centroid = (0, 0); }} }}"
+            )),
+            &["the mass of `a` is -99"],
+        );
+        check(
+            &four_bar(&format!("{UNITS} masses {{ a {{ mass = 0; centroid = (0, 0); }} }}")),
+            &[],
+        );
+    }
+
+    #[test]
+    fn an_inertia_is_a_rigid_bodys() {
+        let with = |inertia: &str| {
+            spatial(&format!(
+                "{UNITS} masses {{ a {{ mass = 1; centroid = (0, 0, 0); inertia = {inertia}; }} }}"
+            ))
+        };
+        // A rod along x: (0, I, I) meets the triangle inequality with equality.
+        check(&with("(0, 5, 5)"), &[]);
+        check(&with("(1, 5, 5, 0.5, 0, 0)"), &[]);
+        check(
+            &with("(1, 2)"),
+            &["a spatial link's inertia is (Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, Ixy, Ixz, Iyz)"],
+        );
+        check(
+            &with("(1, 1, 3)"),
+            &["the principal moments [1.0, 1.0, 3.0] break the triangle inequality: 3 exceeds the sum of the other two (2)"],
+        );
+        check(
+            &with("(-1, 2, 2)"),
+            &["a principal moment of inertia is -1, negative: the tensor is not positive semi-definite"],
+        );
+        // Eigenvalues of [[1, 2, 0], [2, 1, 0], [0, 0, 1]] are 3, −1 and 1.
+        check(
+            &with("(1, 1, 1, 2, 0, 0)"),
+            &["a principal moment of inertia is -1, negative: the tensor is not positive semi-definite"],
+        );
+        let planar = |inertia: &str| {
+            four_bar(&format!(
+                "{UNITS} masses {{ a {{ mass = 1; centroid = (0, 0); inertia = {inertia}; }} }}"
+            ))
+        };
+        check(&planar("-2"), &["the moment of inertia is -2, negative"]);
+        check(
+            &planar("(1, 2, 3)"),
+            &["a planar link's inertia is one value, its moment about z"],
+        );
+    }
+
+    #[test]
+    fn a_load_acts_on_a_point_of_its_link() {
+        check(
+            &four_bar(&format!(
+                "{UNITS} loads {{ p = force (1, 0) on a; q = force (1, 0) on b at M; r = moment (1, 2) on a; s = force (1, 0) on a at M; s = moment 1 on a; t = force (1, 0) force (0, 1) on a at M; }}"
+            )),
+            &[
+                "load `p` has a force but no point",
+                "`M` is not a point of link `b`",
+                "a planar moment (about z) is one value",
+                "load `s` is given twice",
+                "the load's `force` is given twice",
+            ],
+        );
+        check(
+            &four_bar(&format!("{UNITS} loads {{ p = force (1, 0) on e at M; }}")),
+            &["unknown link `e`"],
+        );
+    }
+
+    #[test]
+    fn gravity_has_the_mechanisms_dimension() {
+        check(
+            &four_bar("gravity (0, 0, -9.81);"),
+            &["gravity has 2 values (x, y) in a planar mechanism"],
+        );
+        check(
+            &four_bar("gravity (0, -9.81); gravity (0, -1);"),
+            &["gravity is given twice"],
+        );
+        assert_eq!(resolved(&spatial("gravity (0, -9.81, 0);")).gravity, [0.0, -9.81, 0.0]);
+    }
+
+    #[test]
+    fn a_parenthesised_expression_is_not_a_tuple() {
+        let d = resolved(&four_bar(&format!(
+            "{UNITS} masses {{ a {{ mass = (1 + 1) * 2; centroid = (0, 0); }} }}"
+        )));
+        assert_eq!(d.masses[0].mass, 4.0);
+    }
+}

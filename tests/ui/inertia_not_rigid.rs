@@ -1,0 +1,15 @@
+// Principal moments (1, 1, 3): no rigid body has them (1 + 1 < 3).
+pkm::mechanism!(M, "mechanism m {
+    base R1* [a] ∥ R2 [b] ∥ R3 [c] ∥ R4 base;
+    parameters { l = 100; m = 0.5; }
+    geometry {
+        base { R1 = (0, 0, 0) along z; R4 = (3 * l, 0, 0) along z; }
+        a { R1 = (0, 0, 0) along z; R2 = (l, 0, 0) along z; point M = (l / 2, 0, 0); }
+        b { R2 = (0, 0, 0) along z; R3 = (2.5 * l, 0, 0) along z; }
+        c { R3 = (2 * l, 0, 0) along z; R4 = (0, 0, 0) along z; }
+    }
+    units { length = mm; mass = kg; }
+    masses { a { mass = m; centroid = (l / 2, 0, 0); inertia = (1, 1, 3); } }
+}");
+
+fn main() {}
