@@ -131,3 +131,85 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
             .collect(),
     })
 }
+
+/// The bodies, gravity and loads in numbers at the given parameter values,
+/// in the units the dynamics computes in (kg, the file's length unit, s;
+/// see [`pkm_runtime::mass_properties`]). A mass or an inertia that the
+/// parameters make negative or not a rigid body's is an error naming the link.
+pub fn loading(
+    a: &Analysis,
+    model: &Model,
+    values: &HashMap<String, f64>,
+) -> Result<pkm_runtime::mass_properties::Loading, Diagnostics> {
+    use crate::mass_and_loads::Inertia;
+    use nalgebra::{Matrix3, Vector3};
+    use pkm_runtime::mass_properties::{Body, Loading, PointLoad};
+    let d = &a.mass_and_loads;
+    let span = a.mechanism.name_span();
+    let Some(units) = d.units else {
+        return Err(Diagnostic::new(
+            span,
+            "dynamics needs the file's units: `units { length = mm; mass = kg; }`",
+        )
+        .into());
+    };
+    let all = parameter_values(a, values)?;
+    let eval = |e: &crate::expr::Expr| e.eval(&all);
+    let vec3 = |v: &[crate::expr::Expr; 3]| Vector3::new(eval(&v[0]), eval(&v[1]), eval(&v[2]));
+    let l = units.length.metres();
+    let kg = units.mass.kilograms();
+    let mut bodies = Vec::new();
+    for b in &d.masses {
+        let name = &a.mechanism.links[b.link].name;
+        let mass = eval(&b.mass_expr);
+        if !mass.is_finite() || mass < 0.0 {
+            return Err(
+                Diagnostic::new(span, format!("the mass of link `{name}` is {mass} at these parameters")).into(),
+            );
+        }
+        let moments: Vec<f64> = match &b.inertia {
+            Inertia::Point => vec![0.0; 3],
+            Inertia::Planar(e) => vec![eval(e)],
+            Inertia::Principal(e) => e.iter().map(eval).collect(),
+            Inertia::Full(e) => e.iter().map(eval).collect(),
+        };
+        if let Some(problem) = crate::mass_and_loads::inertia_problem(&moments) {
+            return Err(Diagnostic::new(span, format!("link `{name}`: {problem} at these parameters")).into());
+        }
+        let inertia = match moments.as_slice() {
+            // A planar link turns about z only: its other moments do no work.
+            [izz] => Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, *izz)),
+            [ixx, iyy, izz] => Matrix3::from_diagonal(&Vector3::new(*ixx, *iyy, *izz)),
+            m => Matrix3::new(m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2]),
+        };
+        bodies.push(Body {
+            link: b.link,
+            mass: mass * kg,
+            centroid: vec3(&b.centroid),
+            inertia: inertia * kg,
+        });
+    }
+    let loads = d
+        .loads
+        .iter()
+        .map(|p| {
+            let at = match p.at {
+                Some(point) => pkm_runtime::spatial::local_point(model, point, p.link)
+                    .map_err(|e| Diagnostics::from(Diagnostic::new(span, e.to_string())))?,
+                None => [0.0; 3],
+            };
+            Ok(PointLoad {
+                link: p.link,
+                at: Vector3::from(at),
+                force: vec3(&p.force) / l,
+                moment: vec3(&p.moment) / l,
+            })
+        })
+        .collect::<Result<_, Diagnostics>>()?;
+    Ok(Loading {
+        bodies,
+        gravity: Vector3::from(d.gravity) / l,
+        loads,
+        metres_per_unit: l,
+    })
+}

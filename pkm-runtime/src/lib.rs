@@ -7,6 +7,7 @@ pub mod batch;
 pub mod consistency;
 pub mod frame;
 pub mod kinematics;
+pub mod mass_properties;
 pub mod model;
 pub mod newton;
 pub mod primitives;
@@ -20,6 +21,7 @@ pub mod spatial;
 pub mod steps;
 pub mod topology_report;
 pub mod velocity;
+pub mod virtual_work;
 pub mod workspace;
 
 pub use topology_report::{SkcReport, SocReport, TopologyReport};

@@ -371,6 +371,20 @@ impl Loops {
         m
     }
 
+    /// Every joint rate per unit rate of each input, one vector per input:
+    /// the columns of the map from the inputs' rates to every rate (the
+    /// virtual velocities of the principle of virtual work).
+    pub fn input_columns(&self, scale: f64) -> Result<Vec<Vec<f64>>, VelocityError> {
+        let (svd, sigma) = self.passive_svd(scale);
+        let zero = DVector::zeros(self.a.nrows());
+        (0..self.actuated.len())
+            .map(|k| {
+                let unit: Vec<f64> = (0..self.actuated.len()).map(|i| f64::from(u8::from(i == k))).collect();
+                self.solve_with(svd.as_ref(), sigma, &unit, &zero, scale)
+            })
+            .collect()
+    }
+
     /// Every rate from the actuated ones (`input_rates` in input order),
     /// with `bias` added to the right-hand side (`A q̇ = −bias`; zero for
     /// velocities, the velocity-product terms for accelerations).
