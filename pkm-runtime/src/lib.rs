@@ -6,7 +6,9 @@
 pub mod batch;
 pub mod consistency;
 pub mod frame;
+pub mod hyper_dual;
 pub mod kinematics;
+pub mod lagrange;
 pub mod mass_properties;
 pub mod model;
 pub mod newton;

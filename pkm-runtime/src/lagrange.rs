@@ -1,0 +1,146 @@
+//! Inverse dynamics by Lagrange's equations (seed 003 §4), in the inputs
+//! q as generalized coordinates:
+//!
+//! `τ_k = d/dt(∂T/∂q̇_k) − ∂T/∂q_k + ∂U/∂q_k − Q_k`,
+//!
+//! `T = Σ ½ m |ċ|² + ½ Ωᵀ I Ω` (Ω the body's angular velocity in its own
+//! axes, `[Ω]× = Rᵀ Ṙ`), `U = −Σ m g·c`, and `Q_k` the loads' generalized
+//! forces. Every derivative of the link poses R(q), c(q) is exact: the
+//! plan's closed-form steps run on hyper-dual inputs ([`HyperDual`]),
+//! `ε₁` along q̇ and `ε₂` along q̇, q̈ or one input's unit vector. It shares
+//! no code with the virtual-work path ([`crate::virtual_work`]), which
+//! reads the loop-closure velocity equations instead, nor with Newton–Euler.
+
+use crate::frame::Frame;
+use crate::hyper_dual::HyperDual;
+use crate::mass_properties::Loading;
+use crate::model::Model;
+use crate::primitives::Sign;
+use crate::scalar::Scalar;
+use crate::solution::SolveError;
+use crate::spatial::Plan;
+use crate::steps::{self, Geometry, Given, JointGeometry};
+use nalgebra::{Matrix3, Vector3};
+use std::borrow::Cow;
+
+/// The actuators' forces (N for a slide, N·L for a turn, in the plan's
+/// input order) that drive the mechanism along `inputs` on the branch
+/// `signs` with the inputs' rates and accelerations, against gravity and
+/// the loads.
+pub fn actuator_forces(
+    model: &Model,
+    plan: &Plan,
+    loading: &Loading,
+    inputs: &[f64],
+    signs: &[Sign],
+    rates: &[f64],
+    accels: &[f64],
+) -> Result<Vec<f64>, SolveError> {
+    let n = inputs.len();
+    let geometry = Geometry {
+        joints: model
+            .joints
+            .iter()
+            .map(|j| JointGeometry::new(j.kind, j.links, j.places.map(|p| p.map(HyperDual::c))))
+            .collect(),
+        named: model.points.iter().map(|p| p.at.map(HyperDual::c)).collect(),
+    };
+    let name = |_: usize| Cow::Borrowed("");
+    // The link poses with ε₁ along `d1` and ε₂ along `d2`.
+    let poses = |d1: &[f64], d2: &[f64]| -> Result<Vec<Frame<HyperDual>>, SolveError> {
+        let values: Vec<HyperDual> = (0..n).map(|i| HyperDual::variable(inputs[i], d1[i], d2[i])).collect();
+        let given = Given {
+            values: &values,
+            signs,
+            name: &name,
+            sites: 0,
+        };
+        Ok(steps::run(plan, &geometry, model.links.len(), &given)?.poses)
+    };
+    let zero = vec![0.0; n];
+    // R, c; their rates; their second derivatives along the rates.
+    let along_rates = poses(rates, rates)?;
+    // Their derivatives along the accelerations.
+    let along_accels = poses(accels, &zero)?;
+    // Per input k: the derivatives along e_k, and along the rates and e_k.
+    let along_inputs: Vec<Vec<Frame<HyperDual>>> = (0..n)
+        .map(|k| {
+            let e: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i == k))).collect();
+            poses(rates, &e)
+        })
+        .collect::<Result<_, _>>()?;
+    let g = loading.gravity;
+    let mut tau = vec![0.0; n];
+    for b in &loading.bodies {
+        let at = |f: &Frame<HyperDual>| Body::of(f, &b.centroid);
+        let m = b.mass;
+        let a = at(&along_rates[b.link]);
+        let q2 = at(&along_accels[b.link]);
+        let (r, rdot) = (&a.r0, &a.r1);
+        // c̈ and R̈ along the motion.
+        let c_dd = a.c12 + q2.c1;
+        let r_dd = a.r12 + q2.r1;
+        // Ω = vee(Rᵀ Ṙ) and its rate.
+        let omega = vee(&(r.transpose() * rdot));
+        let omega_dot = vee(&(rdot.transpose() * rdot + r.transpose() * r_dd));
+        let i = b.inertia;
+        for (k, t) in tau.iter_mut().enumerate() {
+            let d = at(&along_inputs[k][b.link]);
+            // ∂c/∂q_k and ∂R/∂q_k (ε₂), ∂²/∂q̇∂q_k (ε₁ε₂).
+            let (c_k, r_k, c_k_dot, r_k_dot) = (d.c2, d.r2, d.c12, d.r12);
+            // d/dt ∂T/∂q̇_k: ∂T/∂q̇_k = m ċ·∂c/∂q_k + Ωᵀ I vee(Rᵀ ∂R/∂q_k).
+            let w_k = vee(&(r.transpose() * r_k));
+            let w_k_dot = vee(&(rdot.transpose() * r_k + r.transpose() * r_k_dot));
+            let ddt = m * (c_dd.dot(&c_k) + a.c1.dot(&c_k_dot)) + (i * omega_dot).dot(&w_k) + (i * omega).dot(&w_k_dot);
+            // ∂T/∂q_k = m ċ·∂ċ/∂q_k + Ωᵀ I ∂Ω/∂q_k.
+            let omega_k = vee(&(r_k.transpose() * rdot + r.transpose() * r_k_dot));
+            let dq = m * a.c1.dot(&c_k_dot) + (i * omega).dot(&omega_k);
+            // ∂U/∂q_k with U = −m g·c.
+            let du = -m * g.dot(&c_k);
+            *t += ddt - dq + du;
+        }
+    }
+    for l in &loading.loads {
+        for (k, t) in tau.iter_mut().enumerate() {
+            let d = Body::of(&along_inputs[k][l.link], &l.at);
+            // The load's virtual rotation in base axes: vee(∂R/∂q_k Rᵀ).
+            let w = vee(&(d.r2 * d.r0.transpose()));
+            *t -= l.force.dot(&d.c2) + l.moment.dot(&w);
+        }
+    }
+    Ok(tau.into_iter().map(|t| loading.to_newtons(t)).collect())
+}
+
+/// A body point's position and its link's rotation, each split into the
+/// hyper-dual parts: value, along ε₁, along ε₂, mixed.
+struct Body {
+    r0: Matrix3<f64>,
+    r1: Matrix3<f64>,
+    r2: Matrix3<f64>,
+    r12: Matrix3<f64>,
+    c1: Vector3<f64>,
+    c2: Vector3<f64>,
+    c12: Vector3<f64>,
+}
+
+impl Body {
+    fn of(f: &Frame<HyperDual>, local: &Vector3<f64>) -> Body {
+        let p = f.apply([0, 1, 2].map(|i| HyperDual::c(local[i])));
+        let part = |g: fn(&HyperDual) -> f64| Matrix3::from_fn(|i, j| g(&f.r[i][j]));
+        let point = |g: fn(&HyperDual) -> f64| Vector3::from_fn(|i, _| g(&p[i]));
+        Body {
+            r0: part(|x| x.re),
+            r1: part(|x| x.e1),
+            r2: part(|x| x.e2),
+            r12: part(|x| x.e12),
+            c1: point(|x| x.e1),
+            c2: point(|x| x.e2),
+            c12: point(|x| x.e12),
+        }
+    }
+}
+
+/// The axial vector of a matrix's skew part: `[vee(M)]× = (M − Mᵀ)/2`.
+fn vee(m: &Matrix3<f64>) -> Vector3<f64> {
+    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+}
