@@ -213,3 +213,34 @@ pub fn loading(
         metres_per_unit: l,
     })
 }
+
+/// The SKCs for the force analysis, in the position solution's order: each
+/// one's new links, its joints (its SOCs'), and the reaction components its
+/// loops leave undetermined, Σ (6 − ξ_L) (Σ (3 − ξ_L) planar).
+pub fn skc_parts(a: &Analysis) -> Vec<pkm_runtime::newton_euler::SkcParts> {
+    let t = &a.topology;
+    let d = if a.mechanism.planar { 3 } else { 6 };
+    let mut built = vec![false; a.mechanism.links.len()];
+    built[0] = true;
+    t.skcs
+        .iter()
+        .map(|skc| {
+            let socs = &t.socs[skc.socs.clone()];
+            let joints: Vec<usize> = socs.iter().flat_map(|s| s.joints.iter().copied()).collect();
+            let mut links = Vec::new();
+            for &j in &joints {
+                for l in a.mechanism.joints[j].links {
+                    if !built[l] {
+                        built[l] = true;
+                        links.push(l);
+                    }
+                }
+            }
+            pkm_runtime::newton_euler::SkcParts {
+                links,
+                joints,
+                undetermined: socs.iter().map(|s| d - s.xi.min(d)).sum(),
+            }
+        })
+        .collect()
+}

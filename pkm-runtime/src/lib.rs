@@ -12,6 +12,7 @@ pub mod lagrange;
 pub mod mass_properties;
 pub mod model;
 pub mod newton;
+pub mod newton_euler;
 pub mod primitives;
 pub mod real;
 #[cfg(feature = "high-precision")]

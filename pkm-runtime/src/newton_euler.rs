@@ -1,0 +1,352 @@
+//! Inverse dynamics by Newton–Euler over the ordered SKCs (seed 003 §3.1),
+//! with every joint's reaction.
+//!
+//! Each moving link balances the wrenches its joints exert on it against
+//! its inertial wrench less gravity and the loads:
+//! `Σ W_joints + W_loads = (m (a_c − g), I α + ω × I ω)`. A joint's reaction
+//! `W_j` is the wrench its first link exerts on its second (force and moment
+//! about the base origin while solving); it does no work along the joint's
+//! own motion (`ξ·W_j = 0` for each of its unit twists ξ) unless the joint
+//! is actuated, where `ξ·W_j` is the actuator's force or torque.
+//!
+//! The SKCs are solved in the reverse of the position solution's order:
+//! SKC k's unknowns are the reactions of its own joints (those of its SOCs,
+//! including the ones that hang it on earlier links), its equations are its
+//! own links' balances, and the reactions of later SKCs' joints on its links
+//! are known by then. κ = 0 makes each block square up to the overconstraint:
+//! a loop with ξ_L < 6 leaves 6 − ξ_L reaction components that rigid-body
+//! statics cannot determine ([`Reactions::undetermined`]); the block is then
+//! solved in the least-squares sense with the minimum norm of the reactions
+//! (forces in N, moments in N·L divided by the mechanism's size), and the
+//! actuators' forces must not depend on that choice (checked). A planar
+//! mechanism balances (Fx, Fy, Mz) per link.
+//!
+//! Near a configuration where an SKC's force equations lose rank beyond the
+//! overconstraint (a change point, where reactions grow like 1/(φ − φ*)),
+//! the block's conditioning falls to 0: below [`FORCE_SINGULAR`] it is an
+//! error naming the SKC's joints, and above it the conditioning is returned
+//! with the reactions.
+
+use crate::mass_properties::Loading;
+use crate::model::Model;
+use crate::velocity::{self, Twist, VelocityError};
+use nalgebra::{DMatrix, DVector, Point3, Vector3};
+use std::fmt;
+
+/// An SKC for the force analysis: its new links, its joints, and how many
+/// reaction components the topology says it leaves undetermined
+/// (Σ (6 − ξ_L) over its loops; Σ (3 − ξ_L) for a planar mechanism).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SkcParts {
+    /// The links it adds, which its equations balance.
+    pub links: Vec<usize>,
+    /// Its joints, whose reactions it solves.
+    pub joints: Vec<usize>,
+    /// Reaction components statics cannot determine.
+    pub undetermined: usize,
+}
+
+/// One joint's reaction: the force and the moment its first link exerts on
+/// its second, about the joint's point, base axes (N and N·L).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointReaction {
+    /// The force.
+    pub force: [f64; 3],
+    /// The moment about the joint's point.
+    pub moment: [f64; 3],
+}
+
+/// What inverse dynamics by Newton–Euler finds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reactions {
+    /// The actuators' forces (N) or torques (N·L), in input order.
+    pub actuators: Vec<f64>,
+    /// Every joint's reaction.
+    pub joints: Vec<JointReaction>,
+    /// Per SKC, the reaction components statics leaves undetermined (the
+    /// reactions given are the minimum-norm ones).
+    pub undetermined: Vec<usize>,
+    /// Per SKC, the conditioning of its determined part (σ_r/σ_1, r its rank).
+    pub conditioning: Vec<f64>,
+    /// The largest residual of a link's balance, relative to its largest term.
+    pub balance: f64,
+}
+
+/// Below this conditioning an SKC's force equations count as singular.
+pub const FORCE_SINGULAR: f64 = 1e-10;
+
+/// Why inverse dynamics has no answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DynamicsError {
+    /// The motion itself has none (an output singularity, bad values).
+    Velocity(VelocityError),
+    /// An SKC's force equations are singular: a change point.
+    ForceSingular {
+        /// The SKC, from 0 in the position solution's order.
+        skc: usize,
+        /// Its joints.
+        joints: Vec<usize>,
+        /// Its conditioning.
+        conditioning: f64,
+    },
+    /// The actuators' forces depend on the undetermined reactions.
+    Undetermined {
+        /// The SKC.
+        skc: usize,
+    },
+}
+
+impl fmt::Display for DynamicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DynamicsError::Velocity(e) => write!(f, "{e}"),
+            DynamicsError::ForceSingular {
+                skc,
+                joints,
+                conditioning,
+            } => write!(
+                f,
+                "the force equations of SKC {} (joints {joints:?}) are singular here (conditioning {conditioning:e}): a change point",
+                skc + 1
+            ),
+            DynamicsError::Undetermined { skc } => {
+                write!(f, "the actuators' forces in SKC {} are not determined by statics", skc + 1)
+            }
+        }
+    }
+}
+
+impl std::error::Error for DynamicsError {}
+
+impl From<VelocityError> for DynamicsError {
+    fn from(e: VelocityError) -> Self {
+        DynamicsError::Velocity(e)
+    }
+}
+
+/// A wrench about the base origin as d numbers: (fx, fy, mz) planar,
+/// (fx, fy, fz, mx, my, mz) spatial.
+fn wrench(planar: bool, f: Vector3<f64>, m: Vector3<f64>) -> Vec<f64> {
+    if planar {
+        vec![f.x, f.y, m.z]
+    } else {
+        vec![f.x, f.y, f.z, m.x, m.y, m.z]
+    }
+}
+
+/// A twist's power coefficients against such a wrench: (vx, vy, ωz) or (v, ω).
+fn coefficients(planar: bool, t: &Twist) -> Vec<f64> {
+    if planar {
+        vec![t.v.x, t.v.y, t.w.z]
+    } else {
+        vec![t.v.x, t.v.y, t.v.z, t.w.x, t.w.y, t.w.z]
+    }
+}
+
+/// Every joint's reaction and the actuators' forces at joint values
+/// `values` with the inputs' rates and accelerations, SKC by SKC in
+/// reverse order (`skcs` in the position solution's order).
+pub fn inverse_dynamics(
+    model: &Model,
+    loading: &Loading,
+    skcs: &[SkcParts],
+    values: &[f64],
+    input_rates: &[f64],
+    input_accels: &[f64],
+) -> Result<Reactions, DynamicsError> {
+    let planar = model.planar;
+    let d = if planar { 3 } else { 6 };
+    let motion = velocity::accelerations(model, values, input_rates, input_accels)?;
+    let loops = velocity::loops(model, values)?;
+    let size = crate::kinematics::model_scale(model);
+    // Moments and moment rows in units of the mechanism's size.
+    let unit = |i: usize| if i >= d - if planar { 1 } else { 3 } { size } else { 1.0 };
+    let poses = &loops.poses;
+    // What each link's joints must supply: its inertial wrench less gravity
+    // and the loads (Euler's equations in the link's own axes).
+    let mut demand: Vec<Vec<f64>> = vec![vec![0.0; d]; model.links.len()];
+    for b in &loading.bodies {
+        let pose = &poses[b.link];
+        let (t, dt) = (&motion.velocities.twists[b.link], &motion.twists[b.link]);
+        let c = (pose * Point3::from(b.centroid)).coords;
+        let a = dt.v + dt.w.cross(&c) + t.w.cross(&t.at(&c));
+        let rot = pose.rotation;
+        let (w_body, dw_body) = (rot.inverse() * t.w, rot.inverse() * dt.w);
+        let m_c = rot * (b.inertia * dw_body + w_body.cross(&(b.inertia * w_body)));
+        let f = b.mass * (a - loading.gravity);
+        let w = wrench(planar, f, m_c + c.cross(&f));
+        demand[b.link].iter_mut().zip(w).for_each(|(x, y)| *x += y);
+    }
+    for l in &loading.loads {
+        let p = (poses[l.link] * Point3::from(l.at)).coords;
+        let w = wrench(planar, l.force, l.moment + p.cross(&l.force));
+        demand[l.link].iter_mut().zip(w).for_each(|(x, y)| *x -= y);
+    }
+    let mut reaction: Vec<Option<Vec<f64>>> = vec![None; model.joints.len()];
+    let mut undetermined = vec![0; skcs.len()];
+    let mut conditioning = vec![1.0; skcs.len()];
+    for (k, skc) in skcs.iter().enumerate().rev() {
+        let n = skc.joints.len() * d;
+        let passive: Vec<(usize, Vec<f64>)> = skc
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, &j)| !model.joints[j].actuated)
+            .flat_map(|(i, &j)| loops.twists[j].iter().map(move |t| (i, coefficients(planar, t))))
+            .collect();
+        let rows = skc.links.len() * d + passive.len();
+        let mut a = DMatrix::zeros(rows, n);
+        let mut rhs = DVector::zeros(rows);
+        for (r, &l) in skc.links.iter().enumerate() {
+            for c in 0..d {
+                rhs[r * d + c] = demand[l][c] / unit(c);
+            }
+            for (j, joint) in model.joints.iter().enumerate() {
+                let sign = if joint.links[1] == l {
+                    1.0
+                } else if joint.links[0] == l {
+                    -1.0
+                } else {
+                    continue;
+                };
+                match (skc.joints.iter().position(|&x| x == j), &reaction[j]) {
+                    (Some(i), _) => {
+                        for c in 0..d {
+                            a[(r * d + c, i * d + c)] = sign;
+                        }
+                    }
+                    (None, Some(w)) => {
+                        for c in 0..d {
+                            rhs[r * d + c] -= sign * w[c] / unit(c);
+                        }
+                    }
+                    // No joint of an earlier SKC touches this SKC's links.
+                    (None, None) => {}
+                }
+            }
+        }
+        for (p, (i, xi)) in passive.iter().enumerate() {
+            let row = skc.links.len() * d + p;
+            for c in 0..d {
+                a[(row, i * d + c)] = xi[c] * unit(c) / size;
+            }
+        }
+        let svd = a.clone().svd(true, true);
+        let s = &svd.singular_values;
+        let smax = s.max();
+        let rank_expected = n.saturating_sub(skc.undetermined).min(s.len());
+        let mut sorted: Vec<f64> = s.iter().copied().collect();
+        sorted.sort_by(|x, y| y.total_cmp(x));
+        let cond = if rank_expected == 0 || smax <= 0.0 {
+            1.0
+        } else {
+            sorted[rank_expected - 1] / smax
+        };
+        conditioning[k] = cond;
+        if cond < FORCE_SINGULAR {
+            return Err(DynamicsError::ForceSingular {
+                skc: k,
+                joints: skc.joints.clone(),
+                conditioning: cond,
+            });
+        }
+        // The rank: singular values above the overconstraint's zeros.
+        let tol = smax * 1e-12 * n as f64;
+        let rank = s.iter().filter(|&&x| x > tol).count();
+        undetermined[k] = n - rank;
+        let x = svd
+            .solve(&rhs, tol)
+            .map_err(|_| DynamicsError::Undetermined { skc: k })?;
+        // Null-space directions must not move an actuator's force.
+        let v_t = svd.v_t.as_ref().expect("V computed");
+        for (row, &sv) in s.iter().enumerate() {
+            if sv > tol {
+                continue;
+            }
+            for (i, &j) in skc.joints.iter().enumerate().filter(|(_, &j)| model.joints[j].actuated) {
+                for t in &loops.twists[j] {
+                    let xi = coefficients(planar, t);
+                    let moved: f64 = (0..d).map(|c| xi[c] * unit(c) * v_t[(row, i * d + c)]).sum();
+                    if moved.abs() > 1e-9 * size {
+                        return Err(DynamicsError::Undetermined { skc: k });
+                    }
+                }
+            }
+        }
+        for (i, &j) in skc.joints.iter().enumerate() {
+            reaction[j] = Some((0..d).map(|c| x[i * d + c] * unit(c)).collect());
+        }
+    }
+    let reaction: Vec<Vec<f64>> = reaction
+        .into_iter()
+        .map(|w| w.unwrap_or_else(|| vec![0.0; d]))
+        .collect();
+    let balance = balance(model, &demand, &reaction, d, size);
+    let mut actuators = Vec::new();
+    for j in model.inputs() {
+        for t in &loops.twists[j] {
+            let xi = coefficients(planar, t);
+            actuators.push(loading.to_newtons((0..d).map(|c| xi[c] * reaction[j][c]).sum()));
+        }
+    }
+    let joints = (0..model.joints.len())
+        .map(|j| {
+            let w = &reaction[j];
+            let (f, m_o) = if planar {
+                (Vector3::new(w[0], w[1], 0.0), Vector3::new(0.0, 0.0, w[2]))
+            } else {
+                (Vector3::new(w[0], w[1], w[2]), Vector3::new(w[3], w[4], w[5]))
+            };
+            let joint = &model.joints[j];
+            let side = joint.point_side();
+            let p = (poses[joint.links[side]] * Point3::from(joint.places[side].at())).coords;
+            let m_p = m_o - p.cross(&f);
+            let n = |v: Vector3<f64>| [0, 1, 2].map(|i| loading.to_newtons(v[i]));
+            JointReaction {
+                force: n(f),
+                moment: n(m_p),
+            }
+        })
+        .collect();
+    Ok(Reactions {
+        actuators,
+        joints,
+        undetermined,
+        conditioning,
+        balance,
+    })
+}
+
+/// The largest residual of a link's balance relative to its largest term
+/// (forces; moments over the mechanism's size).
+fn balance(model: &Model, demand: &[Vec<f64>], reaction: &[Vec<f64>], d: usize, size: f64) -> f64 {
+    let moment_from = if d == 3 { 2 } else { 3 };
+    let scaled = |c: usize, x: f64| if c >= moment_from { x / size } else { x };
+    let mut worst = 0.0f64;
+    for (l, need) in demand.iter().enumerate().skip(1) {
+        let mut sum = need.iter().enumerate().map(|(c, x)| -scaled(c, *x)).collect::<Vec<_>>();
+        let mut largest = need
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |a, (c, x)| a.max(scaled(c, *x).abs()));
+        for (j, joint) in model.joints.iter().enumerate() {
+            let sign = if joint.links[1] == l {
+                1.0
+            } else if joint.links[0] == l {
+                -1.0
+            } else {
+                continue;
+            };
+            for c in 0..d {
+                let term = sign * scaled(c, reaction[j][c]);
+                sum[c] += term;
+                largest = largest.max(term.abs());
+            }
+        }
+        let r = sum.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        if largest > 0.0 {
+            worst = worst.max(r / largest);
+        }
+    }
+    worst
+}
