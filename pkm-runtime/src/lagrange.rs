@@ -108,6 +108,16 @@ pub fn actuator_forces(
             *t -= l.force.dot(&d.c2) + l.moment.dot(&w);
         }
     }
+    if tau.iter().any(|t| !t.is_finite()) {
+        // A kernel's intermediate that passes through a non-smooth point
+        // (a distance that is exactly 0, a norm of a zero vector) has no
+        // derivative there, although the position solution is smooth.
+        return Err(SolveError::BadInput {
+            what: Cow::Borrowed(
+                "the derivatives through the position solution are not defined at this configuration (an intermediate distance of the plan is 0)",
+            ),
+        });
+    }
     Ok(tau.into_iter().map(|t| loading.to_newtons(t)).collect())
 }
 
