@@ -57,6 +57,26 @@ enum Command {
         #[command(flatten)]
         options: Box<pkm_cli::report::ReportOptions>,
     },
+    /// Inverse dynamics, every branch: the actuators' forces (N, N·length unit) and every joint's reaction, by Newton–Euler over the ordered SKCs.
+    Dynamics {
+        /// The mechanism file (.pkm), with parameters, geometry, units and masses.
+        file: PathBuf,
+        /// Input values (actuated joints in declaration order): radians (degrees with --degrees) and lengths.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        q: Vec<f64>,
+        /// The inputs' rates (per second); zeros if not given.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        rates: Vec<f64>,
+        /// The inputs' accelerations (per second²); zeros if not given.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        accels: Vec<f64>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
+        params: Vec<(String, f64)>,
+        /// Angles, angular rates and accelerations of revolute inputs in degrees.
+        #[arg(long)]
+        degrees: bool,
+    },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
         /// The mechanism file (.pkm), with parameters, geometry and outputs.
@@ -152,6 +172,16 @@ fn main() -> ExitCode {
             params,
             degrees,
         } => solve(json, &file, &params, degrees, |r| cli::solve::fk(r, &q)),
+        Command::Dynamics {
+            file,
+            q,
+            rates,
+            accels,
+            params,
+            degrees,
+        } => solve(json, &file, &params, degrees, |r| {
+            cli::dynamics::dynamics(r, &q, &rates, &accels)
+        }),
         Command::Report { file, out, options } => {
             let (text, shown) = match read(&file) {
                 Ok(t) => t,

@@ -1,4 +1,4 @@
-//! The command line: `analyze`, `fk` and `ik` answers (JSON by name,
+//! The command line: `analyze`, `fk`, `ik` and `dynamics` answers (JSON by name,
 //! radians or degrees), and every failure: its exit code, its message on
 //! stderr, or with `--json` its `{"error": {kind, message}}` on stdout.
 
@@ -489,4 +489,52 @@ fn a_file_over_the_size_limit_is_refused() {
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("the limit is 262144 bytes"), "{err}");
+}
+
+/// `pkm dynamics` on seed 003's punch at φ = 0.5 rad, ω = 1 rad/s: the
+/// crank torque of the branch the paper draws equals virtual work's
+/// (computed here through the library, a path `pkm dynamics` does not
+/// take), torques in N·mm; a reaction names the links it acts between.
+#[test]
+fn dynamics_of_the_punch() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    let v = run_json(&["dynamics", punch, "--q=0.5", "--rates=1"]);
+    assert_eq!(v["units"]["torque"], "N·mm");
+    let branches = v["branches"].as_array().unwrap();
+    let (text, path) = common::example_text("seed003_punch");
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+    let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).unwrap();
+    let loading = pkm::dsl::numeric::loading(&c.analysis, &model, &Default::default()).unwrap();
+    use pkm::runtime::primitives::Sign::{Minus, Plus};
+    let plan = c.forward().unwrap();
+    let values = plan.solve(&model, &[0.5], &[Minus, Minus, Plus]).unwrap();
+    let want = pkm::runtime::virtual_work::actuator_forces(&model, &loading, &values, &[1.0], &[0.0]).unwrap()[0];
+    let paper = branches
+        .iter()
+        .find(|b| b["signs"] == serde_json::json!(["-", "-", "+"]))
+        .expect("the paper's branch");
+    assert_eq!(paper["ok"], true);
+    let got = num(&paper["actuators"]["A"]);
+    assert!((got - want).abs() < 1e-9 * want.abs(), "{got} against {want}");
+    assert_eq!(paper["reactions"]["G.2"]["by"], "7");
+    assert_eq!(paper["reactions"]["G.2"]["on"], "5");
+    assert_eq!(paper["undetermined"], serde_json::json!([0, 0, 0]));
+}
+
+#[test]
+fn dynamics_failures_name_their_cause() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    check_failure(
+        &["dynamics", FOUR_BAR, "--q=0.5"],
+        1,
+        "input",
+        "dynamics needs the file's units and masses",
+    );
+    check_failure(
+        &["dynamics", punch, "--q=0.5", "--rates=1,2"],
+        1,
+        "input",
+        "--rates: expected 1 value (A), found 2",
+    );
+    check_failure(&["dynamics", punch, "--q=NaN"], 1, "input", "A (--q value 1) is NaN");
 }

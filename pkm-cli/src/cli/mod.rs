@@ -1,4 +1,5 @@
-//! The command line's parts: how it fails and how it solves.
+//! The command line's parts: how it fails, how it solves positions, and inverse dynamics.
 
+pub mod dynamics;
 pub mod failure;
 pub mod solve;

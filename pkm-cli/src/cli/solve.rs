@@ -25,12 +25,12 @@ pub struct Request<'a> {
 }
 
 impl Request<'_> {
-    fn parse_failure(&self, d: Diagnostics) -> Failure {
+    pub(super) fn parse_failure(&self, d: Diagnostics) -> Failure {
         Failure::parse(&d, self.source, self.file)
     }
 
     /// A value given on the command line as the solver takes it: radians for an angle.
-    fn solver_value(&self, v: f64, angular: bool) -> f64 {
+    pub(super) fn solver_value(&self, v: f64, angular: bool) -> f64 {
         if self.degrees && angular {
             v.to_radians()
         } else {
@@ -54,13 +54,15 @@ impl Request<'_> {
 
 /// A mechanism ready to solve: its analysis, its model at the given
 /// parameters and its declared outputs at those parameters.
-struct Loaded {
-    analysis: Analysis,
-    model: Model,
+pub(super) struct Loaded {
+    pub(super) analysis: Analysis,
+    pub(super) model: Model,
     outputs: Vec<Output>,
+    /// The parameters the command line overrides.
+    pub(super) values: HashMap<String, f64>,
 }
 
-fn load(r: &Request) -> Result<Loaded, Failure> {
+pub(super) fn load(r: &Request) -> Result<Loaded, Failure> {
     let analysis = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?.analysis;
     let nominal = pkm_dsl::numeric::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
     let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
@@ -74,11 +76,12 @@ fn load(r: &Request) -> Result<Loaded, Failure> {
         analysis,
         model,
         outputs,
+        values,
     })
 }
 
 /// An error unless `v` is a number: `what` names the value.
-fn finite(what: &str, v: f64) -> Result<(), Failure> {
+pub(super) fn finite(what: &str, v: f64) -> Result<(), Failure> {
     if v.is_nan() {
         Err(Failure::input(format!("{what} is NaN")))
     } else if v.is_infinite() {
@@ -198,7 +201,7 @@ fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -
 }
 
 /// Whether a joint's value is an angle.
-fn angular(kind: JointType) -> bool {
+pub(super) fn angular(kind: JointType) -> bool {
     matches!(kind, JointType::R | JointType::Pa)
 }
 
