@@ -206,3 +206,34 @@ fn change_points_where_f_passes_through_h() {
         );
     }
 }
+
+/// The shape of M(φ) against a separate implementation of the paper's
+/// equations (5)–(11) (Python, written from the paper for the issue's
+/// notes, with the same corrections and g = 9.80665 m/s²): M is nearly one
+/// sinusoid, its largest +10.2343 N·mm at φ ≈ 340.13° and its smallest
+/// −10.2075 N·mm at φ ≈ 184.47°, about 99.6 % gravity at this speed.
+#[test]
+fn crank_torque_extremes_as_computed_from_the_paper() {
+    let p = punch();
+    let m = |deg: f64| {
+        let (values, _) = p.branch(deg.to_radians());
+        p.newton_euler(&values).unwrap().actuators[0]
+    };
+    let extreme = |from: f64, sign: f64| {
+        (0..=200)
+            .map(|k| from + k as f64 / 100.0)
+            .map(|d| (d, m(d)))
+            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
+            .unwrap()
+    };
+    let (at_max, max) = extreme(339.0, 1.0);
+    let (at_min, min) = extreme(183.5, -1.0);
+    assert!(
+        (max - 10.2343).abs() < 1e-3 && (at_max - 340.13).abs() < 0.02,
+        "max {max} at {at_max}°"
+    );
+    assert!(
+        (min + 10.2075).abs() < 1e-3 && (at_min - 184.47).abs() < 0.02,
+        "min {min} at {at_min}°"
+    );
+}

@@ -527,12 +527,14 @@ pub fn curves(
             let mut entries = Vec::new();
             for (k, (name, v)) in self.series.iter().enumerate() {
                 let c = colour(k);
-                chart
-                    .draw_series(LineSeries::new(
-                        self.x.iter().zip(v).map(|(a, b)| (*a, *b)),
-                        c.stroke_width(2),
-                    ))
-                    .map_err(err)?;
+                // A value that is not a number leaves a gap: each run of
+                // finite points is its own line.
+                let points: Vec<(f64, f64)> = self.x.iter().zip(v).map(|(a, b)| (*a, *b)).collect();
+                for run in points.split(|(a, b)| !(a.is_finite() && b.is_finite())) {
+                    chart
+                        .draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)))
+                        .map_err(err)?;
+                }
                 entries.push((name.clone(), c, Mark::Line));
             }
             if let Some(side) = side {

@@ -9,6 +9,7 @@
 //! its `study { … }` block (see `docs/report.md`), the command line
 //! overriding each key, and sensible defaults for the rest.
 
+mod dynamics;
 mod html;
 mod inverse;
 mod loaded;

@@ -1,6 +1,7 @@
 //! The trajectory: the inputs along a sine or at constant speed, the
 //! branch followed by continuity, the point's velocity and acceleration from
-//! the differentiated loop equations, and the mechanism's animation.
+//! the differentiated loop equations, the driving forces and reactions where
+//! the file has masses, and the mechanism's animation.
 
 use super::html::{tuple_text, Page};
 use super::loaded::signs;
@@ -28,6 +29,7 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let (mut ts, mut vel, mut acc) = (Vec::new(), vec![Vec::new(); 4], vec![Vec::new(); 4]);
     let mut frames: Vec<Scene> = Vec::new();
     let mut stopped = String::new();
+    let mut dynamics = super::dynamics::Recorder::new(at.l)?;
     for k in 0..=STEPS {
         let t = k as f64 * dt;
         let w = std::f64::consts::PI;
@@ -70,6 +72,9 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
                 break;
             }
         };
+        if let Some(d) = dynamics.as_mut() {
+            d.record(model, t, &v, &qd, &qdd);
+        }
         let poses = newton::link_poses(model, &v).map_err(|e| invalid(e.to_string()))?;
         let p = poses[point.0].transform_point(&point.1.into()).coords;
         let twist = a.velocities.twists[point.0];
@@ -118,6 +123,9 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
             &series,
         )?;
         page.figure(&f, &format!("{title} of {point_name}: components and magnitude"));
+    }
+    if let Some(d) = dynamics {
+        d.write(page, model, unit)?;
     }
     if frames.len() >= 2 {
         let path = page.dir.join("animation.svg");

@@ -1,0 +1,146 @@
+//! The trajectory's inverse dynamics, where the file declares its units and
+//! masses: the actuators' forces and every joint's reaction along it by
+//! Newton–Euler over the ordered SKCs, and the change points it passes.
+
+use super::html::Page;
+use super::loaded::Loaded;
+use super::ReportError;
+use crate::plots;
+use pkm_runtime::mass_properties::Loading;
+use pkm_runtime::model::Model;
+use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError, SkcParts};
+use std::fmt::Write as _;
+
+/// Below this an SKC's conditioning marks a step as next to a change point.
+const NEAR_CHANGE_POINT: f64 = 1e-6;
+
+/// What the trajectory records for the dynamics section.
+pub(super) struct Recorder {
+    loading: Loading,
+    skcs: Vec<SkcParts>,
+    t: Vec<f64>,
+    /// Per step, the actuators' forces.
+    actuators: Vec<Vec<f64>>,
+    /// Per step, every joint's reaction force (NaN next to a change point).
+    forces: Vec<Vec<[f64; 3]>>,
+    /// The steps next to a change point: time and why.
+    change_points: Vec<(f64, String)>,
+}
+
+impl Recorder {
+    /// A recorder, if the file declares its units (masses, gravity and loads
+    /// then come with them); an error where they do not make numbers.
+    pub(super) fn new(l: &Loaded) -> Result<Option<Recorder>, ReportError> {
+        if l.analysis.mass_and_loads.units.is_none() {
+            return Ok(None);
+        }
+        let loading = pkm_dsl::numeric::loading(&l.analysis, &l.model, &l.values)
+            .map_err(|d| super::invalid(d.0.first().map(|x| x.message.clone()).unwrap_or_default()))?;
+        Ok(Some(Recorder {
+            loading,
+            skcs: pkm_dsl::numeric::skc_parts(&l.analysis),
+            t: Vec::new(),
+            actuators: Vec::new(),
+            forces: Vec::new(),
+            change_points: Vec::new(),
+        }))
+    }
+
+    /// One step of the trajectory.
+    pub(super) fn record(&mut self, model: &Model, t: f64, values: &[f64], qd: &[f64], qdd: &[f64]) {
+        let n = model.joints.len();
+        let nan = [f64::NAN; 3];
+        match inverse_dynamics(model, &self.loading, &self.skcs, values, qd, qdd) {
+            Ok(r) => {
+                let near = r.conditioning.iter().position(|&c| c < NEAR_CHANGE_POINT);
+                if let Some(k) = near {
+                    self.change_points
+                        .push((t, format!("SKC {} conditioning {:.1e}", k + 1, r.conditioning[k])));
+                }
+                self.actuators.push(r.actuators);
+                self.forces.push(match near {
+                    Some(_) => vec![nan; n],
+                    None => r.joints.iter().map(|j| j.force).collect(),
+                });
+            }
+            Err(e) => {
+                if matches!(e, DynamicsError::ForceSingular { .. }) {
+                    self.change_points.push((t, e.to_string()));
+                }
+                self.actuators.push(vec![f64::NAN; model.inputs().len()]);
+                self.forces.push(vec![nan; n]);
+            }
+        }
+        self.t.push(t);
+    }
+
+    /// The section: the driving forces, then every joint's reaction.
+    pub(super) fn write(self, page: &mut Page, model: &Model, unit: &str) -> Result<(), ReportError> {
+        let marks = if self.change_points.is_empty() {
+            "No step is next to a change point.".to_string()
+        } else {
+            let list: Vec<String> = self
+                .change_points
+                .iter()
+                .map(|(t, why)| format!("t = {t:.3} s ({why})"))
+                .collect();
+            format!(
+                "Next to a change point (an SKC's force equations nearly singular; reactions there grow without \
+                 bound and are left out of the curves): {}.",
+                list.join("; ")
+            )
+        };
+        let _ = writeln!(
+            page,
+            "<h2>Driving forces and joint reactions</h2><p>Newton–Euler over the ordered SKCs along the same \
+             trajectory, with the file's masses, gravity and loads. Forces in N, torques in N·{unit}. A joint's \
+             reaction is the force its first link exerts on its second, base axes. {marks}</p>"
+        );
+        let inputs = model.inputs();
+        let series: Vec<(String, Vec<f64>)> = inputs
+            .iter()
+            .enumerate()
+            .map(|(k, &j)| {
+                (
+                    model.joints[j].name.clone(),
+                    self.actuators.iter().map(|a| a[k]).collect(),
+                )
+            })
+            .collect();
+        let f = plots::curves(
+            &page.dir.join("driving_forces"),
+            "Driving forces and torques",
+            ["t (s)", &format!("N or N·{unit}")],
+            &self.t,
+            &series,
+        )?;
+        page.figure(
+            &f,
+            "The actuators' forces (slides, N) and torques (turns, N·length unit)",
+        );
+        let components: &[(usize, &str)] = if model.planar {
+            &[(0, "x"), (1, "y")]
+        } else {
+            &[(0, "x"), (1, "y"), (2, "z")]
+        };
+        for (j, joint) in model.joints.iter().enumerate() {
+            let series: Vec<(String, Vec<f64>)> = components
+                .iter()
+                .map(|&(c, name)| (format!("R{name}"), self.forces.iter().map(|f| f[j][c]).collect()))
+                .collect();
+            let (by, on) = (&model.links[joint.links[0]], &model.links[joint.links[1]]);
+            let f = plots::curves(
+                &page.dir.join(format!("reaction_{}", joint.name.replace('.', "_"))),
+                &format!("Reaction at {}", joint.name),
+                ["t (s)", "N"],
+                &self.t,
+                &series,
+            )?;
+            page.figure(
+                &f,
+                &format!("Joint {}: the force link {by} exerts on link {on}", joint.name),
+            );
+        }
+        Ok(())
+    }
+}
