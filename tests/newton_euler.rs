@@ -73,3 +73,14 @@ fn a_pushed_slider_by_hand() {
         assert_eq!(r.undetermined, vec![0]);
     }
 }
+
+/// Dynamics needs every moving link described: a mass, or `massless`.
+#[test]
+fn a_link_without_mass_is_named() {
+    let text = SLIDER_CRANK.replace("massless crank, rod;", "massless crank;");
+    let c = pkm::dsl::compile(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).unwrap();
+    let e = pkm::dsl::numeric::loading(&c.analysis, &model, &Default::default()).unwrap_err();
+    let message = &e.0[0].message;
+    assert!(message.contains("rod has none"), "{message}");
+}

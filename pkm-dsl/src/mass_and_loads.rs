@@ -199,9 +199,11 @@ pub struct MassAndLoads {
     pub masses: Vec<LinkMass>,
     /// The links declared `massless`.
     pub massless: Vec<usize>,
-    /// Gravity in base coordinates (m/s²): the declared vector, or 9.81
-    /// along −z (spatial) or −y (planar).
+    /// Gravity in base coordinates (m/s²) at the nominal parameters: the
+    /// declared vector, or 9.81 along −z (spatial) or −y (planar).
     pub gravity: [f64; 3],
+    /// The declared gravity's expressions, for other parameter values.
+    pub gravity_declared: Option<[Expr; 3]>,
     /// External loads.
     pub loads: Vec<Load>,
 }
@@ -383,9 +385,10 @@ pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<Mas
     }
     if let Some(g) = d.gravity.first() {
         if let Some(v) = vector(g, planar, "gravity", &known, &mut errors) {
-            let g = v.map(|e| e.eval(&values));
+            let g = v.clone().map(|e| e.eval(&values));
             if g.iter().all(|x| x.is_finite()) {
                 out.gravity = g;
+                out.gravity_declared = Some(v);
             } else {
                 errors.push(Diagnostic::new(d.gravity[0].span(), "gravity is not finite").label("here"));
             }
@@ -550,6 +553,10 @@ fn link_mass(
         }
     }
     let ((mass_expr, span), centroid) = (mass?, centroid?);
+    if centroid.iter().any(|e| !e.eval(values).is_finite()) {
+        errors.push(Diagnostic::new(name.span, format!("the centroid of `{}` is not finite", name.text)).label("here"));
+        return None;
+    }
     let m = mass_expr.eval(values);
     if !m.is_finite() || m < 0.0 {
         errors.push(
@@ -664,7 +671,7 @@ fn inertia_of(
 /// trace, for rounded tables).
 pub fn inertia_problem(n: &[f64]) -> Option<String> {
     if n.iter().any(|x| !x.is_finite()) {
-        return Some("an inertia is finite".into());
+        return Some("an inertia is not finite".into());
     }
     let principal: Vec<f64> = match n.len() {
         1 => return (n[0] < 0.0).then(|| format!("the moment of inertia is {}, negative", n[0])),
@@ -758,6 +765,20 @@ fn loads(
             errors.push(Diagnostic::new(d.link.span, format!("unknown link `{}`", d.link.text)).label("no such link"));
             continue;
         };
+        if link == 0 {
+            errors.push(
+                Diagnostic::new(d.link.span, "a load on the base does nothing")
+                    .label("fixed")
+                    .note("loads act on moving links"),
+            );
+            continue;
+        }
+        let values = geometry.nominal();
+        let finite = |v: &Option<[Expr; 3]>| v.iter().flatten().all(|e| e.eval(&values).is_finite());
+        if !finite(&force) || !finite(&moment) {
+            errors.push(Diagnostic::new(d.span, format!("load `{}` is not finite", d.name.text)).label("here"));
+            continue;
+        }
         out.push(Load {
             name: d.name.text.clone(),
             link,
@@ -967,6 +988,12 @@ mod tests {
         check(
             &four_bar(&format!("{UNITS} loads {{ p = force (1, 0) on e at M; }}")),
             &["unknown link `e`"],
+        );
+        check(
+            &four_bar(&format!(
+                "{UNITS} loads {{ p = moment 1 on base; q = force (sqrt(-1), 0) on a at M; }}"
+            )),
+            &["a load on the base does nothing", "load `q` is not finite"],
         );
     }
 

@@ -153,11 +153,38 @@ pub fn loading(
         )
         .into());
     };
+    // Every moving link has its mass properties or is declared massless.
+    let described = |l: usize| d.masses.iter().any(|b| b.link == l) || d.massless.contains(&l);
+    let missing: Vec<&str> = (1..a.mechanism.links.len())
+        .filter(|&l| !described(l))
+        .map(|l| a.mechanism.links[l].name.as_str())
+        .collect();
+    if !missing.is_empty() {
+        return Err(Diagnostic::new(
+            span,
+            format!(
+                "dynamics needs every moving link's mass: {} ha{} none (give a `mass` and `centroid` in `masses`, or declare it `massless`)",
+                missing.join(", "),
+                if missing.len() == 1 { "s" } else { "ve" }
+            ),
+        )
+        .into());
+    }
     let all = parameter_values(a, values)?;
     let eval = |e: &crate::expr::Expr| e.eval(&all);
     let vec3 = |v: &[crate::expr::Expr; 3]| Vector3::new(eval(&v[0]), eval(&v[1]), eval(&v[2]));
+    let not_finite = |what: String| {
+        Diagnostics::from(Diagnostic::new(
+            span,
+            format!("{what} is not finite at these parameters"),
+        ))
+    };
     let l = units.length.metres();
     let kg = units.mass.kilograms();
+    let gravity = d.gravity_declared.as_ref().map_or(Vector3::from(d.gravity), &vec3);
+    if gravity.iter().any(|x| !x.is_finite()) {
+        return Err(not_finite("gravity".into()));
+    }
     let mut bodies = Vec::new();
     for b in &d.masses {
         let name = &a.mechanism.links[b.link].name;
@@ -182,10 +209,14 @@ pub fn loading(
             [ixx, iyy, izz] => Matrix3::from_diagonal(&Vector3::new(*ixx, *iyy, *izz)),
             m => Matrix3::new(m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2]),
         };
+        let centroid = vec3(&b.centroid);
+        if centroid.iter().any(|x| !x.is_finite()) {
+            return Err(not_finite(format!("the centroid of link `{name}`")));
+        }
         bodies.push(Body {
             link: b.link,
             mass: mass * kg,
-            centroid: vec3(&b.centroid),
+            centroid,
             inertia: inertia * kg,
         });
     }
@@ -198,17 +229,21 @@ pub fn loading(
                     .map_err(|e| Diagnostics::from(Diagnostic::new(span, e.to_string())))?,
                 None => [0.0; 3],
             };
+            let (force, moment) = (vec3(&p.force), vec3(&p.moment));
+            if force.iter().chain(moment.iter()).any(|x| !x.is_finite()) {
+                return Err(not_finite(format!("load `{}`", p.name)));
+            }
             Ok(PointLoad {
                 link: p.link,
                 at: Vector3::from(at),
-                force: vec3(&p.force) / l,
-                moment: vec3(&p.moment) / l,
+                force: force / l,
+                moment: moment / l,
             })
         })
         .collect::<Result<_, Diagnostics>>()?;
     Ok(Loading {
         bodies,
-        gravity: Vector3::from(d.gravity) / l,
+        gravity: gravity / l,
         loads,
         metres_per_unit: l,
     })

@@ -26,7 +26,8 @@ use std::borrow::Cow;
 /// The actuators' forces (N for a slide, N·L for a turn, in the plan's
 /// input order) that drive the mechanism along `inputs` on the branch
 /// `signs` with the inputs' rates and accelerations, against gravity and
-/// the loads.
+/// the loads. The branch is not verified here (solve it with
+/// [`Plan::solve`] first): this is a reference path.
 pub fn actuator_forces(
     model: &Model,
     plan: &Plan,
@@ -37,6 +38,18 @@ pub fn actuator_forces(
     accels: &[f64],
 ) -> Result<Vec<f64>, SolveError> {
     let n = inputs.len();
+    let wanted = plan.n_inputs;
+    if n != wanted || rates.len() != n || accels.len() != n || signs.len() != plan.branches {
+        return Err(SolveError::BadInput {
+            what: Cow::Owned(format!(
+                "expected {wanted} inputs, rates and accelerations and {} signs; got {n}, {}, {} and {}",
+                plan.branches,
+                rates.len(),
+                accels.len(),
+                signs.len()
+            )),
+        });
+    }
     let geometry = Geometry {
         joints: model
             .joints
@@ -109,12 +122,13 @@ pub fn actuator_forces(
         }
     }
     if tau.iter().any(|t| !t.is_finite()) {
-        // A kernel's intermediate that passes through a non-smooth point
-        // (a distance that is exactly 0, a norm of a zero vector) has no
-        // derivative there, although the position solution is smooth.
+        // Given finite values, this is a kernel's intermediate that passes
+        // through a non-smooth point (a distance that is exactly 0, a norm
+        // of a zero vector): it has no derivative there, although the
+        // position solution is smooth.
         return Err(SolveError::BadInput {
             what: Cow::Borrowed(
-                "the derivatives through the position solution are not defined at this configuration (an intermediate distance of the plan is 0)",
+                "the forces are not finite: a value given is not, or a derivative through the position solution is not defined here (an intermediate distance of the plan is 0)",
             ),
         });
     }

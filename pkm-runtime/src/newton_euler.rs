@@ -94,6 +94,10 @@ pub enum DynamicsError {
         /// The SKC.
         skc: usize,
     },
+    /// The SKCs given do not hold every joint and moving link once.
+    BadParts(String),
+    /// A reaction is not a number (the values, rates or loading were not).
+    NotFinite,
 }
 
 impl fmt::Display for DynamicsError {
@@ -112,6 +116,8 @@ impl fmt::Display for DynamicsError {
             DynamicsError::Undetermined { skc } => {
                 write!(f, "the actuators' forces in SKC {} are not determined by statics", skc + 1)
             }
+            DynamicsError::BadParts(why) => write!(f, "the SKCs given are not a partition: {why}"),
+            DynamicsError::NotFinite => write!(f, "a reaction is not a finite number"),
         }
     }
 }
@@ -156,6 +162,7 @@ pub fn inverse_dynamics(
 ) -> Result<Reactions, DynamicsError> {
     let planar = model.planar;
     let d = if planar { 3 } else { 6 };
+    check_parts(model, skcs)?;
     let motion = velocity::accelerations(model, values, input_rates, input_accels)?;
     let loops = velocity::loops(model, values)?;
     let size = crate::kinematics::model_scale(model);
@@ -187,12 +194,16 @@ pub fn inverse_dynamics(
     let mut conditioning = vec![1.0; skcs.len()];
     for (k, skc) in skcs.iter().enumerate().rev() {
         let n = skc.joints.len() * d;
-        let passive: Vec<(usize, Vec<f64>)> = skc
+        let passive: Vec<(usize, Vec<f64>, bool)> = skc
             .joints
             .iter()
             .enumerate()
             .filter(|(_, &j)| !model.joints[j].actuated)
-            .flat_map(|(i, &j)| loops.twists[j].iter().map(move |t| (i, coefficients(planar, t))))
+            .flat_map(|(i, &j)| {
+                loops.twists[j]
+                    .iter()
+                    .map(move |t| (i, coefficients(planar, t), t.w.norm() > 0.0))
+            })
             .collect();
         let rows = skc.links.len() * d + passive.len();
         let mut a = DMatrix::zeros(rows, n);
@@ -225,13 +236,20 @@ pub fn inverse_dynamics(
                 }
             }
         }
-        for (p, (i, xi)) in passive.iter().enumerate() {
+        for (p, (i, xi, turns)) in passive.iter().enumerate() {
             let row = skc.links.len() * d + p;
+            // A turn's row has lever arms (lengths) against forces, a
+            // slide's unit direction: both in units of the size.
+            let k = if *turns { 1.0 / size } else { 1.0 };
             for c in 0..d {
-                a[(row, i * d + c)] = xi[c] * unit(c) / size;
+                a[(row, i * d + c)] = xi[c] * unit(c) * k;
             }
         }
-        let svd = a.clone().svd(true, true);
+        // Zero rows up to a square matrix, so that the decomposition holds
+        // the whole null space (the thin one has only min(rows, n) rows of Vᵀ).
+        let a = if rows < n { a.resize_vertically(n, 0.0) } else { a };
+        let rhs = if rows < n { rhs.resize_vertically(n, 0.0) } else { rhs };
+        let svd = a.svd(true, true);
         let s = &svd.singular_values;
         let smax = s.max();
         let rank_expected = n.saturating_sub(skc.undetermined).min(s.len());
@@ -281,6 +299,9 @@ pub fn inverse_dynamics(
         .into_iter()
         .map(|w| w.unwrap_or_else(|| vec![0.0; d]))
         .collect();
+    if reaction.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(DynamicsError::NotFinite);
+    }
     let balance = balance(model, &demand, &reaction, d, size);
     let mut actuators = Vec::new();
     for j in model.inputs() {
@@ -315,6 +336,46 @@ pub fn inverse_dynamics(
         conditioning,
         balance,
     })
+}
+
+/// Every joint in exactly one SKC, every moving link in exactly one.
+fn check_parts(model: &Model, skcs: &[SkcParts]) -> Result<(), DynamicsError> {
+    let within = |list: &[usize], n: usize| list.iter().all(|&x| x < n);
+    if !skcs
+        .iter()
+        .all(|s| within(&s.joints, model.joints.len()) && within(&s.links, model.links.len()))
+    {
+        return Err(DynamicsError::BadParts(
+            "an index past the model's joints or links".into(),
+        ));
+    }
+    let count = |n: usize, each: &dyn Fn(&SkcParts) -> &[usize]| {
+        let mut seen = vec![0usize; n];
+        for s in skcs {
+            for &x in each(s) {
+                if let Some(c) = seen.get_mut(x) {
+                    *c += 1;
+                }
+            }
+        }
+        seen
+    };
+    let joints = count(model.joints.len(), &|s| &s.joints);
+    let links = count(model.links.len(), &|s| &s.links);
+    if let Some(j) = joints.iter().position(|&c| c != 1) {
+        return Err(DynamicsError::BadParts(format!(
+            "joint {} is in {} SKCs",
+            model.joints[j].name, joints[j]
+        )));
+    }
+    if let Some(l) = links.iter().skip(1).position(|&c| c != 1) {
+        return Err(DynamicsError::BadParts(format!(
+            "link {} is in {} SKCs",
+            model.links[l + 1],
+            links[l + 1]
+        )));
+    }
+    Ok(())
 }
 
 /// The largest residual of a link's balance relative to its largest term

@@ -15,7 +15,7 @@ pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result
     let a = &l.analysis;
     let Some(units) = a.mass_and_loads.units else {
         return Err(Failure::input(
-            "dynamics needs the file's units and masses: `units { length = mm; mass = kg; }` and a `masses` block",
+            "dynamics needs the file's units and masses: `units { length = mm; mass = kg; }` and a `masses` block giving every moving link a mass or declaring it massless",
         ));
     };
     let loading = pkm_dsl::numeric::loading(a, &l.model, &l.values).map_err(|d| r.parse_failure(d))?;
@@ -101,7 +101,7 @@ pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result
     if branches.is_empty() {
         return Err(Failure::new(
             Kind::Unreachable,
-            format!("no branch has a solution here: {}", causes.join("; ")),
+            format!("no branch gives the dynamics here: {}", causes.join("; ")),
         ));
     }
     Ok(json!({
