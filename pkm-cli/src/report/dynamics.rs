@@ -12,7 +12,7 @@ use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError, SkcParts};
 use std::fmt::Write as _;
 
 /// Below this an SKC's conditioning marks a step as next to a change point.
-const NEAR_CHANGE_POINT: f64 = 1e-6;
+const NEAR_CHANGE_POINT: f64 = 1e-4;
 
 /// What the trajectory records for the dynamics section.
 pub(super) struct Recorder {
@@ -23,8 +23,8 @@ pub(super) struct Recorder {
     actuators: Vec<Vec<f64>>,
     /// Per step, every joint's reaction force (NaN next to a change point).
     forces: Vec<Vec<[f64; 3]>>,
-    /// The steps next to a change point: time and why.
-    change_points: Vec<(f64, String)>,
+    /// The steps next to a change point: step, time, conditioning and why.
+    change_points: Vec<(usize, f64, f64, String)>,
 }
 
 impl Recorder {
@@ -54,8 +54,9 @@ impl Recorder {
             Ok(r) => {
                 let near = r.conditioning.iter().position(|&c| c < NEAR_CHANGE_POINT);
                 if let Some(k) = near {
+                    let step = self.t.len();
                     self.change_points
-                        .push((t, format!("SKC {} conditioning {:.1e}", k + 1, r.conditioning[k])));
+                        .push((step, t, r.conditioning[k], format!("SKC {}", k + 1)));
                 }
                 self.actuators.push(r.actuators);
                 self.forces.push(match near {
@@ -64,8 +65,9 @@ impl Recorder {
                 });
             }
             Err(e) => {
-                if matches!(e, DynamicsError::ForceSingular { .. }) {
-                    self.change_points.push((t, e.to_string()));
+                if let DynamicsError::ForceSingular { skc, conditioning, .. } = e {
+                    self.change_points
+                        .push((self.t.len(), t, conditioning, format!("SKC {}", skc + 1)));
                 }
                 self.actuators.push(vec![f64::NAN; model.inputs().len()]);
                 self.forces.push(vec![nan; n]);
@@ -79,10 +81,27 @@ impl Recorder {
         let marks = if self.change_points.is_empty() {
             "No step is next to a change point.".to_string()
         } else {
-            let list: Vec<String> = self
-                .change_points
+            // Runs of consecutive steps, each by its lowest conditioning.
+            let mut runs: Vec<Vec<&(usize, f64, f64, String)>> = Vec::new();
+            for c in &self.change_points {
+                match runs.last_mut() {
+                    Some(run) if run.last().is_some_and(|p| p.0 + 1 == c.0) => run.push(c),
+                    _ => runs.push(vec![c]),
+                }
+            }
+            let list: Vec<String> = runs
                 .iter()
-                .map(|(t, why)| format!("t = {t:.3} s ({why})"))
+                .map(|run| {
+                    let low = run
+                        .iter()
+                        .min_by(|a, b| a.2.total_cmp(&b.2))
+                        .expect("a run is not empty");
+                    let (first, last) = (run[0].1, run[run.len() - 1].1);
+                    format!(
+                        "t = {first:.3}–{last:.3} s ({}, conditioning down to {:.1e} at t = {:.3} s)",
+                        low.3, low.2, low.1
+                    )
+                })
                 .collect();
             format!(
                 "Next to a change point (an SKC's force equations nearly singular; reactions there grow without \
