@@ -534,7 +534,7 @@ fn dynamics_failures_name_their_cause() {
         &["dynamics", punch, "--q=0.5", "--rates=1,2"],
         1,
         "input",
-        "--rates: expected 1 value (A), found 2",
+        "--rates: expected 1 input value (A), found 2",
     );
     check_failure(&["dynamics", punch, "--q=NaN"], 1, "input", "A (--q value 1) is NaN");
 }

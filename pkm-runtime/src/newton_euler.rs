@@ -213,13 +213,7 @@ pub fn inverse_dynamics(
                 rhs[r * d + c] = demand[l][c] / unit(c);
             }
             for (j, joint) in model.joints.iter().enumerate() {
-                let sign = if joint.links[1] == l {
-                    1.0
-                } else if joint.links[0] == l {
-                    -1.0
-                } else {
-                    continue;
-                };
+                let Some(sign) = acting_on(joint, l) else { continue };
                 match (skc.joints.iter().position(|&x| x == j), &reaction[j]) {
                     (Some(i), _) => {
                         for c in 0..d {
@@ -338,6 +332,19 @@ pub fn inverse_dynamics(
     })
 }
 
+/// How joint `joint`'s reaction acts on link `l`: +1 on its second link
+/// (the reaction is what the first exerts on it), −1 on its first, `None`
+/// on any other.
+fn acting_on(joint: &crate::model::Joint, l: usize) -> Option<f64> {
+    if joint.links[1] == l {
+        Some(1.0)
+    } else if joint.links[0] == l {
+        Some(-1.0)
+    } else {
+        None
+    }
+}
+
 /// Every joint in exactly one SKC, every moving link in exactly one.
 fn check_parts(model: &Model, skcs: &[SkcParts]) -> Result<(), DynamicsError> {
     let within = |list: &[usize], n: usize| list.iter().all(|&x| x < n);
@@ -391,13 +398,7 @@ fn balance(model: &Model, demand: &[Vec<f64>], reaction: &[Vec<f64>], d: usize, 
             .enumerate()
             .fold(0.0f64, |a, (c, x)| a.max(scaled(c, *x).abs()));
         for (j, joint) in model.joints.iter().enumerate() {
-            let sign = if joint.links[1] == l {
-                1.0
-            } else if joint.links[0] == l {
-                -1.0
-            } else {
-                continue;
-            };
+            let Some(sign) = acting_on(joint, l) else { continue };
             for c in 0..d {
                 let term = sign * scaled(c, reaction[j][c]);
                 sum[c] += term;

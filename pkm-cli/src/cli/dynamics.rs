@@ -4,7 +4,7 @@
 //! (`pkm_runtime::newton_euler`), as JSON by name.
 
 use super::failure::{Failure, Kind};
-use super::solve::{angular, finite, load, Request};
+use super::solve::{input_values, load, Request};
 use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError};
 use serde_json::{json, Map, Value};
 
@@ -24,26 +24,10 @@ pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
     let zeros = vec![0.0; inputs.len()];
     let mut given = Vec::new();
-    for (what, list) in [("--q", q), ("--rates", rates), ("--accels", accels)] {
-        let list = if list.is_empty() && what != "--q" { &zeros } else { list };
-        if list.len() != inputs.len() {
-            return Err(Failure::input(format!(
-                "{what}: expected {} value{} ({}), found {}",
-                inputs.len(),
-                if inputs.len() == 1 { "" } else { "s" },
-                names.join(", "),
-                list.len()
-            )));
-        }
-        for (k, (&v, name)) in list.iter().zip(&names).enumerate() {
-            finite(&format!("{name} ({what} value {})", k + 1), v)?;
-        }
-        given.push(
-            list.iter()
-                .zip(&inputs)
-                .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
-                .collect::<Vec<f64>>(),
-        );
+    for (flag, list) in [("--q", q), ("--rates", rates), ("--accels", accels)] {
+        // Rates and accelerations not given are zero: statics.
+        let list = if list.is_empty() && flag != "--q" { &zeros } else { list };
+        given.push(input_values(r, &l.model, &inputs, flag, list)?);
     }
     let skcs = pkm_dsl::numeric::skc_parts(a);
     let unit = match units.length {

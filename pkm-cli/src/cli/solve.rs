@@ -429,29 +429,42 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
         .collect())
 }
 
+/// Values the command line gives per input (`flag`: `--q`, `--rates`, …):
+/// as many as the inputs, each finite, angles in radians for the solver.
+pub(super) fn input_values(
+    r: &Request,
+    model: &Model,
+    inputs: &[usize],
+    flag: &str,
+    list: &[f64],
+) -> Result<Vec<f64>, Failure> {
+    let names: Vec<&str> = inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
+    if list.len() != inputs.len() {
+        return Err(Failure::input(format!(
+            "{flag}: expected {} input value{} ({}), found {}",
+            inputs.len(),
+            if inputs.len() == 1 { "" } else { "s" },
+            names.join(", "),
+            list.len()
+        )));
+    }
+    for (k, (&v, name)) in list.iter().zip(&names).enumerate() {
+        finite(&format!("input {name} ({flag} value {})", k + 1), v)?;
+    }
+    Ok(list
+        .iter()
+        .zip(inputs)
+        .map(|(&v, &j)| r.solver_value(v, angular(model.joints[j].kind)))
+        .collect())
+}
+
 /// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
 pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let l = load(r)?;
     let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
     let inputs = plan.input_joints(&l.model);
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
-    if q.len() != inputs.len() {
-        return Err(Failure::input(format!(
-            "expected {} input value{} ({}), found {}",
-            inputs.len(),
-            if inputs.len() == 1 { "" } else { "s" },
-            names.join(", "),
-            q.len()
-        )));
-    }
-    for (k, (&v, name)) in q.iter().zip(&names).enumerate() {
-        finite(&format!("input {name} (--q value {})", k + 1), v)?;
-    }
-    let given: Vec<f64> = q
-        .iter()
-        .zip(&inputs)
-        .map(|(&v, &j)| r.solver_value(v, angular(l.model.joints[j].kind)))
-        .collect();
+    let given = input_values(r, &l.model, &inputs, "--q", q)?;
     let verdicts = verdicts(&l, run_all(&plan, &l.model, &given), &names);
     let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
     Ok(json!({
