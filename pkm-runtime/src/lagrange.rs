@@ -19,7 +19,7 @@ use crate::primitives::Sign;
 use crate::scalar::Scalar;
 use crate::solution::SolveError;
 use crate::spatial::Plan;
-use crate::steps::{self, Geometry, Given, JointGeometry};
+use crate::steps::{self, Geometry, Given};
 use nalgebra::{Matrix3, Vector3};
 use std::borrow::Cow;
 
@@ -50,14 +50,7 @@ pub fn actuator_forces(
             )),
         });
     }
-    let geometry = Geometry {
-        joints: model
-            .joints
-            .iter()
-            .map(|j| JointGeometry::new(j.kind, j.links, j.places.map(|p| p.map(HyperDual::c))))
-            .collect(),
-        named: model.points.iter().map(|p| p.at.map(HyperDual::c)).collect(),
-    };
+    let geometry = Geometry::<HyperDual>::of(model);
     let name = |_: usize| Cow::Borrowed("");
     // The link poses with ε₁ along `d1` and ε₂ along `d2`.
     let poses = |d1: &[f64], d2: &[f64]| -> Result<Vec<Frame<HyperDual>>, SolveError> {

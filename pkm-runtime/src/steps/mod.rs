@@ -609,16 +609,18 @@ pub(crate) fn turn_terms<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3]) -> [T; 2] {
     [dot(v, u), dot(k, cross(v, u))]
 }
 
-impl Geometry<f64> {
-    /// The geometry of a model at its dimensions.
+impl<T: Scalar> Geometry<T> {
+    /// The geometry of a model at its dimensions, its numbers as constants
+    /// of the scalar (f64 itself for the interpreter; hyper-duals for the
+    /// Lagrange path's derivatives).
     pub fn of(model: &crate::model::Model) -> Self {
         Geometry {
             joints: model
                 .joints
                 .iter()
-                .map(|j| JointGeometry::new(j.kind, j.links, j.places))
+                .map(|j| JointGeometry::new(j.kind, j.links, j.places.map(|p| p.map(T::c))))
                 .collect(),
-            named: model.points.iter().map(|p| p.at).collect(),
+            named: model.points.iter().map(|p| p.at.map(T::c)).collect(),
         }
     }
 }
