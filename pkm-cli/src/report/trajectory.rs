@@ -26,6 +26,7 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let (start, (motion, rates)) = (&s.start.0, (s.motion.0, &s.motion.1));
     let dt = s.duration.0 / STEPS as f64;
     let mut previous: Option<Vec<f64>> = None;
+    let mut before_previous: Option<Vec<f64>> = None;
     let (mut ts, mut vel, mut acc) = (Vec::new(), vec![Vec::new(); 4], vec![Vec::new(); 4]);
     let mut frames: Vec<Scene> = Vec::new();
     let mut stopped = String::new();
@@ -53,10 +54,31 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
         };
         let chosen = match &previous {
             None => candidates.into_iter().next(),
-            Some(p) => candidates.into_iter().min_by(|x, y| {
-                pkm_runtime::solution::joint_distance(x, p, &revolute)
-                    .total_cmp(&pkm_runtime::solution::joint_distance(y, p, &revolute))
-            }),
+            Some(p) => {
+                // Where two branches cross (a dyad through its double root)
+                // both are as near the last step; the one that goes on
+                // smoothly is the one nearest the last step's continuation,
+                // p + (p − the step before).
+                let predicted: Vec<f64> = match &before_previous {
+                    Some(pp) => p
+                        .iter()
+                        .zip(pp)
+                        .zip(&revolute)
+                        .map(|((a, b), &r)| {
+                            a + if r {
+                                pkm_runtime::solution::wrap_angle(a - b)
+                            } else {
+                                a - b
+                            }
+                        })
+                        .collect(),
+                    None => p.clone(),
+                };
+                candidates.into_iter().min_by(|x, y| {
+                    pkm_runtime::solution::joint_distance(x, &predicted, &revolute)
+                        .total_cmp(&pkm_runtime::solution::joint_distance(y, &predicted, &revolute))
+                })
+            }
         };
         let Some(v) = chosen else {
             stopped = format!(
@@ -90,7 +112,7 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
         }
         vel[3].push(pv.norm());
         acc[3].push(pa.norm());
-        previous = Some(v);
+        before_previous = previous.replace(v);
     }
     let point_name = s.point.0.as_str();
     let law = match motion {
