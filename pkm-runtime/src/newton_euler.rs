@@ -163,8 +163,8 @@ pub fn inverse_dynamics(
     let planar = model.planar;
     let d = if planar { 3 } else { 6 };
     check_parts(model, skcs)?;
-    let motion = velocity::accelerations(model, values, input_rates, input_accels)?;
     let loops = velocity::loops(model, values)?;
+    let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     let size = crate::kinematics::model_scale(model);
     // Moments and moment rows in units of the mechanism's size.
     let unit = |i: usize| if i >= d - if planar { 1 } else { 3 } { size } else { 1.0 };

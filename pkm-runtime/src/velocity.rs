@@ -520,18 +520,29 @@ pub fn accelerations(
     input_rates: &[f64],
     input_accels: &[f64],
 ) -> Result<Accelerations, VelocityError> {
-    let l = loops(model, values)?;
+    accelerations_on(&loops(model, values)?, model, values, input_rates, input_accels)
+}
+
+/// [`accelerations`] on velocity equations already formed at `values`
+/// (for a caller that reads them too).
+pub fn accelerations_on(
+    l: &Loops,
+    model: &Model,
+    values: &[f64],
+    input_rates: &[f64],
+    input_accels: &[f64],
+) -> Result<Accelerations, VelocityError> {
     let scale = crate::kinematics::model_scale(model);
     let qd = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
     let twists: Vec<Twist> = (0..model.links.len()).map(|k| l.link_twist(k, &qd)).collect();
-    let xi_dot = all_twist_rates(model, &l, values, &qd, &twists);
+    let xi_dot = all_twist_rates(model, l, values, &qd, &twists);
     // Bias: the differentiated loop rows with q̈ = 0.
     let zero = vec![0.0; qd.len()];
     let tree = spanning_tree(model)?;
     let mut bias = DVector::zeros(l.a.nrows());
     for (row, &c) in tree.cut.iter().enumerate() {
         let [u, v] = model.joints[c].links;
-        let mut t = twist_rate(&l, v, &qd, &zero, &xi_dot).add(&twist_rate(&l, u, &qd, &zero, &xi_dot).scale(-1.0));
+        let mut t = twist_rate(l, v, &qd, &zero, &xi_dot).add(&twist_rate(l, u, &qd, &zero, &xi_dot).scale(-1.0));
         for k in 0..model.joints[c].kind.dof() {
             let col = l.offsets[c] + k;
             t = t.add(&xi_dot[col].scale(-qd[col]));
@@ -542,7 +553,7 @@ pub fn accelerations(
     }
     let qdd = l.solve(input_accels, &bias, scale)?;
     let twist_rates = (0..model.links.len())
-        .map(|k| twist_rate(&l, k, &qd, &qdd, &xi_dot))
+        .map(|k| twist_rate(l, k, &qd, &qdd, &xi_dot))
         .collect();
     Ok(Accelerations {
         velocities: Velocities { rates: qd, twists },

@@ -40,8 +40,8 @@ pub fn actuator_forces(
     input_rates: &[f64],
     input_accels: &[f64],
 ) -> Result<Vec<f64>, VelocityError> {
-    let motion = velocity::accelerations(model, values, input_rates, input_accels)?;
     let loops = velocity::loops(model, values)?;
+    let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     let columns = loops.input_columns(crate::kinematics::model_scale(model))?;
     let poses = &loops.poses;
     let world = |link: usize, p: &Vector3<f64>| (poses[link] * Point3::from(*p)).coords;
