@@ -394,7 +394,7 @@ pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<Mas
             }
         }
     }
-    out.loads = loads(d.loads, mech, geometry, &known, &mut errors);
+    out.loads = loads(d.loads, mech, geometry, &values, &known, &mut errors);
     errors.into_result(out)
 }
 
@@ -664,6 +664,20 @@ fn inertia_of(
     Some(form)
 }
 
+/// The inertia tensor in the link's axes from its moments as declared:
+/// one about z (planar: a link that turns about z only, whose other moments
+/// do no work), three principal, or the six entries `(Ixx, Iyy, Izz, Ixy,
+/// Ixz, Iyz)` of the tensor.
+pub fn inertia_tensor(n: &[f64]) -> nalgebra::Matrix3<f64> {
+    use nalgebra::{Matrix3, Vector3};
+    match *n {
+        [izz] => Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, izz)),
+        [ixx, iyy, izz] => Matrix3::from_diagonal(&Vector3::new(ixx, iyy, izz)),
+        [ixx, iyy, izz, ixy, ixz, iyz] => Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz),
+        _ => Matrix3::from_element(f64::NAN),
+    }
+}
+
 /// Why the moments `n` (one about z; three principal; or the six entries
 /// of the tensor) are not a rigid body's inertia, if they are not: every
 /// value finite, the tensor positive semi-definite, and its principal
@@ -676,10 +690,8 @@ pub fn inertia_problem(n: &[f64]) -> Option<String> {
     let principal: Vec<f64> = match n.len() {
         1 => return (n[0] < 0.0).then(|| format!("the moment of inertia is {}, negative", n[0])),
         3 => n.to_vec(),
-        _ => {
-            let t = nalgebra::Matrix3::new(n[0], n[3], n[4], n[3], n[1], n[5], n[4], n[5], n[2]);
-            t.symmetric_eigenvalues().iter().copied().collect()
-        }
+        6 => inertia_tensor(n).symmetric_eigenvalues().iter().copied().collect(),
+        k => return Some(format!("an inertia has 1, 3 or 6 values, not {k}")),
     };
     let trace: f64 = principal.iter().sum();
     let slack = 1e-9 * trace.abs();
@@ -705,6 +717,7 @@ fn loads(
     decls: &[LoadDecl],
     mech: &Mechanism,
     geometry: &Geometry,
+    values: &HashMap<String, f64>,
     known: &dyn Fn(&str) -> bool,
     errors: &mut Diagnostics,
 ) -> Vec<Load> {
@@ -773,8 +786,7 @@ fn loads(
             );
             continue;
         }
-        let values = geometry.nominal();
-        let finite = |v: &Option<[Expr; 3]>| v.iter().flatten().all(|e| e.eval(&values).is_finite());
+        let finite = |v: &Option<[Expr; 3]>| v.iter().flatten().all(|e| e.eval(values).is_finite());
         if !finite(&force) || !finite(&moment) {
             errors.push(Diagnostic::new(d.span, format!("load `{}` is not finite", d.name.text)).label("here"));
             continue;

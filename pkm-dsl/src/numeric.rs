@@ -142,7 +142,7 @@ pub fn loading(
     values: &HashMap<String, f64>,
 ) -> Result<pkm_runtime::mass_properties::Loading, Diagnostics> {
     use crate::mass_and_loads::Inertia;
-    use nalgebra::{Matrix3, Vector3};
+    use nalgebra::Vector3;
     use pkm_runtime::mass_properties::{Body, Loading, PointLoad};
     let d = &a.mass_and_loads;
     let span = a.mechanism.name_span();
@@ -203,12 +203,7 @@ pub fn loading(
         if let Some(problem) = crate::mass_and_loads::inertia_problem(&moments) {
             return Err(Diagnostic::new(span, format!("link `{name}`: {problem} at these parameters")).into());
         }
-        let inertia = match moments.as_slice() {
-            // A planar link turns about z only: its other moments do no work.
-            [izz] => Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, *izz)),
-            [ixx, iyy, izz] => Matrix3::from_diagonal(&Vector3::new(*ixx, *iyy, *izz)),
-            m => Matrix3::new(m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2]),
-        };
+        let inertia = crate::mass_and_loads::inertia_tensor(&moments);
         let centroid = vec3(&b.centroid);
         if centroid.iter().any(|x| !x.is_finite()) {
             return Err(not_finite(format!("the centroid of link `{name}`")));
