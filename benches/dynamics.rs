@@ -5,6 +5,9 @@
 //! every link, a payload). Generated code does not exist yet; when it does,
 //! it joins these rows.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
 use pkm::runtime::{lagrange, newton_euler, virtual_work};
@@ -12,8 +15,6 @@ use std::hint::black_box;
 
 /// Seed 000's mechanism A with masses on every link and a payload.
 fn seed000_a() -> String {
-    let text = std::fs::read_to_string("examples/mechanisms/seed000_a.pkm").expect("the example");
-    let end = text.rfind('}').expect("the closing brace");
     let extra = "
     units { length = mm; mass = kg; }
     masses {
@@ -26,9 +27,8 @@ fn seed000_a() -> String {
         pc { mass = 0.106; centroid = (0, 0, 0); inertia = (913, 706, 358); }
         r5 { mass = 0.03; centroid = (0, 0, 0); inertia = (2, 2, 1); }
     }
-    loads { payload = force (0, 0, -50) on platform at G; }
-";
-    format!("{}{extra}}}\n", &text[..end])
+    loads { payload = force (0, 0, -50) on platform at G; }";
+    common::example_with("seed000_a", extra)
 }
 
 fn bench_one(c: &mut Criterion, name: &str, text: &str, q: &[f64], signs: &[Sign], rates: &[f64], accels: &[f64]) {

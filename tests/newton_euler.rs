@@ -6,23 +6,15 @@
 
 use pkm::runtime::primitives::Sign;
 
-const SLIDER_CRANK: &str = "mechanism pushed_slider {
-    capabilities fk;
-    planar;
-    base R1* [crank] ∥ R2 [rod] ∥ R3 [slider] ⊥ P1 base;
-    x ∥ P1;
-    parameters { r = 50; l = 180; e = 0; }
-    geometry {
-        base   { R1 = (0, 0); P1 = through (0, e) along x; }
-        crank  { R1 = (0, 0); R2 = (r, 0); }
-        rod    { R2 = (0, 0); R3 = (l, 0); }
-        slider { R3 = (0, 0); P1 = (0, 0); }
-    }
+mod common;
+
+/// The slider-crank of `examples/mechanisms/slider_crank.pkm` (r = 50,
+/// l = 180, e = 0), its slider alone with mass, pushed back along its guide.
+const PUSHED: &str = "
     units { length = mm; mass = kg; }
     masses { slider { mass = 2; centroid = (0, 0); } massless crank, rod; }
     gravity (0, -9.81);
-    loads { push = force (-30, 0) on slider at R3; }
-}";
+    loads { push = force (-30, 0) on slider at R3; }";
 
 /// At rest, with the crank at θ: the massless rod is a two-force member,
 /// so it pushes the slider along itself (direction u from R2 to R3) with
@@ -32,7 +24,8 @@ const SLIDER_CRANK: &str = "mechanism pushed_slider {
 /// rod's force on the crank, −N u at R2: τ = −(R2 × (−N u))_z.
 #[test]
 fn a_pushed_slider_by_hand() {
-    let c = pkm::dsl::compile(SLIDER_CRANK).unwrap_or_else(|d| panic!("{}", d.render(SLIDER_CRANK, "test")));
+    let text = common::example_with("slider_crank", PUSHED);
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, "test")));
     let a = &c.analysis;
     let model = pkm::dsl::numeric::model(a, &Default::default()).unwrap();
     let loading = pkm::dsl::numeric::loading(a, &model, &Default::default()).unwrap();
@@ -77,7 +70,10 @@ fn a_pushed_slider_by_hand() {
 /// Dynamics needs every moving link described: a mass, or `massless`.
 #[test]
 fn a_link_without_mass_is_named() {
-    let text = SLIDER_CRANK.replace("massless crank, rod;", "massless crank;");
+    let text = common::example_with(
+        "slider_crank",
+        &PUSHED.replace("massless crank, rod;", "massless crank;"),
+    );
     let c = pkm::dsl::compile(&text).unwrap();
     let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).unwrap();
     let e = pkm::dsl::numeric::loading(&c.analysis, &model, &Default::default()).unwrap_err();

@@ -12,32 +12,23 @@ use pkm::runtime::primitives::Sign;
 use pkm::runtime::spatial::Plan;
 use pkm::runtime::virtual_work::actuator_forces;
 
-/// A mechanism text compiled: its model, loading and forward plan.
-fn compiled(text: &str) -> (Model, Loading, Plan) {
+/// A mechanism text compiled at the parameters `params` (the others as
+/// declared): its model, loading and forward plan.
+fn compiled(text: &str, params: &[(&str, f64)]) -> (Model, Loading, Plan) {
     let c = pkm::dsl::compile(text).unwrap_or_else(|d| panic!("{}", d.render(text, "test")));
     let a = &c.analysis;
-    let model = pkm::dsl::numeric::model(a, &Default::default()).expect("a model");
-    let loading = pkm::dsl::numeric::loading(a, &model, &Default::default()).expect("a loading");
+    let values = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let model = pkm::dsl::numeric::model(a, &values).expect("a model");
+    let loading = pkm::dsl::numeric::loading(a, &model, &values).expect("a loading");
     let plan = c.forward().expect("a forward plan").clone();
     (model, loading, plan)
 }
 
-/// The slider-crank of `examples/mechanisms/slider_crank.pkm` with the
-/// guide offset by e, masses on all three links (the crank's centroid off
-/// its axis), gravity along −y, a cutting force on the slider and a
-/// braking moment on the rod.
-const SLIDER_CRANK: &str = "mechanism slider_crank_dynamics {
-    capabilities fk;
-    planar;
-    base R1* [crank] ∥ R2 [rod] ∥ R3 [slider] ⊥ P1 base;
-    x ∥ P1;
-    parameters { r = 50; l = 180; e = 12; }
-    geometry {
-        base   { R1 = (0, 0); P1 = through (0, e) along x; }
-        crank  { R1 = (0, 0); R2 = (r, 0); }
-        rod    { R2 = (0, 0); R3 = (l, 0); }
-        slider { R3 = (0, 0); P1 = (0, 0); }
-    }
+/// The slider-crank of `examples/mechanisms/slider_crank.pkm` (r = 50,
+/// l = 180) with its guide offset to e = 12, masses on all three links (the
+/// crank's centroid off its axis), gravity along −y, a cutting force on the
+/// slider and a braking moment on the rod.
+const SLIDER_CRANK: &str = "
     units { length = mm; mass = kg; }
     masses {
         crank  { mass = 0.3; centroid = (r / 2, 5); inertia = 70; }
@@ -45,8 +36,7 @@ const SLIDER_CRANK: &str = "mechanism slider_crank_dynamics {
         slider { mass = 1.2; centroid = (0, 0); }
     }
     gravity (0, -9.81);
-    loads { cut = force (-40, 0) on slider at R3; brake = moment 3000 on rod; }
-}";
+    loads { cut = force (-40, 0) on slider at R3; brake = moment 3000 on rod; }";
 
 /// The crank torque (N·mm) by hand. With s = sin φ = (e − r sin θ)/l the
 /// rod's angle and c = cos φ > 0 (the slider right of the crank pin), each
@@ -96,7 +86,7 @@ fn crank_torque_by_hand(theta: f64, omega: f64, alpha: f64) -> (f64, f64) {
 
 #[test]
 fn slider_crank_crank_torque_equals_the_hand_derivation() {
-    let (model, loading, plan) = compiled(SLIDER_CRANK);
+    let (model, loading, plan) = compiled(&common::example_with("slider_crank", SLIDER_CRANK), &[("e", 12.0)]);
     let p1 = model.joints.iter().position(|j| j.name == "P1").expect("P1");
     let mut worst = 0.0f64;
     for k in 0..72 {
@@ -121,8 +111,6 @@ fn slider_crank_crank_torque_equals_the_hand_derivation() {
 /// Seed 000's mechanism A with made-up masses on every link (centroids off
 /// their links' axes), a payload force and moment on the platform.
 fn seed000_a_with_masses() -> String {
-    let (text, _) = common::example_text("seed000_a");
-    let end = text.rfind('}').expect("the mechanism's closing brace");
     let extra = "
     units { length = mm; mass = kg; }
     masses {
@@ -136,9 +124,8 @@ fn seed000_a_with_masses() -> String {
         r5 { mass = 0.03; centroid = (0, 0, 10); inertia = (2, 2, 1); }
         s3 { mass = 0.067; centroid = (0, 0, 30); inertia = (10, 12, 5); }
     }
-    loads { payload = force (0, 0, -50) moment (100, -200, 300) on platform at G; }
-";
-    format!("{}{extra}}}\n", &text[..end])
+    loads { payload = force (0, 0, -50) moment (100, -200, 300) on platform at G; }";
+    common::example_with("seed000_a", extra)
 }
 
 /// Statics (q̇ = q̈ = 0): the principle of virtual work says
@@ -150,7 +137,7 @@ fn seed000_a_with_masses() -> String {
 /// 1e-9 of the largest force here): held to 1e-7.
 #[test]
 fn seed000_a_statics_balance_gravity_and_the_payload() {
-    let (model, loading, plan) = compiled(&seed000_a_with_masses());
+    let (model, loading, plan) = compiled(&seed000_a_with_masses(), &[]);
     let q = [-106.09, 181.67, -70.29];
     let signs = [Sign::Minus, Sign::Plus];
     let values = plan.solve(&model, &q, &signs).expect("the paper's assembly");

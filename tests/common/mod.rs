@@ -27,6 +27,14 @@ pub fn example_text(stem: &str) -> (String, String) {
     (text, path)
 }
 
+/// An example mechanism's text with `extra` statements added inside its
+/// `mechanism { … }` (masses, loads: what a test declares on top of it).
+pub fn example_with(stem: &str, extra: &str) -> String {
+    let (text, path) = example_text(stem);
+    let end = text.rfind('}').unwrap_or_else(|| panic!("{path}: no closing brace"));
+    format!("{}{extra}\n}}\n", &text[..end])
+}
+
 /// An example mechanism of `examples/mechanisms/` by its file stem: its
 /// analysis and its model at the nominal parameters.
 pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
