@@ -140,6 +140,16 @@ fn wrench(planar: bool, f: Vector3<f64>, m: Vector3<f64>) -> Vec<f64> {
     }
 }
 
+/// Where a wrench of `d` numbers ([`wrench`]) turns from forces to
+/// moments: (fx, fy | mz) planar, (f | m) spatial.
+fn moments_from(d: usize) -> usize {
+    if d == 3 {
+        2
+    } else {
+        3
+    }
+}
+
 /// A twist's power coefficients against such a wrench: (vx, vy, ωz) or (v, ω).
 fn coefficients(planar: bool, t: &Twist) -> Vec<f64> {
     if planar {
@@ -167,7 +177,7 @@ pub fn inverse_dynamics(
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     let size = crate::kinematics::model_scale(model);
     // Moments and moment rows in units of the mechanism's size.
-    let unit = |i: usize| if i >= d - if planar { 1 } else { 3 } { size } else { 1.0 };
+    let unit = |i: usize| if i >= moments_from(d) { size } else { 1.0 };
     let poses = &loops.poses;
     // What each link's joints must supply: its inertial wrench less gravity
     // and the loads (Euler's equations in the link's own axes).
@@ -388,8 +398,7 @@ fn check_parts(model: &Model, skcs: &[SkcParts]) -> Result<(), DynamicsError> {
 /// The largest residual of a link's balance relative to its largest term
 /// (forces; moments over the mechanism's size).
 fn balance(model: &Model, demand: &[Vec<f64>], reaction: &[Vec<f64>], d: usize, size: f64) -> f64 {
-    let moment_from = if d == 3 { 2 } else { 3 };
-    let scaled = |c: usize, x: f64| if c >= moment_from { x / size } else { x };
+    let scaled = |c: usize, x: f64| if c >= moments_from(d) { x / size } else { x };
     let mut worst = 0.0f64;
     for (l, need) in demand.iter().enumerate().skip(1) {
         let mut sum = need.iter().enumerate().map(|(c, x)| -scaled(c, *x)).collect::<Vec<_>>();
