@@ -239,3 +239,18 @@ fn crank_torque_extremes_as_computed_from_the_paper() {
         "min {min} at {at_min}°"
     );
 }
+
+/// Joint values that do not close the loops (a passive joint turned by
+/// 0.1 rad off its solution) are no configuration: a typed error, not
+/// reactions (the tree's links would balance all the same).
+#[test]
+fn values_that_do_not_close_are_refused() {
+    let p = punch();
+    let (mut values, _) = p.branch(0.5);
+    values[p.joint("D")] += 0.1;
+    let r = p.newton_euler(&values);
+    assert!(
+        matches!(r, Err(DynamicsError::NotClosed { residual }) if residual > 1e-3),
+        "{r:?}"
+    );
+}

@@ -75,6 +75,11 @@ pub struct Reactions {
 /// Below this conditioning an SKC's force equations count as singular.
 pub const FORCE_SINGULAR: f64 = 1e-10;
 
+/// Above this relative residual a link's balance is not an answer (the
+/// solves leave about ε over the conditioning: 1e-12 or less away from
+/// change points, and [`FORCE_SINGULAR`] bounds the conditioning).
+pub const UNBALANCED: f64 = 1e-6;
+
 /// Why inverse dynamics has no answer.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DynamicsError {
@@ -98,6 +103,16 @@ pub enum DynamicsError {
     BadParts(String),
     /// A reaction is not a number (the values, rates or loading were not).
     NotFinite,
+    /// The joint values given do not close the loops: no configuration.
+    NotClosed {
+        /// The largest loop-closure residual (lengths over the size, radians).
+        residual: f64,
+    },
+    /// The reactions found do not balance a link (relative residual).
+    Unbalanced {
+        /// The largest relative residual.
+        balance: f64,
+    },
 }
 
 impl fmt::Display for DynamicsError {
@@ -118,6 +133,13 @@ impl fmt::Display for DynamicsError {
             }
             DynamicsError::BadParts(why) => write!(f, "the SKCs given are not a partition: {why}"),
             DynamicsError::NotFinite => write!(f, "a reaction is not a finite number"),
+            DynamicsError::NotClosed { residual } => write!(
+                f,
+                "the joint values do not close the mechanism's loops (residual {residual:e}): solve the position first"
+            ),
+            DynamicsError::Unbalanced { balance } => {
+                write!(f, "the reactions found leave a link unbalanced by {balance:e} of its largest force")
+            }
         }
     }
 }
@@ -173,9 +195,10 @@ pub fn inverse_dynamics(
     let planar = model.planar;
     let d = if planar { 3 } else { 6 };
     check_parts(model, skcs)?;
+    let size = crate::kinematics::model_scale(model);
+    closes(model, values, size)?;
     let loops = velocity::loops(model, values)?;
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
-    let size = crate::kinematics::model_scale(model);
     // Moments and moment rows in units of the mechanism's size.
     let unit = |i: usize| if i >= moments_from(d) { size } else { 1.0 };
     let poses = &loops.poses;
@@ -307,6 +330,10 @@ pub fn inverse_dynamics(
         return Err(DynamicsError::NotFinite);
     }
     let balance = balance(model, &demand, &reaction, d, size);
+    // Verified: every link balances under the reactions found.
+    if balance.is_nan() || balance > UNBALANCED {
+        return Err(DynamicsError::Unbalanced { balance });
+    }
     let mut actuators = Vec::new();
     for j in model.inputs() {
         for t in &loops.twists[j] {
@@ -353,6 +380,21 @@ fn acting_on(joint: &crate::model::Joint, l: usize) -> Option<f64> {
     } else {
         None
     }
+}
+
+/// Whether `values` close every loop, to [`crate::consistency::VERIFY_TOL`]
+/// (lengths over the mechanism's size, angles in radians).
+fn closes(model: &Model, values: &[f64], size: f64) -> Result<(), DynamicsError> {
+    let r = crate::kinematics::loop_residual(model, values).map_err(|e| DynamicsError::Velocity(e.into()))?;
+    let residual = r
+        .iter()
+        .enumerate()
+        .map(|(i, x)| if i % 6 < 3 { x.abs() / size } else { x.abs() })
+        .fold(0.0f64, |a, x| if x.is_nan() { f64::INFINITY } else { a.max(x) });
+    if residual > crate::consistency::VERIFY_TOL {
+        return Err(DynamicsError::NotClosed { residual });
+    }
+    Ok(())
 }
 
 /// Every joint in exactly one SKC, every moving link in exactly one.

@@ -76,7 +76,11 @@ pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result
                     "conditioning": d.conditioning,
                 }));
             }
-            Err(e @ DynamicsError::ForceSingular { .. }) | Err(e @ DynamicsError::Undetermined { .. }) => {
+            Err(
+                e @ (DynamicsError::ForceSingular { .. }
+                | DynamicsError::Undetermined { .. }
+                | DynamicsError::Unbalanced { .. }),
+            ) => {
                 branches.push(json!({ "signs": signs, "ok": false, "reason": e.to_string() }));
             }
             Err(e) => causes.push(format!("branch {}: {e}", signs.concat())),
