@@ -139,6 +139,9 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
                 .label("needs `fk` or `ik`"),
             );
         }
+        if *cap == Capability::Dynamics {
+            dynamics_needs(a, *span, &mut errors);
+        }
         if *cap == Capability::Fk && t.kappa != 0 {
             let mut d = Diagnostic::new(
                 *span,
@@ -171,6 +174,46 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
         }
     }
     errors
+}
+
+/// What `dynamics` needs: the forward solution (its generated inverse
+/// dynamics solves the position first), the file's units, and every moving
+/// link's mass properties or its declaration as massless.
+fn dynamics_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Diagnostics) {
+    let m = &a.mechanism;
+    if !m.wants(Capability::Fk) {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`dynamics` solves the position by the forward solution first: request `fk` too",
+            )
+            .label("needs `fk`"),
+        );
+    }
+    if a.mass_and_loads.units.is_none() {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`dynamics` needs the file's units: `units { length = mm; mass = kg; }`",
+            )
+            .label("no `units`"),
+        );
+    }
+    let missing = crate::numeric::links_without_mass(a);
+    if !missing.is_empty() {
+        errors.push(
+            Diagnostic::new(
+                span,
+                format!(
+                    "`dynamics` needs every moving link's mass: {} ha{} none",
+                    missing.join(", "),
+                    if missing.len() == 1 { "s" } else { "ve" }
+                ),
+            )
+            .label("links without mass")
+            .note("give each a `mass` and `centroid` in `masses`, or declare it `massless`"),
+        );
+    }
 }
 
 fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str>) -> Result<TokenStream, Diagnostics> {

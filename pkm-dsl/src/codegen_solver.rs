@@ -21,6 +21,8 @@ use quote::{format_ident, quote};
 // A child module: it reads this one's traced branches.
 #[path = "codegen_batch.rs"]
 mod batch;
+#[path = "codegen_dynamics.rs"]
+mod dynamics;
 
 /// A parameter expression as a symbol: arithmetic traced, anything else
 /// (powers, functions) kept as Rust source.
@@ -89,6 +91,9 @@ struct Branch {
     outputs: Vec<Sym>,
     residual: Vec<Sym>,
     extent: Sym,
+    /// Every link's pose and every joint's value (`full` only).
+    poses: Vec<pkm_runtime::frame::Frame<Sym>>,
+    states: Vec<Option<steps::JointValue<Sym>>>,
 }
 
 /// Runs the plan on symbols.
@@ -209,6 +214,11 @@ fn branch(
             ))
         })
         .collect();
+    let (poses, states) = if full {
+        (state.poses.clone(), state.values.clone())
+    } else {
+        (Vec::new(), Vec::new())
+    };
     Ok(Branch {
         guards,
         waivable,
@@ -218,6 +228,8 @@ fn branch(
         outputs,
         residual,
         extent,
+        poses,
+        states,
     })
 }
 
@@ -240,6 +252,8 @@ struct Direction<'p> {
     /// The result's second derivative in time for the given values' rates
     /// and accelerations, where `acceleration` is asked for.
     accelerations: Option<Vec<Sym>>,
+    /// The inverse dynamics, forward only, where `dynamics` is asked for.
+    dynamics: Option<dynamics::Traced>,
 }
 
 /// Drops the residual rows that are exactly 0 in every branch (a check's
@@ -315,6 +329,11 @@ pub fn generate(
                 }
                 _ => None,
             };
+            let dynamics = if forward && m.wants(Capability::Dynamics) {
+                Some(dynamics::trace(a, &g, plan, &given)?)
+            } else {
+                None
+            };
             out.push(Direction {
                 forward,
                 plan,
@@ -324,6 +343,7 @@ pub fn generate(
                 rates,
                 jacobian,
                 accelerations,
+                dynamics,
             });
         }
         Ok(out)
@@ -337,6 +357,9 @@ pub fn generate(
     let mut fns = Vec::new();
     for d in &directions {
         fns.push(direction(a, ident, &emit, d));
+        if let Some(t) = &d.dynamics {
+            fns.push(dynamics::items(ident, vis, d, t));
+        }
         // The slice solvers only where the description asks for sweeps.
         if a.mechanism.wants(crate::mechanism::Capability::Workspace) {
             fns.push(batch::generate(ident, &emit, d));
@@ -434,6 +457,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     let all = parts.every_branch(&format_ident!("{}", name), &result_angles);
     let check_of = |rest: &[TokenStream]| parts.check_of(rest);
     let derivatives = derivative_fns(emit, d, &parts.given_sig, &parts.finite, &check_of, name, what);
+    let inverse_dynamics = d
+        .dynamics
+        .as_ref()
+        .map(|t| dynamics::functions(ident, emit, d, t, &parts.given_sig, &parts.finite, &check_of));
     let prepared = format_ident!("{}Prepared", ident);
     quote! {
         #[automatically_derived]
@@ -442,6 +469,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             #all
             #solution
             #derivatives
+            #inverse_dynamics
         }
     }
 }

@@ -664,53 +664,7 @@ fn inertia_of(
     Some(form)
 }
 
-/// The inertia tensor in the link's axes from its moments as declared:
-/// one about z (planar: a link that turns about z only, whose other moments
-/// do no work), three principal, or the six entries `(Ixx, Iyy, Izz, Ixy,
-/// Ixz, Iyz)` of the tensor.
-pub fn inertia_tensor(n: &[f64]) -> nalgebra::Matrix3<f64> {
-    use nalgebra::{Matrix3, Vector3};
-    match *n {
-        [izz] => Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, izz)),
-        [ixx, iyy, izz] => Matrix3::from_diagonal(&Vector3::new(ixx, iyy, izz)),
-        [ixx, iyy, izz, ixy, ixz, iyz] => Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz),
-        _ => Matrix3::from_element(f64::NAN),
-    }
-}
-
-/// Why the moments `n` (one about z; three principal; or the six entries
-/// of the tensor) are not a rigid body's inertia, if they are not: every
-/// value finite, the tensor positive semi-definite, and its principal
-/// moments satisfy the triangle inequality `I₁ + I₂ ≥ I₃` (to 1e-9 of the
-/// trace, for rounded tables).
-pub fn inertia_problem(n: &[f64]) -> Option<String> {
-    if n.iter().any(|x| !x.is_finite()) {
-        return Some("an inertia is not finite".into());
-    }
-    let principal: Vec<f64> = match n.len() {
-        1 => return (n[0] < 0.0).then(|| format!("the moment of inertia is {}, negative", n[0])),
-        3 => n.to_vec(),
-        6 => inertia_tensor(n).symmetric_eigenvalues().iter().copied().collect(),
-        k => return Some(format!("an inertia has 1, 3 or 6 values, not {k}")),
-    };
-    let trace: f64 = principal.iter().sum();
-    let slack = 1e-9 * trace.abs();
-    if let Some(m) = principal.iter().find(|&&m| m < -slack) {
-        return Some(format!(
-            "a principal moment of inertia is {m}, negative: the tensor is not positive semi-definite"
-        ));
-    }
-    for k in 0..3 {
-        let others = trace - principal[k];
-        if principal[k] > others + slack {
-            return Some(format!(
-                "the principal moments {:?} break the triangle inequality: {} exceeds the sum of the other two ({others})",
-                principal, principal[k]
-            ));
-        }
-    }
-    None
-}
+pub use pkm_runtime::mass_properties::{inertia_problem, inertia_tensor};
 
 /// The loads, checked.
 fn loads(

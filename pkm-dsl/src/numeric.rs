@@ -132,6 +132,17 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
     })
 }
 
+/// The moving links that neither have mass properties nor are declared
+/// massless, by name.
+pub fn links_without_mass(a: &Analysis) -> Vec<&str> {
+    let d = &a.mass_and_loads;
+    let described = |l: usize| d.masses.iter().any(|b| b.link == l) || d.massless.contains(&l);
+    (1..a.mechanism.links.len())
+        .filter(|&l| !described(l))
+        .map(|l| a.mechanism.links[l].name.as_str())
+        .collect()
+}
+
 /// The bodies, gravity and loads in numbers at the given parameter values,
 /// in the units the dynamics computes in (kg, the file's length unit, s;
 /// see [`pkm_runtime::mass_properties`]). A mass or an inertia that the
@@ -153,12 +164,7 @@ pub fn loading(
         )
         .into());
     };
-    // Every moving link has its mass properties or is declared massless.
-    let described = |l: usize| d.masses.iter().any(|b| b.link == l) || d.massless.contains(&l);
-    let missing: Vec<&str> = (1..a.mechanism.links.len())
-        .filter(|&l| !described(l))
-        .map(|l| a.mechanism.links[l].name.as_str())
-        .collect();
+    let missing = links_without_mass(a);
     if !missing.is_empty() {
         return Err(Diagnostic::new(
             span,

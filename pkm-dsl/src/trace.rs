@@ -246,6 +246,11 @@ fn konst(s: Sym) -> Option<f64> {
     with(|g| g.constant(s))
 }
 
+/// The constant `s` is, if it is one, while recording.
+pub fn constant_of(s: Sym) -> Option<f64> {
+    konst(s)
+}
+
 /// Whether `s` is never negative ([`Graph::non_negative`]).
 fn non_negative(s: Sym) -> bool {
     with(|g| g.non_negative[s.0 as usize])

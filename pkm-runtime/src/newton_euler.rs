@@ -85,6 +85,17 @@ pub const UNBALANCED: f64 = 1e-6;
 pub enum DynamicsError {
     /// The motion itself has none (an output singularity, bad values).
     Velocity(VelocityError),
+    /// The position has none: the generated inverse dynamics solves it
+    /// first, on the branch asked for.
+    Position(crate::solution::SolveError),
+    /// A mass or an inertia given through the parameters is not a rigid
+    /// body's.
+    MassProperties {
+        /// The link (or body) it belongs to.
+        body: &'static str,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// An SKC's force equations are singular: a change point.
     ForceSingular {
         /// The SKC, from 0 in the position solution's order.
@@ -119,6 +130,8 @@ impl fmt::Display for DynamicsError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             DynamicsError::Velocity(e) => write!(f, "{e}"),
+            DynamicsError::Position(e) => write!(f, "{e}"),
+            DynamicsError::MassProperties { body, problem } => write!(f, "the mass properties of `{body}`: {problem}"),
             DynamicsError::ForceSingular {
                 skc,
                 joints,

@@ -1,0 +1,876 @@
+//! Generated inverse dynamics (capability `dynamics`): Newton–Euler over
+//! the ordered SKCs, as `pkm_runtime::newton_euler` computes it, written
+//! out for one mechanism.
+//!
+//! The forward solution runs on symbols; every link's velocity and
+//! acceleration are its pose's exact time derivatives through the trace
+//! (no loop-closure velocity equations are solved), its inertial wrench
+//! and the joints' unit twists follow, and each SKC's reaction equations
+//! are written out as entries of a fixed-size matrix. At run time the
+//! SKCs are solved in reverse order on the stack, each from the singular
+//! value decomposition of its own matrix
+//! ([`pkm_runtime::force_system::min_norm`]): the minimum-norm reactions,
+//! the conditioning that flags a change point, the check that the
+//! undetermined part leaves the actuators alone, and every link's balance.
+
+use super::{sym, sym3, Branch, Direction};
+use crate::analysis::Analysis;
+use crate::emit::{lit, Emit};
+use crate::mass_and_loads::Inertia;
+use crate::trace::Sym;
+use pkm_runtime::frame::Frame;
+use pkm_runtime::model::{JointType, Place};
+use pkm_runtime::scalar::{cross, unit, Scalar};
+use pkm_runtime::steps::{Geometry, JointGeometry, JointValue};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// The most unknowns one SKC's reaction system may have: nalgebra
+/// decomposes fixed-size matrices up to 127 × 127.
+pub const MAX_SKC_UNKNOWNS: usize = 127;
+
+/// A number the generated function reads: a literal, or a term it computes.
+#[derive(Debug, Clone, Copy)]
+enum Term {
+    Const(f64),
+    At(usize),
+}
+
+/// One SKC's reaction system: `a x = b` with `x` its joints' reactions
+/// (d numbers each, moments over the size).
+struct Skc {
+    joints: Vec<usize>,
+    undetermined: usize,
+    rows: usize,
+    /// The nonzero entries of `a`.
+    entries: Vec<(usize, usize, Term)>,
+    /// `b` without the reactions of later SKCs' joints.
+    rhs: Vec<Term>,
+    /// `b[row] −= sign · x_joint[c]` for those reactions: (row, joint, c, sign).
+    known: Vec<(usize, usize, usize, f64)>,
+    /// Per actuator twist, its coefficients against the unknowns.
+    actuated: Vec<Vec<(usize, Term)>>,
+}
+
+/// The dynamics of one mechanism in terms of the forward solution.
+pub(super) struct Traced {
+    /// What the terms function returns, in order.
+    terms: Vec<Sym>,
+    /// Numbers per wrench: 3 planar, 6 spatial.
+    d: usize,
+    skcs: Vec<Skc>,
+    /// The SKC and the column where each joint's reaction starts.
+    place: Vec<(usize, usize)>,
+    /// Each joint's point (where its moment is given).
+    points: Vec<[Term; 3]>,
+    /// Per actuator (input order): the joint and its twist's power coefficients.
+    actuators: Vec<(usize, Vec<Term>)>,
+    /// Per moving link, its balance.
+    balances: Vec<Balance>,
+    /// Bodies whose mass properties come through the parameters.
+    bodies: Vec<Body>,
+    /// The mechanism's size: moments are solved over it.
+    size: Term,
+    /// The file's length unit in metres: results come back to N and N·L by it.
+    metres: f64,
+}
+
+/// Collects the terms, each once (constants stay literals), and the
+/// bodies whose mass properties they hold.
+#[derive(Default)]
+struct Terms {
+    list: Vec<Sym>,
+    index: std::collections::HashMap<Sym, usize>,
+    bodies: Vec<Body>,
+}
+
+impl Terms {
+    fn of(&mut self, s: Sym) -> Term {
+        match crate::trace::constant_of(s) {
+            Some(c) => Term::Const(c),
+            None => Term::At(*self.index.entry(s).or_insert_with(|| {
+                self.list.push(s);
+                self.list.len() - 1
+            })),
+        }
+    }
+}
+
+/// A body whose mass properties the parameters give: its name, its mass,
+/// its moments as declared (checked at run time).
+type Body = (String, Term, Vec<Term>);
+
+/// One link's balance: its demand's components, and the joints acting on
+/// it with their signs.
+struct Balance {
+    need: Vec<Term>,
+    on: Vec<(usize, f64)>,
+}
+
+/// `sign · x` for a sign ±1.
+fn signed(sign: f64, x: TokenStream) -> TokenStream {
+    if sign < 0.0 {
+        quote! { -#x }
+    } else {
+        x
+    }
+}
+
+/// The angular velocity of a frame whose rotation is `r` and its rate `rd`: `[ω]× = Ṙ Rᵀ`.
+fn angular(r: &[[Sym; 3]; 3], rd: &[[Sym; 3]; 3]) -> [Sym; 3] {
+    let e = |i: usize, j: usize| (0..3).map(|k| rd[i][k] * r[j][k]).fold(Sym::c(0.0), |a, x| a + x);
+    [e(2, 1), e(0, 2), e(1, 0)]
+}
+
+fn flat(r: &[[Sym; 3]; 3]) -> Vec<Sym> {
+    r.iter().flatten().copied().collect()
+}
+
+fn unflat(v: &[Sym]) -> [[Sym; 3]; 3] {
+    [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]]
+}
+
+/// The time derivative along the given values' rates.
+fn rate(x: &[Sym]) -> Vec<Sym> {
+    crate::trace::derivative(x, &Sym::rate)
+}
+
+/// The derivative along the given values' accelerations (the part of a
+/// second derivative linear in them).
+fn along_accelerations(x: &[Sym]) -> Vec<Sym> {
+    crate::trace::derivative(x, &Sym::accel)
+}
+
+/// What link `pose`'s joints must supply for a body of mass `m`, centroid
+/// `c` and inertia `inertia` (link axes): its inertial wrench less gravity
+/// `g`, about the base origin, as (force, moment).
+fn body_demand(pose: &Frame<Sym>, m: Sym, c: [Sym; 3], inertia: &[[Sym; 3]; 3], g: [Sym; 3]) -> ([Sym; 3], [Sym; 3]) {
+    let r = pose.r;
+    let rd = unflat(&rate(&flat(&r)));
+    let w = angular(&r, &rd);
+    // α = ∂ω/∂q·q̇ + ∂ω/∂q̇·q̈, the latter ω with q̈ for q̇.
+    let dw = rate(&w);
+    let w_acc = angular(&r, &unflat(&along_accelerations(&flat(&r))));
+    let alpha: [Sym; 3] = std::array::from_fn(|i| dw[i] + w_acc[i]);
+    let centroid = pose.apply(c);
+    let v = rate(&centroid);
+    let curvature = rate(&v);
+    let along = along_accelerations(&centroid);
+    let a: [Sym; 3] = std::array::from_fn(|i| curvature[i] + along[i]);
+    // Euler's equations in the link's axes.
+    let (wb, ab) = (pose.rotate_back(w), pose.rotate_back(alpha));
+    let times = |v: [Sym; 3]| -> [Sym; 3] {
+        std::array::from_fn(|i| (0..3).map(|k| inertia[i][k] * v[k]).fold(Sym::c(0.0), |s, x| s + x))
+    };
+    let (iab, iwb) = (times(ab), times(wb));
+    let gyro = cross(wb, iwb);
+    let moment = pose.rotate(std::array::from_fn(|i| iab[i] + gyro[i]));
+    let f: [Sym; 3] = std::array::from_fn(|i| m * (a[i] - g[i]));
+    let about_origin = cross(centroid, f);
+    (f, std::array::from_fn(|i| moment[i] + about_origin[i]))
+}
+
+/// The inertia tensor of a declared inertia, in kg·L².
+fn inertia_of(i: &Inertia, k: Sym) -> [[Sym; 3]; 3] {
+    let z = Sym::c(0.0);
+    match i {
+        Inertia::Point => [[z; 3]; 3],
+        Inertia::Planar(e) => [[z, z, z], [z, z, z], [z, z, sym(e) * k]],
+        Inertia::Principal(e) => {
+            let [x, y, zz] = [0, 1, 2].map(|i| sym(&e[i]) * k);
+            [[x, z, z], [z, y, z], [z, z, zz]]
+        }
+        Inertia::Full(e) => {
+            let [xx, yy, zz, xy, xz, yz] = std::array::from_fn(|i| sym(&e[i]) * k);
+            [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]
+        }
+    }
+}
+
+/// The moments as declared (what `inertia_problem` reads), in kg·L².
+fn moments_of(i: &Inertia) -> Vec<Sym> {
+    match i {
+        Inertia::Point => vec![Sym::c(0.0); 3],
+        Inertia::Planar(e) => vec![sym(e)],
+        Inertia::Principal(e) => e.iter().map(sym).collect(),
+        Inertia::Full(e) => e.iter().map(sym).collect(),
+    }
+}
+
+/// Joint `jg`'s unit twists (second link relative to the first) as
+/// (ω, velocity of the point at the origin), world axes, its first link at
+/// `pu` and its value `value`: as `pkm_runtime::velocity::joint_twists`.
+fn joint_twists(jg: &JointGeometry<Sym>, value: Option<JointValue<Sym>>, pu: &Frame<Sym>) -> Vec<([Sym; 3], [Sym; 3])> {
+    let z = Sym::c(0.0);
+    let zero = [z; 3];
+    let column = |f: &Frame<Sym>, i: usize| [f.r[0][i], f.r[1][i], f.r[2][i]];
+    match jg.kind {
+        JointType::R => {
+            let w = pu.rotate(column(&jg.frames[0], 2));
+            let p = pu.apply(jg.frames[0].t);
+            vec![(w, cross(p, w))]
+        }
+        JointType::P => {
+            let (guide, sign) = match jg.places[0] {
+                Place::Line { along, .. } => (along, 1.0),
+                _ => (
+                    match jg.places[1] {
+                        Place::Line { along, .. } => along,
+                        other => pkm_runtime::steps::place_axis(&other),
+                    },
+                    -1.0,
+                ),
+            };
+            // Both links keep one orientation, so u's axes serve for a guide on v too.
+            let d = pu.rotate(unit(guide)).map(|x| x * Sym::c(sign));
+            vec![(zero, d)]
+        }
+        JointType::Pa => {
+            let (c, s) = match value {
+                Some(JointValue::Turn(c, s, _)) => (c, s),
+                Some(JointValue::Slide(t)) => (t.cos(), t.sin()),
+                None => (Sym::c(1.0), z),
+            };
+            // d/dθ of the arm turned by θ about the hinge's z: ẑ × Rz(θ)·a.
+            let rate = |f: &Frame<Sym>, arm: [Sym; 3]| {
+                let local = f.rotate_back(arm);
+                let turned = [c * local[0] - s * local[1], s * local[0] + c * local[1], local[2]];
+                f.rotate([-turned[1], turned[0], z])
+            };
+            let (fu, fv) = (&jg.frames[0], &jg.frames[1]);
+            let v = match (jg.places[0], jg.places[1]) {
+                (Place::Arm { arm, .. }, _) => rate(fu, arm),
+                (_, Place::Arm { arm, .. }) => fu.rotate(fv.rotate_back(rate(fv, arm))).map(|x| -x),
+                _ => zero,
+            };
+            vec![(zero, pu.rotate(v))]
+        }
+        JointType::S => {
+            let c = pu.apply(jg.places[0].at());
+            (0..3)
+                .map(|i| {
+                    let e: [Sym; 3] = std::array::from_fn(|k| Sym::c(if k == i { 1.0 } else { 0.0 }));
+                    (e, cross(c, e))
+                })
+                .collect()
+        }
+    }
+}
+
+/// The mechanism's size as `pkm_runtime::kinematics::model_scale` takes
+/// it: the largest distance of a joint's place or a named point from its
+/// link's origin, 1 if there is none.
+fn size(g: &Geometry<Sym>) -> Sym {
+    let norm = |p: [Sym; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    let all = g
+        .joints
+        .iter()
+        .flat_map(|j| j.places.iter().map(|p| norm(p.at())))
+        .chain(g.named.iter().map(|p| norm(*p)));
+    let l = all.fold(Sym::c(0.0), |a, x| Sym::if_less(a, x, x, a));
+    Sym::if_less(Sym::c(0.0), l, l, Sym::c(1.0))
+}
+
+/// How the trace writes wrenches: d numbers, (fx, fy, mz) planar or
+/// (f, m) spatial, moments over the size in the equations.
+struct Layout {
+    planar: bool,
+    d: usize,
+    size: Sym,
+}
+
+impl Layout {
+    fn numbers(&self, f: [Sym; 3], mo: [Sym; 3]) -> Vec<Sym> {
+        if self.planar {
+            vec![f[0], f[1], mo[2]]
+        } else {
+            f.iter().chain(&mo).copied().collect()
+        }
+    }
+
+    /// What component `c` is divided by in the equations: the size for a moment.
+    fn unit(&self, c: usize) -> Sym {
+        if c >= moments_from(self.d) {
+            self.size
+        } else {
+            Sym::c(1.0)
+        }
+    }
+}
+
+/// Where a wrench of `d` numbers turns from forces to moments.
+fn moments_from(d: usize) -> usize {
+    if d == 3 {
+        2
+    } else {
+        3
+    }
+}
+
+/// What each link's joints must supply (its bodies' inertial wrenches less
+/// gravity, less the loads on it, about the base origin), and the bodies
+/// whose mass properties the parameters give (to check at run time).
+fn demands(
+    a: &Analysis,
+    g: &Geometry<Sym>,
+    b: &Branch,
+    w: &Layout,
+    terms: &mut Terms,
+) -> Result<Vec<Vec<Sym>>, String> {
+    let m = &a.mechanism;
+    let ml = &a.mass_and_loads;
+    let units = ml.units.ok_or("dynamics needs the file's units")?;
+    let kg = Sym::c(units.mass.kilograms());
+    // Gravity and loads in L/s² and kg·L/s².
+    let per_metre = Sym::c(1.0 / units.length.metres());
+    let gravity: [Sym; 3] = match &ml.gravity_declared {
+        Some(e) => sym3(e),
+        None => ml.gravity.map(Sym::c),
+    }
+    .map(|x| x * per_metre);
+    let mut demand: Vec<Vec<Sym>> = vec![vec![Sym::c(0.0); w.d]; m.links.len()];
+    for body in &ml.masses {
+        let mass = sym(&body.mass_expr);
+        let inertia = inertia_of(&body.inertia, kg);
+        let (f, mo) = body_demand(&b.poses[body.link], mass * kg, sym3(&body.centroid), &inertia, gravity);
+        for (x, y) in demand[body.link].iter_mut().zip(w.numbers(f, mo)) {
+            *x = *x + y;
+        }
+        let moments = moments_of(&body.inertia);
+        if std::iter::once(&mass)
+            .chain(&moments)
+            .any(|s| crate::trace::constant_of(*s).is_none())
+        {
+            let mass = terms.of(mass);
+            let moments = moments.into_iter().map(|s| terms.of(s)).collect();
+            terms.bodies.push((m.links[body.link].name.clone(), mass, moments));
+        }
+    }
+    for load in &ml.loads {
+        let at = match load.at {
+            Some(point) => g.local(point, load.link),
+            None => [Sym::c(0.0); 3],
+        };
+        let p = b.poses[load.link].apply(at);
+        let f = sym3(&load.force).map(|x| x * per_metre);
+        let mo = sym3(&load.moment).map(|x| x * per_metre);
+        let about = cross(p, f);
+        let wrench = w.numbers(f, std::array::from_fn(|i| mo[i] + about[i]));
+        for (x, y) in demand[load.link].iter_mut().zip(wrench) {
+            *x = *x - y;
+        }
+    }
+    Ok(demand)
+}
+
+/// How joint `j` of `g` acts on link `l`: +1 on its second link (the
+/// reaction is what the first exerts on it), −1 on its first.
+fn acting_on(g: &Geometry<Sym>, j: usize, l: usize) -> Option<f64> {
+    let links = g.joints[j].links;
+    if links[1] == l {
+        Some(1.0)
+    } else if links[0] == l {
+        Some(-1.0)
+    } else {
+        None
+    }
+}
+
+/// What one SKC's system is traced from.
+struct SkcInputs<'a> {
+    g: &'a Geometry<Sym>,
+    w: &'a Layout,
+    actuated: &'a [bool],
+    demand: &'a [Vec<Sym>],
+    twists: &'a [Vec<Vec<Sym>>],
+    place: &'a [(usize, usize)],
+}
+
+/// SKC `k`'s reaction system: its links' balances (the reactions of its
+/// own joints unknown, of later SKCs' known), then a row per unit twist of
+/// each passive joint (a reaction does no work along its joint's motion).
+fn skc_system(
+    k: usize,
+    skc: &pkm_runtime::newton_euler::SkcParts,
+    x: &SkcInputs,
+    terms: &mut Terms,
+) -> Result<Skc, String> {
+    let (d, w) = (x.w.d, x.w);
+    let n = skc.joints.len() * d;
+    let (mut entries, mut rhs, mut known) = (Vec::new(), Vec::new(), Vec::new());
+    for (r, &l) in skc.links.iter().enumerate() {
+        for (c, need) in x.demand[l].iter().enumerate() {
+            rhs.push(terms.of(*need / w.unit(c)));
+        }
+        for (j, &(owner, at)) in x.place.iter().enumerate() {
+            let Some(sign) = acting_on(x.g, j, l) else { continue };
+            for c in 0..d {
+                if owner == k {
+                    entries.push((r * d + c, at + c, Term::Const(sign)));
+                } else if owner > k {
+                    known.push((r * d + c, j, c, sign));
+                }
+            }
+        }
+    }
+    let mut row = skc.links.len() * d;
+    let mut actuated = Vec::new();
+    for (i, &j) in skc.joints.iter().enumerate() {
+        let turns = matches!(x.g.joints[j].kind, JointType::R | JointType::S);
+        for xi in &x.twists[j] {
+            let coefficients = xi.iter().enumerate().map(|(c, v)| (i * d + c, *v * w.unit(c)));
+            if x.actuated[j] {
+                actuated.push(coefficients.map(|(c, s)| (c, terms.of(s))).collect());
+            } else {
+                // A turn's row has lever arms (lengths) against forces, a
+                // slide's unit direction: both in units of the size.
+                let scale = if turns { Sym::c(1.0) / w.size } else { Sym::c(1.0) };
+                for (c, s) in coefficients {
+                    entries.push((row, c, terms.of(s * scale)));
+                }
+                rhs.push(Term::Const(0.0));
+                row += 1;
+            }
+        }
+    }
+    if row.max(n) > MAX_SKC_UNKNOWNS {
+        return Err(format!(
+            "SKC {} has a reaction system of {row} × {n}; the generated inverse dynamics solves at most {MAX_SKC_UNKNOWNS} × {MAX_SKC_UNKNOWNS}",
+            k + 1
+        ));
+    }
+    Ok(Skc {
+        joints: skc.joints.clone(),
+        undetermined: skc.undetermined,
+        rows: row,
+        entries,
+        rhs,
+        known,
+        actuated,
+    })
+}
+
+/// Traces the inverse dynamics on the forward solution's branch `b` of `plan`.
+pub(super) fn trace(
+    a: &Analysis,
+    g: &Geometry<Sym>,
+    plan: &pkm_runtime::spatial::Plan,
+    b: &Branch,
+) -> Result<Traced, String> {
+    let m = &a.mechanism;
+    let metres = a
+        .mass_and_loads
+        .units
+        .ok_or("dynamics needs the file's units")?
+        .length
+        .metres();
+    let w = Layout {
+        planar: m.planar,
+        d: if m.planar { 3 } else { 6 },
+        size: size(g),
+    };
+    let d = w.d;
+    let mut terms = Terms::default();
+    let size = terms.of(w.size);
+    let demand = demands(a, g, b, &w, &mut terms)?;
+    // Every joint's unit twists, as power coefficients against (f, m).
+    let twists: Vec<Vec<Vec<Sym>>> = g
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, jg)| {
+            joint_twists(jg, b.states[j], &b.poses[jg.links[0]])
+                .into_iter()
+                .map(|(omega, v)| w.numbers(v, omega))
+                .collect()
+        })
+        .collect();
+    let parts = crate::numeric::skc_parts(a);
+    let mut place = vec![(usize::MAX, 0); m.joints.len()];
+    for (k, skc) in parts.iter().enumerate() {
+        for (i, &j) in skc.joints.iter().enumerate() {
+            place[j] = (k, i * d);
+        }
+    }
+    if place.iter().any(|p| p.0 == usize::MAX) {
+        return Err("a joint is in no SKC".into());
+    }
+    let actuated: Vec<bool> = m.joints.iter().map(|j| j.actuated).collect();
+    let inputs = SkcInputs {
+        g,
+        w: &w,
+        actuated: &actuated,
+        demand: &demand,
+        twists: &twists,
+        place: &place,
+    };
+    let skcs = parts
+        .iter()
+        .enumerate()
+        .map(|(k, skc)| skc_system(k, skc, &inputs, &mut terms))
+        .collect::<Result<Vec<_>, _>>()?;
+    let points = (0..m.joints.len())
+        .map(|j| {
+            let jg = &g.joints[j];
+            // A P joint's point is its slider's (`Joint::point_side`).
+            let side = usize::from(matches!(jg.places[0], Place::Line { .. }));
+            let p = b.poses[jg.links[side]].apply(jg.places[side].at());
+            p.map(|x| terms.of(x))
+        })
+        .collect();
+    // The inputs in the plan's order, as `Plan::input_joints` takes them.
+    let input_joints: Vec<usize> = if plan.inputs.len() == plan.n_inputs {
+        plan.inputs.clone()
+    } else {
+        (0..m.joints.len()).filter(|&j| actuated[j]).collect()
+    };
+    let actuators = input_joints
+        .iter()
+        .map(|&j| (j, twists[j][0].iter().map(|x| terms.of(*x)).collect()))
+        .collect();
+    let balances = (1..m.links.len())
+        .map(|l| Balance {
+            need: (0..d).map(|c| terms.of(demand[l][c] / w.unit(c))).collect(),
+            on: (0..m.joints.len())
+                .filter_map(|j| acting_on(g, j, l).map(|s| (j, s)))
+                .collect(),
+        })
+        .collect();
+    Ok(Traced {
+        terms: terms.list,
+        bodies: terms.bodies,
+        d,
+        skcs,
+        place,
+        points,
+        actuators,
+        balances,
+        size,
+        metres,
+    })
+}
+
+/// The generated functions: the terms (straight-line, verified like the
+/// forward solution) and `inverse_dynamics`, which solves the SKCs.
+pub(super) fn functions(
+    ident: &proc_macro2::Ident,
+    emit: &Emit,
+    d: &Direction,
+    t: &Traced,
+    given_sig: &TokenStream,
+    finite: &TokenStream,
+    check_of: &dyn Fn(&[TokenStream]) -> TokenStream,
+) -> TokenStream {
+    let n_terms = t.terms.len();
+    let mut roots = t.terms.clone();
+    roots.extend(&d.given.residual);
+    roots.push(d.given.extent);
+    let (lets, exprs) = emit.straight(&roots, &emit.needed_guards(&roots, &d.given.guards, &d.given.waivable));
+    let (values, rest) = exprs.split_at(n_terms);
+    let check = check_of(rest);
+    let (n_given, n_choices) = (d.plan.n_inputs, d.plan.branches);
+    let rt = quote! { ::pkm::runtime };
+    let body_checks = t.bodies.iter().map(|(name, mass, moments)| {
+        let (mass, moments) = (term(mass), moments.iter().map(term));
+        quote! {
+            if let ::core::option::Option::Some(problem) = #rt::mass_properties::body_problem(#mass, &[#(#moments),*]) {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: #name, problem });
+            }
+        }
+    });
+    // The SKCs in reverse order.
+    let solves = t.skcs.iter().enumerate().rev().map(|(k, s)| solve_skc(t, k, s));
+    let balances = t.balances.iter().map(|b| balance_check(t, b));
+    let reactions = (0..t.points.len()).map(|j| reaction(t, j));
+    let actuators = t.actuators.iter().map(|(j, xi)| actuator(t, *j, xi));
+    let size = term(&t.size);
+    let n_skcs = t.skcs.len();
+    let result = format_ident!("{}Dynamics", ident);
+    quote! {
+        /// The terms of the inverse dynamics for one branch: the forward
+        /// solution's link motions turned into every SKC's reaction
+        /// equations, verified like the forward solution.
+        #[allow(clippy::type_complexity)]
+        fn inverse_dynamics_terms(
+            &self,
+            #given_sig,
+            rates: &[f64; #n_given],
+            accelerations: &[f64; #n_given],
+        ) -> ::core::result::Result<[f64; #n_terms], #rt::solution::SolveError> {
+            let _ = (&signs, rates, accelerations);
+            #finite
+            #lets
+            #check
+            ::core::result::Result::Ok([#(#values),*])
+        }
+
+        /// Inverse dynamics for one branch by Newton–Euler over the ordered
+        /// SKCs: the actuators' forces (N) or torques (N·L) that drive the
+        /// mechanism at the inputs `given` with `rates` and `accelerations`
+        /// against gravity and the declared loads, and every joint's
+        /// reaction. The SKCs are solved in reverse order, each from its own
+        /// links' balances; where statics leaves reactions undetermined
+        /// they are the minimum-norm ones. Verified: every link balances.
+        pub fn inverse_dynamics(
+            &self,
+            given: &[f64; #n_given],
+            signs: [#rt::primitives::Sign; #n_choices],
+            rates: &[f64; #n_given],
+            accelerations: &[f64; #n_given],
+        ) -> ::core::result::Result<#result, #rt::newton_euler::DynamicsError> {
+            if !rates.iter().chain(accelerations.iter()).all(|v| v.is_finite()) {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
+            }
+            let t = self
+                .inverse_dynamics_terms(given, signs, rates, accelerations)
+                .map_err(#rt::newton_euler::DynamicsError::Position)?;
+            #(#body_checks)*
+            if !t.iter().all(|v| v.is_finite()) {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
+            }
+            let size = #size;
+            let mut conditioning = [1.0f64; #n_skcs];
+            let mut undetermined = [0usize; #n_skcs];
+            #(#solves)*
+            let mut balance = 0.0f64;
+            #(#balances)*
+            if balance.is_nan() || balance > #rt::newton_euler::UNBALANCED {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::Unbalanced { balance });
+            }
+            ::core::result::Result::Ok(#result {
+                actuators: [#(#actuators),*],
+                joints: [#(#reactions),*],
+                conditioning,
+                undetermined,
+                balance,
+            })
+        }
+    }
+}
+
+/// A term as the generated function reads it.
+fn term(x: &Term) -> TokenStream {
+    match x {
+        Term::Const(c) => lit(*c),
+        Term::At(i) => quote! { t[#i] },
+    }
+}
+
+fn is_zero(x: &Term) -> bool {
+    matches!(x, Term::Const(z) if *z == 0.0)
+}
+
+/// The name of SKC `k`'s solution.
+fn x_of(k: usize) -> proc_macro2::Ident {
+    format_ident!("x{}", k)
+}
+
+/// Component `c` of a solution `x` in N (or N·L: a moment was solved over the size).
+fn in_units(t: &Traced, x: TokenStream, c: usize) -> TokenStream {
+    if c >= moments_from(t.d) {
+        quote! { #x * size }
+    } else {
+        x
+    }
+}
+
+/// SKC `k`'s matrix and right-hand side filled in, decomposed and solved
+/// on the stack: `let xk = …;`.
+fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
+    let rt = quote! { ::pkm::runtime };
+    let n = s.rows.max(s.joints.len() * t.d);
+    let x = x_of(k);
+    let entries = s.entries.iter().filter(|e| !is_zero(&e.2)).map(|(r, c, v)| {
+        let v = term(v);
+        quote! { a[(#r, #c)] = #v; }
+    });
+    let rhs = s.rhs.iter().enumerate().filter(|(_, v)| !is_zero(v)).map(|(r, v)| {
+        let v = term(v);
+        quote! { b[#r] = #v; }
+    });
+    // b −= sign·x for the reactions later SKCs found.
+    let known = s.known.iter().map(|&(r, j, c, sign)| {
+        let (owner, at) = t.place[j];
+        let (xk, col) = (x_of(owner), at + c);
+        if sign < 0.0 {
+            quote! { b[#r] += #xk[#col]; }
+        } else {
+            quote! { b[#r] -= #xk[#col]; }
+        }
+    });
+    let n_act = s.actuated.len();
+    let actuated = if n_act == 0 {
+        quote! { let actuated = [0.0f64; 0]; }
+    } else {
+        let len = n_act * n;
+        let fill = s.actuated.iter().enumerate().flat_map(|(i, row)| {
+            row.iter().filter(|(_, v)| !is_zero(v)).map(move |(c, v)| {
+                let (at, v) = (i * n + c, term(v));
+                quote! { actuated[#at] = #v; }
+            })
+        });
+        quote! {
+            let mut actuated = [0.0f64; #len];
+            #(#fill)*
+        }
+    };
+    let joints = &s.joints;
+    let undetermined = s.undetermined;
+    quote! {
+        let #x = {
+            let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
+            #(#entries)*
+            let mut b = #rt::nalgebra::SVector::<f64, #n>::zeros();
+            #(#rhs)*
+            #(#known)*
+            #actuated
+            let svd = a.svd(true, true);
+            let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
+            };
+            let decomposition = #rt::force_system::Decomposition {
+                n: #n,
+                singular_values: svd.singular_values.as_slice(),
+                u: u.as_slice(),
+                v_t: v_t.as_slice(),
+            };
+            let mut x = [0.0f64; #n];
+            let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #undetermined, &actuated, size, &mut x)?;
+            conditioning[#k] = solved.conditioning;
+            undetermined[#k] = solved.undetermined;
+            x
+        };
+    }
+}
+
+/// One link's balance: the demand against its joints' reactions, folded
+/// into `balance`.
+fn balance_check(t: &Traced, b: &Balance) -> TokenStream {
+    let components = (0..t.d).map(|c| {
+        let reactions = b.on.iter().map(|&(j, sign)| {
+            let (k, at) = t.place[j];
+            let (xk, col) = (x_of(k), at + c);
+            signed(sign, quote! { #xk[#col] })
+        });
+        let need = match &b.need[c] {
+            Term::Const(v) => lit(-v),
+            at => {
+                let v = term(at);
+                quote! { -#v }
+            }
+        };
+        quote! { [#need, #(#reactions),*] }
+    });
+    quote! {
+        balance = balance.max(::pkm::runtime::force_system::relative_residual(&[#(#components),*]));
+    }
+}
+
+/// Joint `j`'s reaction at its point, in N and N·L.
+fn reaction(t: &Traced, j: usize) -> TokenStream {
+    let (k, at) = t.place[j];
+    let xk = x_of(k);
+    let w: Vec<TokenStream> = (0..t.d)
+        .map(|c| {
+            let col = at + c;
+            in_units(t, quote! { #xk[#col] }, c)
+        })
+        .collect();
+    let (f, mo) = if t.d == 3 {
+        let (fx, fy, mz) = (&w[0], &w[1], &w[2]);
+        (quote! { [#fx, #fy, 0.0] }, quote! { [0.0, 0.0, #mz] })
+    } else {
+        let (fx, fy, fz, mx, my, mz) = (&w[0], &w[1], &w[2], &w[3], &w[4], &w[5]);
+        (quote! { [#fx, #fy, #fz] }, quote! { [#mx, #my, #mz] })
+    };
+    let p = t.points[j].iter().map(term);
+    let metres = lit(t.metres);
+    quote! {
+        {
+            let (f, m, p): ([f64; 3], [f64; 3], [f64; 3]) = (#f, #mo, [#(#p),*]);
+            // The moment about the joint's point: m_o − p × f.
+            let at = [
+                m[0] - (p[1] * f[2] - p[2] * f[1]),
+                m[1] - (p[2] * f[0] - p[0] * f[2]),
+                m[2] - (p[0] * f[1] - p[1] * f[0]),
+            ];
+            ::pkm::runtime::newton_euler::JointReaction {
+                force: [f[0] * #metres, f[1] * #metres, f[2] * #metres],
+                moment: [at[0] * #metres, at[1] * #metres, at[2] * #metres],
+            }
+        }
+    }
+}
+
+/// An actuator's force: its joint's reaction's power along its twist, in N or N·L.
+fn actuator(t: &Traced, j: usize, xi: &[Term]) -> TokenStream {
+    let (k, at) = t.place[j];
+    let xk = x_of(k);
+    let sum: Vec<TokenStream> = (0..t.d)
+        .filter(|&c| !is_zero(&xi[c]))
+        .map(|c| {
+            let col = at + c;
+            let x = in_units(t, quote! { #xk[#col] }, c);
+            match xi[c] {
+                Term::Const(1.0) => x,
+                Term::Const(-1.0) => quote! { -(#x) },
+                other => {
+                    let k = term(&other);
+                    quote! { #k * (#x) }
+                }
+            }
+        })
+        .collect();
+    let metres = lit(t.metres);
+    if sum.is_empty() {
+        quote! { 0.0 }
+    } else {
+        quote! { (#(#sum)+*) * #metres }
+    }
+}
+
+/// `NameDynamics`, what `inverse_dynamics` returns, and `Name::inverse_dynamics`.
+pub(super) fn items(ident: &proc_macro2::Ident, vis: &syn::Visibility, d: &Direction, t: &Traced) -> TokenStream {
+    let rt = quote! { ::pkm::runtime };
+    let result = format_ident!("{}Dynamics", ident);
+    let params_ty = format_ident!("{}Params", ident);
+    let (n_act, n_joints, n_skcs) = (t.actuators.len(), t.points.len(), t.skcs.len());
+    let (n_given, n_choices) = (d.plan.n_inputs, d.plan.branches);
+    let doc = format!(" What [`{ident}Prepared::inverse_dynamics`] finds.");
+    let fn_doc = format!(" Inverse dynamics for one branch ([`{ident}Prepared::inverse_dynamics`]).");
+    quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #result {
+            /// The actuators' forces (N) or torques (N·L), in `INPUTS` order.
+            pub actuators: [f64; #n_act],
+            /// Every joint's reaction (`JOINTS` order): the force and the
+            /// moment about its point that its first link exerts on its
+            /// second, base axes (N and N·L).
+            pub joints: [#rt::newton_euler::JointReaction; #n_joints],
+            /// Per SKC (position solution's order), the conditioning of its
+            /// determined part: near 0 at a change point.
+            pub conditioning: [f64; #n_skcs],
+            /// Per SKC, the reaction components statics leaves undetermined.
+            pub undetermined: [usize; #n_skcs],
+            /// The largest residual of a link's balance, relative to its largest term.
+            pub balance: f64,
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            #[doc = #fn_doc]
+            /// Prepares the solver and solves: to solve often at the same
+            /// parameters, prepare once (`prepare`) and call its `inverse_dynamics`.
+            pub fn inverse_dynamics(
+                params: &#params_ty,
+                q: &[f64; #n_given],
+                signs: [#rt::primitives::Sign; #n_choices],
+                rates: &[f64; #n_given],
+                accelerations: &[f64; #n_given],
+            ) -> ::core::result::Result<#result, #rt::newton_euler::DynamicsError> {
+                Self::prepare(params).inverse_dynamics(q, signs, rates, accelerations)
+            }
+        }
+    }
+}

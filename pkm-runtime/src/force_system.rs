@@ -1,0 +1,195 @@
+//! One SKC's reaction equations solved from the singular value
+//! decomposition of its (padded, square) matrix: the minimum-norm solution,
+//! the conditioning of the determined part, and the check that the
+//! undetermined part does not move an actuator's force. Newton–Euler
+//! ([`crate::newton_euler`]) and the generated inverse dynamics both read
+//! it; they differ only in where the matrix lives (heap or stack).
+
+use crate::newton_euler::{DynamicsError, FORCE_SINGULAR};
+
+/// An SVD `A = U Σ Vᵀ` of an `n × n` matrix, column-major slices of `U`
+/// and `Vᵀ` (as nalgebra stores them) and the singular values, in any order.
+#[derive(Debug, Clone, Copy)]
+pub struct Decomposition<'a> {
+    /// The size.
+    pub n: usize,
+    /// σ.
+    pub singular_values: &'a [f64],
+    /// U, column-major.
+    pub u: &'a [f64],
+    /// Vᵀ, column-major.
+    pub v_t: &'a [f64],
+}
+
+/// What one SKC's solve found besides the reactions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Solved {
+    /// The conditioning of its determined part (σ_r/σ_1, r its expected rank).
+    pub conditioning: f64,
+    /// The reaction components left undetermined (n − rank).
+    pub undetermined: usize,
+}
+
+/// The minimum-norm least-squares solution `x` of `A x = b` from `A`'s
+/// decomposition, SKC `skc` (joints `joints`, for errors) of which the
+/// topology leaves `undetermined` components free. `actuated` holds one row
+/// of `n` numbers per actuator twist (its power coefficients against the
+/// unknowns, zero elsewhere): a null-space direction that moves one by more
+/// than `1e-9·size` means statics cannot tell the actuator's force.
+///
+/// Errors: [`DynamicsError::ForceSingular`] where the determined part's
+/// conditioning is below [`FORCE_SINGULAR`] (a change point), and
+/// [`DynamicsError::Undetermined`].
+#[allow(clippy::too_many_arguments)]
+pub fn min_norm(
+    d: &Decomposition,
+    b: &[f64],
+    skc: usize,
+    joints: &[usize],
+    undetermined: usize,
+    actuated: &[f64],
+    size: f64,
+    x: &mut [f64],
+) -> Result<Solved, DynamicsError> {
+    let n = d.n;
+    let s = d.singular_values;
+    let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
+    let rank_expected = n.saturating_sub(undetermined).min(s.len());
+    // The rank_expected-th largest singular value, without sorting a copy.
+    let kth = |k: usize| {
+        s.iter()
+            .copied()
+            .filter(|&v| s.iter().filter(|&&w| w > v).count() < k)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let conditioning = if rank_expected == 0 || smax <= 0.0 {
+        1.0
+    } else {
+        kth(rank_expected) / smax
+    };
+    if conditioning.is_nan() || conditioning < FORCE_SINGULAR {
+        return Err(DynamicsError::ForceSingular {
+            skc,
+            joints: joints.to_vec(),
+            conditioning,
+        });
+    }
+    // The rank: singular values above the overconstraint's zeros.
+    let tol = smax * 1e-12 * n as f64;
+    let mut rank = 0;
+    x[..n].iter_mut().for_each(|v| *v = 0.0);
+    for (i, &sv) in s.iter().enumerate() {
+        let v_row = |c: usize| d.v_t[c * n + i];
+        if sv > tol {
+            rank += 1;
+            // x += v_i (u_iᵀ b) / σ_i.
+            let ub: f64 = (0..n).map(|r| d.u[i * n + r] * b[r]).sum();
+            let k = ub / sv;
+            for (c, xc) in x[..n].iter_mut().enumerate() {
+                *xc += v_row(c) * k;
+            }
+        } else {
+            // Null-space directions must not move an actuator's force.
+            for row in actuated.chunks_exact(n) {
+                let moved: f64 = (0..n).map(|c| row[c] * v_row(c)).sum();
+                if moved.abs() > 1e-9 * size {
+                    return Err(DynamicsError::Undetermined { skc });
+                }
+            }
+        }
+    }
+    Ok(Solved {
+        conditioning,
+        undetermined: n - rank,
+    })
+}
+
+/// The residual of one link's balance relative to its largest term: the
+/// terms of each component (the demand's, negated, and the reactions'),
+/// summed; 0 for a link with no terms.
+pub fn relative_residual<const K: usize>(components: &[[f64; K]]) -> f64 {
+    let mut largest = 0.0f64;
+    let mut worst = 0.0f64;
+    for terms in components {
+        let sum: f64 = terms.iter().sum();
+        worst = worst.max(sum.abs());
+        largest = terms.iter().fold(largest, |a, t| a.max(t.abs()));
+        if sum.is_nan() {
+            return f64::NAN;
+        }
+    }
+    if largest > 0.0 {
+        worst / largest
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    fn solve(
+        a: DMatrix<f64>,
+        b: &[f64],
+        undetermined: usize,
+        actuated: &[f64],
+    ) -> Result<(Vec<f64>, Solved), DynamicsError> {
+        let n = a.nrows();
+        let svd = a.svd(true, true);
+        let (u, v_t) = (svd.u.unwrap(), svd.v_t.unwrap());
+        let d = Decomposition {
+            n,
+            singular_values: svd.singular_values.as_slice(),
+            u: u.as_slice(),
+            v_t: v_t.as_slice(),
+        };
+        let mut x = vec![0.0; n];
+        let s = min_norm(&d, b, 0, &[0, 1], undetermined, actuated, 1.0, &mut x)?;
+        Ok((x, s))
+    }
+
+    /// A regular system is solved exactly; a rank-deficient one gives the
+    /// minimum-norm solution (the pseudo-inverse's), whose undetermined
+    /// direction an actuator row may not read.
+    #[test]
+    fn minimum_norm_solutions() {
+        let a = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 3.0]);
+        let (x, s) = solve(a, &[3.0, 5.0], 0, &[]).unwrap();
+        // 2x + y = 3, x + 3y = 5: x = 4/5, y = 7/5.
+        assert!((x[0] - 0.8).abs() < 1e-15 && (x[1] - 1.4).abs() < 1e-15, "{x:?}");
+        assert_eq!(s.undetermined, 0);
+        // x + y = 2 twice: the minimum-norm solution is (1, 1), one free direction (1, −1).
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
+        let (x, s) = solve(a.clone(), &[2.0, 2.0], 1, &[]).unwrap();
+        assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15, "{x:?}");
+        assert_eq!(s.undetermined, 1);
+        assert_eq!(s.conditioning, 1.0);
+        // An actuator reading x + y is blind to (1, −1); one reading x is not.
+        assert!(solve(a.clone(), &[2.0, 2.0], 1, &[1.0, 1.0]).is_ok());
+        assert_eq!(
+            solve(a, &[2.0, 2.0], 1, &[1.0, 0.0]).unwrap_err(),
+            DynamicsError::Undetermined { skc: 0 }
+        );
+    }
+
+    /// A matrix losing rank beyond what the topology leaves free is a
+    /// change point: an error with its conditioning.
+    #[test]
+    fn singular_beyond_the_overconstraint() {
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0 + 1e-12]);
+        match solve(a, &[1.0, 1.0], 0, &[]) {
+            Err(DynamicsError::ForceSingular { conditioning, .. }) => assert!(conditioning < 1e-11, "{conditioning}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn residuals_relative_to_the_largest_term() {
+        assert_eq!(relative_residual(&[[1.0, -1.0], [2.0, -2.0]]), 0.0);
+        assert_eq!(relative_residual(&[[4.0, -3.0]]), 0.25);
+        assert_eq!(relative_residual::<2>(&[]), 0.0);
+        assert!(relative_residual(&[[f64::NAN, 1.0]]).is_nan());
+    }
+}
