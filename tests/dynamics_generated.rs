@@ -6,10 +6,15 @@
 
 mod common;
 
-use pkm::runtime::newton_euler::{inverse_dynamics, DynamicsError, Reactions};
+use pkm::dsl::screw::SplitMix;
+use pkm::runtime::newton_euler::{inverse_dynamics, DynamicsError, JointReaction, Reactions};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
+use std::collections::HashMap;
+use std::f64::consts::PI;
 
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
+pkm::mechanism!(SliderCrank, file = "tests/fixtures/slider_crank_dynamics.pkm");
+pkm::mechanism!(FiveBarPa, file = "tests/fixtures/five_bar_pa_dynamics.pkm");
 
 /// The runtime's pieces for one example file.
 struct Runtime {
@@ -21,9 +26,13 @@ struct Runtime {
 
 fn runtime(stem: &str) -> Runtime {
     let (text, path) = common::example_text(stem);
-    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
-    let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).unwrap();
-    let loading = pkm::dsl::numeric::loading(&c.analysis, &model, &Default::default()).unwrap();
+    runtime_of(&text, &path, &Default::default())
+}
+
+fn runtime_of(text: &str, path: &str, values: &HashMap<String, f64>) -> Runtime {
+    let c = pkm::dsl::compile(text).unwrap_or_else(|d| panic!("{}", d.render(text, path)));
+    let model = pkm::dsl::numeric::model(&c.analysis, values).unwrap();
+    let loading = pkm::dsl::numeric::loading(&c.analysis, &model, values).unwrap();
     Runtime {
         skcs: pkm::dsl::numeric::skc_parts(&c.analysis),
         plan: c.forward().unwrap().clone(),
@@ -35,17 +44,19 @@ fn runtime(stem: &str) -> Runtime {
 /// The largest difference of two inverse dynamics relative to the largest
 /// number of the runtime's (forces and moments over the mechanism's size
 /// `size`, so that N and N·mm weigh alike).
-fn difference(generated: &PunchDynamics, reference: &Reactions, size: f64) -> f64 {
+fn difference(actuators: &[f64], joints: &[JointReaction], reference: &Reactions, size: f64) -> f64 {
     let mut largest = 0.0f64;
     let mut worst = 0.0f64;
     let mut compare = |a: f64, b: f64, scale: f64| {
         largest = largest.max(b.abs() / scale);
         worst = worst.max((a - b).abs() / scale);
     };
-    for (a, b) in generated.actuators.iter().zip(&reference.actuators) {
+    assert_eq!(actuators.len(), reference.actuators.len());
+    assert_eq!(joints.len(), reference.joints.len());
+    for (a, b) in actuators.iter().zip(&reference.actuators) {
         compare(*a, *b, size);
     }
-    for (a, b) in generated.joints.iter().zip(&reference.joints) {
+    for (a, b) in joints.iter().zip(&reference.joints) {
         for c in 0..3 {
             compare(a.force[c], b.force[c], 1.0);
             compare(a.moment[c], b.moment[c], size);
@@ -79,7 +90,7 @@ fn punch_over_a_turn() {
         let generated = prepared.inverse_dynamics(&[phi], signs, &[1.0], &[0.5]);
         match (generated, reference) {
             (Ok(g), Ok(n)) => {
-                worst = worst.max(difference(&g, &n, size));
+                worst = worst.max(difference(&g.actuators, &g.joints, &n, size));
                 assert!(g.balance < 1e-12, "φ = {k}°: balance {:e}", g.balance);
                 assert_eq!(g.undetermined, [0, 0, 0]);
             }
@@ -93,4 +104,168 @@ fn punch_over_a_turn() {
     assert!(worst < 1e-9, "worst relative difference {worst:e}");
     assert!(singular <= 2, "{singular} singular angles");
     eprintln!("punch: worst {worst:e}, {singular} singular");
+}
+
+/// Random draws of the fixtures' parameters: masses ×0.5–2, inertias
+/// ×0.2–3, gravity up to 20 m/s² in any direction, a load up to 50 N and
+/// 50 N·m; `spatial` for a z component.
+fn draw(rng: &mut SplitMix, spatial: bool) -> HashMap<String, f64> {
+    let mut u = |lo: f64, hi: f64| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0;
+    let mut v: HashMap<String, f64> = HashMap::new();
+    v.insert("mu".into(), u(0.5, 2.0));
+    v.insert("k".into(), u(0.2, 3.0));
+    let axes: &[&str] = if spatial { &["x", "y", "z"] } else { &["x", "y"] };
+    for a in axes {
+        v.insert(format!("g{a}"), u(-20.0, 20.0));
+        v.insert(format!("f{a}"), u(-50.0, 50.0));
+    }
+    let moments: &[&str] = if spatial { &["mx", "my", "mz"] } else { &["mz"] };
+    for m in moments {
+        v.insert(m.to_string(), u(-5e4, 5e4));
+    }
+    v
+}
+
+/// `states` random reachable states (inputs in `ranges`, random branch,
+/// rates and accelerations, parameters by [`draw`]): the generated inverse
+/// dynamics `generated` against the runtime's on the fixture `file`.
+fn agree(
+    file: &str,
+    ranges: &[(f64, f64)],
+    states: usize,
+    generated: &dyn Fn(
+        &HashMap<String, f64>,
+        &[f64],
+        &[Sign],
+        &[f64],
+        &[f64],
+    ) -> Result<(Vec<f64>, Vec<JointReaction>), DynamicsError>,
+) -> f64 {
+    let path = common::root().join(file).display().to_string();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut rng = SplitMix::new(0x9e4);
+    let (mut done, mut drawn, mut worst) = (0, 0, 0.0f64);
+    while done < states {
+        drawn += 1;
+        assert!(drawn < 100 * states, "{file}: too few reachable draws");
+        let values = draw(&mut rng, !text.contains("planar;"));
+        let r = runtime_of(&text, &path, &values);
+        let q: Vec<f64> = ranges
+            .iter()
+            .map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0)
+            .collect();
+        let signs: Vec<Sign> = (0..r.plan.choices())
+            .map(|_| if rng.next_u64().is_multiple_of(2) { Plus } else { Minus })
+            .collect();
+        let Ok(joint_values) = r.plan.solve(&r.model, &q, &signs) else {
+            continue;
+        };
+        let rates: Vec<f64> = q.iter().map(|_| rng.symmetric()).collect();
+        let accels: Vec<f64> = q.iter().map(|_| 2.0 * rng.symmetric()).collect();
+        // Next to an output singularity the runtime's velocity solve refuses: drawn again.
+        let reference = match inverse_dynamics(&r.model, &r.loading, &r.skcs, &joint_values, &rates, &accels) {
+            Ok(n) => n,
+            Err(DynamicsError::Velocity(_)) => continue,
+            Err(e) => panic!("{file} at q = {q:?}: runtime {e}"),
+        };
+        let (actuators, joints) = generated(&values, &q, &signs, &rates, &accels)
+            .unwrap_or_else(|e| panic!("{file} at q = {q:?}: generated {e}"));
+        let size = pkm::runtime::kinematics::model_scale(&r.model);
+        let e = difference(&actuators, &joints, &reference, size);
+        assert!(
+            e < 1e-9,
+            "{file} at q = {q:?}, q̇ = {rates:?}, q̈ = {accels:?}: relative difference {e:e}"
+        );
+        worst = worst.max(e);
+        done += 1;
+    }
+    eprintln!("{file}: {states} states, worst relative difference {worst:e}");
+    worst
+}
+
+#[test]
+fn slider_crank_with_parameters() {
+    agree(
+        "tests/fixtures/slider_crank_dynamics.pkm",
+        &[(-PI, PI)],
+        300,
+        &|v, q, signs, rates, accels| {
+            let p = SliderCrankParams {
+                mu: v["mu"],
+                k: v["k"],
+                gx: v["gx"],
+                gy: v["gy"],
+                fx: v["fx"],
+                fy: v["fy"],
+                mz: v["mz"],
+                ..Default::default()
+            };
+            let d = SliderCrank::inverse_dynamics(&p, &[q[0]], [signs[0]], &[rates[0]], &[accels[0]])?;
+            Ok((d.actuators.to_vec(), d.joints.to_vec()))
+        },
+    );
+}
+
+#[test]
+fn five_bar_pa_with_parameters() {
+    let ranges = [(-PI, PI), (-PI, PI), (-300.0, 300.0)];
+    agree(
+        "tests/fixtures/five_bar_pa_dynamics.pkm",
+        &ranges,
+        300,
+        &|v, q, signs, rates, accels| {
+            let p = FiveBarPaParams {
+                mu: v["mu"],
+                k: v["k"],
+                gx: v["gx"],
+                gy: v["gy"],
+                gz: v["gz"],
+                fx: v["fx"],
+                fy: v["fy"],
+                fz: v["fz"],
+                mx: v["mx"],
+                my: v["my"],
+                mz: v["mz"],
+                ..Default::default()
+            };
+            let signs: [Sign; 2] = signs.try_into().expect("two choices");
+            let at = |x: &[f64]| [x[0], x[1], x[2]];
+            let d = FiveBarPa::inverse_dynamics(&p, &at(q), signs, &at(rates), &at(accels))?;
+            Ok((d.actuators.to_vec(), d.joints.to_vec()))
+        },
+    );
+}
+
+/// A negative mass or an inertia that is no rigid body's, given through
+/// the parameters, is a typed error naming the link; so is a position
+/// the mechanism cannot reach.
+#[test]
+fn bad_parameters_and_unreachable_positions() {
+    let negative = SliderCrankParams {
+        mu: -1.0,
+        ..Default::default()
+    };
+    let e = SliderCrank::inverse_dynamics(&negative, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
+    assert!(
+        matches!(&e, DynamicsError::MassProperties { body: "crank", problem } if problem.contains("mass")),
+        "{e:?}"
+    );
+    let flat = SliderCrankParams {
+        k: -1.0,
+        ..Default::default()
+    };
+    let e = SliderCrank::inverse_dynamics(&flat, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
+    assert!(
+        matches!(&e, DynamicsError::MassProperties { body: "crank", .. }),
+        "{e:?}"
+    );
+    let short = SliderCrankParams {
+        l: 20.0,
+        e: 40.0,
+        ..Default::default()
+    };
+    let e = SliderCrank::inverse_dynamics(&short, &[-1.5], [Plus], &[1.0], &[0.0]).unwrap_err();
+    assert!(matches!(e, DynamicsError::Position(_)), "{e:?}");
+    let e = SliderCrank::inverse_dynamics(&Default::default(), &[0.3], [Plus], &[f64::NAN], &[0.0]).unwrap_err();
+    assert_eq!(e, DynamicsError::NotFinite);
 }
