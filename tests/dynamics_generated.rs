@@ -106,6 +106,16 @@ fn punch_over_a_turn() {
     eprintln!("punch: worst {worst:e}, {singular} singular");
 }
 
+/// A generated inverse dynamics at parameter values, inputs, signs, rates
+/// and accelerations: its actuators' forces and joints' reactions.
+type Generated = dyn Fn(
+    &HashMap<String, f64>,
+    &[f64],
+    &[Sign],
+    &[f64],
+    &[f64],
+) -> Result<(Vec<f64>, Vec<JointReaction>), DynamicsError>;
+
 /// Random draws of the fixtures' parameters: masses ×0.5–2, inertias
 /// ×0.2–3, gravity up to 20 m/s² in any direction, a load up to 50 N and
 /// 50 N·m; `spatial` for a z component.
@@ -129,18 +139,7 @@ fn draw(rng: &mut SplitMix, spatial: bool) -> HashMap<String, f64> {
 /// `states` random reachable states (inputs in `ranges`, random branch,
 /// rates and accelerations, parameters by [`draw`]): the generated inverse
 /// dynamics `generated` against the runtime's on the fixture `file`.
-fn agree(
-    file: &str,
-    ranges: &[(f64, f64)],
-    states: usize,
-    generated: &dyn Fn(
-        &HashMap<String, f64>,
-        &[f64],
-        &[Sign],
-        &[f64],
-        &[f64],
-    ) -> Result<(Vec<f64>, Vec<JointReaction>), DynamicsError>,
-) -> f64 {
+fn agree(file: &str, ranges: &[(f64, f64)], states: usize, generated: &Generated) -> f64 {
     let path = common::root().join(file).display().to_string();
     let text = std::fs::read_to_string(&path).unwrap();
     let mut rng = SplitMix::new(0x9e4);
