@@ -1,9 +1,9 @@
-//! Inverse dynamics per sample, the three runtime paths side by side (issue
-//! 12): Newton–Euler over the ordered SKCs with every reaction, virtual work
-//! and Lagrange, on seed 003's punch (Table 1's data, φ = 0.5 rad, ω = 1
-//! rad/s) and on seed 000's mechanism A (Table 1's inputs, made-up masses on
-//! every link, a payload). Generated code does not exist yet; when it does,
-//! it joins these rows.
+//! Inverse dynamics per sample (issue 12): the generated Newton–Euler
+//! (capability `dynamics`, every reaction, prepared once) against the
+//! runtime's three paths, Newton–Euler over the ordered SKCs with every
+//! reaction, virtual work and Lagrange, on seed 003's punch (Table 1's
+//! data, φ = 0.5 rad, ω = 1 rad/s) and on seed 000's mechanism A (Table
+//! 1's inputs, made-up masses on every link, a payload).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -31,7 +31,19 @@ fn seed000_a() -> String {
     common::example_with("seed000_a", extra)
 }
 
-fn bench_one(c: &mut Criterion, name: &str, text: &str, q: &[f64], signs: &[Sign], rates: &[f64], accels: &[f64]) {
+pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
+
+#[allow(clippy::too_many_arguments)]
+fn bench_one(
+    c: &mut Criterion,
+    name: &str,
+    text: &str,
+    q: &[f64],
+    signs: &[Sign],
+    rates: &[f64],
+    accels: &[f64],
+    generated: Option<&dyn Fn(&[f64]) -> f64>,
+) {
     let compiled = pkm::dsl::compile(text).unwrap_or_else(|d| panic!("{}", d.render(text, name)));
     let a = &compiled.analysis;
     let model = pkm::dsl::numeric::model(a, &Default::default()).unwrap();
@@ -40,6 +52,9 @@ fn bench_one(c: &mut Criterion, name: &str, text: &str, q: &[f64], signs: &[Sign
     let plan = compiled.forward().unwrap();
     let values = plan.solve(&model, q, signs).unwrap();
     let mut group = c.benchmark_group(format!("{name}/inverse_dynamics"));
+    if let Some(generated) = generated {
+        group.bench_function("generated", |b| b.iter(|| generated(black_box(q))));
+    }
     group.bench_function("newton_euler", |b| {
         b.iter(|| newton_euler::inverse_dynamics(&model, &loading, &skcs, black_box(&values), rates, accels))
     });
@@ -54,6 +69,13 @@ fn bench_one(c: &mut Criterion, name: &str, text: &str, q: &[f64], signs: &[Sign
 
 fn dynamics(c: &mut Criterion) {
     let punch = std::fs::read_to_string("examples/mechanisms/seed003_punch.pkm").expect("the example");
+    let prepared = Punch::prepare(&Default::default());
+    let generated = |q: &[f64]| {
+        let d = prepared
+            .inverse_dynamics(&[q[0]], [Minus, Minus, Plus], &[1.0], &[0.0])
+            .expect("the paper's branch");
+        d.actuators[0]
+    };
     bench_one(
         c,
         "seed003_punch",
@@ -62,6 +84,7 @@ fn dynamics(c: &mut Criterion) {
         &[Minus, Minus, Plus],
         &[1.0],
         &[0.0],
+        Some(&generated),
     );
     bench_one(
         c,
@@ -71,6 +94,7 @@ fn dynamics(c: &mut Criterion) {
         &[Minus, Plus],
         &[1.0, -0.5, 0.25],
         &[-2.0, 0.75, 1.5],
+        None,
     );
 }
 
