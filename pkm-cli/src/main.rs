@@ -62,8 +62,16 @@ enum Command {
         /// The mechanism file (.pkm), with parameters, geometry, units and masses.
         file: PathBuf,
         /// Input values (actuated joints in declaration order): radians (degrees with --degrees) and lengths.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required_unless_present = "states"
+        )]
         q: Vec<f64>,
+        /// Many states from a file instead of --q/--rates/--accels: one a line, the inputs' values, rates and accelerations separated by commas.
+        #[arg(long, conflicts_with_all = ["q", "rates", "accels"])]
+        states: Option<PathBuf>,
         /// The inputs' rates (per second); zeros if not given.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         rates: Vec<f64>,
@@ -74,6 +82,32 @@ enum Command {
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
         /// Angles, angular rates and accelerations of revolute inputs in degrees.
+        #[arg(long)]
+        degrees: bool,
+    },
+    /// Writes a simulation model: `--mjcf`, MuJoCo's XML (bodies with masses and inertias, joints, loops closed by equality constraints, motors on the actuated joints).
+    Export {
+        /// The mechanism file (.pkm), with parameters, geometry, units and masses.
+        file: PathBuf,
+        /// MuJoCo's MJCF, the one format so far.
+        #[arg(long, required = true)]
+        mjcf: bool,
+        /// The reference configuration's inputs (as for fk); default the study's start, else zeros.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        q: Vec<f64>,
+        /// The assembly branch, by index (as `branch` in a study); default the study's, else the first that assembles.
+        #[arg(long)]
+        branch: Option<usize>,
+        /// The simulation timestep (s); the loops' constraints relax in two timesteps.
+        #[arg(long, default_value_t = 0.001)]
+        timestep: f64,
+        /// Write the XML to this file, not to standard output.
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
+        params: Vec<(String, f64)>,
+        /// Reference inputs given to --q in degrees.
         #[arg(long)]
         degrees: bool,
     },
@@ -134,6 +168,64 @@ fn solve(
     }
 }
 
+/// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
+/// printed; with `--json` an object with the XML (or the path) and how the
+/// model maps to the mechanism.
+#[allow(clippy::too_many_arguments)]
+fn export(
+    json: bool,
+    file: &Path,
+    params: &[(String, f64)],
+    degrees: bool,
+    q: &[f64],
+    branch: Option<usize>,
+    timestep: f64,
+    out: Option<&Path>,
+) -> ExitCode {
+    let (source, shown) = match read(file) {
+        Ok(t) => t,
+        Err(f) => return fail(json, &f),
+    };
+    let request = Request {
+        source: &source,
+        file: &shown,
+        params,
+        degrees,
+    };
+    let options = cli::export::Options { q, branch, timestep };
+    let exported = match cli::export::mjcf(&request, &options) {
+        Ok(e) => e,
+        Err(f) => return fail(json, &f),
+    };
+    let left_out = exported.info["loads_left_out"].as_array().map_or(0, Vec::len);
+    if left_out > 0 && !json {
+        cli::failure::write_err(&format!(
+            "note: the file's {left_out} load{} are not in the MJCF (MuJoCo has no constant load; apply them as xfrc_applied)\n",
+            if left_out == 1 { "" } else { "s" }
+        ));
+    }
+    let mut info = exported.info;
+    match out {
+        Some(path) => {
+            if let Err(e) = std::fs::write(path, &exported.xml) {
+                let f = Failure::new(Kind::Io, format!("cannot write `{}`: {e}", path.display()));
+                return fail(json, &f);
+            }
+            info.insert("file".into(), json!(path.display().to_string()));
+            if json {
+                answer(true, &Value::Object(info))
+            } else {
+                write_out(&format!("{}\n", path.display()))
+            }
+        }
+        None if json => {
+            info.insert("mjcf".into(), json!(exported.xml));
+            answer(true, &Value::Object(info))
+        }
+        None => write_out(&exported.xml),
+    }
+}
+
 /// A command line clap rejects: as clap prints it, or with `--json` as an
 /// error object; exit code 2. Help and version print as usual.
 fn usage(e: clap::Error) -> ExitCode {
@@ -175,13 +267,25 @@ fn main() -> ExitCode {
         Command::Dynamics {
             file,
             q,
+            states,
             rates,
             accels,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| {
-            cli::dynamics::dynamics(r, &q, &rates, &accels)
+        } => solve(json, &file, &params, degrees, |r| match &states {
+            Some(path) => cli::dynamics::dynamics_states(r, path),
+            None => cli::dynamics::dynamics(r, &q, &rates, &accels),
         }),
+        Command::Export {
+            file,
+            mjcf: _,
+            q,
+            branch,
+            timestep,
+            out,
+            params,
+            degrees,
+        } => export(json, &file, &params, degrees, &q, branch, timestep, out.as_deref()),
         Command::Report { file, out, options } => {
             let (text, shown) = match read(&file) {
                 Ok(t) => t,

@@ -1,4 +1,4 @@
-//! The command line: `analyze`, `fk`, `ik` and `dynamics` answers (JSON by name,
+//! The command line: `analyze`, `fk`, `ik`, `dynamics` and `export` answers (JSON by name,
 //! radians or degrees), and every failure: its exit code, its message on
 //! stderr, or with `--json` its `{"error": {kind, message}}` on stdout.
 
@@ -537,4 +537,132 @@ fn dynamics_failures_name_their_cause() {
         "--rates: expected 1 input value (A), found 2",
     );
     check_failure(&["dynamics", punch, "--q=NaN"], 1, "input", "A (--q value 1) is NaN");
+}
+
+/// `pkm export --mjcf` on seed 003's punch: Table 1's masses and inertias
+/// in SI (kg·mm² to kg·m² is 1e-6), the crank's pivot A at (m, n) =
+/// (235, 205) mm in metres, the crank angle `ref` the --q given, a motor
+/// on A, gravity as the file's. MuJoCo itself reads the files in
+/// tests/mujoco/test_mujoco.py.
+#[test]
+fn export_of_the_punch() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    let v = run_json(&["export", punch, "--mjcf", "--q=0.5"]);
+    let xml = v["mjcf"].as_str().unwrap();
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+    // The attribute `key` of the first element opening with `start`.
+    let attribute = |start: &str, key: &str| {
+        let at = xml.find(start).unwrap_or_else(|| panic!("{start} not in {xml}"));
+        attribute_of(&xml[at..], key)
+    };
+    assert_eq!(v["metres_per_unit"], 0.001);
+    let body1 = attribute("<body name=\"1\"", "pos");
+    assert!(
+        near(body1[0], 0.235) && near(body1[1], 0.205) && body1[2] == 0.0,
+        "{body1:?}"
+    );
+    assert!(near(attribute("<joint name=\"A\"", "ref")[0], 0.5));
+    // Link 2: 0.01703 kg, 12.534 kg·mm² about z (its moments about x and y set equal).
+    let at2 = xml.find("<body name=\"2\"").unwrap();
+    let inertial = &xml[at2 + xml[at2..].find("<inertial").unwrap()..];
+    let (mass, inertia) = (attribute_of(inertial, "mass"), attribute_of(inertial, "fullinertia"));
+    assert!(near(mass[0], 0.01703), "{mass:?}");
+    assert!(
+        near(inertia[2], 12.534e-6) && near(inertia[0], 12.534e-6),
+        "{inertia:?}"
+    );
+    assert_eq!(attribute("<option", "gravity"), vec![0.0, -9.80665, 0.0]);
+    assert!(xml.contains("<motor name=\"A\" joint=\"A\""), "{xml}");
+    // Three loops, each closed where a revolute is cut.
+    assert_eq!(xml.matches("<connect ").count(), 3, "{xml}");
+    assert_eq!(v["cut"].as_array().unwrap().len(), 3);
+    assert_eq!(v["actuators"]["A"]["unit"], "N·m");
+    assert!(near(v["actuators"]["A"]["to_pkm"].as_f64().unwrap(), 1000.0));
+    // The slides' qpos is in metres: P2's scale is 0.001 per mm.
+    assert!(near(v["joints"]["P2"]["scale"].as_f64().unwrap(), 0.001));
+    // Written to a file: the same text.
+    let out = scratch_file("punch.xml", "");
+    let written = run_json(&["export", punch, "--mjcf", "--q=0.5", "-o", &out]);
+    assert_eq!(written["file"], out.as_str());
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), xml);
+}
+
+/// The first `key="…"` in `text`, as numbers.
+fn attribute_of(text: &str, key: &str) -> Vec<f64> {
+    let from = text.find(&format!(" {key}=\"")).unwrap() + key.len() + 3;
+    let value = &text[from..from + text[from..].find('"').unwrap()];
+    value.split(' ').map(|x| x.parse::<f64>().unwrap()).collect()
+}
+
+#[test]
+fn export_failures_name_their_cause() {
+    check_failure(
+        &["export", FOUR_BAR, "--mjcf"],
+        1,
+        "input",
+        "export needs the file's units and masses",
+    );
+    // A moving link with neither a mass nor `massless`: named.
+    let no_rocker = common::example_with(
+        "four_bar",
+        "units { length = mm; mass = kg; } masses { crank { mass = 1; centroid = (0, 0); } coupler { mass = 1; centroid = (0, 0); } }",
+    );
+    let path = scratch_file("four_bar_no_rocker.pkm", &no_rocker);
+    let out = pkm(&["export", &path, "--mjcf"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("rocker has none"), "{err}");
+    // Nothing but massless links: nothing MuJoCo can move.
+    let massless = common::example_with(
+        "four_bar",
+        "units { length = mm; mass = kg; } masses { massless crank, coupler, rocker; }",
+    );
+    let path = scratch_file("four_bar_massless.pkm", &massless);
+    check_failure(
+        &["export", &path, "--mjcf"],
+        1,
+        "input",
+        "every moving link is massless",
+    );
+    check_failure(
+        &[
+            "export",
+            "examples/mechanisms/seed003_punch.pkm",
+            "--mjcf",
+            "--timestep=0",
+        ],
+        1,
+        "input",
+        "--timestep = 0 is not a positive time",
+    );
+    check_failure(
+        &["export", "examples/mechanisms/seed003_punch.pkm", "--mjcf", "--q=1,2"],
+        1,
+        "input",
+        "--q: expected 1 input value (A), found 2",
+    );
+}
+
+/// `pkm dynamics --states`: each line answers as `--q/--rates/--accels`
+/// would, with every joint's motion (the input's own as given); a line
+/// without an answer holds its error.
+#[test]
+fn dynamics_at_many_states() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    let states = scratch_file("punch.states", "# q, rate, accel\n0.5, 1, 2\n\n1.0, -2, 0.5\nNaN\n");
+    let v = run_json(&["dynamics", punch, "--states", &states]);
+    let all = v["states"].as_array().unwrap();
+    assert_eq!(all.len(), 3);
+    for (state, args) in all.iter().zip([
+        ["--q=0.5", "--rates=1", "--accels=2"],
+        ["--q=1.0", "--rates=-2", "--accels=0.5"],
+    ]) {
+        let one = run_json(&[&["dynamics", punch][..], &args[..]].concat());
+        assert_eq!(state["branches"], one["branches"]);
+    }
+    let motion = &all[0]["branches"][0]["motion"];
+    assert_eq!(motion["values"]["A"], 0.5);
+    assert_eq!(motion["rates"]["A"], 1.0);
+    assert_eq!(motion["accelerations"]["A"], 2.0);
+    assert!(all[2]["error"].as_str().unwrap().contains("is NaN"), "{}", all[2]);
 }

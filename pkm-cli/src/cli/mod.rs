@@ -1,5 +1,6 @@
-//! The command line's parts: how it fails, how it solves positions, and inverse dynamics.
+//! The command line's parts: how it fails, how it solves positions, inverse dynamics, and the MuJoCo export.
 
 pub mod dynamics;
+pub mod export;
 pub mod failure;
 pub mod solve;
