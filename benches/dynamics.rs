@@ -33,6 +33,9 @@ fn seed000_a() -> String {
 
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 
+/// A generated inverse dynamics at given inputs, its first actuator's force.
+type Generated<'a> = dyn Fn(&[f64]) -> f64 + 'a;
+
 #[allow(clippy::too_many_arguments)]
 fn bench_one(
     c: &mut Criterion,
@@ -42,7 +45,7 @@ fn bench_one(
     signs: &[Sign],
     rates: &[f64],
     accels: &[f64],
-    generated: Option<&dyn Fn(&[f64]) -> f64>,
+    generated: Option<&Generated<'_>>,
 ) {
     let compiled = pkm::dsl::compile(text).unwrap_or_else(|d| panic!("{}", d.render(text, name)));
     let a = &compiled.analysis;

@@ -116,6 +116,48 @@ type Generated = dyn Fn(
     &[f64],
 ) -> Result<(Vec<f64>, Vec<JointReaction>), DynamicsError>;
 
+/// Next to the punch's change point near 154.5189° (F passing through H)
+/// the generated code takes SKC₃ to the SVD and reports the same
+/// conditioning as the runtime's, and both refuse at the same angles,
+/// 2e-6° apart.
+#[test]
+fn punch_change_point() {
+    let r = runtime("seed003_punch");
+    let prepared = Punch::prepare(&Default::default());
+    let p2 = r.model.joints.iter().position(|j| j.name == "P2").unwrap();
+    let (mut lowest, mut refused) = (1.0f64, 0);
+    for k in -40..=40 {
+        let phi = (154.5189 + k as f64 * 2e-6).to_radians();
+        let (values, signs) = [Plus, Minus]
+            .into_iter()
+            .filter_map(|s| {
+                let signs = [Minus, Minus, s];
+                r.plan.solve(&r.model, &[phi], &signs).ok().map(|v| (v, signs))
+            })
+            .max_by(|a, b| a.0[p2].abs().total_cmp(&b.0[p2].abs()))
+            .unwrap();
+        let reference = inverse_dynamics(&r.model, &r.loading, &r.skcs, &values, &[1.0], &[0.0]);
+        let generated = prepared.inverse_dynamics(&[phi], signs, &[1.0], &[0.0]);
+        match (&generated, &reference) {
+            (Ok(g), Ok(n)) => {
+                let (a, b) = (g.conditioning[2], n.conditioning[2]);
+                assert!((a - b).abs() < 1e-6 * b, "φ = {phi}: conditioning {a:e} against {b:e}");
+                lowest = lowest.min(b);
+            }
+            (Err(DynamicsError::ForceSingular { skc: 2, .. }), Err(DynamicsError::ForceSingular { skc: 2, .. })) => {
+                refused += 1
+            }
+            // At φ* itself F's two assembly branches meet: the motion has
+            // no rates, which the runtime finds in its velocity equations
+            // and the generated code as derivatives that are not numbers.
+            (Err(DynamicsError::NotFinite), Err(DynamicsError::Velocity(_))) => refused += 1,
+            _ => panic!("φ = {phi}: generated {generated:?}, runtime {reference:?}"),
+        }
+    }
+    assert!(lowest < 1e-7, "lowest conditioning {lowest:e}");
+    eprintln!("punch near 154.5189°: lowest conditioning {lowest:e}, {refused} refused");
+}
+
 /// Random draws of the fixtures' parameters: masses ×0.5–2, inertias
 /// ×0.2–3, gravity up to 20 m/s² in any direction, a load up to 50 N and
 /// 50 N·m; `spatial` for a z component.

@@ -7,11 +7,13 @@
 //! (no loop-closure velocity equations are solved), its inertial wrench
 //! and the joints' unit twists follow, and each SKC's reaction equations
 //! are written out as entries of a fixed-size matrix. At run time the
-//! SKCs are solved in reverse order on the stack, each from the singular
-//! value decomposition of its own matrix
+//! SKCs are solved in reverse order on the stack: a square system by LU
+//! while its pivots are far from singular, otherwise from the singular
+//! value decomposition of its matrix
 //! ([`pkm_runtime::force_system::min_norm`]): the minimum-norm reactions,
 //! the conditioning that flags a change point, the check that the
-//! undetermined part leaves the actuators alone, and every link's balance.
+//! undetermined part leaves the actuators alone. Every link's balance is
+//! verified.
 
 use super::{sym, sym3, Branch, Direction};
 use crate::analysis::Analysis;
@@ -716,29 +718,51 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
     };
     let joints = &s.joints;
     let undetermined = s.undetermined;
+    let by_svd = quote! {
+        let svd = a.svd(true, true);
+        let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
+            return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
+        };
+        let decomposition = #rt::force_system::Decomposition {
+            n: #n,
+            singular_values: svd.singular_values.as_slice(),
+            u: u.as_slice(),
+            v_t: v_t.as_slice(),
+        };
+        let mut x = [0.0f64; #n];
+        let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #undetermined, &actuated, size, &mut x)?;
+        conditioning[#k] = solved.conditioning;
+        undetermined[#k] = solved.undetermined;
+        x
+    };
+    // A square system statics determines: LU first, the SVD only near a change point.
+    let solve = if undetermined == 0 && s.rows == s.joints.len() * t.d {
+        quote! {
+            let lu = a.full_piv_lu();
+            let factor = lu.u();
+            let pivots: [f64; #n] = ::core::array::from_fn(|i| factor[(i, i)]);
+            let estimate = #rt::force_system::pivot_ratio(&pivots);
+            match if estimate > #rt::force_system::LU_TRUSTED { lu.solve(&b) } else { ::core::option::Option::None } {
+                ::core::option::Option::Some(x) => {
+                    let _ = &actuated;
+                    conditioning[#k] = estimate;
+                    ::core::array::from_fn(|i| x[i])
+                }
+                ::core::option::Option::None => { #by_svd }
+            }
+        }
+    } else {
+        by_svd
+    };
     quote! {
-        let #x = {
+        let #x: [f64; #n] = {
             let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
             #(#entries)*
             let mut b = #rt::nalgebra::SVector::<f64, #n>::zeros();
             #(#rhs)*
             #(#known)*
             #actuated
-            let svd = a.svd(true, true);
-            let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
-                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
-            };
-            let decomposition = #rt::force_system::Decomposition {
-                n: #n,
-                singular_values: svd.singular_values.as_slice(),
-                u: u.as_slice(),
-                v_t: v_t.as_slice(),
-            };
-            let mut x = [0.0f64; #n];
-            let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #undetermined, &actuated, size, &mut x)?;
-            conditioning[#k] = solved.conditioning;
-            undetermined[#k] = solved.undetermined;
-            x
+            #solve
         };
     }
 }
@@ -849,7 +873,9 @@ pub(super) fn items(ident: &proc_macro2::Ident, vis: &syn::Visibility, d: &Direc
             /// second, base axes (N and N·L).
             pub joints: [#rt::newton_euler::JointReaction; #n_joints],
             /// Per SKC (position solution's order), the conditioning of its
-            /// determined part: near 0 at a change point.
+            /// determined part, near 0 at a change point: σ_r/σ_1 where it
+            /// is decomposed by SVD (overconstrained, or near a change
+            /// point), else the LU's smallest over largest pivot.
             pub conditioning: [f64; #n_skcs],
             /// Per SKC, the reaction components statics leaves undetermined.
             pub undetermined: [usize; #n_skcs],

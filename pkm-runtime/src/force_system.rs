@@ -21,6 +21,32 @@ pub struct Decomposition<'a> {
     pub v_t: &'a [f64],
 }
 
+/// Above this ratio of a full-pivoting LU's smallest to largest pivot, a
+/// determined SKC's system is far from a change point and its LU solution
+/// stands (the ratio, an estimate of σ_n/σ_1, is its conditioning); at or
+/// below it the system is decomposed by SVD for the exact conditioning and
+/// the minimum-norm solve. The SVD costs about ten LUs at these sizes.
+pub const LU_TRUSTED: f64 = 1e-6;
+
+/// The ratio of the smallest to the largest magnitude of a triangular
+/// factor's diagonal (0 if it is all zero or not finite).
+pub fn pivot_ratio(diagonal: &[f64]) -> f64 {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for d in diagonal {
+        let d = d.abs();
+        if d.is_nan() {
+            return 0.0;
+        }
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    if hi > 0.0 && hi.is_finite() {
+        lo / hi
+    } else {
+        0.0
+    }
+}
+
 /// What one SKC's solve found besides the reactions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Solved {
@@ -183,6 +209,14 @@ mod tests {
             Err(DynamicsError::ForceSingular { conditioning, .. }) => assert!(conditioning < 1e-11, "{conditioning}"),
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn pivot_ratios() {
+        assert_eq!(pivot_ratio(&[2.0, -0.5, 1.0]), 0.25);
+        assert_eq!(pivot_ratio(&[0.0, 0.0]), 0.0);
+        assert_eq!(pivot_ratio(&[1.0, f64::NAN]), 0.0);
+        assert_eq!(pivot_ratio(&[]), 0.0);
     }
 
     #[test]
