@@ -65,6 +65,21 @@ fn difference(actuators: &[f64], joints: &[JointReaction], reference: &Reactions
     worst / largest
 }
 
+/// The punch's joint values and signs at crank angle `phi` on the paper's
+/// branch: C below B, G by the + arccos (signs − −), and F the
+/// intersection other than H (the larger |X_F|).
+fn punch_branch(r: &Runtime, phi: f64) -> (Vec<f64>, [Sign; 3]) {
+    let p2 = r.model.joints.iter().position(|j| j.name == "P2").unwrap();
+    [Plus, Minus]
+        .into_iter()
+        .filter_map(|s| {
+            let signs = [Minus, Minus, s];
+            r.plan.solve(&r.model, &[phi], &signs).ok().map(|v| (v, signs))
+        })
+        .max_by(|a, b| a.0[p2].abs().total_cmp(&b.0[p2].abs()))
+        .unwrap()
+}
+
 /// The punch over a turn at ω = 1 rad/s and a crank acceleration of
 /// 0.5 rad/s², on the paper's branch (signs − − and the F other than H):
 /// generated and runtime agree to 1e-9; at a change point both say so.
@@ -73,19 +88,11 @@ fn punch_over_a_turn() {
     let r = runtime("seed003_punch");
     let size = pkm::runtime::kinematics::model_scale(&r.model);
     let prepared = Punch::prepare(&Default::default());
-    let p2 = r.model.joints.iter().position(|j| j.name == "P2").unwrap();
     let mut worst = 0.0f64;
     let mut singular = 0;
     for k in 0..360 {
         let phi = (k as f64 + 0.25).to_radians();
-        let (values, signs): (Vec<f64>, [Sign; 3]) = [Plus, Minus]
-            .into_iter()
-            .filter_map(|s| {
-                let signs = [Minus, Minus, s];
-                r.plan.solve(&r.model, &[phi], &signs).ok().map(|v| (v, signs))
-            })
-            .max_by(|a, b| a.0[p2].abs().total_cmp(&b.0[p2].abs()))
-            .unwrap();
+        let (values, signs) = punch_branch(&r, phi);
         let reference = inverse_dynamics(&r.model, &r.loading, &r.skcs, &values, &[1.0], &[0.5]);
         let generated = prepared.inverse_dynamics(&[phi], signs, &[1.0], &[0.5]);
         match (generated, reference) {
@@ -124,18 +131,10 @@ type Generated = dyn Fn(
 fn punch_change_point() {
     let r = runtime("seed003_punch");
     let prepared = Punch::prepare(&Default::default());
-    let p2 = r.model.joints.iter().position(|j| j.name == "P2").unwrap();
     let (mut lowest, mut refused) = (1.0f64, 0);
     for k in -40..=40 {
         let phi = (154.5189 + k as f64 * 2e-6).to_radians();
-        let (values, signs) = [Plus, Minus]
-            .into_iter()
-            .filter_map(|s| {
-                let signs = [Minus, Minus, s];
-                r.plan.solve(&r.model, &[phi], &signs).ok().map(|v| (v, signs))
-            })
-            .max_by(|a, b| a.0[p2].abs().total_cmp(&b.0[p2].abs()))
-            .unwrap();
+        let (values, signs) = punch_branch(&r, phi);
         let reference = inverse_dynamics(&r.model, &r.loading, &r.skcs, &values, &[1.0], &[0.0]);
         let generated = prepared.inverse_dynamics(&[phi], signs, &[1.0], &[0.0]);
         match (&generated, &reference) {

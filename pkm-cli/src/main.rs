@@ -144,6 +144,27 @@ fn read(file: &Path) -> Result<(String, String), Failure> {
         .map_err(io)
 }
 
+/// Reads a mechanism file and hands `then` the request on it, or prints
+/// the failure to read it.
+fn with_request(
+    json: bool,
+    file: &Path,
+    params: &[(String, f64)],
+    degrees: bool,
+    then: impl FnOnce(&Request) -> ExitCode,
+) -> ExitCode {
+    let (source, shown) = match read(file) {
+        Ok(t) => t,
+        Err(f) => return fail(json, &f),
+    };
+    then(&Request {
+        source: &source,
+        file: &shown,
+        params,
+        degrees,
+    })
+}
+
 /// Reads a mechanism file, solves on it, prints the answer or the failure.
 fn solve(
     json: bool,
@@ -152,20 +173,10 @@ fn solve(
     degrees: bool,
     run: impl FnOnce(&Request) -> Result<Value, Failure>,
 ) -> ExitCode {
-    let (source, shown) = match read(file) {
-        Ok(t) => t,
-        Err(f) => return fail(json, &f),
-    };
-    let request = Request {
-        source: &source,
-        file: &shown,
-        params,
-        degrees,
-    };
-    match run(&request) {
+    with_request(json, file, params, degrees, |request| match run(request) {
         Ok(v) => answer(json, &v),
         Err(f) => fail(json, &f),
-    }
+    })
 }
 
 /// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
@@ -182,21 +193,17 @@ fn export(
     timestep: f64,
     out: Option<&Path>,
 ) -> ExitCode {
-    let (source, shown) = match read(file) {
-        Ok(t) => t,
-        Err(f) => return fail(json, &f),
-    };
-    let request = Request {
-        source: &source,
-        file: &shown,
-        params,
-        degrees,
-    };
     let options = cli::export::Options { q, branch, timestep };
-    let exported = match cli::export::mjcf(&request, &options) {
-        Ok(e) => e,
-        Err(f) => return fail(json, &f),
-    };
+    with_request(json, file, params, degrees, |request| {
+        match cli::export::mjcf(request, &options) {
+            Ok(exported) => write_export(json, exported, out),
+            Err(f) => fail(json, &f),
+        }
+    })
+}
+
+/// What `pkm export` writes: the XML or the object, to `out` or standard output.
+fn write_export(json: bool, exported: cli::export::Exported, out: Option<&Path>) -> ExitCode {
     let left_out = exported.info["loads_left_out"].as_array().map_or(0, Vec::len);
     if left_out > 0 && !json {
         cli::failure::write_err(&format!(
