@@ -5,7 +5,8 @@
 //! equations with the link poses differentiated exactly through the
 //! closed-form plan on hyper-dual numbers (`pkm::runtime::lagrange`). At
 //! random states (q, q̇, q̈), with random masses, centroids, inertias,
-//! gravity and a random load, the three give the same actuator forces to
+//! gravity and a random load (and two massive swinging bars per
+//! parallelogram), the three give the same actuator forces to
 //! 1e-9 of the largest; every link's balance under the Newton–Euler
 //! reactions holds to 1e-12 of its largest term (rounding over the SKCs'
 //! conditioning where a draw lands near a change point); and the reaction
@@ -15,17 +16,17 @@
 mod common;
 
 use pkm::dsl::screw::SplitMix;
-use pkm::runtime::mass_properties::{Body, Loading, PointLoad};
-use pkm::runtime::model::Model;
+use pkm::runtime::mass_properties::{Body, Carrier, Loading, PointLoad};
+use pkm::runtime::model::{JointType, Model};
 use pkm::runtime::nalgebra::{Matrix3, Rotation3, Vector3};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::{lagrange, newton_euler, virtual_work};
 use std::f64::consts::PI;
 
-/// A random rigid body on `link`: mass 0.1–2, centroid within `size` of
-/// the link's origin, principal moments that satisfy the triangle
-/// inequality, turned by a random rotation.
-fn body(rng: &mut SplitMix, link: usize, size: f64, planar: bool) -> Body {
+/// A random rigid body carried by `carrier`: mass 0.1–2, centroid within
+/// `size` of its frame's origin, principal moments that satisfy the
+/// triangle inequality, turned by a random rotation.
+fn body(rng: &mut SplitMix, carrier: Carrier, size: f64, planar: bool) -> Body {
     let u = |rng: &mut SplitMix| (rng.symmetric() + 1.0) / 2.0;
     let mass = 0.1 + 1.9 * u(rng);
     let mut centroid = rng.vector() * size;
@@ -42,7 +43,7 @@ fn body(rng: &mut SplitMix, link: usize, size: f64, planar: bool) -> Body {
         r.matrix() * principal * r.matrix().transpose()
     };
     Body {
-        link,
+        carrier,
         mass,
         centroid,
         inertia,
@@ -51,7 +52,22 @@ fn body(rng: &mut SplitMix, link: usize, size: f64, planar: bool) -> Body {
 
 fn random_loading(rng: &mut SplitMix, model: &Model, size: f64) -> Loading {
     let planar = model.planar;
-    let bodies = (1..model.links.len()).map(|l| body(rng, l, size, planar)).collect();
+    let mut bodies: Vec<Body> = (1..model.links.len())
+        .map(|l| body(rng, Carrier::Link(l), size, planar))
+        .collect();
+    // Two swinging bars per parallelogram, hinged anywhere on the link that
+    // holds its arm (a bar's hinge need not be the joint's own point).
+    for (j, joint) in model.joints.iter().enumerate() {
+        if joint.kind == JointType::Pa {
+            for _ in 0..2 {
+                let mut hinge = rng.vector() * size;
+                if planar {
+                    hinge.z = 0.0;
+                }
+                bodies.push(body(rng, Carrier::Bar { joint: j, hinge }, size, planar));
+            }
+        }
+    }
     let flat = |v: Vector3<f64>| if planar { Vector3::new(v.x, v.y, 0.0) } else { v };
     let gravity = flat(rng.vector() * 9810.0);
     let link = 1 + (rng.next_u64() as usize) % (model.links.len() - 1);
@@ -78,7 +94,12 @@ fn random_loading(rng: &mut SplitMix, model: &Model, size: f64) -> Loading {
 /// `states` random reachable states of one example, both paths compared.
 fn agree(stem: &str, ranges: &[(f64, f64)], size: f64, states: usize) {
     let (text, path) = common::example_text(stem);
-    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+    agree_on(stem, &text, &path, ranges, size, states);
+}
+
+/// [`agree`] on a mechanism's text.
+fn agree_on(stem: &str, text: &str, path: &str, ranges: &[(f64, f64)], size: f64, states: usize) {
+    let c = pkm::dsl::compile(text).unwrap_or_else(|d| panic!("{}", d.render(text, path)));
     let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).expect("a model");
     let plan = c.forward().expect("a forward plan");
     let skcs = pkm::dsl::numeric::skc_parts(&c.analysis);
@@ -193,6 +214,45 @@ fn seed000_a() {
 fn seed000_b() {
     agree(
         "seed000_b",
+        &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
+        200.0,
+        1000,
+    );
+}
+
+#[test]
+fn seed000_b_with_the_arm_on_the_parallelograms_second_link() {
+    // The same parallelogram declared with its arm on `pc`, the joint's
+    // second link, pointing back to B3: bars then hang on the second link
+    // and their demand passes to the first (s3) through the far hinges.
+    let (text, path) = common::example_text("seed000_b");
+    let swap = [
+        (
+            "pc    { R6 = (0, 0, 0) along x; Pa = (0, 0, 0) along y; }",
+            "pc    { R6 = (0, 0, 0) along x; Pa = (0, 0, 0) along y arm (0, 0, -l5); }",
+        ),
+        ("Pa = (0, 0, l1) along y arm (0, 0, l5);", "Pa = (0, 0, l1) along y;"),
+    ];
+    let mut mirrored = text.clone();
+    for (from, to) in swap {
+        assert!(mirrored.contains(from), "{path}: `{from}` not found");
+        mirrored = mirrored.replace(from, to);
+    }
+    let c = pkm::dsl::compile(&mirrored).unwrap_or_else(|d| panic!("{}", d.render(&mirrored, &path)));
+    let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).expect("a model");
+    let pa = model
+        .joints
+        .iter()
+        .find(|j| j.kind == JointType::Pa)
+        .expect("a parallelogram");
+    assert!(
+        matches!(pa.places[1], pkm::runtime::model::Place::Arm { .. }),
+        "the arm is on the second link"
+    );
+    agree_on(
+        "seed000_b, arm on pc",
+        &mirrored,
+        &path,
         &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
         200.0,
         1000,

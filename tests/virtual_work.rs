@@ -5,7 +5,7 @@
 
 mod common;
 
-use pkm::runtime::mass_properties::Loading;
+use pkm::runtime::mass_properties::{Carrier, Loading};
 use pkm::runtime::model::Model;
 use pkm::runtime::nalgebra;
 use pkm::runtime::primitives::Sign;
@@ -157,7 +157,10 @@ fn seed000_a_statics_balance_gravity_and_the_payload() {
         };
         let mut want = 0.0;
         for b in &loading.bodies {
-            let dc = (world(&plus, b.link, &b.centroid) - world(&minus, b.link, &b.centroid)) / (2.0 * h);
+            let Carrier::Link(link) = b.carrier else {
+                panic!("this fixture's bodies are links")
+            };
+            let dc = (world(&plus, link, &b.centroid) - world(&minus, link, &b.centroid)) / (2.0 * h);
             want -= b.mass * g.dot(&dc);
         }
         for l in &loading.loads {

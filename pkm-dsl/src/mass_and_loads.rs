@@ -77,6 +77,17 @@ pub enum MassDecl {
     },
     /// `massless LINK, LINK;`: links declared without mass or inertia.
     Massless(Vec<Name>),
+    /// `JOINT bar at (…) { mass = …; centroid = (…); inertia = …; }`: a
+    /// swinging bar of parallelogram `JOINT`, hinged at that point of the
+    /// link that holds the joint's arm.
+    Bar {
+        /// The parallelogram joint.
+        joint: Name,
+        /// The hinge point, in the arm-carrying link's frame.
+        hinge: Tuple,
+        /// Each `key = value;`.
+        items: Vec<(Name, Value)>,
+    },
 }
 
 /// `NAME = force (…) moment (…) on LINK at POINT;` as written.
@@ -174,6 +185,28 @@ pub struct LinkMass {
     pub inertia: Inertia,
 }
 
+/// A parallelogram bar's mass properties. The bar is not a link: it is
+/// hinged at `hinge`, a point of the link that holds the joint's arm (in
+/// that link's frame), and turns with the joint's value about the hinge
+/// axis. Its frame has its origin at the hinge and the arm-carrying link's
+/// axes turned by the joint's value about the hinge axis (at value 0,
+/// that link's axes); its centroid and inertia are in that frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BarMass {
+    /// The parallelogram joint.
+    pub joint: usize,
+    /// The hinge in the arm-carrying link's frame (z = 0 in planar mechanisms).
+    pub hinge: [Expr; 3],
+    /// Its mass (mass unit).
+    pub mass_expr: Expr,
+    /// Its mass at the nominal parameters.
+    pub mass: f64,
+    /// Its centroid in the bar's frame.
+    pub centroid: [Expr; 3],
+    /// Its inertia about the centroid, the bar's axes.
+    pub inertia: Inertia,
+}
+
 /// An external load on a link: a force at one of its points and a moment,
 /// in base coordinates.
 #[derive(Debug, Clone, PartialEq)]
@@ -199,6 +232,8 @@ pub struct MassAndLoads {
     pub masses: Vec<LinkMass>,
     /// The links declared `massless`.
     pub massless: Vec<usize>,
+    /// Parallelograms' bars with mass (bars not declared have none).
+    pub bars: Vec<BarMass>,
     /// Gravity in base coordinates (m/s²) at the nominal parameters: the
     /// declared vector, or 9.81 along −z (spatial) or −y (planar).
     pub gravity: [f64; 3],
@@ -216,6 +251,7 @@ pub(crate) fn rule_name(r: Rule) -> &'static str {
         Rule::masses_stmt | Rule::kw_masses => "`masses { LINK { … } }`",
         Rule::massless_item | Rule::kw_massless => "`massless LINK, …;`",
         Rule::link_mass => "a link's mass properties `LINK { mass = …; centroid = (…); inertia = …; }`",
+        Rule::bar_mass | Rule::kw_bar => "a parallelogram bar's mass properties `JOINT bar at (…) { mass = …; … }`",
         Rule::mass_item => "`mass = …;`, `centroid = (…);` or `inertia = …;`",
         Rule::gravity_stmt | Rule::kw_gravity => "`gravity (…);`",
         Rule::loads_stmt | Rule::kw_loads => "`loads { NAME = force (…) on LINK at POINT; }`",
@@ -263,16 +299,35 @@ pub(crate) fn build_masses(p: Pair<Rule>) -> Vec<MassDecl> {
             Rule::link_mass => {
                 let mut it = q.into_inner();
                 let link = parser::name(it.next().expect("the link"));
-                let items = it
-                    .map(|item| {
-                        let mut kv = item.into_inner();
-                        let key = parser::name(kv.next().expect("the key"));
-                        (key, value(kv.next().expect("the value")))
-                    })
-                    .collect();
-                Some(MassDecl::Link { link, items })
+                Some(MassDecl::Link {
+                    link,
+                    items: mass_items(it),
+                })
+            }
+            Rule::bar_mass => {
+                let mut it = q
+                    .into_inner()
+                    .filter(|r| !matches!(r.as_rule(), Rule::kw_bar | Rule::kw_at));
+                let joint = parser::name(it.next().expect("the joint"));
+                let hinge = parser::tuple(it.next().expect("the hinge"));
+                Some(MassDecl::Bar {
+                    joint,
+                    hinge,
+                    items: mass_items(it),
+                })
             }
             _ => None,
+        })
+        .collect()
+}
+
+/// The `key = value;` items of a link's or a bar's mass properties.
+fn mass_items<'a>(items: impl Iterator<Item = Pair<'a, Rule>>) -> Vec<(Name, Value)> {
+    items
+        .map(|item| {
+            let mut kv = item.into_inner();
+            let key = parser::name(kv.next().expect("the key"));
+            (key, value(kv.next().expect("the value")))
         })
         .collect()
 }
@@ -361,6 +416,7 @@ pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<Mas
         ..Default::default()
     };
     let mut given: HashMap<usize, Span> = HashMap::new();
+    let mut bars_given: Vec<((usize, [u64; 3]), Span)> = Vec::new();
     for entry in d.masses.iter().flat_map(|(e, _)| e) {
         match entry {
             MassDecl::Massless(links) => {
@@ -374,8 +430,64 @@ pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<Mas
                 let Some(i) = moving_link(mech, link, &mut given, &mut errors) else {
                     continue;
                 };
-                if let Some(m) = link_mass(i, link, items, planar, &values, &known, &mut errors) {
-                    out.masses.push(m);
+                let who = Owner { name: link, link: true };
+                if let Some((mass_expr, mass, centroid, inertia)) =
+                    mass_properties(&who, items, planar, &values, &known, &mut errors)
+                {
+                    out.masses.push(LinkMass {
+                        link: i,
+                        mass_expr,
+                        mass,
+                        centroid,
+                        inertia,
+                    });
+                }
+            }
+            MassDecl::Bar { joint, hinge, items } => {
+                let Some(j) = parallelogram(mech, joint, &mut errors) else {
+                    continue;
+                };
+                let Some(at) = vector(
+                    &Value::Tuple(hinge.clone()),
+                    planar,
+                    "a bar's hinge",
+                    &known,
+                    &mut errors,
+                ) else {
+                    continue;
+                };
+                let nominal = at.clone().map(|e| e.eval(&values));
+                if nominal.iter().any(|x| !x.is_finite()) {
+                    errors.push(Diagnostic::new(hinge.span, "the bar's hinge is not finite").label("here"));
+                    continue;
+                }
+                if let Some((_, first)) = bars_given.iter().find(|(k, _)| *k == (j, nominal.map(f64::to_bits))) {
+                    errors.push(
+                        Diagnostic::new(
+                            hinge.span,
+                            format!("the bar of `{}` at this hinge is given twice", joint.text),
+                        )
+                        .label("again")
+                        .also(*first, "first here"),
+                    );
+                    continue;
+                }
+                bars_given.push(((j, nominal.map(f64::to_bits)), hinge.span));
+                let who = Owner {
+                    name: joint,
+                    link: false,
+                };
+                if let Some((mass_expr, mass, centroid, inertia)) =
+                    mass_properties(&who, items, planar, &values, &known, &mut errors)
+                {
+                    out.bars.push(BarMass {
+                        joint: j,
+                        hinge: at,
+                        mass_expr,
+                        mass,
+                        centroid,
+                        inertia,
+                    });
                 }
             }
         }
@@ -507,16 +619,65 @@ fn moving_link(
     Some(i)
 }
 
-/// A link's `{ mass = …; centroid = (…); inertia = …; }`, checked.
-fn link_mass(
-    link: usize,
-    name: &Name,
+/// Whose mass properties: a link's, or a parallelogram bar's (`name` its joint).
+struct Owner<'a> {
+    name: &'a Name,
+    link: bool,
+}
+
+impl Owner<'_> {
+    /// `link `a`` or `the bar of `Pa``, as messages name it.
+    fn who(&self) -> String {
+        if self.link {
+            format!("link `{}`", self.name.text)
+        } else {
+            format!("the bar of `{}`", self.name.text)
+        }
+    }
+
+    /// `` `a` `` or `the bar of `Pa``.
+    fn short(&self) -> String {
+        if self.link {
+            format!("`{}`", self.name.text)
+        } else {
+            self.who()
+        }
+    }
+}
+
+/// The parallelogram joint `j` names (an unknown joint, or one that is not
+/// a `Pa`, is an error).
+fn parallelogram(mech: &Mechanism, j: &Name, errors: &mut Diagnostics) -> Option<usize> {
+    let Some(i) = mech.joints.iter().position(|x| x.name == j.text) else {
+        let mut e = Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("no such joint");
+        if let Some(s) = suggest(&j.text, mech.joints.iter().map(|x| x.name.as_str())) {
+            e = e.note(format!("did you mean `{s}`?"));
+        }
+        errors.push(e);
+        return None;
+    };
+    if mech.joints[i].kind != crate::mechanism::JointKind::Pa {
+        errors.push(
+            Diagnostic::new(j.span, format!("`{}` is not a parallelogram", j.text))
+                .label(format!("its type is {}", mech.joints[i].kind.symbol()))
+                .note("only a parallelogram's (`Pa`) swinging bars are bodies without a link of their own"),
+        );
+        return None;
+    }
+    Some(i)
+}
+
+/// A link's or a bar's `{ mass = …; centroid = (…); inertia = …; }`,
+/// checked: the mass (expression and nominal value), centroid and inertia.
+fn mass_properties(
+    owner: &Owner,
     items: &[(Name, Value)],
     planar: bool,
     values: &HashMap<String, f64>,
     known: &dyn Fn(&str) -> bool,
     errors: &mut Diagnostics,
-) -> Option<LinkMass> {
+) -> Option<(Expr, f64, [Expr; 3], Inertia)> {
+    let name = owner.name;
     let mut seen: HashMap<&str, Span> = HashMap::new();
     let (mut mass, mut centroid, mut inertia) = (None, None, Inertia::Point);
     for (key, v) in items {
@@ -539,39 +700,36 @@ fn link_mass(
             _ => errors.push(
                 Diagnostic::new(key.span, format!("unknown mass property `{}`", key.text))
                     .label("not a property")
-                    .note("a link takes `mass`, `centroid` and `inertia` (about the centroid)"),
+                    .note("a body takes `mass`, `centroid` and `inertia` (about the centroid)"),
             ),
         }
     }
     for (key, missing) in [("mass", mass.is_none()), ("centroid", centroid.is_none())] {
         if missing && !seen.contains_key(key) {
-            errors.push(
-                Diagnostic::new(name.span, format!("link `{}` needs its `{key}`", name.text))
-                    .label(format!("no `{key}`"))
-                    .note("or declare it `massless`"),
-            );
+            let e =
+                Diagnostic::new(name.span, format!("{} needs its `{key}`", owner.who())).label(format!("no `{key}`"));
+            errors.push(if owner.link {
+                e.note("or declare it `massless`")
+            } else {
+                e.note("or leave the bar out: a bar not declared has no mass")
+            });
         }
     }
     let ((mass_expr, span), centroid) = (mass?, centroid?);
     if centroid.iter().any(|e| !e.eval(values).is_finite()) {
-        errors.push(Diagnostic::new(name.span, format!("the centroid of `{}` is not finite", name.text)).label("here"));
+        errors
+            .push(Diagnostic::new(name.span, format!("the centroid of {} is not finite", owner.short())).label("here"));
         return None;
     }
     let m = mass_expr.eval(values);
     if !m.is_finite() || m < 0.0 {
         errors.push(
-            Diagnostic::new(span, format!("the mass of `{}` is {m}", name.text))
+            Diagnostic::new(span, format!("the mass of {} is {m}", owner.short()))
                 .label("a mass is finite and not negative"),
         );
         return None;
     }
-    Some(LinkMass {
-        link,
-        mass_expr,
-        mass: m,
-        centroid,
-        inertia,
-    })
+    Some((mass_expr, m, centroid, inertia))
 }
 
 /// Expressions whose names are all parameters (the unknown ones are errors).
@@ -974,6 +1132,74 @@ mod tests {
             &["gravity is given twice"],
         );
         assert_eq!(resolved(&spatial("gravity (0, -9.81, 0);")).gravity, [0.0, -9.81, 0.0]);
+    }
+
+    /// A five-bar with a parallelogram branch (`examples/mechanisms/five_bar_pa.pkm`'s).
+    fn with_pa(extra: &str) -> String {
+        format!(
+            "mechanism m {{
+                branch I {{ base R1* [a1] ∥ R2 [b1] ∥ R3 [b2] ∥ R4 [a2] ∥ R5* base; b1 R6 [cross] ⊥ R7 platform; }}
+                branch II {{ base P3* [s3] ∥ R8 [r8] - Pa [pc] - R9 platform; }}
+                R6 ≡ R3; y ∥ R1; x ∥ P3; R7 ∥ R8 ∥ R9; Pa ⊥ R8;
+                parameters {{ a = 250; d = 80; r = 150; l = 260; h = 80; p = 380; m = 300; }}
+                geometry {{
+                    base  {{ R1 = (-d, -a, 0) along y; R5 = (d, -a, 0) along y; P3 = through (0, a, 0) along x; }}
+                    a1    {{ R1 = (0, 0, 0) along y; R2 = (r, 0, 0) along y; }}
+                    b1    {{ R2 = (0, 0, 0) along y; R3 = (l, 0, 0) along y; R6 = (l, 0, 0) along y; }}
+                    b2    {{ R3 = (l, 0, 0) along y; R4 = (0, 0, 0) along y; }}
+                    a2    {{ R4 = (r, 0, 0) along y; R5 = (0, 0, 0) along y; }}
+                    cross {{ R6 = (0, 0, 0) along y; R7 = (0, 0, 0) along x; }}
+                    platform {{ R7 = (0, 0, 0) along x; R9 = (0, p, 0) along x; }}
+                    pc    {{ R9 = (0, 0, 0) along x; Pa = (0, 0, 0) along y; }}
+                    r8    {{ R8 = (0, 0, 0) along x; Pa = (0, 0, 0) along y arm (0, 0, m); }}
+                    s3    {{ P3 = (0, 0, 0); R8 = (0, 0, h) along x; }}
+                }}
+                {UNITS} {extra} }}"
+        )
+    }
+
+    #[test]
+    fn a_parallelograms_bars_carry_mass() {
+        let a = crate::analyze_source(&with_pa(
+            "masses { Pa bar at (-20, 0, 0) { mass = 0.1 * 2; centroid = (0, 0, m / 2); inertia = (1500, 1500, 10); }
+                      Pa bar at (20, 0, 0) { mass = 0.2; centroid = (0, 0, m / 2); } }",
+        ))
+        .expect("no error");
+        let d = &a.mass_and_loads;
+        assert_eq!(d.bars.len(), 2);
+        let b = &d.bars[0];
+        assert_eq!((a.mechanism.joints[b.joint].name.as_str(), b.mass), ("Pa", 0.2));
+        let at = |v: &[Expr; 3]| v.clone().map(|e| e.eval(&HashMap::from([("m".to_string(), 300.0)])));
+        assert_eq!(at(&b.hinge), [-20.0, 0.0, 0.0]);
+        assert_eq!(at(&b.centroid), [0.0, 0.0, 150.0]);
+        assert!(matches!(b.inertia, Inertia::Principal(_)));
+        assert_eq!(d.bars[1].inertia, Inertia::Point);
+        assert!(d.masses.is_empty(), "bars are not links");
+    }
+
+    #[test]
+    fn a_bar_belongs_to_a_parallelogram_and_is_a_rigid_body() {
+        check(
+            &with_pa(
+                "masses { Pq bar at (0, 0, 0) { mass = 1; centroid = (0, 0, 0); }
+                          R8 bar at (0, 0, 0) { mass = 1; centroid = (0, 0, 0); }
+                          Pa bar at (0, 0) { mass = 1; centroid = (0, 0, 0); }
+                          Pa bar at (0, 0, 0) { centroid = (0, 0, 0); }
+                          Pa bar at (1, 0, 0) { mass = 1 - m; centroid = (0, 0, 0); }
+                          Pa bar at (2, 0, 0) { mass = 1; centroid = (0, 0, 0); inertia = (1, 1, 3); }
+                          Pa bar at (3, 0, 0) { mass = 1; centroid = (0, 0, 0); }
+                          Pa bar at (3, 0, 0) { mass = 1; centroid = (0, 0, 0); } }",
+            ),
+            &[
+                "unknown joint `Pq`",
+                "`R8` is not a parallelogram",
+                "a bar's hinge has 3 values (x, y, z) in a spatial mechanism",
+                "the bar of `Pa` needs its `mass`",
+                "the mass of the bar of `Pa` is -299",
+                "the principal moments [1.0, 1.0, 3.0] break the triangle inequality: 3 exceeds the sum of the other two (2)",
+                "the bar of `Pa` at this hinge is given twice",
+            ],
+        );
     }
 
     #[test]

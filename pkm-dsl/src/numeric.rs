@@ -154,7 +154,7 @@ pub fn loading(
 ) -> Result<pkm_runtime::mass_properties::Loading, Diagnostics> {
     use crate::mass_and_loads::Inertia;
     use nalgebra::Vector3;
-    use pkm_runtime::mass_properties::{Body, Loading, PointLoad};
+    use pkm_runtime::mass_properties::{Body, Carrier, Loading, PointLoad};
     let d = &a.mass_and_loads;
     let span = a.mechanism.name_span();
     let Some(units) = d.units else {
@@ -191,35 +191,51 @@ pub fn loading(
     if gravity.iter().any(|x| !x.is_finite()) {
         return Err(not_finite("gravity".into()));
     }
-    let mut bodies = Vec::new();
-    for b in &d.masses {
-        let name = &a.mechanism.links[b.link].name;
-        let mass = eval(&b.mass_expr);
+    // Every body, a link's or a parallelogram bar's, in the runtime's units.
+    let body = |carrier: Carrier,
+                who: String,
+                mass: &crate::expr::Expr,
+                centroid: &[crate::expr::Expr; 3],
+                inertia: &Inertia|
+     -> Result<Body, Diagnostics> {
+        let mass = eval(mass);
         if !mass.is_finite() || mass < 0.0 {
-            return Err(
-                Diagnostic::new(span, format!("the mass of link `{name}` is {mass} at these parameters")).into(),
-            );
+            return Err(Diagnostic::new(span, format!("the mass of {who} is {mass} at these parameters")).into());
         }
-        let moments: Vec<f64> = match &b.inertia {
+        let moments: Vec<f64> = match inertia {
             Inertia::Point => vec![0.0; 3],
             Inertia::Planar(e) => vec![eval(e)],
             Inertia::Principal(e) => e.iter().map(eval).collect(),
             Inertia::Full(e) => e.iter().map(eval).collect(),
         };
         if let Some(problem) = crate::mass_and_loads::inertia_problem(&moments) {
-            return Err(Diagnostic::new(span, format!("link `{name}`: {problem} at these parameters")).into());
+            return Err(Diagnostic::new(span, format!("{who}: {problem} at these parameters")).into());
         }
         let inertia = crate::mass_and_loads::inertia_tensor(&moments);
-        let centroid = vec3(&b.centroid);
+        let centroid = vec3(centroid);
         if centroid.iter().any(|x| !x.is_finite()) {
-            return Err(not_finite(format!("the centroid of link `{name}`")));
+            return Err(not_finite(format!("the centroid of {who}")));
         }
-        bodies.push(Body {
-            link: b.link,
+        Ok(Body {
+            carrier,
             mass: mass * kg,
             centroid,
             inertia: inertia * kg,
-        });
+        })
+    };
+    let mut bodies = Vec::new();
+    for b in &d.masses {
+        let who = format!("link `{}`", a.mechanism.links[b.link].name);
+        bodies.push(body(Carrier::Link(b.link), who, &b.mass_expr, &b.centroid, &b.inertia)?);
+    }
+    for b in &d.bars {
+        let who = format!("the bar of `{}`", a.mechanism.joints[b.joint].name);
+        let hinge = vec3(&b.hinge);
+        if hinge.iter().any(|x| !x.is_finite()) {
+            return Err(not_finite(format!("the hinge of {who}")));
+        }
+        let carrier = Carrier::Bar { joint: b.joint, hinge };
+        bodies.push(body(carrier, who, &b.mass_expr, &b.centroid, &b.inertia)?);
     }
     let loads = d
         .loads

@@ -336,6 +336,7 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::masses_stmt
         | Rule::massless_item
         | Rule::link_mass
+        | Rule::bar_mass
         | Rule::mass_item
         | Rule::gravity_stmt
         | Rule::loads_stmt
@@ -345,6 +346,7 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::kw_units
         | Rule::kw_masses
         | Rule::kw_massless
+        | Rule::kw_bar
         | Rule::kw_gravity
         | Rule::kw_loads
         | Rule::kw_force

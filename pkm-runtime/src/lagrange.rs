@@ -3,7 +3,8 @@
 //!
 //! `τ_k = d/dt(∂T/∂q̇_k) − ∂T/∂q_k + ∂U/∂q_k − Q_k`,
 //!
-//! `T = Σ ½ m |ċ|² + ½ Ωᵀ I Ω` (Ω the body's angular velocity in its own
+//! `T = Σ ½ m |ċ|² + ½ Ωᵀ I Ω` over the links' and the parallelograms'
+//! bars' bodies (Ω the body's angular velocity in its own
 //! axes, `[Ω]× = Rᵀ Ṙ`), `U = −Σ m g·c`, and `Q_k` the loads' generalized
 //! forces. Every derivative of the link poses R(q), c(q) is exact: the
 //! plan's closed-form steps run on hyper-dual inputs ([`HyperDual`]),
@@ -13,7 +14,7 @@
 
 use crate::frame::Frame;
 use crate::hyper_dual::HyperDual;
-use crate::mass_properties::Loading;
+use crate::mass_properties::{arm_side, Carrier, Loading};
 use crate::model::Model;
 use crate::primitives::Sign;
 use crate::scalar::Scalar;
@@ -52,7 +53,8 @@ pub fn actuator_forces(
     }
     let geometry = Geometry::<HyperDual>::of(model);
     let name = |_: usize| Cow::Borrowed("");
-    // The link poses with ε₁ along `d1` and ε₂ along `d2`.
+    // The link poses with ε₁ along `d1` and ε₂ along `d2`, then every
+    // body's frame (a link's pose, or a parallelogram bar's).
     let poses = |d1: &[f64], d2: &[f64]| -> Result<Vec<Frame<HyperDual>>, SolveError> {
         let values: Vec<HyperDual> = (0..n).map(|i| HyperDual::variable(inputs[i], d1[i], d2[i])).collect();
         let given = Given {
@@ -61,8 +63,15 @@ pub fn actuator_forces(
             name: &name,
             sites: 0,
         };
-        Ok(steps::run(plan, &geometry, model.links.len(), &given)?.poses)
+        let solved = steps::run(plan, &geometry, model.links.len(), &given)?;
+        let mut frames = solved.poses.clone();
+        for b in &loading.bodies {
+            frames.push(body_frame(model, &geometry, &solved, &b.carrier)?);
+        }
+        Ok(frames)
     };
+    // Body k's frame is at `links + k`.
+    let links = model.links.len();
     let zero = vec![0.0; n];
     // R, c; their rates; their second derivatives along the rates.
     let along_rates = poses(rates, rates)?;
@@ -77,11 +86,12 @@ pub fn actuator_forces(
         .collect::<Result<_, _>>()?;
     let g = loading.gravity;
     let mut tau = vec![0.0; n];
-    for b in &loading.bodies {
+    for (k, b) in loading.bodies.iter().enumerate() {
+        let frame = links + k;
         let at = |f: &Frame<HyperDual>| Body::of(f, &b.centroid);
         let m = b.mass;
-        let a = at(&along_rates[b.link]);
-        let q2 = at(&along_accels[b.link]);
+        let a = at(&along_rates[frame]);
+        let q2 = at(&along_accels[frame]);
         let (r, rdot) = (&a.r0, &a.r1);
         // c̈ and R̈ along the motion.
         let c_dd = a.c12 + q2.c1;
@@ -91,7 +101,7 @@ pub fn actuator_forces(
         let omega_dot = vee(&(rdot.transpose() * rdot + r.transpose() * r_dd));
         let i = b.inertia;
         for (k, t) in tau.iter_mut().enumerate() {
-            let d = at(&along_inputs[k][b.link]);
+            let d = at(&along_inputs[k][frame]);
             // ∂c/∂q_k and ∂R/∂q_k (ε₂), ∂²/∂q̇∂q_k (ε₁ε₂).
             let (c_k, r_k, c_k_dot, r_k_dot) = (d.c2, d.r2, d.c12, d.r12);
             // d/dt ∂T/∂q̇_k: ∂T/∂q̇_k = m ċ·∂c/∂q_k + Ωᵀ I vee(Rᵀ ∂R/∂q_k).
@@ -126,6 +136,34 @@ pub fn actuator_forces(
         });
     }
     Ok(tau.into_iter().map(|t| loading.to_newtons(t)).collect())
+}
+
+/// A body's frame in a run of the plan: its link's pose, or, for a
+/// parallelogram's bar, the arm-carrying link's pose moved to the hinge and
+/// turned by the parallelogram's value about the hinge axis (the value
+/// read from the two links' poses, so that its derivatives are exact too).
+fn body_frame(
+    model: &Model,
+    geometry: &Geometry<HyperDual>,
+    solved: &steps::Solved<HyperDual>,
+    carrier: &Carrier,
+) -> Result<Frame<HyperDual>, SolveError> {
+    match *carrier {
+        Carrier::Link(l) => Ok(solved.poses[l]),
+        Carrier::Bar { joint, hinge } => {
+            let Some((c, axis)) = arm_side(model, joint) else {
+                return Err(SolveError::BadInput {
+                    what: Cow::Owned(format!(
+                        "a body is a bar of joint {joint}, which is not a parallelogram with an arm"
+                    )),
+                });
+            };
+            let theta = steps::value(geometry, solved, joint);
+            let h = Frame::translation([0, 1, 2].map(|i| HyperDual::c(hinge[i])));
+            let turn = Frame::about([0, 1, 2].map(|i| HyperDual::c(axis[i])), theta.cos(), theta.sin());
+            Ok(solved.poses[c].then(&h).then(&turn))
+        }
+    }
 }
 
 /// A body point's position and its link's rotation, each split into the

@@ -27,9 +27,9 @@
 //! error naming the SKC's joints, and above it the conditioning is returned
 //! with the reactions.
 
-use crate::mass_properties::Loading;
+use crate::mass_properties::{Carrier, Loading};
 use crate::model::Model;
-use crate::velocity::{self, Twist, VelocityError};
+use crate::velocity::{self, BarTurn, Twist, VelocityError};
 use nalgebra::{DMatrix, DVector, Point3, Vector3};
 use std::fmt;
 
@@ -218,17 +218,29 @@ pub fn inverse_dynamics(
     // What each link's joints must supply: its inertial wrench less gravity
     // and the loads (Euler's equations in the link's own axes).
     let mut demand: Vec<Vec<f64>> = vec![vec![0.0; d]; model.links.len()];
+    // Per parallelogram, its bars' demand along their motion with its first
+    // link held: Σ D_i·ξ'_i (see `bar_demand`).
+    let mut bar_work = vec![0.0; model.joints.len()];
     for b in &loading.bodies {
-        let pose = &poses[b.link];
-        let (t, dt) = (&motion.velocities.twists[b.link], &motion.twists[b.link]);
-        let c = (pose * Point3::from(b.centroid)).coords;
+        let m = velocity::body_motion(model, &loops, &motion, values, &b.carrier)?;
+        let (t, dt) = (&m.twist, &m.rate);
+        let c = (m.pose * Point3::from(b.centroid)).coords;
         let a = dt.v + dt.w.cross(&c) + t.w.cross(&t.at(&c));
-        let rot = pose.rotation;
+        let rot = m.pose.rotation;
         let (w_body, dw_body) = (rot.inverse() * t.w, rot.inverse() * dt.w);
         let m_c = rot * (b.inertia * dw_body + w_body.cross(&(b.inertia * w_body)));
         let f = b.mass * (a - loading.gravity);
         let w = wrench(planar, f, m_c + c.cross(&f));
-        demand[b.link].iter_mut().zip(w).for_each(|(x, y)| *x += y);
+        let link = match (b.carrier, m.bar) {
+            (Carrier::Bar { joint, .. }, Some(bar)) => {
+                let (first, power) = bar_demand(model, &loops, joint, &bar, &w);
+                bar_work[joint] += power;
+                first
+            }
+            (Carrier::Link(l), _) => l,
+            (Carrier::Bar { joint, .. }, None) => return Err(VelocityError::NotABar { joint }.into()),
+        };
+        demand[link].iter_mut().zip(w).for_each(|(x, y)| *x += y);
     }
     for l in &loading.loads {
         let p = (poses[l.link] * Point3::from(l.at)).coords;
@@ -240,7 +252,7 @@ pub fn inverse_dynamics(
     let mut conditioning = vec![1.0; skcs.len()];
     for (k, skc) in skcs.iter().enumerate().rev() {
         let n = skc.joints.len() * d;
-        let passive: Vec<(usize, Vec<f64>, bool)> = skc
+        let passive: Vec<(usize, usize, Vec<f64>, bool)> = skc
             .joints
             .iter()
             .enumerate()
@@ -248,7 +260,7 @@ pub fn inverse_dynamics(
             .flat_map(|(i, &j)| {
                 loops.twists[j]
                     .iter()
-                    .map(move |t| (i, coefficients(planar, t), t.w.norm() > 0.0))
+                    .map(move |t| (i, j, coefficients(planar, t), t.w.norm() > 0.0))
             })
             .collect();
         let rows = skc.links.len() * d + passive.len();
@@ -276,7 +288,7 @@ pub fn inverse_dynamics(
                 }
             }
         }
-        for (p, (i, xi, turns)) in passive.iter().enumerate() {
+        for (p, (i, j, xi, turns)) in passive.iter().enumerate() {
             let row = skc.links.len() * d + p;
             // A turn's row has lever arms (lengths) against forces, a
             // slide's unit direction: both in units of the size.
@@ -284,6 +296,8 @@ pub fn inverse_dynamics(
             for c in 0..d {
                 a[(row, i * d + c)] = xi[c] * unit(c) * k;
             }
+            // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
+            rhs[row] = -bar_work[*j] * k;
         }
         // Zero rows up to a square matrix, so that the decomposition holds
         // the whole null space (the thin one has only min(rows, n) rows of Vᵀ).
@@ -351,7 +365,9 @@ pub fn inverse_dynamics(
     for j in model.inputs() {
         for t in &loops.twists[j] {
             let xi = coefficients(planar, t);
-            actuators.push(loading.to_newtons((0..d).map(|c| xi[c] * reaction[j][c]).sum()));
+            // An actuated parallelogram also drives its bars.
+            let own: f64 = (0..d).map(|c| xi[c] * reaction[j][c]).sum();
+            actuators.push(loading.to_newtons(own + bar_work[j]));
         }
     }
     let joints = (0..model.joints.len())
@@ -380,6 +396,39 @@ pub fn inverse_dynamics(
         conditioning,
         balance,
     })
+}
+
+/// A parallelogram bar's demand `w` (its inertial wrench less gravity,
+/// about the base origin) folded into its joint: the link it passes to,
+/// and its power along the bar's twist relative to that link per unit
+/// rate of the parallelogram.
+///
+/// The bars are not links. Bar i takes `H_i` from the arm-carrying link at
+/// its hinge and `K_i` from the other link at its far hinge, with
+/// `H_i + K_i = D_i`; each hinge is a frictionless revolute, so `H_i`
+/// does no work along the bar's turn relative to the arm-carrying link and
+/// `K_i` none along its turn relative to the other link. The joint's
+/// reaction `W` is what the parallelogram exerts on its second link (`−K`
+/// or `−H` summed over the bars, whichever side that link is): the first
+/// link receives `−W − Σ D_i`, and the virtual power with the first link
+/// held gives the joint's row `W·ξ = −Σ D_i·ξ'_i`, with `ξ` the second
+/// link's unit twist relative to the first and `ξ'_i` bar i's (`ξ_b`, the
+/// turn about its hinge, with the arm on the first link; `ξ + ξ_b` with
+/// the arm on the second).
+fn bar_demand(model: &Model, loops: &velocity::Loops, joint: usize, bar: &BarTurn, w: &[f64]) -> (usize, f64) {
+    let planar = model.planar;
+    let first = model.joints[joint].links[0];
+    let relative = if bar.carrier == first {
+        bar.xi
+    } else {
+        let xi = loops.twists[joint][0];
+        Twist {
+            w: bar.xi.w + xi.w,
+            v: bar.xi.v + xi.v,
+        }
+    };
+    let power = coefficients(planar, &relative).iter().zip(w).map(|(x, y)| x * y).sum();
+    (first, power)
 }
 
 /// How joint `joint`'s reaction acts on link `l`: +1 on its second link

@@ -213,6 +213,12 @@ pub enum VelocityError {
         /// σ_min / σ_max of the passive columns.
         sigma: f64,
     },
+    /// A body is a bar of joint `joint`, which is not a parallelogram with
+    /// an arm (or not a joint of the model).
+    NotABar {
+        /// The joint named.
+        joint: usize,
+    },
 }
 
 impl fmt::Display for VelocityError {
@@ -224,6 +230,12 @@ impl fmt::Display for VelocityError {
                 f,
                 "output singularity: the passive joints move with the inputs held (σ_min/σ_max = {sigma:e})"
             ),
+            VelocityError::NotABar { joint } => {
+                write!(
+                    f,
+                    "a body is a bar of joint {joint}, which is not a parallelogram with an arm"
+                )
+            }
         }
     }
 }
@@ -560,6 +572,80 @@ pub fn accelerations_on(
         rates: qdd,
         twists: twist_rates,
     })
+}
+
+/// Where a body is and how it moves: its pose, twist and twist rate, and,
+/// for a parallelogram's bar, how it turns on its arm-carrying link.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyMotion {
+    /// Its pose in the world (its frame: the link's, or the bar's).
+    pub pose: Isometry3<f64>,
+    /// Its twist.
+    pub twist: Twist,
+    /// Its twist rate.
+    pub rate: Twist,
+    /// A bar's turn: see [`BarTurn`].
+    pub bar: Option<BarTurn>,
+}
+
+/// A parallelogram bar's motion on its arm-carrying link `carrier`: its
+/// twist is the carrier's plus `θ̇ ξ`, with `θ` the joint's value (rate
+/// index `rate`) and `ξ` the unit rotation about the hinge axis through
+/// the hinge, world.
+#[derive(Debug, Clone, Copy)]
+pub struct BarTurn {
+    /// The arm-carrying link.
+    pub carrier: usize,
+    /// The index of the parallelogram's rate among all rates.
+    pub rate: usize,
+    /// The unit twist of the bar relative to the carrier.
+    pub xi: Twist,
+}
+
+/// The motion of a body carried by `carrier` at joint values `values`,
+/// with the motion `a` from [`accelerations_on`] on `loops`. A bar's twist
+/// is its arm-carrying link's plus `θ̇ ξ`; its rate adds `θ̈ ξ + θ̇ [V_c, ξ]`
+/// (ξ is fixed in the carrier).
+pub fn body_motion(
+    model: &Model,
+    loops: &Loops,
+    a: &Accelerations,
+    values: &[f64],
+    carrier: &crate::mass_properties::Carrier,
+) -> Result<BodyMotion, VelocityError> {
+    use crate::mass_properties::{arm_side, bar_pose, Carrier};
+    match *carrier {
+        Carrier::Link(l) => Ok(BodyMotion {
+            pose: loops.poses[l],
+            twist: a.velocities.twists[l],
+            rate: a.twists[l],
+            bar: None,
+        }),
+        Carrier::Bar { joint, hinge } => {
+            let Some((c, axis)) = arm_side(model, joint) else {
+                return Err(VelocityError::NotABar { joint });
+            };
+            let col = loops.offsets[joint];
+            let pose = bar_pose(&loops.poses[c], &axis, &hinge, values[col]);
+            let w = loops.poses[c].rotation * axis;
+            let xi = Twist {
+                w,
+                v: -w.cross(&pose.translation.vector),
+            };
+            let vc = a.velocities.twists[c];
+            let (qd, qdd) = (a.velocities.rates[col], a.rates[col]);
+            Ok(BodyMotion {
+                pose,
+                twist: vc.add(&xi.scale(qd)),
+                rate: a.twists[c].add(&xi.scale(qdd)).add(&vc.bracket(&xi).scale(qd)),
+                bar: Some(BarTurn {
+                    carrier: c,
+                    rate: col,
+                    xi,
+                }),
+            })
+        }
+    }
 }
 
 /// The acceleration of the body point at world position `p` of a link with

@@ -6,17 +6,23 @@
 //! `τ_k = Σ_bodies [m (a_c − g)·v_c^k + (I α + ω × I ω)·ω^k] − Σ_loads [F·v_p^k + M·ω^k]`,
 //!
 //! with `(ω^k, v^k)` every link's twist for a unit rate of input `k` and
-//! nothing else (the loop-closure velocity equations, [`crate::velocity`]).
+//! nothing else (the loop-closure velocity equations, [`crate::velocity`]);
+//! a parallelogram's bar moves with its arm-carrying link and turns with
+//! the parallelogram's rate about its hinge.
 //! It shares no dynamics with the Newton–Euler or the Lagrange paths.
 
-use crate::mass_properties::Loading;
+use crate::mass_properties::{Carrier, Loading};
 use crate::model::Model;
-use crate::velocity::{self, point_acceleration, Loops, VelocityError};
+use crate::velocity::{self, point_acceleration, BarTurn, Loops, Twist, VelocityError};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
-/// A wrench on a link: a force through a world point and a moment.
+/// A wrench on a body: a force through a world point and a moment. The
+/// body is a link, or a parallelogram's bar (`bar`: its turn on its
+/// arm-carrying link), whose virtual twist is the link's plus the
+/// parallelogram's rate about the bar's hinge.
 struct Wrench {
     link: usize,
+    bar: Option<BarTurn>,
     at: Vector3<f64>,
     force: Vector3<f64>,
     moment: Vector3<f64>,
@@ -25,7 +31,16 @@ struct Wrench {
 impl Wrench {
     /// Its power along the rates `rates` (every joint's).
     fn power(&self, loops: &Loops, rates: &[f64]) -> f64 {
-        let t = loops.link_twist(self.link, rates);
+        let t = match self.bar {
+            None => loops.link_twist(self.link, rates),
+            Some(b) => {
+                let tc = loops.link_twist(b.carrier, rates);
+                Twist {
+                    w: tc.w + b.xi.w * rates[b.rate],
+                    v: tc.v + b.xi.v * rates[b.rate],
+                }
+            }
+        };
         self.force.dot(&t.at(&self.at)) + self.moment.dot(&t.w)
     }
 }
@@ -50,22 +65,28 @@ pub fn actuator_forces(
         .bodies
         .iter()
         .map(|b| {
-            let c = world(b.link, &b.centroid);
-            let (t, dt) = (&motion.velocities.twists[b.link], &motion.twists[b.link]);
-            let i = world_inertia(&poses[b.link], &b.inertia);
-            Wrench {
-                link: b.link,
+            let m = velocity::body_motion(model, &loops, &motion, values, &b.carrier)?;
+            let c = (m.pose * Point3::from(b.centroid)).coords;
+            let (t, dt) = (&m.twist, &m.rate);
+            let i = world_inertia(&m.pose, &b.inertia);
+            Ok(Wrench {
+                link: match b.carrier {
+                    Carrier::Link(l) => l,
+                    Carrier::Bar { .. } => 0,
+                },
+                bar: m.bar,
                 at: c,
                 force: b.mass * (point_acceleration(t, dt, &c) - loading.gravity),
                 moment: i * dt.w + t.w.cross(&(i * t.w)),
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, VelocityError>>()?;
     let external: Vec<Wrench> = loading
         .loads
         .iter()
         .map(|l| Wrench {
             link: l.link,
+            bar: None,
             at: world(l.link, &l.at),
             force: l.force,
             moment: l.moment,

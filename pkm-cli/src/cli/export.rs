@@ -11,7 +11,7 @@
 use super::failure::{Failure, Kind};
 use super::solve::{angular, input_values, load, Request};
 use pkm_runtime::kinematics::Pose;
-use pkm_runtime::mass_properties::Loading;
+use pkm_runtime::mass_properties::{arm_side, Carrier, Loading};
 use pkm_runtime::model::{Joint, JointType, Model, Place};
 use pkm_runtime::nalgebra::Matrix3;
 use serde_json::{json, Map, Value};
@@ -203,6 +203,7 @@ struct Writer<'a> {
     values: Vec<f64>,
     offsets: Vec<usize>,
     inertials: Vec<Inertial>,
+    bars: Vec<Bar>,
     /// Stand-in mass and inertia (kg, kg·m²).
     tiny: (f64, f64),
     /// Geometry radius (m).
@@ -234,6 +235,42 @@ impl Writer<'_> {
             mj.to_string(),
             json!({ "pkm": j.name, "type": kind, "scale": scale, "reference": value }),
         );
+    }
+
+    /// The bars with mass that `link` carries: each a body hinged at its
+    /// hinge about the parallelogram's axis, at its turn at the reference
+    /// configuration (`ref`, so that `qpos` is the joint's value; an
+    /// equality ties it to the joint's hinge).
+    fn bars(&mut self, depth: usize, link: usize) {
+        let m = self.m;
+        for k in 0..self.bars.len() {
+            let b = &self.bars[k];
+            if b.carrier != link {
+                continue;
+            }
+            let (joint, hinge, axis) = (b.joint, b.hinge, b.axis);
+            let value = self.values[self.offsets[joint]];
+            let (c, s) = ((0.5 * value).cos(), (0.5 * value).sin());
+            let turn = Pose {
+                rotation: [c, s * axis[0], s * axis[1], s * axis[2]],
+                translation: scaled(hinge, m),
+            };
+            let inertial = b.inertial.xml();
+            let name = format!("{}.bar{}", self.model.joints[joint].name, k + 1);
+            self.map(&name, joint, "hinge", 1.0);
+            let name = escape(&name);
+            self.line(depth, &format!(r#"<body name="{name}" {}>"#, placed(&turn)));
+            self.line(
+                depth + 1,
+                &format!(
+                    r#"<joint name="{name}" type="hinge" pos="0 0 0" axis="{}" ref="{}"/>"#,
+                    nums(&axis),
+                    num(value)
+                ),
+            );
+            self.line(depth + 1, &inertial);
+            self.line(depth, "</body>");
+        }
     }
 
     /// The visible parts of a link: spheres at its joints' and named
@@ -403,6 +440,7 @@ impl Writer<'_> {
             self.stand_ins.push(self.model.links[link].clone());
         }
         self.geoms(depth + 1, link);
+        self.bars(depth + 1, link);
         for (k, child) in self.tree.children[link].clone() {
             self.body(depth + 1, link, k, child);
         }
@@ -412,8 +450,21 @@ impl Writer<'_> {
     }
 }
 
-/// The mass properties of every link in SI, stand-ins where none.
-fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<(Vec<Inertial>, (f64, f64)), Failure> {
+/// A parallelogram's bar with mass: a body of its own, hinged on the
+/// link that holds the joint's arm and tied to the joint's value.
+struct Bar {
+    joint: usize,
+    /// The arm-carrying link.
+    carrier: usize,
+    /// The hinge (file units) and its unit axis, in the carrier's frame.
+    hinge: [f64; 3],
+    axis: [f64; 3],
+    inertial: Inertial,
+}
+
+/// The mass properties of every link in SI, stand-ins where none, and the
+/// parallelograms' bars that have mass.
+fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<(Vec<Inertial>, Vec<Bar>, (f64, f64)), Failure> {
     let total: f64 = loading.bodies.iter().map(|b| b.mass).sum();
     if total <= 0.0 {
         return Err(Failure::input(
@@ -430,6 +481,7 @@ fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<(Vec<Inertial>,
             stand_in: true,
         })
         .collect();
+    let mut bars = Vec::new();
     for b in &loading.bodies {
         if b.mass <= 0.0 {
             continue;
@@ -447,14 +499,32 @@ fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<(Vec<Inertial>,
         if smallest.is_nan() || smallest < tiny.1 {
             inertia += Matrix3::identity() * tiny.1;
         }
-        out[b.link] = Inertial {
+        let inertial = Inertial {
             mass: b.mass,
             centroid: [0, 1, 2].map(|i| b.centroid[i] * m),
             inertia,
             stand_in: false,
         };
+        match b.carrier {
+            Carrier::Link(l) => out[l] = inertial,
+            Carrier::Bar { joint, hinge } => {
+                let Some((carrier, axis)) = arm_side(model, joint) else {
+                    return Err(Failure::input(format!(
+                        "a bar of joint {}, which is not a parallelogram with an arm",
+                        model.joints.get(joint).map_or("?", |j| j.name.as_str())
+                    )));
+                };
+                bars.push(Bar {
+                    joint,
+                    carrier,
+                    hinge: hinge.into(),
+                    axis: axis.into(),
+                    inertial,
+                });
+            }
+        }
     }
-    Ok((out, tiny))
+    Ok((out, bars, tiny))
 }
 
 /// The reference configuration's inputs: given, else the study's start, else zeros.
@@ -559,7 +629,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         }
     };
     let tree = spanning_tree(model)?;
-    let (inertials, tiny) = inertials(model, &loading, m)?;
+    let (inertials, bars, tiny) = inertials(model, &loading, m)?;
     let (offsets, _) = model.value_offsets();
     let size = pkm_runtime::kinematics::model_scale(model);
     let mut w = Writer {
@@ -569,6 +639,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         values: solution.values.clone(),
         offsets,
         inertials,
+        bars,
         tiny,
         // Drawn 1% of the size thick, to two figures (only the look depends on it).
         radius: round2(0.01 * size * m),
@@ -641,6 +712,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     for text in base_geoms {
         w.line(2, &text);
     }
+    w.bars(2, 0);
     for (k, child) in w.tree.children[0].clone() {
         w.body(2, 0, k, child);
     }
@@ -669,6 +741,13 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         let name = escape(&j.name);
         equalities.push(format!(
             r#"<joint name="{name}.tie" joint1="{name}.tip" joint2="{name}" polycoef="0 -1 0 0 0" {solref}/>"#
+        ));
+    }
+    // A bar with mass turns with its parallelogram's value.
+    for (k, b) in w.bars.iter().enumerate() {
+        let (joint, bar) = (escape(&model.joints[b.joint].name), k + 1);
+        equalities.push(format!(
+            r#"<joint name="{joint}.bar{bar}.tie" joint1="{joint}.bar{bar}" joint2="{joint}" polycoef="0 1 0 0 0" {solref}/>"#
         ));
     }
     if !equalities.is_empty() {
