@@ -65,8 +65,9 @@ pub(super) struct Traced {
     place: Vec<(usize, usize)>,
     /// Each joint's point (where its moment is given).
     points: Vec<[Term; 3]>,
-    /// Per actuator (input order): the joint and its twist's power coefficients.
-    actuators: Vec<(usize, Vec<Term>)>,
+    /// Per actuator (input order): the joint, its twist's power
+    /// coefficients, and the work of its bars (a parallelogram's).
+    actuators: Vec<(usize, Vec<Term>, Term)>,
     /// Per moving link, its balance.
     balances: Vec<Balance>,
     /// Bodies whose mass properties come through the parameters.
@@ -317,8 +318,9 @@ fn demands(
     g: &Geometry<Sym>,
     b: &Branch,
     w: &Layout,
+    twists: &[Vec<Vec<Sym>>],
     terms: &mut Terms,
-) -> Result<Vec<Vec<Sym>>, String> {
+) -> Result<Demands, String> {
     let m = &a.mechanism;
     let ml = &a.mass_and_loads;
     let units = ml.units.ok_or("dynamics needs the file's units")?;
@@ -348,6 +350,63 @@ fn demands(
             terms.bodies.push((m.links[body.link].name.clone(), mass, moments));
         }
     }
+    let mut bar_work = vec![Sym::c(0.0); m.joints.len()];
+    for bar in &ml.bars {
+        let j = bar.joint;
+        let jg = &g.joints[j];
+        let Some((side, axis)) = (0..2).find_map(|side| match jg.places[side] {
+            Place::Arm { axis, .. } => Some((side, unit(axis))),
+            _ => None,
+        }) else {
+            return Err(format!("a bar of joint {}, which has no arm", m.joints[j].name));
+        };
+        let carrier = jg.links[side];
+        let (c, s) = match b.states[j] {
+            Some(JointValue::Turn(c, s, _)) => (c, s),
+            Some(JointValue::Slide(t)) => (t.cos(), t.sin()),
+            None => return Err(format!("no value for joint {}", m.joints[j].name)),
+        };
+        // The bar's frame: the carrier's turned by the value about the hinge axis.
+        let hinge = sym3(&bar.hinge);
+        let turn = Frame {
+            t: hinge,
+            ..Frame::about(axis, c, s)
+        };
+        let pose = b.poses[carrier].then(&turn);
+        let mass = sym(&bar.mass_expr);
+        let inertia = inertia_of(&bar.inertia, kg);
+        let (f, mo) = body_demand(&pose, mass * kg, sym3(&bar.centroid), &inertia, gravity);
+        let wrench = w.numbers(f, mo);
+        // The bar passes its demand to the joint's first link, and does
+        // work along its turn relative to it (`newton_euler::bar_demand`).
+        let first = jg.links[0];
+        let omega = b.poses[carrier].rotate(axis);
+        let own = w.numbers(cross(pose.t, omega), omega);
+        let relative: Vec<Sym> = if carrier == first {
+            own
+        } else {
+            own.iter().zip(&twists[j][0]).map(|(x, y)| *x + *y).collect()
+        };
+        let power = relative
+            .iter()
+            .zip(&wrench)
+            .fold(Sym::c(0.0), |acc, (x, y)| acc + *x * *y);
+        bar_work[j] = bar_work[j] + power;
+        for (x, y) in demand[first].iter_mut().zip(wrench) {
+            *x = *x + y;
+        }
+        let moments = moments_of(&bar.inertia);
+        if std::iter::once(&mass)
+            .chain(&moments)
+            .any(|s| crate::trace::constant_of(*s).is_none())
+        {
+            let mass = terms.of(mass);
+            let moments = moments.into_iter().map(|s| terms.of(s)).collect();
+            terms
+                .bodies
+                .push((format!("{}'s bar", m.joints[j].name), mass, moments));
+        }
+    }
     for load in &ml.loads {
         let at = match load.at {
             Some(point) => g.local(point, load.link),
@@ -362,7 +421,14 @@ fn demands(
             *x = *x - y;
         }
     }
-    Ok(demand)
+    Ok(Demands { demand, bar_work })
+}
+
+/// What the joints must supply: per link, and per parallelogram the work
+/// of its bars along their turn with the first link held.
+struct Demands {
+    demand: Vec<Vec<Sym>>,
+    bar_work: Vec<Sym>,
 }
 
 /// How joint `j` of `g` acts on link `l`: +1 on its second link (the
@@ -385,6 +451,7 @@ struct SkcInputs<'a> {
     actuated: &'a [bool],
     demand: &'a [Vec<Sym>],
     twists: &'a [Vec<Vec<Sym>>],
+    bar_work: &'a [Sym],
     place: &'a [(usize, usize)],
 }
 
@@ -430,7 +497,8 @@ fn skc_system(
                 for (c, s) in coefficients {
                     entries.push((row, c, terms.of(s * scale)));
                 }
-                rhs.push(Term::Const(0.0));
+                // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
+                rhs.push(terms.of(-x.bar_work[j] * scale));
                 row += 1;
             }
         }
@@ -474,7 +542,6 @@ pub(super) fn trace(
     let d = w.d;
     let mut terms = Terms::default();
     let size = terms.of(w.size);
-    let demand = demands(a, g, b, &w, &mut terms)?;
     // Every joint's unit twists, as power coefficients against (f, m).
     let twists: Vec<Vec<Vec<Sym>>> = g
         .joints
@@ -487,6 +554,7 @@ pub(super) fn trace(
                 .collect()
         })
         .collect();
+    let Demands { demand, bar_work } = demands(a, g, b, &w, &twists, &mut terms)?;
     let parts = crate::numeric::skc_parts(a);
     let mut place = vec![(usize::MAX, 0); m.joints.len()];
     for (k, skc) in parts.iter().enumerate() {
@@ -504,6 +572,7 @@ pub(super) fn trace(
         actuated: &actuated,
         demand: &demand,
         twists: &twists,
+        bar_work: &bar_work,
         place: &place,
     };
     let skcs = parts
@@ -526,9 +595,16 @@ pub(super) fn trace(
     } else {
         (0..m.joints.len()).filter(|&j| actuated[j]).collect()
     };
+    // An actuated parallelogram also drives its bars.
     let actuators = input_joints
         .iter()
-        .map(|&j| (j, twists[j][0].iter().map(|x| terms.of(*x)).collect()))
+        .map(|&j| {
+            (
+                j,
+                twists[j][0].iter().map(|x| terms.of(*x)).collect(),
+                terms.of(bar_work[j]),
+            )
+        })
         .collect();
     let balances = (1..m.links.len())
         .map(|l| Balance {
@@ -584,7 +660,7 @@ pub(super) fn functions(
     let solves = t.skcs.iter().enumerate().rev().map(|(k, s)| solve_skc(t, k, s));
     let balances = t.balances.iter().map(|b| balance_check(t, b));
     let reactions = (0..t.points.len()).map(|j| reaction(t, j));
-    let actuators = t.actuators.iter().map(|(j, xi)| actuator(t, *j, xi));
+    let actuators = t.actuators.iter().map(|(j, xi, bars)| actuator(t, *j, xi, bars));
     let size = term(&t.size);
     let n_skcs = t.skcs.len();
     let result = format_ident!("{}Dynamics", ident);
@@ -827,7 +903,7 @@ fn reaction(t: &Traced, j: usize) -> TokenStream {
 }
 
 /// An actuator's force: its joint's reaction's power along its twist, in N or N·L.
-fn actuator(t: &Traced, j: usize, xi: &[Term]) -> TokenStream {
+fn actuator(t: &Traced, j: usize, xi: &[Term], bars: &Term) -> TokenStream {
     let (k, at) = t.place[j];
     let xk = x_of(k);
     let sum: Vec<TokenStream> = (0..t.d)
@@ -846,10 +922,14 @@ fn actuator(t: &Traced, j: usize, xi: &[Term]) -> TokenStream {
         })
         .collect();
     let metres = lit(t.metres);
+    let bars = (!is_zero(bars)).then(|| {
+        let b = term(bars);
+        quote! { + #b }
+    });
     if sum.is_empty() {
-        quote! { 0.0 }
+        quote! { (0.0 #bars) * #metres }
     } else {
-        quote! { (#(#sum)+*) * #metres }
+        quote! { (#(#sum)+* #bars) * #metres }
     }
 }
 
