@@ -464,7 +464,11 @@ struct Bar {
 
 /// The mass properties of every link in SI, stand-ins where none, and the
 /// parallelograms' bars that have mass.
-fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<(Vec<Inertial>, Vec<Bar>, (f64, f64)), Failure> {
+/// Every link's mass properties, the bars with mass, and the stand-in
+/// mass and inertia.
+type Inertials = (Vec<Inertial>, Vec<Bar>, (f64, f64));
+
+fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<Inertials, Failure> {
     let total: f64 = loading.bodies.iter().map(|b| b.mass).sum();
     if total <= 0.0 {
         return Err(Failure::input(
