@@ -29,10 +29,65 @@ pub fn example_text(stem: &str) -> (String, String) {
 
 /// An example mechanism's text with `extra` statements added inside its
 /// `mechanism { … }` (masses, loads: what a test declares on top of it).
+/// Where `extra` declares `units`, `masses`, `gravity` or `loads`, the
+/// example's own statement of that kind is left out: the test's replaces it.
 pub fn example_with(stem: &str, extra: &str) -> String {
-    let (text, path) = example_text(stem);
+    let (mut text, path) = example_text(stem);
+    for keyword in ["units", "masses", "gravity", "loads"] {
+        if declares(extra, keyword) {
+            text = without_statement(&text, keyword);
+        }
+    }
     let end = text.rfind('}').unwrap_or_else(|| panic!("{path}: no closing brace"));
     format!("{}{extra}\n}}\n", &text[..end])
+}
+
+/// Whether a line of `text` starts with the statement `keyword`.
+fn declares(text: &str, keyword: &str) -> bool {
+    statement_start(text, keyword).is_some()
+}
+
+/// Where a line's statement `keyword` (followed by a space, `{` or `(`) begins.
+fn statement_start(text: &str, keyword: &str) -> Option<usize> {
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        if let Some(rest) = trimmed.strip_prefix(keyword) {
+            if rest.starts_with([' ', '{', '(']) {
+                return Some(at + line.len() - trimmed.len());
+            }
+        }
+        at += line.len();
+    }
+    None
+}
+
+/// `text` without its statement `keyword`: a `{ … }` block (braces
+/// matched) or, for `gravity`, up to its `;`.
+fn without_statement(text: &str, keyword: &str) -> String {
+    let Some(start) = statement_start(text, keyword) else {
+        return text.to_string();
+    };
+    let mut depth = 0;
+    let mut end = text.len();
+    for (i, c) in text[start..].char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth -= 1;
+                if depth == 0 {
+                    end = start + i + 1;
+                    break;
+                }
+            }
+            ';' if depth == 0 => {
+                end = start + i + 1;
+                break;
+            }
+            _ => {}
+        }
+    }
+    format!("{}{}", &text[..start], &text[end..])
 }
 
 /// An example mechanism of `examples/mechanisms/` by its file stem: its
