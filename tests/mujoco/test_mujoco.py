@@ -16,9 +16,14 @@ file's text, as the Rust tests' `common::example_with` does.
     agree to 1e-9 of the largest actuator force at that state.
 
 (b) In time. pkm's forces along a trajectory are MuJoCo's motor inputs in a
-    forward simulation (timestep 1e-4 s, implicitfast, stiff loop
-    constraints), with a weak servo holding the trajectory; the servo's
-    largest force must stay a small share of the largest motor force.
+    forward simulation (MuJoCo's forward dynamics integrated by RK4, each
+    stage's input pkm's force at that stage's time; the loop constraints'
+    time constant 2 ms), with a weak servo holding the trajectory. A control run
+    feeds MuJoCo's own forces of (a) at the same states instead: the
+    servo's force with pkm's must equal the control's to 1e-9 of the
+    largest motor force, and the control's largest servo force (the
+    integration's share) must stay below 5e-7 of it. `--euler` runs mj_step
+    (semi-implicit Euler) instead, whose first-order error is larger.
 
 Run: python3 tests/mujoco/test_mujoco.py (from anywhere). Without `mujoco`
 importable, it makes a venv under target/ and installs it there with pip.
@@ -63,12 +68,6 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
 EXACT_TOL = 1e-9
-# The servo's share of the force in (b). Semi-implicit Euler is first order:
-# its velocities lag the motion's, and the forces they need differ from the
-# exact ones by O(dt) (measured: 1.4e-4 for the four-bar at dt = 1e-4 s,
-# 3.5e-5 at dt = 2.5e-5 s). The two fast full crank turns show that; the
-# slower punch and seed 000 stay near 1e-6.
-SERVO_TOL = {"four_bar": 1e-3, "slider_crank": 1e-3, "seed003_punch": 1e-5, "seed000_a": 1e-5}
 
 # Masses of this test's own, added to the examples that have none. The
 # slider-crank's crank is massless (the export's stand-in mass), and so is
@@ -163,6 +162,7 @@ class Exported:
         self.model = mujoco.MjModel.from_xml_string(info["mjcf"])
         self.model.opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
         self.data = mujoco.MjData(self.model)
+        self.scratch = {}
         m = self.model
         self.map = []  # (qpos address, dof address, pkm joint, scale)
         for name, j in info["joints"].items():
@@ -191,7 +191,10 @@ class Exported:
     def forces(self, q, v, a, model=None):
         """τ (pkm's units) by [Sᵀ Jᵀ][τ; λ] = M q̈ + b, and how well the state closes the loops."""
         m = model or self.model
-        d = mujoco.MjData(m)
+        # One scratch MjData per model: making one per state is most of the time.
+        if id(m) not in self.scratch:
+            self.scratch[id(m)] = (m, mujoco.MjData(m))
+        d = self.scratch[id(m)][1]
         d.qpos[:], d.qvel[:] = q, v
         mujoco.mj_forward(m, d)
         M = full_mass_matrix(m, d)
@@ -298,34 +301,115 @@ TRAVEL = {
 }
 START = {"four_bar": [0.3], "slider_crank": [0.3], "seed003_punch": [math.radians(165)]}
 
+# (b) integrates MuJoCo's forward dynamics (mj_forward's qacc) by classical
+# RK4, each stage's motor input pkm's force at that stage's time, so that the
+# forces are exact where the integrator uses them. Its step: 0.1 ms for the
+# fast crank turns (0.2 ms leaves 1.8e-6 of the force to the servo), 0.2 ms
+# for the punch (0.4 ms: 2.2e-7), 0.4 ms for seed 000 A, whose share (5e-8)
+# is the same at 0.2 ms and whose many branches make pkm's states costly.
+STEP = {"four_bar": 1e-4, "slider_crank": 1e-4, "seed003_punch": 2e-4, "seed000_a": 4e-4}
+# The exported timestep only sets the loops' time constant (2 timesteps): at
+# 1 ms the constraint's own motion is slow enough for RK4 at these steps
+# (at 0.1 ms it is as fast as the step, and the four-bar's share is 7.6e-5).
+MODEL_TIMESTEP = 1e-3
+# With --euler: mj_step's semi-implicit Euler (implicitfast) at this step.
+EULER_STEP = 1e-4
+# The control run's share (MuJoCo's own inverse dynamics as the motors'
+# input) is the integration's; pkm's must match it, and it must stay small.
+CONTROL_TOL = {"four_bar": 5e-7, "slider_crank": 5e-7, "seed003_punch": 1e-7, "seed000_a": 1e-7}
+# The largest difference of pkm's servo force from the control's, over the
+# motion, relative to the largest motor force (the exact part's tolerance).
+SAME_TOL = 1e-9
 
-def in_time(stem, dt=1e-4, duration=1.0, settle=0.1):
+
+def simulate(ex, plan, taus, held, step, euler):
+    """The servo's force at each step of the motion, under the motor inputs taus.
+
+    plan[j] is (q, v, a) at the j-th time of the inputs' grid: every step for
+    --euler, every half step for RK4 (its stages' times).
+    """
+    m, d = ex.model, ex.data
+    dofs = [a[1] for a in ex.actuators]
+    mujoco.mj_resetData(m, d)
+    q, v = plan[0][0].copy(), plan[0][1].copy()
+    d.qpos[:], d.qvel[:] = q, v
+    mujoco.mj_forward(m, d)
+    # A weak servo: natural frequency 5 Hz, critically damped, on the dof's own inertia.
+    M = full_mass_matrix(m, d)
+    inertia = np.array([M[k, k] for k in dofs])
+    kp, kd = inertia * (2 * math.pi * 5) ** 2, inertia * 2 * (2 * math.pi * 5)
+
+    def servo(q, v, j):
+        # The inputs' references are pkm's inputs as given, not wrapped.
+        q_ref, v_ref, _ = plan[j]
+        return kp * (q_ref[dofs] - q[dofs]) + kd * (v_ref[dofs] - v[dofs])
+
+    def qacc(q, v, j):
+        d.qpos[:], d.qvel[:] = q, v
+        d.ctrl[:] = taus[j] + servo(q, v, j)
+        mujoco.mj_forward(m, d)
+        return d.qacc.copy()
+
+    out, stray = [], 0.0
+    for k in range(len(taus) // (1 if euler else 2)):
+        j = k if euler else 2 * k
+        if k >= held:
+            out.append(servo(q, v, j))
+            stray = max(stray, np.abs(plan[j][0][dofs] - q[dofs]).max())
+        if euler:
+            d.qpos[:], d.qvel[:] = q, v
+            d.ctrl[:] = taus[j] + servo(q, v, j)
+            mujoco.mj_step(m, d)
+            q, v = d.qpos.copy(), d.qvel.copy()
+            continue
+        # Hinges and slides only: qpos adds like qvel.
+        a1 = qacc(q, v, j)
+        v2 = v + step / 2 * a1
+        a2 = qacc(q + step / 2 * v, v2, j + 1)
+        v3 = v + step / 2 * a2
+        a3 = qacc(q + step / 2 * v2, v3, j + 1)
+        v4 = v + step * a3
+        a4 = qacc(q + step * v3, v4, j + 2)
+        q = q + step / 6 * (v + 2 * v2 + 2 * v3 + v4)
+        v = v + step / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+    return np.array(out), stray
+
+
+def in_time(stem, euler=False, duration=1.0, settle=0.1):
     path = fixture(stem)
     start = START.get(stem) or list(Exported(path).info["inputs"].values())
     start, travel = np.array(start, dtype=float), np.array(TRAVEL[stem], dtype=float)
     w = 2 * math.pi / duration
 
     def inputs(t):
-        t = max(t, 0.0)
+        t = min(max(t, 0.0), duration)
         return (
             start + travel * (t / duration - math.sin(w * t) / (2 * math.pi)),
             travel / duration * (1 - math.cos(w * t)),
             travel / duration * w * math.sin(w * t),
         )
 
-    ex = Exported(path, "--q=" + ",".join(repr(float(x)) for x in start), f"--timestep={dt}")
-    m, d = ex.model, ex.data
-    # Semi-implicit Euler (RK4's held motor input lags within its stages).
+    step = EULER_STEP if euler else STEP[stem]
+    ex = Exported(path, "--q=" + ",".join(repr(float(x)) for x in start), f"--timestep={step if euler else MODEL_TIMESTEP}")
+    m = ex.model
+    # Semi-implicit Euler (mj_step's implicitfast is the same here: nothing
+    # depends on the velocity but the bias forces, which it keeps explicit).
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    held, steps = int(round(settle / dt)), int(round(duration / dt))
+    held, steps = int(round(settle / step)), int(round(duration / step))
     # First held still at the start (the loop constraints' small stretch
     # under the static load settles in), then moved: its times from −settle.
-    times = [(k - held) * dt for k in range(held + steps)]
-    # Semi-implicit Euler's velocity at step k is (q_k − q_{k−1})/dt: the
-    # velocity half a step earlier, to second order. pkm is given that.
+    if euler:
+        times = [(k - held) * step for k in range(held + steps)]
+    else:
+        times = [(k - 2 * held) * step / 2 for k in range(2 * (held + steps) + 1)]
+
     def state(t):
-        q, _, qdd = inputs(t)
-        return np.concatenate([q, inputs(t - dt / 2)[1], qdd])
+        q, qd, qdd = inputs(t)
+        if euler:
+            # Semi-implicit Euler's velocity at step k is (q_k − q_{k−1})/dt:
+            # the velocity half a step earlier, to second order.
+            qd = inputs(t - step / 2)[1]
+        return np.concatenate([q, qd, qdd])
 
     lines = [",".join(repr(float(x)) for x in state(t)) for t in times]
     states_file = WORK / f"{stem}.trajectory"
@@ -334,9 +418,8 @@ def in_time(stem, dt=1e-4, duration=1.0, settle=0.1):
     # Follow the exported branch by continuity of the joint values.
     names = [a[0] for a in ex.actuators]
     to_si = np.array([1 / a[2] for a in ex.actuators])
-    dofs = [a[1] for a in ex.actuators]
     previous = None
-    plan = []
+    plan, ours, control, closure = [], [], [], 0.0
     for k, state in enumerate(answer["states"]):
         ok = [b for b in state.get("branches", []) if b["ok"]]
         assert ok, f"{stem}: no dynamics at t = {times[k]}: {state}"
@@ -345,48 +428,44 @@ def in_time(stem, dt=1e-4, duration=1.0, settle=0.1):
             pick = next(b for b in ok if b["signs"] == signs)
         else:
             pick = min(ok, key=lambda b: ex.distance(ex.state(b["motion"])[0], previous))
-        previous = ex.state(pick["motion"])[0]
-        plan.append((np.array([pick["actuators"][n] for n in names]) * to_si, ex.state(pick["motion"])))
-    q0, v0, _ = plan[0][1]
-    d.qpos[:], d.qvel[:] = q0, v0
-    mujoco.mj_forward(m, d)
-    # A weak servo: natural frequency 5 Hz, critically damped, on the dof's own inertia.
-    M = full_mass_matrix(m, d)
-    inertia = np.array([M[k, k] for k in dofs])
-    kp, kd = inertia * (2 * math.pi * 5) ** 2, inertia * 2 * (2 * math.pi * 5)
-    peak, servo_peak, drift = 0.0, 0.0, 0.0
-    for k in range(held + steps):
-        if k == held:
-            # Settled: the motion starts from rest.
-            d.qvel[:] = 0.0
-        tau, (q_ref, v_ref, _) = plan[k]
-        # The inputs' references are pkm's inputs as given, not wrapped.
-        e, ed = q_ref[dofs] - d.qpos[dofs], v_ref[dofs] - d.qvel[dofs]
-        servo = kp * e + kd * ed
-        d.ctrl[:] = tau + servo
-        if k >= held:
-            peak = max(peak, np.abs(tau).max())
-            servo_peak = max(servo_peak, np.abs(servo).max())
-            drift = max(drift, np.abs(e).max())
-        mujoco.mj_step(m, d)
-    share = servo_peak / peak
+        qva = ex.state(pick["motion"])
+        previous = qva[0]
+        plan.append(qva)
+        ours.append(np.array([pick["actuators"][n] for n in names]) * to_si)
+        # The control: MuJoCo's inverse dynamics of (a) at the same state.
+        tau, _, gap = ex.forces(*qva)
+        control.append(tau * to_si)
+        closure = max(closure, gap)
+    assert closure < 1e-9, f"{stem}: the trajectory does not close MuJoCo's loops ({closure:e})"
+    peak = np.abs(np.array(ours)).max()
+    servo, stray = simulate(ex, plan, ours, held, step, euler)
+    servo_control, stray_control = simulate(ex, plan, control, held, step, euler)
+    share, share_control = np.abs(servo).max() / peak, np.abs(servo_control).max() / peak
+    same = np.abs(servo - servo_control).max() / peak
+    how = f"{'semi-implicit Euler' if euler else 'RK4'}, {steps} steps of {step} s after {held} held"
     print(
-        f"(b) {stem}: {steps} steps of {dt} s after {held} held; the servo's largest force is {share:.2e} of the "
-        f"motors' largest; the inputs stray at most {drift:.2e} (rad or m) from the trajectory"
+        f"(b) {stem}: {how}; the servo's largest force is {share:.3e} of the motors' largest with pkm's "
+        f"forces, {share_control:.3e} with MuJoCo's (they differ by {same:.1e}); the inputs stray at most "
+        f"{stray:.1e} and {stray_control:.1e} (rad or m)"
     )
-    assert share < SERVO_TOL[stem], f"{stem}: the servo carries {share:e} of the force"
-    return share
+    assert same < SAME_TOL, f"{stem}: pkm's servo force differs from the control's by {same:e}"
+    # mj_step's first-order error: 1.4e-4 and 2.1e-4 for the crank turns.
+    bound = 1e-3 if euler else CONTROL_TOL[stem]
+    assert share_control < bound, f"{stem}: even MuJoCo's own forces leave {share_control:e}"
+    assert share < bound, f"{stem}: the servo carries {share:e} of the force"
+    return share, share_control
 
 
 def main():
     rng = np.random.default_rng(12)
-    # Arguments: mechanisms to check (all by default), `--exact` or `--in-time` for one part.
+    # Arguments: mechanisms to check (all by default), `--exact` or `--in-time`
+    # for one part, `--euler` for (b) by mj_step's semi-implicit Euler.
     args = sys.argv[1:]
     stems = [a for a in args if not a.startswith("--")] or ["four_bar", "slider_crank", "seed003_punch", "seed000_a"]
     for stem in stems if "--in-time" not in args else []:
         exact(stem, rng)
     for stem in stems if "--exact" not in args else []:
-        in_time(stem)
+        in_time(stem, euler="--euler" in args)
     print("pkm agrees with MuJoCo")
 
 
