@@ -207,7 +207,7 @@ fn write_export(json: bool, exported: cli::export::Exported, out: Option<&Path>)
     let left_out = exported.info["loads_left_out"].as_array().map_or(0, Vec::len);
     if left_out > 0 && !json {
         cli::failure::write_err(&format!(
-            "note: the file's {left_out} load{} are not in the MJCF (MuJoCo has no constant load; apply them as xfrc_applied)\n",
+            "note: the file's {left_out} load{} are not in the MJCF (MuJoCo has no constant load; --json lists them to apply with mj_applyFT)\n",
             if left_out == 1 { "" } else { "s" }
         ));
     }

@@ -497,10 +497,16 @@ fn inertials(model: &Model, loading: &Loading, m: f64) -> Result<Inertials, Fail
             inertia[(0, 0)] = inertia[(2, 2)];
             inertia[(1, 1)] = inertia[(2, 2)];
         }
-        // A point mass (or a flat body) gets the stand-in inertia added:
-        // MuJoCo wants every principal moment positive.
-        let smallest = inertia.symmetric_eigenvalues().min();
-        if smallest.is_nan() || smallest < tiny.1 {
+        // A point mass, a thin rod or a flat plate gets the stand-in
+        // inertia added: MuJoCo wants every principal moment positive and
+        // the triangle inequality strict (a plate's I₁ + I₂ = I₃ may round
+        // below), and adding c to each moment adds c to both margins.
+        let principal = inertia.symmetric_eigenvalues();
+        let trace = principal.sum();
+        let margin = principal
+            .iter()
+            .fold(f64::INFINITY, |a, &p| a.min(p).min(trace - 2.0 * p));
+        if margin.is_nan() || margin < tiny.1 {
             inertia += Matrix3::identity() * tiny.1;
         }
         let inertial = Inertial {
@@ -801,5 +807,25 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         json!({ "mass": tiny.0, "inertia": tiny.1, "bodies": w.stand_ins }),
     );
     info.insert("loads_left_out".into(), json!(loads));
+    // What MJCF cannot hold, for a simulation to apply (`mj_applyFT`): each
+    // load's body, its point in the body's frame (m), its force (N) and
+    // moment (N·m), world axes.
+    let applied: Vec<Value> = a
+        .mass_and_loads
+        .loads
+        .iter()
+        .zip(&loading.loads)
+        .map(|(named, p)| {
+            let (point, force, moment) = (p.at * m, p.force * m, p.moment * (m * m));
+            json!({
+                "name": named.name,
+                "body": model.links[p.link],
+                "point": [point.x, point.y, point.z],
+                "force": [force.x, force.y, force.z],
+                "moment": [moment.x, moment.y, moment.z],
+            })
+        })
+        .collect();
+    info.insert("loads".into(), json!(applied));
     Ok(Exported { xml: w.xml, info })
 }
