@@ -52,6 +52,28 @@ struct Skc {
     known: Vec<(usize, usize, usize, f64)>,
     /// Per actuator twist, its coefficients against the unknowns.
     actuated: Vec<Vec<(usize, Term)>>,
+    /// The system reduced to the cut joints' reactions, where it has no
+    /// more passive rows than those unknowns.
+    reduction: Option<Reduction>,
+}
+
+/// An SKC's system reduced to its cut joints' reactions `y` (the spanning
+/// tree of its links carries the rest): `x = x0 + C y`, where a tree
+/// joint's `x0` is the signed sum of its subtree's right-hand sides and
+/// `C` is ±1 where a cut joint crosses that subtree; the passive rows
+/// become `G y = q` with `q = rhs − P x0`.
+struct Reduction {
+    /// Per joint (its position in the SKC): for a tree joint its sign and
+    /// its subtree's link rows; `None` for a cut joint.
+    tree: Vec<Option<(f64, Vec<usize>)>>,
+    /// `C` per joint and cut joint (the cut joints' order).
+    coef: Vec<Vec<f64>>,
+    /// The cut joints' positions.
+    cuts: Vec<usize>,
+    /// Per passive row: its joint's position, its coefficients (d), its right-hand side.
+    passive: Vec<(usize, Vec<Term>, Term)>,
+    /// `G`'s entries (row, column, value), columns `cut · d + component`.
+    g: Vec<(usize, usize, Term)>,
 }
 
 /// The dynamics of one mechanism in terms of the forward solution.
@@ -484,6 +506,7 @@ fn skc_system(
     }
     let mut row = skc.links.len() * d;
     let mut actuated = Vec::new();
+    let mut passive: Vec<(usize, Vec<Sym>, Term)> = Vec::new();
     for (i, &j) in skc.joints.iter().enumerate() {
         let turns = matches!(x.g.joints[j].kind, JointType::R | JointType::S);
         for xi in &x.twists[j] {
@@ -494,11 +517,14 @@ fn skc_system(
                 // A turn's row has lever arms (lengths) against forces, a
                 // slide's unit direction: both in units of the size.
                 let scale = if turns { Sym::c(1.0) / w.size } else { Sym::c(1.0) };
-                for (c, s) in coefficients {
-                    entries.push((row, c, terms.of(s * scale)));
+                let scaled: Vec<Sym> = coefficients.map(|(_, s)| s * scale).collect();
+                for (c, s) in scaled.iter().enumerate() {
+                    entries.push((row, i * d + c, terms.of(*s)));
                 }
                 // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
-                rhs.push(terms.of(-x.bar_work[j] * scale));
+                let right = terms.of(-x.bar_work[j] * scale);
+                rhs.push(right);
+                passive.push((i, scaled, right));
                 row += 1;
             }
         }
@@ -509,6 +535,7 @@ fn skc_system(
             k + 1
         ));
     }
+    let reduction = reduce(skc, x.g, d, &passive, terms);
     Ok(Skc {
         joints: skc.joints.clone(),
         undetermined: skc.undetermined,
@@ -517,6 +544,117 @@ fn skc_system(
         rhs,
         known,
         actuated,
+        reduction,
+    })
+}
+
+/// The reduction of an SKC's system to its cut joints ([`Reduction`]):
+/// a spanning tree of its links from the links it hangs on, breadth
+/// first. `None` where the passive rows outnumber the cut joints' unknowns.
+fn reduce(
+    skc: &pkm_runtime::newton_euler::SkcParts,
+    g: &Geometry<Sym>,
+    d: usize,
+    passive: &[(usize, Vec<Sym>, Term)],
+    terms: &mut Terms,
+) -> Option<Reduction> {
+    let n_links = skc.links.len();
+    // Node of a link: its row block, or n_links for any link outside the SKC.
+    let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(n_links);
+    let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| g.joints[j].links.map(node)).collect();
+    let mut parent: Vec<Option<usize>> = vec![None; n_links];
+    let mut reached = vec![false; n_links + 1];
+    reached[n_links] = true;
+    let mut order = vec![n_links];
+    let mut tree_joint = vec![false; skc.joints.len()];
+    let mut at = 0;
+    while at < order.len() {
+        let here = order[at];
+        at += 1;
+        for (i, e) in ends.iter().enumerate() {
+            let other = if e[0] == here {
+                e[1]
+            } else if e[1] == here {
+                e[0]
+            } else {
+                continue;
+            };
+            if !reached[other] && !tree_joint[i] {
+                reached[other] = true;
+                parent[other] = Some(i);
+                tree_joint[i] = true;
+                order.push(other);
+            }
+        }
+    }
+    if reached.iter().any(|r| !r) {
+        return None;
+    }
+    let cuts: Vec<usize> = (0..skc.joints.len()).filter(|&i| !tree_joint[i]).collect();
+    if passive.len() > cuts.len() * d {
+        return None;
+    }
+    // How joint i acts on node e: +1 on its second link, −1 on its first.
+    let sign = |i: usize, e: usize| if ends[i][1] == e { 1.0 } else { -1.0 };
+    let mut tree = vec![None; skc.joints.len()];
+    let mut coef = vec![vec![0.0; cuts.len()]; skc.joints.len()];
+    for (i, &is_tree) in tree_joint.iter().enumerate() {
+        if !is_tree {
+            coef[i][cuts.iter().position(|&c| c == i).expect("a cut joint")] = 1.0;
+            continue;
+        }
+        // The child end and its subtree.
+        let child = if parent.get(ends[i][1]).copied().flatten() == Some(i) {
+            ends[i][1]
+        } else {
+            ends[i][0]
+        };
+        // A link is in the subtree if the way up from it passes the child.
+        let up = |l: usize| parent[l].map(|p| if ends[p][0] == l { ends[p][1] } else { ends[p][0] });
+        let subtree: Vec<usize> = (0..n_links)
+            .filter(|&l| {
+                let mut at = Some(l);
+                while let Some(here) = at.filter(|&h| h < n_links) {
+                    if here == child {
+                        return true;
+                    }
+                    at = up(here);
+                }
+                false
+            })
+            .collect();
+        let s = sign(i, child);
+        // s·x_i = Σ b over the subtree − Σ sign(c, end in it)·x_c over the cuts crossing it.
+        for (kk, &c) in cuts.iter().enumerate() {
+            let inside = ends[c].map(|e| subtree.contains(&e));
+            if inside[0] != inside[1] {
+                let end = if inside[0] { ends[c][0] } else { ends[c][1] };
+                coef[i][kk] = -s * sign(c, end);
+            }
+        }
+        tree[i] = Some((s, subtree));
+    }
+    let mut entries = Vec::new();
+    for (r, (i, p, _)) in passive.iter().enumerate() {
+        for (kk, cut) in coef[*i].iter().enumerate() {
+            if *cut == 0.0 {
+                continue;
+            }
+            for (cc, pc) in p.iter().enumerate() {
+                entries.push((r, kk * d + cc, terms.of(*pc * Sym::c(*cut))));
+            }
+        }
+    }
+    let passive = passive
+        .iter()
+        .map(|(i, p, right)| (*i, p.iter().map(|x| terms.of(*x)).collect(), *right))
+        .collect();
+    Some(Reduction {
+        tree,
+        coef,
+        cuts,
+        passive,
+        g: entries,
     })
 }
 
@@ -830,16 +968,154 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
     } else {
         by_svd
     };
+    let reduced = s.reduction.as_ref().map(|r| reduced_solve(t, k, s, r));
+    let full = quote! {
+        let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
+        #(#entries)*
+        #solve
+    };
+    let body = match reduced {
+        Some(reduced) => quote! {
+            'solve: {
+                let mut b = #rt::nalgebra::SVector::<f64, #n>::zeros();
+                #(#rhs)*
+                #(#known)*
+                #actuated
+                #reduced
+                #full
+            }
+        },
+        None => quote! {
+            {
+                let mut b = #rt::nalgebra::SVector::<f64, #n>::zeros();
+                #(#rhs)*
+                #(#known)*
+                #actuated
+                #full
+            }
+        },
+    };
     quote! {
-        let #x: [f64; #n] = {
-            let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
-            #(#entries)*
-            let mut b = #rt::nalgebra::SVector::<f64, #n>::zeros();
-            #(#rhs)*
-            #(#known)*
-            #actuated
-            #solve
-        };
+        let #x: [f64; #n] = #body;
+    }
+}
+
+/// SKC `k`'s reduced solve ([`Reduction`]): `x0` from the link rows'
+/// right-hand sides in `b`, `q` and `G`, then `y` by LU (a determined
+/// SKC) or the minimum-norm solve of the reduction; `break 'solve x` with
+/// the reactions, or on to the whole system near a change point.
+fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
+    let rt = quote! { ::pkm::runtime };
+    let d = t.d;
+    let n = s.joints.len() * d;
+    let m = r.cuts.len() * d;
+    let link_rows = s.rows - r.passive.len();
+    // x0: a tree joint's subtree sums.
+    let x0 = r
+        .tree
+        .iter()
+        .enumerate()
+        .filter_map(|(i, t)| t.as_ref().map(|ts| (i, ts)))
+        .flat_map(|(i, (sign, subtree))| {
+            (0..d).map(move |c| {
+                let sum = subtree.iter().map(|l| {
+                    let row = l * d + c;
+                    quote! { b[#row] }
+                });
+                let at = i * d + c;
+                let sum = quote! { (#(#sum)+*) };
+                let value = signed(*sign, sum);
+                quote! { x0[#at] = #value; }
+            })
+        });
+    // q = the passive rows' right-hand sides − P x0.
+    let q = r.passive.iter().enumerate().map(|(row, (i, p, _))| {
+        let from = link_rows + row;
+        let terms = p.iter().enumerate().filter(|(_, v)| !is_zero(v)).map(|(cc, v)| {
+            let (v, at) = (term(v), i * d + cc);
+            quote! { #v * x0[#at] }
+        });
+        quote! { q[#row] = b[#from] #(- #terms)*; }
+    });
+    let g = r.g.iter().filter(|e| !is_zero(&e.2)).map(|(row, col, v)| {
+        let v = term(v);
+        quote! { g[(#row, #col)] = #v; }
+    });
+    let prelude = quote! {
+        let mut x0 = [0.0f64; #n];
+        #(#x0)*
+        let mut q = #rt::nalgebra::SVector::<f64, #m>::zeros();
+        #(#q)*
+        let mut g = #rt::nalgebra::SMatrix::<f64, #m, #m>::zeros();
+        #(#g)*
+    };
+    if s.undetermined == 0 && r.passive.len() == m {
+        // x = x0 + C y.
+        let add = (0..s.joints.len()).flat_map(|i| {
+            (0..d).filter_map(move |c| {
+                let at = i * d + c;
+                let parts: Vec<TokenStream> = r.coef[i]
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0.0)
+                    .map(|(kk, v)| {
+                        signed(*v, {
+                            let col = kk * d + c;
+                            quote! { y[#col] }
+                        })
+                    })
+                    .collect();
+                (!parts.is_empty()).then(|| quote! { x[#at] += #(#parts)+*; })
+            })
+        });
+        quote! {
+            #prelude
+            let lu = g.full_piv_lu();
+            let factor = lu.u();
+            let pivots: [f64; #m] = ::core::array::from_fn(|i| factor[(i, i)]);
+            let estimate = #rt::force_system::pivot_ratio(&pivots);
+            if estimate > #rt::force_system::LU_TRUSTED {
+                if let ::core::option::Option::Some(y) = lu.solve(&q) {
+                    let _ = &actuated;
+                    conditioning[#k] = estimate;
+                    let mut x = x0;
+                    #(#add)*
+                    break 'solve x;
+                }
+            }
+        }
+    } else {
+        // C in x's space: block-diagonal in the components.
+        let mut c = vec![0.0f64; n * m];
+        for (i, row) in r.coef.iter().enumerate() {
+            for (kk, v) in row.iter().enumerate() {
+                for cc in 0..d {
+                    c[(i * d + cc) * m + kk * d + cc] = *v;
+                }
+            }
+        }
+        let c = c.iter().map(|v| lit(*v));
+        let undetermined = s.undetermined;
+        quote! {
+            #prelude
+            let svd = g.svd(true, true);
+            if let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) {
+                let decomposition = #rt::force_system::Decomposition {
+                    n: #m,
+                    singular_values: svd.singular_values.as_slice(),
+                    u: u.as_slice(),
+                    v_t: v_t.as_slice(),
+                };
+                const C: [f64; #n * #m] = [#(#c),*];
+                let reduced = #rt::force_system::Reduced { n: #n, m: #m, c: &C, x0: &x0 };
+                let mut x = [0.0f64; #n];
+                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm(&decomposition, q.as_slice(), &reduced, #k, #undetermined, &actuated, size, &mut x)? {
+                    conditioning[#k] = solved.conditioning;
+                    undetermined[#k] = solved.undetermined;
+                    break 'solve x;
+                }
+            }
+        }
     }
 }
 

@@ -130,6 +130,122 @@ pub fn min_norm(
     })
 }
 
+/// The most null directions [`reduced_min_norm`] handles on the stack.
+pub const MAX_NULL: usize = 12;
+
+/// The most unknowns [`reduced_min_norm`] handles on the stack.
+pub const MAX_UNKNOWNS: usize = 127;
+
+/// An SKC's reactions reduced to its cut joints' (the spanning tree of its
+/// links carries the rest): every solution of its links' balances is
+/// `x = x0 + C y`, with `C` (`n × m`, row-major) fixed by the topology and
+/// `x0` by the demands, and the passive joints' rows are `G y = q`.
+#[derive(Debug, Clone, Copy)]
+pub struct Reduced<'a> {
+    /// Unknowns of the whole system.
+    pub n: usize,
+    /// The cut joints' unknowns.
+    pub m: usize,
+    /// `C`, row-major.
+    pub c: &'a [f64],
+    /// `x0`.
+    pub x0: &'a [f64],
+}
+
+/// The minimum-norm solution `x` of an SKC's system from its reduction
+/// `r` and the SVD `g` of `G` (`m × m`, rows past the passive ones zero):
+/// the same `x` as [`min_norm`] on the whole system, at the size of its
+/// loops. `None` where `G`'s conditioning is `LU_TRUSTED` or below (near a
+/// change point, where the caller decomposes the whole system for the
+/// exact conditioning) or its null space is too large for the stack.
+#[allow(clippy::too_many_arguments)]
+pub fn reduced_min_norm(
+    g: &Decomposition,
+    q: &[f64],
+    r: &Reduced,
+    skc: usize,
+    undetermined: usize,
+    actuated: &[f64],
+    size: f64,
+    x: &mut [f64],
+) -> Result<Option<Solved>, DynamicsError> {
+    let (n, m) = (r.n, r.m);
+    if n > MAX_UNKNOWNS || g.n != m {
+        return Ok(None);
+    }
+    let s = g.singular_values;
+    let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
+    let rank_expected = m.saturating_sub(undetermined).min(s.len());
+    let kth = |k: usize| {
+        s.iter()
+            .copied()
+            .filter(|&v| s.iter().filter(|&&w| w > v).count() < k)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let conditioning = if rank_expected == 0 || smax <= 0.0 {
+        1.0
+    } else {
+        kth(rank_expected) / smax
+    };
+    if conditioning.is_nan() || conditioning <= LU_TRUSTED {
+        return Ok(None);
+    }
+    let tol = smax * 1e-12 * m as f64;
+    // y_p, the minimum-norm solution of G y = q, and G's null directions.
+    let mut y = [0.0f64; MAX_UNKNOWNS];
+    let mut null = [[0.0f64; MAX_UNKNOWNS]; MAX_NULL];
+    let mut k_null = 0;
+    for (i, &sv) in s.iter().enumerate() {
+        let v_row = |c: usize| g.v_t[c * m + i];
+        if sv > tol {
+            let uq: f64 = (0..m).map(|row| g.u[i * m + row] * q[row]).sum();
+            for (c, yc) in y[..m].iter_mut().enumerate() {
+                *yc += v_row(c) * uq / sv;
+            }
+        } else {
+            if k_null == MAX_NULL {
+                return Ok(None);
+            }
+            // The direction in x: C v.
+            for (row, out) in null[k_null][..n].iter_mut().enumerate() {
+                *out = (0..m).map(|c| r.c[row * m + c] * v_row(c)).sum();
+            }
+            k_null += 1;
+        }
+    }
+    // z0 = x0 + C y_p.
+    for (row, xr) in x[..n].iter_mut().enumerate() {
+        *xr = r.x0[row] + (0..m).map(|c| r.c[row * m + c] * y[c]).sum::<f64>();
+    }
+    // Orthonormal null directions (Gram–Schmidt): then x − Σ (x·b̂) b̂ is
+    // the shortest solution, and an actuator must not read any b̂.
+    for i in 0..k_null {
+        let (done, rest) = null.split_at_mut(i);
+        let b = &mut rest[0][..n];
+        for prior in done.iter() {
+            let dot: f64 = b.iter().zip(&prior[..n]).map(|(p, q)| p * q).sum();
+            b.iter_mut().zip(&prior[..n]).for_each(|(p, q)| *p -= dot * q);
+        }
+        let norm = b.iter().map(|p| p * p).sum::<f64>().sqrt();
+        if norm.is_nan() || norm <= 0.0 {
+            return Ok(None);
+        }
+        b.iter_mut().for_each(|p| *p /= norm);
+        let along: f64 = x[..n].iter().zip(b.iter()).map(|(p, q)| p * q).sum();
+        x[..n].iter_mut().zip(b.iter()).for_each(|(p, q)| *p -= along * q);
+        for a in actuated.chunks_exact(n) {
+            let moved: f64 = a.iter().zip(b.iter()).map(|(p, q)| p * q).sum();
+            if moved.abs() > 1e-9 * size {
+                return Err(DynamicsError::Undetermined { skc });
+            }
+        }
+    }
+    Ok(Some(Solved {
+        conditioning,
+        undetermined: k_null,
+    }))
+}
+
 /// The residual of one link's balance relative to its largest term: the
 /// terms of each component (the demand's, negated, and the reactions'),
 /// summed; 0 for a link with no terms.
@@ -209,6 +325,41 @@ mod tests {
             Err(DynamicsError::ForceSingular { conditioning, .. }) => assert!(conditioning < 1e-11, "{conditioning}"),
             other => panic!("{other:?}"),
         }
+    }
+
+    /// The reduced solve finds the whole system's minimum-norm solution:
+    /// x = (x1, x2, y) with x1 = 1 − y, x2 = 2 + y (two links' balances
+    /// carried by a tree) and no passive row, so y is free. By hand:
+    /// d/dy of (1 − y)² + (2 + y)² + y² is 0 at y = −1/3.
+    #[test]
+    fn reduced_minimum_norm() {
+        let g = DMatrix::<f64>::zeros(1, 1);
+        let svd = g.svd(true, true);
+        let (u, v_t) = (svd.u.unwrap(), svd.v_t.unwrap());
+        let d = Decomposition {
+            n: 1,
+            singular_values: svd.singular_values.as_slice(),
+            u: u.as_slice(),
+            v_t: v_t.as_slice(),
+        };
+        let r = Reduced {
+            n: 3,
+            m: 1,
+            c: &[-1.0, 1.0, 1.0],
+            x0: &[1.0, 2.0, 0.0],
+        };
+        let mut x = [0.0; 3];
+        let solved = reduced_min_norm(&d, &[0.0], &r, 0, 1, &[], 1.0, &mut x)
+            .unwrap()
+            .unwrap();
+        let y = -1.0 / 3.0;
+        for (a, b) in x.iter().zip([1.0 - y, 2.0 + y, y]) {
+            assert!((a - b).abs() < 1e-15, "{x:?}");
+        }
+        assert_eq!(solved.undetermined, 1);
+        // An actuator reading x1 + x2 is blind to y; one reading x1 is not.
+        assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 1.0, 0.0], 1.0, &mut x).is_ok());
+        assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
     }
 
     #[test]
