@@ -27,6 +27,7 @@
 //! error naming the SKC's joints, and above it the conditioning is returned
 //! with the reactions.
 
+use crate::force_system::{min_norm, Decomposition};
 use crate::mass_properties::{Carrier, Loading};
 use crate::model::Model;
 use crate::velocity::{self, BarTurn, Twist, VelocityError};
@@ -299,52 +300,47 @@ pub fn inverse_dynamics(
             // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
             rhs[row] = -bar_work[*j] * k;
         }
-        // Zero rows up to a square matrix, so that the decomposition holds
-        // the whole null space (the thin one has only min(rows, n) rows of Vᵀ).
-        let a = if rows < n { a.resize_vertically(n, 0.0) } else { a };
-        let rhs = if rows < n { rhs.resize_vertically(n, 0.0) } else { rhs };
-        let svd = a.svd(true, true);
-        let s = &svd.singular_values;
-        let smax = s.max();
-        let rank_expected = n.saturating_sub(skc.undetermined).min(s.len());
-        let mut sorted: Vec<f64> = s.iter().copied().collect();
-        sorted.sort_by(|x, y| y.total_cmp(x));
-        let cond = if rank_expected == 0 || smax <= 0.0 {
-            1.0
-        } else {
-            sorted[rank_expected - 1] / smax
-        };
-        conditioning[k] = cond;
-        if cond < FORCE_SINGULAR {
-            return Err(DynamicsError::ForceSingular {
-                skc: k,
-                joints: skc.joints.clone(),
-                conditioning: cond,
-            });
-        }
-        // The rank: singular values above the overconstraint's zeros.
-        let tol = smax * 1e-12 * n as f64;
-        let rank = s.iter().filter(|&&x| x > tol).count();
-        undetermined[k] = n - rank;
-        let x = svd
-            .solve(&rhs, tol)
-            .map_err(|_| DynamicsError::Undetermined { skc: k })?;
-        // Null-space directions must not move an actuator's force.
-        let v_t = svd.v_t.as_ref().expect("V computed");
-        for (row, &sv) in s.iter().enumerate() {
-            if sv > tol {
-                continue;
-            }
-            for (i, &j) in skc.joints.iter().enumerate().filter(|(_, &j)| model.joints[j].actuated) {
-                for t in &loops.twists[j] {
-                    let xi = coefficients(planar, t);
-                    let moved: f64 = (0..d).map(|c| xi[c] * unit(c) * v_t[(row, i * d + c)]).sum();
-                    if moved.abs() > 1e-9 * size {
-                        return Err(DynamicsError::Undetermined { skc: k });
-                    }
+        // Zero rows (or columns) up to a square matrix, so that the
+        // decomposition holds the whole null space (the thin one has only
+        // min(rows, n) rows of Vᵀ).
+        let size_n = rows.max(n);
+        let a = a.resize(size_n, size_n, 0.0);
+        let rhs = rhs.resize_vertically(size_n, 0.0);
+        // Each actuator twist's power coefficients against the unknowns.
+        let mut actuated = Vec::new();
+        for (i, &j) in skc.joints.iter().enumerate().filter(|(_, &j)| model.joints[j].actuated) {
+            for t in &loops.twists[j] {
+                let xi = coefficients(planar, t);
+                let mut row = vec![0.0; size_n];
+                for c in 0..d {
+                    row[i * d + c] = xi[c] * unit(c);
                 }
+                actuated.extend(row);
             }
         }
+        let svd = a.svd(true, true);
+        let (Some(u), Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
+            return Err(DynamicsError::NotFinite);
+        };
+        let decomposition = Decomposition {
+            n: size_n,
+            singular_values: svd.singular_values.as_slice(),
+            u: u.as_slice(),
+            v_t: v_t.as_slice(),
+        };
+        let mut x = vec![0.0; size_n];
+        let solved = min_norm(
+            &decomposition,
+            rhs.as_slice(),
+            k,
+            &skc.joints,
+            skc.undetermined,
+            &actuated,
+            size,
+            &mut x,
+        )?;
+        conditioning[k] = solved.conditioning;
+        undetermined[k] = solved.undetermined;
         for (i, &j) in skc.joints.iter().enumerate() {
             reaction[j] = Some((0..d).map(|c| x[i * d + c] * unit(c)).collect());
         }
