@@ -110,6 +110,20 @@ struct Terms {
 }
 
 impl Terms {
+    /// A body whose mass or inertia the parameters give is checked at
+    /// run time: its terms are kept.
+    fn check_body(&mut self, name: String, mass: Sym, inertia: &Inertia) {
+        let moments = moments_of(inertia);
+        if std::iter::once(&mass)
+            .chain(&moments)
+            .any(|s| crate::trace::constant_of(*s).is_none())
+        {
+            let mass = self.of(mass);
+            let moments = moments.into_iter().map(|s| self.of(s)).collect();
+            self.bodies.push((name, mass, moments));
+        }
+    }
+
     fn of(&mut self, s: Sym) -> Term {
         match crate::trace::constant_of(s) {
             Some(c) => Term::Const(c),
@@ -362,15 +376,7 @@ fn demands(
         for (x, y) in demand[body.link].iter_mut().zip(w.numbers(f, mo)) {
             *x = *x + y;
         }
-        let moments = moments_of(&body.inertia);
-        if std::iter::once(&mass)
-            .chain(&moments)
-            .any(|s| crate::trace::constant_of(*s).is_none())
-        {
-            let mass = terms.of(mass);
-            let moments = moments.into_iter().map(|s| terms.of(s)).collect();
-            terms.bodies.push((m.links[body.link].name.clone(), mass, moments));
-        }
+        terms.check_body(m.links[body.link].name.clone(), mass, &body.inertia);
     }
     let mut bar_work = vec![Sym::c(0.0); m.joints.len()];
     for bar in &ml.bars {
@@ -417,17 +423,7 @@ fn demands(
         for (x, y) in demand[first].iter_mut().zip(wrench) {
             *x = *x + y;
         }
-        let moments = moments_of(&bar.inertia);
-        if std::iter::once(&mass)
-            .chain(&moments)
-            .any(|s| crate::trace::constant_of(*s).is_none())
-        {
-            let mass = terms.of(mass);
-            let moments = moments.into_iter().map(|s| terms.of(s)).collect();
-            terms
-                .bodies
-                .push((format!("{}'s bar", m.joints[j].name), mass, moments));
-        }
+        terms.check_body(format!("{}'s bar", m.joints[j].name), mass, &bar.inertia);
     }
     for load in &ml.loads {
         let at = match load.at {

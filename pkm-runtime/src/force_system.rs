@@ -56,6 +56,23 @@ pub struct Solved {
     pub undetermined: usize,
 }
 
+/// σ_r/σ_1 of the singular values `s` (any order), r the rank expected
+/// (1 if it is 0 or every value is 0): the conditioning of the determined part.
+fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
+    let r = rank_expected.min(s.len());
+    let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
+    if r == 0 || smax <= 0.0 {
+        return 1.0;
+    }
+    // The r-th largest, without sorting a copy.
+    let kth = s
+        .iter()
+        .copied()
+        .filter(|&v| s.iter().filter(|&&w| w > v).count() < r)
+        .fold(f64::INFINITY, f64::min);
+    kth / smax
+}
+
 /// The minimum-norm least-squares solution `x` of `A x = b` from `A`'s
 /// decomposition, SKC `skc` (joints `joints`, for errors) of which the
 /// topology leaves `undetermined` components free. `actuated` holds one row
@@ -80,19 +97,7 @@ pub fn min_norm(
     let n = d.n;
     let s = d.singular_values;
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
-    let rank_expected = n.saturating_sub(undetermined).min(s.len());
-    // The rank_expected-th largest singular value, without sorting a copy.
-    let kth = |k: usize| {
-        s.iter()
-            .copied()
-            .filter(|&v| s.iter().filter(|&&w| w > v).count() < k)
-            .fold(f64::INFINITY, f64::min)
-    };
-    let conditioning = if rank_expected == 0 || smax <= 0.0 {
-        1.0
-    } else {
-        kth(rank_expected) / smax
-    };
+    let conditioning = conditioning_of(s, n.saturating_sub(undetermined));
     if conditioning.is_nan() || conditioning < FORCE_SINGULAR {
         return Err(DynamicsError::ForceSingular {
             skc,
@@ -175,18 +180,7 @@ pub fn reduced_min_norm(
     }
     let s = g.singular_values;
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
-    let rank_expected = m.saturating_sub(undetermined).min(s.len());
-    let kth = |k: usize| {
-        s.iter()
-            .copied()
-            .filter(|&v| s.iter().filter(|&&w| w > v).count() < k)
-            .fold(f64::INFINITY, f64::min)
-    };
-    let conditioning = if rank_expected == 0 || smax <= 0.0 {
-        1.0
-    } else {
-        kth(rank_expected) / smax
-    };
+    let conditioning = conditioning_of(s, m.saturating_sub(undetermined));
     if conditioning.is_nan() || conditioning <= LU_TRUSTED {
         return Ok(None);
     }
