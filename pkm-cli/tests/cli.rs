@@ -171,6 +171,23 @@ fn every_failure_names_its_cause() {
     }
 }
 
+/// The refusal of a forward solution with κ ≠ 0 names the coupled SKC,
+/// its SOCs' Δ (the 3-RRR's, +1 and −1 by paper_topology's rules) and the
+/// virtual variables a forward solution would need, as the compile error does.
+#[test]
+fn coupled_forward_refusal_names_the_skc() {
+    let out = pkm(&["fk", RRR, "--q", "1,2,3"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    for part in [
+        "SKC1 = SOC1 {R1∥R2∥R3∥R6∥R5∥R4} + SOC2 {R9∥R8∥R7}",
+        "has Δ = (+1, −1), so κ1 = ½Σ|Δ| = 1",
+        "needs 1 virtual variable solved by iteration",
+    ] {
+        assert!(err.contains(part), "`{part}` not in {err}");
+    }
+}
+
 #[test]
 fn no_branch_message_lists_each_reason_once() {
     // Both branches fail at R3 for the same reason: the message says it

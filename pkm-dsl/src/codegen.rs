@@ -6,7 +6,6 @@
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::mechanism::Capability;
-use crate::topology::delta_unicode;
 use proc_macro2::{Span as PmSpan, TokenStream};
 use quote::{format_ident, quote};
 use syn::parse::{Parse, ParseStream};
@@ -151,23 +150,8 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
                 ),
             )
             .label("needs κ = 0");
-            for (k, skc) in t.skcs.iter().enumerate().filter(|(_, s)| s.kappa > 0) {
-                let socs: Vec<String> = skc
-                    .clone()
-                    .socs
-                    .map(|j| format!("SOC{} {{{}}}", j + 1, t.socs[j].notation))
-                    .collect();
-                let deltas: Vec<String> = skc.clone().socs.map(|j| delta_unicode(t.socs[j].delta)).collect();
-                d = d.note(format!(
-                    "SKC{} = {} has Δ = ({}), so κ{} = ½Σ|Δ| = {}: its forward solution needs {} virtual variable{} solved by iteration",
-                    k + 1,
-                    socs.join(" + "),
-                    deltas.join(", "),
-                    k + 1,
-                    skc.kappa,
-                    skc.kappa,
-                    if skc.kappa == 1 { "" } else { "s" }
-                ));
+            for note in t.coupling_notes() {
+                d = d.note(note);
             }
             d = d.note("request only `ik` to compile this design, or reduce its coupling degree (for example with compound hinges)");
             errors.push(d);

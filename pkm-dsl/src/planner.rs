@@ -69,12 +69,15 @@ fn solve(
 pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let m = &a.mechanism;
     if a.topology.kappa != 0 {
-        return Err(Diagnostic::new(
+        let mut d = Diagnostic::new(
             m.name_span(),
             format!("a closed-form forward plan needs κ = 0 (κ = {})", a.topology.kappa),
         )
-        .label("in this mechanism")
-        .into());
+        .label("in this mechanism");
+        for note in a.topology.coupling_notes() {
+            d = d.note(note);
+        }
+        return Err(d.into());
     }
     let model = crate::numeric::model(a, &HashMap::new())?;
     let inputs = model.inputs();

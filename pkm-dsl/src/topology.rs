@@ -226,6 +226,34 @@ pub struct Topology {
 }
 
 impl Topology {
+    /// Per SKC with κ > 0: its SOCs, their Δ, its κ, and the virtual
+    /// variables its forward solution needs (what a refusal of `fk` says).
+    pub fn coupling_notes(&self) -> Vec<String> {
+        self.skcs
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.kappa > 0)
+            .map(|(k, skc)| {
+                let socs: Vec<String> = skc
+                    .clone()
+                    .socs
+                    .map(|j| format!("SOC{} {{{}}}", j + 1, self.socs[j].notation))
+                    .collect();
+                let deltas: Vec<String> = skc.clone().socs.map(|j| delta_unicode(self.socs[j].delta)).collect();
+                format!(
+                    "SKC{} = {} has Δ = ({}), so κ{} = ½Σ|Δ| = {}: its forward solution needs {} virtual variable{} solved by iteration",
+                    k + 1,
+                    socs.join(" + "),
+                    deltas.join(", "),
+                    k + 1,
+                    skc.kappa,
+                    skc.kappa,
+                    if skc.kappa == 1 { "" } else { "s" }
+                )
+            })
+            .collect()
+    }
+
     /// ξ_Lj for every SOC.
     pub fn xi(&self) -> Vec<usize> {
         self.socs.iter().map(|s| s.xi).collect()
