@@ -54,7 +54,8 @@ fn solve(
                 m.name_span(),
                 format!(
                     "no closed-form {what} plan: links {} are not reached by the step catalogue \
-                     (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder)",
+                     (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder, \
+                     guide through a point)",
                     left.join(", ")
                 ),
             )

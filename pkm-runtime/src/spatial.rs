@@ -11,7 +11,8 @@
 //!   the joint moves it on a circle or a line, and the intersection is
 //!   `a·cosθ + b·sinθ = c`, a line–sphere quadratic, or linear;
 //! * a direction of the new link is known ([`Step::Align`]);
-//! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]).
+//! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
+//! * a line of the new link must pass through a known point ([`Step::Guide`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -243,6 +244,25 @@ pub enum Step {
         /// The other hinge's position.
         target: Anchor,
     },
+    /// A revolute's angle that puts the line `point` travels on, seen from
+    /// `to` (`point` is on the link across prismatic `slide` from `to`),
+    /// through the anchored position (the same point, known).
+    Guide {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The prismatic joint of `to` whose slide the line is.
+        slide: usize,
+        /// The point on the link beyond the slide.
+        point: PointRef,
+        /// Where it is known.
+        target: Anchor,
+        /// This step's index in the sign vector (it always branches).
+        branch: usize,
+    },
 }
 
 /// A spatial plan.
@@ -288,7 +308,9 @@ impl Step {
         match self {
             Step::Place { .. } => false,
             Step::Transfer { from, .. } => *from == link,
-            Step::Aim { from, target, .. } | Step::PaPlane { from, target, .. } => *from == link || target.link == link,
+            Step::Aim { from, target, .. } | Step::PaPlane { from, target, .. } | Step::Guide { from, target, .. } => {
+                *from == link || target.link == link
+            }
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
@@ -326,6 +348,10 @@ impl Step {
                 add(*pa);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
+            Step::Guide { slide, target, .. } => {
+                add(*slide);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
             Step::Locus { constraint, .. } => match constraint {
                 Constraint::Sphere { centre, pa } => {
                     add(*pa);
@@ -352,7 +378,8 @@ impl Step {
             | Step::Aim { joint, .. }
             | Step::Locus { joint, .. }
             | Step::Align { joint, .. }
-            | Step::PaPlane { joint, .. } => Some(*joint),
+            | Step::PaPlane { joint, .. }
+            | Step::Guide { joint, .. } => Some(*joint),
         }
     }
 }

@@ -5,7 +5,7 @@
 //! One file per step kind holds what it does (`execute`), its closed-form
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
-//! [`transfer`], [`aim`], [`align`], [`pa_plane`], and the four loci a
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -20,6 +20,7 @@
 
 pub mod aim;
 pub mod align;
+pub mod guide_through;
 pub mod on_cylinder;
 pub mod on_plane;
 pub mod on_slider_plane;
@@ -467,6 +468,7 @@ pub fn execute<T: Scalar>(
         | Step::Aim { joint, from, to, .. }
         | Step::Align { joint, from, to, .. }
         | Step::PaPlane { joint, from, to, .. }
+        | Step::Guide { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -484,6 +486,13 @@ pub fn execute<T: Scalar>(
         Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
         Step::PaPlane { pa, target, .. } => pa_plane::execute(&mv, *pa, target)?,
+        Step::Guide {
+            slide,
+            point,
+            target,
+            branch,
+            ..
+        } => guide_through::execute(&mv, *slide, *point, target, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -701,14 +710,16 @@ pub fn check_residual<T: Scalar>(
 /// The step kinds' matches in the order the planner tries them
 /// ([`search::Search::step`] takes the first that finds a step): a given
 /// value first, then aim, align, the parallelogram plane, a locus without
-/// a branch, and last a locus with one.
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 6] = [
+/// a branch, a locus with one, and last a guide through a known point (an
+/// RPR dyad, which nothing before it solves).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 7] = [
     transfer::find,
     aim::find,
     align::find,
     pa_plane::find,
     |s| find_locus(s, false),
     |s| find_locus(s, true),
+    guide_through::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -817,6 +828,14 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             pa,
             target,
         } => pa_plane::factor(at, k, *joint, *from, *to, *pa, target),
+        Step::Guide {
+            joint,
+            from,
+            to,
+            slide,
+            target,
+            ..
+        } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
         Step::Locus {
             joint,
             from,
