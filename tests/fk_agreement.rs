@@ -84,6 +84,11 @@ fn slider_crank() {
 }
 
 #[test]
+fn inverted_slider_crank() {
+    check("inverted_slider_crank", &[(-PI, PI)], 200);
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

@@ -18,6 +18,7 @@ use std::f64::consts::PI;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -179,6 +180,11 @@ fn four_bar() {
 #[test]
 fn slider_crank() {
     round_trips!(SliderCrank, [(-PI, PI)], 300.0, never);
+}
+
+#[test]
+fn inverted_slider_crank() {
+    round_trips!(Inverted, [(-PI, PI)], 300.0, never);
 }
 
 #[test]

@@ -25,6 +25,7 @@ macro_rules! snapshots {
 snapshots! {
     four_bar => "FourBar",
     slider_crank => "SliderCrank",
+    inverted_slider_crank => "Inverted",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",
