@@ -20,8 +20,12 @@ type Solver = Box<dyn Fn(&Model, &[f64]) -> Vec<Solved>>;
 /// The model and the closed-form forward solver (its plan run by the
 /// interpreter) of an example.
 fn load(file: &str) -> (Model, Solver) {
-    let (text, _) = common::example_text(file);
-    let a = pkm::dsl::analyze_source(&text).unwrap();
+    load_text(&common::example_text(file).0)
+}
+
+/// The model and the closed-form forward solver of a mechanism's text.
+fn load_text(text: &str) -> (Model, Solver) {
+    let a = pkm::dsl::analyze_source(text).unwrap();
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
     let solve: Solver = Box::new(move |model, q| {
@@ -49,17 +53,22 @@ fn uniform(rng: &mut SplitMix, lo: f64, hi: f64) -> f64 {
 /// every joint point agrees to 1e-9 of the mechanism's size.
 fn check(file: &str, ranges: &[(f64, f64)], samples: usize) {
     let (model, solve) = load(file);
-    let scale = kinematics::model_scale(&model);
+    check_solver(file, &model, &solve, ranges, samples);
+}
+
+/// [`check`] for a loaded model and solver, `file` naming it in failures.
+fn check_solver(file: &str, model: &Model, solve: &Solver, ranges: &[(f64, f64)], samples: usize) {
+    let scale = kinematics::model_scale(model);
     let mut rng = SplitMix::new(0x5eed);
     let mut solved = 0;
     for _ in 0..samples {
         let q: Vec<f64> = ranges.iter().map(|&(lo, hi)| uniform(&mut rng, lo, hi)).collect();
-        for (signs, values, points) in solve(&model, &q) {
+        for (signs, values, points) in solve(model, &q) {
             let guess: Vec<f64> = values.iter().map(|v| v + uniform(&mut rng, -1e-3, 1e-3)).collect();
-            let reference = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default())
+            let reference = newton::solve_fk(model, &q, &guess, &NewtonOptions::default())
                 .unwrap_or_else(|e| panic!("{file} {q:?} {signs:?}: Newton failed: {e}"));
             for (j, a) in points.iter().enumerate() {
-                let b = kinematics::joint_point(&model, &reference.poses, j);
+                let b = kinematics::joint_point(model, &reference.poses, j);
                 let err = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
                 assert!(
                     err <= 1e-9 * scale,
@@ -86,6 +95,28 @@ fn slider_crank() {
 #[test]
 fn inverted_slider_crank() {
     check("inverted_slider_crank", &[(-PI, PI)], 200);
+}
+
+/// The RPR dyad's other forms (`guide_through`): the rocker's guide off
+/// its pivot by 15, and the guide on the block with the rocker's slider
+/// point off the pivot, each checked against Newton as the examples are.
+#[test]
+fn inverted_slider_crank_offset_guides() {
+    let (text, _) = common::example_text("inverted_slider_crank");
+    let base = "rocker { P1 = through (0, 0) along x; R3 = (0, 0); point T = (l, 0); }";
+    let block = "block  { R2 = (0, 0); P1 = (0, 0); }";
+    assert!(text.contains(base) && text.contains(block));
+    let offset = text.replace(
+        base,
+        "rocker { P1 = through (0, 15) along x; R3 = (0, 0); point T = (l, 0); }",
+    );
+    let on_block = text
+        .replace(block, "block  { R2 = (0, 0); P1 = through (5, 0) along (1, 1); }")
+        .replace(base, "rocker { P1 = (30, -10); R3 = (0, 0); point T = (l, 0); }");
+    for (name, text) in [("offset guide", offset), ("guide on the block", on_block)] {
+        let (model, solve) = load_text(&text);
+        check_solver(name, &model, &solve, &[(-PI, PI)], 200);
+    }
 }
 
 #[test]

@@ -383,3 +383,53 @@ fn combined_singularities_only_on_the_five_bars_reach() {
         assert_eq!(measure(&s, &b.q).2, Singularity::None);
     }
 }
+
+/// The RPR dyad's factor (`guide_through`): the inverted slider-crank with
+/// the rocker's guide 70 = d − r off its pivot C (R3). At crank angle 0
+/// the pin B (R2) is |CB| = 70 from C: the line through B at distance 70
+/// from C is normal to CB, the two roots meet, and the forward plan's
+/// factor, the cosine between the guide and the line from the turning
+/// centre to the point it must pass, is 0; so is the forward solution's
+/// output σ. At crank angle π/2, B = (0, 50), |CB| = 130 and the cosine is
+/// √(130² − 70²)/130 on both branches, by hand.
+#[test]
+fn guide_through_factor_vanishes_where_the_guide_is_normal_to_cb() {
+    let (text, _) = common::example_text("inverted_slider_crank");
+    let guide = "P1 = through (0, 0) along x; R3 = (0, 0);";
+    assert!(text.contains(guide));
+    let text = text.replace(guide, "P1 = through (0, 70) along x; R3 = (0, 0);");
+    let a = pkm::dsl::analyze_source(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let factor = |crank: f64| {
+        let solved: Vec<_> = spatial::run_all(&model, &plan, &[crank])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect();
+        // At the tangency the double root is listed once.
+        assert_eq!(solved.len(), if crank == 0.0 { 1 } else { 2 }, "crank {crank}");
+        solved
+            .iter()
+            .map(|s| {
+                let f = singular::spatial_factors(&model, &plan, &s.poses)
+                    .into_iter()
+                    .min_by(|a, b| a.value.total_cmp(&b.value))
+                    .unwrap();
+                let o = velocity::jacobians(&model, &s.values, &outputs).unwrap().output_sigma;
+                (f.value, f.describe(&model, &s.poses), o)
+            })
+            .collect::<Vec<_>>()
+    };
+    for (v, named, o) in factor(0.0) {
+        assert!(v < 1e-7 && o < 1e-7, "{named}: {v:e}, output σ {o:e}");
+        assert!(named.contains("is normal to the guide of P1"), "{named}");
+    }
+    let want = (130f64.powi(2) - 70f64.powi(2)).sqrt() / 130.0;
+    for (v, named, o) in factor(std::f64::consts::FRAC_PI_2) {
+        assert!(
+            (v - want).abs() < 1e-12 && o > 1e-3,
+            "{named}: {v} vs {want}, output σ {o:e}"
+        );
+    }
+}
