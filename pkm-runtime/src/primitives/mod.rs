@@ -9,8 +9,9 @@
 //! a slide onto a plane ([`crate::steps::on_plane::line_plane`]), a circle or
 //! a line meeting a sphere ([`crate::steps::on_sphere::circle_distance`],
 //! [`crate::steps::on_sphere::line_distance`], with Kahan's triangle area
-//! [`crate::steps::on_sphere::kahan_sine`]) and a line meeting a circle
-//! ([`crate::steps::on_cylinder::line_circle`]).
+//! [`crate::steps::on_sphere::kahan_sine`]), a line meeting a circle
+//! ([`crate::steps::on_cylinder::line_circle`]) and a turning line through
+//! a point ([`crate::steps::guide_through::through`]).
 //!
 //! Generated code names `::pkm::runtime::primitives::Sign` and
 //! `::pkm::runtime::primitives::Error`, so the module keeps its path.
