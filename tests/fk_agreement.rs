@@ -120,6 +120,11 @@ fn inverted_slider_crank_offset_guides() {
 }
 
 #[test]
+fn crank_shaper() {
+    check("crank_shaper", &[(-PI, PI)], 200);
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

@@ -19,6 +19,7 @@ use std::f64::consts::PI;
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
+pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -185,6 +186,11 @@ fn slider_crank() {
 #[test]
 fn inverted_slider_crank() {
     round_trips!(Inverted, [(-PI, PI)], 300.0, never);
+}
+
+#[test]
+fn crank_shaper() {
+    round_trips!(Shaper, [(-PI, PI)], 300.0, never);
 }
 
 #[test]

@@ -26,6 +26,7 @@ snapshots! {
     four_bar => "FourBar",
     slider_crank => "SliderCrank",
     inverted_slider_crank => "Inverted",
+    crank_shaper => "Shaper",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",
