@@ -8,6 +8,8 @@ use pkm::runtime::spatial;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
+pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
@@ -55,6 +57,8 @@ fn generated_equals_interpreted() {
         let t = -3.2 + k as f64 * 0.01;
         agree!(FourBar, "four_bar", [t]);
         agree!(SliderCrank, "slider_crank", [t]);
+        agree!(Inverted, "inverted_slider_crank", [t]);
+        agree!(Shaper, "crank_shaper", [t]);
         agree!(Punch, "seed003_punch", [t]);
         agree!(Watt, "watt_six_bar", [t]);
         agree!(

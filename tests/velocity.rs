@@ -16,6 +16,8 @@ use std::f64::consts::PI;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
+pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
@@ -169,6 +171,8 @@ macro_rules! check {
 fn planar() {
     check!(FourBar, "four_bar", [(-PI, PI)], 1.0);
     check!(SliderCrank, "slider_crank", [(-PI, PI)], 1.0);
+    check!(Inverted, "inverted_slider_crank", [(-PI, PI)], 1.0);
+    check!(Shaper, "crank_shaper", [(-PI, PI)], 1.0);
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)], 1.0);
     check!(Watt, "watt_six_bar", [(-PI, PI)], 1.0);
     check!(Punch, "seed003_punch", [(-PI, PI)], 1.0);
