@@ -105,7 +105,9 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
         let k = s.axis(j, to);
         for (q, joint) in s.model.joints.iter().enumerate() {
-            if q == j || joint.kind != JointType::P || !joint.links.contains(&to) || s.used[q] {
+            // A given slide is no unknown of this dyad: the point would be
+            // known along the line, and the step would leave it out.
+            if q == j || joint.kind != JointType::P || !joint.links.contains(&to) || s.used[q] || s.given[q].is_some() {
                 continue;
             }
             if !Search::normal(s.axis(q, to), k) {
