@@ -12,7 +12,9 @@
 //!   `a·cosθ + b·sinθ = c`, a line–sphere quadratic, or linear;
 //! * a direction of the new link is known ([`Step::Align`]);
 //! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
-//! * a line of the new link must pass through a known point ([`Step::Guide`]).
+//! * a line of the new link must pass through a known point ([`Step::Guide`]);
+//! * a point beyond a joint whose value is given, carried rigidly at that
+//!   value, lies on a cylinder ([`Step::Beyond`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -263,6 +265,27 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
+    /// A revolute's value that puts `point`, on the link across the joint
+    /// `given` (whose value is input `input`) from `to`, on `constraint` (a
+    /// cylinder): with the value given the two links turn as one body.
+    Beyond {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The joint of `to` whose value is given.
+        given: usize,
+        /// Index into the inputs.
+        input: usize,
+        /// The point on the link across `given`.
+        point: PointRef,
+        /// Where it must be (hops from the link across `given`).
+        constraint: Constraint,
+        /// This step's index in the sign vector (it always branches).
+        branch: usize,
+    },
 }
 
 /// A spatial plan.
@@ -314,7 +337,7 @@ impl Step {
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
-            Step::Locus { from, constraint, .. } => {
+            Step::Locus { from, constraint, .. } | Step::Beyond { from, constraint, .. } => {
                 *from == link
                     || match constraint {
                         Constraint::Sphere { centre, .. } => centre.link == link,
@@ -352,6 +375,13 @@ impl Step {
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
+            Step::Beyond { given, constraint, .. } => {
+                add(*given);
+                if let Constraint::Cylinder { hops: h, joint, .. } = constraint {
+                    hops(h).into_iter().for_each(&mut add);
+                    add(*joint);
+                }
+            }
             Step::Locus { constraint, .. } => match constraint {
                 Constraint::Sphere { centre, pa } => {
                     add(*pa);
@@ -379,7 +409,8 @@ impl Step {
             | Step::Locus { joint, .. }
             | Step::Align { joint, .. }
             | Step::PaPlane { joint, .. }
-            | Step::Guide { joint, .. } => Some(*joint),
+            | Step::Guide { joint, .. }
+            | Step::Beyond { joint, .. } => Some(*joint),
         }
     }
 }

@@ -11,7 +11,8 @@
 //! [`crate::steps::on_sphere::line_distance`], with Kahan's triangle area
 //! [`crate::steps::on_sphere::kahan_sine`]), a line meeting a circle
 //! ([`crate::steps::on_cylinder::line_circle`]) and a turning line through
-//! a point ([`crate::steps::guide_through::through`]).
+//! a point ([`crate::steps::guide_through::through`]); a point carried
+//! across a joint at its given value ([`crate::steps::beyond_given::carried`]).
 //!
 //! Generated code names `::pkm::runtime::primitives::Sign` and
 //! `::pkm::runtime::primitives::Error`, so the module keeps its path.

@@ -5,7 +5,7 @@
 //! One file per step kind holds what it does (`execute`), its closed-form
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
-//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], and the four loci a
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`], and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -20,6 +20,7 @@
 
 pub mod aim;
 pub mod align;
+pub mod beyond_given;
 pub mod guide_through;
 pub mod on_cylinder;
 pub mod on_plane;
@@ -469,6 +470,7 @@ pub fn execute<T: Scalar>(
         | Step::Align { joint, from, to, .. }
         | Step::PaPlane { joint, from, to, .. }
         | Step::Guide { joint, from, to, .. }
+        | Step::Beyond { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -493,6 +495,14 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => guide_through::execute(&mv, *slide, *point, target, *branch)?,
+        Step::Beyond {
+            given: q,
+            input,
+            point,
+            constraint,
+            branch,
+            ..
+        } => beyond_given::execute(&mv, *q, *input, *point, constraint, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -710,9 +720,10 @@ pub fn check_residual<T: Scalar>(
 /// The step kinds' matches in the order the planner tries them
 /// ([`search::Search::step`] takes the first that finds a step): a given
 /// value first, then aim, align, the parallelogram plane, a locus without
-/// a branch, a locus with one, and last a guide through a known point (an
-/// RPR dyad, which nothing before it solves).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 7] = [
+/// a branch, a locus with one, a guide through a known point (an RPR
+/// dyad, which nothing before it solves), and last a point beyond a joint
+/// whose value is given on a cylinder (an input between two moving links).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 8] = [
     transfer::find,
     aim::find,
     align::find,
@@ -720,6 +731,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 7] = [
     |s| find_locus(s, false),
     |s| find_locus(s, true),
     guide_through::find,
+    beyond_given::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -836,6 +848,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             target,
             ..
         } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
+        Step::Beyond { .. } => return beyond_given::factor(at, k, step),
         Step::Locus {
             joint,
             from,

@@ -26,6 +26,22 @@ pub fn execute<T: Scalar>(
     branch: Option<usize>,
 ) -> Result<Found<T>, SolveError> {
     let (x, m) = mv.motion(point);
+    Ok(mv.found(meet(mv, m, x, hops, h, link, branch)?))
+}
+
+/// The value that puts the point moving as `m` at the distance its
+/// carrier (`x`, carried across `hops` to the link across revolute `h`
+/// from the known `link`) keeps from `h`'s axis: circle–circle or, for a
+/// slide, planar line–circle; `branch` picks the root.
+pub fn meet<T: Scalar>(
+    mv: &Move<'_, T>,
+    m: Motion<T>,
+    x: [T; 3],
+    hops: &[Hop],
+    h: usize,
+    link: usize,
+    branch: Option<usize>,
+) -> Result<[T; 2], SolveError> {
     let (g, poses) = (mv.geometry, &mv.state.poses);
     let jh = &g.joints[h];
     let known_side = usize::from(jh.links[0] != link);
@@ -36,7 +52,7 @@ pub fn execute<T: Scalar>(
     let place = jh.places[1 - known_side];
     let radius = norm(reject(sub(y, place.at()), unit(super::place_axis(&place))));
     let choice = mv.choice(branch);
-    let r = match m {
+    match m {
         Motion::Circle {
             centre,
             axis,
@@ -47,16 +63,15 @@ pub fn execute<T: Scalar>(
             let x0 = add(centre, r);
             let q = add(line_point, scale(dot(line_axis, sub(x0, line_point)), line_axis));
             super::on_sphere::circle_distance(centre, axis, r, length, q, radius, choice, mv.site())
-                .map_err(|e| mv.fail(e))?
+                .map_err(|e| mv.fail(e))
         }
         Motion::Line { start, along } => {
             // Without the components along the cylinder's axis: a planar line–circle.
             let d = reject(along, line_axis);
             let s0 = sub(start, scale(dot(line_axis, sub(start, line_point)), line_axis));
-            line_circle(s0, d, line_point, radius, choice, mv.site()).map_err(|e| mv.fail(e))?
+            line_circle(s0, d, line_point, radius, choice, mv.site()).map_err(|e| mv.fail(e))
         }
-    };
-    Ok(mv.found(r))
+    }
 }
 
 /// The slide `[t, 0]` along `along` (not unit: the slide's direction with

@@ -1,0 +1,218 @@
+//! A revolute's angle that puts a point beyond a joint whose value is
+//! given on a cylinder: an input between two moving links (a hydraulic
+//! cylinder pinned to a rocker and to the base) makes those two links one
+//! body of known shape for the step. The new link `to` turns about the
+//! known revolute; across the given joint `q` the link beyond it carries
+//! the point `x` (a joint's place there), which the rest of the mechanism
+//! holds at a fixed distance from the axis of a known revolute parallel to
+//! the turning axis ([`super::on_cylinder`]'s constraint).
+//!
+//! With `T_q(v)`, the pose of `q`'s second link in its first's at the
+//! given value `v`, the point in the frame of `to` is
+//!
+//! `y = T_q(v)·x` (`to` is `q`'s first link), `y = T_q(v)⁻¹·x` otherwise,
+//!
+//! and it moves on the circle the revolute turns `y` on: the circle meets
+//! the cylinder ([`super::on_cylinder::meet`], circle–circle by
+//! [`super::on_sphere::circle_distance`]), two roots. For the cylinder's
+//! barrel, its guide through its pivot C along x and the rod's point c
+//! behind its pin B sliding on it, `y = B = C + (c + s)·x`: the barrel
+//! turns about C until B is on the circle about the rocker's pivot, the
+//! triangle of the RRR dyad with side `|CB| = c + s`.
+
+use super::search::Search;
+use super::{JointValue, Move};
+use crate::model::JointType;
+use crate::scalar::Scalar;
+use crate::singular::{crossing, joint_point, Configuration, Factor, LinkPoint};
+use crate::solution::{PointRef, SolveError};
+use crate::spatial::{v3, Constraint, Step};
+
+/// The angle of the revolute that puts `point` (on the link across the
+/// given joint `given` from the new link, carried at input `input`) on
+/// `constraint` (a cylinder), `branch` choosing the root.
+pub fn execute<T: Scalar>(
+    mv: &Move<'_, T>,
+    given: usize,
+    input: usize,
+    point: PointRef,
+    constraint: &Constraint,
+    branch: usize,
+) -> Result<super::Found<T>, SolveError> {
+    let Constraint::Cylinder { hops, joint: h, link } = constraint else {
+        return Err(mv.fail(super::degenerate("a point beyond a given joint needs a cylinder")));
+    };
+    let g = mv.geometry;
+    let q = &g.joints[given];
+    let beyond = if q.links[0] == mv.to { q.links[1] } else { q.links[0] };
+    let x = g.local(point, beyond);
+    let y = carried(q, q.links[0] == mv.to, x, mv.given.values[input]);
+    let m = mv.joint().motion(&mv.state.poses[mv.from], mv.forward(), y);
+    let r = super::on_cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?;
+    Ok(mv.found(r))
+}
+
+/// The point `x` of the link across joint `q` in the frame of the link on
+/// this side at `q`'s value `v`: `T_q(v)·x` when this side is `q`'s first
+/// link (`first`), `T_q(v)⁻¹·x` otherwise ([`super::JointGeometry::transform`]).
+///
+/// ```
+/// use pkm_runtime::model::{JointType, Place};
+/// use pkm_runtime::steps::{beyond_given::carried, JointGeometry};
+///
+/// // A guide along x through the origin; the slider point sits 2 behind its link's origin.
+/// let guide = Place::Line { through: [0.0; 3], along: [1.0, 0.0, 0.0] };
+/// let q = JointGeometry::new(JointType::P, [0, 1], [guide, Place::Point { at: [-2.0, 0.0, 0.0] }]);
+/// let y = carried(&q, true, [0.0; 3], 5.0);
+/// assert!((y[0] - 7.0).abs() < 1e-15 && y[1].abs() < 1e-15);
+/// ```
+pub fn carried<T: Scalar>(q: &super::JointGeometry<T>, first: bool, x: [T; 3], v: T) -> [T; 3] {
+    let t = q.transform(JointValue::given(q.kind, v));
+    if first {
+        t.apply(x)
+    } else {
+        t.inverse().apply(x)
+    }
+}
+
+/// The planner's match: a revolute `j` turning the new link `to` about
+/// `k`, a joint `q` of `to` whose value is given (a slide, or a revolute
+/// about `k`: either keeps `k`), its other link not known, and there a
+/// joint's place that reaches, through revolutes on its axis about `k`, a
+/// link whose revolute about `k` turns on a known link: a cylinder. Tried
+/// after every other kind, so it only plans what nothing else did.
+pub(crate) fn find(s: &mut Search<'_>) -> bool {
+    for (j, from, to) in s.candidates() {
+        if s.kind(j) != JointType::R {
+            continue;
+        }
+        let k = s.axis(j, to);
+        for (q, jq) in s.model.joints.iter().enumerate() {
+            let Some(input) = s.given[q] else { continue };
+            if q == j || s.used[q] || !jq.links.contains(&to) {
+                continue;
+            }
+            let keeps_k = match jq.kind {
+                JointType::P => true,
+                JointType::R => Search::parallel(s.axis(q, to), k),
+                _ => false,
+            };
+            let beyond = s.other(q, to);
+            if !keeps_k || s.known[beyond] {
+                continue;
+            }
+            // k in the frame of the link beyond the given joint.
+            let k_beyond = s.rotation(&[s.hop(q, to)]).inverse() * k;
+            for (h, jh) in s.model.joints.iter().enumerate() {
+                if h == q || h == j || !jh.links.contains(&beyond) || jh.kind == JointType::S {
+                    continue;
+                }
+                let point = PointRef::Joint(h);
+                let x = v3(s.place(h, beyond).at());
+                for r in s.fixed_reach(beyond, x, &[j, q]) {
+                    if s.known[r.link] {
+                        continue;
+                    }
+                    let rot = s.rotation(&r.hops);
+                    let turning = s.hops_about(beyond, &r.hops, k_beyond);
+                    let found = s.model.joints.iter().enumerate().find_map(|(c, jc)| {
+                        let skip = c == q || c == j || jc.kind != JointType::R || !jc.links.contains(&r.link);
+                        if skip || r.hops.iter().any(|hop| hop.joint == c) {
+                            return None;
+                        }
+                        super::on_cylinder::find(s, &r, c, k_beyond, rot, turning)
+                    });
+                    let Some(constraint) = found else { continue };
+                    s.branches += 1;
+                    let step = Step::Beyond {
+                        joint: j,
+                        from,
+                        to,
+                        given: q,
+                        input,
+                        point,
+                        constraint,
+                        branch: s.branches - 1,
+                    };
+                    s.push(step, to, j);
+                    return true;
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The step's factor: as a locus's ([`super::locus_factor`]), the cosine
+/// between the carried point's path and the cylinder's normal there, zero
+/// where the circle touches the cylinder (the triangle folds flat, the two
+/// roots meet).
+pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor> {
+    let Step::Beyond {
+        joint,
+        from,
+        to,
+        given,
+        point,
+        constraint: Constraint::Cylinder { joint: h, link, .. },
+        ..
+    } = *step
+    else {
+        return None;
+    };
+    let q = &at.g.joints[given];
+    let beyond = if q.links[0] == to { q.links[1] } else { q.links[0] };
+    let p = v3(at.frames[beyond].apply(at.g.local(point, beyond)));
+    let j = &at.g.joints[joint];
+    let (centre, axis) = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
+        super::Motion::Circle { centre, axis, .. } => (v3(centre), v3(axis)),
+        super::Motion::Line { .. } => return None,
+    };
+    let (n, condition, other) = super::on_cylinder::normal(at, p, h, link);
+    Some(Factor {
+        step: k,
+        joint,
+        condition,
+        points: [joint_point(joint, from), LinkPoint { link: beyond, point }, other],
+        value: crossing(axis.cross(&(p - centre)), n, at.scale),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Place;
+    use crate::steps::JointGeometry;
+
+    /// By hand: the barrel's guide through C = (3, 1) along (cos β, sin β),
+    /// the rod's slider point c behind its pin B (the rod's origin), the
+    /// rod turned as the barrel: B = C + (c + s)(cos β, sin β) in the
+    /// barrel's frame, and back across the joint the rod's own origin.
+    #[test]
+    fn the_rod_pin_is_c_plus_s_along_the_guide() {
+        for &(beta, c, s) in &[(0.0, 2.0, 5.0), (0.7, 200.0, 130.0), (-2.0, 0.5, -0.25)] {
+            let u = [f64::cos(beta), f64::sin(beta), 0.0];
+            let guide = Place::Line {
+                through: [3.0, 1.0, 0.0],
+                along: u,
+            };
+            let slider = Place::Point {
+                at: [-c * u[0], -c * u[1], 0.0],
+            };
+            let q = JointGeometry::new(JointType::P, [0, 1], [guide, slider]);
+            let b = carried(&q, true, [0.0; 3], s);
+            let want = [3.0 + (c + s) * u[0], 1.0 + (c + s) * u[1], 0.0];
+            for i in 0..3 {
+                assert!(
+                    (b[i] - want[i]).abs() < 1e-12 * (1.0 + c + s.abs()),
+                    "{beta} {c} {s}: {b:?}"
+                );
+            }
+            // The other way: the barrel's C seen from the rod is back by c + s.
+            let back = carried(&q, false, [3.0, 1.0, 0.0], s);
+            for i in 0..2 {
+                assert!((back[i] + (c + s) * u[i]).abs() < 1e-12 * (1.0 + c + s.abs()));
+            }
+        }
+    }
+}
