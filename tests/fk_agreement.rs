@@ -125,6 +125,33 @@ fn crank_shaper() {
 }
 
 #[test]
+fn cylinder_rocker() {
+    check("cylinder_rocker", &[(-60.0, 300.0)], 200);
+}
+
+/// By hand: with the stroke s the cylinder is |R2R3| = c + s long, and the
+/// rocker closes the triangle R1–R2–R3 (a = 150, R3 = (300, −80), c = 200):
+/// ψ = atan2(−80, 300) ± acos((a² + |R1R3|² − (c + s)²)/(2a·|R1R3|)).
+#[test]
+fn cylinder_rocker_by_hand() {
+    let (model, solve) = load("cylinder_rocker");
+    let (a, c, r13) = (150.0f64, 200.0f64, 300.0f64.hypot(80.0));
+    for s in [0.0, 60.0, 150.0, 255.0] {
+        let l = c + s;
+        let half = ((a * a + r13 * r13 - l * l) / (2.0 * a * r13)).acos();
+        let base = (-80.0f64).atan2(300.0);
+        let mut want = [base + half, base - half].map(|p| p.sin().atan2(p.cos()));
+        let mut got: Vec<f64> = solve(&model, &[s]).iter().map(|(_, q, _)| q[0]).collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "s = {s}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-13, "s = {s}: ψ {g} vs {w}");
+        }
+    }
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

@@ -10,6 +10,7 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
+pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
@@ -59,6 +60,8 @@ fn generated_equals_interpreted() {
         agree!(SliderCrank, "slider_crank", [t]);
         agree!(Inverted, "inverted_slider_crank", [t]);
         agree!(Shaper, "crank_shaper", [t]);
+        // The stroke from −60 to 300: out of reach at both ends.
+        agree!(Cylinder, "cylinder_rocker", [100.0 + 50.0 * t]);
         agree!(Punch, "seed003_punch", [t]);
         agree!(Watt, "watt_six_bar", [t]);
         agree!(

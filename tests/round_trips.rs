@@ -20,6 +20,7 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
+pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -191,6 +192,14 @@ fn inverted_slider_crank() {
 #[test]
 fn crank_shaper() {
     round_trips!(Shaper, [(-PI, PI)], 300.0, never);
+}
+
+/// The stroke from short of the shortest cylinder (|R2R3| = 310.5 − 150,
+/// s = −39.5) to past the longest (s = 260.5): the draws out of reach are
+/// skipped.
+#[test]
+fn cylinder_rocker() {
+    round_trips!(Cylinder, [(-60.0, 300.0)], 300.0, never);
 }
 
 #[test]

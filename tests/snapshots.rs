@@ -27,6 +27,7 @@ snapshots! {
     slider_crank => "SliderCrank",
     inverted_slider_crank => "Inverted",
     crank_shaper => "Shaper",
+    cylinder_rocker => "Cylinder",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",

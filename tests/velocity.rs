@@ -18,6 +18,7 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
+pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
@@ -173,6 +174,7 @@ fn planar() {
     check!(SliderCrank, "slider_crank", [(-PI, PI)], 1.0);
     check!(Inverted, "inverted_slider_crank", [(-PI, PI)], 1.0);
     check!(Shaper, "crank_shaper", [(-PI, PI)], 1.0);
+    check!(Cylinder, "cylinder_rocker", [(-60.0, 300.0)], 1.0);
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)], 1.0);
     check!(Watt, "watt_six_bar", [(-PI, PI)], 1.0);
     check!(Punch, "seed003_punch", [(-PI, PI)], 1.0);
