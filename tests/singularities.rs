@@ -433,3 +433,48 @@ fn guide_through_factor_vanishes_where_the_guide_is_normal_to_cb() {
         );
     }
 }
+
+/// The factor of a point beyond a given slide (`beyond_given`), on the
+/// cylinder rocker: the path of the rod pin R2 about R3 against the normal
+/// of the circle about R1 (R2 − R1) is the sine of the triangle's angle at
+/// R2. At s = 0, |R2R3| = 200, a = 150, |R1R3| = √(300² + 80²): by hand
+/// cos = (150² + 200² − |R1R3|²)/(2·150·200), the factor √(1 − cos²) on both
+/// branches. At full stroke, |R2R3| = |R1R3| + a, the triangle folds flat:
+/// the factor and the output σ vanish.
+#[test]
+fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
+    let (a, model) = common::example("cylinder_rocker");
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let factor = |s: f64| {
+        spatial::run_all(&model, &plan, &[s])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .map(|sol| {
+                let f = singular::spatial_factors(&model, &plan, &sol.poses)
+                    .into_iter()
+                    .find(|f| f.step == 0)
+                    .unwrap();
+                let o = velocity::jacobians(&model, &sol.values, &outputs).unwrap().output_sigma;
+                (f.value, f.describe(&model, &sol.poses), o)
+            })
+            .collect::<Vec<_>>()
+    };
+    let r13 = 300f64.hypot(80.0);
+    let cos = (150f64.powi(2) + 200f64.powi(2) - r13 * r13) / (2.0 * 150.0 * 200.0);
+    let want = (1.0 - cos * cos).sqrt();
+    let regular = factor(0.0);
+    assert_eq!(regular.len(), 2);
+    for (v, named, o) in regular {
+        assert!(
+            (v - want).abs() < 1e-12 && o > 1e-3,
+            "{named}: {v} vs {want}, output σ {o:e}"
+        );
+        assert!(named.contains("touches the cylinder about R1"), "{named}");
+    }
+    let folded = factor(r13 + 150.0 - 200.0);
+    assert!(!folded.is_empty());
+    for (v, named, o) in folded {
+        assert!(v < 1e-6 && o < 1e-6, "{named}: {v:e}, output σ {o:e}");
+    }
+}

@@ -106,7 +106,8 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         let k = s.axis(j, to);
         for (q, joint) in s.model.joints.iter().enumerate() {
             // A given slide is no unknown of this dyad: the point would be
-            // known along the line, and the step would leave it out.
+            // known along the line, and the step would leave it out. With
+            // the slide given its two links are one body: `beyond_given`.
             if q == j || joint.kind != JointType::P || !joint.links.contains(&to) || s.used[q] || s.given[q].is_some() {
                 continue;
             }
