@@ -101,14 +101,8 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
             if !keeps_k || s.known[beyond] {
                 continue;
             }
-            // k in the frame of the link beyond the given joint.
-            let k_beyond = s.rotation(&[s.hop(q, to)]).inverse() * k;
-            for (h, jh) in s.model.joints.iter().enumerate() {
-                if h == q || h == j || !jh.links.contains(&beyond) || jh.kind == JointType::S {
-                    continue;
-                }
-                let point = PointRef::Joint(h);
-                let x = v3(s.place(h, beyond).at());
+            let (k_beyond, places) = s.across(q, to, j, k);
+            for (point, x) in places {
                 for r in s.fixed_reach(beyond, x, &[j, q]) {
                     if s.known[r.link] {
                         continue;

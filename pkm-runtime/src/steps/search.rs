@@ -246,6 +246,30 @@ impl<'a> Search<'a> {
         out
     }
 
+    /// For a step that turns `to` by joint `j` about `k` (in `to`'s frame)
+    /// and carries a point across joint `q` to the link beyond it: `k` in
+    /// that link's frame, and the places there of its joints but `q`, `j`
+    /// and spherical ones, the points such a step may carry.
+    pub(crate) fn across(
+        &self,
+        q: usize,
+        to: usize,
+        j: usize,
+        k: Vector3<f64>,
+    ) -> (Vector3<f64>, Vec<(PointRef, Vector3<f64>)>) {
+        let beyond = self.other(q, to);
+        let k_beyond = self.rotation(&[self.hop(q, to)]).inverse() * k;
+        let places = self
+            .model
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(h, jh)| *h != q && *h != j && jh.links.contains(&beyond) && jh.kind != JointType::S)
+            .map(|(h, _)| (PointRef::Joint(h), v3(self.place(h, beyond).at())))
+            .collect();
+        (k_beyond, places)
+    }
+
     pub(crate) fn push(&mut self, step: Step, to: usize, j: usize) {
         self.at_start[to] = false;
         self.steps.push(step);
