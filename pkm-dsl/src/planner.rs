@@ -55,7 +55,7 @@ fn solve(
                 format!(
                     "no closed-form {what} plan: links {} are not reached by the step catalogue \
                      (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder, \
-                     guide through a point)",
+                     guide through a point, point beyond a given joint, slide onto a line)",
                     left.join(", ")
                 ),
             )

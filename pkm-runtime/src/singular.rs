@@ -54,6 +54,10 @@ pub enum Condition {
     Collinear,
     /// `points[0]points[1]` is normal to the guide of `points[2]` (an RRP dyad).
     NormalToGuide,
+    /// The step's prismatic `points[0]` slides along the line it must bring
+    /// `points[1]` onto (the guide of the slide at `points[2]`'s side): the
+    /// two lines of a PRP or RPP dyad are parallel.
+    SlideAlongLine,
 }
 
 /// One step's factor at a configuration.
@@ -89,6 +93,7 @@ impl Factor {
             Condition::PlaneTouches => format!("the plane of {b} turned by {j} only touches {c}"),
             Condition::Collinear => format!("{a}, {b}, {c} are collinear"),
             Condition::NormalToGuide => format!("{a}{b} is normal to the guide of {c}"),
+            Condition::SlideAlongLine => format!("{j} slides along the line {b} must meet ({c})"),
         }
     }
 }

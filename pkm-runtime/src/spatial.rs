@@ -14,7 +14,8 @@
 //! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
 //! * a line of the new link must pass through a known point ([`Step::Guide`]);
 //! * a point beyond a joint whose value is given, carried rigidly at that
-//!   value, lies on a cylinder ([`Step::Beyond`]).
+//!   value, lies on a cylinder ([`Step::Beyond`]);
+//! * a slide brings a point onto a line, neither turning ([`Step::SlideToLine`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -286,6 +287,22 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
+    /// A prismatic's slide that brings a point and the line of prismatic
+    /// `slide` together (`meet`: which of the two the new link carries).
+    SlideToLine {
+        /// The prismatic.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The prismatic whose line it is.
+        slide: usize,
+        /// The point: on the link beyond `slide` from `to`, or on `to`.
+        point: PointRef,
+        /// Which of the point and the line `to` carries, and where the other is known.
+        meet: crate::steps::slide_to_line::Meet,
+    },
 }
 
 /// A spatial plan.
@@ -345,6 +362,14 @@ impl Step {
                         Constraint::Cylinder { link: l, .. } | Constraint::Slider { link: l, .. } => *l == link,
                     }
             }
+            Step::SlideToLine { from, meet, .. } => {
+                use crate::steps::slide_to_line::Meet;
+                *from == link
+                    || match meet {
+                        Meet::Through(target) => target.link == link,
+                        Meet::Onto { link: l, .. } => *l == link,
+                    }
+            }
         }
     }
 
@@ -382,6 +407,19 @@ impl Step {
                     add(*joint);
                 }
             }
+            Step::SlideToLine { slide, meet, .. } => {
+                use crate::steps::slide_to_line::Meet;
+                match meet {
+                    Meet::Through(target) => {
+                        add(*slide);
+                        hops(&target.hops).into_iter().rev().for_each(&mut add);
+                    }
+                    Meet::Onto { hops: h, .. } => {
+                        hops(h).into_iter().for_each(&mut add);
+                        add(*slide);
+                    }
+                }
+            }
             Step::Locus { constraint, .. } => match constraint {
                 Constraint::Sphere { centre, pa } => {
                     add(*pa);
@@ -410,7 +448,8 @@ impl Step {
             | Step::Align { joint, .. }
             | Step::PaPlane { joint, .. }
             | Step::Guide { joint, .. }
-            | Step::Beyond { joint, .. } => Some(*joint),
+            | Step::Beyond { joint, .. }
+            | Step::SlideToLine { joint, .. } => Some(*joint),
         }
     }
 }

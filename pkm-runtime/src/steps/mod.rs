@@ -5,7 +5,8 @@
 //! One file per step kind holds what it does (`execute`), its closed-form
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
-//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`], and the four loci a
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
+//! [`slide_to_line`], and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -29,6 +30,7 @@ pub mod on_sphere;
 pub mod pa_plane;
 pub mod place;
 pub mod search;
+pub mod slide_to_line;
 pub mod transfer;
 
 use crate::frame::Frame;
@@ -471,6 +473,7 @@ pub fn execute<T: Scalar>(
         | Step::PaPlane { joint, from, to, .. }
         | Step::Guide { joint, from, to, .. }
         | Step::Beyond { joint, from, to, .. }
+        | Step::SlideToLine { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -503,6 +506,7 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => beyond_given::execute(&mv, *q, *input, *point, constraint, *branch)?,
+        Step::SlideToLine { slide, point, meet, .. } => slide_to_line::execute(&mv, *slide, *point, meet)?,
         Step::Locus {
             point,
             constraint,
@@ -721,9 +725,10 @@ pub fn check_residual<T: Scalar>(
 /// ([`search::Search::step`] takes the first that finds a step): a given
 /// value first, then aim, align, the parallelogram plane, a locus without
 /// a branch, a locus with one, a guide through a known point (an RPR
-/// dyad, which nothing before it solves), and last a point beyond a joint
-/// whose value is given on a cylinder (an input between two moving links).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 8] = [
+/// dyad, which nothing before it solves), a point beyond a joint whose
+/// value is given on a cylinder (an input between two moving links), and
+/// last a slide bringing a point onto a line (the PRP and RPP dyads).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 9] = [
     transfer::find,
     aim::find,
     align::find,
@@ -732,6 +737,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 8] = [
     |s| find_locus(s, true),
     guide_through::find,
     beyond_given::find,
+    slide_to_line::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -849,6 +855,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             ..
         } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
         Step::Beyond { .. } => return beyond_given::factor(at, k, step),
+        Step::SlideToLine { .. } => return slide_to_line::factor(at, k, step),
         Step::Locus {
             joint,
             from,
