@@ -152,6 +152,129 @@ fn cylinder_rocker_by_hand() {
 }
 
 #[test]
+fn scotch_yoke() {
+    check("scotch_yoke", &[(-PI, PI)], 200);
+}
+
+/// By hand: the slot (along y through the yoke's origin, at x = s) passes
+/// the crank pin (r cos θ, r sin θ): s = r cos θ, and the block sits r sin θ
+/// up the slot. One assembly.
+#[test]
+fn scotch_yoke_by_hand() {
+    let (model, solve) = load("scotch_yoke");
+    let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
+    let (p1, p2, r) = (at("P1"), at("P2"), 60.0f64);
+    for theta in [0.0, 0.3, 1.0, PI / 2.0, 2.5, -0.7, -PI / 2.0, PI] {
+        let solved = solve(&model, &[theta]);
+        assert_eq!(solved.len(), 1, "θ = {theta}");
+        let q = &solved[0].1;
+        assert!(
+            (q[p2] - r * theta.cos()).abs() <= 1e-12 * r,
+            "θ = {theta}: s {} vs {}",
+            q[p2],
+            r * theta.cos()
+        );
+        assert!(
+            (q[p1] - r * theta.sin()).abs() <= 1e-12 * r,
+            "θ = {theta}: slot {}",
+            q[p1]
+        );
+    }
+}
+
+/// The RPP dyad's other placements (`slide_to_line`, the line on the new
+/// link): the slot on the block (the yoke's slider point 20 off its
+/// origin), and the yoke's slot tilted 30° with the base's guide at 10°;
+/// and the PRP dyad (the point on the new link, the line known): a
+/// tangent mechanism, a block sliding in the crank's slot pinned to a
+/// slider on a guide h above the crank's pivot. Each against Newton as the
+/// examples are.
+#[test]
+fn slide_to_line_other_forms() {
+    let (text, _) = common::example_text("scotch_yoke");
+    let block = "block { R2 = (0, 0); P1 = (0, 0); }";
+    let yoke = "yoke  { P1 = through (0, 0) along y; P2 = (0, 0); }";
+    let base = "base  { R1 = (0, 0); P2 = through (0, 0) along x; }";
+    assert!(text.contains(block) && text.contains(yoke) && text.contains(base));
+    let on_block = text
+        .replace(block, "block { R2 = (0, 0); P1 = through (3, 4) along y; }")
+        .replace(yoke, "yoke  { P1 = (20, 0); P2 = (0, 0); }");
+    let tilted = text
+        .replace(
+            yoke,
+            "yoke  { P1 = through (5, 0) along (-sin(deg(30)), cos(deg(30))); P2 = (0, 0); }",
+        )
+        .replace(
+            base,
+            "base  { R1 = (0, 0); P2 = through (0, -15) along (cos(deg(10)), sin(deg(10))); }",
+        )
+        .replace("⊥ P1 [yoke] ⊥ P2 base", "⊥ P1 [yoke] - P2 base")
+        .replace("x ∥ P2;", "");
+    let tangent = "mechanism tangent {
+        capabilities fk;
+        planar;
+        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
+        x ∥ P2;
+        parameters { h = 80; }
+        geometry {
+            base   { R1 = (0, 0); P2 = through (0, h) along x; }
+            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
+            block  { P1 = (0, 0); R2 = (0, 0); }
+            slider { R2 = (0, 0); P2 = (0, 0); }
+        }
+    }";
+    for (name, text, range) in [
+        ("slot on the block", on_block, (-PI, PI)),
+        ("tilted yoke", tilted, (-PI, PI)),
+        ("tangent mechanism", tangent.to_string(), (0.2, PI - 0.2)),
+    ] {
+        let (model, solve) = load_text(&text);
+        check_solver(name, &model, &solve, &[range], 200);
+    }
+}
+
+/// By hand, the tangent mechanism of [`slide_to_line_other_forms`]: the
+/// crank's slot at angle θ meets the guide y = h at x = h/tan θ, h/sin θ
+/// along the slot.
+#[test]
+fn tangent_mechanism_by_hand() {
+    let text = "mechanism tangent {
+        capabilities fk;
+        planar;
+        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
+        x ∥ P2;
+        parameters { h = 80; }
+        geometry {
+            base   { R1 = (0, 0); P2 = through (0, h) along x; }
+            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
+            block  { P1 = (0, 0); R2 = (0, 0); }
+            slider { R2 = (0, 0); P2 = (0, 0); }
+        }
+    }";
+    let (model, solve) = load_text(text);
+    let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
+    let (p1, p2, h) = (at("P1"), at("P2"), 80.0f64);
+    for theta in [0.3, 1.0, PI / 2.0, 2.5, -0.7, -2.0] {
+        let solved = solve(&model, &[theta]);
+        assert_eq!(solved.len(), 1, "θ = {theta}");
+        let q = &solved[0].1;
+        let (s, t) = (h / theta.tan(), h / theta.sin());
+        assert!(
+            (q[p2] - s).abs() <= 1e-12 * s.abs().max(h),
+            "θ = {theta}: s {} vs {s}",
+            q[p2]
+        );
+        assert!(
+            (q[p1] - t).abs() <= 1e-12 * t.abs(),
+            "θ = {theta}: slot {} vs {t}",
+            q[p1]
+        );
+    }
+    // Along the guide (θ = 0): the two lines are parallel, a typed error.
+    assert!(solve(&model, &[0.0]).is_empty());
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

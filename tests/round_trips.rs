@@ -21,6 +21,7 @@ pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -200,6 +201,13 @@ fn crank_shaper() {
 #[test]
 fn cylinder_rocker() {
     round_trips!(Cylinder, [(-60.0, 300.0)], 300.0, never);
+}
+
+/// The yoke's slide s = r·cos θ: ik's two roots ±acos(s/r) meet at the
+/// stroke's ends (the bound's gap takes those draws).
+#[test]
+fn scotch_yoke() {
+    round_trips!(Yoke, [(-PI, PI)], 120.0, never);
 }
 
 #[test]

@@ -478,3 +478,57 @@ fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
         assert!(v < 1e-6 && o < 1e-6, "{named}: {v:e}, output σ {o:e}");
     }
 }
+
+/// The factor of a slide onto a line (`slide_to_line`): the sine between
+/// the slide and the line. On a tangent mechanism (a block slides in the
+/// crank's slot, pinned to a slider on the guide y = 80), the block's slide
+/// along the slot at angle θ meets the slider's line along x: |sin θ| by
+/// hand, vanishing as the slot turns onto the guide (θ → 0, where
+/// s = 80/tan θ runs off). On the Scotch yoke the slot is normal to the
+/// yoke's guide: 1 at every crank angle.
+#[test]
+fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
+    let tangent = "mechanism tangent {
+        capabilities fk;
+        planar;
+        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
+        x ∥ P2;
+        parameters { h = 80; }
+        geometry {
+            base   { R1 = (0, 0); P2 = through (0, h) along x; }
+            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
+            block  { P1 = (0, 0); R2 = (0, 0); }
+            slider { R2 = (0, 0); P2 = (0, 0); }
+        }
+    }";
+    let tangent = pkm::dsl::analyze_source(tangent).unwrap();
+    let (yoke, _) = common::example("scotch_yoke");
+    for (a, hand) in [(tangent, (|t: f64| t.sin().abs()) as fn(f64) -> f64), (yoke, |_| 1.0)] {
+        let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+        let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+        let k = plan
+            .steps
+            .iter()
+            .position(|s| matches!(s, spatial::Step::SlideToLine { .. }))
+            .unwrap();
+        for theta in [1.2, 0.5, -2.0, 1e-3, -1e-5] {
+            let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
+                .into_iter()
+                .filter_map(|(_, r)| r.ok())
+                .collect();
+            assert_eq!(solved.len(), 1);
+            let f = singular::spatial_factors(&model, &plan, &solved[0].poses)
+                .into_iter()
+                .find(|f| f.step == k)
+                .unwrap();
+            let named = f.describe(&model, &solved[0].poses);
+            assert!(
+                (f.value - hand(theta)).abs() < 1e-12,
+                "{named}: {} vs {}",
+                f.value,
+                hand(theta)
+            );
+            assert!(named.contains("slides along the line"), "{named}");
+        }
+    }
+}

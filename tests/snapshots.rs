@@ -28,6 +28,7 @@ snapshots! {
     inverted_slider_crank => "Inverted",
     crank_shaper => "Shaper",
     cylinder_rocker => "Cylinder",
+    scotch_yoke => "Yoke",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",
