@@ -275,6 +275,32 @@ fn tangent_mechanism_by_hand() {
 }
 
 #[test]
+fn four_bar_coupler_driven() {
+    check("four_bar_coupler_driven", &[(-PI, PI)], 200);
+}
+
+/// By hand: with the coupler joint at φ, |R1R3|² = l1² + l2² + 2·l1·l2·cos φ
+/// (φ = 0: the coupler continues the crank), and the rocker at ψ puts R3 at
+/// (l4 + l3 cos ψ, l3 sin ψ): |R1R3|² = l4² + l3² + 2·l4·l3·cos ψ, so
+/// ψ = ±acos((|R1R3|² − l4² − l3²)/(2·l4·l3)), two assemblies.
+#[test]
+fn four_bar_coupler_driven_by_hand() {
+    let (model, solve) = load("four_bar_coupler_driven");
+    let r4 = model.joints.iter().position(|j| j.name == "R4").unwrap();
+    let (l1, l2, l3, l4) = (100.0f64, 250.0f64, 200.0f64, 300.0f64);
+    for phi in [0.0, 0.4, 1.5, PI / 2.0, 2.9, -1.0, -2.5] {
+        let d2 = l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * phi.cos();
+        let psi = ((d2 - l4 * l4 - l3 * l3) / (2.0 * l4 * l3)).acos();
+        let mut got: Vec<f64> = solve(&model, &[phi]).iter().map(|(_, q, _)| q[r4]).collect();
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "φ = {phi}");
+        for (g, w) in got.iter().zip([-psi, psi]) {
+            assert!((g - w).abs() < 1e-12, "φ = {phi}: ψ {g} vs {w}");
+        }
+    }
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

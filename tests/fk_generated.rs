@@ -12,6 +12,7 @@ pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm"
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
+pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
@@ -64,6 +65,7 @@ fn generated_equals_interpreted() {
         // The stroke from −60 to 300: out of reach at both ends.
         agree!(Cylinder, "cylinder_rocker", [100.0 + 50.0 * t]);
         agree!(Yoke, "scotch_yoke", [t]);
+        agree!(CouplerDriven, "four_bar_coupler_driven", [t]);
         agree!(Punch, "seed003_punch", [t]);
         agree!(Watt, "watt_six_bar", [t]);
         agree!(

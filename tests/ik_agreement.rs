@@ -18,6 +18,7 @@ pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm"
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
+pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -86,6 +87,7 @@ fn planar() {
     check!(Shaper, "crank_shaper", [(-PI, PI)]);
     check!(Cylinder, "cylinder_rocker", [(-60.0, 300.0)]);
     check!(Yoke, "scotch_yoke", [(-PI, PI)]);
+    check!(CouplerDriven, "four_bar_coupler_driven", [(-PI, PI)]);
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)]);
     check!(Watt, "watt_six_bar", [(-PI, PI)]);
 }

@@ -22,6 +22,7 @@ pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm"
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
+pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -208,6 +209,13 @@ fn cylinder_rocker() {
 #[test]
 fn scotch_yoke() {
     round_trips!(Yoke, [(-PI, PI)], 120.0, never);
+}
+
+/// The coupler joint's angle over a whole turn: the rocker reaches every
+/// |R1R3| from 150 to 350 (two assemblies each).
+#[test]
+fn four_bar_coupler_driven() {
+    round_trips!(CouplerDriven, [(-PI, PI)], 300.0, never);
 }
 
 #[test]

@@ -29,6 +29,7 @@ snapshots! {
     crank_shaper => "Shaper",
     cylinder_rocker => "Cylinder",
     scotch_yoke => "Yoke",
+    four_bar_coupler_driven => "CouplerDriven",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",
