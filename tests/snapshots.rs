@@ -30,6 +30,7 @@ snapshots! {
     cylinder_rocker => "Cylinder",
     scotch_yoke => "Yoke",
     four_bar_coupler_driven => "CouplerDriven",
+    planar_3rpr => "ThreeRpr",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",
