@@ -300,6 +300,89 @@ fn four_bar_coupler_driven_by_hand() {
     }
 }
 
+/// A slider-crank (r = 50, l = 180, the guide on the x axis through R1)
+/// declared by `chain` (which names the driven joint), with `fk` alone.
+fn driven_slider_crank(chain: &str) -> String {
+    format!(
+        "mechanism driven {{
+            capabilities fk;
+            planar;
+            {chain}
+            x ∥ P1;
+            geometry {{
+                base   {{ R1 = (0, 0); P1 = through (0, 0) along x; }}
+                crank  {{ R1 = (0, 0); R2 = (50, 0); }}
+                rod    {{ R2 = (0, 0); R3 = (180, 0); }}
+                slider {{ R3 = (0, 0); P1 = (0, 0); }}
+            }}
+        }}"
+    )
+}
+
+/// `beyond_given`'s other loci and slides, each against Newton and by
+/// hand. A slider-crank driven at the crank–rod joint R2 (v: the rod's turn
+/// from the crank's line): crank and rod turn as one body until the rod's
+/// pin R3 is on the guide (a slider's plane), |R1R3|² = r² + l² + 2rl·cos v,
+/// s = ±|R1R3|. Driven at the rod–slider joint R3: the rod translates with
+/// the slider, turned −v, and the slide puts the crank pin
+/// R2 = (s − l·cos v, l·sin v) on the circle |R2| = r (a line meets a
+/// cylinder): s = l·cos v ± √(r² − l²·sin²v). A Scotch yoke (r = 60) driven
+/// at the block's slide v in the slot: the yoke slides until the pin
+/// (s, v) is on the crank's circle, s = ±√(r² − v²).
+#[test]
+fn beyond_given_slides_and_sliders() {
+    let (yoke, _) = common::example_text("scotch_yoke");
+    assert!(yoke.contains("R1* [crank]") && yoke.contains("P1 [yoke]"));
+    let yoke = yoke
+        .replace("R1* [crank]", "R1 [crank]")
+        .replace("P1 [yoke]", "P1* [yoke]")
+        .replace("capabilities fk, ik;", "capabilities fk;");
+    type Hand = fn(f64) -> Vec<f64>;
+    let cases: [(&str, String, (f64, f64), Hand); 3] = [
+        (
+            "slider-crank driven at R2",
+            driven_slider_crank("base R1 [crank] ∥ R2* [rod] ∥ R3 [slider] ⊥ P1 base;"),
+            (-PI, PI),
+            |v| {
+                let d = (50.0f64 * 50.0 + 180.0 * 180.0 + 2.0 * 50.0 * 180.0 * v.cos()).sqrt();
+                vec![-d, d]
+            },
+        ),
+        (
+            "slider-crank driven at R3",
+            driven_slider_crank("base R1 [crank] ∥ R2 [rod] ∥ R3* [slider] ⊥ P1 base;"),
+            (-0.27, 0.27),
+            |v| {
+                let h = (50.0f64 * 50.0 - (180.0 * v.sin()).powi(2)).sqrt();
+                vec![180.0 * v.cos() - h, 180.0 * v.cos() + h]
+            },
+        ),
+        ("Scotch yoke driven at P1", yoke, (-55.0, 55.0), |v| {
+            let h = (60.0f64 * 60.0 - v * v).sqrt();
+            vec![-h, h]
+        }),
+    ];
+    for (name, text, range, hand) in cases {
+        let (model, solve) = load_text(&text);
+        check_solver(name, &model, &solve, &[range], 200);
+        let s = model
+            .joints
+            .iter()
+            .position(|j| j.name == if name.contains("yoke") { "P2" } else { "P1" })
+            .unwrap();
+        for k in 0..9 {
+            let v = range.0 + (range.1 - range.0) * (k as f64 + 0.5) / 9.0;
+            let mut got: Vec<f64> = solve(&model, &[v]).iter().map(|(_, q, _)| q[s]).collect();
+            got.sort_by(f64::total_cmp);
+            let want = hand(v);
+            assert_eq!(got.len(), 2, "{name} at {v}");
+            for (g, w) in got.iter().zip(&want) {
+                assert!((g - w).abs() <= 1e-12 * 300.0, "{name} at {v}: s {g} vs {w}");
+            }
+        }
+    }
+}
+
 #[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);

@@ -532,3 +532,50 @@ fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
         }
     }
 }
+
+/// `beyond_given` with a slide: a slider-crank (r = 50, l = 180) driven at
+/// the rod–slider joint R3, the slider sliding the rod (turned −v) until
+/// the crank pin R2 = (s − l·cos v, l·sin v) is on the circle |R2| = r. The
+/// factor is the cosine between the slide (x) and the circle's normal R2:
+/// |s − l·cos v|/r = √(r² − l²·sin²v)/r by hand, vanishing where
+/// |sin v| = r/l (the two roots meet).
+#[test]
+fn beyond_given_slide_factor_by_hand() {
+    let text = "mechanism driven {
+        capabilities fk;
+        planar;
+        base R1 [crank] ∥ R2 [rod] ∥ R3* [slider] ⊥ P1 base;
+        x ∥ P1;
+        geometry {
+            base   { R1 = (0, 0); P1 = through (0, 0) along x; }
+            crank  { R1 = (0, 0); R2 = (50, 0); }
+            rod    { R2 = (0, 0); R3 = (180, 0); }
+            slider { R3 = (0, 0); P1 = (0, 0); }
+        }
+    }";
+    let a = pkm::dsl::analyze_source(text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let k = plan
+        .steps
+        .iter()
+        .position(|s| matches!(s, spatial::Step::Beyond { .. }))
+        .unwrap();
+    for v in [0.0, 0.1, -0.2, 0.27] {
+        let want = (50.0f64 * 50.0 - (180.0 * f64::sin(v)).powi(2)).sqrt() / 50.0;
+        let solved: Vec<_> = spatial::run_all(&model, &plan, &[v])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect();
+        assert_eq!(solved.len(), 2);
+        for sol in solved {
+            let f = singular::spatial_factors(&model, &plan, &sol.poses)
+                .into_iter()
+                .find(|f| f.step == k)
+                .unwrap();
+            let named = f.describe(&model, &sol.poses);
+            assert!((f.value - want).abs() < 1e-12, "{named}: {} vs {want}", f.value);
+            assert!(named.contains("touches the cylinder about R1"), "{named}");
+        }
+    }
+}

@@ -266,11 +266,12 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
-    /// A revolute's value that puts `point`, on the link across the joint
-    /// `given` (whose value is input `input`) from `to`, on `constraint` (a
-    /// cylinder): with the value given the two links turn as one body.
+    /// A revolute's (or, in a planar mechanism, a slide's) value that puts
+    /// `point`, on the link across the joint `given` (whose value is input
+    /// `input`) from `to`, on `constraint` (a cylinder, or for a turn a
+    /// slider's plane): with the value given the two links move as one body.
     Beyond {
-        /// The revolute.
+        /// The revolute or prismatic.
         joint: usize,
         /// Known link.
         from: usize,
@@ -402,7 +403,9 @@ impl Step {
             }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
-                if let Constraint::Cylinder { hops: h, joint, .. } = constraint {
+                if let Constraint::Cylinder { hops: h, joint, .. } | Constraint::Slider { hops: h, joint, .. } =
+                    constraint
+                {
                     hops(h).into_iter().for_each(&mut add);
                     add(*joint);
                 }

@@ -19,6 +19,14 @@
 //! behind its pin B sliding on it, `y = B = C + (c + s)·x`: the barrel
 //! turns about C until B is on the circle about the rocker's pivot, the
 //! triangle of the RRR dyad with side `|CB| = c + s`.
+//!
+//! The same carried point `y` meets the other loci a dyad's point meets:
+//! turned, the plane a known slider sweeps ([`super::on_slider_plane`], a
+//! slider-crank driven at the crank–rod joint: the rod's slider pin on the
+//! guide); slid, in a planar mechanism, a cylinder
+//! ([`super::on_cylinder::meet`]'s line–circle: a slider-crank driven at
+//! the rod–slider joint, the rod then translating with the slider; a Scotch
+//! yoke driven at the block's slide in the slot). Two roots each.
 
 use super::search::Search;
 use super::{JointValue, Move};
@@ -28,9 +36,10 @@ use crate::singular::{crossing, joint_point, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::{v3, Constraint, Step};
 
-/// The angle of the revolute that puts `point` (on the link across the
-/// given joint `given` from the new link, carried at input `input`) on
-/// `constraint` (a cylinder), `branch` choosing the root.
+/// The value of the revolute (or slide) that puts `point` (on the link
+/// across the given joint `given` from the new link, carried at input
+/// `input`) on `constraint` (a cylinder, or a slider's plane), `branch`
+/// choosing the root.
 pub fn execute<T: Scalar>(
     mv: &Move<'_, T>,
     given: usize,
@@ -39,16 +48,25 @@ pub fn execute<T: Scalar>(
     constraint: &Constraint,
     branch: usize,
 ) -> Result<super::Found<T>, SolveError> {
-    let Constraint::Cylinder { hops, joint: h, link } = constraint else {
-        return Err(mv.fail(super::degenerate("a point beyond a given joint needs a cylinder")));
-    };
     let g = mv.geometry;
     let q = &g.joints[given];
     let beyond = if q.links[0] == mv.to { q.links[1] } else { q.links[0] };
     let x = g.local(point, beyond);
     let y = carried(q, q.links[0] == mv.to, x, mv.given.values[input]);
     let m = mv.joint().motion(&mv.state.poses[mv.from], mv.forward(), y);
-    let r = super::on_cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?;
+    let r = match constraint {
+        Constraint::Cylinder { hops, joint: h, link } => {
+            super::on_cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?
+        }
+        Constraint::Slider { hops, joint: h, link } => {
+            super::on_slider_plane::meet(mv, m, x, hops, *h, *link, Some(branch))?
+        }
+        _ => {
+            return Err(mv.fail(super::degenerate(
+                "a point beyond a given joint needs a cylinder or a slider",
+            )))
+        }
+    };
     Ok(mv.found(r))
 }
 
@@ -79,14 +97,20 @@ pub fn carried<T: Scalar>(q: &super::JointGeometry<T>, first: bool, x: [T; 3], v
 /// `k`, a joint `q` of `to` whose value is given (a slide, or a revolute
 /// about `k`: either keeps `k`), its other link not known, and there a
 /// joint's place that reaches, through revolutes on its axis about `k`, a
-/// link whose revolute about `k` turns on a known link: a cylinder. Tried
-/// after every other kind, so it only plans what nothing else did.
+/// link whose revolute about `k` turns on a known link (a cylinder) or
+/// whose slide normal to `k` runs on a known link (a slider's plane). In a
+/// planar mechanism `j` may be a slide too, `k` then the plane's normal,
+/// against a cylinder. Tried after `guide_through`, so it only plans what
+/// nothing before it did.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     for (j, from, to) in s.candidates() {
-        if s.kind(j) != JointType::R {
+        let slide = s.kind(j) == JointType::P && s.model.planar;
+        if s.kind(j) != JointType::R && !slide {
             continue;
         }
-        let k = s.axis(j, to);
+        // A slide's point runs on a line in the plane, which meets a
+        // cylinder about the plane's normal.
+        let k = if slide { nalgebra::Vector3::z() } else { s.axis(j, to) };
         for (q, jq) in s.model.joints.iter().enumerate() {
             let Some(input) = s.given[q] else { continue };
             if q == j || s.used[q] || !jq.links.contains(&to) {
@@ -110,11 +134,15 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                     let rot = s.rotation(&r.hops);
                     let turning = s.hops_about(beyond, &r.hops, k_beyond);
                     let found = s.model.joints.iter().enumerate().find_map(|(c, jc)| {
-                        let skip = c == q || c == j || jc.kind != JointType::R || !jc.links.contains(&r.link);
+                        let skip = c == q || c == j || !jc.links.contains(&r.link);
                         if skip || r.hops.iter().any(|hop| hop.joint == c) {
                             return None;
                         }
-                        super::on_cylinder::find(s, &r, c, k_beyond, rot, turning)
+                        match jc.kind {
+                            JointType::R => super::on_cylinder::find(s, &r, c, k_beyond, rot, turning),
+                            JointType::P if !slide => super::on_slider_plane::find(s, &r, c, k_beyond, rot, turning),
+                            _ => None,
+                        }
                     });
                     let Some(constraint) = found else { continue };
                     s.branches += 1;
@@ -138,9 +166,9 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
 }
 
 /// The step's factor: as a locus's ([`super::locus_factor`]), the cosine
-/// between the carried point's path and the cylinder's normal there, zero
-/// where the circle touches the cylinder (the triangle folds flat, the two
-/// roots meet).
+/// between the carried point's path and the locus's normal there, zero
+/// where the path touches the cylinder or the slider's plane (the triangle
+/// folds flat, the two roots meet).
 pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor> {
     let Step::Beyond {
         joint,
@@ -148,7 +176,7 @@ pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor
         to,
         given,
         point,
-        constraint: Constraint::Cylinder { joint: h, link, .. },
+        ref constraint,
         ..
     } = *step
     else {
@@ -158,17 +186,21 @@ pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor
     let beyond = if q.links[0] == to { q.links[1] } else { q.links[0] };
     let p = v3(at.frames[beyond].apply(at.g.local(point, beyond)));
     let j = &at.g.joints[joint];
-    let (centre, axis) = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
-        super::Motion::Circle { centre, axis, .. } => (v3(centre), v3(axis)),
-        super::Motion::Line { .. } => return None,
+    let path = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
+        super::Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
+        super::Motion::Line { along, .. } => v3(along) * at.scale,
     };
-    let (n, condition, other) = super::on_cylinder::normal(at, p, h, link);
+    let (n, condition, other) = match *constraint {
+        Constraint::Cylinder { joint: h, link, .. } => super::on_cylinder::normal(at, p, h, link),
+        Constraint::Slider { joint: h, link, .. } => super::on_slider_plane::normal(at, joint, from, h, link),
+        _ => return None,
+    };
     Some(Factor {
         step: k,
         joint,
         condition,
         points: [joint_point(joint, from), LinkPoint { link: beyond, point }, other],
-        value: crossing(axis.cross(&(p - centre)), n, at.scale),
+        value: crossing(path, n, at.scale),
     })
 }
 

@@ -24,6 +24,21 @@ pub fn execute<T: Scalar>(
     branch: Option<usize>,
 ) -> Result<Found<T>, SolveError> {
     let (x, m) = mv.motion(point);
+    Ok(mv.found(meet(mv, m, x, hops, h, link, branch)?))
+}
+
+/// The value that puts the point moving as `m` (a circle) on the plane the
+/// slider `h` sweeps with the circle's axis, its carrier `x` carried across
+/// `hops` to the slider's link; `branch` picks the root.
+pub fn meet<T: Scalar>(
+    mv: &Move<'_, T>,
+    m: Motion<T>,
+    x: [T; 3],
+    hops: &[Hop],
+    h: usize,
+    link: usize,
+    branch: Option<usize>,
+) -> Result<[T; 2], SolveError> {
     let jh = &mv.geometry.joints[h];
     let y = mv.geometry.carry(x, hops);
     let (Motion::Circle { axis, .. }, Motion::Line { start, along }) =
@@ -36,7 +51,7 @@ pub fn execute<T: Scalar>(
     // Normal `along × axis`: then `Plus` is the root farther along the
     // guide (see `on_plane::to_plane`: its + root lies along axis × n).
     let n = cross(along, axis);
-    Ok(mv.found(super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))?))
+    super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))
 }
 
 /// The planner's match for a slider plane: prismatic `q`, met on the link
