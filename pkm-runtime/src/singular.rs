@@ -54,6 +54,9 @@ pub enum Condition {
     Collinear,
     /// `points[0]points[1]` is normal to the guide of `points[2]` (an RRP dyad).
     NormalToGuide,
+    /// The axes of `points[0]`, `points[1]`, `points[2]`, through one
+    /// centre, lie in one plane (a spherical RRR dyad folded).
+    Coplanar,
 }
 
 /// One step's factor at a configuration.
@@ -89,6 +92,7 @@ impl Factor {
             Condition::PlaneTouches => format!("the plane of {b} turned by {j} only touches {c}"),
             Condition::Collinear => format!("{a}, {b}, {c} are collinear"),
             Condition::NormalToGuide => format!("{a}{b} is normal to the guide of {c}"),
+            Condition::Coplanar => format!("the axes of {a}, {b}, {c} lie in one plane"),
         }
     }
 }

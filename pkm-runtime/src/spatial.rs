@@ -14,7 +14,9 @@
 //! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
 //! * a line of the new link must pass through a known point ([`Step::Guide`]);
 //! * a point beyond a joint whose value is given, carried rigidly at that
-//!   value, lies on a cylinder ([`Step::Beyond`]).
+//!   value, lies on a cylinder ([`Step::Beyond`]);
+//! * an axis of the new link must keep its angle from a known axis that
+//!   meets it and the turning axis at one centre ([`Step::Cone`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -265,6 +267,24 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
+    /// A revolute's angle that turns the axis of revolute `across` (on
+    /// `to`) to the angle the link beyond it keeps from the axis of
+    /// `target.joint`, known: three axes through one centre (a spherical
+    /// RRR dyad), a cone against a circle.
+    Cone {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The revolute of `to` whose axis is turned.
+        across: usize,
+        /// The known axis: a revolute of the link beyond `across`, on a known link.
+        target: Direction,
+        /// This step's index in the sign vector (it always branches).
+        branch: usize,
+    },
     /// A revolute's value that puts `point`, on the link across the joint
     /// `given` (whose value is input `input`) from `to`, on `constraint` (a
     /// cylinder): with the value given the two links turn as one body.
@@ -337,6 +357,7 @@ impl Step {
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
+            Step::Cone { from, target, .. } => *from == link || target.link == link,
             Step::Locus { from, constraint, .. } | Step::Beyond { from, constraint, .. } => {
                 *from == link
                     || match constraint {
@@ -375,6 +396,11 @@ impl Step {
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
+            Step::Cone { across, target, .. } => {
+                add(*across);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+                add(target.joint);
+            }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
                 if let Constraint::Cylinder { hops: h, joint, .. } = constraint {
@@ -410,7 +436,8 @@ impl Step {
             | Step::Align { joint, .. }
             | Step::PaPlane { joint, .. }
             | Step::Guide { joint, .. }
-            | Step::Beyond { joint, .. } => Some(*joint),
+            | Step::Beyond { joint, .. }
+            | Step::Cone { joint, .. } => Some(*joint),
         }
     }
 }

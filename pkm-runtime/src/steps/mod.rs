@@ -5,7 +5,7 @@
 //! One file per step kind holds what it does (`execute`), its closed-form
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
-//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`], and the four loci a
+//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`], [`on_cone`], and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -22,6 +22,7 @@ pub mod aim;
 pub mod align;
 pub mod beyond_given;
 pub mod guide_through;
+pub mod on_cone;
 pub mod on_cylinder;
 pub mod on_plane;
 pub mod on_slider_plane;
@@ -471,6 +472,7 @@ pub fn execute<T: Scalar>(
         | Step::PaPlane { joint, from, to, .. }
         | Step::Guide { joint, from, to, .. }
         | Step::Beyond { joint, from, to, .. }
+        | Step::Cone { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -503,6 +505,9 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => beyond_given::execute(&mv, *q, *input, *point, constraint, *branch)?,
+        Step::Cone {
+            across, target, branch, ..
+        } => on_cone::execute(&mv, *across, target, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -721,9 +726,11 @@ pub fn check_residual<T: Scalar>(
 /// ([`search::Search::step`] takes the first that finds a step): a given
 /// value first, then aim, align, the parallelogram plane, a locus without
 /// a branch, a locus with one, a guide through a known point (an RPR
-/// dyad, which nothing before it solves), and last a point beyond a joint
-/// whose value is given on a cylinder (an input between two moving links).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 8] = [
+/// dyad, which nothing before it solves), a point beyond a joint whose
+/// value is given on a cylinder (an input between two moving links), and
+/// last an axis kept at its angle from a known axis through one centre (a
+/// spherical RRR dyad).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 9] = [
     transfer::find,
     aim::find,
     align::find,
@@ -732,6 +739,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 8] = [
     |s| find_locus(s, true),
     guide_through::find,
     beyond_given::find,
+    on_cone::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -849,6 +857,14 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             ..
         } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
         Step::Beyond { .. } => return beyond_given::factor(at, k, step),
+        Step::Cone {
+            joint,
+            from,
+            to,
+            across,
+            target,
+            ..
+        } => on_cone::factor(at, k, *joint, *from, *to, *across, target),
         Step::Locus {
             joint,
             from,
