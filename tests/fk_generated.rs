@@ -11,6 +11,7 @@ pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
@@ -64,6 +65,7 @@ fn generated_equals_interpreted() {
         agree!(Cylinder, "cylinder_rocker", [100.0 + 50.0 * t]);
         agree!(Punch, "seed003_punch", [t]);
         agree!(Watt, "watt_six_bar", [t]);
+        agree!(Spherical, "spherical_four_bar", [t]);
         agree!(
             FiveBar,
             "five_bar",

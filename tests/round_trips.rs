@@ -21,6 +21,7 @@ pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -200,6 +201,12 @@ fn crank_shaper() {
 #[test]
 fn cylinder_rocker() {
     round_trips!(Cylinder, [(-60.0, 300.0)], 300.0, never);
+}
+
+/// The spherical four-bar's crank turns fully (α1 + α4 ≤ α2 + α3).
+#[test]
+fn spherical_four_bar() {
+    round_trips!(Spherical, [(-PI, PI)], 100.0, never);
 }
 
 #[test]

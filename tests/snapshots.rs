@@ -28,6 +28,8 @@ snapshots! {
     inverted_slider_crank => "Inverted",
     crank_shaper => "Shaper",
     cylinder_rocker => "Cylinder",
+    spherical_four_bar => "Spherical",
+    agile_eye => "AgileEye",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",

@@ -19,6 +19,7 @@ pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
 pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
 pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
@@ -178,6 +179,11 @@ fn planar() {
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)], 1.0);
     check!(Watt, "watt_six_bar", [(-PI, PI)], 1.0);
     check!(Punch, "seed003_punch", [(-PI, PI)], 1.0);
+}
+
+#[test]
+fn spherical() {
+    check!(Spherical, "spherical_four_bar", [(-PI, PI)], 1.0);
 }
 
 #[test]
