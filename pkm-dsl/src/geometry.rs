@@ -837,6 +837,18 @@ fn check_concurrent(
                 })
                 .unwrap_or_default()
         };
+        // Where two of them are written together, if they are, else the second's.
+        let span_pair = |a: usize, b: usize| {
+            mech.relations
+                .iter()
+                .find(|r| {
+                    r.kind == RelationKind::Concurrent
+                        && [r.a, r.b].contains(&DirectionItem::Joint(a))
+                        && [r.a, r.b].contains(&DirectionItem::Joint(b))
+                })
+                .and_then(|r| r.span)
+                .unwrap_or_else(|| span_of(b))
+        };
         let mut centres: HashMap<usize, Vector3<f64>> = HashMap::new();
         for link in 0..mech.links.len() {
             let lines: Vec<(usize, Vector3<f64>, Vector3<f64>)> = members
@@ -865,14 +877,14 @@ fn check_concurrent(
             if (qa - qb).norm() > tol {
                 errors.push(
                     Diagnostic::new(
-                        span_of(a),
+                        span_pair(a, b),
                         format!("relation `∧` does not hold in the geometry of link `{lname}`"),
                     )
                     .label(format!(
-                        "the axes of `{}` and `{}` pass {:.6} apart",
+                        "the axes of `{}` and `{}` pass {} apart",
                         name(a),
                         name(b),
-                        (qa - qb).norm()
+                        length((qa - qb).norm())
                     )),
                 );
                 continue;
@@ -889,9 +901,9 @@ fn check_concurrent(
                             format!("relation `∧` does not hold in the geometry of link `{lname}`"),
                         )
                         .label(format!(
-                            "the axis of `{}` passes {:.6} from where `{}` and `{}` meet",
+                            "the axis of `{}` passes {} from where `{}` and `{}` meet",
                             name(j),
-                            off.norm(),
+                            length(off.norm()),
                             name(a),
                             name(b)
                         )),
@@ -926,10 +938,19 @@ fn check_concurrent(
                             mech.links[l1].name
                         ),
                     )
-                    .label(format!("{:.6} apart along `{}`", (s0 - s1).abs(), name(j))),
+                    .label(format!("{} apart along `{}`", length((s0 - s1).abs()), name(j))),
                 );
             }
         }
+    }
+}
+
+/// A length for a message: three decimals, or three digits where smaller.
+fn length(x: f64) -> String {
+    if x >= 1e-3 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
     }
 }
 
