@@ -384,6 +384,104 @@ fn beyond_given_slides_and_sliders() {
 }
 
 #[test]
+fn spherical_four_bar() {
+    check("spherical_four_bar", &[(-PI, PI)], 200);
+}
+
+/// The spherical four-bar placed the other way: every joint r from the
+/// centre along its axis (the axes pointing away from it), so the points
+/// move and the planner solves it with the existing loci (the coupler's R3
+/// on the plane the rocker's R3 circles in), not by the cone.
+const SPHERICAL_ON_THE_SPHERE: &str = "mechanism spherical_on_sphere {
+    capabilities fk;
+    base R1* [crank] - R2 [coupler] - R3 [rocker] - R4 base;
+    R1 ∧ R2 ∧ R3 ∧ R4;
+    parameters { r = 100; a1 = deg(30); a2 = deg(70); a3 = deg(60); a4 = deg(80); }
+    geometry {
+        base    { R1 = (0, 0, r) along z; R4 = (r * sin(a4), 0, r * cos(a4)) along (sin(a4), 0, cos(a4)); }
+        crank   { R1 = (0, 0, r) along z; R2 = (r * sin(a1), 0, r * cos(a1)) along (sin(a1), 0, cos(a1));
+                  point B = (r * sin(a1), 0, r * cos(a1)); }
+        coupler { R2 = (0, 0, r) along z; R3 = (r * sin(a2), 0, r * cos(a2)) along (sin(a2), 0, cos(a2)); }
+        rocker  { R4 = (0, 0, r) along z; R3 = (r * sin(a3), 0, r * cos(a3)) along (sin(a3), 0, cos(a3));
+                  point C = (r * sin(a3), 0, r * cos(a3)); }
+    }
+}";
+
+/// By hand, the spherical Freudenstein equation. The centre at the origin,
+/// R1 along z, R4 along a4 = (sin α4, 0, cos α4) (the base's geometry);
+/// the crank's R2 axis u2 = (sin α1 cos θ, sin α1 sin θ, cos α1), θ the
+/// crank's dihedral angle from the plane of R1 and R4; the rocker's R3 axis
+/// u3 = cos α3·a4 + sin α3 (cos ψ·e1 + sin ψ·y), e1 = (cos α4, 0, −sin α4),
+/// ψ the rocker's dihedral angle about R4 from that plane. The coupler
+/// keeps u2·u3 = cos α2:
+/// `A cos ψ + B sin ψ = C`, A = sin α3 (sin α1 cos α4 cos θ − cos α1 sin α4),
+/// B = sin α3 sin α1 sin θ, C = cos α2 − cos α3 (sin α1 sin α4 cos θ + cos α1 cos α4),
+/// so ψ = atan2(B, A) ± acos(C/√(A² + B²)). Each branch's point C (R3's
+/// axis on the sphere of radius r, on the rocker) gives ψ, its point B
+/// (R2's axis, on the crank) gives θ; the joint R4 is ψ less a constant
+/// (its zero). Both placements: the example's joints at the centre (the
+/// cone step) and [`SPHERICAL_ON_THE_SPHERE`]'s (the existing loci).
+#[test]
+fn spherical_four_bar_by_hand() {
+    let (example, _) = common::example_text("spherical_four_bar");
+    for text in [example.as_str(), SPHERICAL_ON_THE_SPHERE] {
+        let a = pkm::dsl::analyze_source(text).unwrap();
+        let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+        let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+        let cones = plan
+            .steps
+            .iter()
+            .filter(|s| matches!(s, spatial::Step::Cone { .. }))
+            .count();
+        assert_eq!(cones, usize::from(text == example), "{}", a.mechanism.name);
+        spherical_freudenstein(&model, &plan);
+    }
+}
+
+fn spherical_freudenstein(model: &Model, plan: &spatial::Plan) {
+    let [a1, a2, a3, a4] = [30.0f64, 70.0, 60.0, 80.0].map(f64::to_radians);
+    let r = 100.0;
+    let wrap = |x: f64| x.sin().atan2(x.cos());
+    let named = |n: &str| model.points.iter().position(|p| p.name == n).unwrap();
+    let r4 = model.joints.iter().position(|j| j.name == "R4").unwrap();
+    let mut offset: Option<f64> = None;
+    for k in 0..24 {
+        let theta = -PI + 0.2618 * k as f64 + 0.01;
+        let (a, b) = (
+            a3.sin() * (a1.sin() * a4.cos() * theta.cos() - a1.cos() * a4.sin()),
+            a3.sin() * a1.sin() * theta.sin(),
+        );
+        let c = a2.cos() - a3.cos() * (a1.sin() * a4.sin() * theta.cos() + a1.cos() * a4.cos());
+        let half = (c / a.hypot(b)).acos();
+        let mut want = [b.atan2(a) + half, b.atan2(a) - half].map(wrap);
+        let world = |s: &spatial::Solution, n: usize| spatial::at(&s.poses[model.points[n].link], model.points[n].at);
+        let mut got: Vec<(f64, f64)> = spatial::run_all(model, plan, &[theta])
+            .into_iter()
+            .filter_map(|(_, s)| s.ok())
+            .map(|s| {
+                // R2's dihedral angle is the input: the crank's zero is the base's.
+                let pb = world(&s, named("B"));
+                assert!(wrap(pb[1].atan2(pb[0]) - theta).abs() < 1e-12);
+                let u = world(&s, named("C")).map(|x| x / r);
+                ((u[1]).atan2(u[0] * a4.cos() - u[2] * a4.sin()), s.values[r4])
+            })
+            .collect();
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        want.sort_by(f64::total_cmp);
+        got.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for ((psi, joint), w) in got.iter().zip(want) {
+            assert!((psi - w).abs() < 1e-12, "θ = {theta}: ψ {psi} vs {w}");
+            let o = wrap(psi - joint);
+            let first = *offset.get_or_insert(o);
+            assert!(
+                wrap(o - first).abs() < 1e-12,
+                "θ = {theta}: R4's zero moved: {o} vs {first}"
+            );
+        }
+    }
+}
+
+#[test]
 fn five_bar() {
     check("five_bar", &[(1.2, 2.8), (0.3, 1.9)], 200);
 }

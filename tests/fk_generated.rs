@@ -13,6 +13,7 @@ pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
 pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
@@ -68,6 +69,7 @@ fn generated_equals_interpreted() {
         agree!(CouplerDriven, "four_bar_coupler_driven", [t]);
         agree!(Punch, "seed003_punch", [t]);
         agree!(Watt, "watt_six_bar", [t]);
+        agree!(Spherical, "spherical_four_bar", [t]);
         agree!(
             FiveBar,
             "five_bar",

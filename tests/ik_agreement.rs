@@ -19,6 +19,8 @@ pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
 pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
+pkm::mechanism!(AgileEye, file = "examples/mechanisms/agile_eye.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -93,8 +95,85 @@ fn planar() {
 }
 
 #[test]
+fn spherical() {
+    check!(Spherical, "spherical_four_bar", [(-PI, PI)]);
+}
+
+#[test]
 fn spatial() {
     check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)]);
     check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
+}
+
+/// The agile eye (κ = 1, no forward solver) at the platform turned φ about
+/// (1, 1, 1) from home: every generated ik branch against the interpreter,
+/// against Newton started 1e-3 away, and against the hand solution. By
+/// hand: limb i's base axis u = e_i, its platform axis v = Q·e_(i+1) (Q the
+/// turn), and the proximal axis w, a right angle from both, is
+/// ±(u × v)/|u × v|; the base joint turns w from its home e_(i+2) about u:
+/// θ = atan2((e_(i+2) × w)·u, e_(i+2)·w), two values per limb, 2³ branches.
+/// At φ = −2π/3, Q·e2 = e1 (u ∥ v for limb 1): the samples stay inside (−2, 2).
+#[test]
+fn agile_eye() {
+    use pkm::runtime::nalgebra::{Rotation3, Unit, Vector3};
+    let (a, model) = common::example("agile_eye");
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let scale = kinematics::model_scale(&model).max(1.0);
+    let params = Default::default();
+    let options = NewtonOptions {
+        tolerance: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let e = [Vector3::x(), Vector3::y(), Vector3::z()];
+    let mut rng = SplitMix::new(11);
+    let mut compared = 0;
+    for _ in 0..100 {
+        let phi = 2.0 * rng.symmetric();
+        let given = [0.0, 0.0, 0.0, phi];
+        let q_turn = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(1.0, 1.0, 1.0)), phi);
+        let hand: Vec<[f64; 2]> = (0..3)
+            .map(|i| {
+                let (u, home) = (e[i], e[(i + 2) % 3]);
+                let w = u.cross(&(q_turn * e[(i + 1) % 3])).normalize();
+                [w, -w].map(|w| home.cross(&w).dot(&u).atan2(home.dot(&w)))
+            })
+            .collect();
+        let generated = AgileEye::ik(&params, &given);
+        let interpreted = pkm::runtime::spatial::run_all(&model, &plan, &given);
+        assert_eq!(generated.len(), 8);
+        for (g, (_, s)) in generated.iter().zip(&interpreted) {
+            let (g, s) = (g.result.as_ref().unwrap(), s.as_ref().unwrap());
+            for (x, y) in g.q.iter().zip(&s.values) {
+                assert!((x - y).abs() <= 1e-12, "φ = {phi}: generated {x} vs interpreted {y}");
+            }
+            for (i, want) in hand.iter().enumerate() {
+                let got = g.q[3 * i];
+                let off = want
+                    .iter()
+                    .map(|w| ((got - w).sin().atan2((got - w).cos())).abs())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(off < 1e-12, "φ = {phi}: limb {i}: {got} vs {want:?}");
+            }
+            let guess: Vec<f64> = g.q.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+            let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
+                .unwrap_or_else(|e| panic!("agile_eye: Newton ik failed at φ = {phi}: {e}"));
+            let err = max_error(&g.q, &reference.values, &AgileEye::REVOLUTE, scale);
+            assert!(err <= 1e-9, "φ = {phi}: Newton is {err:e} from the branch");
+            compared += 1;
+        }
+        // The eight branches are the eight choices of the three limbs.
+        let mut firsts: Vec<[i64; 3]> = generated
+            .iter()
+            .map(|b| {
+                let q = &b.result.as_ref().unwrap().q;
+                [0, 3, 6].map(|k| (q[k].sin().atan2(q[k].cos()) * 1e6).round() as i64)
+            })
+            .collect();
+        firsts.sort_unstable();
+        firsts.dedup();
+        assert_eq!(firsts.len(), 8, "φ = {phi}");
+    }
+    eprintln!("agile_eye: {compared} ik branches, each on Newton's and the hand solution");
 }

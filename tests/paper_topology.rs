@@ -61,6 +61,27 @@ fn spatial_three_leg_mechanisms() {
 }
 
 #[test]
+fn spherical_mechanisms() {
+    // Spherical four-bar: four revolutes through one centre, a spherical
+    // loop of ξ = dim r³ = 3; F = 4 − 3 = 1, Δ = 4 − 1 − 3 = 0, κ = 0.
+    check("spherical_four_bar", 1, &[3], &[0], 0, 1);
+    // Agile eye (3-RRR spherical): Σf = 9, v = 9 − 8 + 1 = 2. SOC₁ two limbs,
+    // ξ = dim(M_A ∪ M_B) = dim r³ = 3, Δ = 6 − 2 − 3 = +1; SOC₂ the third,
+    // ξ = dim((M_A ∩ M_B) ∪ M_C) = dim r³ = 3, Δ = 3 − 1 − 3 = −1;
+    // F = 9 − 6 = 3, one SKC with κ = ½(1 + 1) = 1 (the 3-RRR's planar twin
+    // has the same numbers, with t²r¹ for r³).
+    check("agile_eye", 3, &[3, 3], &[1, -1], 1, 1);
+    // Each limb R∧R∧R: [t⁰; r³] at the centre; M_Pa = ∩ M_bi = [t⁰; r³].
+    let a = analysis("agile_eye");
+    assert_eq!(a.platform_poc(), "[t⁰; r³]");
+    for b in &a.topology.branch_poc {
+        assert_eq!(b.unicode(), "[t⁰; r³]");
+    }
+    // Written out, the SOCs show the relation.
+    assert_eq!(a.topology.socs[1].notation.matches('∧').count(), 2);
+}
+
+#[test]
 fn poc_sets_of_seed000() {
     let a = analysis("seed000_a");
     // Seed 000 §1.1.2: M_Pa1 = M1 ∩ M3 = [t²(∥◇xoz); r¹(∥R6)].

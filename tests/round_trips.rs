@@ -23,6 +23,7 @@ pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
 pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
@@ -216,6 +217,12 @@ fn scotch_yoke() {
 #[test]
 fn four_bar_coupler_driven() {
     round_trips!(CouplerDriven, [(-PI, PI)], 300.0, never);
+}
+
+/// The spherical four-bar's crank turns fully (α1 + α4 ≤ α2 + α3).
+#[test]
+fn spherical_four_bar() {
+    round_trips!(Spherical, [(-PI, PI)], 100.0, never);
 }
 
 #[test]

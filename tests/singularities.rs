@@ -579,3 +579,46 @@ fn beyond_given_slide_factor_by_hand() {
         }
     }
 }
+
+/// The factor of a cone (`on_cone`), on the spherical four-bar's forward
+/// plan: the path of the coupler's R3 axis about R2 against the normal of
+/// the cone about R4, `|det[u2, u3, a4]|/(sin α2 sin α3)`, is the sine of
+/// the spherical triangle R2–R3–R4's angle γ at R3 (the transmission
+/// angle). By hand from the crank angle θ: the arc δ from R2 to R4 has
+/// cos δ = sin α1 sin α4 cos θ + cos α1 cos α4, and the spherical law of
+/// cosines gives cos γ = (cos δ − cos α2 cos α3)/(sin α2 sin α3), the same
+/// on both branches.
+#[test]
+fn cone_factor_is_the_sine_of_the_transmission_angle() {
+    let (a, model) = common::example("spherical_four_bar");
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let k = plan
+        .steps
+        .iter()
+        .position(|s| matches!(s, spatial::Step::Cone { .. }))
+        .unwrap();
+    let [a1, a2, a3, a4] = [30.0f64, 70.0, 60.0, 80.0].map(f64::to_radians);
+    for theta in [-2.5, -1.0, 0.0, 0.7, 2.0, 3.1] {
+        let cos_delta = a1.sin() * a4.sin() * f64::cos(theta) + a1.cos() * a4.cos();
+        let cos_gamma = (cos_delta - a2.cos() * a3.cos()) / (a2.sin() * a3.sin());
+        let want = (1.0 - cos_gamma * cos_gamma).sqrt();
+        let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect();
+        assert_eq!(solved.len(), 2);
+        for sol in solved {
+            let f = singular::spatial_factors(&model, &plan, &sol.poses)
+                .into_iter()
+                .find(|f| f.step == k)
+                .unwrap();
+            let named = f.describe(&model, &sol.poses);
+            assert!(
+                (f.value - want).abs() < 1e-12,
+                "θ = {theta}: {named}: {} vs {want}",
+                f.value
+            );
+            assert!(named.contains("the axes of R2, R3, R4 lie in one plane"), "{named}");
+        }
+    }
+}

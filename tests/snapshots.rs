@@ -31,6 +31,8 @@ snapshots! {
     scotch_yoke => "Yoke",
     four_bar_coupler_driven => "CouplerDriven",
     planar_3rpr => "ThreeRpr",
+    spherical_four_bar => "Spherical",
+    agile_eye => "AgileEye",
     five_bar => "FiveBar",
     watt_six_bar => "Watt",
     planar_3rrr => "ThreeRrr",

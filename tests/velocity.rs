@@ -21,6 +21,7 @@ pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
 pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
+pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
 pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
@@ -182,6 +183,11 @@ fn planar() {
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)], 1.0);
     check!(Watt, "watt_six_bar", [(-PI, PI)], 1.0);
     check!(Punch, "seed003_punch", [(-PI, PI)], 1.0);
+}
+
+#[test]
+fn spherical() {
+    check!(Spherical, "spherical_four_bar", [(-PI, PI)], 1.0);
 }
 
 #[test]

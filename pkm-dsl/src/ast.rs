@@ -22,6 +22,9 @@ pub enum RelationKind {
     Perpendicular,
     /// `≡` or `==`: the same axis line (coaxial joints, a compound hinge).
     Coaxial,
+    /// `∧` or `/\`: axes that meet at one point (every axis of one
+    /// statement, and of statements sharing an axis, at the same point).
+    Concurrent,
 }
 
 impl RelationKind {
@@ -31,6 +34,7 @@ impl RelationKind {
             RelationKind::Parallel => "∥",
             RelationKind::Perpendicular => "⊥",
             RelationKind::Coaxial => "≡",
+            RelationKind::Concurrent => "∧",
         }
     }
 }

@@ -34,12 +34,57 @@ pub fn lit(x: f64) -> TokenStream {
             quote! { ::core::f64::NEG_INFINITY }
         }
     } else if x < 0.0 {
-        let l = Literal::f64_suffixed(-x);
+        let l = lit(-x);
         quote! { (-#l) }
+    } else if let Some(exact) = named_constant(x) {
+        exact
     } else {
         let l = Literal::f64_suffixed(x);
         quote! { #l }
     }
+}
+
+/// A literal that clippy's `approx_constant` would take for a constant of
+/// `core::f64::consts` (a geometry folded to √2, a right angle's chord),
+/// written exactly: the constant by name where it is that constant, else
+/// by its bits. Clippy's test: the literal's digits, more than the
+/// constant's minimum, start the constant's or equal it rounded.
+fn named_constant(x: f64) -> Option<TokenStream> {
+    use std::f64::consts as c;
+    const KNOWN: [(f64, &str, usize); 19] = [
+        (c::E, "E", 4),
+        (c::FRAC_1_PI, "FRAC_1_PI", 4),
+        (c::FRAC_1_SQRT_2, "FRAC_1_SQRT_2", 5),
+        (c::FRAC_2_PI, "FRAC_2_PI", 5),
+        (c::FRAC_2_SQRT_PI, "FRAC_2_SQRT_PI", 5),
+        (c::FRAC_PI_2, "FRAC_PI_2", 5),
+        (c::FRAC_PI_3, "FRAC_PI_3", 5),
+        (c::FRAC_PI_4, "FRAC_PI_4", 5),
+        (c::FRAC_PI_6, "FRAC_PI_6", 5),
+        (c::FRAC_PI_8, "FRAC_PI_8", 5),
+        (c::LN_2, "LN_2", 5),
+        (c::LN_10, "LN_10", 5),
+        (c::LOG2_10, "LOG2_10", 5),
+        (c::LOG2_E, "LOG2_E", 5),
+        (c::LOG10_2, "LOG10_2", 5),
+        (c::LOG10_E, "LOG10_E", 5),
+        (c::PI, "PI", 3),
+        (c::SQRT_2, "SQRT_2", 5),
+        (c::TAU, "TAU", 3),
+    ];
+    let digits = x.to_string();
+    let (value, name, _) = KNOWN.iter().find(|&&(value, _, min)| {
+        digits.len() > min
+            && (value.to_string().starts_with(&digits)
+                || digits == format!("{value:.*}", digits.len().saturating_sub(2)))
+    })?;
+    Some(if *value == x {
+        let name = quote::format_ident!("{}", name);
+        quote! { ::core::f64::consts::#name }
+    } else {
+        let bits = Literal::u64_suffixed(x.to_bits());
+        quote! { f64::from_bits(#bits) }
+    })
 }
 
 /// How a function under emission refers to its nodes.
@@ -497,5 +542,29 @@ impl<'g> Emit<'g> {
             return t.clone();
         }
         self.compute(s, &|o| self.prepared_expr(o, scope))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// What a literal is written as.
+    fn check(x: f64, want: &str) {
+        assert_eq!(super::lit(x).to_string().replace(' ', ""), want, "{x}");
+    }
+
+    #[test]
+    fn literals_clippy_takes_for_constants_are_written_exactly() {
+        check(1.5, "1.5f64");
+        check(100.0, "100f64");
+        check(std::f64::consts::SQRT_2, "::core::f64::consts::SQRT_2");
+        check(-std::f64::consts::FRAC_PI_2, "(-::core::f64::consts::FRAC_PI_2)");
+        // An ulp off √2, and π to three decimals: their bits.
+        let near = f64::from_bits(std::f64::consts::SQRT_2.to_bits() - 1);
+        check(near, &format!("f64::from_bits({}u64)", near.to_bits()));
+        let pi_ish: f64 = "3.14".parse().unwrap(); // written so clippy does not flag the test itself
+        check(pi_ish, &format!("f64::from_bits({}u64)", pi_ish.to_bits()));
+        // Too few digits to be taken for one.
+        check(3.1, "3.1f64");
+        check(1.41, "1.41f64");
     }
 }

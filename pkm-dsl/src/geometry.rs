@@ -180,6 +180,7 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
         check_forms(mech, &mut places, &place_span, &values, &mut errors);
         if errors.is_empty() {
             check_relations(mech, &places, &values, &mut errors);
+            check_concurrent(mech, &places, &values, &mut errors);
         }
     }
     let abouts: Vec<Option<Vec3>> = ast
@@ -736,6 +737,9 @@ fn check_relations(
     const TOL: f64 = 1e-9;
     for r in &mech.relations {
         let Some(span) = r.span else { continue };
+        if r.kind == RelationKind::Concurrent {
+            continue; // check_concurrent: a point, not a pair of directions
+        }
         let frame_axis = |k: usize| {
             let mut v = Vector3::zeros();
             v[k] = 1.0;
@@ -768,6 +772,7 @@ fn check_relations(
         let holds = match r.kind {
             RelationKind::Parallel => da.cross(&db).norm() < TOL,
             RelationKind::Perpendicular => da.dot(&db).abs() < TOL,
+            RelationKind::Concurrent => true,
             RelationKind::Coaxial => {
                 da.cross(&db).norm() < TOL
                     && matches!((pa, pb), (Some(p), Some(q)) if (p - q).cross(&da).norm() < TOL * (1.0 + p.norm() + q.norm()))
@@ -792,6 +797,160 @@ fn check_relations(
                 .label(what),
             );
         }
+    }
+}
+
+/// Concurrent axes (`∧`) are checked link by link at the nominal
+/// dimensions: on each link, the axes of one group's joints placed there
+/// meet at one point, the group's centre in that link's frame (the first
+/// two that are not parallel fix it); across each joint of the group, the
+/// centres on its two links are the same point of its axis, the same
+/// distance along it from the joint's place on either side (the places
+/// coincide and the axes agree when the joint is closed).
+fn check_concurrent(
+    mech: &Mechanism,
+    places: &[[Option<JointPlace>; 2]],
+    values: &HashMap<String, f64>,
+    errors: &mut Vec<Diagnostic>,
+) {
+    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
+    let n_groups = groups.iter().flatten().max().map_or(0, |g| g + 1);
+    let name = |j: usize| mech.joints[j].name.as_str();
+    for g in 0..n_groups {
+        let members: Vec<usize> = (0..mech.joints.len()).filter(|&j| groups[j] == Some(g)).collect();
+        // Where the group is written: the first `∧` naming the joint, or any.
+        let span_of = |j: usize| {
+            let of = |pick: &dyn Fn(&crate::mechanism::Relation) -> bool| {
+                mech.relations
+                    .iter()
+                    .filter(|r| r.kind == RelationKind::Concurrent)
+                    .find(|r| pick(r))
+                    .and_then(|r| r.span)
+            };
+            of(&|r| r.a == DirectionItem::Joint(j) || r.b == DirectionItem::Joint(j))
+                .or_else(|| {
+                    of(&|r| {
+                        [r.a, r.b]
+                            .iter()
+                            .any(|i| matches!(i, DirectionItem::Joint(k) if members.contains(k)))
+                    })
+                })
+                .unwrap_or_default()
+        };
+        // Where two of them are written together, if they are, else the second's.
+        let span_pair = |a: usize, b: usize| {
+            mech.relations
+                .iter()
+                .find(|r| {
+                    r.kind == RelationKind::Concurrent
+                        && [r.a, r.b].contains(&DirectionItem::Joint(a))
+                        && [r.a, r.b].contains(&DirectionItem::Joint(b))
+                })
+                .and_then(|r| r.span)
+                .unwrap_or_else(|| span_of(b))
+        };
+        let mut centres: HashMap<usize, Vector3<f64>> = HashMap::new();
+        for link in 0..mech.links.len() {
+            let lines: Vec<(usize, Vector3<f64>, Vector3<f64>)> = members
+                .iter()
+                .filter_map(|&j| match axis_on(places, mech, j, link, values)? {
+                    (d, Some(p)) => Some((j, d, p)),
+                    _ => None,
+                })
+                .collect();
+            let Some((i, k)) = (0..lines.len())
+                .flat_map(|i| (i + 1..lines.len()).map(move |k| (i, k)))
+                .find(|&(i, k)| lines[i].1.cross(&lines[k].1).norm() > 1e-6)
+            else {
+                continue;
+            };
+            let scale = 1.0 + lines.iter().map(|l| l.2.norm()).fold(0.0, f64::max);
+            let tol = 1e-9 * scale;
+            let ((a, da, pa), (b, db, pb)) = (lines[i], lines[k]);
+            // The closest points of the two lines.
+            let w = pa - pb;
+            let (e, f, c) = (da.dot(&db), da.dot(&w), db.dot(&w));
+            let den = 1.0 - e * e;
+            let (sa, sb) = ((e * c - f) / den, (c - e * f) / den);
+            let (qa, qb) = (pa + da * sa, pb + db * sb);
+            let lname = &mech.links[link].name;
+            if (qa - qb).norm() > tol {
+                errors.push(
+                    Diagnostic::new(
+                        span_pair(a, b),
+                        format!("relation `∧` does not hold in the geometry of link `{lname}`"),
+                    )
+                    .label(format!(
+                        "the axes of `{}` and `{}` pass {} apart",
+                        name(a),
+                        name(b),
+                        length((qa - qb).norm())
+                    )),
+                );
+                continue;
+            }
+            let centre = (qa + qb) / 2.0;
+            let mut holds = true;
+            for &(j, d, p) in &lines {
+                let off = (centre - p) - d * d.dot(&(centre - p));
+                if off.norm() > tol {
+                    holds = false;
+                    errors.push(
+                        Diagnostic::new(
+                            span_of(j),
+                            format!("relation `∧` does not hold in the geometry of link `{lname}`"),
+                        )
+                        .label(format!(
+                            "the axis of `{}` passes {} from where `{}` and `{}` meet",
+                            name(j),
+                            length(off.norm()),
+                            name(a),
+                            name(b)
+                        )),
+                    );
+                }
+            }
+            if holds {
+                centres.insert(link, centre);
+            }
+        }
+        // Across each joint: the same point of its axis on both sides.
+        for &j in &members {
+            let [l0, l1] = [mech.joints[j].links[0], mech.joints[j].links[1]];
+            let (Some(c0), Some(c1)) = (centres.get(&l0), centres.get(&l1)) else {
+                continue;
+            };
+            let along = |l: usize, c: &Vector3<f64>| {
+                axis_on(places, mech, j, l, values).and_then(|(d, p)| Some((c - p?).dot(&d)))
+            };
+            let (Some(s0), Some(s1)) = (along(l0, c0), along(l1, c1)) else {
+                continue;
+            };
+            let tol = 1e-9 * (1.0 + c0.norm().max(c1.norm()) + s0.abs().max(s1.abs()));
+            if (s0 - s1).abs() > tol {
+                errors.push(
+                    Diagnostic::new(
+                        span_of(j),
+                        format!(
+                            "relation `∧` does not hold across joint `{}`: links `{}` and `{}` put the centre at different points of its axis",
+                            name(j),
+                            mech.links[l0].name,
+                            mech.links[l1].name
+                        ),
+                    )
+                    .label(format!("{} apart along `{}`", length((s0 - s1).abs()), name(j))),
+                );
+            }
+        }
+    }
+}
+
+/// A length for a message: three decimals, or three digits where smaller.
+fn length(x: f64) -> String {
+    if x >= 1e-3 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
     }
 }
 
@@ -893,6 +1052,39 @@ mod tests {
                 geometry(line, " arm (0, l, 0)", " arm (0, l, 0)")
             ),
             &["parallelogram `Pa` needs its arm `arm (…)` on exactly one of its links"],
+        );
+    }
+
+    /// A spherical four-bar with right-angled links: each link's two axes
+    /// meet at its origin, the joints placed 1 along their axes.
+    #[test]
+    fn concurrent_axes_meet_on_every_link_and_across_every_joint() {
+        let chain = "base R1* [a] - R2 [b] - R3 [c] - R4 base; R1 ∧ R2 ∧ R3 /\\ R4; parameters { l = 1; }";
+        let geometry = |b_r3: &str, c_r3: &str| {
+            format!(
+                "geometry {{ base {{ R1 = (0, 0, l) along z; R4 = (l, 0, 0) along x; }} a {{ R1 = (0, 0, l) along z; R2 = (0, l, 0) along y; }}
+                 b {{ R2 = (0, 0, l) along z; R3 = {b_r3}; }} c {{ R3 = {c_r3}; R4 = (0, 0, l) along z; }} }}"
+            )
+        };
+        check(
+            &format!(
+                "mechanism m {{ {chain} {} }}",
+                geometry("(l, 0, 0) along x", "(l, 0, 0) along x")
+            ),
+            &[],
+        );
+        // R3's axis on b moved 0.5 off the origin: it misses R2's there.
+        check(
+            &format!(
+                "mechanism m {{ {chain} {} }}",
+                geometry("(l, 0.5, 0) along x", "(l, 0, 0) along x")
+            ),
+            &["relation `∧` does not hold in the geometry of link `b`"],
+        );
+        // R3 placed 2 from the centre on c but 1 on b: the centres are 1 apart along R3.
+        check(
+            &format!("mechanism m {{ {chain} {} }}", geometry("(l, 0, 0) along x", "(2 * l, 0, 0) along x")),
+            &["relation `∧` does not hold across joint `R3`: links `b` and `c` put the centre at different points of its axis"],
         );
     }
 

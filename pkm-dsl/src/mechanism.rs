@@ -552,6 +552,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         frame_declared[2] = true;
     }
     b.check_coaxial();
+    b.check_concurrent();
     check_relations(&b.joints, &b.relations, &mut b.errors);
     b.check_size(ast);
     b.check_links_hang(ast);
@@ -767,6 +768,13 @@ impl Builder {
                             );
                             continue;
                         }
+                        RelationKind::Concurrent if a_plane || c_plane => {
+                            self.errors.push(
+                                Diagnostic::new(*span, "a plane cannot meet other axes at one point")
+                                    .label("not a line"),
+                            );
+                            continue;
+                        }
                         RelationKind::Parallel if a_plane != c_plane => RelationKind::Perpendicular,
                         RelationKind::Perpendicular if a_plane != c_plane => RelationKind::Parallel,
                         k => k,
@@ -848,6 +856,64 @@ impl Builder {
                 }
             }
         }
+    }
+
+    /// Only joints with an axis line can meet at a point, and two parallel
+    /// axes that meet are one line: the relation for that is `≡`.
+    fn check_concurrent(&mut self) {
+        let classes = DirectionClasses::new(&self.joints, &self.relations);
+        for r in &self.relations {
+            if r.kind != RelationKind::Concurrent {
+                continue;
+            }
+            let span = r.span.unwrap_or_default();
+            let (DirectionItem::Joint(a), DirectionItem::Joint(b)) = (r.a, r.b) else {
+                self.errors.push(
+                    Diagnostic::new(span, "only joint axes can meet at one point")
+                        .label("a frame axis has no position"),
+                );
+                continue;
+            };
+            let mut lines = true;
+            for j in [a, b] {
+                let joint = &self.joints[j];
+                if !joint.kind.has_axis_line() {
+                    lines = false;
+                    self.errors.push(
+                        Diagnostic::new(
+                            span,
+                            format!(
+                                "joint `{}` ({}) has no axis line to meet others at a point",
+                                joint.name,
+                                joint.kind.symbol()
+                            ),
+                        )
+                        .label("concurrent axes must be of R, H, C or U joints"),
+                    );
+                }
+            }
+            if lines && classes.class_of(r.a) == classes.class_of(r.b) && !self.coaxial(a, b) {
+                self.errors.push(
+                    Diagnostic::new(
+                        span,
+                        format!(
+                            "`{} ∧ {}`: the other relations make these axes parallel, and parallel axes meet only as one line",
+                            self.joints[a].name, self.joints[b].name
+                        ),
+                    )
+                    .label("write `≡` for one axis line"),
+                );
+            }
+        }
+    }
+
+    /// Whether a written or implied relation makes joints `a` and `b` coaxial.
+    fn coaxial(&self, a: usize, b: usize) -> bool {
+        self.relations.iter().any(|r| {
+            r.kind == RelationKind::Coaxial
+                && ((r.a, r.b) == (DirectionItem::Joint(a), DirectionItem::Joint(b))
+                    || (r.a, r.b) == (DirectionItem::Joint(b), DirectionItem::Joint(a)))
+        })
     }
 
     /// Only two joints can be coaxial, and only joints with an axis line.
@@ -1097,7 +1163,7 @@ impl DirectionClasses {
             if r.kind == RelationKind::Coaxial && !(axis_line(r.a) && axis_line(r.b)) {
                 continue;
             }
-            if r.kind != RelationKind::Perpendicular {
+            if matches!(r.kind, RelationKind::Parallel | RelationKind::Coaxial) {
                 if let (Some(a), Some(b)) = (c.index(r.a), c.index(r.b)) {
                     let (ra, rb) = (c.find(a), c.find(b));
                     c.parent[ra.max(rb)] = ra.min(rb);
@@ -1129,6 +1195,50 @@ impl DirectionClasses {
     pub fn items(&self) -> &[DirectionItem] {
         &self.items
     }
+}
+
+/// The point each joint's axis meets others at, if a `∧` relation says so:
+/// a group number per joint. Axes related by `∧` (and those coaxial with
+/// them, on the same line) meet at one point; statements that share an axis
+/// name the same point.
+pub fn concurrent_groups(joints: &[Joint], relations: &[Relation]) -> Vec<Option<usize>> {
+    let n = joints.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(p: &[usize], mut i: usize) -> usize {
+        while p[i] != i {
+            i = p[i];
+        }
+        i
+    }
+    let mut meets = vec![false; n];
+    for r in relations {
+        if let (RelationKind::Concurrent | RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) =
+            (r.kind, r.a, r.b)
+        {
+            let (ra, rb) = (root(&parent, a), root(&parent, b));
+            parent[ra.max(rb)] = ra.min(rb);
+            if r.kind == RelationKind::Concurrent {
+                meets[a] = true;
+                meets[b] = true;
+            }
+        }
+    }
+    let mut with_point = vec![false; n];
+    for j in 0..n {
+        if meets[j] {
+            with_point[root(&parent, j)] = true;
+        }
+    }
+    let mut numbers: HashMap<usize, usize> = HashMap::new();
+    (0..n)
+        .map(|j| {
+            let r = root(&parent, j);
+            with_point[r].then(|| {
+                let next = numbers.len();
+                *numbers.entry(r).or_insert(next)
+            })
+        })
+        .collect()
 }
 
 fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagnostics) {
@@ -1181,7 +1291,7 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
                     // its two sides into the class, preferring one naming that side.
                     let in_class = |q: &&Relation| {
                         q.span.is_some()
-                            && q.kind != RelationKind::Perpendicular
+                            && matches!(q.kind, RelationKind::Parallel | RelationKind::Coaxial)
                             && [q.a, q.b].iter().any(|i| classes.class_of(*i) == classes.class_of(r.a))
                     };
                     let names_side = |q: &&Relation| [q.a, q.b].iter().any(|i| *i == r.a || *i == r.b);
@@ -1220,6 +1330,31 @@ mod tests {
     }
 
     const FOUR_BAR: &str = "base R1* ∥ R2 ∥ R3 ∥ R4 base;";
+
+    #[test]
+    fn only_axis_lines_meet_at_a_point() {
+        let chain = "base R1* - R2 - P1 - R4 base;";
+        check(
+            "mechanism m { base R1* - R2 - R3 - R4 base; R1 ∧ R2 /\\ R3 ∧ R4; }",
+            &[],
+        );
+        check(
+            &format!("mechanism m {{ {chain} R1 ∧ P1; }}"),
+            &["joint `P1` (P) has no axis line to meet others at a point"],
+        );
+        check(
+            &format!("mechanism m {{ {chain} R1 ∧ x; }}"),
+            &["only joint axes can meet at one point"],
+        );
+        check(
+            &format!("mechanism m {{ {chain} R1 ∧ ◇xoy; }}"),
+            &["a plane cannot meet other axes at one point"],
+        );
+        check(
+            &format!("mechanism m {{ {chain} R1 ∥ R2; R1 ∧ R2; }}"),
+            &["`R1 ∧ R2`: the other relations make these axes parallel, and parallel axes meet only as one line"],
+        );
+    }
 
     #[test]
     fn planar_mechanisms_have_r_p_and_pa_only() {

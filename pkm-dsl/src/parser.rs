@@ -271,6 +271,7 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::parallel => "`∥`",
         Rule::perpendicular => "`⊥`",
         Rule::coaxial => "`≡`",
+        Rule::concurrent => "`∧`",
         Rule::direction => "a joint, a frame axis or a plane",
         Rule::plane => "a plane `◇xoz` or `◇(A,B)`",
         Rule::unrelated => "`-`",
@@ -377,6 +378,7 @@ fn relation_kind(p: &Pair<Rule>) -> Option<RelationKind> {
         Rule::parallel => Some(RelationKind::Parallel),
         Rule::perpendicular => Some(RelationKind::Perpendicular),
         Rule::coaxial => Some(RelationKind::Coaxial),
+        Rule::concurrent => Some(RelationKind::Concurrent),
         _ => None,
     }
 }

@@ -1,5 +1,5 @@
 //! The numeric model behind the POC analysis: a generic instance of the
-//! mechanism (random axes that satisfy every declared ∥ / ⊥ / ≡ relation),
+//! mechanism (random axes that satisfy every declared ∥ / ⊥ / ≡ / ∧ relation),
 //! the joint twists at that instant, and subspace ranks and kernels.
 //!
 //! A link's POC set at a generic configuration corresponds to its twist
@@ -67,7 +67,8 @@ fn rotation_about(d: Vector3<f64>, p: Vector3<f64>) -> Vector6<f64> {
 
 /// Builds a generic instance: random directions class by class, each made
 /// perpendicular to the classes it must be perpendicular to; random points,
-/// shared by coaxial joints.
+/// shared by coaxial joints, and a random centre for each group of
+/// concurrent axes.
 pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Result<Instance, Diagnostic> {
     let mut rng = SplitMix::new(seed);
     let n_items = classes.items().len();
@@ -137,7 +138,18 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         }
     }
     let raw_points: Vec<Vector3<f64>> = (0..n).map(|_| rng.vector()).collect();
-    let points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();
+    let mut points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();
+    // Concurrent axes (and those coaxial with them) pass through their
+    // group's centre: the centre is the point on each axis.
+    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
+    let centres: Vec<Vector3<f64>> = (0..groups.iter().flatten().max().map_or(0, |g| g + 1))
+        .map(|_| rng.vector())
+        .collect();
+    for (p, g) in points.iter_mut().zip(&groups) {
+        if let Some(g) = g {
+            *p = centres[*g];
+        }
+    }
 
     let frame = [
         dir_of(DirectionItem::Frame(0)),

@@ -135,6 +135,7 @@ pub fn to_ascii(s: &str) -> String {
             '⊥' => out.push_str("_|_"),
             '◇' => out.push_str("<>"),
             '≡' => out.push_str("=="),
+            '∧' => out.push_str("/\\"),
             '−' => out.push('-'),
             '⁻' => out.push_str("^-"),
             'ᵀ' => out.push('T'),
@@ -531,8 +532,11 @@ fn relation_symbol(ctx: &Context, a: usize, b: usize) -> &'static str {
             (x == ca && y == cb) || (x == cb && y == ca)
         }
     });
+    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
     if perp {
         "⊥"
+    } else if groups[a].is_some() && groups[a] == groups[b] {
+        "∧"
     } else {
         "-"
     }

@@ -58,6 +58,9 @@ pub enum Condition {
     /// `points[1]` onto (the guide of the slide at `points[2]`'s side): the
     /// two lines of a PRP or RPP dyad are parallel.
     SlideAlongLine,
+    /// The axes of `points[0]`, `points[1]`, `points[2]`, through one
+    /// centre, lie in one plane (a spherical RRR dyad folded).
+    Coplanar,
 }
 
 /// One step's factor at a configuration.
@@ -94,6 +97,7 @@ impl Factor {
             Condition::Collinear => format!("{a}, {b}, {c} are collinear"),
             Condition::NormalToGuide => format!("{a}{b} is normal to the guide of {c}"),
             Condition::SlideAlongLine => format!("{j} slides along the line {b} must meet ({c})"),
+            Condition::Coplanar => format!("the axes of {a}, {b}, {c} lie in one plane"),
         }
     }
 }

@@ -16,6 +16,8 @@
 //! * a point beyond a joint whose value is given, carried rigidly at that
 //!   value, lies on a cylinder ([`Step::Beyond`]);
 //! * a slide brings a point onto a line, neither turning ([`Step::SlideToLine`]).
+//! * an axis of the new link must keep its angle from a known axis that
+//!   meets it and the turning axis at one centre ([`Step::Cone`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -266,6 +268,24 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
+    /// A revolute's angle that turns the axis of revolute `across` (on
+    /// `to`) to the angle the link beyond it keeps from the axis of
+    /// `target.joint`, known: three axes through one centre (a spherical
+    /// RRR dyad), a cone against a circle.
+    Cone {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The revolute of `to` whose axis is turned.
+        across: usize,
+        /// The known axis: a revolute of the link beyond `across`, on a known link.
+        target: Direction,
+        /// This step's index in the sign vector (it always branches).
+        branch: usize,
+    },
     /// A revolute's (or, in a planar mechanism, a slide's) value that puts
     /// `point`, on the link across the joint `given` (whose value is input
     /// `input`) from `to`, on `constraint` (a cylinder, or for a turn a
@@ -355,6 +375,7 @@ impl Step {
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
+            Step::Cone { from, target, .. } => *from == link || target.link == link,
             Step::Locus { from, constraint, .. } | Step::Beyond { from, constraint, .. } => {
                 *from == link
                     || match constraint {
@@ -400,6 +421,11 @@ impl Step {
             Step::Guide { slide, target, .. } => {
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
+            Step::Cone { across, target, .. } => {
+                add(*across);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+                add(target.joint);
             }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
@@ -452,7 +478,8 @@ impl Step {
             | Step::PaPlane { joint, .. }
             | Step::Guide { joint, .. }
             | Step::Beyond { joint, .. }
-            | Step::SlideToLine { joint, .. } => Some(*joint),
+            | Step::SlideToLine { joint, .. }
+            | Step::Cone { joint, .. } => Some(*joint),
         }
     }
 }

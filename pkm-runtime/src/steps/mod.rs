@@ -6,7 +6,7 @@
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
-//! [`slide_to_line`], and the four loci a
+//! [`slide_to_line`], [`on_cone`], and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -23,6 +23,7 @@ pub mod aim;
 pub mod align;
 pub mod beyond_given;
 pub mod guide_through;
+pub mod on_cone;
 pub mod on_cylinder;
 pub mod on_plane;
 pub mod on_slider_plane;
@@ -474,6 +475,7 @@ pub fn execute<T: Scalar>(
         | Step::Guide { joint, from, to, .. }
         | Step::Beyond { joint, from, to, .. }
         | Step::SlideToLine { joint, from, to, .. }
+        | Step::Cone { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -507,6 +509,9 @@ pub fn execute<T: Scalar>(
             ..
         } => beyond_given::execute(&mv, *q, *input, *point, constraint, *branch)?,
         Step::SlideToLine { slide, point, meet, .. } => slide_to_line::execute(&mv, *slide, *point, meet)?,
+        Step::Cone {
+            across, target, branch, ..
+        } => on_cone::execute(&mv, *across, target, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -726,9 +731,11 @@ pub fn check_residual<T: Scalar>(
 /// value first, then aim, align, the parallelogram plane, a locus without
 /// a branch, a locus with one, a guide through a known point (an RPR
 /// dyad, which nothing before it solves), a point beyond a joint whose
-/// value is given on a cylinder (an input between two moving links), and
-/// last a slide bringing a point onto a line (the PRP and RPP dyads).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 9] = [
+/// value is given on a cylinder (an input between two moving links), a
+/// slide bringing a point onto a line (the PRP and RPP dyads), and last an
+/// axis kept at its angle from a known axis through one centre (a
+/// spherical RRR dyad).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 10] = [
     transfer::find,
     aim::find,
     align::find,
@@ -738,6 +745,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 9] = [
     guide_through::find,
     beyond_given::find,
     slide_to_line::find,
+    on_cone::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -856,6 +864,14 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
         } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
         Step::Beyond { .. } => return beyond_given::factor(at, k, step),
         Step::SlideToLine { .. } => return slide_to_line::factor(at, k, step),
+        Step::Cone {
+            joint,
+            from,
+            to,
+            across,
+            target,
+            ..
+        } => on_cone::factor(at, k, *joint, *from, *to, *across, target),
         Step::Locus {
             joint,
             from,
