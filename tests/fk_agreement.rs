@@ -11,7 +11,8 @@ use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
-/// A solved branch: its signs, and its joint values and joint points (3-D).
+/// A solved branch: its signs, its joint values in the model's layout
+/// (`common::model_values`: the Newton reference's) and joint points (3-D).
 type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
 
 /// Every solved branch at the given inputs.
@@ -36,7 +37,7 @@ fn load_text(text: &str) -> (Model, Solver) {
                 let points = (0..model.joints.len())
                     .map(|j| kinematics::joint_point(model, &s.poses, j))
                     .collect();
-                (signs, s.values, points)
+                (signs, common::model_values(model, &s.values, &s.poses), points)
             })
             .collect()
     });
@@ -179,4 +180,35 @@ fn seed000_b() {
 #[test]
 fn five_bar_pa() {
     check("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)], 200);
+}
+
+#[test]
+fn rssr() {
+    check("rssr", &[(-PI, PI)], 200);
+}
+
+/// By hand: with the crank at θ, S1 = a(cos θ, sin θ, 0); the rocker turns
+/// about +x through (d, e, h), S2 = (d, e + b cos ψ, h + b sin ψ); the
+/// coupler keeps |S1S2| = l, so
+/// `2b(e − a sin θ)·cos ψ + 2bh·sin ψ = l² − (d − a cos θ)² − (e − a sin θ)² − h² − b²`,
+/// `A cos ψ + B sin ψ = C`, ψ = atan2(B, A) ± acos(C/√(A² + B²)).
+#[test]
+fn rssr_by_hand() {
+    let (model, solve) = load("rssr");
+    let (a, b, l, d, e, h) = (40.0f64, 120.0f64, 160.0f64, 100.0f64, 40.0f64, 60.0f64);
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        let (s, c) = theta.sin_cos();
+        let (aa, bb) = (2.0 * b * (e - a * s), 2.0 * b * h);
+        let cc = l * l - (d - a * c).powi(2) - (e - a * s).powi(2) - h * h - b * b;
+        let (base, half) = (bb.atan2(aa), (cc / aa.hypot(bb)).acos());
+        let mut want = [base + half, base - half].map(|p| p.sin().atan2(p.cos()));
+        // ψ is the last joint (R2), the last value of the model's layout.
+        let mut got: Vec<f64> = solve(&model, &[theta]).iter().map(|(_, q, _)| q[q.len() - 1]).collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-13, "θ = {theta}: ψ {g} vs {w}");
+        }
+    }
 }

@@ -14,7 +14,10 @@
 //! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
 //! * a line of the new link must pass through a known point ([`Step::Guide`]);
 //! * a point beyond a joint whose value is given, carried rigidly at that
-//!   value, lies on a cylinder ([`Step::Beyond`]).
+//!   value, lies on a cylinder ([`Step::Beyond`]);
+//! * a link ending in spherical joints at both ends, whose two centres are
+//!   known, is placed between them, its idle spin by a convention
+//!   ([`Step::Rod`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -85,15 +88,30 @@ pub struct Direction {
     pub joint: usize,
 }
 
+/// What fixes a sphere's radius ([`Constraint::Sphere`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Radius {
+    /// The length of parallelogram `0`'s arm.
+    Arm(usize),
+    /// The distance between the centres of two spherical joints of `link`
+    /// (an S–S link: a rod, an RSSR's coupler).
+    Rod {
+        /// The link.
+        link: usize,
+        /// Its two spherical joints.
+        joints: [usize; 2],
+    },
+}
+
 /// What the rest of the mechanism says about a point of the new link.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Constraint {
-    /// At the length of parallelogram `pa`'s arm from the anchored point.
+    /// At the distance `radius` fixes from the anchored point.
     Sphere {
         /// The centre.
         centre: Anchor,
-        /// The parallelogram.
-        pa: usize,
+        /// The parallelogram's arm, or the S–S link, that fixes the radius.
+        radius: Radius,
     },
     /// Its coordinate along `normal` is that of the anchored point.
     Plane {
@@ -286,6 +304,25 @@ pub enum Step {
         /// This step's index in the sign vector (it always branches).
         branch: usize,
     },
+    /// A link whose only joints are two spherical ones, `joint` (on known
+    /// link `from`) and `other` (whose centre `target` anchors), placed
+    /// between the two known centres; its spin about the line between them
+    /// is idle, and is fixed by the convention of
+    /// [`crate::steps::sphere_link::carry_line`] (the smallest turn from
+    /// the world's axes that carries the link's drawn S–S line onto the
+    /// centres' line).
+    Rod {
+        /// The spherical joint on the known link.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// The S–S link.
+        to: usize,
+        /// Its other spherical joint.
+        other: usize,
+        /// That joint's centre, known.
+        target: Anchor,
+    },
 }
 
 /// A spatial plan.
@@ -331,9 +368,10 @@ impl Step {
         match self {
             Step::Place { .. } => false,
             Step::Transfer { from, .. } => *from == link,
-            Step::Aim { from, target, .. } | Step::PaPlane { from, target, .. } | Step::Guide { from, target, .. } => {
-                *from == link || target.link == link
-            }
+            Step::Aim { from, target, .. }
+            | Step::PaPlane { from, target, .. }
+            | Step::Guide { from, target, .. }
+            | Step::Rod { from, target, .. } => *from == link || target.link == link,
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
@@ -375,6 +413,10 @@ impl Step {
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
+            Step::Rod { other, target, .. } => {
+                add(*other);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
                 if let Constraint::Cylinder { hops: h, joint, .. } = constraint {
@@ -383,8 +425,11 @@ impl Step {
                 }
             }
             Step::Locus { constraint, .. } => match constraint {
-                Constraint::Sphere { centre, pa } => {
-                    add(*pa);
+                Constraint::Sphere { centre, radius } => {
+                    match *radius {
+                        Radius::Arm(pa) => add(pa),
+                        Radius::Rod { joints, .. } => joints.into_iter().for_each(&mut add),
+                    }
                     hops(&centre.hops).into_iter().rev().for_each(&mut add);
                 }
                 Constraint::Plane { normal, anchor } => {
@@ -410,7 +455,8 @@ impl Step {
             | Step::Align { joint, .. }
             | Step::PaPlane { joint, .. }
             | Step::Guide { joint, .. }
-            | Step::Beyond { joint, .. } => Some(*joint),
+            | Step::Beyond { joint, .. }
+            | Step::Rod { joint, .. } => Some(*joint),
         }
     }
 }
