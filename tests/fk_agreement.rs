@@ -212,3 +212,34 @@ fn rssr_by_hand() {
         }
     }
 }
+
+#[test]
+fn rssp() {
+    check("rssp", &[(-PI, PI)], 200);
+}
+
+/// By hand: with the crank at θ, S1 = a(cos θ, sin θ, 0); the slider's S2 =
+/// (0, e, h) + s·(1, 0, 1)/√2; |S1S2| = l gives the quadratic
+/// `s² + 2s·(w·g) + |w|² − l² = 0` with `w = (0, e, h) − S1`, `g` the unit
+/// guide: s = −w·g ± √((w·g)² − |w|² + l²).
+#[test]
+fn rssp_by_hand() {
+    let (model, solve) = load("rssp");
+    let (a, l, e, h) = (40.0f64, 160.0f64, 50.0f64, 30.0f64);
+    let g = [0.5f64.sqrt(), 0.0, 0.5f64.sqrt()];
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        let w = [-a * theta.cos(), e - a * theta.sin(), h];
+        let wg = w[0] * g[0] + w[2] * g[2];
+        let ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        let half = (wg * wg - ww + l * l).sqrt();
+        let mut want = [-wg + half, -wg - half];
+        // s is the last joint (P1), the last value of the model's layout.
+        let mut got: Vec<f64> = solve(&model, &[theta]).iter().map(|(_, q, _)| q[q.len() - 1]).collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-12 * l, "θ = {theta}: s {g} vs {w}");
+        }
+    }
+}

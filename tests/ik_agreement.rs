@@ -23,6 +23,7 @@ pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
@@ -96,52 +97,63 @@ fn spatial() {
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
 }
 
-/// The spatial RSSR: its S joints have no one value in a solution, so
+/// A mechanism with an S–S link (the RSSR, the R-S-S-P): its S joints have no one value in a solution, so
 /// Newton starts from the model's values of each ik branch
 /// (`common::model_values`, the rotation vectors from the interpreted
 /// poses, 1e-3 off) and the revolutes and every joint point are compared.
-#[test]
-fn rssr() {
-    use pkm::runtime::spatial;
-    let (a, model) = common::example("rssr");
-    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
-    let scale = kinematics::model_scale(&model);
-    let (offsets, _) = model.value_offsets();
-    let options = NewtonOptions {
-        tolerance: 1e-14,
-        ..NewtonOptions::default()
-    };
-    let mut rng = SplitMix::new(7);
-    let mut compared = 0;
-    for _ in 0..100 {
-        let q = [PI * rng.symmetric()];
-        for f in Rssr::fk(&Default::default(), &q)
-            .iter()
-            .filter_map(|b| b.result.as_ref().ok())
-        {
-            for (_, s) in spatial::run_all(&model, &plan, &f.outputs) {
-                let s = s.unwrap_or_else(|e| panic!("rssr: ik at {:?}: {e}", f.outputs));
-                let values = common::model_values(&model, &s.values, &s.poses);
-                let guess: Vec<f64> = values.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
-                let reference = newton::solve_ik(&model, &outputs, &f.outputs, &guess, &options)
-                    .unwrap_or_else(|e| panic!("rssr: Newton ik failed at {:?}: {e}", f.outputs));
-                for (j, joint) in model.joints.iter().enumerate() {
-                    if joint.kind == pkm::runtime::model::JointType::R {
-                        let e = max_error(&[values[offsets[j]]], &[reference.values[offsets[j]]], &[true], scale);
-                        assert!(e <= 1e-9, "rssr {}: {e:e} at {:?}", joint.name, f.outputs);
+macro_rules! with_spheres {
+    ($ty:ident, $file:expr) => {{
+        use pkm::runtime::spatial;
+        let (a, model) = common::example($file);
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+        let scale = kinematics::model_scale(&model);
+        let (offsets, _) = model.value_offsets();
+        let options = NewtonOptions {
+            tolerance: 1e-14,
+            ..NewtonOptions::default()
+        };
+        let mut rng = SplitMix::new(7);
+        let mut compared = 0;
+        for _ in 0..100 {
+            let q = [PI * rng.symmetric()];
+            for f in $ty::fk(&Default::default(), &q)
+                .iter()
+                .filter_map(|b| b.result.as_ref().ok())
+            {
+                for (_, s) in spatial::run_all(&model, &plan, &f.outputs) {
+                    let s = s.unwrap_or_else(|e| panic!("{}: ik at {:?}: {e}", $file, f.outputs));
+                    let values = common::model_values(&model, &s.values, &s.poses);
+                    let guess: Vec<f64> = values.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+                    let reference = newton::solve_ik(&model, &outputs, &f.outputs, &guess, &options)
+                        .unwrap_or_else(|e| panic!("{}: Newton ik failed at {:?}: {e}", $file, f.outputs));
+                    for (j, joint) in model.joints.iter().enumerate() {
+                        if joint.kind == pkm::runtime::model::JointType::R {
+                            let e = max_error(&[values[offsets[j]]], &[reference.values[offsets[j]]], &[true], scale);
+                            assert!(e <= 1e-9, "{} {}: {e:e} at {:?}", $file, joint.name, f.outputs);
+                        }
+                        let (p, r) = (
+                            kinematics::joint_point(&model, &s.poses, j),
+                            kinematics::joint_point(&model, &reference.poses, j),
+                        );
+                        let e = max_error(&p, &r, &[false; 3], scale);
+                        assert!(e <= 1e-9, "{} point {}: {e:e} at {:?}", $file, joint.name, f.outputs);
                     }
-                    let (p, r) = (
-                        kinematics::joint_point(&model, &s.poses, j),
-                        kinematics::joint_point(&model, &reference.poses, j),
-                    );
-                    let e = max_error(&p, &r, &[false; 3], scale);
-                    assert!(e <= 1e-9, "rssr point {}: {e:e} at {:?}", joint.name, f.outputs);
+                    compared += 1;
                 }
-                compared += 1;
             }
         }
-    }
-    eprintln!("rssr: {compared} ik branches");
-    assert!(compared >= 100, "rssr: only {compared} ik branches compared");
+        eprintln!("{}: {compared} ik branches", $file);
+        assert!(compared >= 100, "{}: only {compared} ik branches compared", $file);
+    }};
+}
+
+#[test]
+fn rssr() {
+    with_spheres!(Rssr, "rssr");
+}
+
+#[test]
+fn rssp() {
+    with_spheres!(Rssp, "rssp");
 }

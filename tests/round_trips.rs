@@ -27,6 +27,7 @@ pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 const SAMPLES: usize = 100_000;
 const TOLERANCE: f64 = 1e-9;
@@ -244,4 +245,10 @@ fn seed000_b() {
 #[test]
 fn rssr() {
     round_trips!(Rssr, [(-PI, PI)], 200.0, never);
+}
+
+/// The spatial crank-slider R-S-S-P: the crank turns fully.
+#[test]
+fn rssp() {
+    round_trips!(Rssp, [(-PI, PI)], 200.0, never);
 }

@@ -39,6 +39,7 @@ snapshots! {
     rps_3 => "Rps",
     spr_3 => "Spr",
     rssr => "Rssr",
+    rssp => "Rssp",
 }
 
 #[test]
