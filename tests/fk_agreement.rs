@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 /// A solved branch: its signs, its joint values in the model's layout
-/// (`common::model_values`: the Newton reference's) and joint points (3-D).
+/// (`Solution::model_values`: the Newton reference's) and joint points (3-D).
 type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
 
 /// Every solved branch at the given inputs.
@@ -37,7 +37,7 @@ fn load_text(text: &str) -> (Model, Solver) {
                 let points = (0..model.joints.len())
                     .map(|j| kinematics::joint_point(model, &s.poses, j))
                     .collect();
-                (signs, common::model_values(model, &s.values, &s.poses), points)
+                (signs, s.model_values(model), points)
             })
             .collect()
     });
@@ -240,6 +240,50 @@ fn rssp_by_hand() {
         assert_eq!(got.len(), 2, "θ = {theta}");
         for (g, w) in got.iter().zip(want) {
             assert!((g - w).abs() < 1e-12 * l, "θ = {theta}: s {g} vs {w}");
+        }
+    }
+}
+
+/// The coupler's idle spin by the plan's convention (the smallest turn
+/// from the world's axes carrying its drawn S1→S2 line, +x, onto the
+/// centres' line) against nalgebra's `rotation_between` at the plan's
+/// centres and at Newton's (whose own spin is whatever its least squares
+/// left): both give the plan's coupler orientation.
+#[test]
+fn rssr_coupler_spin_by_the_convention() {
+    use pkm::runtime::nalgebra::{UnitQuaternion, Vector3};
+    let text = common::example_text("rssr").0;
+    let a = pkm::dsl::analyze_source(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let coupler = model.links.iter().position(|l| l == "coupler").unwrap();
+    let [s1, s2] = ["S1", "S2"].map(|n| model.joints.iter().position(|j| j.name == n).unwrap());
+    let convention = |poses: &[pkm::runtime::nalgebra::Isometry3<f64>]| {
+        let [p, q] = [s1, s2].map(|j| Vector3::from(kinematics::joint_point(&model, poses, j)));
+        UnitQuaternion::rotation_between(&Vector3::x(), &(q - p)).unwrap()
+    };
+    let mut rng = SplitMix::new(3);
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        for (signs, s) in spatial::run_all(&model, &plan, &[theta]) {
+            let s = s.unwrap();
+            let plan_turn = s.poses[coupler].rotation;
+            let e = plan_turn.angle_to(&convention(&s.poses));
+            assert!(
+                e < 1e-14,
+                "θ = {theta} {signs:?}: the plan's coupler is {e:e} rad off the convention"
+            );
+            let guess: Vec<f64> = s
+                .model_values(&model)
+                .iter()
+                .map(|v| v + uniform(&mut rng, -1e-2, 1e-2))
+                .collect();
+            let reference = newton::solve_fk(&model, &[theta], &guess, &NewtonOptions::default()).unwrap();
+            let spin = reference.poses[coupler].rotation.angle_to(&plan_turn);
+            let e = convention(&reference.poses).angle_to(&plan_turn);
+            assert!(
+                e < 1e-9,
+                "θ = {theta} {signs:?}: Newton's centres, by the convention, {e:e} rad off (its own spin {spin:e})"
+            );
         }
     }
 }

@@ -99,7 +99,7 @@ fn spatial() {
 
 /// A mechanism with an S–S link (the RSSR, the R-S-S-P): its S joints have no one value in a solution, so
 /// Newton starts from the model's values of each ik branch
-/// (`common::model_values`, the rotation vectors from the interpreted
+/// (`Solution::model_values`, the rotation vectors from the interpreted
 /// poses, 1e-3 off) and the revolutes and every joint point are compared.
 macro_rules! with_spheres {
     ($ty:ident, $file:expr) => {{
@@ -123,7 +123,7 @@ macro_rules! with_spheres {
             {
                 for (_, s) in spatial::run_all(&model, &plan, &f.outputs) {
                     let s = s.unwrap_or_else(|e| panic!("{}: ik at {:?}: {e}", $file, f.outputs));
-                    let values = common::model_values(&model, &s.values, &s.poses);
+                    let values = s.model_values(&model);
                     let guess: Vec<f64> = values.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
                     let reference = newton::solve_ik(&model, &outputs, &f.outputs, &guess, &options)
                         .unwrap_or_else(|e| panic!("{}: Newton ik failed at {:?}: {e}", $file, f.outputs));

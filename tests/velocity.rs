@@ -221,7 +221,7 @@ fn generated_point_velocities_and_accelerations() {
 
 /// A mechanism with an S–S link (the RSSR, the R-S-S-P), both branches at 50 random crank angles, rates and
 /// second derivatives: the velocity equations at the model's values of the
-/// interpreted solution (`common::model_values`: the S joints' rotation
+/// interpreted solution (`Solution::model_values`: the S joints' rotation
 /// vectors, the coupler's spin by the plan's convention) against
 /// differences of the generated fk along q(t): the revolutes' rates, every
 /// point's velocity and acceleration (the joints' and the coupler's
@@ -253,7 +253,7 @@ macro_rules! with_spheres {
                     })
                     .collect();
                 let centre = spatial_solution(&model, &plan, q, &signs);
-                let values = common::model_values(&model, &centre.values, &centre.poses);
+                let values = centre.model_values(&model);
                 let acc = velocity::accelerations(&model, &values, &[qd], &[qdd]).unwrap();
                 let v = &acc.velocities;
                 let poses = pkm::runtime::kinematics::link_poses(&model, &values).unwrap();

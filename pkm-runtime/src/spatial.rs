@@ -489,9 +489,11 @@ impl Plan {
         }
     }
 
-    /// Every joint value of one branch, verified ([`run`]).
+    /// Every joint value of one branch, verified ([`run`]), in the model's
+    /// layout ([`Solution::model_values`]: what the model's kinematics and
+    /// velocity equations take).
     pub fn solve(&self, model: &Model, given: &[f64], signs: &[Sign]) -> Result<Vec<f64>, SolveError> {
-        run(model, self, given, signs).map(|s| s.values)
+        run(model, self, given, signs).map(|s| s.model_values(model))
     }
 
     /// Its steps' determinant factors at the link poses `poses`
@@ -644,6 +646,31 @@ pub struct Solution {
 
 fn bad(what: String) -> SolveError {
     SolveError::BadInput { what: Cow::Owned(what) }
+}
+
+impl Solution {
+    /// The joint values in the model's layout ([`Model::value_offsets`]):
+    /// one per R, P or Pa joint ([`Solution::values`]), three per
+    /// spherical joint, which has no one value there: the rotation vector
+    /// between its two links' poses (`T_u⁻¹·T_v`'s rotation, as
+    /// [`crate::kinematics::joint_pose`] turns it). An S–S link's idle
+    /// spin is in its joints' rotation vectors as the plan's convention
+    /// placed it.
+    pub fn model_values(&self, model: &Model) -> Vec<f64> {
+        model
+            .joints
+            .iter()
+            .zip(&self.values)
+            .flat_map(|(j, &v)| match j.kind {
+                JointType::S => {
+                    let [u, w] = j.links;
+                    let r = (self.poses[u].rotation.inverse() * self.poses[w].rotation).scaled_axis();
+                    vec![r.x, r.y, r.z]
+                }
+                _ => vec![v],
+            })
+            .collect()
+    }
 }
 
 /// A point of a link of the model, in that link's frame.

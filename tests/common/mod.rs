@@ -155,30 +155,3 @@ pub fn pushed_off(rng: &mut pkm::dsl::screw::SplitMix, outputs: &[f64; 4], exten
     let given = std::array::from_fn(|i| outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
     (given, d)
 }
-
-/// A solution's joint values in the model's layout
-/// ([`pkm::runtime::model::Model::value_offsets`], what the Newton
-/// reference and the velocity equations take): one per R, P or Pa joint
-/// (`values`, one per joint), three per spherical joint, the rotation
-/// vector between its two links' poses (as `kinematics::joint_pose` turns
-/// it; the solutions give an S joint no one value).
-pub fn model_values(
-    model: &pkm::runtime::model::Model,
-    values: &[f64],
-    poses: &[pkm::runtime::nalgebra::Isometry3<f64>],
-) -> Vec<f64> {
-    use pkm::runtime::model::JointType;
-    model
-        .joints
-        .iter()
-        .zip(values)
-        .flat_map(|(j, &v)| match j.kind {
-            JointType::S => {
-                let [u, w] = j.links;
-                let r = (poses[u].rotation.inverse() * poses[w].rotation).scaled_axis();
-                vec![r.x, r.y, r.z]
-            }
-            _ => vec![v],
-        })
-        .collect()
-}
