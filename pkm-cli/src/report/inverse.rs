@@ -256,7 +256,7 @@ fn circle(
     let revolute: Vec<bool> = model
         .joints
         .iter()
-        .flat_map(|j| std::iter::repeat(j.kind != JointType::P).take(j.kind.dof()))
+        .flat_map(|j| std::iter::repeat_n(j.kind != JointType::P, j.kind.dof()))
         .collect();
     let mut previous = start;
     let mut frames = Vec::new();

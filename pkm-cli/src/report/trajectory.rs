@@ -27,7 +27,7 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let revolute: Vec<bool> = model
         .joints
         .iter()
-        .flat_map(|j| std::iter::repeat(j.kind != JointType::P).take(j.kind.dof()))
+        .flat_map(|j| std::iter::repeat_n(j.kind != JointType::P, j.kind.dof()))
         .collect();
     let (start, (motion, rates)) = (&s.start.0, (s.motion.0, &s.motion.1));
     let dt = s.duration.0 / STEPS as f64;
