@@ -11,7 +11,8 @@ use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
-/// A solved branch: its signs, and its joint values and joint points (3-D).
+/// A solved branch: its signs, its joint values in the model's layout
+/// (`Solution::model_values`: the Newton reference's) and joint points (3-D).
 type Solved = (Vec<pkm::runtime::primitives::Sign>, Vec<f64>, Vec<[f64; 3]>);
 
 /// Every solved branch at the given inputs.
@@ -36,7 +37,7 @@ fn load_text(text: &str) -> (Model, Solver) {
                 let points = (0..model.joints.len())
                     .map(|j| kinematics::joint_point(model, &s.poses, j))
                     .collect();
-                (signs, s.values, points)
+                (signs, s.model_values(model), points)
             })
             .collect()
     });
@@ -509,4 +510,110 @@ fn seed000_b() {
 #[test]
 fn five_bar_pa() {
     check("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)], 200);
+}
+
+#[test]
+fn rssr() {
+    check("rssr", &[(-PI, PI)], 200);
+}
+
+/// By hand: with the crank at θ, S1 = a(cos θ, sin θ, 0); the rocker turns
+/// about +x through (d, e, h), S2 = (d, e + b cos ψ, h + b sin ψ); the
+/// coupler keeps |S1S2| = l, so
+/// `2b(e − a sin θ)·cos ψ + 2bh·sin ψ = l² − (d − a cos θ)² − (e − a sin θ)² − h² − b²`,
+/// `A cos ψ + B sin ψ = C`, ψ = atan2(B, A) ± acos(C/√(A² + B²)).
+#[test]
+fn rssr_by_hand() {
+    let (model, solve) = load("rssr");
+    let (a, b, l, d, e, h) = (40.0f64, 120.0f64, 160.0f64, 100.0f64, 40.0f64, 60.0f64);
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        let (s, c) = theta.sin_cos();
+        let (aa, bb) = (2.0 * b * (e - a * s), 2.0 * b * h);
+        let cc = l * l - (d - a * c).powi(2) - (e - a * s).powi(2) - h * h - b * b;
+        let (base, half) = (bb.atan2(aa), (cc / aa.hypot(bb)).acos());
+        let mut want = [base + half, base - half].map(|p| p.sin().atan2(p.cos()));
+        // ψ is the last joint (R2), the last value of the model's layout.
+        let mut got: Vec<f64> = solve(&model, &[theta]).iter().map(|(_, q, _)| q[q.len() - 1]).collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-13, "θ = {theta}: ψ {g} vs {w}");
+        }
+    }
+}
+
+#[test]
+fn rssp() {
+    check("rssp", &[(-PI, PI)], 200);
+}
+
+/// By hand: with the crank at θ, S1 = a(cos θ, sin θ, 0); the slider's S2 =
+/// (0, e, h) + s·(1, 0, 1)/√2; |S1S2| = l gives the quadratic
+/// `s² + 2s·(w·g) + |w|² − l² = 0` with `w = (0, e, h) − S1`, `g` the unit
+/// guide: s = −w·g ± √((w·g)² − |w|² + l²).
+#[test]
+fn rssp_by_hand() {
+    let (model, solve) = load("rssp");
+    let (a, l, e, h) = (40.0f64, 160.0f64, 50.0f64, 30.0f64);
+    let g = [0.5f64.sqrt(), 0.0, 0.5f64.sqrt()];
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        let w = [-a * theta.cos(), e - a * theta.sin(), h];
+        let wg = w[0] * g[0] + w[2] * g[2];
+        let ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        let half = (wg * wg - ww + l * l).sqrt();
+        let mut want = [-wg + half, -wg - half];
+        // s is the last joint (P1), the last value of the model's layout.
+        let mut got: Vec<f64> = solve(&model, &[theta]).iter().map(|(_, q, _)| q[q.len() - 1]).collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-12 * l, "θ = {theta}: s {g} vs {w}");
+        }
+    }
+}
+
+/// The coupler's idle spin by the plan's convention (the smallest turn
+/// from the world's axes carrying its drawn S1→S2 line, +x, onto the
+/// centres' line) against nalgebra's `rotation_between` at the plan's
+/// centres and at Newton's (whose own spin is whatever its least squares
+/// left): both give the plan's coupler orientation.
+#[test]
+fn rssr_coupler_spin_by_the_convention() {
+    use pkm::runtime::nalgebra::{UnitQuaternion, Vector3};
+    let text = common::example_text("rssr").0;
+    let a = pkm::dsl::analyze_source(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let coupler = model.links.iter().position(|l| l == "coupler").unwrap();
+    let [s1, s2] = ["S1", "S2"].map(|n| model.joints.iter().position(|j| j.name == n).unwrap());
+    let convention = |poses: &[pkm::runtime::nalgebra::Isometry3<f64>]| {
+        let [p, q] = [s1, s2].map(|j| Vector3::from(kinematics::joint_point(&model, poses, j)));
+        UnitQuaternion::rotation_between(&Vector3::x(), &(q - p)).unwrap()
+    };
+    let mut rng = SplitMix::new(3);
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        for (signs, s) in spatial::run_all(&model, &plan, &[theta]) {
+            let s = s.unwrap();
+            let plan_turn = s.poses[coupler].rotation;
+            let e = plan_turn.angle_to(&convention(&s.poses));
+            assert!(
+                e < 1e-14,
+                "θ = {theta} {signs:?}: the plan's coupler is {e:e} rad off the convention"
+            );
+            let guess: Vec<f64> = s
+                .model_values(&model)
+                .iter()
+                .map(|v| v + uniform(&mut rng, -1e-2, 1e-2))
+                .collect();
+            let reference = newton::solve_fk(&model, &[theta], &guess, &NewtonOptions::default()).unwrap();
+            let spin = reference.poses[coupler].rotation.angle_to(&plan_turn);
+            let e = convention(&reference.poses).angle_to(&plan_turn);
+            assert!(
+                e < 1e-9,
+                "θ = {theta} {signs:?}: Newton's centres, by the convention, {e:e} rad off (its own spin {spin:e})"
+            );
+        }
+    }
 }

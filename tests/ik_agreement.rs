@@ -26,6 +26,8 @@ pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
@@ -176,4 +178,65 @@ fn agile_eye() {
         assert_eq!(firsts.len(), 8, "φ = {phi}");
     }
     eprintln!("agile_eye: {compared} ik branches, each on Newton's and the hand solution");
+}
+
+/// A mechanism with an S–S link (the RSSR, the R-S-S-P): its S joints have no one value in a solution, so
+/// Newton starts from the model's values of each ik branch
+/// (`Solution::model_values`, the rotation vectors from the interpreted
+/// poses, 1e-3 off) and the revolutes and every joint point are compared.
+macro_rules! with_spheres {
+    ($ty:ident, $file:expr) => {{
+        use pkm::runtime::spatial;
+        let (a, model) = common::example($file);
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+        let scale = kinematics::model_scale(&model);
+        let (offsets, _) = model.value_offsets();
+        let options = NewtonOptions {
+            tolerance: 1e-14,
+            ..NewtonOptions::default()
+        };
+        let mut rng = SplitMix::new(7);
+        let mut compared = 0;
+        for _ in 0..100 {
+            let q = [PI * rng.symmetric()];
+            for f in $ty::fk(&Default::default(), &q)
+                .iter()
+                .filter_map(|b| b.result.as_ref().ok())
+            {
+                for (_, s) in spatial::run_all(&model, &plan, &f.outputs) {
+                    let s = s.unwrap_or_else(|e| panic!("{}: ik at {:?}: {e}", $file, f.outputs));
+                    let values = s.model_values(&model);
+                    let guess: Vec<f64> = values.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+                    let reference = newton::solve_ik(&model, &outputs, &f.outputs, &guess, &options)
+                        .unwrap_or_else(|e| panic!("{}: Newton ik failed at {:?}: {e}", $file, f.outputs));
+                    for (j, joint) in model.joints.iter().enumerate() {
+                        if joint.kind == pkm::runtime::model::JointType::R {
+                            let e = max_error(&[values[offsets[j]]], &[reference.values[offsets[j]]], &[true], scale);
+                            assert!(e <= 1e-9, "{} {}: {e:e} at {:?}", $file, joint.name, f.outputs);
+                        }
+                        let (p, r) = (
+                            kinematics::joint_point(&model, &s.poses, j),
+                            kinematics::joint_point(&model, &reference.poses, j),
+                        );
+                        let e = max_error(&p, &r, &[false; 3], scale);
+                        assert!(e <= 1e-9, "{} point {}: {e:e} at {:?}", $file, joint.name, f.outputs);
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        eprintln!("{}: {compared} ik branches", $file);
+        assert!(compared >= 100, "{}: only {compared} ik branches compared", $file);
+    }};
+}
+
+#[test]
+fn rssr() {
+    with_spheres!(Rssr, "rssr");
+}
+
+#[test]
+fn rssp() {
+    with_spheres!(Rssp, "rssp");
 }

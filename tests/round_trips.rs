@@ -29,6 +29,8 @@ pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 const SAMPLES: usize = 100_000;
 const TOLERANCE: f64 = 1e-9;
@@ -259,4 +261,17 @@ fn seed000_b() {
         300.0,
         sliders_together
     );
+}
+
+/// The spatial RSSR: the crank turns fully. Its S joints have no one value
+/// (NaN in `q`), so the comparisons see the revolutes only.
+#[test]
+fn rssr() {
+    round_trips!(Rssr, [(-PI, PI)], 200.0, never);
+}
+
+/// The spatial crank-slider R-S-S-P: the crank turns fully.
+#[test]
+fn rssp() {
+    round_trips!(Rssp, [(-PI, PI)], 200.0, never);
 }

@@ -43,6 +43,8 @@ snapshots! {
     five_bar_pa => "FiveBarPa",
     rps_3 => "Rps",
     spr_3 => "Spr",
+    rssr => "Rssr",
+    rssp => "Rssp",
 }
 
 #[test]

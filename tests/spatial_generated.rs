@@ -12,6 +12,8 @@ use pkm::runtime::spatial::{self, Solution};
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
+pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 type Interpreted = Vec<(Vec<Sign>, Result<Solution, SolveError>)>;
 
@@ -92,4 +94,73 @@ fn seed000_b_generated_equals_interpreted() {
 fn five_bar_pa_generated_equals_interpreted() {
     use std::f64::consts::PI;
     check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)]);
+}
+
+/// A mechanism with an S–S link (the RSSR, the R-S-S-P), fk over the crank's turn and ik at the angles fk
+/// (crank) finds: the generated branch and the interpreted one give the same
+/// joint values (an S joint's is NaN in both) and the same points in
+/// space, the S–S link's midpoint M among them, or the same error.
+macro_rules! with_spheres {
+    ($ty:ident, $sol:ident, $file:expr) => {{
+        let p = Default::default();
+        let (a, model) = common::example($file);
+        let (fk_plan, ik_plan) = (
+            pkm::dsl::planner::forward_plan(&a).unwrap(),
+            pkm::dsl::planner::inverse_plan(&a).unwrap(),
+        );
+        let same = |g: &Result<$sol, SolveError>, i: &Result<Solution, SolveError>| match (g, i) {
+            (Ok(g), Ok(i)) => {
+                for (a, b) in g.q.iter().zip(&i.values) {
+                    assert!(
+                        (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-12 * 300.0,
+                        "{a} vs {b}"
+                    );
+                }
+                let points = (0..model.joints.len())
+                    .map(|j| pkm::runtime::kinematics::joint_point(&model, &i.poses, j))
+                    .chain(std::iter::once(
+                        pkm::runtime::kinematics::point(&model, &i.poses, "M").unwrap(),
+                    ));
+                for (k, q) in points.enumerate() {
+                    let d = (0..3).map(|c| (g.points[k][c] - q[c]).abs()).fold(0.0, f64::max);
+                    assert!(d < 1e-12 * 300.0, "{}: {:?} vs {q:?}", $ty::POINTS[k], g.points[k]);
+                }
+                1
+            }
+            (Err(a), Err(b)) => {
+                assert_eq!(a, b);
+                0
+            }
+            other => panic!("generated and interpreted differ: {other:?}"),
+        };
+        let (mut n_fk, mut n_ik) = (0, 0);
+        for k in 0..720 {
+            let q = [-3.2 + k as f64 * 0.01];
+            let generated = $ty::fk(&p, &q);
+            let interpreted = spatial::run_all(&model, &fk_plan, &q);
+            assert_eq!(generated.len(), interpreted.len());
+            for (g, (signs, i)) in generated.iter().zip(&interpreted) {
+                assert_eq!(&g.signs[..], &signs[..]);
+                n_fk += same(&g.result, i);
+                if let Ok(f) = &g.result {
+                    let generated = $ty::ik(&p, &f.outputs);
+                    let interpreted = spatial::run_all(&model, &ik_plan, &f.outputs);
+                    for (g, (_, i)) in generated.iter().zip(&interpreted) {
+                        n_ik += same(&g.result, i);
+                    }
+                }
+            }
+        }
+        assert!(n_fk >= 1440 && n_ik >= 2000, "{n_fk} fk, {n_ik} ik solutions compared");
+    }};
+}
+
+#[test]
+fn rssr_generated_equals_interpreted() {
+    with_spheres!(Rssr, RssrSolution, "rssr");
+}
+
+#[test]
+fn rssp_generated_equals_interpreted() {
+    with_spheres!(Rssp, RsspSolution, "rssp");
 }

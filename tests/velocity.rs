@@ -28,6 +28,8 @@ pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
+pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
 
 /// A five-point stencil's derivative (first or second, error O(h⁴)) from
 /// samples at −2h, −h, 0, h, 2h.
@@ -225,4 +227,107 @@ fn generated_point_velocities_and_accelerations() {
     assert!(e < 1e-6, "point velocities off by {e:e} mm/s");
     let e = max_error(&pa, &second(&points, h), &lengths, 1.0);
     assert!(e < 1e-4, "point accelerations off by {e:e} mm/s²");
+}
+
+/// A mechanism with an S–S link (the RSSR, the R-S-S-P), both branches at 50 random crank angles, rates and
+/// second derivatives: the velocity equations at the model's values of the
+/// interpreted solution (`Solution::model_values`: the S joints' rotation
+/// vectors, the coupler's spin by the plan's convention) against
+/// differences of the generated fk along q(t): the revolutes' rates, every
+/// point's velocity and acceleration (the joints' and the coupler's
+/// midpoint M, on its S–S line, so the idle spin moves none of them), the
+/// output's rate. The S joints' own rates carry the spin the equations
+/// choose (least squares), which no difference of positions sees.
+macro_rules! with_spheres {
+    ($ty:ident, $sol:ident, $file:expr) => {{
+        use pkm::runtime::model::JointType;
+        use pkm::runtime::primitives::Sign;
+        let (a, model) = common::example($file);
+        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+        let scale = pkm::runtime::kinematics::model_scale(&model);
+        let (offsets, _) = model.value_offsets();
+        let params = Default::default();
+        let mut rng = SplitMix::new(11);
+        let h = 2.5e-4;
+        let (mut checked, mut worst_v, mut worst_a) = (0, 0.0f64, 0.0f64);
+        for _ in 0..50 {
+            let (q, qd, qdd) = (PI * rng.symmetric(), rng.symmetric(), rng.symmetric());
+            assert_eq!(plan.branches, 1);
+            for signs in [[Sign::Plus], [Sign::Minus]] {
+                let s: Vec<$sol> = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0]
+                    .iter()
+                    .map(|k| {
+                        let t = k * h;
+                        $ty::fk_branch(&params, &[q + qd * t + qdd * t * t / 2.0], signs).unwrap()
+                    })
+                    .collect();
+                let centre = spatial_solution(&model, &plan, q, &signs);
+                let values = centre.model_values(&model);
+                let acc = velocity::accelerations(&model, &values, &[qd], &[qdd]).unwrap();
+                let v = &acc.velocities;
+                let poses = pkm::runtime::kinematics::link_poses(&model, &values).unwrap();
+                let points: Vec<Vec<f64>> = s.iter().map(|x| x.points.iter().flatten().copied().collect()).collect();
+                let lengths = vec![false; points[0].len()];
+                let flat = |p: Vec<[f64; 3]>| p.concat();
+                let pv = flat(velocity::point_velocities(&model, &poses, &v.twists));
+                let e = max_error(&pv, &first(&points, h), &lengths, scale);
+                assert!(e < 1e-6, "{}: point velocities off by {e:e} at {q}", $file);
+                worst_v = worst_v.max(e);
+                let pa = flat(velocity::point_accelerations(&model, &poses, &acc));
+                let e = max_error(&pa, &second(&points, h), &lengths, scale);
+                assert!(e < 1e-5, "{}: point accelerations off by {e:e} at {q}", $file);
+                worst_a = worst_a.max(e);
+                let centre_q = s[3].q;
+                let unwrap = |x: &[f64]| -> Vec<f64> {
+                    x.iter()
+                        .zip(&centre_q)
+                        .map(|(a, c)| c + pkm::runtime::solution::wrap_angle(a - c))
+                        .collect()
+                };
+                let joints: Vec<Vec<f64>> = s.iter().map(|x| unwrap(&x.q)).collect();
+                let (d1, d2) = (first(&joints, h), second(&joints, h));
+                for (j, joint) in model.joints.iter().enumerate() {
+                    if joint.kind == JointType::R {
+                        let e = (v.rates[offsets[j]] - d1[j]).abs();
+                        assert!(e < 1e-6, "{}: {} rate off by {e:e} at {q}", $file, joint.name);
+                        worst_v = worst_v.max(e);
+                        let e = (acc.rates[offsets[j]] - d2[j]).abs();
+                        assert!(e < 1e-5, "{}: {} acceleration off by {e:e} at {q}", $file, joint.name);
+                        worst_a = worst_a.max(e);
+                    }
+                }
+                let outs: Vec<Vec<f64>> = s.iter().map(|x| unwrap(&x.outputs)).collect();
+                let rates = velocity::output_rates(&model, &poses, &outputs, &v.rates, &v.twists);
+                let e = max_error(&rates, &first(&outs, h), &$ty::OUTPUT_ANGLES, scale);
+                assert!(e < 1e-6, "{}: output rate off by {e:e} at {q}", $file);
+                checked += 1;
+            }
+        }
+        eprintln!(
+            "{}: {checked} branches, worst rate error {worst_v:e}, acceleration {worst_a:e}",
+            $file
+        );
+        assert!(checked >= 100, "{}: only {checked} branches checked", $file);
+    }};
+}
+
+#[test]
+fn rssr() {
+    with_spheres!(Rssr, RssrSolution, "rssr");
+}
+
+#[test]
+fn rssp() {
+    with_spheres!(Rssp, RsspSolution, "rssp");
+}
+
+/// The interpreted solution of `plan` at crank angle `q` on the branch `signs`.
+fn spatial_solution(
+    model: &pkm::runtime::model::Model,
+    plan: &pkm::runtime::spatial::Plan,
+    q: f64,
+    signs: &[pkm::runtime::primitives::Sign],
+) -> pkm::runtime::spatial::Solution {
+    pkm::runtime::spatial::run(model, plan, &[q], signs).unwrap()
 }

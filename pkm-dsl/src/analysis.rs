@@ -63,9 +63,17 @@ impl Analysis {
         if let Some(title) = &m.title {
             let _ = writeln!(s, "  {title}");
         }
+        // Local (idle) DOF are not counted in Σf (an S–S link's spin about
+        // its S–S line): say how many were left out, where any were.
+        let joints_f: usize = m.joints.iter().map(|j| j.kind.dof()).sum();
+        let idle = match joints_f.saturating_sub(t.total_f) {
+            0 => String::new(),
+            1 => format!(" ({joints_f} less 1 local idle DOF)"),
+            i => format!(" ({joints_f} less {i} local idle DOF)"),
+        };
         let _ = writeln!(
             s,
-            "\nlinks n = {}, joints m = {}, loops v = m − n + 1 = {}, Σf = {}",
+            "\nlinks n = {}, joints m = {}, loops v = m − n + 1 = {}, Σf = {}{idle}",
             m.links.len(),
             m.joints.len(),
             t.loops,

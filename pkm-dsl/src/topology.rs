@@ -1346,6 +1346,11 @@ mod tests {
             0,
             None,
         );
+        // The report says what it left out of Σf.
+        let report = crate::analyze_source("mechanism rssr { base R1* - S1 - S2 - R2 base; }")
+            .unwrap()
+            .report();
+        assert!(report.contains("Σf = 7 (8 less 1 local idle DOF)"), "{report}");
         // 6-SPS: Σf = 42 − 6 leg spins = 36; SOC₁ two legs 12 − 2 − 6 = +4, then 6 − 1 − 1 − 6 = −1 four times.
         let legs: String = (1..=6)
             .map(|i| format!("base S{i} - P{i}* - S{} platform; ", i + 6))

@@ -18,6 +18,9 @@
 //! * a slide brings a point onto a line, neither turning ([`Step::SlideToLine`]).
 //! * an axis of the new link must keep its angle from a known axis that
 //!   meets it and the turning axis at one centre ([`Step::Cone`]).
+//! * a link ending in spherical joints at both ends, whose two centres are
+//!   known, is placed between them, its idle spin by a convention
+//!   ([`Step::Rod`]).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -88,15 +91,30 @@ pub struct Direction {
     pub joint: usize,
 }
 
+/// What fixes a sphere's radius ([`Constraint::Sphere`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Radius {
+    /// The length of parallelogram `0`'s arm.
+    Arm(usize),
+    /// The distance between the centres of two spherical joints of `link`
+    /// (an S–S link: a rod, an RSSR's coupler).
+    Rod {
+        /// The link.
+        link: usize,
+        /// Its two spherical joints.
+        joints: [usize; 2],
+    },
+}
+
 /// What the rest of the mechanism says about a point of the new link.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Constraint {
-    /// At the length of parallelogram `pa`'s arm from the anchored point.
+    /// At the distance `radius` fixes from the anchored point.
     Sphere {
         /// The centre.
         centre: Anchor,
-        /// The parallelogram.
-        pa: usize,
+        /// The parallelogram's arm, or the S–S link, that fixes the radius.
+        radius: Radius,
     },
     /// Its coordinate along `normal` is that of the anchored point.
     Plane {
@@ -324,6 +342,25 @@ pub enum Step {
         /// Which of the point and the line `to` carries, and where the other is known.
         meet: crate::steps::slide_to_line::Meet,
     },
+    /// A link whose only joints are two spherical ones, `joint` (on known
+    /// link `from`) and `other` (whose centre `target` anchors), placed
+    /// between the two known centres; its spin about the line between them
+    /// is idle, and is fixed by the convention of
+    /// [`crate::steps::sphere_link::carry_line`] (the smallest turn from
+    /// the world's axes that carries the link's drawn S–S line onto the
+    /// centres' line).
+    Rod {
+        /// The spherical joint on the known link.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// The S–S link.
+        to: usize,
+        /// Its other spherical joint.
+        other: usize,
+        /// That joint's centre, known.
+        target: Anchor,
+    },
 }
 
 /// A spatial plan.
@@ -369,9 +406,10 @@ impl Step {
         match self {
             Step::Place { .. } => false,
             Step::Transfer { from, .. } => *from == link,
-            Step::Aim { from, target, .. } | Step::PaPlane { from, target, .. } | Step::Guide { from, target, .. } => {
-                *from == link || target.link == link
-            }
+            Step::Aim { from, target, .. }
+            | Step::PaPlane { from, target, .. }
+            | Step::Guide { from, target, .. }
+            | Step::Rod { from, target, .. } => *from == link || target.link == link,
             Step::Align {
                 from, group, target, ..
             } => *from == link || group.link == link || target.link == link,
@@ -427,6 +465,10 @@ impl Step {
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
                 add(target.joint);
             }
+            Step::Rod { other, target, .. } => {
+                add(*other);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
                 if let Constraint::Cylinder { hops: h, joint, .. } | Constraint::Slider { hops: h, joint, .. } =
@@ -450,8 +492,11 @@ impl Step {
                 }
             }
             Step::Locus { constraint, .. } => match constraint {
-                Constraint::Sphere { centre, pa } => {
-                    add(*pa);
+                Constraint::Sphere { centre, radius } => {
+                    match *radius {
+                        Radius::Arm(pa) => add(pa),
+                        Radius::Rod { joints, .. } => joints.into_iter().for_each(&mut add),
+                    }
                     hops(&centre.hops).into_iter().rev().for_each(&mut add);
                 }
                 Constraint::Plane { normal, anchor } => {
@@ -479,7 +524,8 @@ impl Step {
             | Step::Guide { joint, .. }
             | Step::Beyond { joint, .. }
             | Step::SlideToLine { joint, .. }
-            | Step::Cone { joint, .. } => Some(*joint),
+            | Step::Cone { joint, .. }
+            | Step::Rod { joint, .. } => Some(*joint),
         }
     }
 }
@@ -512,9 +558,11 @@ impl Plan {
         }
     }
 
-    /// Every joint value of one branch, verified ([`run`]).
+    /// Every joint value of one branch, verified ([`run`]), in the model's
+    /// layout ([`Solution::model_values`]: what the model's kinematics and
+    /// velocity equations take).
     pub fn solve(&self, model: &Model, given: &[f64], signs: &[Sign]) -> Result<Vec<f64>, SolveError> {
-        run(model, self, given, signs).map(|s| s.values)
+        run(model, self, given, signs).map(|s| s.model_values(model))
     }
 
     /// Its steps' determinant factors at the link poses `poses`
@@ -667,6 +715,31 @@ pub struct Solution {
 
 fn bad(what: String) -> SolveError {
     SolveError::BadInput { what: Cow::Owned(what) }
+}
+
+impl Solution {
+    /// The joint values in the model's layout ([`Model::value_offsets`]):
+    /// one per R, P or Pa joint ([`Solution::values`]), three per
+    /// spherical joint, which has no one value there: the rotation vector
+    /// between its two links' poses (`T_u⁻¹·T_v`'s rotation, as
+    /// [`crate::kinematics::joint_pose`] turns it). An S–S link's idle
+    /// spin is in its joints' rotation vectors as the plan's convention
+    /// placed it.
+    pub fn model_values(&self, model: &Model) -> Vec<f64> {
+        model
+            .joints
+            .iter()
+            .zip(&self.values)
+            .flat_map(|(j, &v)| match j.kind {
+                JointType::S => {
+                    let [u, w] = j.links;
+                    let r = (self.poses[u].rotation.inverse() * self.poses[w].rotation).scaled_axis();
+                    vec![r.x, r.y, r.z]
+                }
+                _ => vec![v],
+            })
+            .collect()
+    }
 }
 
 /// A point of a link of the model, in that link's frame.

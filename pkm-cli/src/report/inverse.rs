@@ -251,7 +251,13 @@ fn circle(
     let choices = plan.choices();
     let xr = plots::range(cloud.iter().map(|p| p[0]));
     let radius = 0.1 * (xr.1 - xr.0);
-    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind != JointType::P).collect();
+    // One per value in the model's layout (a spherical joint's three
+    // rotation-vector components are angles too).
+    let revolute: Vec<bool> = model
+        .joints
+        .iter()
+        .flat_map(|j| std::iter::repeat_n(j.kind != JointType::P, j.kind.dof()))
+        .collect();
     let mut previous = start;
     let mut frames = Vec::new();
     for k in 0..=100 {

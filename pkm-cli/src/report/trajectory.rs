@@ -22,7 +22,13 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let (model, plan, s, point, unit) = (&at.l.model, at.plan, at.s, at.point, at.unit);
     let n = s.start.0.len();
     let choices = plan.choices();
-    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind != JointType::P).collect();
+    // One per value in the model's layout (a spherical joint's three
+    // rotation-vector components are angles too).
+    let revolute: Vec<bool> = model
+        .joints
+        .iter()
+        .flat_map(|j| std::iter::repeat_n(j.kind != JointType::P, j.kind.dof()))
+        .collect();
     let (start, (motion, rates)) = (&s.start.0, (s.motion.0, &s.motion.1));
     let dt = s.duration.0 / STEPS as f64;
     let mut previous: Option<Vec<f64>> = None;

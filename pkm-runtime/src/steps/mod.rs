@@ -6,7 +6,8 @@
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
-//! [`slide_to_line`], [`on_cone`], and the four loci a
+//! [`slide_to_line`], [`on_cone`], [`sphere_link`] (an S–S link: its sphere and its
+//! placing), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -32,6 +33,7 @@ pub mod pa_plane;
 pub mod place;
 pub mod search;
 pub mod slide_to_line;
+pub mod sphere_link;
 pub mod transfer;
 
 use crate::frame::Frame;
@@ -476,6 +478,7 @@ pub fn execute<T: Scalar>(
         | Step::Beyond { joint, from, to, .. }
         | Step::SlideToLine { joint, from, to, .. }
         | Step::Cone { joint, from, to, .. }
+        | Step::Rod { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -512,13 +515,14 @@ pub fn execute<T: Scalar>(
         Step::Cone {
             across, target, branch, ..
         } => on_cone::execute(&mv, *across, target, *branch)?,
+        Step::Rod { other, target, .. } => sphere_link::execute(&mv, *other, target)?,
         Step::Locus {
             point,
             constraint,
             branch,
             ..
         } => match constraint {
-            Constraint::Sphere { centre, pa } => on_sphere::execute(&mv, *point, centre, *pa, *branch)?,
+            Constraint::Sphere { centre, radius } => on_sphere::execute(&mv, *point, centre, *radius, *branch)?,
             Constraint::Plane { normal, anchor } => on_plane::execute(&mv, *point, normal, anchor, *branch)?,
             Constraint::Cylinder { hops, joint: h, link } => {
                 on_cylinder::execute(&mv, *point, hops, *h, *link, *branch)?
@@ -732,10 +736,11 @@ pub fn check_residual<T: Scalar>(
 /// a branch, a locus with one, a guide through a known point (an RPR
 /// dyad, which nothing before it solves), a point beyond a joint whose
 /// value is given on a cylinder (an input between two moving links), a
-/// slide bringing a point onto a line (the PRP and RPP dyads), and last an
-/// axis kept at its angle from a known axis through one centre (a
-/// spherical RRR dyad).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 10] = [
+/// slide bringing a point onto a line (the PRP and RPP dyads), an axis
+/// kept at its angle from a known axis through one centre (a spherical RRR
+/// dyad), and last an S–S link: placed between its two known centres, or
+/// its sphere met by a point of the new link ([`sphere_link::find`]).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 11] = [
     transfer::find,
     aim::find,
     align::find,
@@ -746,12 +751,19 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 10] = [
     beyond_given::find,
     slide_to_line::find,
     on_cone::find,
+    sphere_link::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
 /// rest of the mechanism holds on a sphere, plane, cylinder or slider plane
 /// ([`constraints`]), the first whose step branches as `want_branch` says.
 fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
+    find_locus_by(s, want_branch, false)
+}
+
+/// [`find_locus`] among the loci of `rods` (S–S links' spheres,
+/// [`sphere_link::find_sphere`]) or of the other joints.
+pub(crate) fn find_locus_by(s: &mut search::Search<'_>, want_branch: bool, rods: bool) -> bool {
     // Slides first: a slide's value is found along its line directly
     // (t₀ ± √((d − e)(d + e))), where a turn's would reach it only through
     // an angle and a composed rotation, a few roundings more.
@@ -759,7 +771,7 @@ fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
     candidates.sort_by_key(|&(j, ..)| s.kind(j) != JointType::P);
     for (j, from, to) in candidates {
         for (point, x) in s.points_of(to, j) {
-            let found = constraints(s, j, to, point, x)
+            let found = constraints(s, j, to, point, x, rods)
                 .into_iter()
                 .find(|(_, two)| *two == want_branch);
             if let Some((constraint, two)) = found {
@@ -790,13 +802,14 @@ fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
 /// `to` that keeps the point put, the loci the joints met there hold it on
 /// (a parallelogram's sphere, a revolute's cylinder, a slide's plane), in
 /// the order of those joints, then the reach's plane. The order decides
-/// the plans.
+/// the plans. With `rods`, only the spheres S–S links hold it on.
 fn constraints(
     s: &search::Search<'_>,
     j: usize,
     to: usize,
     point: PointRef,
     x: nalgebra::Vector3<f64>,
+    rods: bool,
 ) -> Vec<(crate::spatial::Constraint, bool)> {
     let mut out = Vec::new();
     let circle = s.kind(j) != JointType::P;
@@ -814,6 +827,8 @@ fn constraints(
                 continue;
             }
             let found = match joint.kind {
+                JointType::S if rods => sphere_link::find_sphere(s, j, &r, q),
+                _ if rods => None,
                 JointType::Pa => on_sphere::find(s, j, &r, q),
                 JointType::R if circle => on_cylinder::find(s, &r, q, k, rot, turning),
                 JointType::R => on_cylinder::find_slide(s, to, &r, q, k, rot),
@@ -822,7 +837,9 @@ fn constraints(
             };
             out.extend(found.map(|c| (c, true)));
         }
-        out.extend(on_plane::find(s, j, point, &r, k, circle));
+        if !rods {
+            out.extend(on_plane::find(s, j, point, &r, k, circle));
+        }
     }
     out
 }
@@ -872,6 +889,8 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             target,
             ..
         } => on_cone::factor(at, k, *joint, *from, *to, *across, target),
+        // Placing an S–S link between known centres solves no equation.
+        Step::Rod { .. } => return None,
         Step::Locus {
             joint,
             from,

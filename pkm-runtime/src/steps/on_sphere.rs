@@ -1,5 +1,6 @@
 //! A point of the new link held on a sphere: at a parallelogram's arm length
-//! from a known point. The joint moves the point on a circle (R, Pa) or a
+//! from a known point, or at an S–S link's length from its other centre
+//! ([`Radius`]; that sphere's match is [`super::sphere_link::find_sphere`]). The joint moves the point on a circle (R, Pa) or a
 //! line (P): a circle meeting a sphere (`a·cosθ + b·sinθ = c`, the constant
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the foot of the perpendicular ± the half-chord).
@@ -12,22 +13,25 @@ use crate::scalar::{norm, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 use crate::spatial::v3;
-use crate::spatial::{Anchor, Constraint};
+use crate::spatial::{Anchor, Constraint, Radius};
 use nalgebra::Vector3;
 
-/// The value of the joint that puts `point` of the new link at
-/// parallelogram `pa`'s arm length from the anchored `centre`; `branch`
-/// picks the root.
+/// The value of the joint that puts `point` of the new link at the
+/// distance `radius` fixes (a parallelogram's arm, an S–S link's length)
+/// from the anchored `centre`; `branch` picks the root.
 pub fn execute<T: Scalar>(
     mv: &Move<'_, T>,
     point: PointRef,
     centre: &Anchor,
-    pa: usize,
+    radius: Radius,
     branch: Option<usize>,
 ) -> Result<Found<T>, SolveError> {
     let (_, m) = mv.motion(point);
     let q = mv.geometry.anchor(&mv.state.poses, centre);
-    let radius = arm_length(&mv.geometry.joints[pa].places);
+    let radius = match radius {
+        Radius::Arm(pa) => arm_length(&mv.geometry.joints[pa].places),
+        Radius::Rod { link, joints } => super::sphere_link::length(mv.geometry, link, joints),
+    };
     Ok(mv.found(to_distance(mv, m, q, radius, mv.choice(branch))?))
 }
 
@@ -228,7 +232,7 @@ pub(crate) fn find(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Cons
             hops: reversed(&c.hops),
             point: PointRef::Joint(q),
         },
-        pa: q,
+        radius: Radius::Arm(q),
     })
 }
 
