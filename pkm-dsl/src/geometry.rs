@@ -176,6 +176,9 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
     } = placed;
 
     let complete = !ast.geometry.is_empty();
+    if complete {
+        place_crosses(mech, &mut places);
+    }
     if complete && errors.is_empty() {
         check_forms(mech, &mut places, &place_span, &values, &mut errors);
         if errors.is_empty() {
@@ -201,6 +204,23 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
         })
     } else {
         Err(Diagnostics(errors))
+    }
+}
+
+/// Each U joint's cross link holds its two axes through its origin, the
+/// first (`NAME.a`) along z and the second (`NAME.b`) along x: the cross's
+/// frame is the first axis's joint frame when `NAME.a` = 0. With the
+/// model's conventions (`pkm_runtime::model`), `NAME.b`'s frame on the
+/// cross then has its x axis along the cross's y and its y axis along the
+/// first axis, so at `NAME.b` = 0 the second link's frame of `NAME.b` has
+/// its y axis along the first axis.
+fn place_crosses(mech: &Mechanism, places: &mut [[Option<JointPlace>; 2]]) {
+    let c = |v: [f64; 3]| v.map(Expr::Num);
+    for u in &mech.universals {
+        for (h, axis) in u.halves.into_iter().zip([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]) {
+            let side = usize::from(mech.joints[h].links[1] == u.cross);
+            places[h][side] = Some(JointPlace::Point(c([0.0; 3]), Some(c(axis))));
+        }
     }
 }
 
@@ -496,7 +516,13 @@ fn resolve_outputs(
         let kind = match &decl.what {
             crate::ast::OutputWhat::Joint(j) => {
                 let Some(index) = mech.joint_index(&j.text) else {
-                    errors.push(Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("not declared"));
+                    let d = match mech.universal(&j.text) {
+                        Some(_) => Diagnostic::new(j.span, format!("U joint `{}` has two values", j.text))
+                            .label("which one?")
+                            .note(format!("write `joint {0}.a` or `joint {0}.b`", j.text)),
+                        None => Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("not declared"),
+                    };
+                    errors.push(d);
                     continue;
                 };
                 if decl.names.len() != 1 {
@@ -581,7 +607,7 @@ pub(crate) fn link_point(
         .iter()
         .position(|p| p.link == l && p.name == at.text)
         .map(PointRef::Named);
-    let joint = mech.joint_index(&at.text).filter(|&j| {
+    let joint = mech.joint_on(&at.text, l).filter(|&j| {
         let side = mech.joints[j].links.iter().position(|&x| x == l);
         matches!(side.and_then(|s| places[j][s].as_ref()), Some(JointPlace::Point(..)))
     });
