@@ -34,6 +34,7 @@ snapshots! {
     seed003_punch => "Punch",
     seed003_punch_original => "PunchOriginal",
     seed000_a => "SeedA",
+    seed000_a_u => "SeedAU",
     seed000_b => "SeedB",
     five_bar_pa => "FiveBarPa",
     rps_3 => "Rps",
