@@ -39,6 +39,8 @@ snapshots! {
     five_bar_pa => "FiveBarPa",
     rps_3 => "Rps",
     spr_3 => "Spr",
+    upu_3 => "Upu",
+    ups_6 => "Ups",
 }
 
 #[test]
