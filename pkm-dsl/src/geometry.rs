@@ -652,6 +652,12 @@ fn check_forms(
             continue;
         }
         let span = |s: usize| spans[j][s].unwrap_or(joint.span);
+        // A U joint's halves are revolutes; its errors name it a U.
+        let symbol = if mech.universals.iter().any(|u| u.halves.contains(&j)) {
+            "U"
+        } else {
+            joint.kind.symbol()
+        };
         for (s, slot) in places[j].iter_mut().enumerate() {
             let place = slot.as_mut().expect("checked above");
             let problem = match (joint.kind, &mut *place) {
@@ -666,18 +672,13 @@ fn check_forms(
                 (JointKind::P, _) => None,
                 (JointKind::S, JointPlace::Point(_, None)) => None,
                 (JointKind::S, _) => Some("a spherical joint takes a centre `(…)` only".into()),
-                (_, JointPlace::Line(..)) => Some(format!(
-                    "a {} joint takes a point and an axis, not a line",
-                    joint.kind.symbol()
-                )),
+                (_, JointPlace::Line(..)) => Some(format!("a {symbol} joint takes a point and an axis, not a line")),
                 (_, JointPlace::Point(_, axis @ None)) if mech.planar => {
                     // Planar rotations are about z.
                     *axis = Some([Expr::Num(0.0), Expr::Num(0.0), Expr::Num(1.0)]);
                     None
                 }
-                (_, JointPlace::Point(_, None)) => {
-                    Some(format!("a {} joint needs its axis: `(…) along x`", joint.kind.symbol()))
-                }
+                (_, JointPlace::Point(_, None)) => Some(format!("a {symbol} joint needs its axis: `(…) along x`")),
                 (_, JointPlace::Point(_, Some(_))) => None,
             };
             if let Some(p) = problem {
@@ -838,6 +839,28 @@ mod tests {
     const FOUR_BAR: &str = "planar; base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;";
     const PLACED: &str = "base { R1 = (0, 0); R4 = (l4, 0); } crank { R1 = (0, 0); R2 = (l1, 0); }
         coupler { R2 = (0, 0); R3 = (l2, 0); } rocker { R3 = (0, 0); R4 = (l3, 0); }";
+
+    /// A U joint between the base and a link held by a second chain.
+    fn universal(outputs: &str) -> String {
+        format!(
+            "mechanism m {{ base U1 [k] - S1 base; base R1* [j] - S2 k; parameters {{ l = 1; }}
+             geometry {{ base {{ U1 = (0, 0, 0) along z; S1 = (0, 0, l); R1 = (l, 0, 0) along z; }}
+                         k {{ U1 = (0, 0, 0) along x; S1 = (l, 0, 0); S2 = (0, l, 0); }}
+                         j {{ R1 = (0, 0, 0) along z; S2 = (l, 0, 0); }} }}
+             outputs {{ {outputs} }} }}"
+        )
+    }
+
+    #[test]
+    fn u_joints_are_placed_and_read_like_revolutes() {
+        check(&universal("t = joint U1.b;"), &[]);
+        check(&universal("x, y, z = point U1 of k;"), &[]);
+        check(&universal("t = joint U1;"), &["U joint `U1` has two values"]);
+        check(
+            &universal("t = joint U1.b;").replace("U1 = (0, 0, 0) along x;", "U1 = (0, 0, 0);"),
+            &["a U joint needs its axis: `(…) along x`"],
+        );
+    }
 
     #[test]
     fn a_placed_four_bar() {

@@ -1578,6 +1578,75 @@ mod tests {
         check("mechanism m { planar; base R1* || R2 _|_ P1 - R3 base; x || P1; }", &[]);
     }
 
+    /// A 6-UPS leg set, with `extra` written after the first leg.
+    fn ups(first_leg: &str, extra: &str) -> String {
+        let legs: String = (2..=6)
+            .map(|i| format!("branch L{i} {{ base U{i} - P{i}* - S{i} platform; }} "))
+            .collect();
+        format!("mechanism m {{ branch L1 {{ {first_leg} }} {legs} {extra} }}")
+    }
+
+    #[test]
+    fn u_joints_name_their_two_axes() {
+        check(&ups("base U1 - P1* - S1 platform;", "U1.a ⊥ x; U1.b ∥ P2;"), &[]);
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1 ∥ x;"),
+            &["U joint `U1` has two axes"],
+        );
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1.c ∥ x;"),
+            &["unknown joint `U1.c`"],
+        );
+        // The implied U1.a ⊥ U1.b, contradicted.
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1.a ∥ y; U1.b ∥ y;"),
+            &["this relation makes `U1.a` parallel to `U1.b`, which must be perpendicular (implied by the frame, a U joint or `planar`)"],
+        );
+    }
+
+    #[test]
+    fn u_joints_are_passive_and_spatial() {
+        check(
+            &ups("base U1* - P1* - S1 platform;", ""),
+            &["U joint `U1` cannot be an input"],
+        );
+        check(
+            "mechanism m { planar; base R1* ∥ R2 - U1 - R3 base; }",
+            &["joint `U1` (U) cannot move in a plane"],
+        );
+        check(
+            &ups("base U1 - P1* - S1 platform;", "joint U1 = U(base, platform);"),
+            // Declared joints come first: the chain's U1 is the second, and left out.
+            &[
+                "joint `U1` is declared twice",
+                "branch `L1` never reaches the platform `platform`",
+            ],
+        );
+    }
+
+    #[test]
+    fn a_chain_relates_the_u_axis_on_the_shared_link() {
+        // base R1 [k] ∥ U1 [l] ⊥ P1: R1 and U1.a sit on k, U1.b and P1 on l.
+        let ast = crate::parse("mechanism m { base R1* [k] ∥ U1 [l] ⊥ P1 [n] - S1 base; }").unwrap();
+        let m = super::build(&ast).unwrap();
+        let j = |n: &str| super::DirectionItem::Joint(m.joint_index(n).unwrap());
+        let has = |kind, a, b| m.relations.iter().any(|r| r.kind == kind && r.a == a && r.b == b);
+        use crate::ast::RelationKind::{Parallel, Perpendicular};
+        assert!(has(Parallel, j("R1"), j("U1.a")));
+        assert!(has(Perpendicular, j("U1.b"), j("P1")));
+        assert!(has(Perpendicular, j("U1.a"), j("U1.b")));
+        let u = m.universal("U1").unwrap();
+        let names = |l: usize| m.links[l].name.as_str();
+        assert_eq!(
+            u.halves.map(|h| m.joints[h].links.map(names)),
+            [["k", "U1.cross"], ["U1.cross", "l"]]
+        );
+        assert_eq!(
+            m.joint_on("U1", m.links.iter().position(|x| x.name == "l").unwrap()),
+            m.joint_index("U1.b")
+        );
+    }
+
     #[test]
     fn parallel_sliders_in_series_leave_the_crank_locked() {
         // R1 ⊥ P1 ∥ P2 − R2: the links beside P1 ∥ P2 only translate along x
