@@ -1162,7 +1162,7 @@ impl Builder {
     fn base_point(&mut self, ast: &MechanismAst, platform: Option<usize>) -> Option<usize> {
         ast.point
             .as_ref()
-            .and_then(|(_, jn)| {
+            .map(|(_, jn)| {
                 // A U joint's centre: its half on the platform.
                 let half = |u: &Universal| {
                     (u.name == jn.text).then(|| {
@@ -1171,7 +1171,7 @@ impl Builder {
                     })
                 };
                 let j = self.joint_by_name.get(&jn.text).copied();
-                Some((jn, j.or_else(|| self.universals.iter().find_map(half))))
+                (jn, j.or_else(|| self.universals.iter().find_map(half)))
             })
             .and_then(|(jn, j)| match j {
                 Some(j) => {
