@@ -503,6 +503,92 @@ fn seed000_a() {
 }
 
 #[test]
+fn seed000_a_u() {
+    check("seed000_a_u", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 200);
+}
+
+/// Seed 000 A declared with the U joint U1 and with the revolutes R3, R4
+/// and their cross written out: at the same inputs the same branches, every
+/// joint of both files at the same value and point, and the U's two axes
+/// through R3's and R4's common point. (U1.a and U1.b are R3 and R4 measured
+/// from other cross frames: not compared.)
+#[test]
+fn seed000_a_u_is_seed000_a() {
+    let (written, solve_written) = load("seed000_a");
+    let (universal, solve_universal) = load("seed000_a_u");
+    let index = |m: &Model, name: &str| m.joints.iter().position(|j| j.name == name).unwrap();
+    let shared: Vec<(usize, usize)> = written
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(j, joint)| Some((j, universal.joints.iter().position(|k| k.name == joint.name)?)))
+        .collect();
+    assert_eq!(shared.len(), 9, "every joint but R3 and R4");
+    let centre = [
+        (index(&written, "R3"), index(&universal, "U1.a")),
+        (index(&written, "R4"), index(&universal, "U1.b")),
+    ];
+    let mut rng = SplitMix::new(11);
+    let mut compared = 0;
+    for _ in 0..200 {
+        let q = [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)].map(|(lo, hi)| uniform(&mut rng, lo, hi));
+        let a = solve_written(&written, &q);
+        let b = solve_universal(&universal, &q);
+        assert_eq!(a.len(), b.len(), "branches at {q:?}");
+        for ((signs_a, qa, pa), (signs_b, qb, pb)) in a.iter().zip(&b) {
+            assert_eq!(signs_a, signs_b);
+            for &(i, k) in &shared {
+                assert!((qa[i] - qb[k]).abs() < 1e-9, "{} at {q:?}", written.joints[i].name);
+            }
+            for &(i, k) in shared.iter().chain(&centre) {
+                let d = (0..3).map(|c| (pa[i][c] - pb[k][c]).abs()).fold(0.0, f64::max);
+                assert!(d < 1e-9, "point of {} at {q:?}: {d:e}", written.joints[i].name);
+            }
+            compared += 1;
+        }
+    }
+    assert!(compared > 200, "{compared} branches compared");
+}
+
+/// The U's convention by hand (docs/language.md, "U joints"): U1's first
+/// axis is y on c2, whose joint frame there is (x, −z, y) = Rx(−π/2); its
+/// second axis is x on the platform and on the cross, so its turn is
+/// Rx(U1.b) in either frame. The platform is therefore turned against c2 by
+/// Rx(−π/2)·Rz(U1.a)·Rx(U1.b), and both frames' origins are the U's centre.
+#[test]
+fn seed000_a_u_turns_by_its_two_values() {
+    use pkm::runtime::nalgebra::{Rotation3, Vector3};
+    let a = pkm::dsl::analyze_source(&common::example_text("seed000_a_u").0).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let link = |n: &str| model.links.iter().position(|l| l == n).unwrap();
+    let joint = |n: &str| model.joints.iter().position(|j| j.name == n).unwrap();
+    let (c2, platform, ua, ub) = (link("c2"), link("platform"), joint("U1.a"), joint("U1.b"));
+    let mut rng = SplitMix::new(5);
+    let mut compared = 0;
+    for _ in 0..50 {
+        let q = [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)].map(|(lo, hi)| uniform(&mut rng, lo, hi));
+        for s in spatial::run_all(&model, &plan, &q)
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+        {
+            let (tc, tp) = (s.poses[c2], s.poses[platform]);
+            let relative = (tc.rotation.inverse() * tp.rotation).to_rotation_matrix();
+            let by_hand = Rotation3::from_axis_angle(&Vector3::x_axis(), -PI / 2.0)
+                * Rotation3::from_axis_angle(&Vector3::z_axis(), s.values[ua])
+                * Rotation3::from_axis_angle(&Vector3::x_axis(), s.values[ub]);
+            assert!((relative.matrix() - by_hand.matrix()).norm() < 1e-12, "at {q:?}");
+            assert!(
+                (tc.translation.vector - tp.translation.vector).norm() < 1e-9,
+                "at {q:?}"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared > 50, "{compared} branches");
+}
+
+#[test]
 fn seed000_b() {
     check("seed000_b", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)], 200);
 }

@@ -25,6 +25,7 @@ pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
@@ -105,6 +106,7 @@ fn spherical() {
 fn spatial() {
     check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)]);
     check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
+    check!(SeedAU, "seed000_a_u", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
 }
 

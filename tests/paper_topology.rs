@@ -204,3 +204,43 @@ fn generated_consts() {
     assert_eq!(Punch::REPORT.skcs[1].socs, &[1, 2]);
     assert_eq!(Punch::PLATFORM_POC, None);
 }
+
+/// The counts of a mechanism with U joints as the POC literature writes
+/// them (each U one joint of f = 2): n links, m joints, v = m − n + 1 loops,
+/// Σf; and the platform's POC set.
+fn check_universal(file: &str, n: usize, m: usize, v: usize, total_f: usize, platform: &str) {
+    let a = analysis(file);
+    let (mech, t) = (&a.mechanism, &a.topology);
+    let u = mech.universals.len();
+    assert_eq!(
+        (mech.links.len() - u, mech.joints.len() - u, t.loops, t.total_f),
+        (n, m, v, total_f),
+        "{file}: (n, m, v, Σf)"
+    );
+    assert_eq!(a.platform_poc(), platform, "{file}");
+}
+
+#[test]
+fn translational_3_upu() {
+    // Per leg U-P-U: f = 2 + 1 + 2 = 5, Σf = 15; n = 2 + 3·2 = 8 links,
+    // m = 9 joints, v = 9 − 8 + 1 = 2. A leg turns its end about U.a and
+    // U.b only (the platform U's axes are parallel to the base U's), so
+    // M_b = [t³; r²(∥◇(U.a, U.b))], a different plane per leg. SOC₁ (legs
+    // A, B): ξ_L1 = dim(M_A ∪ M_B) = dim [t³; r³] = 6, Δ₁ = 10 − 2 − 6 = +2;
+    // SOC₂ (leg C): M_A ∩ M_B = [t³; r¹] (two planes meet in a line), its
+    // union with M_C is [t³; r³], ξ_L2 = 6, Δ₂ = 5 − 1 − 6 = −2. F = 15 − 12 = 3,
+    // one SKC of κ = 2; the platform: three planes share no direction, [t³; r⁰].
+    check("upu_3", 3, &[6, 6], &[2, -2], 2, 1);
+    check_universal("upu_3", 8, 9, 2, 15, "[t³; r⁰]");
+    let a = analysis("upu_3");
+    assert_eq!(a.topology.branch_poc[0].unicode(), "[t³; r²(∥◇(U12.a,U12.b))]");
+}
+
+#[test]
+fn stewart_6_ups() {
+    // Per leg U-P-S: f = 2 + 1 + 3 = 6, M_b = [t³; r³]; Σf = 36; n = 2 + 6·2 = 14,
+    // m = 18, v = 5. SOC₁ (two legs): ξ = 6, Δ₁ = 12 − 2 − 6 = +4; each further
+    // leg: ξ = 6, Δ = 6 − 1 − 6 = −1. F = 36 − 5·6 = 6, one SKC of κ = 4, [t³; r³].
+    check("ups_6", 6, &[6, 6, 6, 6, 6], &[4, -1, -1, -1, -1], 4, 1);
+    check_universal("ups_6", 14, 18, 5, 36, "[t³; r³]");
+}

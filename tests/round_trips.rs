@@ -28,6 +28,7 @@ pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
@@ -247,6 +248,17 @@ fn seed000_a() {
     // §2.2's actuator ranges.
     round_trips!(
         SeedA,
+        [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
+        300.0,
+        sliders_together
+    );
+}
+
+/// Seed 000 A with its cross written as the U joint U1.
+#[test]
+fn seed000_a_u() {
+    round_trips!(
+        SeedAU,
         [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
         300.0,
         sliders_together

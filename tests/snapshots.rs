@@ -39,12 +39,15 @@ snapshots! {
     seed003_punch => "Punch",
     seed003_punch_original => "PunchOriginal",
     seed000_a => "SeedA",
+    seed000_a_u => "SeedAU",
     seed000_b => "SeedB",
     five_bar_pa => "FiveBarPa",
     rps_3 => "Rps",
     spr_3 => "Spr",
     rssr => "Rssr",
     rssp => "Rssp",
+    upu_3 => "Upu",
+    ups_6 => "Ups",
 }
 
 #[test]

@@ -10,6 +10,7 @@ use pkm::runtime::solution::{Branch, SolveError};
 use pkm::runtime::spatial::{self, Solution};
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
@@ -83,6 +84,11 @@ fn q_only<S, const D: usize>(branches: &[Branch<S, D>], q: impl Fn(&S) -> [f64; 
 #[test]
 fn seed000_a_generated_equals_interpreted() {
     check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
+}
+
+#[test]
+fn seed000_a_u_generated_equals_interpreted() {
+    check!(SeedAU, "seed000_a_u", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
 }
 
 #[test]

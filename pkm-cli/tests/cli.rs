@@ -48,6 +48,9 @@ fn json_for_every_example() {
     check("rps_3", 3, &[6, 6], &[2, -2], 2, 1);
     check("spr_3", 3, &[6, 6], &[2, -2], 2, 1);
     check("watt_six_bar", 1, &[3, 3], &[0, 0], 0, 2);
+    check("seed000_a_u", 3, &[3, 5], &[0, 0], 0, 2);
+    check("upu_3", 3, &[6, 6], &[2, -2], 2, 1);
+    check("ups_6", 6, &[6, 6, 6, 6, 6], &[4, -1, -1, -1, -1], 4, 1);
 }
 
 #[test]
@@ -475,6 +478,54 @@ fn spatial_outputs_round_trip_through_ik() {
             });
         assert!(back, "{b}\n{ik}");
     }
+}
+
+/// A U joint's two values by name: seed000_a_u's fk and ik report `U1.a`
+/// and `U1.b` (and no `U1`), every other joint as seed000_a reports it at
+/// the same inputs, and the U's centre where seed000_a's R3 and R4 meet.
+#[test]
+fn u_joint_values_by_name() {
+    let with_u = "examples/mechanisms/seed000_a_u.pkm";
+    let q = "--q=-106.09,181.67,-70.29";
+    let (u, a) = (run_json(&["fk", with_u, q]), run_json(&["fk", SEED000_A, q]));
+    check_schema(&u, "inputs");
+    let (ub, ab) = (u["branches"].as_array().unwrap(), a["branches"].as_array().unwrap());
+    assert_eq!(ub.len(), ab.len());
+    let mut ok = 0;
+    for (bu, ba) in ub.iter().zip(ab).filter(|(b, _)| b["ok"] == true) {
+        let joints = bu["joints"].as_object().unwrap();
+        assert!(
+            joints["U1.a"].is_number() && joints["U1.b"].is_number() && !joints.contains_key("U1"),
+            "{bu}"
+        );
+        for (name, value) in ba["joints"].as_object().unwrap() {
+            if name != "R3" && name != "R4" {
+                assert!((num(value) - num(&joints[name])).abs() < 1e-9, "{name}: {bu}");
+            }
+        }
+        for half in ["U1.a", "U1.b"] {
+            assert!(dist(&bu["points"][half], &ba["points"]["R3"]) < 1e-9, "{bu}");
+        }
+        // Its outputs through ik: one branch gives the inputs back, with its U's values.
+        let pose: Vec<String> = ["x", "y", "z", "alpha"]
+            .iter()
+            .map(|n| format!("{n}={}", num(&bu["outputs"][n])))
+            .collect();
+        let ik = run_json(&["ik", with_u, &format!("--pose={}", pose.join(","))]);
+        let back = ik["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|i| i["ok"] == true)
+            .any(|i| {
+                ["P1", "P2", "P3", "U1.a", "U1.b"]
+                    .iter()
+                    .all(|n| (num(&i["joints"][n]) - num(&bu["joints"][n])).abs() < 1e-6)
+            });
+        assert!(back, "{bu}\n{ik}");
+        ok += 1;
+    }
+    assert!(ok > 0);
 }
 
 /// The README's JSON example is what `pkm fk` prints for its command.

@@ -71,16 +71,43 @@ impl Analysis {
             1 => format!(" ({joints_f} less 1 local idle DOF)"),
             i => format!(" ({joints_f} less {i} local idle DOF)"),
         };
+        // A U joint is one joint of f = 2 here; the model holds it as two
+        // revolutes and a cross link, which adds one link and one joint each.
+        let u = m.universals.len();
+        let held = if u > 0 {
+            format!(
+                " (U joints counted once; as two revolutes and a cross each: n = {}, m = {})",
+                m.links.len(),
+                m.joints.len()
+            )
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             s,
-            "\nlinks n = {}, joints m = {}, loops v = m − n + 1 = {}, Σf = {}{idle}",
-            m.links.len(),
-            m.joints.len(),
+            "\nlinks n = {}, joints m = {}, loops v = m − n + 1 = {}, Σf = {}{idle}{held}",
+            m.links.len() - u,
+            m.joints.len() - u,
             t.loops,
             t.total_f
         );
         let _ = writeln!(s, "\nPOC sets");
         for (j, joint) in m.joints.iter().enumerate() {
+            if let Some(u) = m.universals.iter().find(|u| u.halves.contains(&j)) {
+                // R∧R: two rotations about the U's centre, no translation of it.
+                if u.halves[0] == j {
+                    let [a, b] = u.halves.map(|h| m.joints[h].name.as_str());
+                    let poc = crate::topology::PocSet {
+                        t: 0,
+                        t_dir: None,
+                        r: 2,
+                        r_dir: Some(format!("∥◇({a},{b})")),
+                        dim: 2,
+                    };
+                    let _ = writeln!(s, "  {:<8} {:<3} {poc}", u.name, "U");
+                }
+                continue;
+            }
             let mark = if joint.actuated { "*" } else { "" };
             let _ = writeln!(
                 s,

@@ -176,6 +176,9 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
     } = placed;
 
     let complete = !ast.geometry.is_empty();
+    if complete {
+        place_crosses(mech, &mut places);
+    }
     if complete && errors.is_empty() {
         check_forms(mech, &mut places, &place_span, &values, &mut errors);
         if errors.is_empty() {
@@ -202,6 +205,23 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
         })
     } else {
         Err(Diagnostics(errors))
+    }
+}
+
+/// Each U joint's cross link holds its two axes through its origin, the
+/// first (`NAME.a`) along z and the second (`NAME.b`) along x: the cross's
+/// frame is the first axis's joint frame when `NAME.a` = 0. With the
+/// model's conventions (`pkm_runtime::model`), `NAME.b`'s frame on the
+/// cross then has its x axis along the cross's y and its y axis along the
+/// first axis, so at `NAME.b` = 0 the second link's frame of `NAME.b` has
+/// its y axis along the first axis.
+fn place_crosses(mech: &Mechanism, places: &mut [[Option<JointPlace>; 2]]) {
+    let c = |v: [f64; 3]| v.map(Expr::Num);
+    for u in &mech.universals {
+        for (h, axis) in u.halves.into_iter().zip([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]) {
+            let side = usize::from(mech.joints[h].links[1] == u.cross);
+            places[h][side] = Some(JointPlace::Point(c([0.0; 3]), Some(c(axis))));
+        }
     }
 }
 
@@ -497,7 +517,13 @@ fn resolve_outputs(
         let kind = match &decl.what {
             crate::ast::OutputWhat::Joint(j) => {
                 let Some(index) = mech.joint_index(&j.text) else {
-                    errors.push(Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("not declared"));
+                    let d = match mech.universal(&j.text) {
+                        Some(_) => Diagnostic::new(j.span, format!("U joint `{}` has two values", j.text))
+                            .label("which one?")
+                            .note(format!("write `joint {0}.a` or `joint {0}.b`", j.text)),
+                        None => Diagnostic::new(j.span, format!("unknown joint `{}`", j.text)).label("not declared"),
+                    };
+                    errors.push(d);
                     continue;
                 };
                 if decl.names.len() != 1 {
@@ -582,7 +608,7 @@ pub(crate) fn link_point(
         .iter()
         .position(|p| p.link == l && p.name == at.text)
         .map(PointRef::Named);
-    let joint = mech.joint_index(&at.text).filter(|&j| {
+    let joint = mech.joint_on(&at.text, l).filter(|&j| {
         let side = mech.joints[j].links.iter().position(|&x| x == l);
         matches!(side.and_then(|s| places[j][s].as_ref()), Some(JointPlace::Point(..)))
     });
@@ -627,6 +653,12 @@ fn check_forms(
             continue;
         }
         let span = |s: usize| spans[j][s].unwrap_or(joint.span);
+        // A U joint's halves are revolutes; its errors name it a U.
+        let symbol = if mech.universals.iter().any(|u| u.halves.contains(&j)) {
+            "U"
+        } else {
+            joint.kind.symbol()
+        };
         for (s, slot) in places[j].iter_mut().enumerate() {
             let place = slot.as_mut().expect("checked above");
             let problem = match (joint.kind, &mut *place) {
@@ -641,18 +673,13 @@ fn check_forms(
                 (JointKind::P, _) => None,
                 (JointKind::S, JointPlace::Point(_, None)) => None,
                 (JointKind::S, _) => Some("a spherical joint takes a centre `(…)` only".into()),
-                (_, JointPlace::Line(..)) => Some(format!(
-                    "a {} joint takes a point and an axis, not a line",
-                    joint.kind.symbol()
-                )),
+                (_, JointPlace::Line(..)) => Some(format!("a {symbol} joint takes a point and an axis, not a line")),
                 (_, JointPlace::Point(_, axis @ None)) if mech.planar => {
                     // Planar rotations are about z.
                     *axis = Some([Expr::Num(0.0), Expr::Num(0.0), Expr::Num(1.0)]);
                     None
                 }
-                (_, JointPlace::Point(_, None)) => {
-                    Some(format!("a {} joint needs its axis: `(…) along x`", joint.kind.symbol()))
-                }
+                (_, JointPlace::Point(_, None)) => Some(format!("a {symbol} joint needs its axis: `(…) along x`")),
                 (_, JointPlace::Point(_, Some(_))) => None,
             };
             if let Some(p) = problem {
@@ -971,6 +998,28 @@ mod tests {
     const FOUR_BAR: &str = "planar; base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base;";
     const PLACED: &str = "base { R1 = (0, 0); R4 = (l4, 0); } crank { R1 = (0, 0); R2 = (l1, 0); }
         coupler { R2 = (0, 0); R3 = (l2, 0); } rocker { R3 = (0, 0); R4 = (l3, 0); }";
+
+    /// A U joint between the base and a link held by a second chain.
+    fn universal(outputs: &str) -> String {
+        format!(
+            "mechanism m {{ base U1 [k] - S1 base; base R1* [j] - S2 k; parameters {{ l = 1; }}
+             geometry {{ base {{ U1 = (0, 0, 0) along z; S1 = (0, 0, l); R1 = (l, 0, 0) along z; }}
+                         k {{ U1 = (0, 0, 0) along x; S1 = (l, 0, 0); S2 = (0, l, 0); }}
+                         j {{ R1 = (0, 0, 0) along z; S2 = (l, 0, 0); }} }}
+             outputs {{ {outputs} }} }}"
+        )
+    }
+
+    #[test]
+    fn u_joints_are_placed_and_read_like_revolutes() {
+        check(&universal("t = joint U1.b;"), &[]);
+        check(&universal("x, y, z = point U1 of k;"), &[]);
+        check(&universal("t = joint U1;"), &["U joint `U1` has two values"]);
+        check(
+            &universal("t = joint U1.b;").replace("U1 = (0, 0, 0) along x;", "U1 = (0, 0, 0);"),
+            &["a U joint needs its axis: `(…) along x`"],
+        );
+    }
 
     #[test]
     fn a_placed_four_bar() {

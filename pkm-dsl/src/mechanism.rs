@@ -177,6 +177,26 @@ impl Joint {
     }
 }
 
+/// A universal (U) joint as the semantic model holds it: two revolutes whose
+/// axes meet at right angles at the U's centre, `NAME.a` from the U's first
+/// link to an internal cross link `NAME.cross` and `NAME.b` from the cross
+/// to the U's second link. The cross is massless and carries nothing else,
+/// so topology (f = 1 + 1, one link and one joint more: the same loops),
+/// plans, the Newton reference, velocities and generated code all treat the
+/// U as the two revolutes it is, under the names the user writes for its
+/// axes. The topology's generic instances put both axes through one point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Universal {
+    /// Its name as written (`U1`).
+    pub name: String,
+    /// The revolutes `NAME.a` (on the first link) and `NAME.b` (on the second).
+    pub halves: [usize; 2],
+    /// The internal cross link.
+    pub cross: usize,
+    /// Where it is declared.
+    pub span: Span,
+}
+
 /// A branch (limb) from the base to the platform; it may contain loops (a hybrid branch).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Branch {
@@ -242,6 +262,8 @@ pub struct Mechanism {
     pub frame_declared: [bool; 3],
     /// How many planes `◇(A,B)` relations wrote (each has a normal direction item).
     pub planes: usize,
+    /// The U joints, each two revolutes of `joints` and a cross link of `links`.
+    pub universals: Vec<Universal>,
 }
 
 impl Mechanism {
@@ -270,6 +292,24 @@ impl Mechanism {
         self.joints.iter().position(|j| j.name == name)
     }
 
+    /// The U joint called `name`.
+    pub fn universal(&self, name: &str) -> Option<&Universal> {
+        self.universals.iter().find(|u| u.name == name)
+    }
+
+    /// The joint called `name` that touches `link`: the joint itself, or
+    /// the half of a U joint of that name on that side.
+    pub fn joint_on(&self, name: &str, link: usize) -> Option<usize> {
+        self.joint_index(name)
+            .or_else(|| {
+                self.universal(name)?
+                    .halves
+                    .into_iter()
+                    .find(|&h| self.joints[h].links.contains(&link))
+            })
+            .filter(|&j| self.joints[j].links.contains(&link))
+    }
+
     /// The joints incident to each link.
     pub fn incidence(&self) -> Vec<Vec<usize>> {
         let mut inc = vec![Vec::new(); self.links.len()];
@@ -293,6 +333,7 @@ struct Builder {
     joints: Vec<Joint>,
     joint_by_name: HashMap<String, usize>,
     relations: Vec<Relation>,
+    universals: Vec<Universal>,
     /// Unknown joint names already reported (one error per name).
     unknown_reported: HashSet<String>,
 }
@@ -376,6 +417,76 @@ impl Builder {
         });
     }
 
+    /// A U joint: the revolutes `NAME.a` (first link to a new cross link)
+    /// and `NAME.b` (cross to the second link), perpendicular, meeting at
+    /// the U's centre (see [`Universal`]). Returns the two halves.
+    fn add_universal(
+        &mut self,
+        name: &Name,
+        links: [usize; 2],
+        actuated: bool,
+        branch: Option<usize>,
+    ) -> Option<[usize; 2]> {
+        if actuated {
+            self.errors.push(
+                Diagnostic::new(name.span, format!("U joint `{}` cannot be an input", name.text))
+                    .label("a U joint has two values")
+                    .note("drive a revolute or prismatic joint instead"),
+            );
+        }
+        if let Some(first) = self.universals.iter().find(|u| u.name == name.text).map(|u| u.span) {
+            self.errors.push(
+                Diagnostic::new(name.span, format!("joint `{}` is declared twice", name.text))
+                    .label("second declaration")
+                    .also(first, "first declared"),
+            );
+            return None;
+        }
+        if links[0] == links[1] {
+            self.errors.push(
+                Diagnostic::new(
+                    name.span,
+                    format!(
+                        "joint `{}` connects link `{}` to itself",
+                        name.text, self.links[links[0]].name
+                    ),
+                )
+                .label("a joint needs two different links"),
+            );
+            return None;
+        }
+        self.links.push(Link {
+            name: format!("{}.cross", name.text),
+            description: Some(format!("the cross of U joint {}", name.text)),
+            span: None,
+        });
+        let cross = self.links.len() - 1;
+        let half = |axis: &str| Name {
+            text: format!("{}.{axis}", name.text),
+            span: name.span,
+        };
+        let first = self.joints.len();
+        self.add_joint(&half("a"), JointKind::R, [links[0], cross], false, branch);
+        self.add_joint(&half("b"), JointKind::R, [cross, links[1]], false, branch);
+        if self.joints.len() != first + 2 {
+            return None;
+        }
+        let halves = [first, first + 1];
+        self.relations.push(Relation {
+            kind: RelationKind::Perpendicular,
+            a: DirectionItem::Joint(halves[0]),
+            b: DirectionItem::Joint(halves[1]),
+            span: None,
+        });
+        self.universals.push(Universal {
+            name: name.text.clone(),
+            halves,
+            cross,
+            span: name.span,
+        });
+        Some(halves)
+    }
+
     /// The direction a relation names, and whether it is a plane's normal.
     fn direction_ref(&mut self, d: &DirectionRef) -> Option<(DirectionItem, bool)> {
         match d {
@@ -430,6 +541,17 @@ impl Builder {
                     return None;
                 }
                 Some(DirectionItem::Joint(j))
+            }
+            None if self.universals.iter().any(|u| u.name == name.text) => {
+                self.errors.push(
+                    Diagnostic::new(name.span, format!("U joint `{}` has two axes", name.text))
+                        .label("which one?")
+                        .note(format!(
+                            "write `{0}.a` (the axis fixed in its first link) or `{0}.b` (in its second)",
+                            name.text
+                        )),
+                );
+                None
             }
             None => {
                 let message = format!("unknown joint `{}`", name.text);
@@ -534,6 +656,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         joints: Vec::new(),
         joint_by_name: HashMap::new(),
         relations: Vec::new(),
+        universals: Vec::new(),
     };
     b.link(&Name {
         text: "base".into(),
@@ -567,6 +690,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         mut joints,
         relations,
         planes,
+        universals,
         ..
     } = b;
     // A joint on the base measures its other link from the base: its value is
@@ -589,6 +713,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         relations,
         frame_declared,
         planes,
+        universals,
     })
 }
 
@@ -637,6 +762,17 @@ impl Builder {
                 continue;
             };
             let links: Vec<usize> = decl.links.iter().map(|l| self.link(l)).collect();
+            if kind == JointKind::U {
+                if links.len() > 2 {
+                    self.errors.push(
+                        Diagnostic::new(decl.kind.span, "a U joint joins two links")
+                            .label("compound joints must be R, H or C"),
+                    );
+                } else {
+                    self.add_universal(&decl.name, [links[0], links[1]], decl.actuated, None);
+                }
+                continue;
+            }
             if links.len() > 2 && !kind.has_axis_line() {
                 self.errors.push(
                     Diagnostic::new(
@@ -708,9 +844,19 @@ impl Builder {
                         None => self.anonymous_link(&cj.name.text, &chain.joints[i + 1].name.text),
                     }
                 };
-                let before = self.joints.len();
-                self.add_joint(&cj.name, kind, [prev_link, next_link], cj.actuated, chain.branch);
-                let this = if self.joints.len() > before { Some(before) } else { None };
+                // A U joint is two revolutes: the relation before it is its
+                // first axis's (`U1.a`), the one after it its second's.
+                let (this, last) = if kind == JointKind::U {
+                    match self.add_universal(&cj.name, [prev_link, next_link], cj.actuated, chain.branch) {
+                        Some([a, b]) => (Some(a), Some(b)),
+                        None => (None, None),
+                    }
+                } else {
+                    let before = self.joints.len();
+                    self.add_joint(&cj.name, kind, [prev_link, next_link], cj.actuated, chain.branch);
+                    let this = if self.joints.len() > before { Some(before) } else { None };
+                    (this, this)
+                };
                 if let (Some(p), Some(t), Some(conn)) =
                     (prev_joint, this, i.checked_sub(1).map(|k| &chain.connectors[k]))
                 {
@@ -726,7 +872,7 @@ impl Builder {
                                 )
                                 .label("write `-` next to an S joint"),
                             );
-                            prev_joint = this;
+                            prev_joint = last;
                             prev_link = next_link;
                             continue;
                         }
@@ -738,7 +884,7 @@ impl Builder {
                         });
                     }
                 }
-                prev_joint = this;
+                prev_joint = last;
                 prev_link = next_link;
             }
         }
@@ -822,7 +968,19 @@ impl Builder {
             DirectionItem::Frame(0),
             DirectionItem::Frame(2),
         ));
+        let halves: Vec<usize> = self.universals.iter().flat_map(|u| u.halves).collect();
+        if planar {
+            for u in &self.universals {
+                self.errors.push(
+                    Diagnostic::new(u.span, format!("joint `{}` (U) cannot move in a plane", u.name))
+                        .label("planar mechanisms have R, P and Pa joints only"),
+                );
+            }
+        }
         for (j, joint) in self.joints.clone().iter().enumerate() {
+            if halves.contains(&j) {
+                continue;
+            }
             if joint.kind == JointKind::U {
                 self.relations.push(implied(
                     RelationKind::Perpendicular,
@@ -1070,8 +1228,19 @@ impl Builder {
     fn base_point(&mut self, ast: &MechanismAst, platform: Option<usize>) -> Option<usize> {
         ast.point
             .as_ref()
-            .and_then(|(_, jn)| match self.joint_by_name.get(&jn.text) {
-                Some(&j) => {
+            .map(|(_, jn)| {
+                // A U joint's centre: its half on the platform.
+                let half = |u: &Universal| {
+                    (u.name == jn.text).then(|| {
+                        let on = |&h: &usize| platform.is_some_and(|p| self.joints[h].links.contains(&p));
+                        u.halves.into_iter().find(on).unwrap_or(u.halves[1])
+                    })
+                };
+                let j = self.joint_by_name.get(&jn.text).copied();
+                (jn, j.or_else(|| self.universals.iter().find_map(half)))
+            })
+            .and_then(|(jn, j)| match j {
+                Some(j) => {
                     let joint = &self.joints[j];
                     if platform.is_some_and(|p| !joint.links.contains(&p)) {
                         self.errors.push(
@@ -1542,6 +1711,75 @@ mod tests {
     fn valid_descriptions_pass() {
         check(&format!("mechanism m {{ planar; {FOUR_BAR} }}"), &[]);
         check("mechanism m { planar; base R1* || R2 _|_ P1 - R3 base; x || P1; }", &[]);
+    }
+
+    /// A 6-UPS leg set, with `extra` written after the first leg.
+    fn ups(first_leg: &str, extra: &str) -> String {
+        let legs: String = (2..=6)
+            .map(|i| format!("branch L{i} {{ base U{i} - P{i}* - S{i} platform; }} "))
+            .collect();
+        format!("mechanism m {{ branch L1 {{ {first_leg} }} {legs} {extra} }}")
+    }
+
+    #[test]
+    fn u_joints_name_their_two_axes() {
+        check(&ups("base U1 - P1* - S1 platform;", "U1.a ⊥ x; U1.b ∥ P2;"), &[]);
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1 ∥ x;"),
+            &["U joint `U1` has two axes"],
+        );
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1.c ∥ x;"),
+            &["unknown joint `U1.c`"],
+        );
+        // The implied U1.a ⊥ U1.b, contradicted.
+        check(
+            &ups("base U1 - P1* - S1 platform;", "U1.a ∥ y; U1.b ∥ y;"),
+            &["this relation makes `U1.a` parallel to `U1.b`, which must be perpendicular (implied by the frame, a U joint or `planar`)"],
+        );
+    }
+
+    #[test]
+    fn u_joints_are_passive_and_spatial() {
+        check(
+            &ups("base U1* - P1* - S1 platform;", ""),
+            &["U joint `U1` cannot be an input"],
+        );
+        check(
+            "mechanism m { planar; base R1* ∥ R2 - U1 - R3 base; }",
+            &["joint `U1` (U) cannot move in a plane"],
+        );
+        check(
+            &ups("base U1 - P1* - S1 platform;", "joint U1 = U(base, platform);"),
+            // Declared joints come first: the chain's U1 is the second, and left out.
+            &[
+                "joint `U1` is declared twice",
+                "branch `L1` never reaches the platform `platform`",
+            ],
+        );
+    }
+
+    #[test]
+    fn a_chain_relates_the_u_axis_on_the_shared_link() {
+        // base R1 [k] ∥ U1 [l] ⊥ P1: R1 and U1.a sit on k, U1.b and P1 on l.
+        let ast = crate::parse("mechanism m { base R1* [k] ∥ U1 [l] ⊥ P1 [n] - S1 base; }").unwrap();
+        let m = super::build(&ast).unwrap();
+        let j = |n: &str| super::DirectionItem::Joint(m.joint_index(n).unwrap());
+        let has = |kind, a, b| m.relations.iter().any(|r| r.kind == kind && r.a == a && r.b == b);
+        use crate::ast::RelationKind::{Parallel, Perpendicular};
+        assert!(has(Parallel, j("R1"), j("U1.a")));
+        assert!(has(Perpendicular, j("U1.b"), j("P1")));
+        assert!(has(Perpendicular, j("U1.a"), j("U1.b")));
+        let u = m.universal("U1").unwrap();
+        let names = |l: usize| m.links[l].name.as_str();
+        assert_eq!(
+            u.halves.map(|h| m.joints[h].links.map(names)),
+            [["k", "U1.cross"], ["U1.cross", "l"]]
+        );
+        assert_eq!(
+            m.joint_on("U1", m.links.iter().position(|x| x.name == "l").unwrap()),
+            m.joint_index("U1.b")
+        );
     }
 
     #[test]

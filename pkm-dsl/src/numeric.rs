@@ -133,10 +133,11 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
 }
 
 /// The moving links that neither have mass properties nor are declared
-/// massless, by name.
+/// massless, by name. A U joint's cross is massless.
 pub fn links_without_mass(a: &Analysis) -> Vec<&str> {
     let d = &a.mass_and_loads;
-    let described = |l: usize| d.masses.iter().any(|b| b.link == l) || d.massless.contains(&l);
+    let cross = |l: usize| a.mechanism.universals.iter().any(|u| u.cross == l);
+    let described = |l: usize| d.masses.iter().any(|b| b.link == l) || d.massless.contains(&l) || cross(l);
     (1..a.mechanism.links.len())
         .filter(|&l| !described(l))
         .map(|l| a.mechanism.links[l].name.as_str())

@@ -277,6 +277,7 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::unrelated => "`-`",
         Rule::name => "a name",
         Rule::ident => "a name",
+        Rule::axis_ref => "a joint or a U joint's axis `U1.a`",
         Rule::number => "a number",
         Rule::string => "a string",
         Rule::text => "text",
@@ -533,7 +534,7 @@ fn output_decl(o: Pair<Rule>) -> OutputDecl {
             Rule::joint_output => {
                 let j = q
                     .into_inner()
-                    .find(|r| r.as_rule() == Rule::ident)
+                    .find(|r| r.as_rule() == Rule::axis_ref)
                     .expect("output joint");
                 what = Some(OutputWhat::Joint(name(j)));
             }

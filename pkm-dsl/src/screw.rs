@@ -120,7 +120,7 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         .collect();
     let dir_of = |item: DirectionItem| classes.index(item).map_or_else(Vector3::x, |i| directions[i]);
 
-    // Coaxial joints share one axis line.
+    // Coaxial joints share one axis line (and one point, as do a U's two axes).
     let n = mech.joints.len();
     let mut coaxial_root: Vec<usize> = (0..n).collect();
     fn root(p: &[usize], mut i: usize) -> usize {
@@ -136,6 +136,11 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
             let (ra, rb) = (root(&coaxial_root, a), root(&coaxial_root, b));
             coaxial_root[ra.max(rb)] = ra.min(rb);
         }
+    }
+    // A U joint's two revolutes meet at its centre.
+    for u in &mech.universals {
+        let (ra, rb) = (root(&coaxial_root, u.halves[0]), root(&coaxial_root, u.halves[1]));
+        coaxial_root[ra.max(rb)] = ra.min(rb);
     }
     let raw_points: Vec<Vector3<f64>> = (0..n).map(|_| rng.vector()).collect();
     let mut points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();

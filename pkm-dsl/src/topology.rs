@@ -1023,7 +1023,7 @@ fn joint_poc(mech: &Mechanism, j: usize) -> PocSet {
         JointKind::P => (1, on(1), 0, None, 1),
         JointKind::H => (1, on(1), 1, on(1), 1),
         JointKind::C => (1, on(1), 1, on(1), 2),
-        JointKind::U => (0, None, 2, Some(format!("∥◇({name},{name}')")), 2),
+        JointKind::U => (0, None, 2, Some(format!("∥◇({name}.a,{name}.b)")), 2),
         JointKind::S => (0, None, 3, None, 3),
         JointKind::Pa => (1, Some(format!("∥◇{name}")), 0, None, 1),
     };
