@@ -141,6 +141,11 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
         if *cap == Capability::Dynamics {
             dynamics_needs(a, *span, &mut errors);
         }
+        if *cap == Capability::FkNumeric && a.geometry.complete {
+            if let Err(d) = crate::planner_numeric::forward_numeric_plan(a) {
+                errors.0.extend(d.0);
+            }
+        }
         if *cap == Capability::Fk && t.kappa != 0 {
             let mut d = Diagnostic::new(
                 *span,
