@@ -77,7 +77,11 @@ fn check(file: &str, inputs: &[Vec<f64>], starts: usize) -> (usize, usize, f64, 
             let r = kinematics::loop_residual(&model, &s.solution.values).unwrap();
             let closure = r.iter().fold(0.0f64, |w, x| w.max(x.abs())) / scale;
             worst_closure = worst_closure.max(closure);
-            assert!(closure <= 1e-12, "{file} {q:?}: assembly {p:?} closes to {closure} ({:?})", s.kind);
+            assert!(
+                closure <= 1e-12,
+                "{file} {q:?}: assembly {p:?} closes to {closure} ({:?})",
+                s.kind
+            );
             assert!(s.kind == RootKind::Crossing || s.residual.abs() <= 1e-9 * scale);
         }
         let reference = newton_assemblies(&model, q, starts, &mut rng);

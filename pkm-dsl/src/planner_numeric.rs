@@ -76,7 +76,8 @@ pub fn forward_numeric_plan(a: &Analysis) -> Result<VirtualPlan, Diagnostics> {
         }
     }
     let mut d = refuse(
-        "`fk_numeric` found no virtual variable: no joint of the coupled SKC, given, leaves one compatibility residual".into(),
+        "`fk_numeric` found no virtual variable: no joint of the coupled SKC, given, leaves one compatibility residual"
+            .into(),
     )
     .0
     .remove(0);
@@ -113,9 +114,9 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
         Check::Joint(k) => plan.by_miss.iter().find(|b| b.joint == k && b.plane.is_none()),
         Check::Pin(_) => None,
     };
-    let across_axis = by.is_some_and(|b| {
-        matches!(plan.steps[b.aim], Step::Aim { joint, .. } if model.joints[joint].kind == JointType::R)
-    });
+    let across_axis = by.is_some_and(
+        |b| matches!(plan.steps[b.aim], Step::Aim { joint, .. } if model.joints[joint].kind == JointType::R),
+    );
     if !across_axis {
         return Err("its compatibility check is not an aim's miss across a revolute's axis".into());
     }

@@ -138,8 +138,22 @@ pub fn roots(mut f: impl FnMut(f64) -> Option<f64>, s: &Sampling) -> Vec<Root> {
                 let m = golden(&mut eval, a, b, *p);
                 if m.f * p.f < 0.0 {
                     // Two crossings hidden between samples.
-                    out.push(brent(&mut eval, Pt { x: a, f: prev.map_or(p.f, |o| o.f) }, m));
-                    out.push(brent(&mut eval, m, Pt { x: b, f: next.map_or(p.f, |o| o.f) }));
+                    out.push(brent(
+                        &mut eval,
+                        Pt {
+                            x: a,
+                            f: prev.map_or(p.f, |o| o.f),
+                        },
+                        m,
+                    ));
+                    out.push(brent(
+                        &mut eval,
+                        m,
+                        Pt {
+                            x: b,
+                            f: next.map_or(p.f, |o| o.f),
+                        },
+                    ));
                 } else if m.f.abs() <= s.zero {
                     out.push(Root {
                         x: m.x,
@@ -288,7 +302,11 @@ fn brent(eval: &mut impl FnMut(f64) -> Option<f64>, a: Pt, b: Pt) -> Root {
         };
     }
     // The better end of the final bracket.
-    let (x, f) = if fc.abs() < fb.abs() && fc * fb <= 0.0 { (c, fc) } else { (b, fb) };
+    let (x, f) = if fc.abs() < fb.abs() && fc * fb <= 0.0 {
+        (c, fc)
+    } else {
+        (b, fb)
+    };
     Root {
         x,
         residual: f,
@@ -479,11 +497,10 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
                 continue;
             };
             let same = |a: &Assembly| {
-                a.solution
-                    .poses
-                    .iter()
-                    .zip(&solution.poses)
-                    .all(|(p, q)| (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale && p.rotation.angle_to(&q.rotation) <= 1e-7)
+                a.solution.poses.iter().zip(&solution.poses).all(|(p, q)| {
+                    (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale
+                        && p.rotation.angle_to(&q.rotation) <= 1e-7
+                })
             };
             if out.iter().any(same) {
                 continue;
@@ -530,7 +547,13 @@ mod tests {
     fn simple_and_double_roots() {
         use RootKind::*;
         // (x − 0.3)(x + 0.7): two crossings.
-        check(|x| Some((x - 0.3) * (x + 0.7)), -1.0, 1.0, false, &[(-0.7, Crossing), (0.3, Crossing)]);
+        check(
+            |x| Some((x - 0.3) * (x + 0.7)),
+            -1.0,
+            1.0,
+            false,
+            &[(-0.7, Crossing), (0.3, Crossing)],
+        );
         // (x − 0.31)²: a double root between samples, a tangency; the
         // crossing at −0.5 as well.
         check(
@@ -556,9 +579,21 @@ mod tests {
     fn roots_near_the_ends() {
         use RootKind::*;
         // At the very ends, and 1e-7 inside them.
-        check(|x| Some(x * x - 1.0), -1.0, 1.0, false, &[(-1.0, Crossing), (1.0, Crossing)]);
+        check(
+            |x| Some(x * x - 1.0),
+            -1.0,
+            1.0,
+            false,
+            &[(-1.0, Crossing), (1.0, Crossing)],
+        );
         let (a, b) = (-1.0 + 1e-7, 1.0 - 1e-7);
-        check(|x| Some((x - a) * (x - b)), -1.0, 1.0, false, &[(a, Crossing), (b, Crossing)]);
+        check(
+            |x| Some((x - a) * (x - b)),
+            -1.0,
+            1.0,
+            false,
+            &[(a, Crossing), (b, Crossing)],
+        );
         // Periodic: sin(x − 3.14159) crosses near the seam at ±π and at
         // 3.14159 − π; one root at the seam is reported once.
         let c = 3.14159;
