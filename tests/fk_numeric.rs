@@ -140,3 +140,78 @@ fn planar_3rrr() {
     eprintln!("planar_3rrr: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
     assert!(total >= n, "{total} assemblies at {n} inputs");
 }
+
+pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
+pkm::mechanism!(Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
+pkm::mechanism!(PunchOriginal, file = "examples/mechanisms/seed003_punch_original.pkm");
+
+/// Generated = interpreted: the residual at random inputs, virtual values
+/// and branches (equal to 1e-12 of the size, or both undefined), and the
+/// assemblies `fk_numeric` finds (the same, in the same order, points to
+/// 1e-9 of the size).
+fn generated<const N: usize, const G: usize, const B: usize, const J: usize, const P: usize, const D: usize>(
+    file: &str,
+    inputs: &[[f64; N]],
+    residual: impl Fn(&[f64; G], [pkm::runtime::primitives::Sign; B]) -> Result<f64, pkm::runtime::solution::SolveError>,
+    fk: impl Fn(&[f64; N]) -> Vec<fk_numeric::Found<J, P, D, B>>,
+) -> (usize, usize) {
+    let (a, model) = common::example(file);
+    let vp = pkm::dsl::planner_numeric::forward_numeric_plan(&a).unwrap();
+    let scale = kinematics::model_scale(&model);
+    let mut rng = SplitMix::new(7);
+    let (mut compared, mut assemblies) = (0, 0);
+    for q in inputs {
+        for _ in 0..200 {
+            let v = vp.range[0] + (vp.range[1] - vp.range[0]) * (rng.symmetric() + 1.0) / 2.0;
+            for (signs, ()) in pkm::runtime::solution::every_branch(B, |_| ()) {
+                let want = fk_numeric::residual(&model, &vp, q, v, &signs);
+                let given: [f64; G] = std::array::from_fn(|i| if i < N { q[i] } else { v });
+                let got = residual(&given, std::array::from_fn(|k| signs[k])).ok();
+                match (want, got) {
+                    (Some(w), Some(g)) => {
+                        assert!((w - g).abs() <= 1e-12 * scale, "{file} {q:?} {v}: {w} vs {g}");
+                        compared += 1;
+                    }
+                    (None, None) => {}
+                    _ => panic!("{file} {q:?} {v} {signs:?}: interpreted {want:?}, generated {got:?}"),
+                }
+            }
+        }
+        let want = fk_numeric::solve(&model, &vp, q).unwrap();
+        let got = fk(q);
+        assert_eq!(want.len(), got.len(), "{file} {q:?}");
+        for (w, g) in want.iter().zip(&got) {
+            for (j, p) in g.points.iter().enumerate().take(model.joints.len()) {
+                let r = kinematics::joint_point(&model, &w.solution.poses, j);
+                let d = p.iter().zip(r).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                assert!(d <= 1e-9 * scale, "{file} {q:?} joint {j}: {d}");
+            }
+            assert_eq!(w.signs, g.signs.to_vec());
+            assemblies += 1;
+        }
+    }
+    (compared, assemblies)
+}
+
+#[test]
+fn generated_equals_interpreted() {
+    let q3 = [[0.3, 1.2, -2.0], [0.1, 2.0, -1.5], [-0.5, 1.0, -2.5]];
+    let p = ThreeRrr::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated("planar_3rrr", &q3, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
+    eprintln!("planar_3rrr: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+    let q1: Vec<[f64; 1]> = crank(6, 9).into_iter().map(|q| [q[0]]).collect();
+    let p = Stephenson3::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated("stephenson3", &q1, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
+    eprintln!("stephenson3: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+    let p = PunchOriginal::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated(
+        "seed003_punch_original",
+        &q1,
+        |g, s| p.residual(g, s),
+        |q| p.fk_numeric(q),
+    );
+    eprintln!("seed003_punch_original: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+}

@@ -27,6 +27,42 @@ use std::collections::HashMap;
 /// every half degree).
 pub const SAMPLES: usize = 720;
 
+/// A diagnostic on the mechanism's name with the coupling notes.
+fn refusal(a: &Analysis, msg: String) -> Diagnostics {
+    let mut d = Diagnostic::new(a.mechanism.name_span(), msg).label("in this mechanism");
+    for note in a.topology.coupling_notes() {
+        d = d.note(note);
+    }
+    d.into()
+}
+
+/// What `fk_numeric` needs of the topology alone: κ = 1 in one SKC.
+///
+/// # Errors
+/// κ = 0 (the closed-form `fk` solves it), κ ≥ 2 or several coupled SKCs
+/// (one virtual variable is all this does).
+pub fn coupling(a: &Analysis) -> Result<(), Diagnostics> {
+    let t = &a.topology;
+    if t.kappa == 0 {
+        return Err(refusal(
+            a,
+            "`fk_numeric` is for κ > 0: this mechanism has κ = 0, request `fk`".into(),
+        ));
+    }
+    let coupled = t.skcs.iter().filter(|s| s.kappa > 0).count();
+    if t.kappa > 1 || coupled > 1 {
+        return Err(refusal(
+            a,
+            format!(
+                "`fk_numeric` solves one SKC with κ = 1 (one virtual variable); this mechanism has κ = {} in {coupled} SKC{}",
+                t.kappa,
+                if coupled == 1 { "" } else { "s" }
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The virtual-variable forward plan of a κ = 1 mechanism.
 ///
 /// # Errors
@@ -34,29 +70,11 @@ pub const SAMPLES: usize = 720;
 /// virtual variable per SKC is all this does), or where no candidate
 /// joint gives a plan with one compatibility residual.
 pub fn forward_numeric_plan(a: &Analysis) -> Result<VirtualPlan, Diagnostics> {
+    coupling(a)?;
     let m = &a.mechanism;
     let t = &a.topology;
-    let refuse = |msg: String| -> Diagnostics {
-        let mut d = Diagnostic::new(m.name_span(), msg).label("in this mechanism");
-        for note in t.coupling_notes() {
-            d = d.note(note);
-        }
-        d.into()
-    };
-    if t.kappa == 0 {
-        return Err(refuse(
-            "`fk_numeric` is for κ > 0: this mechanism has κ = 0, request `fk`".into(),
-        ));
-    }
+    let refuse = |msg: String| -> Diagnostics { refusal(a, msg) };
     let coupled: Vec<_> = t.skcs.iter().filter(|s| s.kappa > 0).collect();
-    if t.kappa > 1 || coupled.len() > 1 {
-        return Err(refuse(format!(
-            "`fk_numeric` solves one SKC with κ = 1 (one virtual variable); this mechanism has κ = {} in {} SKC{}",
-            t.kappa,
-            coupled.len(),
-            if coupled.len() == 1 { "" } else { "s" }
-        )));
-    }
     let model = crate::numeric::model(a, &HashMap::new())?;
     let skc = coupled[0];
     let mut socs: Vec<usize> = skc.socs.clone().collect();

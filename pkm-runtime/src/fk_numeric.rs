@@ -487,34 +487,85 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
         periodic: vp.periodic,
     };
     let scale = crate::kinematics::model_scale(model);
-    let mut out: Vec<Assembly> = Vec::new();
-    for (signs, ()) in crate::solution::every_branch(vp.plan.branches, |_| ()) {
-        let found = roots(|v| residual_with(model, &geometry, vp, inputs, v, &signs), &sampling);
-        for r in found {
-            let mut given = inputs.to_vec();
-            given.push(r.x);
-            let Ok(solution) = spatial::run(model, &vp.plan, &given, &signs) else {
-                continue;
-            };
-            let same = |a: &Assembly| {
-                a.solution.poses.iter().zip(&solution.poses).all(|(p, q)| {
-                    (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale
-                        && p.rotation.angle_to(&q.rotation) <= 1e-7
-                })
-            };
-            if out.iter().any(same) {
+    let given = |v: f64| {
+        let mut g = inputs.to_vec();
+        g.push(v);
+        g
+    };
+    let found = solve_with(
+        &sampling,
+        vp.plan.branches,
+        |v, signs| residual_with(model, &geometry, vp, inputs, v, signs),
+        |v, signs| spatial::run(model, &vp.plan, &given(v), signs).ok(),
+        |a: &Solution, b: &Solution| {
+            a.poses.iter().zip(&b.poses).all(|(p, q)| {
+                (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale
+                    && p.rotation.angle_to(&q.rotation) <= 1e-7
+            })
+        },
+    );
+    Ok(found
+        .into_iter()
+        .map(|(signs, r, solution)| Assembly {
+            signs,
+            virtual_value: r.x,
+            residual: r.residual,
+            kind: r.kind,
+            solution,
+        })
+        .collect())
+}
+
+/// One assembly found by generated code (`Name::fk_numeric`): `J` joint
+/// values, `P` points of `D` coordinates, `B` ± choices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Found<const J: usize, const P: usize, const D: usize, const B: usize> {
+    /// The ± choices of the plan's branch it was found on.
+    pub signs: [Sign; B],
+    /// The virtual variable's value.
+    pub virtual_value: f64,
+    /// The compatibility residual there.
+    pub residual: f64,
+    /// How it was found ([`RootKind::Tangency`]: not certified).
+    pub kind: RootKind,
+    /// Every joint's value.
+    pub q: [f64; J],
+    /// Every joint's point, then the named points.
+    pub points: [[f64; D]; P],
+}
+
+/// Whether two joint values are one: within `tol`, or a whole number of
+/// turns apart to 1e-9 (an angle).
+pub fn same_value(x: f64, y: f64, tol: f64) -> bool {
+    let d = (x - y).abs();
+    let turn = 2.0 * std::f64::consts::PI;
+    d <= tol || (d - turn * (d / turn).round()).abs() <= 1e-9
+}
+
+/// The driver both the interpreter ([`solve`]) and generated code run: on
+/// every branch of a plan with `branches` ± choices, every root of
+/// `residual(v, signs)` over `sampling` ([`roots`]), solved by
+/// `solution(v, signs)` (`None`: the verification failed, the root is
+/// dropped) and kept unless `same` as one found before (where two
+/// branches meet).
+pub fn solve_with<S>(
+    sampling: &Sampling,
+    branches: usize,
+    residual: impl Fn(f64, &[Sign]) -> Option<f64>,
+    solution: impl Fn(f64, &[Sign]) -> Option<S>,
+    same: impl Fn(&S, &S) -> bool,
+) -> Vec<(Vec<Sign>, Root, S)> {
+    let mut out: Vec<(Vec<Sign>, Root, S)> = Vec::new();
+    for (signs, ()) in crate::solution::every_branch(branches, |_| ()) {
+        for r in roots(|v| residual(v, &signs), sampling) {
+            let Some(s) = solution(r.x, &signs) else { continue };
+            if out.iter().any(|(_, _, o)| same(o, &s)) {
                 continue;
             }
-            out.push(Assembly {
-                signs: signs.clone(),
-                virtual_value: r.x,
-                residual: r.residual,
-                kind: r.kind,
-                solution,
-            });
+            out.push((signs.clone(), r, s));
         }
     }
-    Ok(out)
+    out
 }
 
 #[cfg(test)]
@@ -594,9 +645,9 @@ mod tests {
             false,
             &[(a, Crossing), (b, Crossing)],
         );
-        // Periodic: sin(x − 3.14159) crosses near the seam at ±π and at
-        // 3.14159 − π; one root at the seam is reported once.
-        let c = 3.14159;
+        // Periodic: sin(x − c), c = π − 2.6e-6, crosses near the seam at c
+        // and at c − π; a root at the seam (sin x at ±π) is reported once.
+        let c = std::f64::consts::PI - 2.6e-6;
         check(
             |x| Some((x - c).sin()),
             -std::f64::consts::PI,
@@ -619,15 +670,15 @@ mod tests {
         // Undefined on (−0.2, 0.4): roots at −0.5 and 0.7 found, no NaN
         // read; a root 1e-12 before the gap's edge at 0.4 (between the
         // last sample and the edge) is found too.
-        let f = |x: f64| (x <= -0.2 || x >= 0.4).then(|| (x + 0.5) * (x - 0.7));
+        let f = |x: f64| (x <= -0.2 || x >= 0.4).then_some((x + 0.5) * (x - 0.7));
         check(f, -1.0, 1.0, false, &[(-0.5, Crossing), (0.7, Crossing)]);
         let e = 0.4 + 1e-6;
-        let f = |x: f64| (x >= 0.4).then(|| x - e);
+        let f = |x: f64| (x >= 0.4).then_some(x - e);
         check(f, -1.0, 1.0, false, &[(e, Crossing)]);
         // A residual that ends at a gap's edge 1e-12 from zero (two
         // branches meeting where they touch the root): found at the edge,
         // not certified by a sign change.
-        let f = |x: f64| (x <= 0.5037).then(|| 0.5037 - x + 1e-12);
+        let f = |x: f64| (x <= 0.5037).then_some(0.5037 - x + 1e-12);
         check(f, -1.0, 1.0, false, &[(0.5037, Tangency)]);
         // Nowhere defined: no roots.
         check(|_| None, -1.0, 1.0, false, &[]);
