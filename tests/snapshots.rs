@@ -38,6 +38,7 @@ snapshots! {
     planar_3rrr => "ThreeRrr",
     seed003_punch => "Punch",
     seed003_punch_original => "PunchOriginal",
+    stephenson3 => "Stephenson3",
     seed000_a => "SeedA",
     seed000_a_u => "SeedAU",
     seed000_b => "SeedB",

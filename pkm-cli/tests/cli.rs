@@ -129,6 +129,8 @@ fn every_failure_names_its_cause() {
             .replace("l1 = 100;", "l1 = 100; area = 10000;")
             .replace("R2 = (l1, 0)", "R2 = (sqrt(area), 0)"),
     );
+    // The 3-RRR without `fk_numeric`: plain `fk` is refused.
+    let rrr = plain_rrr();
     // One row per failure: arguments, exit code, error kind, what the message says.
     #[rustfmt::skip]
     let rows: &[(&[&str], i32, &str, &str)] = &[
@@ -137,7 +139,10 @@ fn every_failure_names_its_cause() {
         (&["fk", "no/such/file.pkm", "--q", "1"], 1, "io", "cannot read `no/such/file.pkm`"),
         (&["analyze", &bad], 1, "parse", "error: unknown joint `R9`"),
         (&["fk", &bad, "--q", "1"], 1, "parse", "unknown joint `R9`"),
-        (&["fk", RRR, "--q", "1,2,3"], 1, "parse", "a closed-form forward plan needs κ = 0 (κ = 1)"),
+        (&["fk", &rrr, "--q", "1,2,3"], 1, "parse", "a closed-form forward plan needs κ = 0 (κ = 1)"),
+        // With `fk_numeric`: the inputs checked, and no root is no assembly.
+        (&["fk", RRR, "--q", "1,2"], 1, "input", "expected 3 input values (R1, R4, R7), found 2"),
+        (&["fk", RRR, "--q", "9,9,9"], 1, "unreachable", "no assembly: the compatibility residual has no root over R2's range"),
         // Input values, checked before solving.
         (&["fk", FOUR_BAR, "--q", "1,2"], 1, "input", "expected 1 input value (R1), found 2"),
         (&["fk", SEED000_A, "--q", "1,2"], 1, "input", "expected 3 input values (P1, P2, P3), found 2"),
@@ -179,7 +184,7 @@ fn every_failure_names_its_cause() {
 /// virtual variables a forward solution would need, as the compile error does.
 #[test]
 fn coupled_forward_refusal_names_the_skc() {
-    let out = pkm(&["fk", RRR, "--q", "1,2,3"]);
+    let out = pkm(&["fk", &plain_rrr(), "--q", "1,2,3"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     for part in [
@@ -188,6 +193,38 @@ fn coupled_forward_refusal_names_the_skc() {
         "needs 1 virtual variable solved by iteration",
     ] {
         assert!(err.contains(part), "`{part}` not in {err}");
+    }
+}
+
+/// The 3-RRR as a file that does not ask for `fk_numeric`.
+fn plain_rrr() -> String {
+    let text = std::fs::read_to_string(common::root().join(RRR)).unwrap();
+    scratch_file(
+        "rrr_plain.pkm",
+        &text.replace("capabilities ik, fk_numeric;", "capabilities ik;"),
+    )
+}
+
+/// `pkm fk` of a κ = 1 file that asks for `fk_numeric`: the Stephenson III
+/// at crank angle 1 has two assemblies (Newton's from 10⁴ starts, see
+/// tests/fk_numeric.rs), each with the virtual variable's value, and each
+/// keeps the crank at 1 and the binary links' lengths (by hand: 50√2, 200).
+#[test]
+fn fk_numeric_lists_every_assembly() {
+    let v = run_json(&["fk", "examples/mechanisms/stephenson3.pkm", "--q", "1"]);
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 2, "{v}");
+    assert_eq!(v["virtual"], "R2");
+    let p = |b: &serde_json::Value, n: &str| -> [f64; 2] {
+        let a = b["points"][n].as_array().unwrap();
+        [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]
+    };
+    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    for b in branches {
+        assert!(b["virtual"]["R2"].is_number(), "{b}");
+        assert_eq!(b["joints"]["R1"].as_f64(), Some(1.0));
+        assert!((d(p(b, "R4"), p(b, "R5")) - 50.0 * 2f64.sqrt()).abs() < 1e-9, "{b}");
+        assert!((d(p(b, "R6"), p(b, "R7")) - 200.0).abs() < 1e-9, "{b}");
     }
 }
 

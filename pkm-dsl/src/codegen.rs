@@ -141,6 +141,15 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
         if *cap == Capability::Dynamics {
             dynamics_needs(a, *span, &mut errors);
         }
+        if *cap == Capability::FkNumeric {
+            let planned = crate::planner_numeric::coupling(a).and_then(|()| match a.geometry.complete {
+                true => crate::planner_numeric::forward_numeric_plan(a).map(|_| ()),
+                false => Ok(()),
+            });
+            if let Err(d) = planned {
+                errors.0.extend(d.0);
+            }
+        }
         if *cap == Capability::Fk && t.kappa != 0 {
             let mut d = Diagnostic::new(
                 *span,
@@ -395,6 +404,16 @@ fn solver_items(input: &MacroInput, compiled: &crate::Compiled) -> Result<Vec<To
             solvers.push(crate::codegen_solution::generate(a, plan, ident, direction));
         }
     }
+    if a.geometry.complete && m.wants(Capability::FkNumeric) && a.topology.kappa == 1 {
+        let vp = crate::planner_numeric::forward_numeric_plan(a)?;
+        let items = crate::codegen_solver::numeric::generate(a, ident, vis, &vp).map_err(|e| {
+            Diagnostic::new(
+                m.name_span(),
+                format!("internal error: the virtual plan's steps failed on symbols: {e}"),
+            )
+        })?;
+        solvers.push(items);
+    }
     Ok(solvers)
 }
 
@@ -459,6 +478,15 @@ mod tests {
             .map(|d| d.message.clone())
             .collect();
         assert_eq!(got, want, "{capabilities}");
+    }
+
+    #[test]
+    fn fk_numeric_needs_one_coupled_skc() {
+        // The four-bar's κ is 0: `fk` solves it.
+        check(
+            "fk_numeric",
+            &["`fk_numeric` is for κ > 0: this mechanism has κ = 0, request `fk`"],
+        );
     }
 
     #[test]

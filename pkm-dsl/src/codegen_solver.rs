@@ -23,6 +23,8 @@ use quote::{format_ident, quote};
 mod batch;
 #[path = "codegen_dynamics.rs"]
 mod dynamics;
+#[path = "codegen_numeric.rs"]
+pub(crate) mod numeric;
 
 /// A parameter expression as a symbol: arithmetic traced, anything else
 /// (powers, functions) kept as Rust source.

@@ -21,6 +21,7 @@ pub mod mechanism;
 pub mod numeric;
 pub mod params;
 pub mod planner;
+pub mod planner_numeric;
 pub mod screw;
 pub mod study;
 pub mod topology;

@@ -97,6 +97,9 @@ pub enum Capability {
     Fk,
     /// Closed-form inverse position solution.
     Ik,
+    /// Forward position solution of a κ = 1 mechanism by one virtual
+    /// variable and the roots of its compatibility residual.
+    FkNumeric,
     /// Output and input Jacobians.
     Jacobian,
     /// Velocities of points and links.
@@ -113,7 +116,7 @@ pub enum Capability {
 
 impl Capability {
     /// Every capability with its DSL name.
-    pub const ALL: [(Capability, &'static str); 9] = [
+    pub const ALL: [(Capability, &'static str); 10] = [
         (Capability::Analysis, "analysis"),
         (Capability::Fk, "fk"),
         (Capability::Ik, "ik"),
@@ -122,6 +125,7 @@ impl Capability {
         (Capability::Acceleration, "acceleration"),
         (Capability::Workspace, "workspace"),
         (Capability::Dynamics, "dynamics"),
+        (Capability::FkNumeric, "fk_numeric"),
         (Capability::Stiffness, "stiffness"),
     ];
 
@@ -1687,7 +1691,7 @@ mod tests {
 
     #[test]
     fn capabilities_must_be_implemented() {
-        let implemented = "analysis, fk, ik, jacobian, velocity, acceleration, workspace, dynamics";
+        let implemented = "analysis, fk, ik, jacobian, velocity, acceleration, workspace, dynamics, fk_numeric";
         let not_yet = |c: &str| format!("capability `{c}` is not implemented yet; implemented: {implemented}");
         check(
             &format!("mechanism m {{ capabilities fk, ik; planar; {FOUR_BAR} }}"),

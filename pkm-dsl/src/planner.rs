@@ -18,7 +18,7 @@ use pkm_runtime::spatial::{self, Plan, Step, Turn};
 use pkm_runtime::steps::search::Search;
 use std::collections::HashMap;
 
-fn solve(
+pub(crate) fn solve(
     a: &Analysis,
     model: &Model,
     given: Vec<Option<usize>>,

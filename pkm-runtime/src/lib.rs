@@ -5,6 +5,7 @@
 
 pub mod batch;
 pub mod consistency;
+pub mod fk_numeric;
 pub mod force_system;
 pub mod frame;
 pub mod hyper_dual;

@@ -461,6 +461,9 @@ pub(super) fn input_values(
 /// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
 pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
     let l = load(r)?;
+    if l.analysis.topology.kappa != 0 && l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric) {
+        return fk_numeric(r, &l, q);
+    }
     let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
     let inputs = plan.input_joints(&l.model);
     let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
@@ -472,6 +475,55 @@ pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
         "inputs": as_given,
         "units": r.units(),
         "branches": branches_json(r, &verdicts)?,
+    }))
+}
+
+/// `pkm fk` of a κ = 1 file that asks for `fk_numeric`: every assembly
+/// the virtual variable's compatibility residual has a root for
+/// ([`pkm_runtime::fk_numeric::solve`]), each as a branch with its plan
+/// branch's signs, the virtual variable's value, and `tangent` where the
+/// root was a tangency (found, not certified by a sign change).
+fn fk_numeric(r: &Request, l: &Loaded, q: &[f64]) -> Result<Value, Failure> {
+    let vp = pkm_dsl::planner_numeric::forward_numeric_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+    let inputs = &vp.plan.inputs[..vp.plan.inputs.len() - 1];
+    let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
+    let given = input_values(r, &l.model, inputs, "--q", q)?;
+    let found = pkm_runtime::fk_numeric::solve(&l.model, &vp, &given).map_err(|e| Failure::input(e.to_string()))?;
+    let virtual_name = l.model.joints[vp.joint].name.clone();
+    let virtual_angle = angular(l.model.joints[vp.joint].kind);
+    if found.is_empty() {
+        return Err(Failure::new(
+            Kind::Unreachable,
+            format!("no assembly: the compatibility residual has no root over {virtual_name}'s range on any branch"),
+        ));
+    }
+    let runs: Vec<Run> = found
+        .iter()
+        .map(|a| {
+            let c = Configuration {
+                poses: a.solution.poses.clone(),
+                values: a.solution.values.clone(),
+            };
+            (a.signs.clone(), Ok(c))
+        })
+        .collect();
+    let mut verdicts = verdicts(l, runs, &names);
+    for ((_, v), a) in verdicts.iter_mut().zip(&found) {
+        if let Ok(s) = v {
+            s.tangent = a.kind == pkm_runtime::fk_numeric::RootKind::Tangency;
+        }
+    }
+    let mut branches = branches_json(r, &verdicts)?;
+    for (b, a) in branches.iter_mut().zip(&found) {
+        b["virtual"] = json!({ virtual_name.clone(): r.shown_value(a.virtual_value, virtual_angle) });
+    }
+    let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
+    Ok(json!({
+        "name": l.model.name,
+        "inputs": as_given,
+        "units": r.units(),
+        "virtual": virtual_name,
+        "branches": branches,
     }))
 }
 

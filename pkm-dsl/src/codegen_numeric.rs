@@ -1,0 +1,209 @@
+//! Generated forward solution of a κ = 1 mechanism by one virtual variable
+//! (capability `fk_numeric`, [`crate::planner_numeric`]): the virtual
+//! plan's steps traced on symbols like every other solver's and written
+//! out as straight-line Rust, in a prepared type of their own
+//! (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`):
+//! `residual(&given, signs)` (the compatibility residual, `given` the
+//! inputs then the virtual variable), `solution(&given, signs)` (every
+//! joint value and point, verified by the plan's other checks), and
+//! `fk_numeric(&q)`, which runs the runtime's generic driver
+//! (`pkm::runtime::fk_numeric::solve_with`) on them.
+
+use super::{branch, geometry, loop_names, xyz};
+use crate::analysis::Analysis;
+use crate::emit::Emit;
+use crate::trace::{record, Choice};
+use pkm_runtime::fk_numeric::VirtualPlan;
+use pkm_runtime::steps::RESIDUAL_ROWS;
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// The items of `fk_numeric` for the virtual plan `vp` (planned at the
+/// nominal dimensions; the residual's zero and a slide's range are the
+/// nominal model's, see [`pkm_runtime::fk_numeric::zero_of`]).
+pub(crate) fn generate(
+    a: &Analysis,
+    ident: &proc_macro2::Ident,
+    vis: &syn::Visibility,
+    vp: &VirtualPlan,
+) -> Result<TokenStream, String> {
+    let m = &a.mechanism;
+    let plan = &vp.plan;
+    let (traced, graph) = record(|| {
+        let g = geometry(a);
+        let signs: Vec<Choice> = (0..plan.branches).map(Choice::Given).collect();
+        branch(a, &g, plan, 0, true, &signs, true)
+    });
+    let b = traced?;
+    let emit = Emit::new(&graph, loop_names(a, plan));
+    let row = vp.check * RESIDUAL_ROWS + vp.row;
+    let residual = b.residual[row];
+    // The other checks' rows that can fail verify a solution.
+    let others: Vec<_> = (0..b.residual.len())
+        .filter(|&i| i != row && emit.constant(b.residual[i]) != Some(0.0))
+        .map(|i| b.residual[i])
+        .collect();
+    let guards = |roots: &[crate::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
+    let (residual_lets, residual_expr) = emit.straight(&[residual], &guards(&[residual]));
+    let residual_expr = &residual_expr[0];
+    let mut roots = b.values.clone();
+    roots.extend(b.points.iter().flatten());
+    roots.extend(&others);
+    roots.push(b.extent);
+    let (lets, exprs) = emit.straight(&roots, &guards(&roots));
+    let n_joints = m.joints.len();
+    let n_points = b.points.len();
+    let (values, rest) = exprs.split_at(n_joints);
+    let (points, rest) = rest.split_at(3 * n_points);
+    let (rows, extent) = rest.split_at(others.len());
+    let extent = &extent[0];
+    let dim = if m.planar { 2 } else { 3 };
+    let points: Vec<TokenStream> = points.chunks(3).map(|p| xyz(&p[..dim])).collect();
+    let n_rows = others.len();
+    let n_given = plan.n_inputs;
+    let n_inputs = n_given - 1;
+    let n_choices = plan.branches;
+    let model = crate::numeric::model(a, &Default::default()).map_err(|d| format!("{d:?}"))?;
+    let zero = pkm_runtime::fk_numeric::zero_of(&model);
+    let scale = pkm_runtime::kinematics::model_scale(&model);
+    let [lo, hi] = vp.range;
+    // A turn's ends as the constant, not its digits.
+    let end = |x: f64| {
+        if x == std::f64::consts::PI {
+            quote! { ::core::f64::consts::PI }
+        } else if x == -std::f64::consts::PI {
+            quote! { -::core::f64::consts::PI }
+        } else {
+            quote! { #x }
+        }
+    };
+    let (lo_t, hi_t) = (end(lo), end(hi));
+    let periodic = vp.periodic;
+    let samples = vp.samples;
+    let prepared = format_ident!("{}FkNumeric", ident);
+    let params_ty = format_ident!("{}Params", ident);
+    let n_slots = emit.slot_count();
+    let prepare = emit.prepare();
+    let virtual_name = &m.joints[vp.joint].name;
+    let rt = quote! { ::pkm::runtime };
+    let fk_doc = format!(
+        " Every real assembly at the inputs `q` (the actuated joints in declaration order, [`{prepared}::GIVEN`] but the last), by a virtual variable ([`{prepared}::fk_numeric`])."
+    );
+    let given_names: Vec<&str> = plan.inputs.iter().map(|&j| m.joints[j].name.as_str()).collect();
+    let doc = format!(
+        " `{}`'s forward solution by the virtual variable {virtual_name} ([`{ident}::prepare_fk_numeric`]): what depends on the dimensions alone, computed once.",
+        m.name
+    );
+    let residual_doc = format!(
+        " The compatibility residual (a length) of branch `signs` at `given` ([`Self::GIVEN`]: the inputs, then the virtual variable {virtual_name}); `Err` where the branch has no real solution there."
+    );
+    let sampling_doc = format!(
+        " Where {virtual_name} is sampled ({samples} intervals over [{lo}, {hi}]) and what counts as zero at a minimum of |residual| (1e-9 of the nominal size)."
+    );
+    let verified = if n_rows == 0 {
+        quote! {}
+    } else {
+        quote! {
+            let extent = #extent;
+            let rows = [#(#rows),*];
+            if let ::core::option::Option::Some((_, gap)) = #rt::consistency::beyond(&rows, extent) {
+                return ::core::result::Result::Err(#rt::solution::SolveError::Inconsistent {
+                    owner: ::std::borrow::Cow::Borrowed("a joint the virtual plan leaves open"),
+                    gap,
+                    contradicted: ::core::option::Option::None,
+                });
+            }
+        }
+    };
+    let finite = quote! {
+        if !given.iter().all(|v| v.is_finite()) {
+            return ::core::result::Result::Err(#rt::solution::SolveError::BadInput {
+                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+            });
+        }
+    };
+    Ok(quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #prepared {
+            k: [f64; #n_slots],
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// The forward solution by a virtual variable prepared at `params`.
+            pub fn prepare_fk_numeric(params: &#params_ty) -> #prepared {
+                let _ = params;
+                #prepared { k: { #prepare } }
+            }
+
+            #[doc = #fk_doc]
+            pub fn fk_numeric(params: &#params_ty, q: &[f64; #n_inputs]) -> ::std::vec::Vec<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
+                Self::prepare_fk_numeric(params).fk_numeric(q)
+            }
+        }
+
+        #[automatically_derived]
+        impl #prepared {
+            /// The joints `given` holds: the inputs, then the virtual variable.
+            pub const GIVEN: [&'static str; #n_given] = [#(#given_names),*];
+
+            #[doc = #sampling_doc]
+            pub const SAMPLING: #rt::fk_numeric::Sampling = #rt::fk_numeric::Sampling {
+                lo: #lo_t,
+                hi: #hi_t,
+                samples: #samples,
+                zero: #zero,
+                periodic: #periodic,
+            };
+
+            #[doc = #residual_doc]
+            pub fn residual(&self, given: &[f64; #n_given], signs: [#rt::primitives::Sign; #n_choices]) -> ::core::result::Result<f64, #rt::solution::SolveError> {
+                let _ = &signs;
+                #finite
+                #residual_lets
+                ::core::result::Result::Ok(#residual_expr)
+            }
+
+            /// Every joint value and point of branch `signs` at `given`
+            /// (inputs, then the virtual variable), verified by the checks
+            /// other than the compatibility residual.
+            pub fn solution(&self, given: &[f64; #n_given], signs: [#rt::primitives::Sign; #n_choices]) -> ::core::result::Result<([f64; #n_joints], [[f64; #dim]; #n_points]), #rt::solution::SolveError> {
+                let _ = &signs;
+                #finite
+                #lets
+                #verified
+                ::core::result::Result::Ok(([#(#values),*], [#(#points),*]))
+            }
+
+            /// Every real assembly at the inputs `q`: the roots of the
+            /// compatibility residual on every branch
+            /// ([`pkm::runtime::fk_numeric::solve_with`]), each solved and
+            /// verified, an assembly two branches share once.
+            pub fn fk_numeric(&self, q: &[f64; #n_inputs]) -> ::std::vec::Vec<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
+                let given = |v: f64| -> [f64; #n_given] { ::core::array::from_fn(|i| if i < #n_inputs { q[i] } else { v }) };
+                let signs_of = |s: &[#rt::primitives::Sign]| -> [#rt::primitives::Sign; #n_choices] { ::core::array::from_fn(|k| s[k]) };
+                #rt::fk_numeric::solve_with(
+                    &Self::SAMPLING,
+                    #n_choices,
+                    |v, s| self.residual(&given(v), signs_of(s)).ok(),
+                    |v, s| self.solution(&given(v), signs_of(s)).ok(),
+                    |a: &([f64; #n_joints], [[f64; #dim]; #n_points]), b: &([f64; #n_joints], [[f64; #dim]; #n_points])| {
+                        a.1.iter().zip(&b.1).all(|(p, q)| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-7 * #scale))
+                            && a.0.iter().zip(&b.0).all(|(x, y)| #rt::fk_numeric::same_value(*x, *y, 1e-7 * #scale))
+                    },
+                )
+                .into_iter()
+                .map(|(s, r, (values, points))| #rt::fk_numeric::Found {
+                    signs: signs_of(&s),
+                    virtual_value: r.x,
+                    residual: r.residual,
+                    kind: r.kind,
+                    q: values,
+                    points,
+                })
+                .collect()
+            }
+        }
+    })
+}

@@ -1,0 +1,217 @@
+//! Forward solutions of κ = 1 mechanisms by one virtual variable
+//! (`fk_numeric`, `pkm::runtime::fk_numeric`) against an independent
+//! path: the Newton reference (`pkm::runtime::newton`) from 10⁴ random
+//! starts, its converged solutions deduplicated. Every assembly Newton
+//! finds is found, and every assembly reported closes the model's loops to
+//! rounding (`kinematics::loop_residual`, no step of the plan involved).
+
+mod common;
+
+use pkm::dsl::screw::SplitMix;
+use pkm::runtime::fk_numeric::{self, RootKind};
+use pkm::runtime::kinematics;
+use pkm::runtime::model::{JointType, Model};
+use pkm::runtime::newton::{self, NewtonOptions};
+use std::f64::consts::PI;
+
+/// Every joint's point, the solution compared by them (angles wrap).
+fn points(model: &Model, poses: &[pkm::runtime::spatial::Pose3]) -> Vec<[f64; 3]> {
+    (0..model.joints.len())
+        .map(|j| kinematics::joint_point(model, poses, j))
+        .chain(model.links.iter().enumerate().skip(1).map(|(l, _)| {
+            // A point off each link's origin so that a turn about it shows.
+            pkm::runtime::spatial::at(&poses[l], [100.0, 0.0, 0.0])
+        }))
+        .collect()
+}
+
+fn distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt())
+        .fold(0.0, f64::max)
+}
+
+/// The distinct assemblies Newton reaches from `starts` random starts.
+fn newton_assemblies(model: &Model, q: &[f64], starts: usize, rng: &mut SplitMix) -> Vec<Vec<[f64; 3]>> {
+    let scale = kinematics::model_scale(model);
+    let mut found: Vec<Vec<[f64; 3]>> = Vec::new();
+    let options = NewtonOptions {
+        tolerance: 1e-12,
+        max_iterations: 60,
+    };
+    for _ in 0..starts {
+        let guess: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| match j.kind {
+                JointType::P => 2.0 * scale * rng.symmetric(),
+                _ => PI * rng.symmetric(),
+            })
+            .collect();
+        let Ok(s) = newton::solve_fk(model, q, &guess, &options) else {
+            continue;
+        };
+        let p = points(model, &s.poses);
+        if !found.iter().any(|f| distance(f, &p) <= 1e-6 * scale) {
+            found.push(p);
+        }
+    }
+    found
+}
+
+/// For each input vector: every Newton assembly is found by `fk_numeric`
+/// (to 1e-8 of the mechanism's size), and every assembly found closes the
+/// loops to `1e-12` of the size. Returns (inputs, assemblies found, worst
+/// closure, worst distance from Newton).
+fn check(file: &str, inputs: &[Vec<f64>], starts: usize) -> (usize, usize, f64, f64) {
+    let (a, model) = common::example(file);
+    let vp = pkm::dsl::planner_numeric::forward_numeric_plan(&a).unwrap();
+    let scale = kinematics::model_scale(&model);
+    let mut rng = SplitMix::new(0xf00d);
+    let (mut total, mut worst_closure, mut worst_match) = (0, 0.0f64, 0.0f64);
+    for q in inputs {
+        let found = fk_numeric::solve(&model, &vp, q).unwrap();
+        let mine: Vec<Vec<[f64; 3]>> = found.iter().map(|s| points(&model, &s.solution.poses)).collect();
+        for (s, p) in found.iter().zip(&mine) {
+            let r = kinematics::loop_residual(&model, &s.solution.values).unwrap();
+            let closure = r.iter().fold(0.0f64, |w, x| w.max(x.abs())) / scale;
+            worst_closure = worst_closure.max(closure);
+            assert!(
+                closure <= 1e-12,
+                "{file} {q:?}: assembly {p:?} closes to {closure} ({:?})",
+                s.kind
+            );
+            assert!(s.kind == RootKind::Crossing || s.residual.abs() <= 1e-9 * scale);
+        }
+        let reference = newton_assemblies(&model, q, starts, &mut rng);
+        for r in &reference {
+            let d = mine.iter().map(|m| distance(m, r)).fold(f64::INFINITY, f64::min);
+            worst_match = worst_match.max(d);
+            assert!(
+                d <= 1e-8 * scale,
+                "{file} {q:?}: Newton's assembly {r:?} not found ({} found, nearest {d})",
+                mine.len()
+            );
+        }
+        total += found.len();
+    }
+    (inputs.len(), total, worst_closure, worst_match)
+}
+
+/// Crank angles spread over the turn.
+fn crank(n: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = SplitMix::new(seed);
+    (0..n).map(|_| vec![PI * rng.symmetric()]).collect()
+}
+
+#[test]
+fn stephenson_iii() {
+    let (n, total, closure, matched) = check("stephenson3", &crank(6, 1), 10_000);
+    eprintln!("stephenson3: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
+    assert!(total >= n, "{total} assemblies at {n} inputs");
+}
+
+#[test]
+fn punch_original() {
+    let (n, total, closure, matched) = check("seed003_punch_original", &crank(6, 2), 10_000);
+    eprintln!("seed003_punch_original: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
+    assert!(total >= n, "{total} assemblies at {n} inputs");
+}
+
+#[test]
+fn planar_3rrr() {
+    // Inputs from random platform poses by the closed-form inverse, so
+    // that each assembles at least once.
+    let (a, model) = common::example("planar_3rrr");
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let actuated = model.inputs();
+    let mut rng = SplitMix::new(3);
+    let mut inputs = Vec::new();
+    while inputs.len() < 6 {
+        let pose = [40.0 * rng.symmetric(), 40.0 * rng.symmetric(), 0.5 * rng.symmetric()];
+        let all = pkm::runtime::spatial::run_all(&model, &plan, &pose);
+        let k = ((rng.symmetric() + 1.0) * 4.0) as usize % all.len();
+        if let Ok(s) = &all[k].1 {
+            inputs.push(actuated.iter().map(|&j| s.values[j]).collect());
+        }
+    }
+    let (n, total, closure, matched) = check("planar_3rrr", &inputs, 10_000);
+    eprintln!("planar_3rrr: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
+    assert!(total >= n, "{total} assemblies at {n} inputs");
+}
+
+pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
+pkm::mechanism!(Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
+pkm::mechanism!(PunchOriginal, file = "examples/mechanisms/seed003_punch_original.pkm");
+
+/// Generated = interpreted: the residual at random inputs, virtual values
+/// and branches (equal to 1e-12 of the size, or both undefined), and the
+/// assemblies `fk_numeric` finds (the same, in the same order, points to
+/// 1e-9 of the size).
+fn generated<const N: usize, const G: usize, const B: usize, const J: usize, const P: usize, const D: usize>(
+    file: &str,
+    inputs: &[[f64; N]],
+    residual: impl Fn(&[f64; G], [pkm::runtime::primitives::Sign; B]) -> Result<f64, pkm::runtime::solution::SolveError>,
+    fk: impl Fn(&[f64; N]) -> Vec<fk_numeric::Found<J, P, D, B>>,
+) -> (usize, usize) {
+    let (a, model) = common::example(file);
+    let vp = pkm::dsl::planner_numeric::forward_numeric_plan(&a).unwrap();
+    let scale = kinematics::model_scale(&model);
+    let mut rng = SplitMix::new(7);
+    let (mut compared, mut assemblies) = (0, 0);
+    for q in inputs {
+        for _ in 0..200 {
+            let v = vp.range[0] + (vp.range[1] - vp.range[0]) * (rng.symmetric() + 1.0) / 2.0;
+            for (signs, ()) in pkm::runtime::solution::every_branch(B, |_| ()) {
+                let want = fk_numeric::residual(&model, &vp, q, v, &signs);
+                let given: [f64; G] = std::array::from_fn(|i| if i < N { q[i] } else { v });
+                let got = residual(&given, std::array::from_fn(|k| signs[k])).ok();
+                match (want, got) {
+                    (Some(w), Some(g)) => {
+                        assert!((w - g).abs() <= 1e-12 * scale, "{file} {q:?} {v}: {w} vs {g}");
+                        compared += 1;
+                    }
+                    (None, None) => {}
+                    _ => panic!("{file} {q:?} {v} {signs:?}: interpreted {want:?}, generated {got:?}"),
+                }
+            }
+        }
+        let want = fk_numeric::solve(&model, &vp, q).unwrap();
+        let got = fk(q);
+        assert_eq!(want.len(), got.len(), "{file} {q:?}");
+        for (w, g) in want.iter().zip(&got) {
+            for (j, p) in g.points.iter().enumerate().take(model.joints.len()) {
+                let r = kinematics::joint_point(&model, &w.solution.poses, j);
+                let d = p.iter().zip(r).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                assert!(d <= 1e-9 * scale, "{file} {q:?} joint {j}: {d}");
+            }
+            assert_eq!(w.signs, g.signs.to_vec());
+            assemblies += 1;
+        }
+    }
+    (compared, assemblies)
+}
+
+#[test]
+fn generated_equals_interpreted() {
+    let q3 = [[0.3, 1.2, -2.0], [0.1, 2.0, -1.5], [-0.5, 1.0, -2.5]];
+    let p = ThreeRrr::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated("planar_3rrr", &q3, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
+    eprintln!("planar_3rrr: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+    let q1: Vec<[f64; 1]> = crank(6, 9).into_iter().map(|q| [q[0]]).collect();
+    let p = Stephenson3::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated("stephenson3", &q1, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
+    eprintln!("stephenson3: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+    let p = PunchOriginal::prepare_fk_numeric(&Default::default());
+    let (c, n) = generated(
+        "seed003_punch_original",
+        &q1,
+        |g, s| p.residual(g, s),
+        |q| p.fk_numeric(q),
+    );
+    eprintln!("seed003_punch_original: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
+}
