@@ -38,6 +38,7 @@ snapshots! {
     five_bar_pa => "FiveBarPa",
     rps_3 => "Rps",
     spr_3 => "Spr",
+    rps_3_tilt => "RpsTilt",
 }
 
 #[test]
