@@ -49,6 +49,7 @@ snapshots! {
     rssp => "Rssp",
     upu_3 => "Upu",
     ups_6 => "Ups",
+    rps_3_tilt => "RpsTilt",
 }
 
 #[test]

@@ -105,6 +105,9 @@ pub enum OutputWhat {
         /// In a spatial mechanism, the axis the link turns about (its one
         /// orientation output); without it the link keeps the base's orientation.
         about: Option<AxisRef>,
+        /// In a spatial mechanism, which of x, y, z, rx, ry, rz are given
+        /// (`pose (z, rx, ry) of …`); the rest are the mechanism's.
+        parts: Option<Vec<Name>>,
     },
     /// A point of a link alone, its orientation not given: (x, y) in a
     /// planar mechanism, (x, y, z) otherwise.

@@ -139,6 +139,17 @@ fn model_fns(a: &Analysis, s: &Signature) -> TokenStream {
             let at = local(*point, *link);
             quote! { #rt::newton::Output::Point { link: #link, local: #at } }
         }
+        OutputKind::Parts { link, point, parts } => {
+            let at = local(*point, *link);
+            let given = parts.0;
+            quote! {
+                #rt::newton::Output::Parts {
+                    link: #link,
+                    local: #at,
+                    parts: #rt::steps::place::PoseParts([#(#given),*]),
+                }
+            }
+        }
         OutputKind::Joint(j) => quote! { #rt::newton::Output::Joint(#j) },
     });
     let (name, planar) = (&m.name, m.planar);

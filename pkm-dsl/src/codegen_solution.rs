@@ -48,6 +48,7 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             (0..n).map(move |i| match &o.kind {
                 crate::geometry::OutputKind::Pose { about, .. } => i == 3 || (m.planar && i == 2 && about.is_none()),
                 crate::geometry::OutputKind::Point { .. } => false,
+                crate::geometry::OutputKind::Parts { parts, .. } => parts.given().nth(i).is_some_and(|p| p >= 3),
                 crate::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::mechanism::JointKind::P,
             })
         })

@@ -182,6 +182,10 @@ fn branch(
             OutputKind::Point { link, point } => {
                 outputs.extend(state.poses[*link].apply(g.local(*point, *link)).into_iter().take(dim))
             }
+            OutputKind::Parts { link, point, parts } => {
+                let six = steps::place::pose_values(&state.poses[*link], g.local(*point, *link));
+                outputs.extend(parts.given().map(|i| six[i]));
+            }
             OutputKind::Joint(j) => outputs.push(value(*j)),
         }
     }

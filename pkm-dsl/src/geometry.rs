@@ -127,6 +127,17 @@ pub enum OutputKind {
         /// A named point of the link, or a joint placed on it.
         point: pkm_runtime::solution::PointRef,
     },
+    /// A spatial pose of link `link` at one of its points, in part: the
+    /// `parts` of x, y, z, rx, ry, rz (`R = R_z(rz)·R_y(ry)·R_x(rx)`) given,
+    /// in that order; the others are the mechanism's (parasitic motion).
+    Parts {
+        /// The link.
+        link: usize,
+        /// The point: a named point of the link, or a joint placed on it.
+        point: pkm_runtime::solution::PointRef,
+        /// Which values are given.
+        parts: pkm_runtime::steps::place::PoseParts,
+    },
     /// The value of joint `joint`.
     Joint(usize),
 }
@@ -536,6 +547,25 @@ fn resolve_outputs(
                 link,
                 at,
                 about: about_ast,
+                parts: Some(parts),
+            } => {
+                let Some(given) = pose_parts(mech, decl, parts, about_ast.is_some(), errors) else {
+                    continue;
+                };
+                let Some((l, point)) = link_point(mech, places, points, link, at, errors) else {
+                    continue;
+                };
+                OutputKind::Parts {
+                    link: l,
+                    point,
+                    parts: given,
+                }
+            }
+            crate::ast::OutputWhat::Pose {
+                link,
+                at,
+                about: about_ast,
+                parts: None,
             } => {
                 if mech.planar && about_ast.is_some() {
                     errors.push(
@@ -587,6 +617,61 @@ fn resolve_outputs(
         });
     }
     out
+}
+
+/// The parts a `pose (…) of` output gives: of x, y, z, rx, ry, rz, each
+/// once and in that order, one name each, in a spatial mechanism, without
+/// `about`.
+fn pose_parts(
+    mech: &Mechanism,
+    decl: &crate::ast::OutputDecl,
+    parts: &[crate::ast::Name],
+    about: bool,
+    errors: &mut Vec<Diagnostic>,
+) -> Option<pkm_runtime::steps::place::PoseParts> {
+    use pkm_runtime::steps::place::PoseParts;
+    if mech.planar {
+        errors.push(
+            Diagnostic::new(decl.span, "a planar pose is x, y and the angle: drop the parts").label("planar mechanism"),
+        );
+        return None;
+    }
+    if about {
+        errors.push(
+            Diagnostic::new(decl.span, "a pose given by parts turns by rx, ry, rz: drop `about`").label("both given"),
+        );
+        return None;
+    }
+    let mut given = [false; 6];
+    let mut last = None;
+    for p in parts {
+        let Some(i) = PoseParts::NAMES.iter().position(|n| *n == p.text) else {
+            errors.push(
+                Diagnostic::new(p.span, format!("unknown part `{}`", p.text)).label("one of x, y, z, rx, ry, rz"),
+            );
+            return None;
+        };
+        if last.is_some_and(|l| l >= i) {
+            errors.push(
+                Diagnostic::new(p.span, "the parts go in the order x, y, z, rx, ry, rz, each once")
+                    .label("out of order"),
+            );
+            return None;
+        }
+        last = Some(i);
+        given[i] = true;
+    }
+    if decl.names.len() != parts.len() {
+        errors.push(
+            Diagnostic::new(
+                decl.span,
+                format!("a pose given by {} parts has {} values", parts.len(), parts.len()),
+            )
+            .label(format!("{} names given", decl.names.len())),
+        );
+        return None;
+    }
+    Some(PoseParts(given))
 }
 
 /// An output's (or a load's) link and its point (a named point of the
@@ -1050,6 +1135,37 @@ mod tests {
         check(
             &format!("mechanism m {{ {FOUR_BAR} parameters {{ a = sqrt(1, 2); b = foo(1); }} }}"),
             &["`sqrt` takes 1 argument", "unknown function `foo`"],
+        );
+    }
+
+    /// `pose (…) of`: the parts' names, order and count, spatial only, without `about`.
+    #[test]
+    fn pose_parts_errors() {
+        let spatial = "base R1* [crank] ∥ R2 [coupler] ∥ R3 [rocker] ∥ R4 base; parameters { l = 1; }
+            geometry { base { R1 = (0, 0, 0) along z; R4 = (l, 0, 0) along z; } crank { R1 = (0, 0, 0) along z; R2 = (l, 0, 0) along z; }
+            coupler { R2 = (0, 0, 0) along z; R3 = (l, 0, 0) along z; } rocker { R3 = (0, 0, 0) along z; R4 = (l, 0, 0) along z; } }";
+        let with = |outputs: &str| format!("mechanism m {{ {spatial} outputs {{ {outputs} }} }}");
+        check(&with("z, a = pose (z, rz) of coupler at R2;"), &[]);
+        check(&with("a = pose (w) of coupler at R2;"), &["unknown part `w`"]);
+        check(
+            &with("a, b = pose (rz, z) of coupler at R2;"),
+            &["the parts go in the order x, y, z, rx, ry, rz, each once"],
+        );
+        check(
+            &with("a, b = pose (z, z) of coupler at R2;"),
+            &["the parts go in the order x, y, z, rx, ry, rz, each once"],
+        );
+        check(
+            &with("a = pose (z, rz) of coupler at R2;"),
+            &["a pose given by 2 parts has 2 values"],
+        );
+        check(
+            &with("a, b = pose (z, rz) of coupler at R2 about z;"),
+            &["a pose given by parts turns by rx, ry, rz: drop `about`"],
+        );
+        check(
+            &format!("mechanism m {{ {FOUR_BAR} parameters {{ l1 = 1; l2 = 3; l3 = 2; l4 = 2.5; }} geometry {{ {PLACED} }} outputs {{ x, y = pose (x, y) of coupler at R2; }} }}"),
+            &["a planar pose is x, y and the angle: drop the parts"],
         );
     }
 

@@ -41,6 +41,11 @@ pub fn newton_outputs(
                     link: *link,
                     local: local(*point, *link)?,
                 },
+                OutputKind::Parts { link, point, parts } => Output::Parts {
+                    link: *link,
+                    local: local(*point, *link)?,
+                    parts: *parts,
+                },
                 OutputKind::Joint(j) => Output::Joint(*j),
             })
         })

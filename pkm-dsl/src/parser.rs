@@ -288,6 +288,7 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::outputs_stmt | Rule::kw_outputs => "`outputs`",
         Rule::output => "an output `names = pose of LINK at POINT;`, `names = point P of LINK;` or `name = joint J;`",
         Rule::pose_output | Rule::kw_pose => "`pose of LINK at POINT`",
+        Rule::pose_parts => "`(x, y, z, rx, ry, rz)`",
         Rule::joint_output => "`joint J`",
         Rule::point_output => "`point P of LINK`",
         Rule::kw_of => "`of`",
@@ -522,7 +523,11 @@ fn output_decl(o: Pair<Rule>) -> OutputDecl {
                 let link = name(it.next().expect("pose link").clone());
                 let at = name(it.next().expect("pose point").clone());
                 let about = inner.iter().find(|r| r.as_rule() == Rule::axis).cloned().map(axis);
-                what = Some(OutputWhat::Pose { link, at, about });
+                let parts = inner
+                    .iter()
+                    .find(|r| r.as_rule() == Rule::pose_parts)
+                    .map(|r| r.clone().into_inner().map(name).collect());
+                what = Some(OutputWhat::Pose { link, at, about, parts });
             }
             Rule::point_output => {
                 let inner: Vec<_> = q.into_inner().collect();

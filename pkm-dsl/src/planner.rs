@@ -14,15 +14,24 @@ use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::geometry::OutputKind;
 use pkm_runtime::model::Model;
+use pkm_runtime::solution::PointRef;
 use pkm_runtime::spatial::{self, Plan, Step, Turn};
+use pkm_runtime::steps::parasitic;
+use pkm_runtime::steps::place::PoseParts;
 use pkm_runtime::steps::search::Search;
 use std::collections::HashMap;
 
+/// A link an output gives in part: the link, its point, the index of its
+/// first value, the parts given.
+type Partial = (usize, PointRef, usize, PoseParts);
+
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn solve(
     a: &Analysis,
     model: &Model,
     given: Vec<Option<usize>>,
     start: Vec<Step>,
+    partial: &[Partial],
     n_inputs: usize,
     inputs: Vec<usize>,
     what: &str,
@@ -39,11 +48,22 @@ pub(crate) fn solve(
                         .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))?;
                     pinned[*link] = Some(at);
                 }
-                Turn::Fixed | Turn::About(_) => known[*link] = true,
+                Turn::Fixed | Turn::About(_) | Turn::Angles => known[*link] = true,
             }
         }
     }
     let mut search = Search::new(model, given, known, pinned, start);
+    for &(link, point, input, parts) in partial {
+        parasitic::start(&mut search, link, point, input, parts).map_err(|e| {
+            Diagnostics::from(
+                Diagnostic::new(
+                    m.name_span(),
+                    format!("no closed-form {what} plan for link {}: {e}", m.links[link].name),
+                )
+                .label("in this mechanism"),
+            )
+        })?;
+    }
     while !search.known().iter().all(|k| *k) {
         if !search.step() {
             let left: Vec<&str> = (0..m.links.len())
@@ -86,12 +106,14 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     for (i, &j) in inputs.iter().enumerate() {
         given[j] = Some(i);
     }
-    let mut plan = solve(a, &model, given, vec![], inputs.len(), inputs, "forward")?;
+    let mut plan = solve(a, &model, given, vec![], &[], inputs.len(), inputs, "forward")?;
     // The outputs read their links' poses; a joint output, both of its links'.
     let mut needed = vec![false; model.links.len()];
     for o in &a.geometry.outputs {
         match o.kind {
-            OutputKind::Pose { link, .. } | OutputKind::Point { link, .. } => needed[link] = true,
+            OutputKind::Pose { link, .. } | OutputKind::Point { link, .. } | OutputKind::Parts { link, .. } => {
+                needed[link] = true
+            }
             OutputKind::Joint(j) => model.joints[j].links.iter().for_each(|&l| needed[l] = true),
         }
     }
@@ -113,6 +135,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let nominal = a.geometry.nominal();
     let mut given = vec![None; model.joints.len()];
     let mut start = Vec::new();
+    let mut partial = Vec::new();
     let mut next = 0;
     let planar = m.planar;
     for o in &a.geometry.outputs {
@@ -146,11 +169,19 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                 .label("in this mechanism")
                 .into())
             }
+            OutputKind::Parts { link, point, parts } if parts.all() => start.push(Step::Place {
+                link: *link,
+                point: *point,
+                input: next,
+                planar,
+                turn: Turn::Angles,
+            }),
+            OutputKind::Parts { link, point, parts } => partial.push((*link, *point, next, *parts)),
             OutputKind::Joint(j) => given[*j] = Some(next),
         }
         next += o.names.len();
     }
-    let mut plan = solve(a, &model, given, start, next, vec![], "inverse")?;
+    let mut plan = solve(a, &model, given, start, &partial, next, vec![], "inverse")?;
     // The actuators' values read both of their links' poses.
     let mut needed = vec![false; model.links.len()];
     for j in model.joints.iter().filter(|j| j.actuated) {

@@ -383,6 +383,17 @@ pub enum Output {
         /// The point, in the link's frame.
         local: [f64; 3],
     },
+    /// Link `link`'s pose at its point `local`, in part: the given of x, y,
+    /// z, rx, ry, rz (`R = R_z(rz)·R_y(ry)·R_x(rx)`) in that order; the
+    /// others are the mechanism's.
+    Parts {
+        /// The link.
+        link: usize,
+        /// The point, in the link's frame.
+        local: [f64; 3],
+        /// Which values are given.
+        parts: crate::steps::place::PoseParts,
+    },
     /// A joint's value.
     Joint(usize),
 }
@@ -394,6 +405,7 @@ impl Output {
         match self {
             Output::Pose { about: Some(_), .. } => point + 1,
             Output::Pose { about: None, .. } | Output::Point { .. } => point,
+            Output::Parts { parts, .. } => parts.count(),
             Output::Joint(_) => 1,
         }
     }
@@ -421,6 +433,55 @@ pub fn with_outputs_as_inputs(model: &Model, outputs: &[Output]) -> (Model, Vec<
             Output::Joint(j) => {
                 m.joints[j].actuated = true;
                 given_of[j] = Some(next);
+            }
+            Output::Parts { link, local, parts } => {
+                // P along x, y, z, then R about z, y, x: R = R_z·R_y·R_x.
+                let mut from = 0;
+                let mut given = parts
+                    .given()
+                    .enumerate()
+                    .map(|(i, part)| (part, next + i))
+                    .collect::<Vec<_>>();
+                let order = [0, 1, 2, 5, 4, 3];
+                for (n, &part) in order.iter().enumerate() {
+                    let last = n == order.len() - 1;
+                    let to = if last { link } else { m.links.len() };
+                    let name = crate::steps::place::PoseParts::NAMES[part];
+                    if !last {
+                        m.links.push(format!("output {k} {name}"));
+                    }
+                    let (kind, axis) = if part < 3 {
+                        (JointType::P, axes[part])
+                    } else {
+                        (JointType::R, axes[part - 3])
+                    };
+                    let places = match kind {
+                        JointType::P => [
+                            Place::Line {
+                                through: origin,
+                                along: axis,
+                            },
+                            Place::Point { at: origin },
+                        ],
+                        _ => [
+                            Place::Axis { at: origin, axis },
+                            Place::Axis {
+                                at: if last { local } else { origin },
+                                axis,
+                            },
+                        ],
+                    };
+                    let at = given.iter().position(|(p, _)| *p == part).map(|i| given.remove(i).1);
+                    m.joints.push(Joint {
+                        name: format!("output {k} {name}"),
+                        kind,
+                        links: [from, to],
+                        places,
+                        actuated: at.is_some(),
+                    });
+                    given_of.push(at);
+                    from = to;
+                }
             }
             Output::Pose { link, local, .. } | Output::Point { link, local } => {
                 let n_coords = if model.planar { 2 } else { 3 };
@@ -506,6 +567,11 @@ pub fn ik_problem(
     for o in outputs {
         match *o {
             Output::Joint(_) => {}
+            Output::Parts { link, local, .. } => {
+                let p = poses[link].transform_point(&local.into());
+                let (rx, ry, rz) = poses[link].rotation.euler_angles();
+                start.extend_from_slice(&[p.x, p.y, p.z, rz, ry, rx]);
+            }
             Output::Pose { link, local, .. } | Output::Point { link, local } => {
                 let p = poses[link].transform_point(&local.into());
                 let n = if model.planar { 2 } else { 3 };

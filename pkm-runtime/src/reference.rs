@@ -257,6 +257,24 @@ pub fn output_values<T: Real>(model: &Model, outputs: &[Output], values: &[T]) -
     for o in outputs {
         match *o {
             Output::Joint(j) => out.push(values[k.offsets[j]]),
+            Output::Parts { link, local, parts } => {
+                let p = poses[link].transform_point(local.map(T::from_f64));
+                // R = R_z·R_y·R_x from q = (w, x, y, z): r₂₁ = 2(yz + wx),
+                // r₂₂ = 1 − 2(x² + y²), −r₂₀ = 2(wy − xz), r₁₀ = 2(xy + wz),
+                // r₀₀ = 1 − 2(y² + z²), √(r₀₀² + r₁₀²) = √(1 − r₂₀²).
+                let [w, x, y, z] = poses[link].rotation;
+                let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
+                let sy = two * (w * y - x * z);
+                let six = [
+                    p[0],
+                    p[1],
+                    p[2],
+                    (two * (y * z + w * x)).atan2(one - two * (x * x + y * y)),
+                    sy.atan2((one - sy * sy).sqrt()),
+                    (two * (x * y + w * z)).atan2(one - two * (y * y + z * z)),
+                ];
+                out.extend(parts.given().map(|i| six[i]));
+            }
             Output::Point { link, local } | Output::Pose { link, local, .. } => {
                 let p = poses[link].transform_point(local.map(T::from_f64));
                 out.extend_from_slice(&p[..n]);
@@ -283,6 +301,7 @@ pub fn output_is_angle(model: &Model, outputs: &[Output]) -> Vec<bool> {
         .flat_map(|o| match *o {
             Output::Joint(j) => vec![model.joints[j].kind != JointType::P],
             Output::Point { .. } => vec![false; n],
+            Output::Parts { parts, .. } => parts.given().map(|i| i >= 3).collect(),
             Output::Pose { about, .. } => {
                 let mut v = vec![false; n];
                 v.push(about.is_some());

@@ -153,6 +153,9 @@ pub enum Turn {
     Fixed,
     /// By the given value after the position, an angle about this world axis.
     About([f64; 3]),
+    /// By the three angles given after the position, `[rx, ry, rz]` of
+    /// `R = R_z(rz)·R_y(ry)·R_x(rx)` ([`crate::steps::place::PoseParts`]).
+    Angles,
     /// Unknown: only the point is given (a point output). The link is
     /// pinned there, not known: a later step turns it, and the solution is
     /// verified to keep the point where it was given.
@@ -200,6 +203,23 @@ pub enum Step {
         planar: bool,
         /// How the link is turned.
         turn: Turn,
+    },
+    /// A link given in part by an output ([`crate::steps::place::PoseParts`]
+    /// leaving some of its six values to the mechanism), the rest from the
+    /// planes its limbs hold its points on ([`crate::steps::parasitic`]).
+    Parasitic {
+        /// The link.
+        link: usize,
+        /// The point whose position is given (in part).
+        point: PointRef,
+        /// Index of the first given value in the inputs.
+        input: usize,
+        /// Which of x, y, z, rx, ry, rz are given.
+        parts: crate::steps::place::PoseParts,
+        /// One limb per free part.
+        limbs: Vec<crate::steps::parasitic::Limb>,
+        /// This step's index in the sign vector (`None`: one root, no free angle).
+        branch: Option<usize>,
     },
     /// Through a joint whose value is input `input`.
     Transfer {
@@ -405,6 +425,7 @@ impl Step {
     pub fn reads(&self, link: usize) -> bool {
         match self {
             Step::Place { .. } => false,
+            Step::Parasitic { limbs, .. } => limbs.iter().any(|l| l.normal.link == link || l.anchor.link == link),
             Step::Transfer { from, .. } => *from == link,
             Step::Aim { from, target, .. }
             | Step::PaPlane { from, target, .. }
@@ -445,6 +466,11 @@ impl Step {
         let hops = |h: &Hops| h.iter().map(|h| h.joint).collect::<Vec<_>>();
         match self {
             Step::Place { .. } | Step::Transfer { .. } => {}
+            Step::Parasitic { limbs, .. } => {
+                for l in limbs {
+                    hops(&l.anchor.hops).into_iter().rev().for_each(&mut add);
+                }
+            }
             Step::Aim { target, .. } => hops(&target.hops).into_iter().rev().for_each(&mut add),
             Step::Align { group, target, .. } => {
                 hops(&group.hops).into_iter().for_each(&mut add);
@@ -515,7 +541,7 @@ impl Step {
     /// The joint this step solves (and so closes), if any.
     pub fn joint(&self) -> Option<usize> {
         match self {
-            Step::Place { .. } => None,
+            Step::Place { .. } | Step::Parasitic { .. } => None,
             Step::Transfer { joint, .. }
             | Step::Aim { joint, .. }
             | Step::Locus { joint, .. }
@@ -694,6 +720,16 @@ impl Plan {
                     turn: Turn::About(_),
                     ..
                 } => angular[input + if *planar { 2 } else { 3 }] = true,
+                Step::Place {
+                    input,
+                    turn: Turn::Angles,
+                    ..
+                } => angular[input + 3..input + 6].fill(true),
+                Step::Parasitic { input, parts, .. } => {
+                    for (i, part) in parts.given().enumerate() {
+                        angular[input + i] = part >= 3;
+                    }
+                }
                 Step::Transfer { joint, input, .. } => {
                     angular[*input] = matches!(model.joints[*joint].kind, JointType::R | JointType::Pa)
                 }

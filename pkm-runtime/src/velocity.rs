@@ -704,6 +704,14 @@ pub fn output_rates(
                 out.push(rates[offsets[j]]);
                 continue;
             }
+            Output::Parts { link, local, parts } => {
+                let p = poses[link].transform_point(&local.into()).coords;
+                let v = twists[link].at(&p);
+                let w = angle_rates(&poses[link].rotation, &twists[link].w);
+                let six = [v.x, v.y, v.z, w[0], w[1], w[2]];
+                out.extend(parts.given().map(|i| six[i]));
+                continue;
+            }
         };
         let p = poses[link].transform_point(&local.into()).coords;
         let v = twists[link].at(&p);
@@ -713,6 +721,18 @@ pub fn output_rates(
         }
     }
     out
+}
+
+/// The rates `[ṙx, ṙy, ṙz]` of the angles of `R = R_z(rz)·R_y(ry)·R_x(rx)`
+/// for the angular velocity `w` (world frame): `w = ṙz·e_z + ṙy·R_z·e_y +
+/// ṙx·R_z·R_y·e_x`, so `ṙx = (w_x cos rz + w_y sin rz)/cos ry`,
+/// `ṙy = −w_x sin rz + w_y cos rz`, `ṙz = w_z + ṙx sin ry` (infinite at
+/// `ry = ±π/2`, where the angles lose a freedom).
+pub fn angle_rates(rotation: &nalgebra::UnitQuaternion<f64>, w: &Vector3<f64>) -> [f64; 3] {
+    let (_, ry, rz) = rotation.euler_angles();
+    let (sz, cz) = rz.sin_cos();
+    let rx_rate = (w.x * cz + w.y * sz) / ry.cos();
+    [rx_rate, -w.x * sz + w.y * cz, w.z + rx_rate * ry.sin()]
 }
 
 /// Which singularity a configuration is at (Gosselin and Angeles).
@@ -870,6 +890,7 @@ fn output_angle_rows(model: &Model, outputs: &[Output]) -> Vec<bool> {
                 v
             }
             Output::Point { .. } => vec![false; point],
+            Output::Parts { parts, .. } => parts.given().map(|i| i >= 3).collect(),
             Output::Joint(j) => vec![model.joints[j].kind != JointType::P],
         })
         .collect()

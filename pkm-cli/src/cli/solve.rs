@@ -265,6 +265,7 @@ fn output_names(l: &Loaded) -> Vec<(String, bool)> {
             let angle = match *spec {
                 Output::Pose { about, .. } => about.is_some() && i + 1 == n,
                 Output::Point { .. } => false,
+                Output::Parts { parts, .. } => parts.given().nth(i).is_some_and(|p| p >= 3),
                 Output::Joint(j) => angular(l.model.joints[j].kind),
             };
             names.push((name.clone(), angle));
@@ -286,6 +287,11 @@ fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
                 v
             }
             Output::Point { link, local } => c.point(link, local)[..dim].to_vec(),
+            Output::Parts { link, local, parts } => {
+                let frame = pkm_runtime::spatial::frame_of(&c.poses[link]);
+                let six = pkm_runtime::steps::place::pose_values(&frame, local);
+                parts.given().map(|i| six[i]).collect()
+            }
             Output::Joint(j) => vec![c.values[j]],
         };
         // One value per declared name, whatever the declaration's shape.

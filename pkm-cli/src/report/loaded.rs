@@ -133,12 +133,12 @@ pub(super) fn default_point(l: &Loaded) -> String {
     let a = &l.analysis;
     let model = &l.model;
     let named = a.geometry.outputs.iter().find_map(|out| match &out.kind {
-        pkm_dsl::geometry::OutputKind::Pose { point, .. } | pkm_dsl::geometry::OutputKind::Point { point, .. } => {
-            Some(match point {
-                pkm_runtime::solution::PointRef::Named(k) => a.geometry.points[*k].name.clone(),
-                pkm_runtime::solution::PointRef::Joint(j) => model.joints[*j].name.clone(),
-            })
-        }
+        pkm_dsl::geometry::OutputKind::Pose { point, .. }
+        | pkm_dsl::geometry::OutputKind::Point { point, .. }
+        | pkm_dsl::geometry::OutputKind::Parts { point, .. } => Some(match point {
+            pkm_runtime::solution::PointRef::Named(k) => a.geometry.points[*k].name.clone(),
+            pkm_runtime::solution::PointRef::Joint(j) => model.joints[*j].name.clone(),
+        }),
         _ => None,
     });
     named
@@ -176,6 +176,13 @@ pub(super) fn output_columns(l: &Loaded, unit: &str) -> Vec<String> {
                     }
                 }
                 pkm_dsl::geometry::OutputKind::Point { .. } => unit.to_string(),
+                pkm_dsl::geometry::OutputKind::Parts { parts, .. } => {
+                    if parts.given().nth(k).is_some_and(|p| p >= 3) {
+                        "rad".into()
+                    } else {
+                        unit.to_string()
+                    }
+                }
                 pkm_dsl::geometry::OutputKind::Joint(j) => joint_unit(&l.model, *j, unit),
             };
             cols.push(format!("{name} ({u})"));
@@ -199,6 +206,11 @@ pub(super) fn pose_outputs(model: &Model, poses: &[Pose3], outputs: &[Output]) -
             Output::Point { link, local } => {
                 let p = pkm_runtime::spatial::at(&poses[link], local);
                 v.extend_from_slice(if model.planar { &p[..2] } else { &p[..] });
+            }
+            Output::Parts { link, local, parts } => {
+                let frame = pkm_runtime::spatial::frame_of(&poses[link]);
+                let six = pkm_runtime::steps::place::pose_values(&frame, local);
+                v.extend(parts.given().map(|i| six[i]));
             }
             Output::Joint(j) => {
                 let joint = &model.joints[j];

@@ -7,7 +7,8 @@
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
 //! [`slide_to_line`], [`on_cone`], [`sphere_link`] (an S–S link: its sphere and its
-//! placing), and the four loci a
+//! placing), [`parasitic`] (a pose given in part: the planner's start, not
+//! in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -30,6 +31,7 @@ pub mod on_plane;
 pub mod on_slider_plane;
 pub mod on_sphere;
 pub mod pa_plane;
+pub mod parasitic;
 pub mod place;
 pub mod search;
 pub mod slide_to_line;
@@ -470,6 +472,28 @@ pub fn execute<T: Scalar>(
             state.poses[link] = place::execute(link, point, input, planar, turn, geometry, given);
             return Ok(());
         }
+        Step::Parasitic {
+            link,
+            point,
+            input,
+            parts,
+            ref limbs,
+            branch,
+        } => {
+            state.poses[link] = parasitic::execute(
+                k,
+                link,
+                point,
+                input,
+                parts,
+                limbs,
+                branch,
+                geometry,
+                &state.poses,
+                given,
+            )?;
+            return Ok(());
+        }
         Step::Transfer { joint, from, to, .. }
         | Step::Aim { joint, from, to, .. }
         | Step::Align { joint, from, to, .. }
@@ -491,7 +515,7 @@ pub fn execute<T: Scalar>(
         given,
     };
     let (joint, to, pose, value) = match step {
-        Step::Place { .. } => return Ok(()),
+        Step::Place { .. } | Step::Parasitic { .. } => return Ok(()),
         Step::Transfer { input, .. } => transfer::execute(&mv, *input),
         Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
@@ -849,7 +873,9 @@ fn constraints(
 /// (inputs or a pose).
 pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step) -> Option<crate::singular::Factor> {
     Some(match step {
-        Step::Place { .. } | Step::Transfer { .. } => return None,
+        // The free parts' factor is not written yet: the singularity map
+        // of an inverse plan with a pose given in part misses that step's.
+        Step::Place { .. } | Step::Parasitic { .. } | Step::Transfer { .. } => return None,
         Step::Aim {
             joint,
             from,

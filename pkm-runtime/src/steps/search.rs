@@ -167,6 +167,12 @@ impl<'a> Search<'a> {
     /// parallel to `k` (in `start`'s frame), so that `k` stays put across them.
     pub(crate) fn hops_about(&self, start: usize, hops: &[Hop], k: Vector3<f64>) -> bool {
         hops.iter().enumerate().all(|(i, h)| {
+            // A spherical joint carries its centre whatever it turns by: as
+            // the last hop it keeps the point; before another, it leaves
+            // that one's axis unknown.
+            if self.kind(h.joint) == JointType::S {
+                return i + 1 == hops.len();
+            }
             let pre = &hops[..i];
             Self::parallel(self.rotation(pre) * self.axis(h.joint, self.link_after(start, pre)), k)
         })
@@ -177,8 +183,14 @@ impl<'a> Search<'a> {
         a.normalize().dot(&b.normalize()).abs() <= 1e-9
     }
 
+    /// Whether `x` (in `l`'s frame) is the centre of spherical joint `j`.
+    pub(crate) fn at_centre(&self, j: usize, l: usize, x: Vector3<f64>) -> bool {
+        self.kind(j) == JointType::S && (x - v3(self.place(j, l).at())).norm() <= self.tol
+    }
+
     /// The links reached from `start` through revolutes whose axes carry
-    /// the point `x` (so it does not move), stopping at known links.
+    /// the point `x` and spherical joints centred on it (so it does not
+    /// move), stopping at known links.
     pub(crate) fn fixed_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize]) -> Vec<Reach> {
         let mut out = vec![Reach {
             hops: vec![],
@@ -197,7 +209,9 @@ impl<'a> Search<'a> {
                     continue;
                 }
                 let next = self.other(k, r.link);
-                if out.iter().any(|o| o.link == next) || !self.on_axis(k, r.link, r.x) {
+                if out.iter().any(|o| o.link == next)
+                    || !(self.on_axis(k, r.link, r.x) || self.at_centre(k, r.link, r.x))
+                {
                     continue;
                 }
                 let x = self.zero(k, r.link).inverse_transform_point(&r.x.into()).coords;
@@ -248,8 +262,8 @@ impl<'a> Search<'a> {
 
     /// For a step that turns `to` by joint `j` about `k` (in `to`'s frame)
     /// and carries a point across joint `q` to the link beyond it: `k` in
-    /// that link's frame, and the places there of its joints but `q`, `j`
-    /// and spherical ones, the points such a step may carry.
+    /// that link's frame, and the places there of its joints but `q` and
+    /// `j`, the points such a step may carry.
     pub(crate) fn across(
         &self,
         q: usize,
@@ -264,7 +278,7 @@ impl<'a> Search<'a> {
             .joints
             .iter()
             .enumerate()
-            .filter(|(h, jh)| *h != q && *h != j && jh.links.contains(&beyond) && jh.kind != JointType::S)
+            .filter(|(h, jh)| *h != q && *h != j && jh.links.contains(&beyond))
             .map(|(h, _)| (PointRef::Joint(h), v3(self.place(h, beyond).at())))
             .collect();
         (k_beyond, places)

@@ -1,0 +1,225 @@
+//! Poses given in part (`pose (z, rx, ry) of platform at o`): the 3-RPS's
+//! inverse solution from its height and tilt, its parasitic x, y and rz
+//! found from the planes its legs hold its ball joints on. Checked against
+//! the mechanism's definition by hand (each ball on its leg's plane, each
+//! leg as long as its slide, the platform rigid and at the given height
+//! and tilt) and against Newton's inverse solution.
+
+mod common;
+
+use common::max_error;
+use pkm::dsl::screw::SplitMix;
+use pkm::runtime::kinematics;
+use pkm::runtime::model::{JointType, Model};
+use pkm::runtime::newton::{self, NewtonOptions};
+use pkm::runtime::spatial::{self, Solution};
+use std::collections::HashMap;
+
+pkm::mechanism!(RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
+
+const A: f64 = 200.0;
+const B: f64 = 100.0;
+
+/// A random pose: z in 120..220 mm, rx and ry in ±0.35 rad.
+fn pose(rng: &mut SplitMix) -> [f64; 3] {
+    [
+        170.0 + 50.0 * rng.symmetric(),
+        0.35 * rng.symmetric(),
+        0.35 * rng.symmetric(),
+    ]
+}
+
+/// The full joint-value vector of a solution (an S joint's rotation vector
+/// from its links' poses), a start for Newton.
+fn values(model: &Model, s: &Solution) -> Vec<f64> {
+    let mut v = Vec::new();
+    for (j, joint) in model.joints.iter().enumerate() {
+        match joint.kind {
+            JointType::S => {
+                let [u, w] = joint.links;
+                let rel = s.poses[u].inverse() * s.poses[w];
+                v.extend_from_slice(rel.rotation.scaled_axis().as_slice());
+            }
+            _ => v.push(s.values[j]),
+        }
+    }
+    v
+}
+
+/// One value per R and P joint of a full joint-value vector (an S joint's
+/// three left out as 0: its links' poses are compared through the others).
+fn per_joint(model: &Model, full: &[f64]) -> Vec<f64> {
+    let (offsets, _) = model.value_offsets();
+    model
+        .joints
+        .iter()
+        .zip(offsets)
+        .map(|(j, o)| if j.kind == JointType::S { 0.0 } else { full[o] })
+        .collect()
+}
+
+/// A plan solution's values with its S joints' as 0, as [`per_joint`].
+fn per_joint_of(model: &Model, values: &[f64]) -> Vec<f64> {
+    model
+        .joints
+        .iter()
+        .zip(values)
+        .map(|(j, v)| if j.kind == JointType::S { 0.0 } else { *v })
+        .collect()
+}
+
+/// Every branch of the generated inverse solution against the mechanism's
+/// definition, written out here: base revolute i at angle θᵢ = 120°·i on
+/// the circle of radius 200, its axis tangent (−sin θᵢ, cos θᵢ, 0); ball i
+/// at 100 from o on the platform, 120° apart; leg i along the line from
+/// revolute i to ball i, normal to its axis.
+#[test]
+fn parasitic_motion_meets_the_definition() {
+    let mut rng = SplitMix::new(11);
+    let o = RpsTilt::POINTS.iter().position(|p| *p == "o").unwrap();
+    let ball = |k: usize| {
+        RpsTilt::POINTS
+            .iter()
+            .position(|p| *p == format!("S{}", k + 1))
+            .unwrap()
+    };
+    let slide = |k: usize| {
+        RpsTilt::JOINTS
+            .iter()
+            .position(|p| *p == format!("P{}", k + 1))
+            .unwrap()
+    };
+    let (mut solved, mut worst) = (0usize, 0.0f64);
+    for _ in 0..100_000 {
+        let given = pose(&mut rng);
+        for branch in RpsTilt::ik(&Default::default(), &given) {
+            let Ok(s) = branch.result else { continue };
+            solved += 1;
+            let p = |i: usize| pkm::runtime::nalgebra::Vector3::from(s.points[i]);
+            let centre = p(o);
+            // The platform's axes from its balls: x towards ball 1, y from ball 2.
+            let (c, si) = (120f64.to_radians().cos(), 120f64.to_radians().sin());
+            let ex = (p(ball(0)) - centre) / B;
+            let ey = ((p(ball(1)) - centre) / B - c * ex) / si;
+            let ez = ex.cross(&ey);
+            let mut e = vec![(ex.norm() - 1.0).abs(), (ey.norm() - 1.0).abs(), ex.dot(&ey).abs()];
+            // Ball 3 where the rigid platform puts it.
+            e.push(((p(ball(2)) - centre) / B - (c * ex - si * ey)).norm());
+            // Height and tilt: R = [ex ey ez], rx = atan2(r21, r22), ry = atan2(−r20, √(r00² + r10²)).
+            e.push((centre.z - given[0]).abs() / A);
+            e.push(pkm::runtime::solution::wrap_angle(ey.z.atan2(ez.z) - given[1]).abs());
+            e.push(pkm::runtime::solution::wrap_angle((-ex.z).atan2(ex.x.hypot(ex.y)) - given[2]).abs());
+            for k in 0..3 {
+                let t = (120.0 * k as f64).to_radians();
+                let base = pkm::runtime::nalgebra::Vector3::new(A * t.cos(), A * t.sin(), 0.0);
+                let axis = pkm::runtime::nalgebra::Vector3::new(-t.sin(), t.cos(), 0.0);
+                let leg = p(ball(k)) - base;
+                // On the leg's plane, as long as its slide.
+                e.push(axis.dot(&leg).abs() / A);
+                e.push((leg.norm() - s.q[slide(k)].abs()).abs() / A);
+            }
+            worst = e.into_iter().fold(worst, f64::max);
+        }
+    }
+    eprintln!("rps_3_tilt: {solved} branches over 10⁵ poses, worst {worst:e}");
+    assert!(worst < 1e-12, "worst {worst:e}");
+    // Two platform poses (the parasitic turn's two roots), each leg's line
+    // in two senses: 16 branches, every one real in this range.
+    assert_eq!(solved, 16 * 100_000);
+}
+
+/// Generated = interpreted, and every branch against Newton's inverse
+/// solution (the platform hung from the base by x, y, z and the three
+/// angles, x, y and rz free) started 1e-3 away from it.
+#[test]
+fn parasitic_inverse_agrees_with_newton() {
+    let (a, model) = common::example("rps_3_tilt");
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+    let scale = kinematics::model_scale(&model);
+    let options = NewtonOptions {
+        tolerance: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind == JointType::R).collect();
+    let mut rng = SplitMix::new(5);
+    let (mut compared, mut same) = (0, 0);
+    for _ in 0..200 {
+        let given = pose(&mut rng);
+        let generated = RpsTilt::ik(&Default::default(), &given);
+        let interpreted = spatial::run_all(&model, &plan, &given);
+        let solved: Vec<&Solution> = interpreted.iter().filter_map(|(_, r)| r.as_ref().ok()).collect();
+        for ((_, r), g) in interpreted.iter().zip(&generated) {
+            let (Ok(sol), Ok(gen)) = (r, &g.result) else {
+                assert_eq!(r.is_ok(), g.result.is_ok());
+                continue;
+            };
+            assert!(max_error(&gen.q, &sol.values, &revolute, scale) < 1e-12);
+        }
+        for (i, s) in solved.iter().enumerate() {
+            let guess: Vec<f64> = values(&model, s).iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+            let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
+                .unwrap_or_else(|e| panic!("Newton ik failed at {given:?}: {e}"));
+            let newton = per_joint(&model, &reference.values);
+            let (best, e) = solved
+                .iter()
+                .map(|t| max_error(&per_joint_of(&model, &t.values), &newton, &revolute, scale))
+                .enumerate()
+                .fold((0, f64::INFINITY), |b, (k, e)| if e < b.1 { (k, e) } else { b });
+            assert!(e <= 1e-9, "at {given:?} Newton is {e:e} from every branch");
+            compared += 1;
+            same += usize::from(best == i);
+        }
+    }
+    eprintln!("rps_3_tilt: {compared} branches against Newton, {same} on the same branch");
+    assert!(compared >= 3000 && same * 100 >= compared * 99);
+}
+
+/// All six given (`pose (x, y, z, rx, ry, rz)`): the platform is placed
+/// outright and each leg aimed at its ball. Given each branch's full pose
+/// from the height-and-tilt solution, it finds the same legs, and a pose
+/// off the parasitic motion (x moved 1 mm) is refused by the closure check.
+#[test]
+fn all_six_given_place_the_platform() {
+    let (a, model) = common::example("rps_3_tilt");
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let (text, path) = common::example_text("rps_3_tilt");
+    let six = text.replace(
+        "outputs { z, rx, ry = pose (z, rx, ry) of platform at o; }",
+        "outputs { x, y, z, rx, ry, rz = pose (x, y, z, rx, ry, rz) of platform at o; }",
+    );
+    assert_ne!(six, text, "{path}: the outputs line moved");
+    let a6 = pkm::dsl::analyze_source(&six).unwrap();
+    let plan6 = pkm::dsl::planner::inverse_plan(&a6).unwrap();
+    assert_eq!(plan6.branches, 3, "one sense per leg");
+    let o = model.points.iter().position(|p| p.name == "o").unwrap();
+    let platform = model.points[o].link;
+    let local = model.points[o].at;
+    let slides: Vec<usize> = model.inputs();
+    let mut rng = SplitMix::new(3);
+    let (mut matched, mut refused) = (0, 0);
+    for _ in 0..100 {
+        let given = pose(&mut rng);
+        for (_, r) in spatial::run_all(&model, &plan, &given) {
+            let Ok(s) = r else { continue };
+            let frame = spatial::frame_of(&s.poses[platform]);
+            let mut full = pkm::runtime::steps::place::pose_values(&frame, local);
+            let legs: Vec<f64> = slides.iter().map(|&j| s.values[j]).collect();
+            let found = spatial::run_all(&model, &plan6, &full)
+                .into_iter()
+                .filter_map(|(_, r)| r.ok())
+                .any(|t| {
+                    slides
+                        .iter()
+                        .zip(&legs)
+                        .all(|(&j, l)| (t.values[j] - l).abs() < 1e-9 * A)
+                });
+            assert!(found, "{full:?}: no branch with legs {legs:?}");
+            matched += 1;
+            full[0] += 1.0;
+            refused += usize::from(spatial::run_all(&model, &plan6, &full).iter().all(|(_, r)| r.is_err()));
+        }
+    }
+    assert_eq!(refused, matched, "a pose off the parasitic motion must not assemble");
+    assert!(matched >= 1500);
+}
