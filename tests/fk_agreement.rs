@@ -420,8 +420,9 @@ const SPHERICAL_ON_THE_SPHERE: &str = "mechanism spherical_on_sphere {
 /// so ψ = atan2(B, A) ± acos(C/√(A² + B²)). Each branch's point C (R3's
 /// axis on the sphere of radius r, on the rocker) gives ψ, its point B
 /// (R2's axis, on the crank) gives θ; the joint R4 is ψ less a constant
-/// (its zero). Both placements: the example's joints at the centre (the
-/// cone step) and [`SPHERICAL_ON_THE_SPHERE`]'s (the existing loci).
+/// (its zero). Both placements: the example's, R3 at the centre (the
+/// forward plan turns the coupler by the cone), and
+/// [`SPHERICAL_ON_THE_SPHERE`]'s (the existing loci).
 #[test]
 fn spherical_four_bar_by_hand() {
     let (example, _) = common::example_text("spherical_four_bar");

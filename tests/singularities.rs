@@ -618,7 +618,11 @@ fn cone_factor_is_the_sine_of_the_transmission_angle() {
                 "θ = {theta}: {named}: {} vs {want}",
                 f.value
             );
-            assert!(named.contains("the axes of R2, R3, R4 lie in one plane"), "{named}");
+            // R2 and R4 are placed where their axes cross the sphere, at B and D.
+            assert!(
+                named.contains("the axes of R2 (B), R3, R4 (D) lie in one plane"),
+                "{named}"
+            );
         }
     }
 }
