@@ -565,6 +565,53 @@ fn u_joint_values_by_name() {
     assert!(ok > 0);
 }
 
+/// Dynamics through a U joint: seed000_a (masses, payload, gravity) with its
+/// R3 [cross] ⊥ R4 written as the U joint U1, whose cross is massless by
+/// itself, gives seed000_a's actuator forces on every branch.
+#[test]
+fn u_joint_dynamics_is_the_written_out_revolutes() {
+    let text = std::fs::read_to_string(common::root().join(SEED000_A)).unwrap();
+    let mut with_u = text.clone();
+    for (from, to) in [
+        ("c2 R3 [cross] ⊥ R4 platform;", "c2 U1 platform;"),
+        ("R3 ≡ R12;", "U1.a ≡ R12;"),
+        ("R4 ∥ R5 ∥ R6;", "U1.b ∥ R5 ∥ R6;"),
+        ("point o on R4;", "point o on U1;"),
+        (
+            "R12 = (0, 0, 0) along y; R3 = (0, 0, 0) along y;",
+            "R12 = (0, 0, 0) along y; U1 = (0, 0, 0) along y;",
+        ),
+        ("cross { R3 = (0, 0, 0) along y; R4 = (0, 0, 0) along x; }", ""),
+        (
+            "platform { R4 = (0, 0, 0) along x;",
+            "platform { U1 = (0, 0, 0) along x;",
+        ),
+        ("massless cross, r5, pc;", "massless r5, pc;"),
+    ] {
+        assert_eq!(with_u.matches(from).count(), 1, "{from}");
+        with_u = with_u.replace(from, to);
+    }
+    let with_u = scratch_file("seed000_a_with_u.pkm", &with_u);
+    for q in ["--q=-106.09,181.67,-70.29", "--q=-200,50,120"] {
+        let rates = "--rates=10,-20,30";
+        let (a, u) = (
+            run_json(&["dynamics", SEED000_A, q, rates]),
+            run_json(&["dynamics", &with_u, q, rates]),
+        );
+        let (ab, ub) = (a["branches"].as_array().unwrap(), u["branches"].as_array().unwrap());
+        assert_eq!(ab.len(), ub.len());
+        let mut ok = 0;
+        for (ba, bu) in ab.iter().zip(ub).filter(|(b, _)| b["ok"] == true) {
+            for n in ["P1", "P2", "P3"] {
+                let (fa, fu) = (num(&ba["actuators"][n]), num(&bu["actuators"][n]));
+                assert!((fa - fu).abs() < 1e-9 * (1.0 + fa.abs()), "{n}: {fa} vs {fu}");
+            }
+            ok += 1;
+        }
+        assert!(ok > 0, "{q}");
+    }
+}
+
 /// The README's JSON example is what `pkm fk` prints for its command.
 #[test]
 fn readme_json_example_is_the_real_output() {
