@@ -118,8 +118,8 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
     }
     given[v] = Some(n);
     inputs.push(v);
-    let mut plan: Plan =
-        crate::planner::solve(a, model, given, vec![], &[], n + 1, inputs, "forward").map_err(|_| "no closed-form plan")?;
+    let mut plan: Plan = crate::planner::solve(a, model, given, vec![], &[], n + 1, inputs, "forward")
+        .map_err(|_| "no closed-form plan")?;
     // Every link is read (the residual is checked on the whole solution).
     plan.check_by_miss(model, &vec![true; model.links.len()]);
     let (range, periodic) = fk_numeric::range_of(model, v);
