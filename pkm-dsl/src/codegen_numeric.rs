@@ -38,9 +38,10 @@ pub(crate) fn generate(
     let emit = Emit::new(&graph, loop_names(a, plan));
     let row = vp.check * RESIDUAL_ROWS + vp.row;
     let residual = b.residual[row];
-    // The other checks' rows that can fail verify a solution.
+    // Every check's rows that can fail verify a solution, the
+    // compatibility residual's too (as the interpreter's `spatial::run`).
     let others: Vec<_> = (0..b.residual.len())
-        .filter(|&i| i != row && emit.constant(b.residual[i]) != Some(0.0))
+        .filter(|&i| emit.constant(b.residual[i]) != Some(0.0))
         .map(|i| b.residual[i])
         .collect();
     let guards = |roots: &[crate::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
@@ -98,7 +99,7 @@ pub(crate) fn generate(
         " The compatibility residual (a length) of branch `signs` at `given` ([`Self::GIVEN`]: the inputs, then the virtual variable {virtual_name}); `Err` where the branch has no real solution there."
     );
     let sampling_doc = format!(
-        " Where {virtual_name} is sampled ({samples} intervals over [{lo}, {hi}]) and what counts as zero at a minimum of |residual| (1e-9 of the nominal size)."
+        " Where {virtual_name} is sampled ({samples} intervals over [{lo}, {hi}]) and what counts as zero at a minimum of |residual| (`VERIFY_TOL` of the nominal size)."
     );
     let verified = if n_rows == 0 {
         quote! {}
@@ -166,8 +167,8 @@ pub(crate) fn generate(
             }
 
             /// Every joint value and point of branch `signs` at `given`
-            /// (inputs, then the virtual variable), verified by the checks
-            /// other than the compatibility residual.
+            /// (inputs, then the virtual variable), verified: every open
+            /// joint closes, the compatibility residual's too.
             pub fn solution(&self, given: &[f64; #n_given], signs: [#rt::primitives::Sign; #n_choices]) -> ::core::result::Result<([f64; #n_joints], [[f64; #dim]; #n_points]), #rt::solution::SolveError> {
                 let _ = &signs;
                 #finite

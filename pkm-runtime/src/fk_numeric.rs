@@ -454,10 +454,12 @@ fn residual_with(
     rows.get(vp.row).copied().filter(|r| r.is_finite())
 }
 
-/// What [`Sampling::zero`] is for a model: a residual (a length) below
-/// `1e-9` of the mechanism's size at a minimum of `|r|` is a tangency.
+/// What [`Sampling::zero`] is for a model: a residual (a length) within
+/// [`crate::consistency::VERIFY_TOL`] of the mechanism's size at a minimum
+/// of `|r|` is a tangency, the tolerance a solution's checks are verified
+/// to (a tangency root is then kept by the verification, not dropped).
 pub fn zero_of(model: &Model) -> f64 {
-    1e-9 * crate::kinematics::model_scale(model)
+    crate::consistency::VERIFY_TOL * crate::kinematics::model_scale(model)
 }
 
 /// Every assembly at the mechanism's `inputs`: on every branch, every root
