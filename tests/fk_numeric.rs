@@ -215,3 +215,65 @@ fn generated_equals_interpreted() {
     eprintln!("seed003_punch_original: {c} residuals, {n} assemblies");
     assert!(c > 100 && n > 0);
 }
+
+/// Round trips of the 3-RRR between its closed-form inverse and its
+/// forward solution by the virtual variable, over 10⁵ random platform
+/// poses (x, y within ±40 mm, φ within ±0.5 rad), one ik branch each in
+/// turn: the ik branch's joint values are one of the assemblies
+/// `fk_numeric` finds at its actuators' angles (fk∘ik), and every assembly
+/// found gives, through the pose read off its points, an ik branch with
+/// its joint values (ik∘fk). Joint values compared as angles modulo 2π.
+#[test]
+fn planar_3rrr_round_trips() {
+    let params = Default::default();
+    let index = |name: &str| ThreeRrr::JOINTS.iter().position(|j| *j == name).unwrap();
+    let actuated = [index("R1"), index("R4"), index("R7")];
+    let point = |name: &str| ThreeRrr::POINTS.iter().position(|p| *p == name).unwrap();
+    let (o, r9) = (point("o"), point("R9"));
+    let off = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| pkm::runtime::solution::wrap_angle(x - y).abs())
+            .fold(0.0f64, f64::max)
+    };
+    let mut rng = SplitMix::new(17);
+    let (mut trips, mut assemblies, mut worst_fk_ik, mut worst_ik_fk) = (0usize, 0usize, 0.0f64, 0.0f64);
+    for n in 0..100_000usize {
+        let pose = [40.0 * rng.symmetric(), 40.0 * rng.symmetric(), 0.5 * rng.symmetric()];
+        let ik = ThreeRrr::ik(&params, &pose);
+        let Some(branch) = ik
+            .iter()
+            .cycle()
+            .skip(n % ik.len())
+            .take(ik.len())
+            .find_map(|b| b.result.as_ref().ok())
+        else {
+            continue;
+        };
+        let q = actuated.map(|j| branch.q[j]);
+        let found = ThreeRrr::fk_numeric(&params, &q);
+        let e = found.iter().map(|f| off(&f.q, &branch.q)).fold(f64::INFINITY, f64::min);
+        worst_fk_ik = worst_fk_ik.max(e);
+        for f in &found {
+            // The platform's pose from its points: o, and R9 placed at (0, p) on it.
+            let (c, t) = (f.points[o], f.points[r9]);
+            let back = [c[0], c[1], (-(t[0] - c[0])).atan2(t[1] - c[1])];
+            let e = ThreeRrr::ik(&params, &back)
+                .iter()
+                .filter_map(|b| b.result.as_ref().ok())
+                .map(|b| off(&b.q, &f.q))
+                .fold(f64::INFINITY, f64::min);
+            worst_ik_fk = worst_ik_fk.max(e);
+            assemblies += 1;
+        }
+        trips += 1;
+    }
+    eprintln!(
+        "planar_3rrr: {trips} round trips, {assemblies} assemblies; worst fk∘ik {worst_fk_ik:e} rad, ik∘fk {worst_ik_fk:e} rad"
+    );
+    assert!(trips >= 90_000, "{trips}");
+    assert!(
+        worst_fk_ik < 1e-9 && worst_ik_fk < 1e-9,
+        "{worst_fk_ik:e} {worst_ik_fk:e}"
+    );
+}
