@@ -29,23 +29,6 @@ fn pose(rng: &mut SplitMix) -> [f64; 3] {
     ]
 }
 
-/// The full joint-value vector of a solution (an S joint's rotation vector
-/// from its links' poses), a start for Newton.
-fn values(model: &Model, s: &Solution) -> Vec<f64> {
-    let mut v = Vec::new();
-    for (j, joint) in model.joints.iter().enumerate() {
-        match joint.kind {
-            JointType::S => {
-                let [u, w] = joint.links;
-                let rel = s.poses[u].inverse() * s.poses[w];
-                v.extend_from_slice(rel.rotation.scaled_axis().as_slice());
-            }
-            _ => v.push(s.values[j]),
-        }
-    }
-    v
-}
-
 /// One value per R and P joint of a full joint-value vector (an S joint's
 /// three left out as 0: its links' poses are compared through the others).
 fn per_joint(model: &Model, full: &[f64]) -> Vec<f64> {
@@ -157,7 +140,7 @@ fn parasitic_inverse_agrees_with_newton() {
             assert!(max_error(&gen.q, &sol.values, &revolute, scale) < 1e-12);
         }
         for (i, s) in solved.iter().enumerate() {
-            let guess: Vec<f64> = values(&model, s).iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+            let guess: Vec<f64> = s.model_values(&model).iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
             let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
                 .unwrap_or_else(|e| panic!("Newton ik failed at {given:?}: {e}"));
             let newton = per_joint(&model, &reference.values);
