@@ -86,8 +86,8 @@ fn every_example_with_no_options() {
             );
             assert!(html.contains("<svg"), "{name}: the animation is in the page");
             assert!(out.join("animation.svg").exists(), "{name}");
-            // The 3-RRR and 3-RPR have no forward plan: their motion is driven by poses, with no rates.
-            let inputs_driven = name != "planar_3rrr" && name != "planar_3rpr";
+            // The 3-RRR, 3-RPR and 3-UPU have no forward plan: their motion is driven by poses, with no rates.
+            let inputs_driven = !["planar_3rrr", "planar_3rpr", "upu_3"].contains(&name.as_str());
             for stem in ["velocity", "acceleration"].into_iter().filter(|_| inputs_driven) {
                 let (_, header, rows) = csv(stem).unwrap_or_else(|| panic!("{name}: {stem}"));
                 assert_eq!(header[0], "t (s)");

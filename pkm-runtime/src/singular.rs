@@ -47,7 +47,8 @@ pub enum Condition {
     /// The axis of `points[1]` (or of the target `points[2]`) is parallel to
     /// the turning axis of `points[0]`.
     AxisParallel,
-    /// The plane of parallelogram `points[1]` touches `points[2]` as
+    /// The plane of parallelogram `points[1]` (or the plane a slide
+    /// `points[1]` sweeps beyond a revolute) touches `points[2]` as
     /// `points[0]` turns.
     PlaneTouches,
     /// `points[0]`, `points[1]`, `points[2]` are collinear (an RRR dyad).

@@ -21,6 +21,9 @@
 //! * a link ending in spherical joints at both ends, whose two centres are
 //!   known, is placed between them, its idle spin by a convention
 //!   ([`Step::Rod`]).
+//! * the plane a revolute of the new link and a slide beyond it sweep must
+//!   contain a known point ([`Step::PlaneThrough`]: a U's first half in a
+//!   leg whose two ends are known).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -381,6 +384,29 @@ pub enum Step {
         /// That joint's centre, known.
         target: Anchor,
     },
+    /// A revolute's angle that turns the plane normal to the axis of
+    /// revolute `across` (on `to`) through the line of prismatic `slide`
+    /// (of the link beyond `across`) until it contains the anchored
+    /// position of `point` (on the link beyond `slide`).
+    PlaneThrough {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The revolute of `to` whose axis is the plane's normal.
+        across: usize,
+        /// The prismatic beyond it, normal to that axis.
+        slide: usize,
+        /// The point on the link beyond the slide.
+        point: PointRef,
+        /// Where it is known.
+        target: Anchor,
+        /// This step's index in the sign vector (`None`: the plane passes
+        /// through the turning axis, its two roots are one plane).
+        branch: Option<usize>,
+    },
 }
 
 /// A spatial plan.
@@ -430,6 +456,7 @@ impl Step {
             Step::Aim { from, target, .. }
             | Step::PaPlane { from, target, .. }
             | Step::Guide { from, target, .. }
+            | Step::PlaneThrough { from, target, .. }
             | Step::Rod { from, target, .. } => *from == link || target.link == link,
             Step::Align {
                 from, group, target, ..
@@ -495,6 +522,13 @@ impl Step {
                 add(*other);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
+            Step::PlaneThrough {
+                across, slide, target, ..
+            } => {
+                add(*across);
+                add(*slide);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
             Step::Beyond { given, constraint, .. } => {
                 add(*given);
                 if let Constraint::Cylinder { hops: h, joint, .. } | Constraint::Slider { hops: h, joint, .. } =
@@ -551,7 +585,8 @@ impl Step {
             | Step::Beyond { joint, .. }
             | Step::SlideToLine { joint, .. }
             | Step::Cone { joint, .. }
-            | Step::Rod { joint, .. } => Some(*joint),
+            | Step::Rod { joint, .. }
+            | Step::PlaneThrough { joint, .. } => Some(*joint),
         }
     }
 }

@@ -7,7 +7,8 @@
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
 //! [`slide_to_line`], [`on_cone`], [`sphere_link`] (an S–S link: its sphere and its
-//! placing), [`parasitic`] (a pose given in part: the planner's start, not
+//! placing), [`plane_through`] (a U's first half in a leg with both ends
+//! known), [`parasitic`] (a pose given in part: the planner's start, not
 //! in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
@@ -33,6 +34,7 @@ pub mod on_sphere;
 pub mod pa_plane;
 pub mod parasitic;
 pub mod place;
+pub mod plane_through;
 pub mod search;
 pub mod slide_to_line;
 pub mod sphere_link;
@@ -503,6 +505,7 @@ pub fn execute<T: Scalar>(
         | Step::SlideToLine { joint, from, to, .. }
         | Step::Cone { joint, from, to, .. }
         | Step::Rod { joint, from, to, .. }
+        | Step::PlaneThrough { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -540,6 +543,14 @@ pub fn execute<T: Scalar>(
             across, target, branch, ..
         } => on_cone::execute(&mv, *across, target, *branch)?,
         Step::Rod { other, target, .. } => sphere_link::execute(&mv, *other, target)?,
+        Step::PlaneThrough {
+            across,
+            slide,
+            point,
+            target,
+            branch,
+            ..
+        } => plane_through::execute(&mv, *across, *slide, *point, target, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -762,9 +773,12 @@ pub fn check_residual<T: Scalar>(
 /// value is given on a cylinder (an input between two moving links), a
 /// slide bringing a point onto a line (the PRP and RPP dyads), an axis
 /// kept at its angle from a known axis through one centre (a spherical RRR
-/// dyad), and last an S–S link: placed between its two known centres, or
-/// its sphere met by a point of the new link ([`sphere_link::find`]).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 11] = [
+/// dyad), an S–S link: placed between its two known centres, or its
+/// sphere met by a point of the new link ([`sphere_link::find`]), and last
+/// a revolute turning the plane a revolute and a slide beyond it sweep
+/// through a known point (a U's first half in a U-P-S or U-P-U leg,
+/// [`plane_through::find`]).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 12] = [
     transfer::find,
     aim::find,
     align::find,
@@ -776,6 +790,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 11] = [
     slide_to_line::find,
     on_cone::find,
     sphere_link::find,
+    plane_through::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -917,6 +932,15 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
         } => on_cone::factor(at, k, *joint, *from, *to, *across, target),
         // Placing an S–S link between known centres solves no equation.
         Step::Rod { .. } => return None,
+        Step::PlaneThrough {
+            joint,
+            from,
+            to,
+            across,
+            slide,
+            target,
+            ..
+        } => plane_through::factor(at, k, *joint, *from, *to, *across, *slide, target),
         Step::Locus {
             joint,
             from,
