@@ -855,8 +855,7 @@ fn constraints(
                 continue;
             }
             let found = match joint.kind {
-                JointType::S if rods => sphere_link::find_sphere(s, j, &r, q),
-                _ if rods => None,
+                _ if rods => sphere_link::find_sphere(s, j, &r, q),
                 JointType::Pa => on_sphere::find(s, j, &r, q),
                 JointType::R if circle => on_cylinder::find(s, &r, q, k, rot, turning),
                 JointType::R => on_cylinder::find_slide(s, to, &r, q, k, rot),

@@ -190,14 +190,16 @@ fn find_rod(s: &mut Search<'_>) -> bool {
 /// centre holds a point on: the reach `r` carries the point of the new
 /// link (moved by `j`) to unknown link `r.link` without moving it, and
 /// `q`, a spherical joint of `r.link`, has its centre known along a reach
-/// beyond it (the sphere's centre). A rigid link keeps every point's
+/// beyond it (the sphere's centre); or `q` is a revolute of `r.link` whose
+/// place is known along a reach across it (a U's centre, its cross and the
+/// link beyond turning about axes through it). A rigid link keeps every point's
 /// distance from that centre, so the point lies on the sphere whose radius
 /// is its distance there: an S–S link's length (the point at its other
 /// centre), or an R–S or U–S link's, the point on the revolute's axis.
 /// The point is named on `r.link` as a joint's place there (the joint the
 /// reach entered by first); none, or a point at the centre, is no match.
 pub(crate) fn find_sphere(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Constraint> {
-    if s.kind(q) != JointType::S {
+    if !matches!(s.kind(q), JointType::S | JointType::R) {
         return None;
     }
     let centre = v3(s.place(q, r.link).at());
@@ -213,7 +215,22 @@ pub(crate) fn find_sphere(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Opti
         })?;
     let mut excl = vec![j, q];
     excl.extend(r.hops.iter().map(|h| h.joint));
-    let centre = centre_beyond(s, r.link, q, &excl)?;
+    let centre = if s.kind(q) == JointType::S {
+        centre_beyond(s, r.link, q, &excl)?
+    } else {
+        // A revolute's place held by its own axis and those beyond (a U's
+        // centre on the link beyond a known one): the reach starts here.
+        excl.retain(|&k| k != q);
+        let c = s
+            .fixed_reach(r.link, centre, &excl)
+            .into_iter()
+            .find(|c| s.known[c.link] && !c.hops.is_empty())?;
+        Anchor {
+            link: c.link,
+            hops: reversed(&c.hops),
+            point: PointRef::Joint(q),
+        }
+    };
     Some(Constraint::Sphere {
         centre,
         radius: Radius::Rod {
