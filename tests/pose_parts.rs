@@ -16,6 +16,7 @@ use pkm::runtime::spatial::{self, Solution};
 use std::collections::HashMap;
 
 pkm::mechanism!(RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
+pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
 
 const A: f64 = 200.0;
 const B: f64 = 100.0;
@@ -111,12 +112,94 @@ fn parasitic_motion_meets_the_definition() {
     assert_eq!(solved, 16 * 100_000);
 }
 
+/// Every branch of the generated 3-PRS inverse solution against the
+/// mechanism's definition, written out here: slide i vertical through
+/// (200 cos θᵢ, 200 sin θᵢ, 0), θᵢ = 120°·i, its value the height of
+/// revolute i's point on it, that revolute's axis tangent
+/// (−sin θᵢ, cos θᵢ, 0); the leg from it to ball i normal to the axis
+/// and of length l = √(100² + 240²) = 260; ball i at 100 from o on the
+/// platform, 120° apart; the platform rigid at the given height and tilt.
+#[test]
+fn prs_slides_meet_the_definition() {
+    use pkm::runtime::nalgebra::Vector3;
+    const L: f64 = 260.0;
+    let mut rng = SplitMix::new(17);
+    let point = |name: String| Prs::POINTS.iter().position(|p| *p == name).unwrap();
+    let joint = |name: String| Prs::JOINTS.iter().position(|p| *p == name).unwrap();
+    let o = point("o".into());
+    let balls: Vec<usize> = (1..=3).map(|k| point(format!("S{k}"))).collect();
+    let hinges: Vec<usize> = (1..=3).map(|k| point(format!("R{k}"))).collect();
+    let slides: Vec<usize> = (1..=3).map(|k| joint(format!("P{k}"))).collect();
+    let (mut solved, mut worst) = (0usize, 0.0f64);
+    for _ in 0..100_000 {
+        let given = pose(&mut rng);
+        for branch in Prs::ik(&Default::default(), &given) {
+            let Ok(s) = branch.result else { continue };
+            solved += 1;
+            let p = |i: usize| Vector3::from(s.points[i]);
+            let centre = p(o);
+            let (c, si) = (120f64.to_radians().cos(), 120f64.to_radians().sin());
+            let ex = (p(balls[0]) - centre) / B;
+            let ey = ((p(balls[1]) - centre) / B - c * ex) / si;
+            let ez = ex.cross(&ey);
+            let mut e = vec![(ex.norm() - 1.0).abs(), (ey.norm() - 1.0).abs(), ex.dot(&ey).abs()];
+            e.push(((p(balls[2]) - centre) / B - (c * ex - si * ey)).norm());
+            e.push((centre.z - given[0]).abs() / A);
+            e.push(pkm::runtime::solution::wrap_angle(ey.z.atan2(ez.z) - given[1]).abs());
+            e.push(pkm::runtime::solution::wrap_angle((-ex.z).atan2(ex.x.hypot(ex.y)) - given[2]).abs());
+            for k in 0..3 {
+                let t = (120.0 * k as f64).to_radians();
+                let axis = Vector3::new(-t.sin(), t.cos(), 0.0);
+                let slide = s.q[slides[k]];
+                let hinge = Vector3::new(A * t.cos(), A * t.sin(), slide);
+                // The revolute's point where its slide puts it.
+                e.push((p(hinges[k]) - hinge).norm() / A);
+                let leg = p(balls[k]) - hinge;
+                // The ball on the leg's plane, the leg as long as it is.
+                e.push(axis.dot(&leg).abs() / A);
+                e.push((leg.norm() - L).abs() / A);
+            }
+            worst = e.into_iter().fold(worst, f64::max);
+        }
+    }
+    eprintln!("prs_3: {solved} branches over 10⁵ poses, worst {worst:e}");
+    assert!(worst < 1e-12, "worst {worst:e}");
+    // The parasitic root near the home pose puts each ball about 100 from
+    // its slide's line, well within l: each leg meets it twice (its
+    // revolute below or above the ball), 8 branches at every pose.
+    assert!(solved >= 8 * 100_000, "{solved}");
+}
+
 /// Generated = interpreted, and every branch against Newton's inverse
 /// solution (the platform hung from the base by x, y, z and the three
 /// angles, x, y and rz free) started 1e-3 away from it.
 #[test]
 fn parasitic_inverse_agrees_with_newton() {
-    let (a, model) = common::example("rps_3_tilt");
+    agrees_with_newton("rps_3_tilt", 3000, |given| {
+        RpsTilt::ik(&Default::default(), given)
+            .into_iter()
+            .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))
+            .collect()
+    });
+}
+
+/// The same for the 3-PRS, whose slides meet the spheres its R–S legs keep
+/// about the balls.
+#[test]
+fn prs_inverse_agrees_with_newton() {
+    agrees_with_newton("prs_3", 1500, |given| {
+        Prs::ik(&Default::default(), given)
+            .into_iter()
+            .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))
+            .collect()
+    });
+}
+
+/// Example `name`'s generated inverse solution (each branch's joint values)
+/// against the interpreter's, and each interpreted branch against Newton's
+/// from 1e-3 away, over 200 random poses (at least `min` branches).
+fn agrees_with_newton(name: &str, min: usize, generated: impl Fn(&[f64; 3]) -> Vec<Result<Vec<f64>, ()>>) {
+    let (a, model) = common::example(name);
     let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
     let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     let scale = kinematics::model_scale(&model);
@@ -126,36 +209,42 @@ fn parasitic_inverse_agrees_with_newton() {
     };
     let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind == JointType::R).collect();
     let mut rng = SplitMix::new(5);
-    let (mut compared, mut same) = (0, 0);
+    let (mut compared, mut same, mut worst_gen) = (0, 0, 0.0f64);
     for _ in 0..200 {
         let given = pose(&mut rng);
-        let generated = RpsTilt::ik(&Default::default(), &given);
+        let generated = generated(&given);
         let interpreted = spatial::run_all(&model, &plan, &given);
+        assert_eq!(generated.len(), interpreted.len(), "{name}");
         let solved: Vec<&Solution> = interpreted.iter().filter_map(|(_, r)| r.as_ref().ok()).collect();
         for ((_, r), g) in interpreted.iter().zip(&generated) {
-            let (Ok(sol), Ok(gen)) = (r, &g.result) else {
-                assert_eq!(r.is_ok(), g.result.is_ok());
+            let (Ok(sol), Ok(gen)) = (r, g) else {
+                assert_eq!(r.is_ok(), g.is_ok(), "{name}");
                 continue;
             };
-            assert!(max_error(&gen.q, &sol.values, &revolute, scale) < 1e-12);
+            let e = max_error(gen, &sol.values, &revolute, scale);
+            worst_gen = worst_gen.max(e);
+            assert!(e < 1e-12, "{name}: generated {e:e} from interpreted");
         }
         for (i, s) in solved.iter().enumerate() {
             let guess: Vec<f64> = s.model_values(&model).iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
             let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
-                .unwrap_or_else(|e| panic!("Newton ik failed at {given:?}: {e}"));
+                .unwrap_or_else(|e| panic!("{name}: Newton ik failed at {given:?}: {e}"));
             let newton = per_joint(&model, &reference.values);
             let (best, e) = solved
                 .iter()
                 .map(|t| max_error(&per_joint_of(&model, &t.values), &newton, &revolute, scale))
                 .enumerate()
                 .fold((0, f64::INFINITY), |b, (k, e)| if e < b.1 { (k, e) } else { b });
-            assert!(e <= 1e-9, "at {given:?} Newton is {e:e} from every branch");
+            assert!(e <= 1e-9, "{name}: at {given:?} Newton is {e:e} from every branch");
             compared += 1;
             same += usize::from(best == i);
         }
     }
-    eprintln!("rps_3_tilt: {compared} branches against Newton, {same} on the same branch");
-    assert!(compared >= 3000 && same * 100 >= compared * 99);
+    eprintln!("{name}: {compared} branches against Newton, {same} on the same branch; generated within {worst_gen:e}");
+    assert!(
+        compared >= min && same * 100 >= compared * 99,
+        "{name}: {compared}, {same}"
+    );
 }
 
 /// All six given (`pose (x, y, z, rx, ry, rz)`): the platform is placed

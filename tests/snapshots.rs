@@ -50,6 +50,7 @@ snapshots! {
     upu_3 => "Upu",
     ups_6 => "Ups",
     rps_3_tilt => "RpsTilt",
+    prs_3 => "Prs",
 }
 
 #[test]

@@ -99,13 +99,16 @@ pub struct Direction {
 pub enum Radius {
     /// The length of parallelogram `0`'s arm.
     Arm(usize),
-    /// The distance between the centres of two spherical joints of `link`
-    /// (an S–S link: a rod, an RSSR's coupler).
+    /// The distance of `point` of `link` from the centre of `link`'s
+    /// spherical joint `joint`: a rigid link keeps it (an S–S link's
+    /// length, an R–S or U–S link's point on the revolute's axis).
     Rod {
         /// The link.
         link: usize,
-        /// Its two spherical joints.
-        joints: [usize; 2],
+        /// The point whose distance is kept (another joint's place).
+        point: PointRef,
+        /// The spherical joint.
+        joint: usize,
     },
 }
 
@@ -555,7 +558,12 @@ impl Step {
                 Constraint::Sphere { centre, radius } => {
                     match *radius {
                         Radius::Arm(pa) => add(pa),
-                        Radius::Rod { joints, .. } => joints.into_iter().for_each(&mut add),
+                        Radius::Rod { point, joint, .. } => {
+                            if let PointRef::Joint(p) = point {
+                                add(p);
+                            }
+                            add(joint);
+                        }
                     }
                     hops(&centre.hops).into_iter().rev().for_each(&mut add);
                 }

@@ -6,9 +6,9 @@
 //! kernels, its structural match (`find`: when the planner may use it) and
 //! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
-//! [`slide_to_line`], [`on_cone`], [`sphere_link`] (an S–S link: its sphere and its
-//! placing), [`plane_through`] (a U's first half in a leg with both ends
-//! known), [`parasitic`] (a pose given in part: the planner's start, not
+//! [`slide_to_line`], [`on_cone`], [`sphere_link`] (a link with a spherical joint: the
+//! sphere about its centre, an S–S link's placing), [`plane_through`] (a U's first
+//! half in a leg with both ends known), [`parasitic`] (a pose given in part: the planner's start, not
 //! in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
@@ -773,10 +773,11 @@ pub fn check_residual<T: Scalar>(
 /// value is given on a cylinder (an input between two moving links), a
 /// slide bringing a point onto a line (the PRP and RPP dyads), an axis
 /// kept at its angle from a known axis through one centre (a spherical RRR
-/// dyad), an S–S link: placed between its two known centres, or its
-/// sphere met by a point of the new link ([`sphere_link::find`]), and last
-/// a revolute turning the plane a revolute and a slide beyond it sweep
-/// through a known point (a U's first half in a U-P-S or U-P-U leg,
+/// dyad), a link with a spherical joint (an S–S link placed between its
+/// two known centres, or the sphere about a known centre that a point of
+/// the link keeps met by a point of the new link, [`sphere_link::find`]),
+/// and last a revolute turning the plane a revolute and a slide beyond it
+/// sweep through a known point (a U's first half in a U-P-S or U-P-U leg,
 /// [`plane_through::find`]).
 pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 12] = [
     transfer::find,
@@ -800,8 +801,9 @@ fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
     find_locus_by(s, want_branch, false)
 }
 
-/// [`find_locus`] among the loci of `rods` (S–S links' spheres,
-/// [`sphere_link::find_sphere`]) or of the other joints.
+/// [`find_locus`] among the loci of `rods` (the spheres about a link's
+/// known spherical centre, [`sphere_link::find_sphere`]) or of the other
+/// joints.
 pub(crate) fn find_locus_by(s: &mut search::Search<'_>, want_branch: bool, rods: bool) -> bool {
     // Slides first: a slide's value is found along its line directly
     // (t₀ ± √((d − e)(d + e))), where a turn's would reach it only through
@@ -841,7 +843,8 @@ pub(crate) fn find_locus_by(s: &mut search::Search<'_>, want_branch: bool, rods:
 /// `to` that keeps the point put, the loci the joints met there hold it on
 /// (a parallelogram's sphere, a revolute's cylinder, a slide's plane), in
 /// the order of those joints, then the reach's plane. The order decides
-/// the plans. With `rods`, only the spheres S–S links hold it on.
+/// the plans. With `rods`, only the spheres links with a known spherical
+/// centre hold it on ([`sphere_link::find_sphere`]).
 fn constraints(
     s: &search::Search<'_>,
     j: usize,
@@ -866,8 +869,7 @@ fn constraints(
                 continue;
             }
             let found = match joint.kind {
-                JointType::S if rods => sphere_link::find_sphere(s, j, &r, q),
-                _ if rods => None,
+                _ if rods => sphere_link::find_sphere(s, j, &r, q),
                 JointType::Pa => on_sphere::find(s, j, &r, q),
                 JointType::R if circle => on_cylinder::find(s, &r, q, k, rot, turning),
                 JointType::R => on_cylinder::find_slide(s, to, &r, q, k, rot),

@@ -30,7 +30,7 @@ pub fn execute<T: Scalar>(
     let q = mv.geometry.anchor(&mv.state.poses, centre);
     let radius = match radius {
         Radius::Arm(pa) => arm_length(&mv.geometry.joints[pa].places),
-        Radius::Rod { link, joints } => super::sphere_link::length(mv.geometry, link, joints),
+        Radius::Rod { link, point, joint } => super::sphere_link::length(mv.geometry, link, point, joint),
     };
     Ok(mv.found(to_distance(mv, m, q, radius, mv.choice(branch))?))
 }

@@ -1,11 +1,13 @@
-//! A link ending in spherical joints at both ends (an S–S link: a rod, the
-//! coupler of an RSSR four-bar). Its two centres keep their distance, so a
-//! point of the new link at one centre lies on a sphere about the other
-//! centre once that is known ([`find_sphere`]; the circle or line meeting
-//! the sphere is [`super::on_sphere`]'s); and once both centres are known
-//! the link is placed between them ([`execute`]).
+//! A link with a spherical joint. Every point of it keeps its distance
+//! from the joint's centre, so once that centre is known, a point of the
+//! new link that reaches the link without moving (at its other spherical
+//! centre: an S–S link, a rod, the coupler of an RSSR four-bar; on a
+//! revolute's axis: an R–S leg of a 3-PRS, a U–S coupler) lies on the
+//! sphere about it ([`find_sphere`]; the circle or line meeting the sphere
+//! is [`super::on_sphere`]'s). A link ending in spherical joints at both
+//! ends, both centres known, is placed between them ([`execute`]).
 //!
-//! Such a link has an idle spin about its S–S line: no joint value or
+//! Such an S–S link has an idle spin about its S–S line: no joint value or
 //! output sees it, the topology does not count it (a local DOF), and a
 //! position solution must still give the link a pose. The convention
 //! ([`carry_line`]): the link is turned from the world's axes by the
@@ -33,10 +35,12 @@ use crate::spatial::{v3, Anchor, Constraint, Radius, Step};
 /// from antipodal, where the turn's axis still has about eleven digits.
 pub const ANTIPODAL_TOL: f64 = 1e-9;
 
-/// The length of S–S link `link`: the distance between the centres of its
-/// spherical joints `joints` (in its frame; prepared once).
-pub fn length<T: Scalar>(geometry: &Geometry<T>, link: usize, joints: [usize; 2]) -> T {
-    let [a, b] = joints.map(|j| geometry.local(PointRef::Joint(j), link));
+/// The distance, fixed on `link`, of its `point` from the centre of its
+/// spherical joint `joint` (in its frame; prepared once): an S–S link's
+/// length when the point is its other centre.
+pub fn length<T: Scalar>(geometry: &Geometry<T>, link: usize, point: PointRef, joint: usize) -> T {
+    let a = geometry.local(point, link);
+    let b = geometry.local(PointRef::Joint(joint), link);
     norm(sub(b, a))
 }
 
@@ -119,9 +123,9 @@ pub fn carry_line<T: Scalar>(u: [T; 3], w: [T; 3], site: [usize; 2]) -> Result<[
 }
 
 /// The planner's match: an S–S link placed between its two known centres
-/// (tried first, no branch), or else a point of the new link at one centre
-/// of an S–S link on the sphere about the other ([`find_sphere`], through
-/// the locus steps' search, [`super::find_locus_by`]).
+/// (tried first, no branch), or else a point of the new link on the sphere
+/// about a link's known spherical centre ([`find_sphere`], through the
+/// locus steps' search, [`super::find_locus_by`]).
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     find_rod(s) || super::find_locus_by(s, true, true)
 }
@@ -182,35 +186,59 @@ fn find_rod(s: &mut Search<'_>) -> bool {
     false
 }
 
-/// The planner's match for an S–S link's sphere: spherical joint `q`, met
-/// on the link the reach `r` ends at, centred at the point; beyond it an
-/// unknown link with another spherical joint whose centre is known along
-/// a reach (the sphere's centre). The point keeps the distance between the
-/// two centres on that link. `j` is the joint that moves the point.
+/// The planner's match for the sphere a link with a known spherical
+/// centre holds a point on: the reach `r` carries the point of the new
+/// link (moved by `j`) to unknown link `r.link` without moving it, and
+/// `q`, a spherical joint of `r.link`, has its centre known along a reach
+/// beyond it (the sphere's centre); or `q` is a revolute of `r.link` whose
+/// place is known along a reach across it (a U's centre, its cross and the
+/// link beyond turning about axes through it). A rigid link keeps every point's
+/// distance from that centre, so the point lies on the sphere whose radius
+/// is its distance there: an S–S link's length (the point at its other
+/// centre), or an R–S or U–S link's, the point on the revolute's axis.
+/// The point is named on `r.link` as a joint's place there (the joint the
+/// reach entered by first); none, or a point at the centre, is no match.
 pub(crate) fn find_sphere(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Constraint> {
-    if (r.x - v3(s.place(q, r.link).at())).norm() > s.tol {
+    if !matches!(s.kind(q), JointType::S | JointType::R) {
         return None;
     }
-    let rod = s.other(q, r.link);
-    if s.known[rod] {
+    let centre = v3(s.place(q, r.link).at());
+    if (r.x - centre).norm() <= s.tol {
         return None;
     }
+    let entered = r.hops.last().map(|h| h.joint);
+    let point = entered
+        .into_iter()
+        .chain((0..s.model.joints.len()).filter(|&k| Some(k) != entered))
+        .find(|&k| {
+            k != q && s.model.joints[k].links.contains(&r.link) && (r.x - v3(s.place(k, r.link).at())).norm() <= s.tol
+        })?;
     let mut excl = vec![j, q];
     excl.extend(r.hops.iter().map(|h| h.joint));
-    (0..s.model.joints.len())
-        .filter(|&o| o != q && s.kind(o) == JointType::S && s.model.joints[o].links.contains(&rod))
-        .find_map(|o| {
-            let mut excl = excl.clone();
-            excl.push(o);
-            let centre = centre_beyond(s, rod, o, &excl)?;
-            Some(Constraint::Sphere {
-                centre,
-                radius: Radius::Rod {
-                    link: rod,
-                    joints: [q, o],
-                },
-            })
-        })
+    let centre = if s.kind(q) == JointType::S {
+        centre_beyond(s, r.link, q, &excl)?
+    } else {
+        // A revolute's place held by its own axis and those beyond (a U's
+        // centre on the link beyond a known one): the reach starts here.
+        excl.retain(|&k| k != q);
+        let c = s
+            .fixed_reach(r.link, centre, &excl)
+            .into_iter()
+            .find(|c| s.known[c.link] && !c.hops.is_empty())?;
+        Anchor {
+            link: c.link,
+            hops: reversed(&c.hops),
+            point: PointRef::Joint(q),
+        }
+    };
+    Some(Constraint::Sphere {
+        centre,
+        radius: Radius::Rod {
+            link: r.link,
+            point: PointRef::Joint(point),
+            joint: q,
+        },
+    })
 }
 
 #[cfg(test)]
