@@ -226,7 +226,11 @@ fn agrees_with_newton(name: &str, min: usize, generated: impl Fn(&[f64; 3]) -> V
             assert!(e < 1e-12, "{name}: generated {e:e} from interpreted");
         }
         for (i, s) in solved.iter().enumerate() {
-            let guess: Vec<f64> = s.model_values(&model).iter().map(|v| v + 1e-3 * rng.symmetric()).collect();
+            let guess: Vec<f64> = s
+                .model_values(&model)
+                .iter()
+                .map(|v| v + 1e-3 * rng.symmetric())
+                .collect();
             let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
                 .unwrap_or_else(|e| panic!("{name}: Newton ik failed at {given:?}: {e}"));
             let newton = per_joint(&model, &reference.values);
