@@ -302,9 +302,12 @@ pub fn output_is_angle(model: &Model, outputs: &[Output]) -> Vec<bool> {
             Output::Joint(j) => vec![model.joints[j].kind != JointType::P],
             Output::Point { .. } => vec![false; n],
             Output::Parts { parts, .. } => parts.given().map(|i| i >= 3).collect(),
+            // A pose without `about` keeps the base's orientation: no angle.
             Output::Pose { about, .. } => {
                 let mut v = vec![false; n];
-                v.push(about.is_some());
+                if about.is_some() {
+                    v.push(true);
+                }
                 v
             }
         })
@@ -349,6 +352,40 @@ pub fn max_error(got: &[f64], reference: &[f256], angle: &[bool], scale: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One flag per output value, as `Output::len` counts them: a spatial
+    /// pose without `about` is three lengths (it had a fourth flag, which
+    /// shifted every later output's), with `about` three and an angle.
+    #[test]
+    fn output_angles_match_the_values() {
+        use crate::model::{Joint, Place};
+        let axis = |at| Place::Axis {
+            at,
+            axis: [0.0, 0.0, 1.0],
+        };
+        let model = Model {
+            name: "arm".into(),
+            planar: false,
+            links: vec!["base".into(), "arm".into()],
+            joints: vec![Joint {
+                name: "R1".into(),
+                kind: JointType::R,
+                links: [0, 1],
+                places: [axis([0.0; 3]), axis([0.0; 3])],
+                actuated: true,
+            }],
+            points: vec![],
+        };
+        let pose = |about| Output::Pose {
+            link: 1,
+            local: [1.0, 0.0, 0.0],
+            about,
+        };
+        let outputs = [pose(None), Output::Joint(0), pose(Some([0.0, 0.0, 1.0]))];
+        let want = [false, false, false, true, false, false, false, true];
+        assert_eq!(output_is_angle(&model, &outputs), want);
+        assert_eq!(want.len(), outputs.iter().map(|o| o.len(false)).sum::<usize>());
+    }
 
     #[test]
     fn to_f64_round_trips_f64_values() {
