@@ -211,19 +211,7 @@ fn slide_to_line_other_forms() {
         )
         .replace("⊥ P1 [yoke] ⊥ P2 base", "⊥ P1 [yoke] - P2 base")
         .replace("x ∥ P2;", "");
-    let tangent = "mechanism tangent {
-        capabilities fk;
-        planar;
-        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
-        x ∥ P2;
-        parameters { h = 80; }
-        geometry {
-            base   { R1 = (0, 0); P2 = through (0, h) along x; }
-            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
-            block  { P1 = (0, 0); R2 = (0, 0); }
-            slider { R2 = (0, 0); P2 = (0, 0); }
-        }
-    }";
+    let tangent = common::TANGENT_MECHANISM;
     for (name, text, range) in [
         ("slot on the block", on_block, (-PI, PI)),
         ("tilted yoke", tilted, (-PI, PI)),
@@ -239,19 +227,7 @@ fn slide_to_line_other_forms() {
 /// along the slot.
 #[test]
 fn tangent_mechanism_by_hand() {
-    let text = "mechanism tangent {
-        capabilities fk;
-        planar;
-        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
-        x ∥ P2;
-        parameters { h = 80; }
-        geometry {
-            base   { R1 = (0, 0); P2 = through (0, h) along x; }
-            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
-            block  { P1 = (0, 0); R2 = (0, 0); }
-            slider { R2 = (0, 0); P2 = (0, 0); }
-        }
-    }";
+    let text = common::TANGENT_MECHANISM;
     let (model, solve) = load_text(text);
     let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
     let (p1, p2, h) = (at("P1"), at("P2"), 80.0f64);

@@ -488,19 +488,7 @@ fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
 /// yoke's guide: 1 at every crank angle.
 #[test]
 fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
-    let tangent = "mechanism tangent {
-        capabilities fk;
-        planar;
-        base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
-        x ∥ P2;
-        parameters { h = 80; }
-        geometry {
-            base   { R1 = (0, 0); P2 = through (0, h) along x; }
-            crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
-            block  { P1 = (0, 0); R2 = (0, 0); }
-            slider { R2 = (0, 0); P2 = (0, 0); }
-        }
-    }";
+    let tangent = common::TANGENT_MECHANISM;
     let tangent = pkm::dsl::analyze_source(tangent).unwrap();
     let (yoke, _) = common::example("scotch_yoke");
     for (a, hand) in [(tangent, (|t: f64| t.sin().abs()) as fn(f64) -> f64), (yoke, |_| 1.0)] {

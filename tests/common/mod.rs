@@ -155,3 +155,20 @@ pub fn pushed_off(rng: &mut pkm::dsl::screw::SplitMix, outputs: &[f64; 4], exten
     let given = std::array::from_fn(|i| outputs[i] + d * dir[i] / n / if i == 3 { extent } else { 1.0 });
     (given, d)
 }
+
+/// A PRP tangent mechanism (a block slides in the crank's slot, pinned to a
+/// slider on the guide y = h = 80): `slide_to_line`'s PRP form, whose slide
+/// is s = h/tan θ and h/sin θ along the slot by hand.
+pub const TANGENT_MECHANISM: &str = "mechanism tangent {
+    capabilities fk;
+    planar;
+    base R1* [crank] ⊥ P1 [block] ⊥ R2 [slider] ⊥ P2 base;
+    x ∥ P2;
+    parameters { h = 80; }
+    geometry {
+        base   { R1 = (0, 0); P2 = through (0, h) along x; }
+        crank  { R1 = (0, 0); P1 = through (0, 0) along x; }
+        block  { P1 = (0, 0); R2 = (0, 0); }
+        slider { R2 = (0, 0); P2 = (0, 0); }
+    }
+}";
