@@ -121,12 +121,19 @@ fn punch_original() {
 
 #[test]
 fn planar_3rrr() {
-    // Inputs from random platform poses by the closed-form inverse, so
-    // that each assembles at least once.
-    let (a, model) = common::example("planar_3rrr");
+    let (n, total, closure, matched) = check("planar_3rrr", &planar_inputs("planar_3rrr", 3), 10_000);
+    eprintln!("planar_3rrr: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
+    assert!(total >= n, "{total} assemblies at {n} inputs");
+}
+
+/// Inputs of a planar parallel mechanism from random platform poses (x, y
+/// within ±40 mm, φ within ±0.5 rad) by its closed-form inverse, one
+/// branch each, so that each assembles at least once.
+fn planar_inputs(file: &str, seed: u64) -> Vec<Vec<f64>> {
+    let (a, model) = common::example(file);
     let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
     let actuated = model.inputs();
-    let mut rng = SplitMix::new(3);
+    let mut rng = SplitMix::new(seed);
     let mut inputs = Vec::new();
     while inputs.len() < 6 {
         let pose = [40.0 * rng.symmetric(), 40.0 * rng.symmetric(), 0.5 * rng.symmetric()];
@@ -136,12 +143,20 @@ fn planar_3rrr() {
             inputs.push(actuated.iter().map(|&j| s.values[j]).collect());
         }
     }
-    let (n, total, closure, matched) = check("planar_3rrr", &inputs, 10_000);
-    eprintln!("planar_3rrr: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
+    inputs
+}
+
+#[test]
+fn planar_3rpr() {
+    // Its residual is the third leg's computed length less its given one
+    // (no aim is left open): the Newton check is the same.
+    let (n, total, closure, matched) = check("planar_3rpr", &planar_inputs("planar_3rpr", 4), 10_000);
+    eprintln!("planar_3rpr: {n} inputs, {total} assemblies, closure {closure:e}, Newton {matched:e}");
     assert!(total >= n, "{total} assemblies at {n} inputs");
 }
 
 pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
+pkm::mechanism!(ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
 pkm::mechanism!(Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
 pkm::mechanism!(PunchOriginal, file = "examples/mechanisms/seed003_punch_original.pkm");
 
@@ -200,6 +215,11 @@ fn generated_equals_interpreted() {
     let (c, n) = generated("planar_3rrr", &q3, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
     eprintln!("planar_3rrr: {c} residuals, {n} assemblies");
     assert!(c > 100 && n > 0);
+    let p = ThreeRpr::prepare_fk_numeric(&Default::default());
+    let q = [[200.0, 200.0, 200.0], [150.0, 230.0, 205.0], [260.0, 180.0, 170.0]];
+    let (c, n) = generated("planar_3rpr", &q, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
+    eprintln!("planar_3rpr: {c} residuals, {n} assemblies");
+    assert!(c > 100 && n > 0);
     let q1: Vec<[f64; 1]> = crank(6, 9).into_iter().map(|q| [q[0]]).collect();
     let p = Stephenson3::prepare_fk_numeric(&Default::default());
     let (c, n) = generated("stephenson3", &q1, |g, s| p.residual(g, s), |q| p.fk_numeric(q));
@@ -216,60 +236,130 @@ fn generated_equals_interpreted() {
     assert!(c > 100 && n > 0);
 }
 
-/// Round trips of the 3-RRR between its closed-form inverse and its
-/// forward solution by the virtual variable, over 10⁵ random platform
-/// poses (x, y within ±40 mm, φ within ±0.5 rad), one ik branch each in
-/// turn: the ik branch's joint values are one of the assemblies
-/// `fk_numeric` finds at its actuators' angles (fk∘ik), and every assembly
-/// found gives, through the pose read off its points, an ik branch with
-/// its joint values (ik∘fk). Joint values compared as angles modulo 2π.
-#[test]
-fn planar_3rrr_round_trips() {
-    let params = Default::default();
-    let index = |name: &str| ThreeRrr::JOINTS.iter().position(|j| *j == name).unwrap();
-    let actuated = [index("R1"), index("R4"), index("R7")];
-    let point = |name: &str| ThreeRrr::POINTS.iter().position(|p| *p == name).unwrap();
-    let (o, r9) = (point("o"), point("R9"));
+/// An assembly as the round trips compare it: every joint value, the
+/// platform's centre `o` and the pin placed at (0, p) on it.
+type Trip = (Vec<f64>, [f64; 2], [f64; 2]);
+
+/// Round trips of a planar parallel mechanism between its closed-form
+/// inverse `ik` (every branch's joint values at a pose) and its forward
+/// solution by the virtual variable `fk` (every assembly at the actuators'
+/// values), over 10⁵ random platform poses (x, y within ±40 mm, φ within
+/// ±0.5 rad), one ik branch each in turn: the ik branch's joint values are
+/// one of the assemblies `fk_numeric` finds at its actuators' values
+/// (fk∘ik), and every assembly found gives, through the pose read off its
+/// points, an ik branch with its joint values (ik∘fk). Angles compared
+/// modulo 2π, slides (`angle[j]` false) as lengths relative to `scale`.
+/// Returns (round trips, assemblies, worst fk∘ik, worst ik∘fk).
+fn planar_round_trips(
+    actuated: &[usize],
+    angle: &[bool],
+    scale: f64,
+    ik: impl Fn(&[f64; 3]) -> Vec<Vec<f64>>,
+    fk: impl Fn(&[f64]) -> Vec<Trip>,
+) -> (usize, usize, f64, f64) {
     let off = |a: &[f64], b: &[f64]| {
         a.iter()
             .zip(b)
-            .map(|(x, y)| pkm::runtime::solution::wrap_angle(x - y).abs())
+            .zip(angle)
+            .map(|((x, y), &angle)| {
+                if angle {
+                    pkm::runtime::solution::wrap_angle(x - y).abs()
+                } else {
+                    (x - y).abs() / scale
+                }
+            })
             .fold(0.0f64, f64::max)
     };
     let mut rng = SplitMix::new(17);
     let (mut trips, mut assemblies, mut worst_fk_ik, mut worst_ik_fk) = (0usize, 0usize, 0.0f64, 0.0f64);
     for n in 0..100_000usize {
         let pose = [40.0 * rng.symmetric(), 40.0 * rng.symmetric(), 0.5 * rng.symmetric()];
-        let ik = ThreeRrr::ik(&params, &pose);
-        let Some(branch) = ik
-            .iter()
-            .cycle()
-            .skip(n % ik.len())
-            .take(ik.len())
-            .find_map(|b| b.result.as_ref().ok())
-        else {
+        let branches = ik(&pose);
+        if branches.is_empty() {
             continue;
-        };
-        let q = actuated.map(|j| branch.q[j]);
-        let found = ThreeRrr::fk_numeric(&params, &q);
-        let e = found.iter().map(|f| off(&f.q, &branch.q)).fold(f64::INFINITY, f64::min);
+        }
+        let branch = &branches[n % branches.len()];
+        let q: Vec<f64> = actuated.iter().map(|&j| branch[j]).collect();
+        let found = fk(&q);
+        let e = found.iter().map(|f| off(&f.0, branch)).fold(f64::INFINITY, f64::min);
         worst_fk_ik = worst_fk_ik.max(e);
-        for f in &found {
-            // The platform's pose from its points: o, and R9 placed at (0, p) on it.
-            let (c, t) = (f.points[o], f.points[r9]);
+        for (values, c, t) in &found {
+            // The platform's pose from its points: o, and the pin at (0, p).
             let back = [c[0], c[1], (-(t[0] - c[0])).atan2(t[1] - c[1])];
-            let e = ThreeRrr::ik(&params, &back)
-                .iter()
-                .filter_map(|b| b.result.as_ref().ok())
-                .map(|b| off(&b.q, &f.q))
-                .fold(f64::INFINITY, f64::min);
+            let e = ik(&back).iter().map(|b| off(b, values)).fold(f64::INFINITY, f64::min);
             worst_ik_fk = worst_ik_fk.max(e);
             assemblies += 1;
         }
         trips += 1;
     }
+    (trips, assemblies, worst_fk_ik, worst_ik_fk)
+}
+
+#[test]
+fn planar_3rrr_round_trips() {
+    let params = Default::default();
+    let index = |name: &str| ThreeRrr::JOINTS.iter().position(|j| *j == name).unwrap();
+    let point = |name: &str| ThreeRrr::POINTS.iter().position(|p| *p == name).unwrap();
+    let (o, r9) = (point("o"), point("R9"));
+    let (trips, assemblies, worst_fk_ik, worst_ik_fk) = planar_round_trips(
+        &[index("R1"), index("R4"), index("R7")],
+        &[true; 9],
+        1.0,
+        |pose| {
+            let ik = ThreeRrr::ik(&params, pose);
+            ik.iter()
+                .filter_map(|b| b.result.as_ref().ok())
+                .map(|b| b.q.to_vec())
+                .collect()
+        },
+        |q| {
+            let found = ThreeRrr::fk_numeric(&params, &[q[0], q[1], q[2]]);
+            found
+                .iter()
+                .map(|f| (f.q.to_vec(), f.points[o], f.points[r9]))
+                .collect()
+        },
+    );
     eprintln!(
         "planar_3rrr: {trips} round trips, {assemblies} assemblies; worst fk∘ik {worst_fk_ik:e} rad, ik∘fk {worst_ik_fk:e} rad"
+    );
+    assert!(trips >= 90_000, "{trips}");
+    assert!(
+        worst_fk_ik < 1e-9 && worst_ik_fk < 1e-9,
+        "{worst_fk_ik:e} {worst_ik_fk:e}"
+    );
+}
+
+/// The 3-RPR's round trips: its slides compared relative to its base
+/// radius (250 mm).
+#[test]
+fn planar_3rpr_round_trips() {
+    let params = Default::default();
+    let index = |name: &str| ThreeRpr::JOINTS.iter().position(|j| *j == name).unwrap();
+    let point = |name: &str| ThreeRpr::POINTS.iter().position(|p| *p == name).unwrap();
+    let (o, r6) = (point("o"), point("R6"));
+    let angle: Vec<bool> = ThreeRpr::JOINTS.iter().map(|j| j.starts_with('R')).collect();
+    let (trips, assemblies, worst_fk_ik, worst_ik_fk) = planar_round_trips(
+        &[index("P1"), index("P2"), index("P3")],
+        &angle,
+        250.0,
+        |pose| {
+            let ik = ThreeRpr::ik(&params, pose);
+            ik.iter()
+                .filter_map(|b| b.result.as_ref().ok())
+                .map(|b| b.q.to_vec())
+                .collect()
+        },
+        |q| {
+            let found = ThreeRpr::fk_numeric(&params, &[q[0], q[1], q[2]]);
+            found
+                .iter()
+                .map(|f| (f.q.to_vec(), f.points[o], f.points[r6]))
+                .collect()
+        },
+    );
+    eprintln!(
+        "planar_3rpr: {trips} round trips, {assemblies} assemblies; worst fk∘ik {worst_fk_ik:e}, ik∘fk {worst_ik_fk:e} (rad, or of 250 mm)"
     );
     assert!(trips >= 90_000, "{trips}");
     assert!(

@@ -13,7 +13,7 @@ use super::{branch, geometry, loop_names, xyz};
 use crate::analysis::Analysis;
 use crate::emit::Emit;
 use crate::trace::{record, Choice};
-use pkm_runtime::fk_numeric::VirtualPlan;
+use pkm_runtime::fk_numeric::{Compatibility, VirtualPlan};
 use pkm_runtime::steps::RESIDUAL_ROWS;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -36,8 +36,20 @@ pub(crate) fn generate(
     });
     let b = traced?;
     let emit = Emit::new(&graph, loop_names(a, plan));
-    let row = vp.check * RESIDUAL_ROWS + vp.row;
-    let residual = b.residual[row];
+    let rt = quote! { ::pkm::runtime };
+    // The residual's symbol: a check's row, or the value computed for an
+    // input the plan is not given (less that input, written out below).
+    let (residual, input) = match vp.compatibility {
+        Compatibility::Miss { check, row } => (b.residual[check * RESIDUAL_ROWS + row], None),
+        Compatibility::Input { joint, input, arc } => (b.values[joint], Some((input, arc))),
+    };
+    let of_input = |computed: &TokenStream, (input, arc): (usize, Option<f64>)| {
+        let arc = match arc {
+            Some(r) => quote! { ::core::option::Option::Some(#r) },
+            None => quote! { ::core::option::Option::None },
+        };
+        quote! { #rt::fk_numeric::Compatibility::input_residual(#arc, #computed, given[#input]) }
+    };
     // Every check's rows that can fail verify a solution, the
     // compatibility residual's too (as the interpreter's `spatial::run`).
     let others: Vec<_> = (0..b.residual.len())
@@ -46,7 +58,10 @@ pub(crate) fn generate(
         .collect();
     let guards = |roots: &[crate::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
     let (residual_lets, residual_expr) = emit.straight(&[residual], &guards(&[residual]));
-    let residual_expr = &residual_expr[0];
+    let residual_expr = match input {
+        Some(i) => of_input(&residual_expr[0], i),
+        None => residual_expr[0].clone(),
+    };
     let mut roots = b.values.clone();
     roots.extend(b.points.iter().flatten());
     roots.extend(&others);
@@ -86,7 +101,6 @@ pub(crate) fn generate(
     let n_slots = emit.slot_count();
     let prepare = emit.prepare();
     let virtual_name = &m.joints[vp.joint].name;
-    let rt = quote! { ::pkm::runtime };
     let fk_doc = format!(
         " Every real assembly at the inputs `q` (the actuated joints in declaration order, [`{prepared}::GIVEN`] but the last), by a virtual variable ([`{prepared}::fk_numeric`])."
     );
@@ -115,6 +129,24 @@ pub(crate) fn generate(
                 });
             }
         }
+    };
+    // An input the plan computes meets its given value (the interpreter's
+    // `fk_numeric::solve` verifies it to the same zero).
+    let verified_input = match (input, vp.compatibility) {
+        (Some(i), Compatibility::Input { joint, .. }) => {
+            let r = of_input(&values[joint], i);
+            quote! {
+                let r = #r;
+                if !(r.abs() <= #zero) {
+                    return ::core::result::Result::Err(#rt::solution::SolveError::Inconsistent {
+                        owner: ::std::borrow::Cow::Borrowed("the input the virtual plan computes"),
+                        gap: r.abs(),
+                        contradicted: ::core::option::Option::None,
+                    });
+                }
+            }
+        }
+        _ => quote! {},
     };
     let finite = quote! {
         if !given.iter().all(|v| v.is_finite()) {
@@ -174,6 +206,7 @@ pub(crate) fn generate(
                 #finite
                 #lets
                 #verified
+                #verified_input
                 ::core::result::Result::Ok(([#(#values),*], [#(#points),*]))
             }
 

@@ -14,11 +14,19 @@
 //! (a signed length: [`pkm_runtime::steps::aim::miss`]). Which checks are
 //! closed by construction is measured, not assumed: over random inputs
 //! and virtual values the others' rows stay at rounding.
+//!
+//! Where no candidate leaves such a miss (the last SOC closes on a given
+//! length between two known joints, as a 3-RPR's third leg, and the
+//! closed-form step meeting that length has no solution but at the
+//! roots), one actuated joint is left out of the given values instead,
+//! slides first: the plan computes it, nothing else stays open, and the
+//! residual is its computed value less its given one
+//! ([`Compatibility::Input`]).
 
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::screw::SplitMix;
-use pkm_runtime::fk_numeric::{self, VirtualPlan};
+use pkm_runtime::fk_numeric::{self, Compatibility, VirtualPlan};
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::spatial::{Check, Plan, Step};
 use std::collections::HashMap;
@@ -88,9 +96,24 @@ pub fn forward_numeric_plan(a: &Analysis) -> Result<VirtualPlan, Diagnostics> {
     candidates.sort_by_key(|&j| model.joints[j].kind != JointType::R);
     let mut tried = Vec::new();
     for &v in &candidates {
-        match with_virtual(a, &model, v) {
+        match with_virtual(a, &model, v, None) {
             Ok(vp) => return Ok(vp),
             Err(why) => tried.push(format!("{}: {why}", m.joints[v].name)),
+        }
+    }
+    // No aim left open: an input not given instead, slides first (their
+    // value is a length, without a turn's wrap).
+    let mut inputs = model.inputs();
+    inputs.sort_by_key(|&j| model.joints[j].kind != JointType::P);
+    for &v in &candidates {
+        for &k in &inputs {
+            match with_virtual(a, &model, v, Some(k)) {
+                Ok(vp) => return Ok(vp),
+                Err(why) => tried.push(format!(
+                    "{} with {} computed: {why}",
+                    m.joints[v].name, m.joints[k].name
+                )),
+            }
         }
     }
     let mut d = refuse(
@@ -105,8 +128,11 @@ pub fn forward_numeric_plan(a: &Analysis) -> Result<VirtualPlan, Diagnostics> {
     Err(d.into())
 }
 
-/// The plan with joint `v` given, and its compatibility residual.
-fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, String> {
+/// The plan with joint `v` given, and its compatibility residual: with
+/// every input given, the one aim's miss the plan leaves open; with the
+/// input `dropped` not given, its computed value less its given one,
+/// where the plan leaves nothing else open.
+fn with_virtual(a: &Analysis, model: &Model, v: usize, dropped: Option<usize>) -> Result<VirtualPlan, String> {
     if !matches!(model.joints[v].kind, JointType::R | JointType::P) {
         return Err("not a revolute or a slide".into());
     }
@@ -114,7 +140,9 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
     let n = inputs.len();
     let mut given = vec![None; model.joints.len()];
     for (i, &j) in inputs.iter().enumerate() {
-        given[j] = Some(i);
+        if Some(j) != dropped {
+            given[j] = Some(i);
+        }
     }
     given[v] = Some(n);
     inputs.push(v);
@@ -124,7 +152,22 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
     plan.check_by_miss(model, &vec![true; model.links.len()]);
     let (range, periodic) = fk_numeric::range_of(model, v);
     let checks = plan.checks(model.joints.len());
-    let live = live_checks(model, &plan, &checks, range);
+    let live = live_checks(model, &plan, &checks, range)?;
+    if let Some(joint) = dropped {
+        if !live.is_empty() {
+            return Err(format!("{} checks not closed by construction, not none", live.len()));
+        }
+        let input = plan.inputs.iter().position(|&j| j == joint).ok_or("not an input")?;
+        let arc = (model.joints[joint].kind != JointType::P).then(|| pkm_runtime::kinematics::model_scale(model));
+        return Ok(VirtualPlan {
+            plan,
+            joint: v,
+            range,
+            periodic,
+            compatibility: Compatibility::Input { joint, input, arc },
+            samples: SAMPLES,
+        });
+    }
     let [check] = live[..] else {
         return Err(format!("{} checks not closed by construction, not one", live.len()));
     };
@@ -143,8 +186,7 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
         joint: v,
         range,
         periodic,
-        check,
-        row: 0,
+        compatibility: Compatibility::Miss { check, row: 0 },
         samples: SAMPLES,
     })
 }
@@ -152,7 +194,7 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize) -> Result<VirtualPlan, St
 /// The checks whose rows leave rounding somewhere over random inputs
 /// (revolutes over their turn, slides over the virtual slide's range) and
 /// virtual values, on every branch where the plan runs.
-fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) -> Vec<usize> {
+fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) -> Result<Vec<usize>, String> {
     let geometry = pkm_runtime::steps::Geometry::of(model);
     let scale = pkm_runtime::kinematics::model_scale(model);
     let slide = fk_numeric::slide_range(model);
@@ -197,5 +239,8 @@ fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) ->
             }
         }
     }
-    (0..checks.len()).filter(|&k| worst[k] > 1e-6 * scale).collect()
+    if ran == 0 {
+        return Err("its plan has no real solution at any sampled input".into());
+    }
+    Ok((0..checks.len()).filter(|&k| worst[k] > 1e-6 * scale).collect())
 }

@@ -5,8 +5,10 @@
 //! function of it (every ± branch), and the one loop constraint that plan
 //! does not impose is left as a scalar compatibility residual `r(v)`
 //! (the miss of the aim that closes the last SOC, a length:
-//! [`crate::steps::aim::miss`]). Every real root of `r` on every branch is
-//! an assembly.
+//! [`crate::steps::aim::miss`]; or, where the plan leaves no aim open, an
+//! actuated joint the plan is not given, its computed value less the given
+//! one: [`Compatibility`]). Every real root of `r` on every branch is an
+//! assembly.
 //!
 //! The driver is generic: [`roots`] finds every root of a function of one
 //! variable that may be undefined on parts of its range (a branch whose
@@ -369,12 +371,64 @@ pub struct VirtualPlan {
     pub range: [f64; 2],
     /// Whether the range is a whole turn.
     pub periodic: bool,
-    /// The check ([`Plan::checks`]) that is the compatibility condition.
-    pub check: usize,
-    /// Its row that is the residual (a length).
-    pub row: usize,
+    /// What the compatibility residual is.
+    pub compatibility: Compatibility,
     /// Samples over the range.
     pub samples: usize,
+}
+
+/// What a [`VirtualPlan`]'s compatibility residual is (a length either
+/// way).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Compatibility {
+    /// Row `row` of the plan's check `check` ([`Plan::checks`]): the miss
+    /// of an aim across a revolute's axis that closes the last SOC.
+    Miss {
+        /// The check.
+        check: usize,
+        /// Its row.
+        row: usize,
+    },
+    /// An actuated joint the plan is not given: the value the plan
+    /// computes for it less its given value (the plan's input `input`).
+    /// Where no aim is left open (a leg of given length between two
+    /// known joints, as in the 3-RPR), this is the condition the virtual
+    /// variable must meet. An angle's difference is wrapped into
+    /// (−π, π] ([`angle_miss`]) and measured as the arc at the
+    /// mechanism's size ([`crate::kinematics::model_scale`]); a wrap's
+    /// jump is a sign change that is not a root, and verification drops
+    /// it.
+    Input {
+        /// The joint.
+        joint: usize,
+        /// Its index among the plan's inputs (the mechanism's inputs).
+        input: usize,
+        /// The arc's radius for a revolute (the model's scale), `None`
+        /// for a slide.
+        arc: Option<f64>,
+    },
+}
+
+impl Compatibility {
+    /// The residual from the joint value the plan computes for an
+    /// [`Compatibility::Input`] and the given value.
+    pub fn input_residual(arc: Option<f64>, computed: f64, given: f64) -> f64 {
+        match arc {
+            Some(radius) => angle_miss(computed - given) * radius,
+            None => computed - given,
+        }
+    }
+}
+
+/// An angle's difference wrapped into (−π, π].
+pub fn angle_miss(d: f64) -> f64 {
+    let turn = 2.0 * std::f64::consts::PI;
+    let w = d - turn * (d / turn).round();
+    if w <= -std::f64::consts::PI {
+        w + turn
+    } else {
+        w
+    }
 }
 
 /// One assembly found.
@@ -448,10 +502,33 @@ fn residual_with(
         sites: 0,
     };
     let state = crate::steps::run(&vp.plan, geometry, model.links.len(), &g).ok()?;
-    let checks = vp.plan.checks(geometry.joints.len());
-    let check = checks.get(vp.check)?;
-    let rows = crate::steps::check_residual(geometry, &vp.plan, &[*check], &state.poses, &given, 1.0);
-    rows.get(vp.row).copied().filter(|r| r.is_finite())
+    let r = match vp.compatibility {
+        Compatibility::Miss { check, row } => {
+            let checks = vp.plan.checks(geometry.joints.len());
+            let check = checks.get(check)?;
+            let rows = crate::steps::check_residual(geometry, &vp.plan, &[*check], &state.poses, &given, 1.0);
+            *rows.get(row)?
+        }
+        Compatibility::Input { joint, input, arc } => {
+            Compatibility::input_residual(arc, crate::steps::value(geometry, &state, joint), *given.get(input)?)
+        }
+    };
+    Some(r).filter(|r| r.is_finite())
+}
+
+/// A solution of the virtual plan at a root, verified: the plan's own
+/// checks ([`spatial::run`]) and, for an [`Compatibility::Input`], the
+/// computed value meets the given one to the verification tolerance
+/// ([`zero_of`]).
+fn verified(model: &Model, vp: &VirtualPlan, given: &[f64], signs: &[Sign]) -> Option<Solution> {
+    let solution = spatial::run(model, &vp.plan, given, signs).ok()?;
+    if let Compatibility::Input { joint, input, arc } = vp.compatibility {
+        let r = Compatibility::input_residual(arc, solution.values[joint], given[input]);
+        if r.is_nan() || r.abs() > zero_of(model) {
+            return None;
+        }
+    }
+    Some(solution)
 }
 
 /// What [`Sampling::zero`] is for a model: a residual (a length) within
@@ -498,7 +575,7 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
         &sampling,
         vp.plan.branches,
         |v, signs| residual_with(model, &geometry, vp, inputs, v, signs),
-        |v, signs| spatial::run(model, &vp.plan, &given(v), signs).ok(),
+        |v, signs| verified(model, vp, &given(v), signs),
         |a: &Solution, b: &Solution| {
             a.poses.iter().zip(&b.poses).all(|(p, q)| {
                 (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale
@@ -684,5 +761,39 @@ mod tests {
         check(f, -1.0, 1.0, false, &[(0.5037, Tangency)]);
         // Nowhere defined: no roots.
         check(|_| None, -1.0, 1.0, false, &[]);
+    }
+
+    #[test]
+    fn input_residuals() {
+        use std::f64::consts::PI;
+        // A slide's: the difference itself.
+        assert_eq!(Compatibility::input_residual(None, 7.5, 2.0), 5.5);
+        // An angle's: wrapped into (−π, π], as an arc of the given radius.
+        for (computed, given, want) in [
+            (0.3, 0.1, 0.2),
+            (3.0, -3.0, 6.0 - 2.0 * PI),
+            (-3.0, 3.0, 2.0 * PI - 6.0),
+        ] {
+            let r = Compatibility::input_residual(Some(10.0), computed, given);
+            assert!((r - 10.0 * want).abs() <= 1e-12, "{computed} {given}: {r}");
+        }
+        assert_eq!(angle_miss(PI), PI);
+        assert_eq!(angle_miss(-PI), PI);
+        assert!((angle_miss(5.0 * PI / 2.0) - PI / 2.0).abs() <= 1e-15);
+        // The wrap's jump is a sign change that is no root: found by the
+        // driver, it keeps its size (verification then drops it).
+        let found = roots(
+            |x| Some(Compatibility::input_residual(Some(1.0), x, 0.5)),
+            &Sampling {
+                lo: -PI,
+                hi: PI,
+                samples: 720,
+                zero: 1e-10,
+                periodic: true,
+            },
+        );
+        let real: Vec<_> = found.iter().filter(|r| r.residual.abs() <= 1e-10).collect();
+        assert_eq!(real.len(), 1, "{found:?}");
+        assert!((real[0].x - 0.5).abs() <= 1e-12);
     }
 }
