@@ -724,10 +724,8 @@ fn rsur() {
 /// so it is `±(x × (U − S))/|x × (U − S)|`: each ψ twice, once per sign.
 #[test]
 fn rsur_by_hand() {
-    let (model, solve) = load("rsur");
+    let (analysis, model) = common::example("rsur");
     let (a, b, l, d, e, h) = (40.0f64, 120.0f64, 160.0f64, 100.0f64, 40.0f64, 60.0f64);
-    let text = common::example_text("rsur").0;
-    let analysis = pkm::dsl::analyze_source(&text).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&analysis).unwrap();
     let coupler = model.links.iter().position(|l| l == "coupler").unwrap();
     let (r2, s1, u) = (
