@@ -680,3 +680,90 @@ fn rssr_coupler_spin_by_the_convention() {
         }
     }
 }
+
+/// The R-S-U-R: every joint point and every revolute's value (the U's two
+/// angles included: the coupler's points all lie on its S1–U1 line, which
+/// the U's two branches share) agree with Newton's from a start 1e-3 away.
+#[test]
+fn rsur() {
+    let (model, solve) = load("rsur");
+    let scale = kinematics::model_scale(&model);
+    let (offsets, _) = model.value_offsets();
+    let mut rng = SplitMix::new(0x5eed);
+    let (mut solved, mut worst_point, mut worst_angle) = (0, 0.0f64, 0.0f64);
+    for _ in 0..200 {
+        let q = [uniform(&mut rng, -PI, PI)];
+        for (signs, values, points) in solve(&model, &q) {
+            let guess: Vec<f64> = values.iter().map(|v| v + uniform(&mut rng, -1e-3, 1e-3)).collect();
+            let reference = newton::solve_fk(&model, &q, &guess, &NewtonOptions::default())
+                .unwrap_or_else(|e| panic!("rsur {q:?} {signs:?}: Newton failed: {e}"));
+            for (j, joint) in model.joints.iter().enumerate() {
+                let b = kinematics::joint_point(&model, &reference.poses, j);
+                let a = points[j];
+                let err = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+                assert!(err <= 1e-9 * scale, "rsur {q:?} {signs:?} joint {}: {err}", joint.name);
+                worst_point = worst_point.max(err / scale);
+                if joint.kind == pkm::runtime::model::JointType::R {
+                    let (a, b) = (values[offsets[j]], reference.values[offsets[j]]);
+                    let e = pkm::runtime::solution::wrap_angle(a - b).abs();
+                    assert!(e <= 1e-9, "rsur {q:?} {signs:?} {}: {a} vs Newton's {b}", joint.name);
+                    worst_angle = worst_angle.max(e);
+                }
+            }
+            solved += 1;
+        }
+    }
+    eprintln!("rsur: {solved} branches, worst point {worst_point:e} of the size, angle {worst_angle:e} rad");
+    assert!(solved >= 800, "rsur: only {solved} solved branches");
+}
+
+/// By hand: ψ as the RSSR's (the rocker's U centre at l from the crank's S
+/// centre, `rssr_by_hand`), and the U: its axis on the coupler (the
+/// coupler's z, drawn normal to its S1–U1 line) must stay normal to the
+/// rocker's axis x (the cross's two axes are normal) and to the S1–U1 line,
+/// so it is `±(x × (U − S))/|x × (U − S)|`: each ψ twice, once per sign.
+#[test]
+fn rsur_by_hand() {
+    let (analysis, model) = common::example("rsur");
+    let (a, b, l, d, e, h) = (40.0f64, 120.0f64, 160.0f64, 100.0f64, 40.0f64, 60.0f64);
+    let plan = pkm::dsl::planner::forward_plan(&analysis).unwrap();
+    let coupler = model.links.iter().position(|l| l == "coupler").unwrap();
+    let (r2, s1, u) = (
+        model.joints.iter().position(|j| j.name == "R2").unwrap(),
+        model.joints.iter().position(|j| j.name == "S1").unwrap(),
+        model.joints.iter().position(|j| j.name == "U1.a").unwrap(),
+    );
+    let (offsets, _) = model.value_offsets();
+    for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
+        let (s, c) = theta.sin_cos();
+        let (aa, bb) = (2.0 * b * (e - a * s), 2.0 * b * h);
+        let cc = l * l - (d - a * c).powi(2) - (e - a * s).powi(2) - h * h - b * b;
+        let (base, half) = (bb.atan2(aa), (cc / aa.hypot(bb)).acos());
+        let want = [base + half, base - half];
+        let branches = spatial::run_all(&model, &plan, &[theta]);
+        assert_eq!(branches.len(), 4, "θ = {theta}");
+        let mut seen = [[0usize; 2]; 2];
+        for (signs, r) in branches {
+            let sol = r.unwrap_or_else(|err| panic!("θ = {theta} {signs:?}: {err}"));
+            let psi = sol.model_values(&model)[offsets[r2]];
+            let root = want
+                .iter()
+                .position(|w| pkm::runtime::solution::wrap_angle(psi - w).abs() < 1e-13)
+                .unwrap_or_else(|| panic!("θ = {theta} {signs:?}: ψ {psi} vs {want:?}"));
+            let [sp, up] = [s1, u].map(|j| kinematics::joint_point(&model, &sol.poses, j));
+            let line = [up[0] - sp[0], up[1] - sp[1], up[2] - sp[2]];
+            // x × line, normalised.
+            let n = [0.0, -line[2], line[1]];
+            let len = n[1].hypot(n[2]);
+            let z = sol.poses[coupler].rotation * pkm::runtime::nalgebra::Vector3::z();
+            let plus = (z.x).abs() < 1e-13 && (z.y - n[1] / len).abs() < 1e-13 && (z.z - n[2] / len).abs() < 1e-13;
+            let minus = (z.x).abs() < 1e-13 && (z.y + n[1] / len).abs() < 1e-13 && (z.z + n[2] / len).abs() < 1e-13;
+            assert!(
+                plus || minus,
+                "θ = {theta} {signs:?}: the coupler's z {z:?} vs ±{n:?}/{len}"
+            );
+            seen[root][usize::from(minus)] += 1;
+        }
+        assert_eq!(seen, [[1, 1], [1, 1]], "θ = {theta}: each ψ once with each U sense");
+    }
+}

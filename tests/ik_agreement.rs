@@ -29,6 +29,7 @@ pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
+pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{
@@ -244,4 +245,11 @@ fn rssr() {
 #[test]
 fn rssp() {
     with_spheres!(Rssp, "rssp");
+}
+
+/// The R-S-U-R: every revolute's value (the U's two angles too) and every
+/// joint point of each of the four ik branches.
+#[test]
+fn rsur() {
+    with_spheres!(Rsur, "rsur");
 }

@@ -32,6 +32,7 @@ pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
+pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 const SAMPLES: usize = 100_000;
 const TOLERANCE: f64 = 1e-9;
@@ -286,4 +287,11 @@ fn rssr() {
 #[test]
 fn rssp() {
     round_trips!(Rssp, [(-PI, PI)], 200.0, never);
+}
+
+/// The spatial R-S-U-R: the crank turns fully; four branches each way (the
+/// rocker's or crank's two, the U's two). Its S joint has no one value.
+#[test]
+fn rsur() {
+    round_trips!(Rsur, [(-PI, PI)], 200.0, never);
 }

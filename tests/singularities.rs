@@ -614,3 +614,49 @@ fn cone_factor_is_the_sine_of_the_transmission_angle() {
         }
     }
 }
+
+/// The factor of two turns about meeting axes (`two_turns`), on the
+/// R-S-U-R's forward plan: the cosine between the normal of the U's two
+/// axes (the rocker's x and the coupler's z) and the line from the U
+/// centre to the crank's S centre. The coupler's z is normal to x and to
+/// that line d, so `x × z = ∓d⊥/|x × d̂|` (d⊥ normal to x) and the factor
+/// is `|d⊥|²/(|x × d̂|·l) = |x × d̂|`: the sine between the coupler and
+/// the rocker's axis, `√(l² − (a cos θ − d)²)/l` by hand (the S centre at
+/// x = a cos θ, the U centre at x = d), on all four branches; zero where
+/// the coupler lies along the U's rocker axis (the cross's gimbal lock).
+#[test]
+fn two_turns_factor_is_the_sine_between_coupler_and_rocker_axis() {
+    let (a, model) = common::example("rsur");
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let k = plan
+        .steps
+        .iter()
+        .position(|s| matches!(s, spatial::Step::TwoTurns { .. }))
+        .unwrap();
+    let (crank, l, d) = (40.0f64, 160.0f64, 100.0f64);
+    for theta in [-2.5, -1.0, 0.0, 0.7, 2.0, 3.1] {
+        let dx = crank * f64::cos(theta) - d;
+        let want = (l * l - dx * dx).sqrt() / l;
+        let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect();
+        assert_eq!(solved.len(), 4);
+        for sol in solved {
+            let f = singular::spatial_factors(&model, &plan, &sol.poses)
+                .into_iter()
+                .find(|f| f.step == k)
+                .unwrap();
+            let named = f.describe(&model, &sol.poses);
+            assert!(
+                (f.value - want).abs() < 1e-12,
+                "θ = {theta}: {named}: {} vs {want}",
+                f.value
+            );
+            assert!(
+                named.contains("S1 lies in the plane of the axes of U1.b and U1.a"),
+                "{named}"
+            );
+        }
+    }
+}

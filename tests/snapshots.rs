@@ -47,6 +47,7 @@ snapshots! {
     spr_3 => "Spr",
     rssr => "Rssr",
     rssp => "Rssp",
+    rsur => "Rsur",
     upu_3 => "Upu",
     ups_6 => "Ups",
     rps_3_tilt => "RpsTilt",

@@ -15,6 +15,7 @@ pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
+pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 type Interpreted = Vec<(Vec<Sign>, Result<Solution, SolveError>)>;
 
@@ -169,4 +170,9 @@ fn rssr_generated_equals_interpreted() {
 #[test]
 fn rssp_generated_equals_interpreted() {
     with_spheres!(Rssp, RsspSolution, "rssp");
+}
+
+#[test]
+fn rsur_generated_equals_interpreted() {
+    with_spheres!(Rsur, RsurSolution, "rsur");
 }

@@ -3,9 +3,9 @@
 //! moving (sphere_link's generalised match): the R-S-U-R four-bar's rocker
 //! from its crank (the U centre at l from the S centre) and its crank from
 //! its rocker (the S centre at l from the U centre), against the RSSR-style
-//! closed form by hand. The fixture's plans stop after that step (the U's
-//! cross needs a step of its own), so the steps the planner finds are run
-//! one by one.
+//! closed form by hand. The steps the planner finds (the sphere, then the
+//! U's two turns, `two_turns` and an aim) are run one by one, the sphere's
+//! root chosen, the U's the `+` one.
 
 mod common;
 
@@ -24,10 +24,10 @@ const D: f64 = 100.0;
 const E: f64 = 40.0;
 const H: f64 = 60.0;
 
-/// The fixture's model and its steps with joint `given` given (value 0):
-/// every step the planner finds before it stops.
+/// The example's model and its steps with joint `given` given (value 0):
+/// every step the planner finds.
 fn steps_given(given: &str) -> (pkm::runtime::model::Model, Vec<Step>) {
-    let text = std::fs::read_to_string(common::root().join("tests/fixtures/rsur.pkm")).unwrap();
+    let text = common::example_text("rsur").0;
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, "rsur.pkm")));
     let model = pkm::dsl::numeric::model(&a, &Default::default()).unwrap();
     let mut g = vec![None; model.joints.len()];
@@ -56,7 +56,7 @@ fn run(model: &pkm::runtime::model::Model, steps: &[Step], v: f64, sign: Sign) -
         values: vec![None; model.joints.len()],
     };
     let name = |_: usize| Cow::Borrowed("");
-    let signs = [sign];
+    let signs = [sign, Sign::Plus];
     let given = Given {
         values: &[v],
         signs: &signs,
@@ -171,7 +171,7 @@ fn the_crank_meets_the_sphere_about_the_u_centre() {
             let name = |_: usize| Cow::Borrowed("");
             let given = Given {
                 values: &[psi],
-                signs: &[Sign::Plus],
+                signs: &[Sign::Plus, Sign::Plus],
                 name: &name,
                 sites: 0,
             };

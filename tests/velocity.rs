@@ -10,6 +10,7 @@ mod common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;
+use pkm::runtime::primitives::Sign::{Minus, Plus};
 use pkm::runtime::velocity;
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -31,6 +32,7 @@ pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
 pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
+pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 /// A five-point stencil's derivative (first or second, error O(h⁴)) from
 /// samples at −2h, −h, 0, h, 2h.
@@ -246,9 +248,8 @@ fn generated_point_velocities_and_accelerations() {
 /// output's rate. The S joints' own rates carry the spin the equations
 /// choose (least squares), which no difference of positions sees.
 macro_rules! with_spheres {
-    ($ty:ident, $sol:ident, $file:expr) => {{
+    ($ty:ident, $sol:ident, $file:expr, $signs:expr) => {{
         use pkm::runtime::model::JointType;
-        use pkm::runtime::primitives::Sign;
         let (a, model) = common::example($file);
         let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
@@ -260,8 +261,8 @@ macro_rules! with_spheres {
         let (mut checked, mut worst_v, mut worst_a) = (0, 0.0f64, 0.0f64);
         for _ in 0..50 {
             let (q, qd, qdd) = (PI * rng.symmetric(), rng.symmetric(), rng.symmetric());
-            assert_eq!(plan.branches, 1);
-            for signs in [[Sign::Plus], [Sign::Minus]] {
+            for signs in $signs {
+                assert_eq!(plan.branches, signs.len());
                 let s: Vec<$sol> = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0]
                     .iter()
                     .map(|k| {
@@ -321,12 +322,24 @@ macro_rules! with_spheres {
 
 #[test]
 fn rssr() {
-    with_spheres!(Rssr, RssrSolution, "rssr");
+    with_spheres!(Rssr, RssrSolution, "rssr", [[Plus], [Minus]]);
 }
 
 #[test]
 fn rssp() {
-    with_spheres!(Rssp, RsspSolution, "rssp");
+    with_spheres!(Rssp, RsspSolution, "rssp", [[Plus], [Minus]]);
+}
+
+/// The R-S-U-R's four branches: the U's two angles' rates (the coupler's
+/// spin, which no point on its S1–U1 line shows) against differences too.
+#[test]
+fn rsur() {
+    with_spheres!(
+        Rsur,
+        RsurSolution,
+        "rsur",
+        [[Plus, Plus], [Minus, Plus], [Plus, Minus], [Minus, Minus]]
+    );
 }
 
 /// The interpreted solution of `plan` at crank angle `q` on the branch `signs`.

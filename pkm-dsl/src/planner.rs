@@ -75,7 +75,9 @@ pub(crate) fn solve(
                 format!(
                     "no closed-form {what} plan: links {} are not reached by the step catalogue \
                      (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder, \
-                     guide through a point, point beyond a given joint, slide onto a line)",
+                     guide through a point, point beyond a given joint, slide onto a line, axes through one \
+                     centre, a link between known spherical centres, a plane through a point, two turns \
+                     about meeting axes)",
                     left.join(", ")
                 ),
             )

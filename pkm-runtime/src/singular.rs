@@ -62,6 +62,10 @@ pub enum Condition {
     /// The axes of `points[0]`, `points[1]`, `points[2]`, through one
     /// centre, lie in one plane (a spherical RRR dyad folded).
     Coplanar,
+    /// The line from the point where the axes of `points[0]` and
+    /// `points[1]` meet to `points[2]` lies in the plane of the two axes
+    /// (two turns about meeting axes: the two roots meet).
+    InAxesPlane,
 }
 
 /// One step's factor at a configuration.
@@ -99,6 +103,7 @@ impl Factor {
             Condition::NormalToGuide => format!("{a}{b} is normal to the guide of {c}"),
             Condition::SlideAlongLine => format!("{j} slides along the line {b} must meet ({c})"),
             Condition::Coplanar => format!("the axes of {a}, {b}, {c} lie in one plane"),
+            Condition::InAxesPlane => format!("{c} lies in the plane of the axes of {a} and {b}"),
         }
     }
 }

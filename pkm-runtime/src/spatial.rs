@@ -24,6 +24,10 @@
 //! * the plane a revolute of the new link and a slide beyond it sweep must
 //!   contain a known point ([`Step::PlaneThrough`]: a U's first half in a
 //!   leg whose two ends are known).
+//! * two revolutes in series, their axes meeting at a point, must carry a
+//!   point of the link beyond the second to a known position
+//!   ([`Step::TwoTurns`]: IK-Geo's subproblem 2, a U's first half when the
+//!   link beyond it reaches a known point).
 //!
 //! The constraints come from the rest of the mechanism through "anchors":
 //! chains of joints at value 0 that provably do not move the anchored point
@@ -410,6 +414,27 @@ pub enum Step {
         /// through the turning axis, its two roots are one plane).
         branch: Option<usize>,
     },
+    /// A revolute's angle that turns the new link until the revolute
+    /// `across` of it, whose axis meets the turning axis at `across`'s
+    /// place, can turn the link beyond onto the anchored position of
+    /// `point` (on that link): the first angle of IK-Geo's subproblem 2
+    /// ([`crate::steps::two_turns`]); the second is the aim that follows.
+    TwoTurns {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The second revolute, of `to`.
+        across: usize,
+        /// The point on the link beyond `across`.
+        point: PointRef,
+        /// Where it is known.
+        target: Anchor,
+        /// This step's index in the sign vector (it always branches).
+        branch: usize,
+    },
 }
 
 /// A spatial plan.
@@ -460,6 +485,7 @@ impl Step {
             | Step::PaPlane { from, target, .. }
             | Step::Guide { from, target, .. }
             | Step::PlaneThrough { from, target, .. }
+            | Step::TwoTurns { from, target, .. }
             | Step::Rod { from, target, .. } => *from == link || target.link == link,
             Step::Align {
                 from, group, target, ..
@@ -523,6 +549,10 @@ impl Step {
             }
             Step::Rod { other, target, .. } => {
                 add(*other);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
+            Step::TwoTurns { across, target, .. } => {
+                add(*across);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
             Step::PlaneThrough {
@@ -594,7 +624,8 @@ impl Step {
             | Step::SlideToLine { joint, .. }
             | Step::Cone { joint, .. }
             | Step::Rod { joint, .. }
-            | Step::PlaneThrough { joint, .. } => Some(*joint),
+            | Step::PlaneThrough { joint, .. }
+            | Step::TwoTurns { joint, .. } => Some(*joint),
         }
     }
 }

@@ -8,8 +8,10 @@
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
 //! [`slide_to_line`], [`on_cone`], [`sphere_link`] (a link with a spherical joint: the
 //! sphere about its centre, an S–S link's placing), [`plane_through`] (a U's first
-//! half in a leg with both ends known), [`parasitic`] (a pose given in part: the planner's start, not
-//! in `FIND_ORDER`), and the four loci a
+//! half in a leg with both ends known), [`two_turns`] (two revolutes whose axes meet
+//! carrying a point to a known one: IK-Geo's subproblem 2, a U's first half before a
+//! link that reaches a known point), [`parasitic`] (a pose given in part: the
+//! planner's start, not in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
@@ -39,6 +41,7 @@ pub mod search;
 pub mod slide_to_line;
 pub mod sphere_link;
 pub mod transfer;
+pub mod two_turns;
 
 use crate::frame::Frame;
 use crate::model::{JointType, Place};
@@ -506,6 +509,7 @@ pub fn execute<T: Scalar>(
         | Step::Cone { joint, from, to, .. }
         | Step::Rod { joint, from, to, .. }
         | Step::PlaneThrough { joint, from, to, .. }
+        | Step::TwoTurns { joint, from, to, .. }
         | Step::Locus { joint, from, to, .. } => (joint, from, to),
     };
     let mv = Move {
@@ -551,6 +555,13 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => plane_through::execute(&mv, *across, *slide, *point, target, *branch)?,
+        Step::TwoTurns {
+            across,
+            point,
+            target,
+            branch,
+            ..
+        } => two_turns::execute(&mv, *across, *point, target, *branch)?,
         Step::Locus {
             point,
             constraint,
@@ -776,10 +787,14 @@ pub fn check_residual<T: Scalar>(
 /// dyad), a link with a spherical joint (an S–S link placed between its
 /// two known centres, or the sphere about a known centre that a point of
 /// the link keeps met by a point of the new link, [`sphere_link::find`]),
-/// and last a revolute turning the plane a revolute and a slide beyond it
-/// sweep through a known point (a U's first half in a U-P-S or U-P-U leg,
-/// [`plane_through::find`]).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 12] = [
+/// a revolute turning the plane a revolute and a slide beyond it sweep
+/// through a known point (a U's first half in a U-P-S or U-P-U leg,
+/// [`plane_through::find`]), and last two revolutes whose axes meet
+/// carrying a point of the link beyond the second to a known point (the
+/// first angle of IK-Geo's subproblem 2: a U's first half before a link
+/// that reaches a known point, [`two_turns::find`]; tried last so that
+/// plans that need none are unchanged).
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 13] = [
     transfer::find,
     aim::find,
     align::find,
@@ -792,6 +807,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 12] = [
     on_cone::find,
     sphere_link::find,
     plane_through::find,
+    two_turns::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -943,6 +959,14 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             target,
             ..
         } => plane_through::factor(at, k, *joint, *from, *to, *across, *slide, target),
+        Step::TwoTurns {
+            joint,
+            from,
+            to,
+            across,
+            target,
+            ..
+        } => two_turns::factor(at, k, *joint, *from, *to, *across, target),
         Step::Locus {
             joint,
             from,
