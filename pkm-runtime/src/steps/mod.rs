@@ -8,7 +8,8 @@
 //! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
 //! [`slide_to_line`], [`on_cone`], [`sphere_link`] (a link with a spherical joint: the
 //! sphere about its centre, an S–S link's placing), [`plane_through`] (a U's first
-//! half in a leg with both ends known), [`parasitic`] (a pose given in part: the planner's start, not
+//! half in a leg with both ends known), [`parasitic`] (a pose given in part, from limbs
+//! that hold a point on a plane either way round: the planner's start, not
 //! in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
