@@ -235,9 +235,7 @@ fn distance(hand: &(V3, M3, [f64; 3]), found: &[(V3, M3, [f64; 3])]) -> f64 {
             let mut e = norm(sub(*o, hand.0)) / RB;
             for i in 0..3 {
                 e = e.max((legs[i] - hand.2[i]).abs() / RB);
-                for j in 0..3 {
-                    e = e.max((r[i][j] - hand.1[i][j]).abs());
-                }
+                e = r[i].iter().zip(&hand.1[i]).fold(e, |e, (a, b)| e.max((a - b).abs()));
             }
             e
         })
