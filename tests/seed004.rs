@@ -469,3 +469,22 @@ fn numeric_fk_from_home_recovers_the_hand_pose() {
         assert_eq!(converged, 1000, "{name}: worst {worst:e}");
     }
 }
+
+/// The 3-SPR given z, rx and rz (x, y and ry left to it): with ry free the
+/// rows of its limbs' planes are not linear in the free coordinates, and
+/// the planner refuses with a message naming them instead of planning.
+#[test]
+fn held_limbs_refuse_a_free_ry() {
+    let (text, path) = common::example_text("spr_3");
+    let bad = text.replace(
+        "ZA, alpha, beta = pose (z, rx, ry)",
+        "ZA, alpha, gamma = pose (z, rx, rz)",
+    );
+    assert_ne!(bad, text, "{path}: the outputs line moved");
+    let a = pkm::dsl::analyze_source(&bad).unwrap_or_else(|d| panic!("{}", d.render(&bad, &path)));
+    let e = pkm::dsl::planner::inverse_plan(&a).unwrap_err().render(&bad, &path);
+    assert!(
+        e.contains("leave x, y, ry to the mechanism") && e.contains("rz free"),
+        "{e}"
+    );
+}
