@@ -6,6 +6,10 @@ mod common;
 
 fn expansion(file: &str, type_name: &str) -> String {
     let (text, _) = common::example_text(file);
+    expansion_of(&text, type_name)
+}
+
+fn expansion_of(text: &str, type_name: &str) -> String {
     let input: proc_macro2::TokenStream = format!("pub {type_name}, {text:?}").parse().unwrap();
     let tokens = pkm::dsl::expand(input).unwrap();
     prettyplease::unparse(&syn::parse_file(&tokens.to_string()).unwrap())
@@ -73,7 +77,14 @@ fn pay_for_what_you_use() {
     assert!(!four_bar.contains("fn jacobian(") && !four_bar.contains("fn model("));
     let a = expansion("seed000_a", "SeedA");
     assert!(a.contains("pub fn jacobian(") && a.contains("pub fn velocity(") && a.contains("pub fn acceleration("));
-    // Analysis only (3-RPS: `ik` without geometry generates nothing yet): no function at all.
-    let analysis = expansion("rps_3", "Rps");
+    // Analysis only (a 3-RPS's topology: `ik` without geometry generates nothing yet): no function at all.
+    let analysis = expansion_of(
+        "mechanism rps { capabilities ik;
+             branch A { base R1 ⊥ P1* - S1 platform; }
+             branch B { base R2 ⊥ P2* - S2 platform; }
+             branch C { base R3 ⊥ P3* - S3 platform; }
+             z ⊥ R1; z ⊥ R2; z ⊥ R3; }",
+        "Rps",
+    );
     assert!(!analysis.contains("fn "), "{analysis}");
 }

@@ -301,7 +301,23 @@ fn options_out_of_range() {
         },
         "--param d: parameter d is given twice",
     );
-    check("rps_3", ReportOptions { nodes: Some(10), ..o() }, "has no geometry");
+    // A 3-RPS's topology alone.
+    let topology_only = "mechanism rps { capabilities ik;\n\
+         branch A { base R1 ⊥ P1* - S1 platform; }\n\
+         branch B { base R2 ⊥ P2* - S2 platform; }\n\
+         branch C { base R3 ⊥ P3* - S3 platform; }\n\
+         z ⊥ R1; z ⊥ R2; z ⊥ R3; }";
+    let out = out_dir("errors");
+    let e = write_report(
+        topology_only,
+        "rps.pkm",
+        &ReportOptions { nodes: Some(10), ..o() },
+        &out,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("has no geometry") && e.starts_with("error: "), "{e}");
+    let _ = std::fs::remove_dir_all(out);
     // A --compare file's own errors: its path, line and column, on one line.
     let broken = std::env::temp_dir().join(format!("pkm-report-test-{}-broken.pkm", std::process::id()));
     std::fs::write(&broken, "mechanism b { planar;\n base R1* ∥ R2 R3 base; }").unwrap();

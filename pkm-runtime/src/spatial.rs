@@ -479,7 +479,9 @@ impl Step {
     pub fn reads(&self, link: usize) -> bool {
         match self {
             Step::Place { .. } => false,
-            Step::Parasitic { limbs, .. } => limbs.iter().any(|l| l.normal.link == link || l.anchor.link == link),
+            Step::Parasitic { limbs, .. } => limbs
+                .iter()
+                .any(|l| l.normal.link == link || l.anchor.link == link || l.known == Some(link)),
             Step::Transfer { from, .. } => *from == link,
             Step::Aim { from, target, .. }
             | Step::PaPlane { from, target, .. }

@@ -10,8 +10,9 @@
 //! sphere about its centre, an S–S link's placing), [`plane_through`] (a U's first
 //! half in a leg with both ends known), [`two_turns`] (two revolutes whose axes meet
 //! carrying a point to a known one: IK-Geo's subproblem 2, a U's first half before a
-//! link that reaches a known point), [`parasitic`] (a pose given in part: the
-//! planner's start, not in `FIND_ORDER`), and the four loci a
+//! link that reaches a known point), [`parasitic`] (a pose given in part, from limbs
+//! that hold a point on a plane either way round: the planner's start, not
+//! in `FIND_ORDER`), and the four loci a
 //! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
 //! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
 //! the locus step's own match and factor are here). Every kernel is written
