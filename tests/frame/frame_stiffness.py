@@ -358,7 +358,7 @@ RB, RA, H = 100.0, 80.0, 75.0                      # mm
 E_SEED, I_SEED = 2.11e11, 1.256e-7                 # N/m², m⁴ (seed 004 §2)
 D_LEG = 0.040                                      # m: a solid round leg with that I
 A_SEED = math.pi * D_LEG**2 / 4                    # 1.2566e-3 m²
-POSES = [("I", 0.0, 0.0, 75.0), ("II", 10.0, 5.0, 80.0), ("III", -8.0, 12.0, 70.0)]  # (α°, β°, z mm)
+POSES = [("I", 0.0, 0.0, 75.0), ("II", 10.0, 0.0, 75.0), ("III", 5.0, 10.0, 80.0)]  # (α°, β°, z mm): docs/seed004.md's three poses
 
 
 def rot(alpha, beta, gamma):
