@@ -380,13 +380,14 @@ fn leg_stiffness(
     };
     let (section, direct) = (written(&SECTION), written(&DIRECT));
     if let (Some(s), Some(d)) = (section.first(), direct.first()) {
-        let later = if s.span.start < d.span.start { d } else { s };
+        // In the order written, at the later.
+        let (first, later) = if s.span.start < d.span.start { (s, d) } else { (d, s) };
         errors.push(
             Diagnostic::new(
                 later.span,
                 format!(
                     "`{}` and `{}` in one limb: give its leg either by `E`, `A` and `I` or by `axial` and `bending`",
-                    s.text, d.text
+                    first.text, later.text
                 ),
             )
             .label("mixed"),
@@ -722,7 +723,7 @@ units { length = mm; mass = kg; } limbs { R1 { axial = 1; bending = 2; } } }",
             &[(
                 7,
                 30,
-                "`E` and `axial` in one limb: give its leg either by `E`, `A` and `I` or by `axial` and `bending`",
+                "`axial` and `E` in one limb: give its leg either by `E`, `A` and `I` or by `axial` and `bending`",
             )],
         );
         check(
