@@ -17,6 +17,9 @@ pub struct Analysis {
     pub geometry: crate::geometry::Geometry,
     /// Units, mass properties, gravity and loads.
     pub mass_and_loads: crate::mass_and_loads::MassAndLoads,
+    /// The declared limbs' properties for the stiffness model, checked, in
+    /// branch order (only the branches given in `limbs { … }`).
+    pub limbs: Vec<crate::limb_properties::Limb>,
 }
 
 impl Analysis {
@@ -193,7 +196,8 @@ pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
     let mechanism = crate::mechanism::build(&ast)?;
     let geometry = crate::geometry::build(&ast, &mechanism);
     let topology = crate::topology::analyze(&mechanism);
-    // Mass properties and loads read the geometry's parameters and points.
+    // Mass properties, loads and limb properties read the geometry's
+    // parameters and points; their errors are reported together.
     let geometry = geometry.and_then(|g| {
         let declared = crate::mass_and_loads::Declared {
             units: &ast.units,
@@ -201,15 +205,25 @@ pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
             gravity: &ast.gravity,
             loads: &ast.loads,
         };
-        crate::mass_and_loads::resolve(declared, &mechanism, &g).map(|d| (g, d))
+        let masses = crate::mass_and_loads::resolve(declared, &mechanism, &g);
+        let limbs = crate::limb_properties::check(&ast.limbs, !ast.units.is_empty(), &mechanism, &g);
+        match (masses, limbs) {
+            (Ok(d), Ok(l)) => Ok((g, d, l)),
+            (Err(mut e), Err(f)) => {
+                e.0.extend(f.0);
+                Err(e)
+            }
+            (Err(e), _) | (_, Err(e)) => Err(e),
+        }
     });
     // Report geometry and topology errors together.
     match (geometry, topology) {
-        (Ok((geometry, mass_and_loads)), Ok(topology)) => Ok(Analysis {
+        (Ok((geometry, mass_and_loads, limbs)), Ok(topology)) => Ok(Analysis {
             mechanism,
             topology,
             geometry,
             mass_and_loads,
+            limbs,
         }),
         (Err(mut g), Err(t)) => {
             g.0.extend(t.0);

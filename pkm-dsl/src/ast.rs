@@ -80,6 +80,8 @@ pub struct MechanismAst {
     pub gravity: Vec<crate::mass_and_loads::Value>,
     /// The loads of `loads { … }` blocks.
     pub loads: Vec<crate::mass_and_loads::LoadDecl>,
+    /// `limbs { … }` blocks: their entries and the block's span.
+    pub limbs: Vec<(Vec<crate::limb_properties::LimbDecl>, Span)>,
 }
 
 /// `x, y, phi = pose of platform at o;` or `psi = joint R4;`.

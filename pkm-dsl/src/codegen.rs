@@ -123,12 +123,30 @@ fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
     first
 }
 
-/// What the requested capabilities need of the topology.
+/// What the requested capabilities need of the topology, and which are
+/// not implemented yet (with what they will need, so that a file can be
+/// made ready for them).
 pub fn check_capabilities(a: &Analysis) -> Diagnostics {
     let mut errors = Diagnostics::default();
     let m = &a.mechanism;
     let t = &a.topology;
     for (cap, span) in &m.capabilities {
+        if !cap.implemented() {
+            errors.push(
+                Diagnostic::new(
+                    *span,
+                    format!(
+                        "capability `{}` is not implemented yet; implemented: {}",
+                        cap.name(),
+                        Capability::implemented_names()
+                    ),
+                )
+                .label("not implemented"),
+            );
+        }
+        if *cap == Capability::Stiffness {
+            stiffness_needs(a, *span, &mut errors);
+        }
         if *cap == Capability::Workspace && !m.wants(Capability::Fk) && !m.wants(Capability::Ik) {
             errors.push(
                 Diagnostic::new(
@@ -205,6 +223,53 @@ fn dynamics_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Dia
             )
             .label("links without mass")
             .note("give each a `mass` and `centroid` in `masses`, or declare it `massless`"),
+        );
+    }
+}
+
+/// What `stiffness` needs: the file's units, and every limb's properties
+/// in `limbs { … }` (its limbs are the file's branches, each reaching the
+/// platform; a mechanism without branches has none to stiffen).
+fn stiffness_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Diagnostics) {
+    let m = &a.mechanism;
+    if a.mass_and_loads.units.is_none() {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`stiffness` needs the file's units: `units { length = mm; mass = kg; }`",
+            )
+            .label("no `units`"),
+        );
+    }
+    if m.branches.is_empty() {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`stiffness` needs the mechanism's limbs: write each leg as `branch NAME { … }` from the base to the platform",
+            )
+            .label("no branches"),
+        );
+        return;
+    }
+    let missing: Vec<&str> = m
+        .branches
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !a.limbs.iter().any(|l| l.branch == *i))
+        .map(|(_, b)| b.name.as_str())
+        .collect();
+    if !missing.is_empty() {
+        errors.push(
+            Diagnostic::new(
+                span,
+                format!(
+                    "`stiffness` needs every limb's properties: {} ha{} none",
+                    missing.join(", "),
+                    if missing.len() == 1 { "s" } else { "ve" }
+                ),
+            )
+            .label("limbs without properties")
+            .note("give each branch its leg's `E`, `A` and `I`, or `axial` and `bending`, in `limbs { … }`"),
         );
     }
 }
@@ -486,6 +551,63 @@ mod tests {
         check(
             "fk_numeric",
             &["`fk_numeric` is for κ > 0: this mechanism has κ = 0, request `fk`"],
+        );
+    }
+
+    /// What `check_capabilities` says of a whole text: line, column and message of each error.
+    fn check_text(text: &str, want: &[(usize, usize, &str)]) {
+        let a = crate::analyze_source(text).unwrap();
+        let got: Vec<(usize, usize, String)> = super::check_capabilities(&a)
+            .0
+            .into_iter()
+            .map(|d| {
+                let (l, c) = d.span.map_or((0, 0), |s| s.line_col(text));
+                (l, c, d.message)
+            })
+            .collect();
+        let want: Vec<(usize, usize, String)> = want.iter().map(|&(l, c, m)| (l, c, m.to_string())).collect();
+        assert_eq!(got, want, "{text}");
+    }
+
+    #[test]
+    fn stiffness_is_refused_with_what_it_needs() {
+        let not_yet = "capability `stiffness` is not implemented yet; implemented: \
+                       analysis, fk, ik, jacobian, velocity, acceleration, workspace, dynamics, fk_numeric";
+        // A four-bar: no units, and no branches to be limbs.
+        check_text(
+            "mechanism m {\n    capabilities fk, stiffness;\n    planar; base R1* ∥ R2 ∥ R3 ∥ R4 base; }",
+            &[
+                (2, 22, not_yet),
+                (2, 22, "`stiffness` needs the file's units: `units { length = mm; mass = kg; }`"),
+                (
+                    2,
+                    22,
+                    "`stiffness` needs the mechanism's limbs: write each leg as `branch NAME { … }` from the base to the platform",
+                ),
+            ],
+        );
+        let rps = |limbs: &str| {
+            format!(
+                "mechanism m {{
+    capabilities stiffness;
+    branch A {{ base R1 ⊥ P1* - S1 platform; }}
+    branch B {{ base R2 ⊥ P2* - S2 platform; }}
+    branch C {{ base R3 ⊥ P3* - S3 platform; }}
+    units {{ length = mm; mass = kg; }}
+    {limbs} }}"
+            )
+        };
+        check_text(
+            &rps("limbs { A { axial = 1; bending = 2; } }"),
+            &[
+                (2, 18, not_yet),
+                (2, 18, "`stiffness` needs every limb's properties: B, C have none"),
+            ],
+        );
+        // Everything it will need is there: only the refusal.
+        check_text(
+            &rps("limbs { A, B { axial = 1; bending = 2; } C { E = 1; A = 1; I = 1; } }"),
+            &[(2, 18, not_yet)],
         );
     }
 

@@ -228,6 +228,20 @@ impl Expr {
         }
     }
 
+    /// Whether the expression reads no parameter (`pi` is a constant): its
+    /// value is the same for every parameter set.
+    ///
+    /// ```
+    /// use pkm_dsl::expr::Expr;
+    /// assert!(Expr::Num(2.0).is_constant());
+    /// assert!(!Expr::Var("l".into(), pkm_dsl::Span::default()).is_constant());
+    /// ```
+    pub fn is_constant(&self) -> bool {
+        let mut names = Vec::new();
+        self.names(&mut names);
+        names.is_empty()
+    }
+
     /// Every parameter name the expression reads (not `pi`), with repeats.
     fn names<'a>(&'a self, out: &mut Vec<&'a str>) {
         match self {

@@ -10,6 +10,7 @@ pub mod ast;
 pub mod diagnostics;
 pub mod expr;
 pub mod geometry;
+pub mod limb_properties;
 pub mod limits;
 pub mod mass_and_loads;
 mod parser;

@@ -354,6 +354,7 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::kw_loads
         | Rule::kw_force
         | Rule::kw_moment => crate::mass_and_loads::rule_name(r),
+        Rule::limbs_stmt | Rule::limb_entry | Rule::limb_item | Rule::kw_limbs => crate::limb_properties::rule_name(r),
     }
 }
 
@@ -409,6 +410,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         masses: Vec::new(),
         gravity: Vec::new(),
         loads: Vec::new(),
+        limbs: Vec::new(),
     };
     for stmt in inner {
         match stmt.as_rule() {
@@ -457,6 +459,10 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
             }
             Rule::gravity_stmt => ast.gravity.push(crate::mass_and_loads::build_gravity(stmt)),
             Rule::loads_stmt => ast.loads.extend(crate::mass_and_loads::build_loads(stmt)),
+            Rule::limbs_stmt => {
+                let span = span_of(&stmt);
+                ast.limbs.push((crate::limb_properties::build_limbs(stmt), span));
+            }
             Rule::outputs_stmt => ast.outputs.extend(
                 stmt.into_inner()
                     .filter(|p| p.as_rule() == Rule::output)
