@@ -454,7 +454,8 @@ pub fn analyse(
 }
 
 /// [`analyse`] from the link poses and the per-joint values (one per joint,
-/// as [`crate::spatial::Solution::values`]; only a parallelogram's is read).
+/// as [`crate::spatial::Solution::values`]; only a parallelogram's is read,
+/// and an S joint's, which has no one value, need not be finite).
 pub fn analyse_poses(
     model: &Model,
     poses: &[Isometry3<f64>],
@@ -480,7 +481,8 @@ pub fn analyse_poses(
     }) {
         return Err(bad(format!("the pose of link {} is not finite", model.links[l])));
     }
-    if let Some(j) = values.iter().position(|v| !v.is_finite()) {
+    // An S joint has no one value (the interpreter leaves it NaN): not read.
+    if let Some(j) = (0..values.len()).find(|&j| model.joints[j].kind != JointType::S && !values[j].is_finite()) {
         return Err(bad(format!(
             "the value of joint {} is not finite",
             model.joints[j].name
