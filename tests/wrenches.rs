@@ -483,3 +483,57 @@ fn rows_are_reproducible() {
         ));
     }
 }
+
+/// The 3-RPS with its platform in the base plane (z = 0, untilted, the
+/// parasitic turn's root rz = 0: each ball radially inside its revolute):
+/// every leg lies in that plane, so every actuation and constraint wrench
+/// is a force in it. The three constraint forces (tangent, through the
+/// balls) span the 3 = 6 − 3 directions they must (x, y, about z), and the
+/// legs' forces add nothing out of the plane: the platform rises with its
+/// actuators locked, an actuation singularity; typed, not a NaN. Above the
+/// plane, by hand: leg i runs from (200 cos θᵢ, 200 sin θᵢ, 0) to
+/// (100 cos θᵢ, 100 sin θᵢ, z), q = √(100² + z²), its force's z part z/q;
+/// the tangent constraint forces have none, and every coupling of z with
+/// the other five directions sums cos θᵢ or sin θᵢ over the three legs,
+/// which is 0; so the directional stiffness along z at the centre is
+/// K_zz = 3·(E·A/q)·(z/q)².
+#[test]
+fn rps_in_the_base_plane_is_an_actuation_singularity() {
+    let (a, model) = common::example("rps_3_tilt");
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let p = platform(&model);
+    let solve = |z: f64| {
+        spatial::run_all(&model, &plan, &[z, 0.0, 0.0])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .find(|s| {
+                model
+                    .inputs()
+                    .iter()
+                    .all(|&j| (s.values[j] - 100f64.hypot(z)).abs() < 1e-9)
+            })
+            .unwrap_or_else(|| panic!("no branch with legs of {} at z = {z}", 100f64.hypot(z)))
+    };
+    let e = wrench::analyse(&model, &solve(0.0), p).unwrap_err();
+    assert!(
+        matches!(e, wrench::WrenchError::ActuationSingularity { limb: None, .. }),
+        "{e}"
+    );
+    let section = Section::solid_round(2.11e5, 40.0);
+    let Section::Beam { e, area, .. } = section else {
+        unreachable!()
+    };
+    let props = [LimbProperties {
+        section,
+        actuator: None,
+    }];
+    for z in [1e-3, 1.0, 10.0, 100.0] {
+        let an = wrench::analyse(&model, &solve(z), p).unwrap();
+        let st = stiffness::stiffness(&an, &props).unwrap();
+        let kz = st.directional([0.0, 0.0, z]).unwrap()[2];
+        let q = 100f64.hypot(z);
+        let hand = 3.0 * e * area / q * (z / q).powi(2);
+        eprintln!("rps_3_tilt: k_z at the centre, z = {z}: {kz:e} N/mm, by hand {hand:e}");
+        assert!((kz - hand).abs() <= 1e-9 * hand, "z = {z}: {kz:e}, by hand {hand:e}");
+    }
+}

@@ -371,8 +371,8 @@ mod tests {
 
     /// Seed 004's SI values in N, mm: E = 2.11·10¹¹ N/m² = 2.11·10⁵ N/mm²,
     /// I = 1.256·10⁻⁷ m⁴ = 1.256·10⁵ mm⁴, A = 1.2566·10⁻³ m² = 1256.6 mm²;
-    /// a solid round bar of d = 40 mm has A = 400π = 1256.64 mm² and
-    /// I = 40⁴π/64 = 125 663.7 mm⁴.
+    /// a solid round bar of d = 40 mm has A = π·20² = 400π = 1256.64 mm²
+    /// and I = π·40⁴/64 = 40 000π = 125 663.7 mm⁴.
     #[test]
     fn units() {
         let Section::Beam { e, area, inertia } = Section::from_si(2.11e11, 1.2566e-3, 1.256e-7, 1e-3) else {
@@ -382,8 +382,8 @@ mod tests {
         let Section::Beam { area, inertia, .. } = Section::solid_round(2.11e5, 40.0) else {
             unreachable!()
         };
-        assert!(close(area, 1256.637_061_435_917, 1e-15));
-        assert!(close(inertia, 125_663.706_143_591_7, 1e-15));
+        assert!(close(area, 400.0 * std::f64::consts::PI, 1e-15));
+        assert!(close(inertia, 40_000.0 * std::f64::consts::PI, 1e-15));
     }
 
     /// The home 3-RPS (legs vertical, length h, balls at radius r, platform
