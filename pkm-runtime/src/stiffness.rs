@@ -151,7 +151,8 @@ pub enum StiffnessError {
         /// What.
         what: &'static str,
     },
-    /// `K` is singular: σ its smallest eigenvalue over its largest (scaled).
+    /// `K` is singular: its smallest eigenvalue over its largest
+    /// (translations in units of the model's size) is at most [`K_SINGULAR`].
     Singular {
         /// λ_min/λ_max.
         ratio: f64,

@@ -1,6 +1,6 @@
 //! Wrench analysis at a solved configuration: each limb's actuation and
 //! constraint wrenches, found as null spaces of its joints' twists under the
-//! reciprocal product, and their stack, the 6×m wrench Jacobian `J`
+//! reciprocal product, and their stack, the m×6 wrench Jacobian `J`
 //! (docs/stiffness.md).
 //!
 //! # Conventions
@@ -703,6 +703,64 @@ pub(crate) mod tests {
             points: vec![],
         };
         (model, poses, values)
+    }
+
+    /// The 3-SPR at its home pose: as [`home_rps`] with each leg turned
+    /// over, the ball on the base at (r cos θᵢ, r sin θᵢ, 0), the slide
+    /// along z, the revolute (axis tangent) at height h on the platform.
+    fn home_spr(r: f64, h: f64) -> (Model, Vec<Isometry3<f64>>, Vec<f64>) {
+        let (mut model, poses, values) = home_rps(r, h);
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let at = [r * t.cos(), r * t.sin(), 0.0];
+            let axis = [-t.sin(), t.cos(), 0.0];
+            let (a1, a2) = (1 + 2 * i, 2 + 2 * i);
+            model.joints[3 * i] = Joint {
+                name: format!("S{i}"),
+                kind: JointType::S,
+                links: [0, a1],
+                places: [Place::Point { at }, Place::Point { at: [0.0; 3] }],
+                actuated: false,
+            };
+            model.joints[3 * i + 2] = Joint {
+                name: format!("R{i}"),
+                kind: JointType::R,
+                links: [a2, 7],
+                places: [Place::Axis { at: [0.0; 3], axis }, Place::Axis { at, axis }],
+                actuated: false,
+            };
+        }
+        (model, poses, values)
+    }
+
+    /// The home 3-SPR by hand: leg i's actuation force is the same vertical
+    /// line as the 3-RPS's, through the revolute's point (r cos θ, r sin θ,
+    /// h); its constraint force runs along the revolute's axis u through
+    /// the ball on the base, moment (r cos θ, r sin θ, 0) × u = (0, 0, r):
+    /// a line that misses the limb's distal centre, found all the same.
+    #[test]
+    fn home_spr_rows_by_hand() {
+        let (r, h) = (100.0, 75.0);
+        let (model, poses, values) = home_spr(r, h);
+        let a = analyse_poses(&model, &poses, &values, 7).unwrap();
+        assert_eq!((a.actuation, a.rows.len()), (3, 6));
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let (s, c) = t.sin_cos();
+            assert!(
+                close(&a.rows[i].wrench, [0.0, 0.0, 1.0], [r * s, -r * c, 0.0]),
+                "{:?}",
+                a.rows[i]
+            );
+            let sign = if s.abs() > c.abs() { -s.signum() } else { c.signum() };
+            let con = &a.rows[3 + i];
+            assert_eq!(con.kind, RowKind::ConstraintForce);
+            assert!(
+                close(&con.wrench, [-s * sign, c * sign, 0.0], [0.0, 0.0, r * sign]),
+                "{con:?}"
+            );
+            assert!((a.limbs[i].length().unwrap() - h).abs() < 1e-12);
+        }
     }
 
     fn close(a: &Wrench, f: [f64; 3], m: [f64; 3]) -> bool {
