@@ -24,10 +24,12 @@ pub mod singular;
 pub mod solution;
 pub mod spatial;
 pub mod steps;
+pub mod stiffness;
 pub mod topology_report;
 pub mod velocity;
 pub mod virtual_work;
 pub mod workspace;
+pub mod wrench;
 
 pub use topology_report::{SkcReport, SocReport, TopologyReport};
 

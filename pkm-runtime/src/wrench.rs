@@ -1,0 +1,883 @@
+//! Wrench analysis at a solved configuration: each limb's actuation and
+//! constraint wrenches, found as null spaces of its joints' twists under the
+//! reciprocal product, and their stack, the m×6 wrench Jacobian `J`
+//! (docs/stiffness.md).
+//!
+//! # Conventions
+//! - A twist `(ω, v)` is as in [`crate::velocity`]: angular velocity and the
+//!   velocity of the body point at the base origin, base axes.
+//! - A wrench `(f, m)` is a force and its moment about the base origin, base
+//!   axes. Its reciprocal product with a twist is `f·v + m·ω`, the power it
+//!   does on that motion.
+//! - A limb is a path of joints from the base link to the platform link
+//!   whose inner links carry no other joint ([`limbs`]). A U joint is two
+//!   revolutes (its cross is an inner link), an S joint three rotations about
+//!   its centre, a P joint one translation, a parallelogram (Pa) one
+//!   translation.
+//! - The constraint wrenches of a limb are reciprocal to every joint twist of
+//!   it; the actuation wrench of an actuated joint is reciprocal to every
+//!   other twist of its limb (the passive ones and any other actuated one),
+//!   not to its own. A row of `J` applied to a small platform displacement
+//!   `δX = (δp, δθ)` (`δp` the displacement of the platform point at the base
+//!   origin, `δθ` the small rotation) is `f·δp + m·δθ`.
+//!
+//! # Canonical basis
+//! The null spaces are found by SVD of the limb's twists, each written at
+//! the limb's distal joint centre `p` (the point of its joint on the
+//! platform) and made dimensionless: `t̂ = (v + ω × p, s·ω)` normalised, `s`
+//! the model's size ([`crate::kinematics::model_scale`]); a wrench in the
+//! same coordinates is `ŵ = (f, m_p / s)`, `m_p = m − p × f` its moment about
+//! `p`, and the product is `ŵ·t̂`. A singular value counts as zero below
+//! [`RANK_TOL`] times the largest. In these coordinates:
+//! - the constraint space splits into its couples (`f = 0`) and the
+//!   orthogonal rest (forces, through `p` where they can be); each part's
+//!   basis is built greedily from the projections of the base axes (x, y, z
+//!   forces, then x, y, z moments about `p`): the longest projection first,
+//!   then the longest of what is orthogonal to the ones chosen. A force so
+//!   found through `p` is the force along that line; with one constraint
+//!   force (a 3-RPS leg) it is the force along the R axis through the S
+//!   centre (seed 004 eq. 10), its sign making its largest component along
+//!   the chosen axis positive.
+//! - an actuation wrench is the part of its space orthogonal to the limb's
+//!   constraint space: for an R-P-S, U-P-S or U-P-U leg, the force along the
+//!   leg through the distal centre (seed 004 eq. 8), for an R–S leg on a
+//!   slide (3-PRS) the force along the R–S link. Its sign makes its product
+//!   with its joint's unit twist (the transmission, [`Row::transmission`])
+//!   positive, so that with a unit force the row is `d(leg length)/dX` for
+//!   an actuated slide along the leg.
+//!
+//! Each wrench is normalised: a force to unit `f`, a couple (`f = 0`) to unit
+//! `m`.
+//!
+//! # Singularities
+//! `J` (rows scaled to `(f, m/s)` for forces, `(0, m)` for couples) must
+//! have rank 6. When it has not, the constraint wrenches of all limbs either
+//! span less than `6 − (number of actuation wrenches)` — a constraint
+//! singularity: the platform gains a freedom with the actuators locked — or
+//! they do and the actuation wrenches are dependent given them: an actuation
+//! singularity. A limb whose actuated joint's twist falls in the span of its
+//! other joints' twists has no actuation wrench (the actuator cannot move its
+//! limb): an actuation singularity of that limb.
+
+use crate::kinematics::{joint_point, model_scale};
+use crate::model::{JointType, Model};
+use crate::velocity::{joint_twists, Twist};
+use nalgebra::{DMatrix, Isometry3, Vector3, Vector6};
+use std::fmt;
+
+/// Relative singular value below which a direction counts as lost (limb
+/// twist matrices with unit columns, and the scaled `J`).
+pub const RANK_TOL: f64 = 1e-9;
+
+/// A wrench: a force and its moment about the base origin, base axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wrench {
+    /// The force.
+    pub f: Vector3<f64>,
+    /// Its moment about the base origin.
+    pub m: Vector3<f64>,
+}
+
+impl Wrench {
+    /// The reciprocal product `f·v + m·ω` with a twist: the power this
+    /// wrench does on that motion.
+    pub fn on(&self, t: &Twist) -> f64 {
+        self.f.dot(&t.v) + self.m.dot(&t.w)
+    }
+
+    /// The moment about the point `p`: `m − p × f`.
+    pub fn moment_about(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.m - p.cross(&self.f)
+    }
+
+    /// `[f, m]`: the row of `J`.
+    pub fn row(&self) -> [f64; 6] {
+        [self.f.x, self.f.y, self.f.z, self.m.x, self.m.y, self.m.z]
+    }
+
+    /// Whether it is a couple (`f = 0`).
+    pub fn is_couple(&self) -> bool {
+        self.f == Vector3::zeros()
+    }
+}
+
+/// What a row of `J` is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowKind {
+    /// The actuation wrench of actuated joint `joint`'s variable `variable`
+    /// (0 but for an actuated S joint).
+    Actuation {
+        /// The joint.
+        joint: usize,
+        /// Its variable.
+        variable: usize,
+    },
+    /// A constraint force.
+    ConstraintForce,
+    /// A constraint couple.
+    ConstraintCouple,
+}
+
+/// A row of `J`: a wrench, its kind and its limb.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// The wrench (normalised).
+    pub wrench: Wrench,
+    /// Its kind.
+    pub kind: RowKind,
+    /// Its limb (index in [`WrenchAnalysis::limbs`]).
+    pub limb: usize,
+    /// For an actuation wrench, its product with its joint's unit twist
+    /// (positive; 1 for a force along an actuated slide); 0 for a
+    /// constraint. A joint rate `q̇` of it gives the row's rate `transmission · q̇`.
+    pub transmission: f64,
+}
+
+/// A limb: a serial path of joints from the base to the platform.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Limb {
+    /// Its joints, from the base to the platform.
+    pub joints: Vec<usize>,
+    /// The world position of its distal joint's point (the joint on the
+    /// platform: an S joint's centre, a U's centre).
+    pub distal: Vector3<f64>,
+    /// The world position of the proximal centre of its leg: the point of
+    /// the first R or S joint met going from the distal joint towards the
+    /// base whose point is not the distal centre (P and Pa joints have no
+    /// centre); `None` if there is none.
+    pub proximal: Option<Vector3<f64>>,
+}
+
+impl Limb {
+    /// The leg length `L = |distal − proximal|`, if the limb has a proximal centre.
+    pub fn length(&self) -> Option<f64> {
+        self.proximal.map(|p| (self.distal - p).norm())
+    }
+}
+
+/// The wrench analysis at one configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WrenchAnalysis {
+    /// The limbs, ordered by their base joint's declaration order.
+    pub limbs: Vec<Limb>,
+    /// The rows of `J`: every actuation wrench (limb by limb, joints in limb
+    /// order), then every constraint wrench (limb by limb, couples first).
+    pub rows: Vec<Row>,
+    /// The number of actuation rows (the first ones).
+    pub actuation: usize,
+    /// The size scale `s` the rank tests use (mm for a model in mm).
+    pub scale: f64,
+    /// σ_min/σ_max of the scaled `J` (see the module's header).
+    pub sigma: f64,
+}
+
+impl WrenchAnalysis {
+    /// `J`: one row `[f, m]` per wrench (m×6).
+    pub fn jacobian(&self) -> DMatrix<f64> {
+        DMatrix::from_fn(self.rows.len(), 6, |r, c| self.rows[r].wrench.row()[c])
+    }
+
+    /// `J` with the moments taken about `point` instead of the base origin:
+    /// the rows `[f, m − point × f]`, which act on the displacement of the
+    /// platform point at `point`.
+    pub fn jacobian_at(&self, point: [f64; 3]) -> DMatrix<f64> {
+        let p = Vector3::from(point);
+        DMatrix::from_fn(self.rows.len(), 6, |r, c| {
+            let w = &self.rows[r].wrench;
+            if c < 3 {
+                w.f[c]
+            } else {
+                w.moment_about(&p)[c - 3]
+            }
+        })
+    }
+}
+
+/// Why a wrench analysis has no answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum WrenchError {
+    /// The input does not fit the model (lengths, the platform index,
+    /// non-finite poses or values).
+    BadInput {
+        /// What is wrong.
+        what: String,
+    },
+    /// The model's links and joints are not limbs from the base to the
+    /// platform: `link` is where the structure breaks.
+    NotLimbs {
+        /// The link.
+        link: usize,
+        /// What is wrong there.
+        what: &'static str,
+    },
+    /// Constraint singularity: the limbs' constraint wrenches span only
+    /// `rank` of the `needed` = 6 − (actuation wrenches) directions; the
+    /// platform moves with the actuators locked.
+    ConstraintSingularity {
+        /// The constraint wrenches' rank.
+        rank: usize,
+        /// What they must span.
+        needed: usize,
+        /// σ_min/σ_max of the scaled constraint rows (0 without any).
+        sigma: f64,
+    },
+    /// Actuation singularity: the actuation wrenches are dependent given the
+    /// constraint wrenches (`limb: None`), or limb `limb`'s actuated joint
+    /// moves within its other joints' twists and has no actuation wrench.
+    ActuationSingularity {
+        /// The limb, where one limb is the cause.
+        limb: Option<usize>,
+        /// σ_min/σ_max of the scaled `J`, or for one limb the product of its
+        /// best candidate wrench with its actuated twist in the
+        /// dimensionless coordinates (0 where there is none).
+        sigma: f64,
+    },
+}
+
+impl fmt::Display for WrenchError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WrenchError::BadInput { what } => write!(f, "bad input: {what}"),
+            WrenchError::NotLimbs { link, what } => write!(f, "not limbs from base to platform at link {link}: {what}"),
+            WrenchError::ConstraintSingularity { rank, needed, sigma } => write!(
+                f,
+                "constraint singularity: the constraint wrenches span {rank} of the {needed} directions needed \
+                 (σ_min/σ_max = {sigma:e})"
+            ),
+            WrenchError::ActuationSingularity { limb: Some(l), sigma } => write!(
+                f,
+                "actuation singularity: limb {l}'s actuated joint moves within its other joints' twists ({sigma:e})"
+            ),
+            WrenchError::ActuationSingularity { limb: None, sigma } => write!(
+                f,
+                "actuation singularity: the actuation wrenches are dependent given the constraints \
+                 (σ_min/σ_max = {sigma:e})"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for WrenchError {}
+
+fn bad(what: String) -> WrenchError {
+    WrenchError::BadInput { what }
+}
+
+/// The limbs of `model` from the base (link 0) to `platform`: for each joint
+/// on the base, in declaration order, the path that follows it through
+/// links with exactly two joints until the platform. Every joint must be on
+/// one limb.
+pub fn limbs(model: &Model, platform: usize) -> Result<Vec<Vec<usize>>, WrenchError> {
+    let n = model.links.len();
+    if platform == 0 || platform >= n {
+        return Err(bad(format!(
+            "platform link {platform} is not a link of the model other than the base"
+        )));
+    }
+    let mut at: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (j, joint) in model.joints.iter().enumerate() {
+        let [u, v] = joint.links;
+        if u >= n || v >= n {
+            return Err(bad(format!("joint {} names a link that does not exist", joint.name)));
+        }
+        if u == v {
+            return Err(WrenchError::NotLimbs {
+                link: u,
+                what: "a joint connects the link to itself",
+            });
+        }
+        at[u].push(j);
+        at[v].push(j);
+    }
+    let mut used = vec![false; model.joints.len()];
+    let mut out = Vec::new();
+    for &first in &at[0] {
+        if used[first] {
+            continue;
+        }
+        let mut path = vec![first];
+        used[first] = true;
+        let other = |j: usize, l: usize| {
+            let [u, v] = model.joints[j].links;
+            if u == l {
+                v
+            } else {
+                u
+            }
+        };
+        let mut link = other(first, 0);
+        let mut last = first;
+        while link != platform {
+            if link == 0 {
+                return Err(WrenchError::NotLimbs {
+                    link,
+                    what: "a chain from the base returns to it without reaching the platform",
+                });
+            }
+            if at[link].len() != 2 {
+                return Err(WrenchError::NotLimbs {
+                    link,
+                    what: "an inner link of a limb must carry exactly two joints",
+                });
+            }
+            let next = if at[link][0] == last { at[link][1] } else { at[link][0] };
+            if used[next] {
+                return Err(WrenchError::NotLimbs {
+                    link,
+                    what: "a joint is on two limbs",
+                });
+            }
+            used[next] = true;
+            path.push(next);
+            link = other(next, link);
+            last = next;
+        }
+        out.push(path);
+    }
+    if let Some(j) = used.iter().position(|u| !u) {
+        return Err(WrenchError::NotLimbs {
+            link: model.joints[j].links[0],
+            what: "a joint is on no limb from the base to the platform",
+        });
+    }
+    if out.is_empty() {
+        return Err(WrenchError::NotLimbs {
+            link: 0,
+            what: "no joint on the base",
+        });
+    }
+    Ok(out)
+}
+
+/// An orthonormal basis of the vectors `x` with `rows · x = 0` (6 columns),
+/// by SVD: the right singular vectors whose singular value is at most
+/// [`RANK_TOL`] times the largest (every one if all are zero).
+fn null_space(rows: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
+    let m = DMatrix::from_fn(rows.len().max(6), 6, |r, c| rows.get(r).map_or(0.0, |x| x[c]));
+    let svd = m.svd(false, true);
+    let vt = svd.v_t.expect("v_t requested");
+    let smax = svd.singular_values.max();
+    (0..6)
+        .filter(|&i| svd.singular_values[i] <= RANK_TOL * smax)
+        .map(|i| Vector6::from_fn(|c, _| vt[(i, c)]))
+        .collect()
+}
+
+/// `x` without its components along the orthonormal `basis`.
+fn reject(x: &Vector6<f64>, basis: &[Vector6<f64>]) -> Vector6<f64> {
+    basis.iter().fold(*x, |acc, b| acc - b * b.dot(&acc))
+}
+
+/// A canonical orthonormal basis of the span of the orthonormal `space`:
+/// greedily the longest projection of the unit vectors `axes` onto what is
+/// orthogonal to the vectors already chosen.
+fn canonical(space: &[Vector6<f64>], axes: &[usize]) -> Vec<Vector6<f64>> {
+    let mut chosen: Vec<Vector6<f64>> = Vec::new();
+    for _ in 0..space.len() {
+        let projections: Vec<Vector6<f64>> = axes
+            .iter()
+            .map(|&a| {
+                let e = Vector6::ith(a, 1.0);
+                let p = space.iter().fold(Vector6::zeros(), |acc, q| acc + q * q.dot(&e));
+                reject(&p, &chosen)
+            })
+            .collect();
+        // The first of the longest, ties (to 1e-9) to the earlier axis, so
+        // that rounding does not reorder equal projections.
+        let longest = projections.iter().map(|p| p.norm()).fold(0.0, f64::max);
+        let best = *projections
+            .iter()
+            .find(|p| p.norm() >= (1.0 - 1e-9) * longest)
+            .expect("a longest projection");
+        if best.norm() <= RANK_TOL {
+            break;
+        }
+        chosen.push(best.normalize());
+    }
+    chosen
+}
+
+/// The constraint space `c` (orthonormal) split into a canonical basis of
+/// its couples, then one of the rest (see the module's header).
+fn constraint_basis(c: &[Vector6<f64>]) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
+    if c.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    // The force parts as rows of a c-column matrix: its null space gives the couples.
+    let force_rows: Vec<Vector6<f64>> = (0..3)
+        .map(|i| Vector6::from_fn(|k, _| if k < c.len() { c[k][i] } else { 0.0 }))
+        .collect();
+    let f = DMatrix::from_fn(c.len().max(3), c.len(), |r, k| force_rows.get(r).map_or(0.0, |x| x[k]));
+    let svd = f.svd(false, true);
+    let vt = svd.v_t.expect("v_t requested");
+    let (mut couples, mut forces) = (Vec::new(), Vec::new());
+    for i in 0..c.len() {
+        let combo = (0..c.len()).fold(Vector6::zeros(), |acc, k| acc + c[k] * vt[(i, k)]);
+        // The basis is orthonormal, so the singular values are at most 1.
+        if svd.singular_values[i] <= RANK_TOL {
+            couples.push(combo);
+        } else {
+            forces.push(combo);
+        }
+    }
+    (canonical(&couples, &[3, 4, 5]), canonical(&forces, &[0, 1, 2]))
+}
+
+/// A wrench from its dimensionless coordinates `ŵ = (f, m_p/s)` at `p`,
+/// normalised: unit `f`, or unit `m` for a couple.
+fn from_hat(w: &Vector6<f64>, p: &Vector3<f64>, s: f64, couple: bool) -> Wrench {
+    let f = Vector3::new(w[0], w[1], w[2]);
+    let mp = Vector3::new(w[3], w[4], w[5]) * s;
+    if couple {
+        Wrench {
+            f: Vector3::zeros(),
+            m: mp.normalize(),
+        }
+    } else {
+        let k = 1.0 / f.norm();
+        Wrench {
+            f: f * k,
+            m: (mp + p.cross(&f)) * k,
+        }
+    }
+}
+
+/// The wrench analysis of `model` at the configuration `solution` (link
+/// poses and joint values as [`crate::spatial::run`] returns them; an S
+/// joint's value is not read) with `platform` the platform link.
+pub fn analyse(
+    model: &Model,
+    solution: &crate::spatial::Solution,
+    platform: usize,
+) -> Result<WrenchAnalysis, WrenchError> {
+    analyse_poses(model, &solution.poses, &solution.values, platform)
+}
+
+/// [`analyse`] from the link poses and the per-joint values (one per joint,
+/// as [`crate::spatial::Solution::values`]; only a parallelogram's is read,
+/// and an S joint's, which has no one value, need not be finite).
+pub fn analyse_poses(
+    model: &Model,
+    poses: &[Isometry3<f64>],
+    values: &[f64],
+    platform: usize,
+) -> Result<WrenchAnalysis, WrenchError> {
+    if poses.len() != model.links.len() {
+        return Err(bad(format!(
+            "{} link poses for {} links",
+            poses.len(),
+            model.links.len()
+        )));
+    }
+    if values.len() != model.joints.len() {
+        return Err(bad(format!(
+            "{} joint values for {} joints",
+            values.len(),
+            model.joints.len()
+        )));
+    }
+    if let Some(l) = poses.iter().position(|p| {
+        !(p.translation.vector.iter().all(|x| x.is_finite()) && p.rotation.coords.iter().all(|x| x.is_finite()))
+    }) {
+        return Err(bad(format!("the pose of link {} is not finite", model.links[l])));
+    }
+    // An S joint has no one value (the interpreter leaves it NaN): not read.
+    if let Some(j) = (0..values.len()).find(|&j| model.joints[j].kind != JointType::S && !values[j].is_finite()) {
+        return Err(bad(format!(
+            "the value of joint {} is not finite",
+            model.joints[j].name
+        )));
+    }
+    let paths = limbs(model, platform)?;
+    let s = model_scale(model);
+    let mut limbs_out = Vec::with_capacity(paths.len());
+    let mut actuation = Vec::new();
+    let mut constraints = Vec::new();
+    for (li, path) in paths.iter().enumerate() {
+        let last = *path.last().expect("a limb has a joint");
+        let p = Vector3::from(joint_point(model, poses, last));
+        let proximal = path.iter().rev().skip(1).find_map(|&j| {
+            if !matches!(model.joints[j].kind, JointType::R | JointType::S) {
+                return None;
+            }
+            let c = Vector3::from(joint_point(model, poses, j));
+            ((c - p).norm() > RANK_TOL * s).then_some(c)
+        });
+        // Every variable's twist, dimensionless at p, unit; and which joint variable it is.
+        let mut hats: Vec<Vector6<f64>> = Vec::new();
+        let mut raw: Vec<Twist> = Vec::new();
+        let mut owner: Vec<(usize, usize)> = Vec::new();
+        for &j in path {
+            let tu = &poses[model.joints[j].links[0]];
+            for (k, t) in joint_twists(model, j, &values[j..=j], tu).into_iter().enumerate() {
+                let vp = t.v + t.w.cross(&p);
+                let h = Vector6::new(vp.x, vp.y, vp.z, s * t.w.x, s * t.w.y, s * t.w.z);
+                let norm = h.norm();
+                if !(norm > 0.0 && norm.is_finite()) {
+                    return Err(bad(format!(
+                        "joint {}'s twist is zero or not finite",
+                        model.joints[j].name
+                    )));
+                }
+                hats.push(h / norm);
+                raw.push(t);
+                owner.push((j, k));
+            }
+        }
+        let c = null_space(&hats);
+        for (col, &(j, k)) in owner.iter().enumerate() {
+            if !model.joints[j].actuated {
+                continue;
+            }
+            let others: Vec<Vector6<f64>> = (0..hats.len()).filter(|&i| i != col).map(|i| hats[i]).collect();
+            let candidates = null_space(&others);
+            let best = candidates
+                .iter()
+                .map(|n| reject(n, &c))
+                .fold(
+                    Vector6::zeros(),
+                    |b: Vector6<f64>, r| if r.norm() > b.norm() { r } else { b },
+                );
+            let sigma = if best.norm() > RANK_TOL {
+                best.normalize().dot(&hats[col]).abs()
+            } else {
+                0.0
+            };
+            if candidates.len() <= c.len() || sigma <= RANK_TOL {
+                return Err(WrenchError::ActuationSingularity { limb: Some(li), sigma });
+            }
+            let mut w = best.normalize();
+            let couple = Vector3::new(w[0], w[1], w[2]).norm() <= RANK_TOL;
+            if w.dot(&hats[col]) < 0.0 {
+                w = -w;
+            }
+            let wrench = from_hat(&w, &p, s, couple);
+            actuation.push(Row {
+                transmission: wrench.on(&raw[col]),
+                wrench,
+                kind: RowKind::Actuation { joint: j, variable: k },
+                limb: li,
+            });
+        }
+        let (couples, forces) = constraint_basis(&c);
+        for w in couples {
+            constraints.push(Row {
+                wrench: from_hat(&w, &p, s, true),
+                kind: RowKind::ConstraintCouple,
+                limb: li,
+                transmission: 0.0,
+            });
+        }
+        for w in forces {
+            constraints.push(Row {
+                wrench: from_hat(&w, &p, s, false),
+                kind: RowKind::ConstraintForce,
+                limb: li,
+                transmission: 0.0,
+            });
+        }
+        limbs_out.push(Limb {
+            joints: path.clone(),
+            distal: p,
+            proximal,
+        });
+    }
+    let n_a = actuation.len();
+    let mut rows = actuation;
+    rows.extend(constraints);
+    let (rank, sigma) = scaled_rank(&rows, s);
+    if rank < 6 {
+        let (rank_c, sigma_c) = scaled_rank(&rows[n_a..], s);
+        let needed = 6usize.saturating_sub(n_a);
+        if rank_c < needed {
+            return Err(WrenchError::ConstraintSingularity {
+                rank: rank_c,
+                needed,
+                sigma: sigma_c,
+            });
+        }
+        return Err(WrenchError::ActuationSingularity { limb: None, sigma });
+    }
+    Ok(WrenchAnalysis {
+        limbs: limbs_out,
+        rows,
+        actuation: n_a,
+        scale: s,
+        sigma,
+    })
+}
+
+/// The rank of rows scaled to `(f, m/s)` (forces) or `(0, m)` (couples) and
+/// their σ_min/σ_max over min(rows, 6) values (0 without rows).
+fn scaled_rank(rows: &[Row], s: f64) -> (usize, f64) {
+    if rows.is_empty() {
+        return (0, 0.0);
+    }
+    let m = DMatrix::from_fn(rows.len().max(6), 6, |r, c| {
+        rows.get(r).map_or(0.0, |row| {
+            let w = &row.wrench;
+            match (c < 3, w.is_couple()) {
+                (true, _) => w.f[c],
+                (false, true) => w.m[c - 3],
+                (false, false) => w.m[c - 3] / s,
+            }
+        })
+    });
+    let sv = m.svd(false, false).singular_values;
+    let smax = sv.max();
+    let considered = rows.len().min(6);
+    let mut sorted: Vec<f64> = sv.iter().copied().collect();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    let rank = sorted.iter().take(considered).filter(|&&x| x > RANK_TOL * smax).count();
+    let sigma = if smax > 0.0 { sorted[considered - 1] / smax } else { 0.0 };
+    (rank, sigma)
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::model::{Joint, Place};
+    use nalgebra::Translation3;
+
+    /// A 3-RPS at its home pose, its legs vertical: base revolute i at
+    /// (r cos θᵢ, r sin θᵢ, 0), θᵢ = 120°·i, axis tangent (−sin θᵢ, cos θᵢ, 0);
+    /// the leg's slide along z; the ball i at height h above it, on the
+    /// platform (at (0, 0, h)) at radius r. Links: base, then (Ai1, Ai2)
+    /// per leg, then the platform. Poses by hand.
+    pub(crate) fn home_rps(r: f64, h: f64) -> (Model, Vec<Isometry3<f64>>, Vec<f64>) {
+        let mut links = vec!["base".to_string()];
+        let mut joints = Vec::new();
+        let mut poses = vec![Isometry3::identity()];
+        let platform = 7;
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let at = [r * t.cos(), r * t.sin(), 0.0];
+            let axis = [-t.sin(), t.cos(), 0.0];
+            let (a1, a2) = (1 + 2 * i, 2 + 2 * i);
+            links.push(format!("A{i}1"));
+            links.push(format!("A{i}2"));
+            poses.push(Isometry3::from_parts(Translation3::from(at), Default::default()));
+            poses.push(Isometry3::from_parts(
+                Translation3::new(at[0], at[1], h),
+                Default::default(),
+            ));
+            joints.push(Joint {
+                name: format!("R{i}"),
+                kind: JointType::R,
+                links: [0, a1],
+                places: [Place::Axis { at, axis }, Place::Axis { at: [0.0; 3], axis }],
+                actuated: false,
+            });
+            joints.push(Joint {
+                name: format!("P{i}"),
+                kind: JointType::P,
+                links: [a1, a2],
+                places: [
+                    Place::Line {
+                        through: [0.0; 3],
+                        along: [0.0, 0.0, 1.0],
+                    },
+                    Place::Point { at: [0.0; 3] },
+                ],
+                actuated: true,
+            });
+            joints.push(Joint {
+                name: format!("S{i}"),
+                kind: JointType::S,
+                links: [a2, platform],
+                places: [Place::Point { at: [0.0; 3] }, Place::Point { at }],
+                actuated: false,
+            });
+        }
+        links.push("platform".into());
+        poses.push(Isometry3::from_parts(
+            Translation3::new(0.0, 0.0, h),
+            Default::default(),
+        ));
+        let values = (0..9).map(|j| if j % 3 == 1 { h } else { 0.0 }).collect();
+        let model = Model {
+            name: "rps".into(),
+            planar: false,
+            links,
+            joints,
+            points: vec![],
+        };
+        (model, poses, values)
+    }
+
+    /// The 3-SPR at its home pose: as [`home_rps`] with each leg turned
+    /// over, the ball on the base at (r cos θᵢ, r sin θᵢ, 0), the slide
+    /// along z, the revolute (axis tangent) at height h on the platform.
+    fn home_spr(r: f64, h: f64) -> (Model, Vec<Isometry3<f64>>, Vec<f64>) {
+        let (mut model, poses, values) = home_rps(r, h);
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let at = [r * t.cos(), r * t.sin(), 0.0];
+            let axis = [-t.sin(), t.cos(), 0.0];
+            let (a1, a2) = (1 + 2 * i, 2 + 2 * i);
+            model.joints[3 * i] = Joint {
+                name: format!("S{i}"),
+                kind: JointType::S,
+                links: [0, a1],
+                places: [Place::Point { at }, Place::Point { at: [0.0; 3] }],
+                actuated: false,
+            };
+            model.joints[3 * i + 2] = Joint {
+                name: format!("R{i}"),
+                kind: JointType::R,
+                links: [a2, 7],
+                places: [Place::Axis { at: [0.0; 3], axis }, Place::Axis { at, axis }],
+                actuated: false,
+            };
+        }
+        (model, poses, values)
+    }
+
+    /// The home 3-SPR by hand: leg i's actuation force is the same vertical
+    /// line as the 3-RPS's, through the revolute's point (r cos θ, r sin θ,
+    /// h); its constraint force runs along the revolute's axis u through
+    /// the ball on the base, moment (r cos θ, r sin θ, 0) × u = (0, 0, r):
+    /// a line that misses the limb's distal centre, found all the same.
+    #[test]
+    fn home_spr_rows_by_hand() {
+        let (r, h) = (100.0, 75.0);
+        let (model, poses, values) = home_spr(r, h);
+        let a = analyse_poses(&model, &poses, &values, 7).unwrap();
+        assert_eq!((a.actuation, a.rows.len()), (3, 6));
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let (s, c) = t.sin_cos();
+            assert!(
+                close(&a.rows[i].wrench, [0.0, 0.0, 1.0], [r * s, -r * c, 0.0]),
+                "{:?}",
+                a.rows[i]
+            );
+            let sign = if s.abs() > c.abs() { -s.signum() } else { c.signum() };
+            let con = &a.rows[3 + i];
+            assert_eq!(con.kind, RowKind::ConstraintForce);
+            assert!(
+                close(&con.wrench, [-s * sign, c * sign, 0.0], [0.0, 0.0, r * sign]),
+                "{con:?}"
+            );
+            assert!((a.limbs[i].length().unwrap() - h).abs() < 1e-12);
+        }
+    }
+
+    fn close(a: &Wrench, f: [f64; 3], m: [f64; 3]) -> bool {
+        (a.f - Vector3::from(f)).norm() < 1e-12 && (a.m - Vector3::from(m)).norm() < 1e-10
+    }
+
+    /// The legs of the home 3-RPS by hand: leg i's actuation force is
+    /// (0, 0, 1) through its ball (r cos θ, r sin θ, h), moment
+    /// c × e_z = (r sin θ, −r cos θ, 0); its constraint force is the unit
+    /// tangent u = (−sin θ, cos θ, 0) through the ball, moment
+    /// c × u = (−h cos θ, −h sin θ, r).
+    #[test]
+    fn home_rps_rows_by_hand() {
+        let (r, h) = (100.0, 75.0);
+        let (model, poses, values) = home_rps(r, h);
+        let a = analyse_poses(&model, &poses, &values, 7).unwrap();
+        assert_eq!(a.limbs.len(), 3);
+        assert_eq!(a.actuation, 3);
+        assert_eq!(a.rows.len(), 6);
+        for i in 0..3 {
+            let t = (120.0 * i as f64).to_radians();
+            let (s, c) = t.sin_cos();
+            let act = &a.rows[i];
+            assert!(close(&act.wrench, [0.0, 0.0, 1.0], [r * s, -r * c, 0.0]), "{act:?}");
+            assert!((act.transmission - 1.0).abs() < 1e-12);
+            let con = &a.rows[3 + i];
+            assert_eq!(con.kind, RowKind::ConstraintForce);
+            assert_eq!(con.limb, i);
+            // The sign: the largest component of the chosen axis positive.
+            let sign = if s.abs() > c.abs() { -s.signum() } else { c.signum() };
+            assert!(
+                close(
+                    &con.wrench,
+                    [-s * sign, c * sign, 0.0],
+                    [-h * c * sign, -h * s * sign, r * sign]
+                ),
+                "{con:?}"
+            );
+            assert!((a.limbs[i].length().unwrap() - h).abs() < 1e-12);
+        }
+    }
+
+    /// One leg alone leaves the platform five freedoms: its one constraint
+    /// force spans 1 of the 6 − 1 = 5 needed directions.
+    #[test]
+    fn one_leg_is_a_constraint_singularity() {
+        let (mut model, mut poses, mut values) = home_rps(100.0, 75.0);
+        model.joints.truncate(3);
+        model.links = vec!["base".into(), "A1".into(), "A2".into(), "platform".into()];
+        model.joints[2].links = [2, 3];
+        poses = vec![poses[0], poses[1], poses[2], poses[7]];
+        values.truncate(3);
+        let e = analyse_poses(&model, &poses, &values, 3).unwrap_err();
+        assert!(
+            matches!(e, WrenchError::ConstraintSingularity { rank: 1, needed: 5, .. }),
+            "{e}"
+        );
+    }
+
+    /// Leg 0's slide turned to run along x, normal to its leg (vertical,
+    /// from a = (100, 0, 0) to c = (100, 0, 75)) in the leg's plane: the
+    /// revolute about y through a less the ball's rotation about y through
+    /// c is the translation (a − c) × e_y = 75·e_x, so the slide moves
+    /// within its other joints' twists and has no actuation wrench.
+    #[test]
+    fn slide_within_the_others_is_an_actuation_singularity() {
+        let (mut model, poses, values) = home_rps(100.0, 75.0);
+        model.joints[1].places[0] = Place::Line {
+            through: [0.0; 3],
+            along: [1.0, 0.0, 0.0],
+        };
+        let e = analyse_poses(&model, &poses, &values, 7).unwrap_err();
+        assert!(
+            matches!(e, WrenchError::ActuationSingularity { limb: Some(0), .. }),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bad_input_is_typed() {
+        let (model, poses, mut values) = home_rps(100.0, 75.0);
+        assert!(matches!(
+            analyse_poses(&model, &poses, &values, 0),
+            Err(WrenchError::BadInput { .. })
+        ));
+        assert!(matches!(
+            analyse_poses(&model, &poses[..3], &values, 7),
+            Err(WrenchError::BadInput { .. })
+        ));
+        values[1] = f64::NAN;
+        assert!(matches!(
+            analyse_poses(&model, &poses, &values, 7),
+            Err(WrenchError::BadInput { .. })
+        ));
+        // A platform that some joint does not reach through a limb.
+        values[1] = 75.0;
+        assert!(matches!(
+            analyse_poses(&model, &poses, &values, 2),
+            Err(WrenchError::NotLimbs { .. })
+        ));
+    }
+
+    /// The null space of one S joint's three rotations about c: the three
+    /// forces through c, canonically along x, y, z.
+    #[test]
+    fn a_ball_joint_admits_the_forces_through_its_centre() {
+        let c = Vector3::new(3.0, -2.0, 5.0);
+        // Written at p = c, the rotations are (0, s e_i): the forces (e_i, 0).
+        let hats: Vec<Vector6<f64>> = (0..3).map(|i| Vector6::ith(3 + i, 1.0)).collect();
+        let n = null_space(&hats);
+        assert_eq!(n.len(), 3);
+        let (couples, forces) = constraint_basis(&n);
+        assert!(couples.is_empty());
+        for (i, w) in forces.iter().enumerate() {
+            let wr = from_hat(w, &c, 10.0, false);
+            let e = Vector3::ith(i, 1.0);
+            assert!(close(&wr, e.into(), c.cross(&e).into()), "{wr:?}");
+        }
+    }
+}
