@@ -111,6 +111,23 @@ enum Command {
         #[arg(long)]
         degrees: bool,
     },
+    /// Static stiffness at a pose, every branch: the limbs' actuation and constraint wrenches, K = Jᵀ K_p J at the platform's reference point, directional stiffnesses, and the deflection under --wrench.
+    Stiffness {
+        /// The mechanism file (.pkm), with parameters, geometry, outputs, units and limbs.
+        file: PathBuf,
+        /// The outputs by name, as for ik: `--pose ZA=75,alpha=0,beta=0`.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = pkm_cli::report::parse_param)]
+        pose: Vec<(String, f64)>,
+        /// A wrench on the platform: fx, fy, fz (N), mx, my, mz (N·length unit, about the reference point).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        wrench: Vec<f64>,
+        /// Override a parameter: `--param l1=120`.
+        #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
+        params: Vec<(String, f64)>,
+        /// Angular outputs given to --pose in degrees.
+        #[arg(long)]
+        degrees: bool,
+    },
     /// Inverse position solution, every branch, by the plan interpreter.
     Ik {
         /// The mechanism file (.pkm), with parameters, geometry and outputs.
@@ -265,6 +282,13 @@ fn main() -> ExitCode {
             params,
             degrees,
         } => solve(json, &file, &params, degrees, |r| cli::solve::ik(r, &pose)),
+        Command::Stiffness {
+            file,
+            pose,
+            wrench,
+            params,
+            degrees,
+        } => solve(json, &file, &params, degrees, |r| cli::stiffness::stiffness(r, &pose, &wrench)),
         Command::Fk {
             file,
             q,

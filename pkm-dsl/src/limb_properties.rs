@@ -124,6 +124,32 @@ pub struct ResolvedLimb {
     pub actuator: Option<f64>,
 }
 
+impl ResolvedLimb {
+    /// The properties as the runtime's stiffness model takes them
+    /// ([`pkm_runtime::stiffness::stiffness`]); springs given directly have
+    /// no couple stiffness (a limb bearing a constraint couple then needs
+    /// its section).
+    pub fn properties(&self) -> pkm_runtime::stiffness::LimbProperties {
+        use pkm_runtime::stiffness::Section;
+        let section = match self.leg {
+            LegStiffness::Section { e, a, i } => Section::Beam {
+                e,
+                area: a,
+                inertia: i,
+            },
+            LegStiffness::Direct { axial, bending } => Section::Springs {
+                axial,
+                bending,
+                couple: None,
+            },
+        };
+        pkm_runtime::stiffness::LimbProperties {
+            section,
+            actuator: self.actuator,
+        }
+    }
+}
+
 /// The keys of a limb entry, with what each is (for messages).
 const KEYS: [(&str, &str); 6] = [
     ("E", "Young's modulus"),

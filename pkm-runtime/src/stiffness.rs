@@ -75,8 +75,9 @@ pub enum Section {
         axial: f64,
         /// Along a constraint force (N/mm).
         bending: f64,
-        /// About a constraint couple (N·mm/rad).
-        couple: f64,
+        /// About a constraint couple (N·mm/rad); `None` where the limb has
+        /// none (a couple row then is [`StiffnessError::NoCoupleStiffness`]).
+        couple: Option<f64>,
     },
 }
 
@@ -141,6 +142,12 @@ pub enum StiffnessError {
         /// The limb.
         limb: usize,
     },
+    /// A limb given by its springs has a constraint couple but no couple
+    /// stiffness.
+    NoCoupleStiffness {
+        /// The limb.
+        limb: usize,
+    },
     /// A wrench must have six components (f, m).
     WrongWrenchSize {
         /// The components given.
@@ -174,6 +181,10 @@ impl fmt::Display for StiffnessError {
             StiffnessError::NoLegLength { limb } => write!(
                 f,
                 "limb {limb} has no leg length (no R or S joint centre apart from its distal one): give its springs"
+            ),
+            StiffnessError::NoCoupleStiffness { limb } => write!(
+                f,
+                "limb {limb} bears a constraint couple, and its springs give no couple stiffness"
             ),
             StiffnessError::WrongWrenchSize { got } => write!(f, "a wrench has 6 components (f, m), not {got}"),
             StiffnessError::NonFinite { what } => write!(f, "{what} is not finite"),
@@ -236,7 +247,9 @@ pub fn stiffness(analysis: &WrenchAnalysis, limbs: &[LimbProperties]) -> Result<
             Section::Springs { axial, bending, couple } => {
                 positive(l, "the axial stiffness", axial)?;
                 positive(l, "the bending stiffness", bending)?;
-                positive(l, "the couple stiffness", couple)?;
+                if let Some(couple) = couple {
+                    positive(l, "the couple stiffness", couple)?;
+                }
             }
         }
         if let Some(k) = p.actuator {
@@ -246,25 +259,25 @@ pub fn stiffness(analysis: &WrenchAnalysis, limbs: &[LimbProperties]) -> Result<
     let springs: Vec<f64> = analysis
         .rows
         .iter()
-        .map(|row| {
+        .map(|row| -> Result<f64, StiffnessError> {
             let p = props(row.limb);
             let len = analysis.limbs[row.limb].length().unwrap_or(f64::NAN);
             let (axial, bending, couple) = match p.section {
                 Section::Beam { e, area, inertia } => {
-                    (e * area / len, 3.0 * e * inertia / len.powi(3), e * inertia / len)
+                    (e * area / len, 3.0 * e * inertia / len.powi(3), Some(e * inertia / len))
                 }
                 Section::Springs { axial, bending, couple } => (axial, bending, couple),
             };
-            match row.kind {
+            Ok(match row.kind {
                 RowKind::Actuation { .. } => {
                     let actuator = p.actuator.map_or(0.0, |k| row.transmission * row.transmission / k);
                     1.0 / (1.0 / axial + actuator)
                 }
                 RowKind::ConstraintForce => bending,
-                RowKind::ConstraintCouple => couple,
-            }
+                RowKind::ConstraintCouple => couple.ok_or(StiffnessError::NoCoupleStiffness { limb: row.limb })?,
+            })
         })
-        .collect();
+        .collect::<Result<_, _>>()?;
     let mut k = Matrix6::zeros();
     for (row, &kr) in analysis.rows.iter().zip(&springs) {
         let w = Vector6::from_row_slice(&row.wrench.row());
@@ -430,7 +443,7 @@ mod tests {
             section: Section::Springs {
                 axial: 2.0,
                 bending: 3.0,
-                couple: 5.0,
+                couple: Some(5.0),
             },
             actuator: None,
         }];
@@ -520,7 +533,7 @@ mod tests {
             section: Section::Springs {
                 axial: 1e30,
                 bending: 1e-30,
-                couple: 1.0,
+                couple: Some(1.0),
             },
             actuator: None,
         };

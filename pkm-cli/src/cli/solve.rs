@@ -57,7 +57,7 @@ impl Request<'_> {
 pub(super) struct Loaded {
     pub(super) analysis: Analysis,
     pub(super) model: Model,
-    outputs: Vec<Output>,
+    pub(super) outputs: Vec<Output>,
     /// The parameters the command line overrides.
     pub(super) values: HashMap<String, f64>,
 }
@@ -537,7 +537,24 @@ fn fk_numeric(r: &Request, l: &Loaded, q: &[f64]) -> Result<Value, Failure> {
 pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
     let l = load(r)?;
     let plan = pkm_dsl::planner::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+    let ordered = ordered_pose(r, &l, pose)?;
     let declared = output_names(&l);
+    let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
+    let verdicts = verdicts(&l, run_all(&plan, &l.model, &ordered), &names);
+    let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
+    Ok(json!({
+        "name": l.model.name,
+        "pose": as_given,
+        "units": r.units(),
+        "branches": branches_json(r, &verdicts)?,
+    }))
+}
+
+/// The declared outputs' values as the inverse plan takes them, from
+/// `--pose name=value,…`: every declared output once, each finite, angles
+/// in radians.
+pub(super) fn ordered_pose(r: &Request, l: &Loaded, pose: &[(String, f64)]) -> Result<Vec<f64>, Failure> {
+    let declared = output_names(l);
     let list = declared.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ");
     let mut given: HashMap<&str, f64> = HashMap::new();
     for (name, v) in pose {
@@ -558,13 +575,5 @@ pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
             None => return Err(Failure::input(format!("missing output `{name}`; give {list}"))),
         }
     }
-    let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
-    let verdicts = verdicts(&l, run_all(&plan, &l.model, &ordered), &names);
-    let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
-    Ok(json!({
-        "name": l.model.name,
-        "pose": as_given,
-        "units": r.units(),
-        "branches": branches_json(r, &verdicts)?,
-    }))
+    Ok(ordered)
 }
