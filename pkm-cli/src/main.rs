@@ -288,7 +288,9 @@ fn main() -> ExitCode {
             wrench,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| cli::stiffness::stiffness(r, &pose, &wrench)),
+        } => solve(json, &file, &params, degrees, |r| {
+            cli::stiffness::stiffness(r, &pose, &wrench)
+        }),
         Command::Fk {
             file,
             q,

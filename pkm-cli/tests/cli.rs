@@ -827,7 +827,14 @@ const RPS_3: &str = "examples/mechanisms/rps_3.pkm";
 /// + k_c) with k_a = E·A/L, k_c = 3·E·I/L³ (seed 004 eqs. 13–17), by hand.
 #[test]
 fn stiffness_of_the_3rps_at_home_by_hand() {
-    let v = run_json(&["stiffness", RPS_3, "--pose", "ZA=75,alpha=0,beta=0", "--wrench", "10,-15,20,-20000,10000,15000"]);
+    let v = run_json(&[
+        "stiffness",
+        RPS_3,
+        "--pose",
+        "ZA=75,alpha=0,beta=0",
+        "--wrench",
+        "10,-15,20,-20000,10000,15000",
+    ]);
     let (e, a, i) = (2.11e5, std::f64::consts::PI * 400.0, 1.256e5);
     let l = (20.0f64 * 20.0 + 75.0 * 75.0).sqrt();
     let (ka, kc) = (e * a / l, 3.0 * e * i / l.powi(3));
@@ -836,19 +843,40 @@ fn stiffness_of_the_3rps_at_home_by_hand() {
     let near = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
     let mut home = 0;
     for b in v["branches"].as_array().unwrap() {
-        let lengths: Vec<f64> = b["limbs"].as_array().unwrap().iter().map(|l| num(&l["length"])).collect();
+        let lengths: Vec<f64> = b["limbs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| num(&l["length"]))
+            .collect();
         // The drawn assembly (the others turn the platform half a turn).
         if !lengths.iter().all(|&x| near(x, l)) {
             continue;
         }
         home += 1;
         let k = |r: usize, c: usize| num(&b["K"][r][c]);
-        assert!(near(k(2, 2), kzz) && near(k(0, 0), kxx) && near(k(1, 1), kxx), "{}", b["K"]);
+        assert!(
+            near(k(2, 2), kzz) && near(k(0, 0), kxx) && near(k(1, 1), kxx),
+            "{}",
+            b["K"]
+        );
         // Every row's spring is the seed's: three E·A/L, three 3·E·I/L³.
-        let springs: Vec<f64> = b["rows"].as_array().unwrap().iter().map(|r| num(&r["spring"])).collect();
-        assert!(springs[..3].iter().all(|&s| near(s, ka)) && springs[3..].iter().all(|&s| near(s, kc)), "{springs:?}");
+        let springs: Vec<f64> = b["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| num(&r["spring"]))
+            .collect();
+        assert!(
+            springs[..3].iter().all(|&s| near(s, ka)) && springs[3..].iter().all(|&s| near(s, kc)),
+            "{springs:?}"
+        );
         // A vertical load sinks the level platform by F/K_zz alone.
-        assert!(near(num(&b["deflection"]["translation"][2]), 20.0 / kzz), "{}", b["deflection"]);
+        assert!(
+            near(num(&b["deflection"]["translation"][2]), 20.0 / kzz),
+            "{}",
+            b["deflection"]
+        );
     }
     assert!(home > 0, "{v}");
 }
@@ -868,7 +896,14 @@ fn stiffness_failures_name_their_cause() {
         "--wrench takes 6 values (fx, fy, fz, mx, my, mz), not 2",
     );
     check_failure(
-        &["stiffness", RPS_3, "--pose", "ZA=75,alpha=0,beta=0", "--wrench", "1,2,3,4,5,NaN"],
+        &[
+            "stiffness",
+            RPS_3,
+            "--pose",
+            "ZA=75,alpha=0,beta=0",
+            "--wrench",
+            "1,2,3,4,5,NaN",
+        ],
         1,
         "input",
         "wrench component 6 is NaN",
@@ -884,14 +919,23 @@ fn stiffness_failures_name_their_cause() {
     let rps = std::fs::read_to_string(common::root().join(RPS_3)).unwrap();
     let with_e = scratch_file(
         "rps_e.pkm",
-        &rps.replace("parameters { RB = 100; RA = 80; }", "parameters { RB = 100; RA = 80; e = 2.11e5; }")
-            .replace("E = 2.11e5;", "E = e;"),
+        &rps.replace(
+            "parameters { RB = 100; RA = 80; }",
+            "parameters { RB = 100; RA = 80; e = 2.11e5; }",
+        )
+        .replace("E = 2.11e5;", "E = e;"),
     );
     check_failure(
-        &["stiffness", &with_e, "--pose", "ZA=75,alpha=0,beta=0", "--param", "e=-1"],
+        &[
+            "stiffness",
+            &with_e,
+            "--pose",
+            "ZA=75,alpha=0,beta=0",
+            "--param",
+            "e=-1",
+        ],
         1,
         "parse",
         "Young's modulus `E` of limb `A` is -1 at these parameters; it must be positive",
     );
 }
-

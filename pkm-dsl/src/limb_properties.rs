@@ -132,11 +132,7 @@ impl ResolvedLimb {
     pub fn properties(&self) -> pkm_runtime::stiffness::LimbProperties {
         use pkm_runtime::stiffness::Section;
         let section = match self.leg {
-            LegStiffness::Section { e, a, i } => Section::Beam {
-                e,
-                area: a,
-                inertia: i,
-            },
+            LegStiffness::Section { e, a, i } => Section::Beam { e, area: a, inertia: i },
             LegStiffness::Direct { axial, bending } => Section::Springs {
                 axial,
                 bending,

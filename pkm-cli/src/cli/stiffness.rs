@@ -129,7 +129,9 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
         };
         let at = k.at(point);
         let matrix: Vec<Vec<f64>> = (0..6).map(|i| (0..6).map(|j| at[(i, j)]).collect()).collect();
-        let directional = k.directional(point).map_err(|e| Failure::new(Kind::Unreachable, e.to_string()))?;
+        let directional = k
+            .directional(point)
+            .map_err(|e| Failure::new(Kind::Unreachable, e.to_string()))?;
         let deflection = if wrench.is_empty() {
             Value::Null
         } else {
