@@ -499,13 +499,24 @@ fn parameter_struct(input: &MacroInput, a: &Analysis) -> TokenStream {
         let doc = format!(" `{}` (nominal {}).", p.name, p.value);
         quote! { #[doc = #doc] pub #f: f64 }
     });
+    // A value clippy's `approx_constant` takes for a constant of
+    // `core::f64::consts` (a parameter of `deg(90)`) is written as that
+    // constant, so that user crates stay quiet.
+    let value = |v: f64| {
+        if v < 0.0 {
+            let l = crate::emit::lit(-v);
+            quote! { -#l }
+        } else {
+            crate::emit::lit(v)
+        }
+    };
     let defaults = params.iter().map(|p| {
         let f = format_ident!("{}", p.name);
-        let v = p.value;
+        let v = value(p.value);
         quote! { #f: #v }
     });
     let list = params.iter().map(|p| {
-        let (n, v) = (&p.name, p.value);
+        let (n, v) = (&p.name, value(p.value));
         quote! { (#n, #v) }
     });
     quote! {
