@@ -939,3 +939,86 @@ fn stiffness_failures_name_their_cause() {
         "Young's modulus `E` of limb `A` is -1 at these parameters; it must be positive",
     );
 }
+
+/// `pkm stiffness` on the 6-UPS, whose file declares its legs and nothing
+/// written for it: six actuation forces along the legs, no constraint, and
+/// K about o = Σ kᵢ wᵢ wᵢᵀ with wᵢ = (lᵢ, (Sᵢ − o) × lᵢ), lᵢ the unit leg
+/// from the base U centre to the ball, kᵢ = 1/(Lᵢ/(E·A) + 1/k_act): the
+/// legs' ends placed here by hand from the pose (R = R_z·R_y·R_x).
+#[test]
+fn stiffness_of_the_stewart_platform_by_hand() {
+    let pose = [5.0, -8.0, 180.0, 0.1, -0.05, 0.2];
+    let given = format!(
+        "x={},y={},z={},rx={},ry={},rz={}",
+        pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]
+    );
+    let v = run_json(&["stiffness", "examples/mechanisms/ups_6.pkm", "--pose", &given]);
+    let (e, a) = (2.1e5, std::f64::consts::PI * (100.0 - 64.0));
+    let rot = |axis: usize, t: f64| {
+        let (c, s) = (t.cos(), t.sin());
+        let mut m = [[0.0; 3]; 3];
+        let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+        m[axis][axis] = 1.0;
+        m[i][i] = c;
+        m[j][j] = c;
+        m[i][j] = -s;
+        m[j][i] = s;
+        m
+    };
+    let mul = |p: [[f64; 3]; 3], q: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+        std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| p[i][k] * q[k][j]).sum()))
+    };
+    let r = mul(mul(rot(2, pose[5]), rot(1, pose[4])), rot(0, pose[3]));
+    let on = |radius: f64, deg: f64| [radius * deg.to_radians().cos(), radius * deg.to_radians().sin(), 0.0];
+    let bases = [20.0, 100.0, 140.0, 220.0, 260.0, 340.0].map(|d| on(200.0, d));
+    let balls = [40.0, 80.0, 160.0, 200.0, 280.0, 320.0].map(|d| {
+        let b = on(100.0, d);
+        std::array::from_fn::<f64, 3, _>(|i| pose[i] + (0..3).map(|k| r[i][k] * b[k]).sum::<f64>())
+    });
+    let mut want = [[0.0f64; 6]; 6];
+    for (u, s) in bases.iter().zip(&balls) {
+        let d: [f64; 3] = std::array::from_fn(|i| s[i] - u[i]);
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let l = d.map(|x| x / len);
+        let arm: [f64; 3] = std::array::from_fn(|i| s[i] - pose[i]);
+        let m = [
+            arm[1] * l[2] - arm[2] * l[1],
+            arm[2] * l[0] - arm[0] * l[2],
+            arm[0] * l[1] - arm[1] * l[0],
+        ];
+        let w = [l[0], l[1], l[2], m[0], m[1], m[2]];
+        let k = 1.0 / (len / (e * a) + 1.0 / 2e5);
+        for i in 0..6 {
+            for j in 0..6 {
+                want[i][j] += k * w[i] * w[j];
+            }
+        }
+    }
+    let mut drawn = 0;
+    for b in v["branches"].as_array().unwrap() {
+        let rows = b["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 6, "{b}");
+        assert!(rows.iter().all(|r| r["kind"] == "actuation"), "{b}");
+        // The branch with every slide positive: its legs reach the balls.
+        let reach = b["limbs"].as_array().unwrap().iter().zip(&balls).all(|(l, s)| {
+            let p = &l["joints"].as_array().unwrap().last().unwrap()["point"];
+            (0..3).all(|i| (num(&p[i]) - s[i]).abs() <= 1e-9)
+        });
+        if !reach {
+            continue;
+        }
+        drawn += 1;
+        let scale = want.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..6 {
+            for j in 0..6 {
+                let got = num(&b["K"][i][j]);
+                assert!(
+                    (got - want[i][j]).abs() <= 1e-12 * scale,
+                    "K[{i}][{j}] = {got}, by hand {}",
+                    want[i][j]
+                );
+            }
+        }
+    }
+    assert!(drawn > 0, "{v}");
+}
