@@ -13,13 +13,9 @@
 
 mod common;
 
-use common::max_error;
 use pkm::dsl::screw::SplitMix;
-use pkm::runtime::kinematics;
-use pkm::runtime::model::{JointType, Model};
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial::{self, Solution};
-use std::collections::HashMap;
+use pkm::runtime::spatial;
 
 pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
 pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
@@ -317,90 +313,9 @@ fn home_pose_legs() {
     }
 }
 
-/// One value per R and P joint of a full joint-value vector (an S joint's
-/// three left out as 0).
-fn per_joint(model: &Model, full: &[f64]) -> Vec<f64> {
-    let (offsets, _) = model.value_offsets();
-    model
-        .joints
-        .iter()
-        .zip(offsets)
-        .map(|(j, o)| if j.kind == JointType::S { 0.0 } else { full[o] })
-        .collect()
-}
-
-/// A plan solution's values with its S joints' as 0, as [`per_joint`].
-fn per_joint_of(model: &Model, values: &[f64]) -> Vec<f64> {
-    model
-        .joints
-        .iter()
-        .zip(values)
-        .map(|(j, v)| if j.kind == JointType::S { 0.0 } else { *v })
-        .collect()
-}
-
-/// Generated = interpreted, and every interpreted branch against Newton's
-/// inverse solution started 1e-3 away from it, over 200 random poses.
-fn agrees_with_newton(name: &str, generated: impl Fn(&[f64; 3]) -> Vec<Result<Vec<f64>, ()>>) {
-    let (a, model) = common::example(name);
-    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
-    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    let scale = kinematics::model_scale(&model);
-    let options = NewtonOptions {
-        tolerance: 1e-14,
-        ..NewtonOptions::default()
-    };
-    let revolute: Vec<bool> = model.joints.iter().map(|j| j.kind == JointType::R).collect();
-    let mut rng = SplitMix::new(5);
-    let (mut compared, mut same, mut worst_gen, mut worst_newton) = (0, 0, 0.0f64, 0.0f64);
-    for _ in 0..200 {
-        let given = pose(&mut rng);
-        let generated = generated(&given);
-        let interpreted = spatial::run_all(&model, &plan, &given);
-        assert_eq!(generated.len(), interpreted.len(), "{name}");
-        let solved: Vec<&Solution> = interpreted.iter().filter_map(|(_, r)| r.as_ref().ok()).collect();
-        for ((_, r), g) in interpreted.iter().zip(&generated) {
-            let (Ok(sol), Ok(gen)) = (r, g) else {
-                assert_eq!(r.is_ok(), g.is_ok(), "{name}");
-                continue;
-            };
-            let e = max_error(gen, &sol.values, &revolute, scale);
-            worst_gen = worst_gen.max(e);
-            assert!(e < 1e-12, "{name}: generated {e:e} from interpreted");
-        }
-        for (i, s) in solved.iter().enumerate() {
-            let guess: Vec<f64> = s
-                .model_values(&model)
-                .iter()
-                .map(|v| v + 1e-3 * rng.symmetric())
-                .collect();
-            let reference = newton::solve_ik(&model, &outputs, &given, &guess, &options)
-                .unwrap_or_else(|e| panic!("{name}: Newton ik failed at {given:?}: {e}"));
-            let newton = per_joint(&model, &reference.values);
-            let (best, e) = solved
-                .iter()
-                .map(|t| max_error(&per_joint_of(&model, &t.values), &newton, &revolute, scale))
-                .enumerate()
-                .fold((0, f64::INFINITY), |b, (k, e)| if e < b.1 { (k, e) } else { b });
-            worst_newton = worst_newton.max(e);
-            assert!(e <= 1e-9, "{name}: at {given:?} Newton is {e:e} from every branch");
-            compared += 1;
-            same += usize::from(best == i);
-        }
-    }
-    eprintln!(
-        "{name}: {compared} branches against Newton (worst {worst_newton:e}), {same} on the same branch; \
-         generated within {worst_gen:e} of interpreted"
-    );
-    assert!(
-        compared >= 3000 && same * 100 >= compared * 99,
-        "{name}: {compared}, {same}"
-    );
-}
-
 #[test]
 fn rps_inverse_agrees_with_newton() {
-    agrees_with_newton("rps_3", |given| {
+    common::inverse_agrees_with_newton("rps_3", 3000, pose, |given| {
         Rps::ik(&Default::default(), given)
             .into_iter()
             .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))
@@ -410,7 +325,7 @@ fn rps_inverse_agrees_with_newton() {
 
 #[test]
 fn spr_inverse_agrees_with_newton() {
-    agrees_with_newton("spr_3", |given| {
+    common::inverse_agrees_with_newton("spr_3", 3000, pose, |given| {
         Spr::ik(&Default::default(), given)
             .into_iter()
             .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))

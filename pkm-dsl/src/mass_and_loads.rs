@@ -125,6 +125,15 @@ impl LengthUnit {
             LengthUnit::Mm => 1e-3,
         }
     }
+
+    /// The unit's symbol, as the file writes it.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::M => "m",
+            LengthUnit::Cm => "cm",
+            LengthUnit::Mm => "mm",
+        }
+    }
 }
 
 /// A mass unit.

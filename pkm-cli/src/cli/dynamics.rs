@@ -33,11 +33,7 @@ impl Setup {
         let plan = pkm_dsl::planner::forward_plan(a).map_err(|d| r.parse_failure(d))?;
         let inputs = plan.input_joints(&l.model);
         let skcs = pkm_dsl::numeric::skc_parts(a);
-        let unit = match units.length {
-            pkm_dsl::mass_and_loads::LengthUnit::M => "m",
-            pkm_dsl::mass_and_loads::LengthUnit::Cm => "cm",
-            pkm_dsl::mass_and_loads::LengthUnit::Mm => "mm",
-        };
+        let unit = units.length.symbol();
         Ok(Setup {
             l,
             loading,

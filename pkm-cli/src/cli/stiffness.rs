@@ -95,11 +95,7 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
     let plan = pkm_dsl::planner::inverse_plan(a).map_err(|d| r.parse_failure(d))?;
     let given = ordered_pose(r, &l, pose)?;
     let model = &l.model;
-    let unit = match units.length {
-        pkm_dsl::mass_and_loads::LengthUnit::M => "m",
-        pkm_dsl::mass_and_loads::LengthUnit::Cm => "cm",
-        pkm_dsl::mass_and_loads::LengthUnit::Mm => "mm",
-    };
+    let unit = units.length.symbol();
     let mut branches = Vec::new();
     let mut causes = Vec::new();
     for (signs, solution) in pkm_runtime::spatial::run_all(model, &plan, &given) {
