@@ -479,7 +479,7 @@ fn stiffness_map_of_the_3rps_matches_pkm_stiffness() {
     let (html, out) = page("rps_3", options);
     assert!(html.contains("<h2>Static stiffness</h2>"));
     assert!(html.contains("ZA (mm) = 75.0000"), "the held height is the one given");
-    for stem in ["stiffness_z", "stiffness_least"] {
+    for stem in ["stiffness_z", "stiffness_least", "stiffness_pose"] {
         for ext in ["png", "svg"] {
             let f = out.join(format!("{stem}.{ext}"));
             assert!(std::fs::metadata(&f).is_ok_and(|m| m.len() > 1000), "{f:?}");

@@ -4,8 +4,9 @@
 //! values, the others held (docs/stiffness.md, "Report").
 
 use super::html::{html_escape, sign_text, tuple_text, Page};
-use super::loaded::{output_columns, reach, signs, Loaded, Plan};
+use super::loaded::{default_point, output_columns, reach, signs, Loaded, Plan};
 use super::{invalid, ReportError};
+use crate::drawing::{self, View};
 use crate::plots;
 use pkm_dsl::limb_properties::ResolvedLimb;
 use pkm_runtime::newton::Output;
@@ -296,6 +297,33 @@ pub(super) fn stiffness_map(
         centre.along_z,
         centre.least,
     );
+    // The mechanism at the held pose on the mapped branch.
+    let poses = plan
+        .solve(&l.model, &held, &branch_signs)
+        .ok()
+        .and_then(|v| pkm_runtime::newton::link_poses(&l.model, &v).ok());
+    if let Some(poses) = poses {
+        let point_name = default_point(l);
+        let f = drawing::draw(
+            &page.dir.join("stiffness_pose"),
+            &format!(
+                "{} at the held pose {}, branch {branch}",
+                l.model.name,
+                tuple_text(&held, 3)
+            ),
+            &drawing::scene(&l.model, &poses, (link, local)),
+            View::Axonometric,
+            unit,
+            &point_name,
+        )?;
+        page.figure(
+            &f,
+            &format!(
+                "The mechanism at the held pose ({}), on the mapped branch; {point_name} is the reference point",
+                html_escape(&columns.join(", "))
+            ),
+        );
+    }
     let stiffness_unit = format!("N/{unit}");
     let quantities = [
         (
