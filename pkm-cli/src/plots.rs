@@ -554,3 +554,214 @@ pub fn curves(
     let (png, svg) = both(stem, (800 + LEGEND_WIDTH, 520), &d)?;
     Ok(Figure { png, svg, csv })
 }
+
+/// The viridis colour map at `t` in [0, 1] (its nine stops, linearly
+/// between them): dark blue–purple for low, yellow for high, readable in
+/// grey and by colour-blind readers.
+pub(crate) fn viridis(t: f64) -> RGBColor {
+    const STOPS: [(u8, u8, u8); 9] = [
+        (68, 1, 84),
+        (71, 44, 122),
+        (59, 81, 139),
+        (44, 113, 142),
+        (33, 144, 141),
+        (39, 173, 129),
+        (92, 200, 99),
+        (170, 220, 50),
+        (253, 231, 37),
+    ];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let x = t * (STOPS.len() - 1) as f64;
+    let k = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - k as f64;
+    let mix = |a: u8, b: u8| (f64::from(a) + f * (f64::from(b) - f64::from(a))).round() as u8;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// The width of a heat map's colour bar strip, in pixels.
+const BAR_WIDTH: u32 = 150;
+
+/// `v` as 0 when it is within rounding (10⁻⁹ of `span`) of it.
+fn snap(v: f64, span: f64) -> f64 {
+    if v.abs() <= 1e-9 * span.abs() {
+        0.0
+    } else {
+        v
+    }
+}
+
+/// A tick label: three significant digits, a power of ten for large or
+/// small values, never `-0`.
+///
+/// ```
+/// assert_eq!(pkm_cli::plots::tick(-0.0), "0");
+/// assert_eq!(pkm_cli::plots::tick(0.25), "0.25");
+/// assert_eq!(pkm_cli::plots::tick(12_500_000.0), "1.25e7");
+/// ```
+pub fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v.is_finite() { "0".into() } else { v.to_string() };
+    }
+    let a = v.abs();
+    let text = if (1e-3..1e4).contains(&a) {
+        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.2e}")
+    };
+    // Trailing zeros of the mantissa go.
+    let (mantissa, exponent) = text.split_once('e').map_or((text.as_str(), ""), |(m, e)| (m, e));
+    let mantissa = if mantissa.contains('.') {
+        mantissa.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        mantissa
+    };
+    let mantissa = if mantissa == "-0" { "0" } else { mantissa };
+    if exponent.is_empty() {
+        mantissa.to_string()
+    } else {
+        format!("{mantissa}e{exponent}")
+    }
+}
+
+/// A heat map of `values` over the grid `xs` × `ys` (`values[i · ys.len() + j]`
+/// at `(xs[i], ys[j])`, each node's cell centred on it): the colour bar
+/// beside it labelled `value_label`; a node whose value is not finite is
+/// left blank (white). The CSV has one row per node, its value empty where
+/// there is none.
+///
+/// ```
+/// let stem = std::env::temp_dir().join("pkm-doc-heat");
+/// let f = pkm_cli::plots::heat_map(&stem, "Heat", ["x (mm)", "y (mm)"], &[0.0, 1.0], &[0.0, 1.0],
+///     &[1.0, 2.0, f64::NAN, 4.0], "k (N/mm)").unwrap();
+/// let csv = std::fs::read_to_string(f.csv).unwrap();
+/// assert_eq!(csv.lines().nth(3), Some("1,0,"));
+/// ```
+pub fn heat_map(
+    stem: &Path,
+    title: &str,
+    labels: [&str; 2],
+    xs: &[f64],
+    ys: &[f64],
+    values: &[f64],
+    value_label: &str,
+) -> Result<Figure, PlotError> {
+    if xs.len() < 2 || ys.len() < 2 || values.len() != xs.len() * ys.len() {
+        return Err(PlotError(format!(
+            "a heat map needs at least 2 × 2 nodes and one value per node ({} × {} nodes, {} values)",
+            xs.len(),
+            ys.len(),
+            values.len()
+        )));
+    }
+    let csv = stem.with_extension("csv");
+    write_csv(
+        &csv,
+        &[labels[0], labels[1], value_label],
+        (0..values.len()).map(|n| {
+            let v = values[n];
+            vec![
+                xs[n / ys.len()].to_string(),
+                ys[n % ys.len()].to_string(),
+                if v.is_finite() { v.to_string() } else { String::new() },
+            ]
+        }),
+    )?;
+    struct Heat<'a> {
+        title: &'a str,
+        labels: [&'a str; 2],
+        xs: &'a [f64],
+        ys: &'a [f64],
+        values: &'a [f64],
+        value_label: &'a str,
+    }
+    impl Draw for Heat<'_> {
+        fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+            let (w, _) = area.dim_in_pixel();
+            let (main, bar) = area.split_horizontally(w.saturating_sub(BAR_WIDTH));
+            let (nx, ny) = (self.xs.len(), self.ys.len());
+            // Each cell reaches half a step either side of its node.
+            let half = |v: &[f64], k: usize| {
+                let n = v.len();
+                let lo = if k == 0 { v[1] - v[0] } else { v[k] - v[k - 1] };
+                let hi = if k + 1 == n {
+                    v[n - 1] - v[n - 2]
+                } else {
+                    v[k + 1] - v[k]
+                };
+                (v[k] - lo / 2.0, v[k] + hi / 2.0)
+            };
+            let xr = (half(self.xs, 0).0, half(self.xs, nx - 1).1);
+            let yr = (half(self.ys, 0).0, half(self.ys, ny - 1).1);
+            let finite = self.values.iter().copied().filter(|v| v.is_finite());
+            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+            let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            let mut chart = ChartBuilder::on(&main)
+                .caption(self.title, ("sans-serif", 20))
+                .margin(MARGIN)
+                .x_label_area_size(X_LABELS)
+                .y_label_area_size(Y_LABELS)
+                .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_desc(self.labels[0])
+                .y_desc(self.labels[1])
+                .x_label_formatter(&|v| tick(snap(*v, xr.1 - xr.0)))
+                .y_label_formatter(&|v| tick(snap(*v, yr.1 - yr.0)))
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(err)?;
+            let cells = (0..self.values.len()).filter(|&n| self.values[n].is_finite()).map(|n| {
+                let (x0, x1) = half(self.xs, n / ny);
+                let (y0, y1) = half(self.ys, n % ny);
+                let c = viridis((self.values[n] - lo) / span);
+                Rectangle::new([(x0, y0), (x1, y1)], c.filled())
+            });
+            chart.draw_series(cells).map_err(err)?;
+            // The colour bar: a column of 100 bands from the least value to the greatest.
+            let (top, bottom) = (CAPTION + MARGIN, X_LABELS + MARGIN);
+            let mut scale = ChartBuilder::on(&bar)
+                .margin_top(top)
+                .margin_bottom(bottom)
+                .margin_left(8)
+                .margin_right(22)
+                .y_label_area_size(0)
+                .right_y_label_area_size(BAR_WIDTH as i32 - 70)
+                .build_cartesian_2d(0.0..1.0, lo..lo + span)
+                .map_err(err)?
+                .set_secondary_coord(0.0..1.0, lo..lo + span);
+            scale
+                .configure_secondary_axes()
+                .y_desc(self.value_label)
+                .y_label_formatter(&|v| tick(snap(*v, span)))
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(err)?;
+            let bands = 100;
+            scale
+                .draw_series((0..bands).map(|k| {
+                    let (a, b) = (k as f64 / bands as f64, (k + 1) as f64 / bands as f64);
+                    Rectangle::new(
+                        [(0.0, lo + a * span), (1.0, lo + b * span)],
+                        viridis((a + b) / 2.0).filled(),
+                    )
+                }))
+                .map_err(err)?;
+            Ok(())
+        }
+    }
+    let d = Heat {
+        title,
+        labels,
+        xs,
+        ys,
+        values,
+        value_label,
+    };
+    let (png, svg) = both(stem, (700 + BAR_WIDTH, 600), &d)?;
+    Ok(Figure { png, svg, csv })
+}

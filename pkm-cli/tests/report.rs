@@ -434,3 +434,114 @@ fn five_bar_cranks_turning_together() {
     }
     let _ = std::fs::remove_dir_all(out);
 }
+
+/// `pkm stiffness --json` (the command line's own path: `spatial::run_all`,
+/// every branch) at `pose`: the branch with the shortest legs among those
+/// with a stiffness, as tests/frame/pkm_against_frame.py draws it.
+fn shortest_legs_branch(file: &str, pose: &str) -> serde_json::Value {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pkm"))
+        .args(["--json", "stiffness", file, "--pose", pose])
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{pose}: {}", String::from_utf8_lossy(&out.stdout));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let legs = |b: &serde_json::Value| -> f64 {
+        b["limbs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["length"].as_f64().unwrap())
+            .sum()
+    };
+    v["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["ok"] == true)
+        .min_by(|a, b| legs(a).total_cmp(&legs(b)))
+        .unwrap()
+        .clone()
+}
+
+/// The static stiffness map of seed 004's 3-RPS held at its home height
+/// (Z_A = 75 mm): both maps written (PNG, SVG, 41 × 41 CSV rows) and, at
+/// grid nodes, equal to what `pkm stiffness` gives there on the branch with
+/// the shortest legs: the directional stiffness along z as it reports it
+/// and as 1/(K⁻¹)_zz of its K, and the least eigenvalue of K's
+/// translational block (this test's own eigen-solve of the CLI's K).
+#[test]
+fn stiffness_map_of_the_3rps_matches_pkm_stiffness() {
+    let options = ReportOptions {
+        hold: vec![("ZA".into(), 75.0)],
+        ..Default::default()
+    };
+    let (html, out) = page("rps_3", options);
+    assert!(html.contains("<h2>Static stiffness</h2>"));
+    assert!(html.contains("ZA (mm) = 75.0000"), "the held height is the one given");
+    for stem in ["stiffness_z", "stiffness_least", "stiffness_pose"] {
+        for ext in ["png", "svg"] {
+            let f = out.join(format!("{stem}.{ext}"));
+            assert!(std::fs::metadata(&f).is_ok_and(|m| m.len() > 1000), "{f:?}");
+        }
+    }
+    let csvs = read_csvs(&out);
+    let rows = |stem: &str| csvs.iter().find(|(n, _, _)| n == stem).unwrap().2.clone();
+    let (along_z, least) = (rows("stiffness_z"), rows("stiffness_least"));
+    assert_eq!((along_z.len(), least.len()), (41 * 41, 41 * 41));
+    // The centre, a corner, and a node off both axes.
+    let check = |node: usize| {
+        let (alpha, beta) = (&along_z[node][0], &along_z[node][1]);
+        assert_eq!((alpha, beta), (&least[node][0], &least[node][1]));
+        let branch = shortest_legs_branch(
+            "examples/mechanisms/rps_3.pkm",
+            &format!("ZA=75,alpha={alpha},beta={beta}"),
+        );
+        let k: Vec<f64> = branch["K"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .collect();
+        let k = pkm_runtime::nalgebra::Matrix6::from_row_slice(&k);
+        let compliance = k.try_inverse().unwrap();
+        let translational = k.fixed_view::<3, 3>(0, 0).into_owned();
+        let expect_least = translational.symmetric_eigenvalues().min();
+        let expect_z = branch["directional"]["z"].as_f64().unwrap();
+        let got_z: f64 = along_z[node][2].parse().unwrap();
+        let got_least: f64 = least[node][2].parse().unwrap();
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        assert!(close(got_z, expect_z), "node {node}: k_z {got_z} against {expect_z}");
+        assert!(close(got_z, 1.0 / compliance[(2, 2)]), "node {node}: k_z {got_z}");
+        assert!(
+            close(got_least, expect_least),
+            "node {node}: least {got_least} against {expect_least}"
+        );
+    };
+    for node in [20 * 41 + 20, 0, 33 * 41 + 7] {
+        check(node);
+    }
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// Files without `limbs` get no stiffness section, and `--hold` on them,
+/// or naming no output, is an error.
+#[test]
+fn no_stiffness_map_without_limbs() {
+    for name in ["four_bar", "rps_3_tilt", "upu_3"] {
+        let (html, out) = page(name, ReportOptions::default());
+        assert!(!html.contains("Static stiffness"), "{name}");
+        assert!(!out.join("stiffness_z.csv").exists(), "{name}");
+        let _ = std::fs::remove_dir_all(out);
+    }
+    let hold = |name: &str| ReportOptions {
+        hold: vec![(name.into(), 1.0)],
+        ..Default::default()
+    };
+    check("rps_3_tilt", hold("ZA"), "declares no `units` and `limbs`");
+    check(
+        "rps_3",
+        hold("height"),
+        "--hold height: no such output (the outputs: ZA, alpha, beta)",
+    );
+}

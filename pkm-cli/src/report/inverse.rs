@@ -44,7 +44,13 @@ pub(super) fn inverse_only(
     else {
         let _ = writeln!(
             page,
-            "<p>It has no inverse plan from a pose or point output either: nothing numeric to show.</p>"
+            "<p>It has no inverse plan from a full pose or a point output either: no drawing, workspace or \
+             motion to show{}.</p>",
+            if l.inverse.is_some() && !l.analysis.limbs.is_empty() {
+                " (the static stiffness below solves its inverse plan)"
+            } else {
+                ""
+            }
         );
         return Ok(());
     };

@@ -3,8 +3,9 @@
 //! mechanism at the sample input and its animation along the trajectory, the
 //! position solutions with their singularity measures, the workspace of a
 //! chosen point (3-D view, projections, sections, and its volume, area or
-//! length as its dimension allows), singularity loci, and the point's
-//! velocity and acceleration. Every figure is also written as PNG, SVG and
+//! length as its dimension allows), singularity loci, the point's
+//! velocity and acceleration, and for a file that declares its legs a map
+//! of the platform's static stiffness. Every figure is also written as PNG, SVG and
 //! CSV beside the page. Works from the file alone: what to sample comes from
 //! its `study { … }` block (see `docs/report.md`), the command line
 //! overriding each key, and sensible defaults for the rest.
@@ -16,6 +17,7 @@ mod loaded;
 mod positions;
 mod settings;
 mod singularities;
+mod stiffness_map;
 mod trajectory;
 mod workspace;
 
@@ -73,6 +75,11 @@ pub struct ReportOptions {
     /// Workspace sections: `--sections x=60,y=-85,z=300`.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = parse_section)]
     pub sections: Vec<(usize, f64)>,
+    /// The static stiffness map's held pose: an output's value, as
+    /// `--hold ZA=75` (repeatable); the two mapped values are centred on
+    /// theirs. Default: angles and x, y at 0, z where `J` is best conditioned.
+    #[arg(long = "hold", value_parser = parse_param, allow_hyphen_values = true)]
+    pub hold: Vec<(String, f64)>,
     /// The length unit's name, for labels.
     #[arg(long, default_value = "mm")]
     pub unit: String,
@@ -95,6 +102,7 @@ impl Default for ReportOptions {
             speed: None,
             duration: None,
             sections: Vec::new(),
+            hold: Vec::new(),
             unit: "mm".into(),
             compare: Vec::new(),
         }
@@ -295,6 +303,7 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
                 || o.speed.is_some()
                 || o.duration.is_some()
                 || !o.sections.is_empty()
+                || !o.hold.is_empty()
                 || !o.compare.is_empty();
             if numeric {
                 return Err(invalid(format!(
@@ -308,13 +317,17 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
                  placed on their links.</p>"
             );
         }
-        Some(l) => match &l.forward {
-            Ok(plan) => {
-                let s = settings(&l, plan, &study, o, file)?;
-                numeric(&mut page, &l, plan, &s, o, file)?;
+        Some(l) => {
+            match &l.forward {
+                Ok(plan) => {
+                    let s = settings(&l, plan, &study, o, file)?;
+                    numeric(&mut page, &l, plan, &s, o, file)?;
+                }
+                Err(why) => inverse::inverse_only(&mut page, &l, &study, o, file, why)?,
             }
-            Err(why) => inverse::inverse_only(&mut page, &l, &study, o, file, why)?,
-        },
+            // 7. Static stiffness, for a file that declares its legs.
+            stiffness_map::stiffness_map(&mut page, &l, &o.hold, file)?;
+        }
     }
     page.html.push_str("</body></html>\n");
     let path = out.join("index.html");
