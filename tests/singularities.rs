@@ -486,39 +486,58 @@ fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
 /// hand, vanishing as the slot turns onto the guide (θ → 0, where
 /// s = 80/tan θ runs off). On the Scotch yoke the slot is normal to the
 /// yoke's guide: 1 at every crank angle.
-#[test]
-fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
-    let tangent = common::TANGENT_MECHANISM;
-    let tangent = pkm::dsl::analyze_source(tangent).unwrap();
-    let (yoke, _) = common::example("scotch_yoke");
-    for (a, hand) in [(tangent, (|t: f64| t.sin().abs()) as fn(f64) -> f64), (yoke, |_| 1.0)] {
-        let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
-        let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-        let k = plan
-            .steps
-            .iter()
-            .position(|s| matches!(s, spatial::Step::SlideToLine { .. }))
-            .unwrap();
-        for theta in [1.2, 0.5, -2.0, 1e-3, -1e-5] {
-            let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
-                .into_iter()
-                .filter_map(|(_, r)| r.ok())
-                .collect();
-            assert_eq!(solved.len(), 1);
-            let f = singular::spatial_factors(&model, &plan, &solved[0].poses)
+/// The factor of the forward plan's step that `is_step` picks, at each
+/// input of `inputs`, on each of the `branches` branches that solve:
+/// `want(input)` to 1e-12, its description containing `phrase`.
+fn check_step_factor(
+    a: &pkm::dsl::Analysis,
+    is_step: fn(&spatial::Step) -> bool,
+    inputs: &[f64],
+    branches: usize,
+    want: impl Fn(f64) -> f64,
+    phrase: &str,
+) {
+    let model = pkm::dsl::numeric::model(a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(a).unwrap();
+    let k = plan.steps.iter().position(is_step).unwrap();
+    for &q in inputs {
+        let want = want(q);
+        let solved: Vec<_> = spatial::run_all(&model, &plan, &[q])
+            .into_iter()
+            .filter_map(|(_, r)| r.ok())
+            .collect();
+        assert_eq!(solved.len(), branches, "input {q}");
+        for sol in solved {
+            let f = singular::spatial_factors(&model, &plan, &sol.poses)
                 .into_iter()
                 .find(|f| f.step == k)
                 .unwrap();
-            let named = f.describe(&model, &solved[0].poses);
+            let named = f.describe(&model, &sol.poses);
             assert!(
-                (f.value - hand(theta)).abs() < 1e-12,
-                "{named}: {} vs {}",
-                f.value,
-                hand(theta)
+                (f.value - want).abs() < 1e-12,
+                "input {q}: {named}: {} vs {want}",
+                f.value
             );
-            assert!(named.contains("slides along the line"), "{named}");
+            assert!(named.contains(phrase), "{named}");
         }
     }
+}
+
+#[test]
+fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
+    let tangent = pkm::dsl::analyze_source(common::TANGENT_MECHANISM).unwrap();
+    let (yoke, _) = common::example("scotch_yoke");
+    let is_step = |s: &spatial::Step| matches!(s, spatial::Step::SlideToLine { .. });
+    let inputs = [1.2, 0.5, -2.0, 1e-3, -1e-5];
+    check_step_factor(
+        &tangent,
+        is_step,
+        &inputs,
+        1,
+        |t| t.sin().abs(),
+        "slides along the line",
+    );
+    check_step_factor(&yoke, is_step, &inputs, 1, |_| 1.0, "slides along the line");
 }
 
 /// `beyond_given` with a slide: a slider-crank (r = 50, l = 180) driven at
@@ -542,30 +561,14 @@ fn beyond_given_slide_factor_by_hand() {
         }
     }";
     let a = pkm::dsl::analyze_source(text).unwrap();
-    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
-    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-    let k = plan
-        .steps
-        .iter()
-        .position(|s| matches!(s, spatial::Step::Beyond { .. }))
-        .unwrap();
-    for v in [0.0, 0.1, -0.2, 0.27] {
-        let want = (50.0f64 * 50.0 - (180.0 * f64::sin(v)).powi(2)).sqrt() / 50.0;
-        let solved: Vec<_> = spatial::run_all(&model, &plan, &[v])
-            .into_iter()
-            .filter_map(|(_, r)| r.ok())
-            .collect();
-        assert_eq!(solved.len(), 2);
-        for sol in solved {
-            let f = singular::spatial_factors(&model, &plan, &sol.poses)
-                .into_iter()
-                .find(|f| f.step == k)
-                .unwrap();
-            let named = f.describe(&model, &sol.poses);
-            assert!((f.value - want).abs() < 1e-12, "{named}: {} vs {want}", f.value);
-            assert!(named.contains("touches the cylinder about R1"), "{named}");
-        }
-    }
+    check_step_factor(
+        &a,
+        |s| matches!(s, spatial::Step::Beyond { .. }),
+        &[0.0, 0.1, -0.2, 0.27],
+        2,
+        |v| (50.0f64 * 50.0 - (180.0 * f64::sin(v)).powi(2)).sqrt() / 50.0,
+        "touches the cylinder about R1",
+    );
 }
 
 /// The factor of a cone (`on_cone`), on the spherical four-bar's forward
@@ -578,41 +581,21 @@ fn beyond_given_slide_factor_by_hand() {
 /// on both branches.
 #[test]
 fn cone_factor_is_the_sine_of_the_transmission_angle() {
-    let (a, model) = common::example("spherical_four_bar");
-    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-    let k = plan
-        .steps
-        .iter()
-        .position(|s| matches!(s, spatial::Step::Cone { .. }))
-        .unwrap();
+    let (a, _) = common::example("spherical_four_bar");
     let [a1, a2, a3, a4] = [30.0f64, 70.0, 60.0, 80.0].map(f64::to_radians);
-    for theta in [-2.5, -1.0, 0.0, 0.7, 2.0, 3.1] {
-        let cos_delta = a1.sin() * a4.sin() * f64::cos(theta) + a1.cos() * a4.cos();
-        let cos_gamma = (cos_delta - a2.cos() * a3.cos()) / (a2.sin() * a3.sin());
-        let want = (1.0 - cos_gamma * cos_gamma).sqrt();
-        let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
-            .into_iter()
-            .filter_map(|(_, r)| r.ok())
-            .collect();
-        assert_eq!(solved.len(), 2);
-        for sol in solved {
-            let f = singular::spatial_factors(&model, &plan, &sol.poses)
-                .into_iter()
-                .find(|f| f.step == k)
-                .unwrap();
-            let named = f.describe(&model, &sol.poses);
-            assert!(
-                (f.value - want).abs() < 1e-12,
-                "θ = {theta}: {named}: {} vs {want}",
-                f.value
-            );
-            // R2 and R4 are placed where their axes cross the sphere, at B and D.
-            assert!(
-                named.contains("the axes of R2 (B), R3, R4 (D) lie in one plane"),
-                "{named}"
-            );
-        }
-    }
+    check_step_factor(
+        &a,
+        |s| matches!(s, spatial::Step::Cone { .. }),
+        &[-2.5, -1.0, 0.0, 0.7, 2.0, 3.1],
+        2,
+        |theta| {
+            let cos_delta = a1.sin() * a4.sin() * f64::cos(theta) + a1.cos() * a4.cos();
+            let cos_gamma = (cos_delta - a2.cos() * a3.cos()) / (a2.sin() * a3.sin());
+            (1.0 - cos_gamma * cos_gamma).sqrt()
+        },
+        // R2 and R4 are placed where their axes cross the sphere, at B and D.
+        "the axes of R2 (B), R3, R4 (D) lie in one plane",
+    );
 }
 
 /// The factor of two turns about meeting axes (`two_turns`), on the
@@ -626,37 +609,17 @@ fn cone_factor_is_the_sine_of_the_transmission_angle() {
 /// the coupler lies along the U's rocker axis (the cross's gimbal lock).
 #[test]
 fn two_turns_factor_is_the_sine_between_coupler_and_rocker_axis() {
-    let (a, model) = common::example("rsur");
-    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-    let k = plan
-        .steps
-        .iter()
-        .position(|s| matches!(s, spatial::Step::TwoTurns { .. }))
-        .unwrap();
+    let (a, _) = common::example("rsur");
     let (crank, l, d) = (40.0f64, 160.0f64, 100.0f64);
-    for theta in [-2.5, -1.0, 0.0, 0.7, 2.0, 3.1] {
-        let dx = crank * f64::cos(theta) - d;
-        let want = (l * l - dx * dx).sqrt() / l;
-        let solved: Vec<_> = spatial::run_all(&model, &plan, &[theta])
-            .into_iter()
-            .filter_map(|(_, r)| r.ok())
-            .collect();
-        assert_eq!(solved.len(), 4);
-        for sol in solved {
-            let f = singular::spatial_factors(&model, &plan, &sol.poses)
-                .into_iter()
-                .find(|f| f.step == k)
-                .unwrap();
-            let named = f.describe(&model, &sol.poses);
-            assert!(
-                (f.value - want).abs() < 1e-12,
-                "θ = {theta}: {named}: {} vs {want}",
-                f.value
-            );
-            assert!(
-                named.contains("S1 lies in the plane of the axes of U1.b and U1.a"),
-                "{named}"
-            );
-        }
-    }
+    check_step_factor(
+        &a,
+        |s| matches!(s, spatial::Step::TwoTurns { .. }),
+        &[-2.5, -1.0, 0.0, 0.7, 2.0, 3.1],
+        4,
+        |theta| {
+            let dx = crank * f64::cos(theta) - d;
+            (l * l - dx * dx).sqrt() / l
+        },
+        "S1 lies in the plane of the axes of U1.b and U1.a",
+    );
 }
