@@ -146,6 +146,31 @@ impl ResolvedLimb {
     }
 }
 
+/// The declared limb of each limb a wrench analysis found
+/// ([`pkm_runtime::wrench::WrenchAnalysis::limbs`], in its order): the one
+/// with the same joints.
+///
+/// # Errors
+/// The index of the first analysed limb no entry declares.
+pub fn in_analysis_order<'a>(
+    limbs: &'a [ResolvedLimb],
+    analysed: &[pkm_runtime::wrench::Limb],
+) -> Result<Vec<&'a ResolvedLimb>, usize> {
+    let sorted = |joints: &[usize]| {
+        let mut j = joints.to_vec();
+        j.sort_unstable();
+        j
+    };
+    analysed
+        .iter()
+        .enumerate()
+        .map(|(k, limb)| {
+            let joints = sorted(&limb.joints);
+            limbs.iter().find(|l| sorted(&l.joints) == joints).ok_or(k)
+        })
+        .collect()
+}
+
 /// The keys of a limb entry, with what each is (for messages).
 const KEYS: [(&str, &str); 6] = [
     ("E", "Young's modulus"),

@@ -409,6 +409,17 @@ impl Output {
             Output::Joint(_) => 1,
         }
     }
+
+    /// The link and the point on it (in its frame) that the output places,
+    /// if it places one (a joint's value does not).
+    pub fn point(&self) -> Option<(usize, [f64; 3])> {
+        match *self {
+            Output::Pose { link, local, .. } | Output::Point { link, local } | Output::Parts { link, local, .. } => {
+                Some((link, local))
+            }
+            Output::Joint(_) => None,
+        }
+    }
 }
 
 /// The model with the outputs as its inputs: the mechanism's actuators are

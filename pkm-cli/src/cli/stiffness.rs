@@ -8,50 +8,8 @@
 use super::failure::{Failure, Kind};
 use super::solve::{finite, load, ordered_pose, Request};
 use pkm_runtime::newton::Output;
-use pkm_runtime::stiffness::LimbProperties;
-use pkm_runtime::wrench::{RowKind, WrenchAnalysis};
+use pkm_runtime::wrench::RowKind;
 use serde_json::{json, Value};
-
-/// The platform link and its reference point (in its frame): the first
-/// output that places a link's point.
-fn platform(outputs: &[Output]) -> Option<(usize, [f64; 3])> {
-    outputs.iter().find_map(|o| match *o {
-        Output::Pose { link, local, .. } | Output::Point { link, local } | Output::Parts { link, local, .. } => {
-            Some((link, local))
-        }
-        Output::Joint(_) => None,
-    })
-}
-
-/// The file's limb properties in the wrench analysis's limb order: each
-/// analysed limb is the declared branch with the same joints.
-fn properties_in_order(
-    analysis: &WrenchAnalysis,
-    limbs: &[pkm_dsl::limb_properties::ResolvedLimb],
-    joint_name: impl Fn(usize) -> String,
-) -> Result<(Vec<LimbProperties>, Vec<String>), Failure> {
-    let mut properties = Vec::new();
-    let mut names = Vec::new();
-    for limb in &analysis.limbs {
-        let mut joints = limb.joints.clone();
-        joints.sort_unstable();
-        let declared = limbs.iter().find(|l| {
-            let mut these = l.joints.clone();
-            these.sort_unstable();
-            these == joints
-        });
-        let Some(declared) = declared else {
-            let path: Vec<String> = limb.joints.iter().map(|&j| joint_name(j)).collect();
-            return Err(Failure::input(format!(
-                "the limb {} has no entry in the `limbs` block",
-                path.join("–")
-            )));
-        };
-        properties.push(declared.properties());
-        names.push(declared.name.clone());
-    }
-    Ok((properties, names))
-}
 
 fn kind_name(kind: RowKind) -> &'static str {
     match kind {
@@ -87,7 +45,7 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
     for (k, &w) in wrench.iter().enumerate() {
         finite(&format!("wrench component {}", k + 1), w)?;
     }
-    let Some((link, local)) = platform(&l.outputs) else {
+    let Some((link, local)) = l.outputs.iter().find_map(Output::point) else {
         return Err(Failure::input(
             "stiffness needs the platform's pose or a point of it among the outputs",
         ));
@@ -115,7 +73,16 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
                 continue;
             }
         };
-        let (properties, names) = properties_in_order(&analysis, &limbs, |j| model.joints[j].name.clone())?;
+        let declared = pkm_dsl::limb_properties::in_analysis_order(&limbs, &analysis.limbs).map_err(|k| {
+            let path: Vec<&str> = analysis.limbs[k]
+                .joints
+                .iter()
+                .map(|&j| model.joints[j].name.as_str())
+                .collect();
+            Failure::input(format!("the limb {} has no entry in the `limbs` block", path.join("–")))
+        })?;
+        let properties: Vec<_> = declared.iter().map(|d| d.properties()).collect();
+        let names: Vec<&str> = declared.iter().map(|d| d.name.as_str()).collect();
         let k = match pkm_runtime::stiffness::stiffness(&analysis, &properties) {
             Ok(k) => k,
             Err(e) => {

@@ -13,7 +13,6 @@ use pkm_runtime::newton::Output;
 use pkm_runtime::primitives::Sign;
 use pkm_runtime::stiffness::LimbProperties;
 use pkm_runtime::workspace::{sweep_nodes, Grid};
-use pkm_runtime::wrench::WrenchAnalysis;
 use std::fmt::Write as _;
 
 /// Grid nodes along each of the map's two values.
@@ -50,35 +49,17 @@ struct Map<'a> {
 }
 
 impl Map<'_> {
-    /// The file's limb properties in the analysis's limb order (each
-    /// analysed limb is the declared one with the same joints).
-    fn properties(&self, analysis: &WrenchAnalysis) -> Result<Vec<LimbProperties>, String> {
-        analysis
-            .limbs
-            .iter()
-            .map(|limb| {
-                let mut joints = limb.joints.clone();
-                joints.sort_unstable();
-                self.limbs
-                    .iter()
-                    .find(|d| {
-                        let mut these = d.joints.clone();
-                        these.sort_unstable();
-                        these == joints
-                    })
-                    .map(ResolvedLimb::properties)
-                    .ok_or_else(|| "a limb has no entry in the `limbs` block".to_string())
-            })
-            .collect()
-    }
-
     /// The stiffness at `pose` on the branch `signs`: `Err` with the cause
     /// where the pose is not reached or the configuration is singular.
     fn node(&self, pose: &[f64], signs: &[Sign]) -> Result<Node, String> {
         let model = &self.l.model;
         let solution = pkm_runtime::spatial::run(model, self.plan, pose, signs).map_err(|e| e.to_string())?;
         let analysis = pkm_runtime::wrench::analyse(model, &solution, self.link).map_err(|e| e.to_string())?;
-        let properties = self.properties(&analysis)?;
+        let properties: Vec<LimbProperties> = pkm_dsl::limb_properties::in_analysis_order(self.limbs, &analysis.limbs)
+            .map_err(|_| "a limb has no entry in the `limbs` block".to_string())?
+            .into_iter()
+            .map(ResolvedLimb::properties)
+            .collect();
         let k = pkm_runtime::stiffness::stiffness(&analysis, &properties).map_err(|e| e.to_string())?;
         let point = pkm_runtime::spatial::at(&solution.poses[self.link], self.local);
         let along_z = k.directional(point).map_err(|e| e.to_string())?[2];
@@ -169,12 +150,7 @@ pub(super) fn stiffness_map(
         not_mapped(page, "it has no inverse plan from its outputs");
         return Ok(());
     };
-    let platform = l.outputs.iter().find_map(|o| match *o {
-        Output::Pose { link, local, .. } | Output::Point { link, local } | Output::Parts { link, local, .. } => {
-            Some((link, local))
-        }
-        Output::Joint(_) => None,
-    });
+    let platform = l.outputs.iter().find_map(Output::point);
     let Some((link, local)) = platform.filter(|_| !l.model.planar) else {
         not_mapped(page, "no output places a point of a platform in space");
         return Ok(());
