@@ -454,6 +454,45 @@ pub fn held_rows_solvable(parts: PoseParts, all_held: bool) -> Result<(), String
     }
 }
 
+/// A chain of links with two joints each walked joint by joint, as a plane
+/// of the link it starts from: its revolutes about one direction (the
+/// plane's normal) and its slides normal to it.
+#[derive(Default)]
+struct PlaneChain {
+    /// The hops walked.
+    hops: Vec<Hop>,
+    /// The first revolute's place among the hops and its direction.
+    normal: Option<(usize, Vector3<f64>)>,
+    /// The slides' directions.
+    slides: Vec<Vector3<f64>>,
+}
+
+impl PlaneChain {
+    /// Walks joint `q` from link `cur`: `None` where the chain stops being
+    /// a plane (a revolute not parallel to the first, or a spherical joint).
+    fn take(&mut self, s: &Search<'_>, q: usize, cur: usize) -> Option<()> {
+        let dir = s.rotation(&self.hops) * s.axis(q, cur);
+        match s.kind(q) {
+            JointType::R | JointType::Pa => match self.normal {
+                None => self.normal = Some((self.hops.len(), dir)),
+                Some((_, n)) if Search::parallel(dir, n) => {}
+                Some(_) => return None,
+            },
+            JointType::P => self.slides.push(dir),
+            JointType::S => return None,
+        }
+        self.hops.push(s.hop(q, cur));
+        Some(())
+    }
+
+    /// Where the normal's revolute is among the hops, if the chain has one
+    /// and every slide is normal to it.
+    fn normal_at(&self) -> Option<usize> {
+        let (at, n) = self.normal?;
+        self.slides.iter().all(|d| Search::normal(*d, n)).then_some(at)
+    }
+}
+
 /// The plane of `link` that holds the centre of a known link's spherical
 /// joint, reached from `link`'s joint `first`: a chain of links with two
 /// joints each, its revolutes about one direction fixed in `link` and its
@@ -461,19 +500,15 @@ pub fn held_rows_solvable(parts: PoseParts, all_held: bool) -> Result<(), String
 /// known (a 3-SPR leg from its platform).
 fn held_plane(s: &Search<'_>, link: usize, first: usize) -> Option<Limb> {
     let (mut cur, mut q) = (link, first);
-    let mut hops: Vec<Hop> = Vec::new();
-    let mut normal: Option<(usize, Vector3<f64>)> = None;
-    let mut slides: Vec<Vector3<f64>> = Vec::new();
+    let mut plane = PlaneChain::default();
     loop {
         if s.kind(q) == JointType::S {
             let known = s.other(q, cur);
             if !s.known[known] || known == link {
                 return None;
             }
-            let (g_pos, n) = normal?;
-            if !slides.iter().all(|d| Search::normal(*d, n)) {
-                return None;
-            }
+            let g_pos = plane.normal_at()?;
+            let hops = plane.hops;
             return Some(Limb {
                 point: PointRef::Joint(q),
                 normal: Direction {
@@ -489,20 +524,9 @@ fn held_plane(s: &Search<'_>, link: usize, first: usize) -> Option<Limb> {
                 known: Some(known),
             });
         }
-        let dir = s.rotation(&hops) * s.axis(q, cur);
-        match s.kind(q) {
-            JointType::R | JointType::Pa => match normal {
-                None => normal = Some((hops.len(), dir)),
-                Some((_, n)) if Search::parallel(dir, n) => {}
-                Some(_) => return None,
-            },
-            JointType::P => slides.push(dir),
-            // Ends the chain above.
-            JointType::S => return None,
-        }
-        hops.push(s.hop(q, cur));
+        plane.take(s, q, cur)?;
         let to = s.other(q, cur);
-        if to == link || s.known[to] || hops.len() > s.model.joints.len() {
+        if to == link || s.known[to] || plane.hops.len() > s.model.joints.len() {
             return None;
         }
         let next: Vec<usize> = (0..s.model.joints.len())
@@ -519,9 +543,7 @@ fn held_plane(s: &Search<'_>, link: usize, first: usize) -> Option<Limb> {
 fn limb_plane(s: &Search<'_>, link: usize, sj: usize) -> Option<Limb> {
     let start = s.other(sj, link);
     let (mut cur, mut prev) = (start, sj);
-    let mut hops: Vec<Hop> = Vec::new();
-    let mut normal: Option<(usize, Vector3<f64>)> = None;
-    let mut slides: Vec<Vector3<f64>> = Vec::new();
+    let mut plane = PlaneChain::default();
     loop {
         if s.known[cur] && cur != start {
             break;
@@ -530,19 +552,9 @@ fn limb_plane(s: &Search<'_>, link: usize, sj: usize) -> Option<Limb> {
             .filter(|&q| q != prev && s.model.joints[q].links.contains(&cur))
             .collect();
         let [q] = next[..] else { return None };
-        let dir = s.rotation(&hops) * s.axis(q, cur);
-        match s.kind(q) {
-            JointType::R | JointType::Pa => match normal {
-                None => normal = Some((hops.len(), dir)),
-                Some((_, n)) if Search::parallel(dir, n) => {}
-                Some(_) => return None,
-            },
-            JointType::P => slides.push(dir),
-            JointType::S => return None,
-        }
-        hops.push(s.hop(q, cur));
+        plane.take(s, q, cur)?;
         let to = s.other(q, cur);
-        if to == link || hops.len() > s.model.joints.len() {
+        if to == link || plane.hops.len() > s.model.joints.len() {
             return None;
         }
         (cur, prev) = (to, q);
@@ -550,10 +562,8 @@ fn limb_plane(s: &Search<'_>, link: usize, sj: usize) -> Option<Limb> {
             break;
         }
     }
-    let (g_pos, n) = normal?;
-    if !slides.iter().all(|d| Search::normal(*d, n)) {
-        return None;
-    }
+    let g_pos = plane.normal_at()?;
+    let hops = &plane.hops;
     Some(Limb {
         point: PointRef::Joint(sj),
         normal: Direction {
@@ -563,7 +573,7 @@ fn limb_plane(s: &Search<'_>, link: usize, sj: usize) -> Option<Limb> {
         },
         anchor: Anchor {
             link: cur,
-            hops: reversed(&hops),
+            hops: reversed(hops),
             point: PointRef::Joint(sj),
         },
         known: None,
