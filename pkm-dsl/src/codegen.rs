@@ -123,27 +123,13 @@ fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
     first
 }
 
-/// What the requested capabilities need of the topology, and which are
-/// not implemented yet (with what they will need, so that a file can be
-/// made ready for them).
+/// What the requested capabilities need of the topology and of the rest
+/// of the file.
 pub fn check_capabilities(a: &Analysis) -> Diagnostics {
     let mut errors = Diagnostics::default();
     let m = &a.mechanism;
     let t = &a.topology;
     for (cap, span) in &m.capabilities {
-        if !cap.implemented() {
-            errors.push(
-                Diagnostic::new(
-                    *span,
-                    format!(
-                        "capability `{}` is not implemented yet; implemented: {}",
-                        cap.name(),
-                        Capability::implemented_names()
-                    ),
-                )
-                .label("not implemented"),
-            );
-        }
         if *cap == Capability::Stiffness {
             stiffness_needs(a, *span, &mut errors);
         }
@@ -227,11 +213,21 @@ fn dynamics_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Dia
     }
 }
 
-/// What `stiffness` needs: the file's units, and every limb's properties
+/// What `stiffness` needs: the inverse solution (its generated stiffness
+/// solves the pose first), the file's units, and every limb's properties
 /// in `limbs { … }` (its limbs are the file's branches, each reaching the
 /// platform; a mechanism without branches has none to stiffen).
 fn stiffness_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Diagnostics) {
     let m = &a.mechanism;
+    if !m.wants(Capability::Ik) {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`stiffness` is given at a platform pose, solved by the inverse solution first: request `ik` too",
+            )
+            .label("needs `ik`"),
+        );
+    }
     if a.mass_and_loads.units.is_none() {
         errors.push(
             Diagnostic::new(
@@ -581,14 +577,13 @@ mod tests {
     }
 
     #[test]
-    fn stiffness_is_refused_with_what_it_needs() {
-        let not_yet = "capability `stiffness` is not implemented yet; implemented: \
-                       analysis, fk, ik, jacobian, velocity, acceleration, workspace, dynamics, fk_numeric";
+    fn stiffness_needs_units_limbs_and_ik() {
+        let no_ik = "`stiffness` is given at a platform pose, solved by the inverse solution first: request `ik` too";
         // A four-bar: no units, and no branches to be limbs.
         check_text(
             "mechanism m {\n    capabilities fk, stiffness;\n    planar; base R1* ∥ R2 ∥ R3 ∥ R4 base; }",
             &[
-                (2, 22, not_yet),
+                (2, 22, no_ik),
                 (2, 22, "`stiffness` needs the file's units: `units { length = mm; mass = kg; }`"),
                 (
                     2,
@@ -600,7 +595,7 @@ mod tests {
         let rps = |limbs: &str| {
             format!(
                 "mechanism m {{
-    capabilities stiffness;
+    capabilities ik, stiffness;
     branch A {{ base R1 ⊥ P1* - S1 platform; }}
     branch B {{ base R2 ⊥ P2* - S2 platform; }}
     branch C {{ base R3 ⊥ P3* - S3 platform; }}
@@ -610,15 +605,12 @@ mod tests {
         };
         check_text(
             &rps("limbs { A { axial = 1; bending = 2; } }"),
-            &[
-                (2, 18, not_yet),
-                (2, 18, "`stiffness` needs every limb's properties: B, C have none"),
-            ],
+            &[(2, 22, "`stiffness` needs every limb's properties: B, C have none")],
         );
-        // Everything it will need is there: only the refusal.
+        // Everything it needs is there.
         check_text(
             &rps("limbs { A, B { axial = 1; bending = 2; } C { E = 1; A = 1; I = 1; } }"),
-            &[(2, 18, not_yet)],
+            &[],
         );
     }
 

@@ -239,7 +239,7 @@ fn moments_of(i: &Inertia) -> Vec<Sym> {
 /// Joint `jg`'s unit twists (second link relative to the first) as
 /// (ω, velocity of the point at the origin), world axes, its first link at
 /// `pu` and its value `value`: as `pkm_runtime::velocity::joint_twists`.
-fn joint_twists(jg: &JointGeometry<Sym>, value: Option<JointValue<Sym>>, pu: &Frame<Sym>) -> Vec<([Sym; 3], [Sym; 3])> {
+pub(super) fn joint_twists(jg: &JointGeometry<Sym>, value: Option<JointValue<Sym>>, pu: &Frame<Sym>) -> Vec<([Sym; 3], [Sym; 3])> {
     let z = Sym::c(0.0);
     let zero = [z; 3];
     let column = |f: &Frame<Sym>, i: usize| [f.r[0][i], f.r[1][i], f.r[2][i]];
@@ -299,7 +299,7 @@ fn joint_twists(jg: &JointGeometry<Sym>, value: Option<JointValue<Sym>>, pu: &Fr
 /// The mechanism's size as `pkm_runtime::kinematics::model_scale` takes
 /// it: the largest distance of a joint's place or a named point from its
 /// link's origin, 1 if there is none.
-fn size(g: &Geometry<Sym>) -> Sym {
+pub(super) fn size(g: &Geometry<Sym>) -> Sym {
     let norm = |p: [Sym; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
     let all = g
         .joints

@@ -25,6 +25,8 @@ mod batch;
 mod dynamics;
 #[path = "codegen_numeric.rs"]
 pub(crate) mod numeric;
+#[path = "codegen_stiffness.rs"]
+mod stiffness;
 
 /// A parameter expression as a symbol: arithmetic traced, anything else
 /// (powers, functions) kept as Rust source.
@@ -260,6 +262,8 @@ struct Direction<'p> {
     accelerations: Option<Vec<Sym>>,
     /// The inverse dynamics, forward only, where `dynamics` is asked for.
     dynamics: Option<dynamics::Traced>,
+    /// The static stiffness, inverse only, where `stiffness` is asked for.
+    stiffness: Option<stiffness::Traced>,
 }
 
 /// Drops the residual rows that are exactly 0 in every branch (a check's
@@ -340,6 +344,11 @@ pub fn generate(
             } else {
                 None
             };
+            let stiffness = if !forward && m.wants(Capability::Stiffness) {
+                Some(stiffness::trace(a, &g, &given)?)
+            } else {
+                None
+            };
             out.push(Direction {
                 forward,
                 plan,
@@ -350,6 +359,7 @@ pub fn generate(
                 jacobian,
                 accelerations,
                 dynamics,
+                stiffness,
             });
         }
         Ok(out)
@@ -365,6 +375,9 @@ pub fn generate(
         fns.push(direction(a, ident, &emit, d));
         if let Some(t) = &d.dynamics {
             fns.push(dynamics::items(ident, vis, d, t));
+        }
+        if d.stiffness.is_some() {
+            fns.push(stiffness::items(ident, d));
         }
         // The slice solvers only where the description asks for sweeps.
         if a.mechanism.wants(crate::mechanism::Capability::Workspace) {
@@ -467,6 +480,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         .dynamics
         .as_ref()
         .map(|t| dynamics::functions(ident, emit, d, t, &parts.given_sig, &parts.finite, &check_of));
+    let stiffness = d
+        .stiffness
+        .as_ref()
+        .map(|t| stiffness::functions(emit, d, t, &parts.given_sig, &parts.finite, &check_of));
     let prepared = format_ident!("{}Prepared", ident);
     quote! {
         #[automatically_derived]
@@ -476,6 +493,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
             #solution
             #derivatives
             #inverse_dynamics
+            #stiffness
         }
     }
 }

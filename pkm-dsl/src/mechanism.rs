@@ -134,20 +134,9 @@ impl Capability {
         Self::ALL.iter().find(|(c, _)| *c == self).map_or("?", |(_, n)| n)
     }
 
-    /// Whether the compiler implements it; requesting one that it does not
-    /// is an error where code is generated ([`crate::check_capabilities`]),
-    /// so that no file silently gets less than it asked for.
-    pub fn implemented(self) -> bool {
-        !matches!(self, Capability::Stiffness)
-    }
-
-    /// The implemented capabilities' names, listed with commas.
-    pub fn implemented_names() -> String {
-        let names: Vec<&str> = Self::ALL
-            .iter()
-            .filter(|(k, _)| k.implemented())
-            .map(|(_, n)| *n)
-            .collect();
+    /// Every capability's name, listed with commas.
+    pub fn names() -> String {
+        let names: Vec<&str> = Self::ALL.iter().map(|(_, n)| *n).collect();
         names.join(", ")
     }
 }
@@ -734,9 +723,9 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
 
 /// The steps of [`build`], each one named part of the description.
 impl Builder {
-    /// The requested capabilities; an unknown one is an error. One that is
-    /// known but not implemented yet is kept: it is refused where code is
-    /// generated ([`crate::check_capabilities`]), with what it would need.
+    /// The requested capabilities; an unknown one is an error. What each
+    /// needs of the rest of the file is checked where code is generated
+    /// ([`crate::check_capabilities`]).
     fn capabilities(&mut self, ast: &MechanismAst) -> Vec<(Capability, Span)> {
         let mut capabilities = Vec::new();
         for c in &ast.capabilities {
@@ -745,7 +734,7 @@ impl Builder {
                 None => self.errors.push(
                     Diagnostic::new(c.span, format!("unknown capability `{}`", c.text))
                         .label("not a capability")
-                        .note(format!("implemented capabilities: {}", Capability::implemented_names())),
+                        .note(format!("capabilities: {}", Capability::names())),
                 ),
             }
         }
@@ -1692,8 +1681,8 @@ mod tests {
             &format!("mechanism m {{ capabilities fk, ik; planar; {FOUR_BAR} }}"),
             &[],
         );
-        // Known but not implemented: the model keeps it, code generation
-        // refuses it (codegen's `stiffness_is_refused_with_what_it_needs`).
+        // What these need of the file is checked where code is generated
+        // (codegen's `stiffness_needs_units_limbs_and_ik`).
         check(
             &format!("mechanism m {{ capabilities fk, dynamics, stiffness; planar; {FOUR_BAR} }}"),
             &[],

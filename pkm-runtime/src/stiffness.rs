@@ -164,6 +164,12 @@ pub enum StiffnessError {
         /// λ_min/λ_max.
         ratio: f64,
     },
+    /// The configuration has no position solution (the generated
+    /// `stiffness` solves the position first).
+    Position(crate::solution::SolveError),
+    /// The wrench analysis has no answer there: a singular configuration
+    /// (constraint or actuation singularity) or limbs it cannot read.
+    Wrench(crate::wrench::WrenchError),
 }
 
 impl fmt::Display for StiffnessError {
@@ -191,6 +197,8 @@ impl fmt::Display for StiffnessError {
             StiffnessError::Singular { ratio } => {
                 write!(f, "the stiffness matrix is singular (λ_min/λ_max = {ratio:e})")
             }
+            StiffnessError::Position(e) => write!(f, "no position solution: {e}"),
+            StiffnessError::Wrench(e) => write!(f, "{e}"),
         }
     }
 }
@@ -361,6 +369,82 @@ impl Stiffness {
     pub fn directional(&self, point: [f64; 3]) -> Result<[f64; 6], StiffnessError> {
         let c = self.compliance(point)?;
         Ok(std::array::from_fn(|i| 1.0 / c[(i, i)]))
+    }
+}
+
+/// The platform's stiffness at one configuration with what it comes from:
+/// the wrench analysis (`J`), the stiffness (`K`) and the reference point
+/// (the platform point the declared outputs place) at which `K`, the
+/// deflections and the directional stiffnesses are given. What the
+/// generated `stiffness` returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlatformStiffness {
+    /// The limbs, the rows of `J` (moments about the base origin) and the
+    /// conditioning.
+    pub wrenches: WrenchAnalysis,
+    /// `K_p`'s diagonal and `K` about the base origin.
+    pub stiffness: Stiffness,
+    /// The reference point (world coordinates).
+    pub point: [f64; 3],
+}
+
+impl PlatformStiffness {
+    /// The stiffness of the analysed configuration for the limbs'
+    /// properties (one for all, or one per limb in the analysis's order),
+    /// referred to `point`.
+    pub fn new(
+        wrenches: WrenchAnalysis,
+        limbs: &[LimbProperties],
+        point: [f64; 3],
+    ) -> Result<PlatformStiffness, StiffnessError> {
+        finite_point(point)?;
+        let stiffness = stiffness(&wrenches, limbs)?;
+        Ok(PlatformStiffness {
+            wrenches,
+            stiffness,
+            point,
+        })
+    }
+
+    /// The wrench analysis from the limbs' twists
+    /// ([`crate::wrench::analyse_twists`]), then [`PlatformStiffness::new`].
+    pub fn from_twists(
+        limbs: &[crate::wrench::LimbTwists],
+        scale: f64,
+        properties: &[LimbProperties],
+        point: [f64; 3],
+    ) -> Result<PlatformStiffness, StiffnessError> {
+        let wrenches = crate::wrench::analyse_twists(limbs, scale).map_err(StiffnessError::Wrench)?;
+        PlatformStiffness::new(wrenches, properties, point)
+    }
+
+    /// `J` with moments about the reference point: one row `[f, m_p]` per
+    /// wrench, actuation rows first.
+    pub fn jacobian(&self) -> nalgebra::DMatrix<f64> {
+        self.wrenches.jacobian_at(self.point)
+    }
+
+    /// `K` at the reference point: `(δp, δθ) ↦ (f, m)`, `δp` the
+    /// displacement of the platform point there, `m` the moment about it.
+    pub fn k(&self) -> Matrix6<f64> {
+        self.stiffness.at(self.point)
+    }
+
+    /// The compliance `K⁻¹` at the reference point.
+    pub fn compliance(&self) -> Result<Matrix6<f64>, StiffnessError> {
+        self.stiffness.compliance(self.point)
+    }
+
+    /// The deflection `[δp, δθ]` of the reference point under the wrench
+    /// `[f, m]`, `m` about the reference point.
+    pub fn deflection(&self, wrench: &[f64; 6]) -> Result<[f64; 6], StiffnessError> {
+        self.stiffness.deflection(wrench, self.point)
+    }
+
+    /// The directional stiffnesses at the reference point along x, y, z
+    /// and about them ([`Stiffness::directional`]).
+    pub fn directional(&self) -> Result<[f64; 6], StiffnessError> {
+        self.stiffness.directional(self.point)
     }
 }
 

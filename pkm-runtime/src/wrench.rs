@@ -489,44 +489,113 @@ pub fn analyse_poses(
         )));
     }
     let paths = limbs(model, platform)?;
-    let s = model_scale(model);
-    let mut limbs_out = Vec::with_capacity(paths.len());
-    let mut actuation = Vec::new();
-    let mut constraints = Vec::new();
-    for (li, path) in paths.iter().enumerate() {
+    let mut inputs = Vec::with_capacity(paths.len());
+    for path in &paths {
         let last = *path.last().expect("a limb has a joint");
-        let p = Vector3::from(joint_point(model, poses, last));
-        let proximal = path.iter().rev().skip(1).find_map(|&j| {
-            if !matches!(model.joints[j].kind, JointType::R | JointType::S) {
-                return None;
-            }
-            let c = Vector3::from(joint_point(model, poses, j));
-            ((c - p).norm() > RANK_TOL * s).then_some(c)
-        });
-        // Every variable's twist, dimensionless at p, unit; and which joint variable it is.
-        let mut hats: Vec<Vector6<f64>> = Vec::new();
-        let mut raw: Vec<Twist> = Vec::new();
-        let mut owner: Vec<(usize, usize)> = Vec::new();
+        let centres = path
+            .iter()
+            .rev()
+            .skip(1)
+            .filter(|&&j| matches!(model.joints[j].kind, JointType::R | JointType::S))
+            .map(|&j| Vector3::from(joint_point(model, poses, j)))
+            .collect();
+        let mut variables = Vec::new();
         for &j in path {
             let tu = &poses[model.joints[j].links[0]];
-            for (k, t) in joint_twists(model, j, &values[j..=j], tu).into_iter().enumerate() {
-                let vp = t.v + t.w.cross(&p);
-                let h = Vector6::new(vp.x, vp.y, vp.z, s * t.w.x, s * t.w.y, s * t.w.z);
-                let norm = h.norm();
-                if !(norm > 0.0 && norm.is_finite()) {
-                    return Err(bad(format!(
-                        "joint {}'s twist is zero or not finite",
-                        model.joints[j].name
-                    )));
+            for (k, twist) in joint_twists(model, j, &values[j..=j], tu).into_iter().enumerate() {
+                if !(twist.w.iter().chain(twist.v.iter()).all(|x| x.is_finite())) {
+                    return Err(bad(format!("joint {}'s twist is not finite", model.joints[j].name)));
                 }
-                hats.push(h / norm);
-                raw.push(t);
-                owner.push((j, k));
+                variables.push(LimbVariable {
+                    joint: j,
+                    variable: k,
+                    actuated: model.joints[j].actuated,
+                    twist,
+                });
             }
         }
+        inputs.push(LimbTwists {
+            joints: path.clone(),
+            variables,
+            distal: Vector3::from(joint_point(model, poses, last)),
+            centres,
+        });
+    }
+    analyse_twists(&inputs, model_scale(model))
+}
+
+/// One joint variable of a limb at a configuration: its unit twist and
+/// whose it is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LimbVariable {
+    /// The joint.
+    pub joint: usize,
+    /// Which of its variables (0 but for an S or U joint's).
+    pub variable: usize,
+    /// Whether the joint is actuated.
+    pub actuated: bool,
+    /// The joint's unit twist along this variable (second link relative to
+    /// the first, as [`crate::velocity::joint_twists`]).
+    pub twist: Twist,
+}
+
+/// A limb at a configuration, as [`analyse_twists`] reads it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimbTwists {
+    /// Its joints, from the base to the platform.
+    pub joints: Vec<usize>,
+    /// Every joint variable of the limb, joints in limb order.
+    pub variables: Vec<LimbVariable>,
+    /// The world position of the distal joint's point.
+    pub distal: Vector3<f64>,
+    /// The world positions of the limb's other R and S joints' points,
+    /// from the distal end towards the base: the first one apart from
+    /// `distal` is the leg's proximal centre ([`Limb::proximal`]).
+    pub centres: Vec<Vector3<f64>>,
+}
+
+/// The wrench analysis from the limbs' twists (the core of
+/// [`analyse_poses`], for a caller that has the twists already, as the
+/// generated `stiffness` has), `scale` the model's size
+/// ([`crate::kinematics::model_scale`]).
+pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysis, WrenchError> {
+    let s = scale;
+    if !(s > 0.0 && s.is_finite()) {
+        return Err(bad(format!("the size scale {s} is not positive and finite")));
+    }
+    if inputs.is_empty() {
+        return Err(WrenchError::NotLimbs {
+            link: 0,
+            what: "no joint on the base",
+        });
+    }
+    let mut limbs_out = Vec::with_capacity(inputs.len());
+    let mut actuation = Vec::new();
+    let mut constraints = Vec::new();
+    for (li, limb) in inputs.iter().enumerate() {
+        let p = limb.distal;
+        if !p.iter().chain(limb.centres.iter().flat_map(|c| c.iter())).all(|x| x.is_finite()) {
+            return Err(bad(format!("a joint point of limb {li} is not finite")));
+        }
+        let proximal = limb.centres.iter().copied().find(|c| (c - p).norm() > RANK_TOL * s);
+        // Every variable's twist, dimensionless at p, unit.
+        let mut hats: Vec<Vector6<f64>> = Vec::with_capacity(limb.variables.len());
+        for var in &limb.variables {
+            let t = &var.twist;
+            let vp = t.v + t.w.cross(&p);
+            let h = Vector6::new(vp.x, vp.y, vp.z, s * t.w.x, s * t.w.y, s * t.w.z);
+            let norm = h.norm();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return Err(bad(format!(
+                    "the twist of joint {} (limb {li}) is zero or not finite",
+                    var.joint
+                )));
+            }
+            hats.push(h / norm);
+        }
         let c = null_space(&hats);
-        for (col, &(j, k)) in owner.iter().enumerate() {
-            if !model.joints[j].actuated {
+        for (col, var) in limb.variables.iter().enumerate() {
+            if !var.actuated {
                 continue;
             }
             let others: Vec<Vector6<f64>> = (0..hats.len()).filter(|&i| i != col).map(|i| hats[i]).collect();
@@ -553,9 +622,12 @@ pub fn analyse_poses(
             }
             let wrench = from_hat(&w, &p, s, couple);
             actuation.push(Row {
-                transmission: wrench.on(&raw[col]),
+                transmission: wrench.on(&var.twist),
                 wrench,
-                kind: RowKind::Actuation { joint: j, variable: k },
+                kind: RowKind::Actuation {
+                    joint: var.joint,
+                    variable: var.variable,
+                },
                 limb: li,
             });
         }
@@ -577,7 +649,7 @@ pub fn analyse_poses(
             });
         }
         limbs_out.push(Limb {
-            joints: path.clone(),
+            joints: limb.joints.clone(),
             distal: p,
             proximal,
         });
