@@ -29,10 +29,24 @@ pkm::mechanism!(pub Crank, "mechanism crank {
     }
 }");
 
+// Static stiffness: the wrench analysis and K from the limbs' twists.
+pkm::mechanism!(
+    /// Seed 004's 3-SPR, with its stiffness.
+    pub Spr,
+    file = "../../../../examples/mechanisms/spr_3.pkm"
+);
+
 fn main() {
     assert_eq!(FourBar::DOF + MechanismA::DOF, 4);
     assert_eq!(CrankParams::default(), CrankParams { L: 50.0, rod: 150.0 });
     assert_eq!(Crank::PARAMETERS.len(), 2);
     let branches = Crank::fk(&CrankParams::default(), &[0.5]);
     assert!(branches.iter().all(|b| b.result.is_ok()));
+    let home = Spr::ik(&SprParams::default(), &[75.0, 0.0, 0.0]);
+    let solved = home.iter().filter(|b| b.result.is_ok()).count();
+    let stiff = home
+        .iter()
+        .filter(|b| Spr::stiffness(&SprParams::default(), &[75.0, 0.0, 0.0], b.signs).is_ok())
+        .count();
+    assert!(solved > 0 && stiff == solved);
 }

@@ -83,29 +83,31 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
         })?;
         let properties: Vec<_> = declared.iter().map(|d| d.properties()).collect();
         let names: Vec<&str> = declared.iter().map(|d| d.name.as_str()).collect();
-        let k = match pkm_runtime::stiffness::stiffness(&analysis, &properties) {
+        let k = match pkm_runtime::stiffness::PlatformStiffness::new(analysis, &properties, point) {
             Ok(k) => k,
             Err(e) => {
                 branches.push(json!({ "signs": signs, "ok": false, "reason": e.to_string() }));
                 continue;
             }
         };
-        let at = k.at(point);
+        let at = k.k();
         let matrix: Vec<Vec<f64>> = (0..6).map(|i| (0..6).map(|j| at[(i, j)]).collect()).collect();
         let directional = k
-            .directional(point)
+            .directional()
             .map_err(|e| Failure::new(Kind::Unreachable, e.to_string()))?;
-        let deflection = if wrench.is_empty() {
-            Value::Null
-        } else {
-            let d = k.deflection(wrench, point).map_err(|e| Failure::input(e.to_string()))?;
-            json!({ "translation": &d[..3], "rotation": &d[3..] })
+        let deflection = match <&[f64; 6]>::try_from(wrench) {
+            Ok(w) => {
+                let d = k.deflection(w).map_err(|e| Failure::input(e.to_string()))?;
+                json!({ "translation": &d[..3], "rotation": &d[3..] })
+            }
+            Err(_) => Value::Null,
         };
+        let analysis = &k.wrenches;
         let p = pkm_runtime::nalgebra::Vector3::from(point);
         let rows: Vec<Value> = analysis
             .rows
             .iter()
-            .zip(&k.springs)
+            .zip(&k.stiffness.springs)
             .map(|(row, spring)| {
                 json!({
                     "kind": kind_name(row.kind),

@@ -11,7 +11,7 @@ use crate::plots;
 use pkm_dsl::limb_properties::ResolvedLimb;
 use pkm_runtime::newton::Output;
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::stiffness::LimbProperties;
+use pkm_runtime::stiffness::{LimbProperties, PlatformStiffness};
 use pkm_runtime::workspace::{sweep_nodes, Grid};
 use std::fmt::Write as _;
 
@@ -60,16 +60,16 @@ impl Map<'_> {
             .into_iter()
             .map(ResolvedLimb::properties)
             .collect();
-        let k = pkm_runtime::stiffness::stiffness(&analysis, &properties).map_err(|e| e.to_string())?;
         let point = pkm_runtime::spatial::at(&solution.poses[self.link], self.local);
-        let along_z = k.directional(point).map_err(|e| e.to_string())?[2];
-        let translational = k.at(point).fixed_view::<3, 3>(0, 0).into_owned();
+        let k = PlatformStiffness::new(analysis, &properties, point).map_err(|e| e.to_string())?;
+        let along_z = k.directional().map_err(|e| e.to_string())?[2];
+        let translational = k.k().fixed_view::<3, 3>(0, 0).into_owned();
         let least = translational.symmetric_eigenvalues().min();
         Ok(Node {
             along_z,
             least,
-            legs: analysis.limbs.iter().map(|l| l.length().unwrap_or(0.0)).sum(),
-            sigma: analysis.sigma,
+            legs: k.wrenches.limbs.iter().map(|l| l.length().unwrap_or(0.0)).sum(),
+            sigma: k.wrenches.sigma,
         })
     }
 
