@@ -33,6 +33,32 @@
 //! assert_eq!((MechanismA::DOF, MechanismA::XI, MechanismA::DELTA), (3, &[3, 5][..], &[0, 0][..]));
 //! ```
 //!
+//! With `capabilities ik, stiffness;`, `units` and a `limbs` block, the
+//! type gives the platform's static stiffness at a pose on one branch: the
+//! limbs' actuation and constraint wrenches (`J`), `K = Jᵀ K_p J` and the
+//! deflection under a wrench, about the point the outputs place (N and
+//! the file's length unit; docs/stiffness.md):
+//!
+//! ```
+//! pkm::mechanism!(pub Rps, file = "examples/mechanisms/rps_3.pkm");
+//!
+//! let params = RpsParams::default();
+//! let home = [75.0, 0.0, 0.0]; // Z_A (mm), α, β (rad)
+//! // The assembly with the shortest legs (P1, P2, P3 are joints 1, 4, 7).
+//! let legs = |q: &[f64; 9]| q[1].abs() + q[4].abs() + q[7].abs();
+//! let branch = Rps::ik(&params, &home)
+//!     .into_iter()
+//!     .filter_map(|b| b.result.ok().map(|s| (legs(&s.q), b.signs)))
+//!     .min_by(|a, b| a.0.total_cmp(&b.0))
+//!     .unwrap();
+//! let k = Rps::stiffness(&params, &home, branch.1).unwrap();
+//! assert_eq!(k.jacobian().shape(), (6, 6)); // 3 actuation, 3 constraint forces
+//! let deflection = k.deflection(&[10.0, -15.0, 20.0, -2.0e4, 1.0e4, 1.5e4]).unwrap();
+//! assert!(deflection.iter().all(|d| d.abs() < 1e-3)); // mm and rad
+//! let [kx, ky, kz, ..] = k.directional().unwrap(); // N/mm
+//! assert!(kz > kx && kz > ky); // seed 004: Z is the stiffest direction
+//! ```
+//!
 //! ## The language
 //!
 //! ```text

@@ -164,7 +164,11 @@ fn agreement_of(
             let d = (0..6)
                 .map(|i| (delta[i] - want[i]).abs() * if i < 3 { 1.0 / s } else { 1.0 })
                 .fold(0.0, f64::max);
-            let size = want[..3].iter().map(|x| x.abs() / s).chain(want[3..].iter().map(|x| x.abs())).fold(0.0, f64::max);
+            let size = want[..3]
+                .iter()
+                .map(|x| x.abs() / s)
+                .chain(want[3..].iter().map(|x| x.abs()))
+                .fold(0.0, f64::max);
             worst = worst.max(d / size);
             let (dg, dw) = (g.directional().unwrap(), k.directional(point).unwrap());
             for i in 0..6 {
@@ -225,7 +229,10 @@ fn bad_input_and_singularities_are_typed() {
     let signs = rps_up(&[75.0, 0.0, 0.0]);
     let e = Rps::stiffness(&params, &[f64::NAN, 0.0, 0.0], signs).unwrap_err();
     assert!(
-        matches!(e, StiffnessError::Position(pkm::runtime::solution::SolveError::BadInput { .. })),
+        matches!(
+            e,
+            StiffnessError::Position(pkm::runtime::solution::SolveError::BadInput { .. })
+        ),
         "{e}"
     );
     // The platform level in the base plane: the legs (20 mm) lie in it
@@ -273,7 +280,11 @@ fn rps_3_home_by_hand() {
         }
     }
     let at = [0.0, 0.0, 75.0];
-    assert!((0..3).all(|i| (k.point[i] - at[i]).abs() <= 1e-12 * 100.0), "{:?}", k.point);
+    assert!(
+        (0..3).all(|i| (k.point[i] - at[i]).abs() <= 1e-12 * 100.0),
+        "{:?}",
+        k.point
+    );
     let (got, want) = (scaled(&k.k(), 80.0), scaled(&hand, 80.0));
     let d = (got - want).amax() / want.amax();
     assert!(d <= 1e-12, "{d:e}\n{got}\n{want}");
@@ -285,7 +296,10 @@ fn rps_3_home_by_hand() {
 /// not a number, is a typed error naming the limb and the property.
 #[test]
 fn limb_properties_from_parameters() {
-    let path = format!("{}/tests/fixtures/rps_3_limb_parameters.pkm", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/tests/fixtures/rps_3_limb_parameters.pkm",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let text = std::fs::read_to_string(&path).unwrap();
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
     let p = RpsParameters::prepare(&RpsParametersParams::default());
@@ -312,7 +326,13 @@ fn limb_properties_from_parameters() {
     };
     let e = RpsParameters::stiffness(&params, &home, signs).unwrap_err();
     assert!(
-        matches!(e, StiffnessError::BadProperty { what: "the actuator stiffness", .. }),
+        matches!(
+            e,
+            StiffnessError::BadProperty {
+                what: "the actuator stiffness",
+                ..
+            }
+        ),
         "{e}"
     );
 }

@@ -239,7 +239,11 @@ fn moments_of(i: &Inertia) -> Vec<Sym> {
 /// Joint `jg`'s unit twists (second link relative to the first) as
 /// (ω, velocity of the point at the origin), world axes, its first link at
 /// `pu` and its value `value`: as `pkm_runtime::velocity::joint_twists`.
-pub(super) fn joint_twists(jg: &JointGeometry<Sym>, value: Option<JointValue<Sym>>, pu: &Frame<Sym>) -> Vec<([Sym; 3], [Sym; 3])> {
+pub(super) fn joint_twists(
+    jg: &JointGeometry<Sym>,
+    value: Option<JointValue<Sym>>,
+    pu: &Frame<Sym>,
+) -> Vec<([Sym; 3], [Sym; 3])> {
     let z = Sym::c(0.0);
     let zero = [z; 3];
     let column = |f: &Frame<Sym>, i: usize| [f.r[0][i], f.r[1][i], f.r[2][i]];

@@ -97,7 +97,10 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
     for path in paths {
         let Some(limb) = declared(&a.limbs, &path) else {
             let names: Vec<&str> = path.iter().map(|&j| m.joints[j].name.as_str()).collect();
-            return Err(format!("the limb {} has no entry in the `limbs` block", names.join("–")));
+            return Err(format!(
+                "the limb {} has no entry in the `limbs` block",
+                names.join("–")
+            ));
         };
         let to_sym = |v: &crate::limb_properties::LimbValue| sym(&v.expr);
         properties.push(Properties {
@@ -117,7 +120,10 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
         let mut variables = Vec::new();
         for &j in &path {
             let jg = &g.joints[j];
-            for (k, (w, v)) in joint_twists(jg, b.states[j], &b.poses[jg.links[0]]).into_iter().enumerate() {
+            for (k, (w, v)) in joint_twists(jg, b.states[j], &b.poses[jg.links[0]])
+                .into_iter()
+                .enumerate()
+            {
                 variables.push(Variable {
                     joint: j,
                     variable: k,

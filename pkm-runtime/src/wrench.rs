@@ -574,7 +574,11 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
     let mut constraints = Vec::new();
     for (li, limb) in inputs.iter().enumerate() {
         let p = limb.distal;
-        if !p.iter().chain(limb.centres.iter().flat_map(|c| c.iter())).all(|x| x.is_finite()) {
+        if !p
+            .iter()
+            .chain(limb.centres.iter().flat_map(|c| c.iter()))
+            .all(|x| x.is_finite())
+        {
             return Err(bad(format!("a joint point of limb {li} is not finite")));
         }
         let proximal = limb.centres.iter().copied().find(|c| (c - p).norm() > RANK_TOL * s);
