@@ -21,6 +21,8 @@ use std::collections::HashMap;
 pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
 pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
 pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
+pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
+pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
 pkm::mechanism!(RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.pkm");
 
 /// A seed 004 pose (Z_A, α, β): Z_A in 50..110 mm, α and β in ±0.3 rad.
@@ -41,6 +43,24 @@ fn ups_pose(rng: &mut SplitMix) -> Vec<f64> {
         0.3 * rng.symmetric(),
         0.3 * rng.symmetric(),
         0.3 * rng.symmetric(),
+    ]
+}
+
+/// A 3-PRS pose (z, rx, ry): z in 120..220 mm, rx and ry in ±0.35 rad.
+fn prs_pose(rng: &mut SplitMix) -> Vec<f64> {
+    vec![
+        170.0 + 50.0 * rng.symmetric(),
+        0.35 * rng.symmetric(),
+        0.35 * rng.symmetric(),
+    ]
+}
+
+/// A 3-UPU position: x, y in ±60 mm, z in 120..280 mm.
+fn upu_pose(rng: &mut SplitMix) -> Vec<f64> {
+    vec![
+        60.0 * rng.symmetric(),
+        60.0 * rng.symmetric(),
+        200.0 + 80.0 * rng.symmetric(),
     ]
 }
 
@@ -206,6 +226,50 @@ fn ups_6_generated_agrees_with_the_interpreter() {
         p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
     });
     assert!(worst <= 1e-9, "{worst:e}");
+}
+
+/// Other joints: the 3-PRS (actuated slides on the base, an R–S leg of
+/// fixed length, the drive in series through the transmission) and the
+/// translational 3-UPU (each leg's constraint a couple, its spring E·I/L).
+#[test]
+fn prs_3_and_upu_3_generated_agree_with_the_interpreter() {
+    let p = Prs::prepare(&PrsParams::default());
+    let worst = agreement("prs_3", prs_pose, 20, &|g, s| {
+        p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
+    });
+    assert!(worst <= 1e-9, "prs_3: {worst:e}");
+    let p = Upu::prepare(&UpuParams::default());
+    let worst = agreement("upu_3", upu_pose, 20, &|g, s| {
+        p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
+    });
+    assert!(worst <= 1e-9, "upu_3: {worst:e}");
+    // The couples: one per leg, their springs E·I/L.
+    let k = Upu::stiffness(
+        &UpuParams::default(),
+        &[0.0, 0.0, 200.0],
+        signs_of_first(&Upu::ik(&UpuParams::default(), &[0.0, 0.0, 200.0])),
+    )
+    .unwrap();
+    let couples: Vec<usize> = k
+        .wrenches
+        .rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.kind == wrench::RowKind::ConstraintCouple)
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(couples.len(), 3);
+    for i in couples {
+        let limb = &k.wrenches.limbs[k.wrenches.rows[i].limb];
+        let hand = 2.11e5 * std::f64::consts::PI * 40f64.powi(4) / 64.0 / limb.length().unwrap();
+        let got = k.stiffness.springs[i];
+        assert!((got - hand).abs() <= 1e-12 * hand, "{got} vs E·I/L = {hand}");
+    }
+}
+
+/// The signs of the first solved branch.
+fn signs_of_first<S, const B: usize>(all: &[pkm::runtime::solution::Branch<S, B>]) -> [Sign; B] {
+    all.iter().find(|b| b.result.is_ok()).map(|b| b.signs).unwrap()
 }
 
 /// The signs of the branch with the shortest legs at a pose (the

@@ -600,15 +600,42 @@ fn snap(v: f64, span: f64) -> f64 {
 /// assert_eq!(pkm_cli::plots::tick(12_500_000.0), "1.25e7");
 /// ```
 pub fn tick(v: f64) -> String {
+    tick_digits(v, 3)
+}
+
+/// A tick label on an axis spanning `span`: as [`tick`], with as many more
+/// significant digits as it takes to read a hundredth of the span, so
+/// that ticks a tenth of it apart read differently (a colour bar over a
+/// narrow range).
+///
+/// ```
+/// assert_eq!(pkm_cli::plots::tick_within(19_100.0, 1.0e4), "1.91e4");
+/// assert_eq!(pkm_cli::plots::tick_within(19_103.5, 5.0), "19103.5");
+/// ```
+pub fn tick_within(v: f64, span: f64) -> String {
+    let extra = if v != 0.0 && span > 0.0 && span.is_finite() {
+        ((v.abs() / (0.01 * span)).log10().floor() as i32 - 2).clamp(0, 12) as usize
+    } else {
+        0
+    };
+    tick_digits(v, 3 + extra)
+}
+
+/// `v` to `significant` digits, fixed between 10⁻³ and 10⁴ (further while
+/// the digits ask for it), else with a power of ten; no trailing zeros.
+fn tick_digits(v: f64, significant: usize) -> String {
     if v == 0.0 || !v.is_finite() {
         return if v.is_finite() { "0".into() } else { v.to_string() };
     }
     let a = v.abs();
-    let text = if (1e-3..1e4).contains(&a) {
-        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
+    let magnitude = a.log10().floor() as i32;
+    let fixed_up_to = 4.max(significant as i32);
+    let text = if (-3..fixed_up_to).contains(&magnitude) {
+        let digits = (significant as i32 - 1 - magnitude).max(0) as usize;
         format!("{v:.digits$}")
     } else {
-        format!("{v:.2e}")
+        let digits = significant - 1;
+        format!("{v:.digits$e}")
     };
     // Trailing zeros of the mantissa go.
     let (mantissa, exponent) = text.split_once('e').map_or((text.as_str(), ""), |(m, e)| (m, e));
@@ -737,7 +764,7 @@ pub fn heat_map(
             scale
                 .configure_secondary_axes()
                 .y_desc(self.value_label)
-                .y_label_formatter(&|v| tick(snap(*v, span)))
+                .y_label_formatter(&|v| tick_within(snap(*v, span), span))
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(err)?;

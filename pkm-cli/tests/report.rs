@@ -528,7 +528,7 @@ fn stiffness_map_of_the_3rps_matches_pkm_stiffness() {
 /// or naming no output, is an error.
 #[test]
 fn no_stiffness_map_without_limbs() {
-    for name in ["four_bar", "rps_3_tilt", "upu_3"] {
+    for name in ["four_bar", "rps_3_tilt", "planar_3rpr"] {
         let (html, out) = page(name, ReportOptions::default());
         assert!(!html.contains("Static stiffness"), "{name}");
         assert!(!out.join("stiffness_z.csv").exists(), "{name}");
