@@ -45,27 +45,6 @@ fn rotation(rx: f64, ry: f64, rz: f64) -> Rotation3<f64> {
         * Rotation3::from_axis_angle(&Vector3::x_axis(), rx)
 }
 
-/// A random Stewart pose: x, y in ±40 mm, z in 150..250 mm, angles in ±0.3 rad.
-fn ups_pose(rng: &mut SplitMix) -> [f64; 6] {
-    [
-        40.0 * rng.symmetric(),
-        40.0 * rng.symmetric(),
-        200.0 + 50.0 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-    ]
-}
-
-/// A random 3-UPU position: x, y in ±60 mm, z in 120..280 mm.
-fn upu_pose(rng: &mut SplitMix) -> [f64; 3] {
-    [
-        60.0 * rng.symmetric(),
-        60.0 * rng.symmetric(),
-        200.0 + 80.0 * rng.symmetric(),
-    ]
-}
-
 /// The direction a U with its first axis `a` (fixed in the base, unit)
 /// gives its second link's z axis at angles `ta`, `tb`, by the documented
 /// conventions (docs/language.md, U joints; the canonical frame of
@@ -99,7 +78,7 @@ fn stewart_legs_by_hand() {
     let (mut solved, mut worst_length, mut worst_line) = (0usize, 0.0f64, 0.0f64);
     let params = Default::default();
     for _ in 0..100_000 {
-        let g = ups_pose(&mut rng);
+        let g = common::poses::ups(&mut rng);
         let (p, r) = (Vector3::new(g[0], g[1], g[2]), rotation(g[3], g[4], g[5]));
         let branches = Ups::ik(&params, &g);
         assert_eq!(branches.len(), 64);
@@ -147,7 +126,7 @@ fn translational_upu_legs_by_hand() {
     let (mut solved, mut worst) = (0usize, 0.0f64);
     let params = Default::default();
     for _ in 0..100_000 {
-        let g = upu_pose(&mut rng);
+        let g = common::poses::upu(&mut rng);
         let p = Vector3::new(g[0], g[1], g[2]);
         let branches = Upu::ik(&params, &g);
         assert_eq!(branches.len(), 8);
@@ -235,7 +214,7 @@ fn against_newton<const N: usize>(
 #[test]
 fn stewart_against_newton() {
     let mut rng = SplitMix::new(29);
-    let poses: Vec<[f64; 6]> = (0..20).map(|_| ups_pose(&mut rng)).collect();
+    let poses: Vec<[f64; 6]> = (0..20).map(|_| common::poses::ups(&mut rng)).collect();
     against_newton("ups_6", &poses, |g| {
         Ups::ik(&Default::default(), g)
             .iter()
@@ -247,7 +226,7 @@ fn stewart_against_newton() {
 #[test]
 fn translational_upu_against_newton() {
     let mut rng = SplitMix::new(31);
-    let poses: Vec<[f64; 3]> = (0..100).map(|_| upu_pose(&mut rng)).collect();
+    let poses: Vec<[f64; 3]> = (0..100).map(|_| common::poses::upu(&mut rng)).collect();
     against_newton("upu_3", &poses, |g| {
         Upu::ik(&Default::default(), g)
             .iter()
@@ -290,7 +269,7 @@ fn plane_factor_is_the_sine_between_leg_and_first_axis() {
     let mut rng = SplitMix::new(37);
     let mut checked = 0;
     for _ in 0..200 {
-        let g = ups_pose(&mut rng);
+        let g = common::poses::ups(&mut rng);
         let (p, r) = (Vector3::new(g[0], g[1], g[2]), rotation(g[3], g[4], g[5]));
         for (_, s) in spatial::run_all(&model, &plan, &g) {
             let s = s.unwrap();

@@ -19,36 +19,6 @@ use pkm::runtime::spatial::{self, Solution};
 use pkm::runtime::stiffness::{self, LimbProperties, Section};
 use pkm::runtime::wrench::{self, RowKind, WrenchAnalysis};
 
-/// A random 3-RPS / 3-PRS pose: z in 120..220 mm, rx and ry in ±0.35 rad.
-fn tilt_pose(rng: &mut SplitMix) -> Vec<f64> {
-    vec![
-        170.0 + 50.0 * rng.symmetric(),
-        0.35 * rng.symmetric(),
-        0.35 * rng.symmetric(),
-    ]
-}
-
-/// A random Stewart pose: x, y in ±40 mm, z in 150..250 mm, angles in ±0.3 rad.
-fn ups_pose(rng: &mut SplitMix) -> Vec<f64> {
-    vec![
-        40.0 * rng.symmetric(),
-        40.0 * rng.symmetric(),
-        200.0 + 50.0 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-    ]
-}
-
-/// A random 3-UPU position: x, y in ±60 mm, z in 120..280 mm.
-fn upu_pose(rng: &mut SplitMix) -> Vec<f64> {
-    vec![
-        60.0 * rng.symmetric(),
-        60.0 * rng.symmetric(),
-        200.0 + 80.0 * rng.symmetric(),
-    ]
-}
-
 /// An example, how to draw its poses, its legs' joints by name (the one
 /// whose point is the leg's proximal centre, the one on the platform, the
 /// revolute whose axis a constraint force runs along or the two whose axes
@@ -88,28 +58,28 @@ fn cases() -> Vec<Case> {
     vec![
         Case {
             name: "rps_3_tilt",
-            pose: tilt_pose,
+            pose: |r| common::poses::tilt(r).to_vec(),
             legs: (1..=3).map(rps).collect(),
             forces: 3,
             couples: 0,
         },
         Case {
             name: "ups_6",
-            pose: ups_pose,
+            pose: |r| common::poses::ups(r).to_vec(),
             legs: (1..=6).map(ups).collect(),
             forces: 0,
             couples: 0,
         },
         Case {
             name: "prs_3",
-            pose: tilt_pose,
+            pose: |r| common::poses::tilt(r).to_vec(),
             legs: (1..=3).map(rps).collect(),
             forces: 3,
             couples: 0,
         },
         Case {
             name: "upu_3",
-            pose: upu_pose,
+            pose: |r| common::poses::upu(r).to_vec(),
             legs: (1..=3).map(upu).collect(),
             forces: 0,
             couples: 3,
@@ -352,7 +322,7 @@ fn jacobian_against_finite_differences() {
 /// K·δX = W.
 #[test]
 fn rps_against_the_seed() {
-    let (model, configs) = configurations("rps_3_tilt", tilt_pose, 1000);
+    let (model, configs) = configurations("rps_3_tilt", |r| common::poses::tilt(r).to_vec(), 1000);
     let p = platform(&model);
     let o = model.points.iter().find(|q| q.name == "o").unwrap().at;
     let Section::Beam { e, area, inertia } = Section::solid_round(2.11e5, 40.0) else {
@@ -462,7 +432,7 @@ fn stiffness_is_symmetric_positive_definite() {
 /// value missing, a pose not finite.
 #[test]
 fn rows_are_reproducible() {
-    let (model, configs) = configurations("ups_6", ups_pose, 20);
+    let (model, configs) = configurations("ups_6", |r| common::poses::ups(r).to_vec(), 20);
     let p = platform(&model);
     for s in &configs {
         let a = wrench::analyse(&model, s, p).unwrap();

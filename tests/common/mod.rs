@@ -268,3 +268,40 @@ pub fn inverse_agrees_with_newton(
         "{name}: {compared}, {same}"
     );
 }
+
+/// Random poses of the spatial examples, shared by the tests that draw them.
+pub mod poses {
+    use pkm::dsl::screw::SplitMix;
+
+    /// A 3-RPS (rps_3_tilt) or 3-PRS pose (z, rx, ry): z in 120..220 mm,
+    /// rx and ry in ±0.35 rad.
+    pub fn tilt(rng: &mut SplitMix) -> [f64; 3] {
+        [
+            170.0 + 50.0 * rng.symmetric(),
+            0.35 * rng.symmetric(),
+            0.35 * rng.symmetric(),
+        ]
+    }
+
+    /// A Stewart (ups_6) pose: x, y in ±40 mm, z in 150..250 mm, angles
+    /// in ±0.3 rad.
+    pub fn ups(rng: &mut SplitMix) -> [f64; 6] {
+        [
+            40.0 * rng.symmetric(),
+            40.0 * rng.symmetric(),
+            200.0 + 50.0 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ]
+    }
+
+    /// A 3-UPU (upu_3) position: x, y in ±60 mm, z in 120..280 mm.
+    pub fn upu(rng: &mut SplitMix) -> [f64; 3] {
+        [
+            60.0 * rng.symmetric(),
+            60.0 * rng.symmetric(),
+            200.0 + 80.0 * rng.symmetric(),
+        ]
+    }
+}
