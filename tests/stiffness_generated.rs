@@ -25,15 +25,6 @@ pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
 pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
 pkm::mechanism!(RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.pkm");
 
-/// A seed 004 pose (Z_A, α, β): Z_A in 50..110 mm, α and β in ±0.3 rad.
-fn seed_pose(rng: &mut SplitMix) -> Vec<f64> {
-    vec![
-        80.0 + 30.0 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-        0.3 * rng.symmetric(),
-    ]
-}
-
 /// The seed's load, F = (10, −15, 20) N and T = (−20, 10, 15) N·m = (−2, 1,
 /// 1.5)·10⁴ N·mm, about the reference point.
 const W: [f64; 6] = [10.0, -15.0, 20.0, -2.0e4, 1.0e4, 1.5e4];
@@ -174,7 +165,7 @@ fn agreement_of(
 #[test]
 fn rps_3_generated_agrees_with_the_interpreter() {
     let p = Rps::prepare(&RpsParams::default());
-    agreement("rps_3", seed_pose, 40, &|g, s| {
+    agreement("rps_3", |r| common::poses::seed(r).to_vec(), 40, &|g, s| {
         p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
     });
 }
@@ -182,7 +173,7 @@ fn rps_3_generated_agrees_with_the_interpreter() {
 #[test]
 fn spr_3_generated_agrees_with_the_interpreter() {
     let p = Spr::prepare(&SprParams::default());
-    agreement("spr_3", seed_pose, 40, &|g, s| {
+    agreement("spr_3", |r| common::poses::seed(r).to_vec(), 40, &|g, s| {
         p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
     });
 }
@@ -332,9 +323,13 @@ fn limb_properties_from_parameters() {
     let text = std::fs::read_to_string(&path).unwrap();
     let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
     let p = RpsParameters::prepare(&RpsParametersParams::default());
-    agreement_of("rps_3_limb_parameters", &a, seed_pose, 20, &|g, s| {
-        p.stiffness(g.try_into().unwrap(), s.try_into().unwrap())
-    });
+    agreement_of(
+        "rps_3_limb_parameters",
+        &a,
+        |r| common::poses::seed(r).to_vec(),
+        20,
+        &|g, s| p.stiffness(g.try_into().unwrap(), s.try_into().unwrap()),
+    );
     let home = [75.0, 0.0, 0.0];
     let signs = rps_up(&home);
     for bad in [-2.11e5, 0.0, f64::NAN] {

@@ -1,7 +1,7 @@
 //! Wrench analysis and stiffness (pkm_runtime::wrench, ::stiffness) on
 //! example mechanisms at configurations their inverse solutions give
-//! through the plan interpreter: the 3-RPS given by height and tilt
-//! (rps_3_tilt), the 6-UPS Stewart platform (ups_6), the 3-PRS (prs_3) and
+//! through the plan interpreter: seed 004's 3-RPS and 3-SPR (rps_3, spr_3),
+//! the 3-RPS given by height and tilt (rps_3_tilt), the 6-UPS Stewart platform (ups_6), the 3-PRS (prs_3) and
 //! the translational 3-UPU (upu_3, whose legs' constraints are couples).
 //! Checked against what is written here by hand from the link poses: each
 //! joint's twist (a revolute's axis through its point, a slide's
@@ -37,6 +37,9 @@ struct Leg {
     distal: String,
     /// A constraint force's revolute, or a couple's two revolutes.
     constraint: Vec<String>,
+    /// The ball whose centre a constraint force passes through (on the
+    /// platform for a 3-RPS or 3-PRS, on the base for a 3-SPR).
+    ball: String,
 }
 
 fn cases() -> Vec<Case> {
@@ -44,18 +47,41 @@ fn cases() -> Vec<Case> {
         proximal: format!("R{k}"),
         distal: format!("S{k}"),
         constraint: vec![format!("R{k}")],
+        ball: format!("S{k}"),
+    };
+    let spr = |k: usize| Leg {
+        proximal: format!("S{k}"),
+        distal: format!("R{k}"),
+        constraint: vec![format!("R{k}")],
+        ball: format!("S{k}"),
     };
     let ups = |k: usize| Leg {
         proximal: format!("U{k}.a"),
         distal: format!("S{k}"),
         constraint: vec![],
+        ball: format!("S{k}"),
     };
     let upu = |k: usize| Leg {
         proximal: format!("U{k}1.a"),
         distal: format!("U{k}2.b"),
         constraint: vec![format!("U{k}1.a"), format!("U{k}1.b")],
+        ball: String::new(),
     };
     vec![
+        Case {
+            name: "rps_3",
+            pose: |r| common::poses::seed(r).to_vec(),
+            legs: (1..=3).map(rps).collect(),
+            forces: 3,
+            couples: 0,
+        },
+        Case {
+            name: "spr_3",
+            pose: |r| common::poses::seed(r).to_vec(),
+            legs: (1..=3).map(spr).collect(),
+            forces: 3,
+            couples: 0,
+        },
         Case {
             name: "rps_3_tilt",
             pose: |r| common::poses::tilt(r).to_vec(),
@@ -283,7 +309,8 @@ fn jacobian_against_finite_differences() {
                         }
                         RowKind::ConstraintForce => {
                             let u = axis(&model, s, joint(&model, &leg.constraint[0]));
-                            let g = gradient(|x| u.dot(&moved(&c, x)));
+                            let b = point(&model, s, joint(&model, &leg.ball));
+                            let g = gradient(|x| u.dot(&moved(&b, x)));
                             up_to_sign(&row(i), &g)
                         }
                         RowKind::ConstraintCouple => {

@@ -273,6 +273,16 @@ pub fn inverse_agrees_with_newton(
 pub mod poses {
     use pkm::dsl::screw::SplitMix;
 
+    /// A seed 004 pose (Z_A, α, β) of rps_3 or spr_3: Z_A in 50..110 mm,
+    /// α and β in ±0.3 rad.
+    pub fn seed(rng: &mut SplitMix) -> [f64; 3] {
+        [
+            80.0 + 30.0 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ]
+    }
+
     /// A 3-RPS (rps_3_tilt) or 3-PRS pose (z, rx, ry): z in 120..220 mm,
     /// rx and ry in ±0.35 rad.
     pub fn tilt(rng: &mut SplitMix) -> [f64; 3] {

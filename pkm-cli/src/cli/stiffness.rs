@@ -83,25 +83,26 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
         })?;
         let properties: Vec<_> = declared.iter().map(|d| d.properties()).collect();
         let names: Vec<&str> = declared.iter().map(|d| d.name.as_str()).collect();
-        let k = match pkm_runtime::stiffness::PlatformStiffness::new(analysis, &properties, point) {
-            Ok(k) => k,
+        // The stiffness, its directional values and the deflection: a
+        // failure of any (a singular K) is this branch's, not the command's.
+        let solved = pkm_runtime::stiffness::PlatformStiffness::new(analysis, &properties, point).and_then(|k| {
+            let directional = k.directional()?;
+            let deflection = match <&[f64; 6]>::try_from(wrench) {
+                Ok(w) => Some(k.deflection(w)?),
+                Err(_) => None,
+            };
+            Ok((k, directional, deflection))
+        });
+        let (k, directional, deflection) = match solved {
+            Ok(x) => x,
             Err(e) => {
                 branches.push(json!({ "signs": signs, "ok": false, "reason": e.to_string() }));
                 continue;
             }
         };
+        let deflection = deflection.map_or(Value::Null, |d| json!({ "translation": &d[..3], "rotation": &d[3..] }));
         let at = k.k();
         let matrix: Vec<Vec<f64>> = (0..6).map(|i| (0..6).map(|j| at[(i, j)]).collect()).collect();
-        let directional = k
-            .directional()
-            .map_err(|e| Failure::new(Kind::Unreachable, e.to_string()))?;
-        let deflection = match <&[f64; 6]>::try_from(wrench) {
-            Ok(w) => {
-                let d = k.deflection(w).map_err(|e| Failure::input(e.to_string()))?;
-                json!({ "translation": &d[..3], "rotation": &d[3..] })
-            }
-            Err(_) => Value::Null,
-        };
         let analysis = &k.wrenches;
         let p = pkm_runtime::nalgebra::Vector3::from(point);
         let rows: Vec<Value> = analysis
