@@ -19,7 +19,6 @@ use crate::emit::Emit;
 use crate::geometry::OutputKind;
 use crate::limb_properties::{LegStiffness, Limb};
 use crate::trace::Sym;
-use pkm_runtime::model::JointType;
 use pkm_runtime::solution::PointRef;
 use pkm_runtime::steps::Geometry;
 use proc_macro2::TokenStream;
@@ -133,13 +132,7 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
             }
         }
         let last = *path.last().expect("a limb has a joint");
-        let centres = path
-            .iter()
-            .rev()
-            .skip(1)
-            .filter(|&&j| matches!(g.joints[j].kind, JointType::R | JointType::S))
-            .map(|&j| world(j))
-            .collect();
+        let centres = pkm_runtime::wrench::centre_joints(&model, &path).map(world).collect();
         limbs.push(TracedLimb {
             distal: world(last),
             joints: path,

@@ -492,12 +492,8 @@ pub fn analyse_poses(
     let mut inputs = Vec::with_capacity(paths.len());
     for path in &paths {
         let last = *path.last().expect("a limb has a joint");
-        let centres = path
-            .iter()
-            .rev()
-            .skip(1)
-            .filter(|&&j| matches!(model.joints[j].kind, JointType::R | JointType::S))
-            .map(|&j| Vector3::from(joint_point(model, poses, j)))
+        let centres = centre_joints(model, path)
+            .map(|j| Vector3::from(joint_point(model, poses, j)))
             .collect();
         let mut variables = Vec::new();
         for &j in path {
@@ -522,6 +518,17 @@ pub fn analyse_poses(
         });
     }
     analyse_twists(&inputs, model_scale(model))
+}
+
+/// The joints of the limb `path` whose points are the candidates for its
+/// proximal centre ([`LimbTwists::centres`]): its R and S joints but the
+/// distal one, from the distal end towards the base.
+pub fn centre_joints<'a>(model: &'a Model, path: &'a [usize]) -> impl Iterator<Item = usize> + 'a {
+    path.iter()
+        .rev()
+        .skip(1)
+        .copied()
+        .filter(|&j| matches!(model.joints[j].kind, JointType::R | JointType::S))
 }
 
 /// One joint variable of a limb at a configuration: its unit twist and
