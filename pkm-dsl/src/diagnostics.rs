@@ -174,6 +174,29 @@ impl Diagnostics {
         self.0.push(d);
     }
 
+    /// Records `key` as given at `span` in `seen`. Given before, it is an
+    /// error at `span`, "`what` is given twice", pointing at the first:
+    /// false, and the caller skips it.
+    pub fn given_once<K: std::hash::Hash + Eq>(
+        &mut self,
+        seen: &mut std::collections::HashMap<K, Span>,
+        key: K,
+        span: Span,
+        what: impl FnOnce() -> String,
+    ) -> bool {
+        match seen.insert(key, span) {
+            None => true,
+            Some(first) => {
+                self.push(
+                    Diagnostic::new(span, format!("{} is given twice", what()))
+                        .label("again")
+                        .also(first, "first here"),
+                );
+                false
+            }
+        }
+    }
+
     /// True when no error was collected.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()

@@ -302,15 +302,9 @@ fn branch(mech: &Mechanism, b: &Name, given: &mut HashMap<usize, Span>, errors: 
         errors.push(e);
         return None;
     };
-    if let Some(first) = given.insert(i, b.span) {
-        errors.push(
-            Diagnostic::new(b.span, format!("branch `{}` is given twice", b.text))
-                .label("again")
-                .also(first, "first here"),
-        );
-        return None;
-    }
-    Some(i)
+    errors
+        .given_once(given, i, b.span, || format!("branch `{}`", b.text))
+        .then_some(i)
 }
 
 /// Branch `i`'s joints from the base to the platform, if they are one
@@ -358,12 +352,7 @@ fn entry_items<'a>(
     let mut seen: HashMap<&str, Span> = HashMap::new();
     let mut items = HashMap::new();
     for (key, v) in &decl.items {
-        if let Some(first) = seen.insert(key.text.as_str(), key.span) {
-            errors.push(
-                Diagnostic::new(key.span, format!("`{}` is given twice", key.text))
-                    .label("again")
-                    .also(first, "first here"),
-            );
+        if !errors.given_once(&mut seen, key.text.as_str(), key.span, || format!("`{}`", key.text)) {
             continue;
         }
         let Some((_, what)) = KEYS.iter().find(|(k, _)| *k == key.text) else {

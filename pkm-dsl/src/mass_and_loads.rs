@@ -617,15 +617,9 @@ fn moving_link(
         );
         return None;
     }
-    if let Some(first) = given.insert(i, l.span) {
-        errors.push(
-            Diagnostic::new(l.span, format!("link `{}` is given twice", l.text))
-                .label("again")
-                .also(first, "first here"),
-        );
-        return None;
-    }
-    Some(i)
+    errors
+        .given_once(given, i, l.span, || format!("link `{}`", l.text))
+        .then_some(i)
 }
 
 /// Whose mass properties: a link's, or a parallelogram bar's (`name` its joint).
@@ -690,12 +684,7 @@ fn mass_properties(
     let mut seen: HashMap<&str, Span> = HashMap::new();
     let (mut mass, mut centroid, mut inertia) = (None, None, Inertia::Point);
     for (key, v) in items {
-        if let Some(first) = seen.insert(key.text.as_str(), key.span) {
-            errors.push(
-                Diagnostic::new(key.span, format!("`{}` is given twice", key.text))
-                    .label("again")
-                    .also(first, "first here"),
-            );
+        if !errors.given_once(&mut seen, key.text.as_str(), key.span, || format!("`{}`", key.text)) {
             continue;
         }
         match key.text.as_str() {
@@ -846,12 +835,9 @@ fn loads(
     let mut out: Vec<Load> = Vec::new();
     let mut names: HashMap<&str, Span> = HashMap::new();
     for d in decls {
-        if let Some(first) = names.insert(d.name.text.as_str(), d.name.span) {
-            errors.push(
-                Diagnostic::new(d.name.span, format!("load `{}` is given twice", d.name.text))
-                    .label("again")
-                    .also(first, "first here"),
-            );
+        if !errors.given_once(&mut names, d.name.text.as_str(), d.name.span, || {
+            format!("load `{}`", d.name.text)
+        }) {
             continue;
         }
         let zero = || [Expr::Num(0.0), Expr::Num(0.0), Expr::Num(0.0)];
