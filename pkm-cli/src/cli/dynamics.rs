@@ -5,7 +5,7 @@
 //! acceleration, as JSON by name; at one state or at every line of a file.
 
 use super::failure::{Failure, Kind};
-use super::solve::{input_values, load, Request};
+use super::solve::{input_values, load, sign_text, Request};
 use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError};
 use serde_json::{json, Map, Value};
 
@@ -109,7 +109,7 @@ impl Setup {
         let mut causes = Vec::new();
         for (signs, solution) in pkm_runtime::spatial::run_all(model, &self.plan, &given[0]) {
             // As `pkm fk` writes them.
-            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+            let signs = sign_text(&signs);
             let solution = match solution {
                 Ok(s) => s,
                 Err(e) => {

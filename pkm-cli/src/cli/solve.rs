@@ -80,6 +80,11 @@ pub(super) fn load(r: &Request) -> Result<Loaded, Failure> {
     })
 }
 
+/// A branch's signs as the JSON writes them: `"+"` or `"-"` per choice.
+pub(super) fn sign_text(signs: &[Sign]) -> Vec<&'static str> {
+    signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect()
+}
+
 /// An error unless `v` is a number: `what` names the value.
 pub(super) fn finite(what: &str, v: f64) -> Result<(), Failure> {
     if v.is_nan() {
@@ -415,7 +420,7 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
     Ok(verdicts
         .iter()
         .map(|(signs, verdict)| {
-            let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+            let signs = sign_text(signs);
             match verdict {
                 Ok(s) => {
                     let points: Map<String, Value> = s.points.iter().map(|(n, p)| (n.clone(), json!(p))).collect();

@@ -6,7 +6,7 @@
 //! the platform's deflection (`pkm_runtime::stiffness`), as JSON.
 
 use super::failure::{Failure, Kind};
-use super::solve::{finite, load, ordered_pose, Request};
+use super::solve::{finite, load, ordered_pose, sign_text, Request};
 use pkm_runtime::newton::Output;
 use pkm_runtime::wrench::RowKind;
 use serde_json::{json, Value};
@@ -57,7 +57,7 @@ pub fn stiffness(r: &Request, pose: &[(String, f64)], wrench: &[f64]) -> Result<
     let mut branches = Vec::new();
     let mut causes = Vec::new();
     for (signs, solution) in pkm_runtime::spatial::run_all(model, &plan, &given) {
-        let signs: Vec<&str> = signs.iter().map(|s| if s.index() == 0 { "+" } else { "-" }).collect();
+        let signs = sign_text(&signs);
         let solution = match solution {
             Ok(s) => s,
             Err(e) => {
