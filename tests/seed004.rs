@@ -30,15 +30,6 @@ const H: f64 = 75.0;
 type M3 = [[f64; 3]; 3];
 type V3 = [f64; 3];
 
-/// A random (Z_A, α, β): Z_A in 60..120 mm, α and β in ±0.35 rad (±20°).
-fn pose(rng: &mut SplitMix) -> [f64; 3] {
-    [
-        90.0 + 30.0 * rng.symmetric(),
-        0.35 * rng.symmetric(),
-        0.35 * rng.symmetric(),
-    ]
-}
-
 /// The seed's eq. 2, entry by entry, with row 1 column 3 as the product
 /// R_z(γ)·R_y(β)·R_x(α) has it (`sβ cγ cα + sγ sα`; printed
 /// `sβ cγ sα = sγ sα`).
@@ -177,7 +168,7 @@ fn hand_solutions_meet_the_definitions() {
     let mut rng = SplitMix::new(8);
     let mut worst = 0.0f64;
     for _ in 0..10_000 {
-        let [za, al, be] = pose(&mut rng);
+        let [za, al, be] = common::poses::seed(&mut rng);
         for (spr, (p, r, _)) in [(false, rps_hand(za, al, be)), (true, spr_hand(za, al, be))] {
             worst = worst.max((p[2] - za).abs() / RB);
             for i in 0..3 {
@@ -257,7 +248,7 @@ fn ik_matches_the_hand_closed_forms() {
     let mut rng = SplitMix::new(2026);
     let (mut worst_rps, mut worst_spr, mut solved) = (0.0f64, 0.0f64, [0usize; 2]);
     for _ in 0..100_000 {
-        let given = pose(&mut rng);
+        let given = common::poses::seed(&mut rng);
         let [za, al, be] = given;
         let rps: Vec<Result<_, ()>> = Rps::ik(&Default::default(), &given)
             .into_iter()
@@ -315,7 +306,7 @@ fn home_pose_legs() {
 
 #[test]
 fn rps_inverse_agrees_with_newton() {
-    common::inverse_agrees_with_newton("rps_3", 3000, pose, |given| {
+    common::inverse_agrees_with_newton("rps_3", 3000, common::poses::seed, |given| {
         Rps::ik(&Default::default(), given)
             .into_iter()
             .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))
@@ -325,7 +316,7 @@ fn rps_inverse_agrees_with_newton() {
 
 #[test]
 fn spr_inverse_agrees_with_newton() {
-    common::inverse_agrees_with_newton("spr_3", 3000, pose, |given| {
+    common::inverse_agrees_with_newton("spr_3", 3000, common::poses::seed, |given| {
         Spr::ik(&Default::default(), given)
             .into_iter()
             .map(|b| b.result.map(|s| s.q.to_vec()).map_err(|_| ()))
@@ -363,7 +354,7 @@ fn numeric_fk_from_home_recovers_the_hand_pose() {
         let mut rng = SplitMix::new(9);
         let (mut converged, mut worst) = (0, 0.0f64);
         for _ in 0..1000 {
-            let [za, al, be] = pose(&mut rng);
+            let [za, al, be] = common::poses::seed(&mut rng);
             let (p, r, legs) = hand(za, al, be);
             let Ok(sol) = newton::solve_fk(&model, &legs, &start, &options) else {
                 continue;

@@ -273,13 +273,13 @@ pub fn inverse_agrees_with_newton(
 pub mod poses {
     use pkm::dsl::screw::SplitMix;
 
-    /// A seed 004 pose (Z_A, α, β) of rps_3 or spr_3: Z_A in 50..110 mm,
-    /// α and β in ±0.3 rad.
+    /// A seed 004 pose (Z_A, α, β) of rps_3 or spr_3: Z_A in 60..120 mm,
+    /// α and β in ±0.35 rad (±20°).
     pub fn seed(rng: &mut SplitMix) -> [f64; 3] {
         [
-            80.0 + 30.0 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
+            90.0 + 30.0 * rng.symmetric(),
+            0.35 * rng.symmetric(),
+            0.35 * rng.symmetric(),
         ]
     }
 
