@@ -213,6 +213,46 @@ fn dynamics_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Dia
     }
 }
 
+/// Where `stiffness` is given, in a file with geometry and `ik`: about the
+/// point of the first output that places one, on its link, which the
+/// limbs must join to the base (each joint on one serial chain).
+fn stiffness_reference_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Diagnostics) {
+    if !a.geometry.complete || !a.mechanism.wants(Capability::Ik) {
+        return;
+    }
+    let Some((link, _)) = a.geometry.first_point_output() else {
+        errors.push(
+            Diagnostic::new(
+                span,
+                "`stiffness` is given about a platform point: declare the platform's pose, pose parts or a point of it among the outputs",
+            )
+            .label("no output places a point"),
+        );
+        return;
+    };
+    let Ok(model) = crate::numeric::model(a, &Default::default()) else {
+        return;
+    };
+    if let Err(e) = pkm_runtime::wrench::limbs(&model, link) {
+        let why = match e {
+            pkm_runtime::wrench::WrenchError::NotLimbs { link, what } => {
+                format!("at link `{}`, {what}", a.mechanism.links[link].name)
+            }
+            other => other.to_string(),
+        };
+        errors.push(
+            Diagnostic::new(
+                span,
+                format!(
+                    "`stiffness` reads the limbs from the base to `{}`, the link the outputs place, and finds none: {why}",
+                    a.mechanism.links[link].name
+                ),
+            )
+            .label("not limbs"),
+        );
+    }
+}
+
 /// What `stiffness` needs: the inverse solution (its generated stiffness
 /// solves the pose first), the file's units, and every limb's properties
 /// in `limbs { … }` (its limbs are the file's branches, each reaching the
@@ -247,6 +287,7 @@ fn stiffness_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Di
         );
         return;
     }
+    stiffness_reference_needs(a, span, errors);
     let missing: Vec<&str> = m
         .branches
         .iter()
@@ -611,6 +652,43 @@ mod tests {
         check_text(
             &rps("limbs { A, B { axial = 1; bending = 2; } C { E = 1; A = 1; I = 1; } }"),
             &[],
+        );
+    }
+
+    /// The stiffness's reference: an output that places a point, on a
+    /// link the limbs join to the base (seed 004's 3-RPS with its outputs
+    /// replaced).
+    #[test]
+    fn stiffness_needs_a_reference_on_the_limbs_platform() {
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/rps_3.pkm")).unwrap();
+        let with = |outputs: &str| {
+            let t = text.replace(
+                "outputs { ZA, alpha, beta = pose (z, rx, ry) of platform at o; }",
+                outputs,
+            );
+            assert_ne!(t, text, "the outputs line was replaced");
+            t
+        };
+        check_text(&text, &[]);
+        let at = text.find("stiffness;").unwrap();
+        let (line, col) = crate::diagnostics::Span { start: at, end: at }.line_col(&text);
+        check_text(
+            &with("outputs { a = joint P1; b = joint P2; c = joint P3; }"),
+            &[(
+                line,
+                col,
+                "`stiffness` is given about a platform point: declare the platform's pose, pose parts or a point of it among the outputs",
+            )],
+        );
+        check_text(
+            &with("outputs { x, y, z = point S1 of A2; }"),
+            &[(
+                line,
+                col,
+                "`stiffness` reads the limbs from the base to `A2`, the link the outputs place, and finds none: \
+                 at link `platform`, an inner link of a limb must carry exactly two joints",
+            )],
         );
     }
 

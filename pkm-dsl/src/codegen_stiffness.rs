@@ -16,7 +16,6 @@ use super::dynamics::{joint_twists, size};
 use super::{sym, Branch, Direction};
 use crate::analysis::Analysis;
 use crate::emit::Emit;
-use crate::geometry::OutputKind;
 use crate::limb_properties::{LegStiffness, Limb};
 use crate::trace::Sym;
 use pkm_runtime::solution::PointRef;
@@ -55,21 +54,6 @@ pub(super) struct Traced {
     point: [Sym; 3],
 }
 
-/// The platform (the link of the first declared output that places a
-/// point) and that point.
-fn reference(a: &Analysis) -> Result<(usize, PointRef), String> {
-    a.geometry
-        .outputs
-        .iter()
-        .find_map(|o| match &o.kind {
-            OutputKind::Pose { link, point, .. }
-            | OutputKind::Point { link, point }
-            | OutputKind::Parts { link, point, .. } => Some((*link, *point)),
-            OutputKind::Joint(_) => None,
-        })
-        .ok_or_else(|| "`stiffness` needs the platform's pose or a point of it among the outputs".into())
-}
-
 /// The declared limb with the same joints as `joints`.
 fn declared<'a>(limbs: &'a [Limb], joints: &[usize]) -> Option<&'a Limb> {
     let sorted = |j: &[usize]| {
@@ -84,7 +68,11 @@ fn declared<'a>(limbs: &'a [Limb], joints: &[usize]) -> Option<&'a Limb> {
 /// Traces what `stiffness` computes from the solved branch `b`.
 pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Traced, String> {
     let m = &a.mechanism;
-    let (platform, point) = reference(a)?;
+    // `check_capabilities` has refused a file without one.
+    let (platform, point) = a
+        .geometry
+        .first_point_output()
+        .ok_or("no output places a platform point")?;
     let model = crate::numeric::model(a, &Default::default()).map_err(|d| d.to_string())?;
     let paths = pkm_runtime::wrench::limbs(&model, platform).map_err(|e| e.to_string())?;
     let world = |j: usize| {

@@ -143,6 +143,18 @@ pub enum OutputKind {
 }
 
 impl Geometry {
+    /// The link and point of the first output that places a point (a
+    /// pose, a point or pose parts): the platform and the reference point
+    /// the stiffness is given about.
+    pub fn first_point_output(&self) -> Option<(usize, pkm_runtime::solution::PointRef)> {
+        self.outputs.iter().find_map(|o| match &o.kind {
+            OutputKind::Pose { link, point, .. }
+            | OutputKind::Point { link, point }
+            | OutputKind::Parts { link, point, .. } => Some((*link, *point)),
+            OutputKind::Joint(_) => None,
+        })
+    }
+
     /// Nominal parameter values by name.
     pub fn nominal(&self) -> HashMap<String, f64> {
         self.parameters.iter().map(|p| (p.name.clone(), p.value)).collect()
