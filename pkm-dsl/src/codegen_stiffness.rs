@@ -54,17 +54,6 @@ pub(super) struct Traced {
     point: [Sym; 3],
 }
 
-/// The declared limb with the same joints as `joints`.
-fn declared<'a>(limbs: &'a [Limb], joints: &[usize]) -> Option<&'a Limb> {
-    let sorted = |j: &[usize]| {
-        let mut j = j.to_vec();
-        j.sort_unstable();
-        j
-    };
-    let want = sorted(joints);
-    limbs.iter().find(|l| sorted(&l.joints) == want)
-}
-
 /// Traces what `stiffness` computes from the solved branch `b`.
 pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Traced, String> {
     let m = &a.mechanism;
@@ -82,7 +71,7 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
     let mut limbs = Vec::with_capacity(paths.len());
     let mut properties = Vec::with_capacity(paths.len());
     for path in paths {
-        let Some(limb) = declared(&a.limbs, &path) else {
+        let Some(limb) = crate::limb_properties::with_joints(&a.limbs, |l: &Limb| &l.joints, &path) else {
             let names: Vec<&str> = path.iter().map(|&j| m.joints[j].name.as_str()).collect();
             return Err(format!(
                 "the limb {} has no entry in the `limbs` block",
@@ -137,17 +126,13 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
 }
 
 impl Traced {
-    /// Every symbol the generated function reads, in a fixed order.
+    /// Every symbol the generated function reads.
     fn roots(&self) -> Vec<Sym> {
         let mut out = Vec::new();
         for l in &self.limbs {
-            for v in &l.variables {
-                out.extend(&v.twist);
-            }
+            out.extend(l.variables.iter().flat_map(|v| v.twist.iter().copied()));
             out.extend(l.distal);
-            for c in &l.centres {
-                out.extend(c);
-            }
+            out.extend(l.centres.iter().flatten());
         }
         for p in &self.properties {
             match p.leg {
@@ -181,34 +166,31 @@ pub(super) fn functions(
     let (lets, exprs) = emit.straight(&all, &emit.needed_guards(&all, &d.given.guards, &d.given.waivable));
     let (values, rest) = exprs.split_at(n_roots);
     let check = check_of(rest);
-    let mut next = values.iter();
-    let mut take = || next.next().expect("one expression per root").clone();
-    let v3 = |take: &mut dyn FnMut() -> TokenStream| {
-        let (x, y, z) = (take(), take(), take());
+    // Each symbol's expression, by the symbol.
+    let by_sym: std::collections::HashMap<Sym, TokenStream> = roots.into_iter().zip(values.iter().cloned()).collect();
+    let e = |x: &Sym| by_sym[x].clone();
+    let v3 = |p: &[Sym]| {
+        let (x, y, z) = (e(&p[0]), e(&p[1]), e(&p[2]));
         quote! { #rt::nalgebra::Vector3::new(#x, #y, #z) }
     };
     let limbs: Vec<TokenStream> = t
         .limbs
         .iter()
         .map(|l| {
-            let variables: Vec<TokenStream> = l
-                .variables
-                .iter()
-                .map(|v| {
-                    let (w, vel) = (v3(&mut take), v3(&mut take));
-                    let (joint, variable, actuated) = (v.joint, v.variable, v.actuated);
-                    quote! {
-                        #rt::wrench::LimbVariable {
-                            joint: #joint,
-                            variable: #variable,
-                            actuated: #actuated,
-                            twist: #rt::velocity::Twist { w: #w, v: #vel },
-                        }
+            let variables = l.variables.iter().map(|v| {
+                let (w, vel) = (v3(&v.twist[..3]), v3(&v.twist[3..]));
+                let (joint, variable, actuated) = (v.joint, v.variable, v.actuated);
+                quote! {
+                    #rt::wrench::LimbVariable {
+                        joint: #joint,
+                        variable: #variable,
+                        actuated: #actuated,
+                        twist: #rt::velocity::Twist { w: #w, v: #vel },
                     }
-                })
-                .collect();
-            let distal = v3(&mut take);
-            let centres: Vec<TokenStream> = l.centres.iter().map(|_| v3(&mut take)).collect();
+                }
+            });
+            let distal = v3(&l.distal);
+            let centres = l.centres.iter().map(|c| v3(c));
             let joints = &l.joints;
             quote! {
                 #rt::wrench::LimbTwists {
@@ -225,12 +207,12 @@ pub(super) fn functions(
         .iter()
         .map(|p| {
             let section = match p.leg {
-                LegStiffness::Section { .. } => {
-                    let (e, area, inertia) = (take(), take(), take());
-                    quote! { #rt::stiffness::Section::Beam { e: #e, area: #area, inertia: #inertia } }
+                LegStiffness::Section { e: young, a, i } => {
+                    let (young, area, inertia) = (e(&young), e(&a), e(&i));
+                    quote! { #rt::stiffness::Section::Beam { e: #young, area: #area, inertia: #inertia } }
                 }
-                LegStiffness::Direct { .. } => {
-                    let (axial, bending) = (take(), take());
+                LegStiffness::Direct { axial, bending } => {
+                    let (axial, bending) = (e(&axial), e(&bending));
                     quote! {
                         #rt::stiffness::Section::Springs {
                             axial: #axial,
@@ -240,9 +222,9 @@ pub(super) fn functions(
                     }
                 }
             };
-            let actuator = match p.actuator {
-                Some(_) => {
-                    let k = take();
+            let actuator = match &p.actuator {
+                Some(k) => {
+                    let k = e(k);
                     quote! { ::core::option::Option::Some(#k) }
                 }
                 None => quote! { ::core::option::Option::None },
@@ -250,8 +232,8 @@ pub(super) fn functions(
             quote! { #rt::stiffness::LimbProperties { section: #section, actuator: #actuator } }
         })
         .collect();
-    let size = take();
-    let (px, py, pz) = (take(), take(), take());
+    let size = e(&t.size);
+    let [px, py, pz] = t.point.map(|x| e(&x));
     let n_limbs = t.limbs.len();
     let (n_given, n_choices) = (d.plan.n_inputs, d.plan.branches);
     quote! {

@@ -156,19 +156,23 @@ pub fn in_analysis_order<'a>(
     limbs: &'a [ResolvedLimb],
     analysed: &[pkm_runtime::wrench::Limb],
 ) -> Result<Vec<&'a ResolvedLimb>, usize> {
-    let sorted = |joints: &[usize]| {
-        let mut j = joints.to_vec();
-        j.sort_unstable();
-        j
-    };
     analysed
         .iter()
         .enumerate()
-        .map(|(k, limb)| {
-            let joints = sorted(&limb.joints);
-            limbs.iter().find(|l| sorted(&l.joints) == joints).ok_or(k)
-        })
+        .map(|(k, limb)| with_joints(limbs, |l| &l.joints, &limb.joints).ok_or(k))
         .collect()
+}
+
+/// The entry of `limbs` (declared or resolved, `joints` reading an
+/// entry's) whose joints are those of `path`, in any order.
+pub fn with_joints<'a, L>(limbs: &'a [L], joints: impl Fn(&'a L) -> &'a [usize], path: &[usize]) -> Option<&'a L> {
+    let sorted = |j: &[usize]| {
+        let mut j = j.to_vec();
+        j.sort_unstable();
+        j
+    };
+    let want = sorted(path);
+    limbs.iter().find(|l| sorted(joints(l)) == want)
 }
 
 /// The keys of a limb entry, with what each is (for messages).
