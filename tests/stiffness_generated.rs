@@ -91,7 +91,7 @@ fn agreement_of(
         let given = pose(&mut rng);
         for (signs, want) in interpreted(a, &values, &given) {
             let got = generated(&given, &signs);
-            let (analysis, k, point) = match (want, got) {
+            let (analysis, k, point, g) = match (want, got) {
                 (Ok(w), Ok(g)) => {
                     solved += 1;
                     let (analysis, k, point) = w;
@@ -116,7 +116,7 @@ fn agreement_of(
                     // K at the reference point, on one scale.
                     let (kg, kw) = (scaled(&g.k(), s), scaled(&k.at(point), s));
                     worst = worst.max((kg - kw).amax() / kw.amax());
-                    (analysis, k, point)
+                    (analysis, k, point, g)
                 }
                 (Err(w), Err(g)) => {
                     // Both fail: alike (both in the position, or the same singularity).
@@ -133,7 +133,6 @@ fn agreement_of(
                     g.map(|_| "ok")
                 ),
             };
-            let g = generated(&given, &signs).unwrap();
             // The deflection helper: K δ = W, and as the interpreter's.
             let delta = g.deflection(&W).unwrap();
             let back = g.k() * Vector6::from(delta);
