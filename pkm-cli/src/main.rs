@@ -27,7 +27,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Prints the topology report of a mechanism: POC sets, DOF, ξ_L, Δ, SKCs, κ.
+    /// Prints the topology report of a mechanism: POC sets, DOF, ξ_L, Δ, SKCs, κ; exits 1 if the file does not meet what its capabilities need, as the macro refuses it.
     Analyze {
         /// The mechanism file (.pkm).
         file: PathBuf,
@@ -196,6 +196,54 @@ fn solve(
     })
 }
 
+/// `pkm analyze`: the topology report, once the file meets what its
+/// capabilities need, as the macro checks it (`pkm_dsl::check_capabilities`
+/// and the position plans the capabilities ask for).
+fn analyze(json: bool, file: &Path) -> ExitCode {
+    let (text, shown) = match read(file) {
+        Ok(t) => t,
+        Err(f) => return fail(json, &f),
+    };
+    let compiled = match pkm_dsl::compile(&text) {
+        Ok(c) => c,
+        Err(d) => return fail(json, &Failure::parse(&d, &text, &shown)),
+    };
+    if let Err(d) = capabilities_met(&compiled) {
+        return fail(json, &Failure::parse(&d, &text, &shown));
+    }
+    let a = &compiled.analysis;
+    if json {
+        // The analysis's JSON stays indented, as it always was.
+        write_out(&format!(
+            "{}\n",
+            serde_json::to_string_pretty(&to_json(a)).unwrap_or_default()
+        ))
+    } else {
+        write_out(&a.report())
+    }
+}
+
+/// What `pkm::mechanism!` refuses besides the analysis: a capability whose
+/// needs the file does not meet, and for `fk` or `ik` with a geometry, a
+/// position plan that does not exist.
+fn capabilities_met(c: &pkm_dsl::Compiled) -> Result<(), pkm_dsl::Diagnostics> {
+    use pkm_dsl::mechanism::Capability;
+    let checks = pkm_dsl::check_capabilities(&c.analysis);
+    if !checks.is_empty() {
+        return Err(checks);
+    }
+    let m = &c.analysis.mechanism;
+    if c.analysis.geometry.complete {
+        if m.wants(Capability::Fk) {
+            c.forward()?;
+        }
+        if m.wants(Capability::Ik) {
+            c.inverse()?;
+        }
+    }
+    Ok(())
+}
+
 /// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
 /// printed; with `--json` an object with the XML (or the path) and how the
 /// model maps to the mechanism.
@@ -333,21 +381,7 @@ fn main() -> ExitCode {
                 Err(e) => fail(json, &Failure::new(Kind::Report, e.message())),
             }
         }
-        Command::Analyze { file } => {
-            let (text, shown) = match read(&file) {
-                Ok(t) => t,
-                Err(f) => return fail(json, &f),
-            };
-            match pkm_dsl::analyze_source(&text) {
-                // The analysis's JSON stays indented, as it always was.
-                Ok(a) if json => write_out(&format!(
-                    "{}\n",
-                    serde_json::to_string_pretty(&to_json(&a)).unwrap_or_default()
-                )),
-                Ok(a) => write_out(&a.report()),
-                Err(d) => fail(json, &Failure::parse(&d, &text, &shown)),
-            }
-        }
+        Command::Analyze { file } => analyze(json, &file),
     }
 }
 

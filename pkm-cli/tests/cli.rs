@@ -1022,3 +1022,71 @@ fn stiffness_of_the_stewart_platform_by_hand() {
     }
     assert!(drawn > 0, "{v}");
 }
+
+/// Issue 29, item 8: `pkm analyze` passed files the macro refuses (a
+/// `dynamics` without units or masses, a `stiffness` without limbs, `fk`
+/// on κ ≠ 0). It now reports what `pkm::mechanism!` reports: for every
+/// compile-fail case of tests/ui with its mechanism inline, the errors
+/// trybuild recorded from the compiler (tests/ui/*.stderr), each message
+/// at the same line and column, exit code 1.
+#[test]
+fn analyze_refuses_what_the_macro_refuses() {
+    let ui = common::root().join("tests/ui");
+    let mut cases = 0;
+    let mut names: Vec<_> = std::fs::read_dir(&ui).unwrap().map(|e| e.unwrap().path()).collect();
+    names.sort();
+    for rs in names.iter().filter(|p| p.extension().is_some_and(|e| e == "rs")) {
+        let source = std::fs::read_to_string(rs).unwrap();
+        // `pkm::mechanism!(M, "…");`: the mechanism is the string literal.
+        let Some(open) = source.find(", \"mechanism ") else {
+            continue;
+        };
+        let literal = &source[open + 3..];
+        let text = &literal[..literal.find("\");").unwrap()];
+        let text = text.replace("\\\"", "\"").replace("\\\\", "\\");
+        let stem = rs.file_stem().unwrap().to_str().unwrap();
+        let file = scratch_file(&format!("ui_{stem}.pkm"), &text);
+        // Each `error: …` line with the `<inline>:line:column` under it.
+        let errors = |text: &str, place: &str| -> Vec<(String, String)> {
+            let lines: Vec<&str> = text.lines().collect();
+            lines
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| l.starts_with("error: "))
+                .map(|(k, l)| {
+                    let next = lines.get(k + 1).copied().unwrap_or("");
+                    let at = next.split(place).nth(1).map_or(String::new(), |p| p.trim().to_string());
+                    (l.to_string(), at)
+                })
+                .collect()
+        };
+        let recorded = std::fs::read_to_string(rs.with_extension("stderr")).unwrap();
+        let want = errors(&recorded, "<inline>:");
+        let out = pkm(&["analyze", &file]);
+        let got = errors(&String::from_utf8_lossy(&out.stderr), &format!("{file}:"));
+        assert_eq!(out.status.code(), Some(1), "{stem}");
+        assert_eq!(got, want, "{stem}");
+        cases += 1;
+    }
+    // Among them the three the issue names.
+    assert!(cases >= 20, "{cases}");
+    for stem in ["dynamics_without_masses", "stiffness_without_limbs", "coupled_fk"] {
+        assert!(names.iter().any(|p| p.ends_with(format!("{stem}.rs"))), "{stem}");
+    }
+    // With --json: the first error's line and column, every diagnostic.
+    let rrr = std::fs::read_to_string(common::root().join(RRR)).unwrap();
+    let rrr_fk = scratch_file(
+        "rrr_fk.pkm",
+        &rrr.replace("capabilities ik, fk_numeric;", "capabilities fk, ik;"),
+    );
+    let v: Value = serde_json::from_slice(&pkm(&["analyze", &rrr_fk, "--json"]).stdout).unwrap();
+    assert_eq!(v["error"]["kind"], "parse");
+    assert!(v["error"]["message"]
+        .as_str()
+        .unwrap()
+        .starts_with("`fk` needs a closed-form forward position solution"));
+    assert!(
+        v["error"]["line"].is_number() && v["error"]["column"].is_number(),
+        "{v}"
+    );
+}
