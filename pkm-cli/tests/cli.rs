@@ -1529,6 +1529,14 @@ fn csv_failures_name_their_cause() {
         "io",
         "cannot read `no/such.csv`",
     );
+    // A line over the limit is refused, not read into memory.
+    let long = scratch_file("long.csv", &format!("R1\n{}\n", "1".repeat((1 << 20) + 1)));
+    check_failure(
+        &["fk", crank, "--csv", &long],
+        1,
+        "io",
+        "a line is longer than 1048576 bytes",
+    );
     // l1 = 1000 closes no branch at any row: every row written, then exit 1.
     let file = scratch_file("unreachable.csv", "R1\n1\n2\n");
     let out = pkm(&["fk", FOUR_BAR, "--csv", &file, "--param", "l1=1000"]);

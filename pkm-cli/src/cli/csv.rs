@@ -23,6 +23,33 @@ use super::table::{signs_word, Branch, Column};
 use std::io::{Read, Write};
 use std::path::Path;
 
+/// The longest line an input file may have: a row of numbers is far
+/// shorter; a longer line is refused before it is held in memory.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// A reader that fails on a line longer than [`MAX_LINE_BYTES`].
+struct LineLimit<R> {
+    inner: R,
+    /// Bytes since the last newline.
+    run: usize,
+}
+
+impl<R: Read> Read for LineLimit<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        for &b in &buf[..n] {
+            self.run = if b == b'\n' { 0 } else { self.run + 1 };
+            if self.run > MAX_LINE_BYTES {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!("a line is longer than {MAX_LINE_BYTES} bytes (cli::csv::MAX_LINE_BYTES)"),
+                ));
+            }
+        }
+        Ok(n)
+    }
+}
+
 /// What `--csv` needs of a command.
 pub trait Solver {
     /// The values an input row gives, in the order [`Solver::branches`]
@@ -39,7 +66,7 @@ pub trait Solver {
 
 /// The input rows of a CSV file, one at a time.
 pub struct Reader {
-    rows: ::csv::Reader<Box<dyn Read>>,
+    rows: ::csv::Reader<LineLimit<Box<dyn Read>>>,
     /// For each given value, its column in the file.
     at: Vec<usize>,
     names: Vec<String>,
@@ -66,7 +93,7 @@ impl Reader {
         let mut rows = ::csv::ReaderBuilder::new()
             .trim(::csv::Trim::All)
             .comment(Some(b'#'))
-            .from_reader(source);
+            .from_reader(LineLimit { inner: source, run: 0 });
         let header = rows.headers().map_err(|e| csv_failure(&shown, &e))?.clone();
         let expected = given.iter().map(Column::header).collect::<Vec<_>>().join(", ");
         let mut at = vec![None; given.len()];
@@ -197,20 +224,20 @@ impl<W: Write> Writer<W> {
 
 /// `--csv inputs`: every branch of every input row of `inputs`, to `out` or
 /// standard output. Fails (after writing every row) when no row has a
-/// branch that solves, or the file has no row.
+/// branch that solves, or the file has no row. Nothing is written (nor
+/// `out` created) before the first row is read.
 pub fn run(s: &impl Solver, inputs: &Path, out: Option<&Path>) -> Result<(), Failure> {
     let mut reader = Reader::open(inputs, &s.given())?;
-    let sink: Box<dyn Write> = match out {
-        Some(path) => Box::new(
-            std::fs::File::create(path)
-                .map_err(|e| Failure::new(Kind::Io, format!("cannot write `{}`: {e}", path.display())))?,
-        ),
-        None => Box::new(std::io::stdout().lock()),
-    };
     let shown_out = out.map_or_else(|| "standard output".to_string(), |p| format!("`{}`", p.display()));
     let write_failure = |e: std::io::Error| Failure::new(Kind::Io, format!("cannot write {shown_out}: {e}"));
-    let columns = s.columns();
-    let mut writer = Writer::new(std::io::BufWriter::new(sink), &columns).map_err(write_failure)?;
+    let open = || -> std::io::Result<Writer<Box<dyn Write>>> {
+        let sink: Box<dyn Write> = match out {
+            Some(path) => Box::new(std::fs::File::create(path)?),
+            None => Box::new(std::io::stdout().lock()),
+        };
+        Writer::new(sink, &s.columns())
+    };
+    let mut writer = None;
     let (mut rows, mut solved) = (0usize, 0usize);
     while let Some(values) = reader.next_row()? {
         let branches = values
@@ -224,10 +251,14 @@ pub fn run(s: &impl Solver, inputs: &Path, out: Option<&Path>) -> Result<(), Fai
         if branches.iter().any(|b| b.values.is_ok()) {
             solved += 1;
         }
-        let written = branches
-            .iter()
-            .try_for_each(|b| writer.branch(rows, b))
-            .and_then(|()| writer.flush());
+        let written = match &mut writer {
+            Some(w) => Ok(w),
+            None => open().map(|w| writer.insert(w)),
+        }
+        .and_then(|w| {
+            branches.iter().try_for_each(|b| w.branch(rows, b))?;
+            w.flush()
+        });
         match written {
             Ok(()) => {}
             // The reader has gone (`| head`): nothing more to do.

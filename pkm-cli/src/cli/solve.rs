@@ -306,7 +306,7 @@ fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
 
 /// A solved branch by name (radians): joint values (1-DOF joints), the
 /// actuated ones, the declared outputs, every joint's and named point's position.
-pub(super) struct Solved {
+struct Solved {
     joints: Vec<(String, f64, bool)>,
     inputs: Vec<(String, f64, bool)>,
     outputs: Vec<(String, f64, bool)>,
@@ -368,7 +368,7 @@ type Verdict = Result<Solved, (Kind, String)>;
 /// One branch at one input: its number in the plan (bit k set when choice
 /// k is `-`), its signs, its verdict, and for `fk_numeric` the virtual
 /// variable's value.
-pub(super) struct Found {
+struct Found {
     number: usize,
     signs: Vec<Sign>,
     verdict: Verdict,
