@@ -18,7 +18,7 @@ use std::process::ExitCode;
     after_help = "Exit codes: 0 success, 1 failure (the message names the cause), 2 usage error."
 )]
 struct Cli {
-    /// Print one JSON object, on success and on failure (`{"error": {"kind", "message", …}}`).
+    /// Print one JSON object, on success and on failure (`{"error": {"kind", "message", …}}`); fk, ik and stiffness print a table without it.
     #[arg(long, global = true)]
     json: bool,
     #[command(subcommand)]
@@ -27,18 +27,26 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Prints the topology report of a mechanism: POC sets, DOF, ξ_L, Δ, SKCs, κ.
+    /// Prints the topology report of a mechanism: POC sets, DOF, ξ_L, Δ, SKCs, κ; exits 1 if the file does not meet what its capabilities need, as the macro refuses it.
     Analyze {
         /// The mechanism file (.pkm).
         file: PathBuf,
     },
-    /// Forward position solution, every branch, by the plan interpreter.
+    /// Forward position solution, every branch, by the plan interpreter: a table (--json: JSON, --csv: many inputs).
     Fk {
         /// The mechanism file (.pkm), with parameters and geometry.
         file: PathBuf,
         /// Input values (actuated joints in declaration order): radians (degrees with --degrees) and lengths.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required_unless_present = "csv",
+            conflicts_with = "csv"
+        )]
         q: Vec<f64>,
+        #[command(flatten)]
+        many: Many,
         /// Override a parameter: `--param l1=120`.
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
@@ -111,13 +119,15 @@ enum Command {
         #[arg(long)]
         degrees: bool,
     },
-    /// Static stiffness at a pose, every branch: the limbs' actuation and constraint wrenches, K = Jᵀ K_p J at the platform's reference point, directional stiffnesses, and the deflection under --wrench.
+    /// Static stiffness at a pose, every branch: the limbs' actuation and constraint wrenches, K = Jᵀ K_p J at the platform's reference point, directional stiffnesses, and the deflection under --wrench; branches that are one assembly computed once.
     Stiffness {
         /// The mechanism file (.pkm), with parameters, geometry, outputs, units and limbs.
         file: PathBuf,
         /// The outputs by name, as for ik: `--pose ZA=75,alpha=0,beta=0`.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = pkm_cli::report::parse_param)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required_unless_present = "csv", conflicts_with = "csv", value_parser = pkm_cli::report::parse_param)]
         pose: Vec<(String, f64)>,
+        #[command(flatten)]
+        many: Many,
         /// A wrench on the platform: fx, fy, fz (N), mx, my, mz (N·length unit, about the reference point).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         wrench: Vec<f64>,
@@ -128,13 +138,15 @@ enum Command {
         #[arg(long)]
         degrees: bool,
     },
-    /// Inverse position solution, every branch, by the plan interpreter.
+    /// Inverse position solution, every branch, by the plan interpreter: a table (--json: JSON, --csv: many poses).
     Ik {
         /// The mechanism file (.pkm), with parameters, geometry and outputs.
         file: PathBuf,
         /// The outputs by name: `--pose x=10,y=20,phi=0.2` (radians, degrees with --degrees, and lengths).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true, value_parser = pkm_cli::report::parse_param)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required_unless_present = "csv", conflicts_with = "csv", value_parser = pkm_cli::report::parse_param)]
         pose: Vec<(String, f64)>,
+        #[command(flatten)]
+        many: Many,
         /// Override a parameter: `--param l1=120`.
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
@@ -142,6 +154,17 @@ enum Command {
         #[arg(long)]
         degrees: bool,
     },
+}
+
+/// Many inputs from a CSV file, every branch of each as CSV (README, "Many inputs").
+#[derive(clap::Args)]
+struct Many {
+    /// Read the inputs from this CSV file (`-`: standard input): a header row naming them (fk: the actuated joints; ik, stiffness: the outputs), then one input a row; write every branch of every row as CSV.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// With --csv: write the CSV to this file, not to standard output.
+    #[arg(long, short, requires = "csv")]
+    out: Option<PathBuf>,
 }
 
 /// A mechanism file's text and its path as shown in messages.
@@ -194,6 +217,76 @@ fn solve(
         Ok(v) => answer(json, &v),
         Err(f) => fail(json, &f),
     })
+}
+
+/// A command of many inputs: prepares its solver on the file, then answers
+/// at the one input given (`one`: a table, or JSON with `--json`, each
+/// ending in a newline) or at
+/// every row of `--csv` (CSV).
+fn solve_many<'r, S: cli::csv::Solver>(
+    json: bool,
+    request: &'r Request<'r>,
+    many: &Many,
+    prepare: impl FnOnce(&'r Request<'r>) -> Result<S, Failure>,
+    one: impl FnOnce(&S) -> Result<String, Failure>,
+) -> ExitCode {
+    let solver = match prepare(request) {
+        Ok(s) => s,
+        Err(f) => return fail(json, &f),
+    };
+    let done = match &many.csv {
+        Some(inputs) => cli::csv::run(&solver, inputs, many.out.as_deref()).map(|()| ExitCode::SUCCESS),
+        None => one(&solver).map(|text| write_out(&text)),
+    };
+    done.unwrap_or_else(|f| fail(json, &f))
+}
+
+/// `pkm analyze`: the topology report, once the file meets what its
+/// capabilities need, as the macro checks it (`pkm_dsl::check_capabilities`
+/// and the position plans the capabilities ask for).
+fn analyze(json: bool, file: &Path) -> ExitCode {
+    let (text, shown) = match read(file) {
+        Ok(t) => t,
+        Err(f) => return fail(json, &f),
+    };
+    let compiled = match pkm_dsl::compile(&text) {
+        Ok(c) => c,
+        Err(d) => return fail(json, &Failure::parse(&d, &text, &shown)),
+    };
+    if let Err(d) = capabilities_met(&compiled) {
+        return fail(json, &Failure::parse(&d, &text, &shown));
+    }
+    let a = &compiled.analysis;
+    if json {
+        // The analysis's JSON stays indented, as it always was.
+        write_out(&format!(
+            "{}\n",
+            serde_json::to_string_pretty(&to_json(a)).unwrap_or_default()
+        ))
+    } else {
+        write_out(&a.report())
+    }
+}
+
+/// What `pkm::mechanism!` refuses besides the analysis: a capability whose
+/// needs the file does not meet, and for `fk` or `ik` with a geometry, a
+/// position plan that does not exist.
+fn capabilities_met(c: &pkm_dsl::Compiled) -> Result<(), pkm_dsl::Diagnostics> {
+    use pkm_dsl::mechanism::Capability;
+    let checks = pkm_dsl::check_capabilities(&c.analysis);
+    if !checks.is_empty() {
+        return Err(checks);
+    }
+    let m = &c.analysis.mechanism;
+    if c.analysis.geometry.complete {
+        if m.wants(Capability::Fk) {
+            c.forward()?;
+        }
+        if m.wants(Capability::Ik) {
+            c.inverse()?;
+        }
+    }
+    Ok(())
 }
 
 /// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
@@ -279,24 +372,37 @@ fn main() -> ExitCode {
         Command::Ik {
             file,
             pose,
+            many,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| cli::solve::ik(r, &pose)),
+        } => with_request(json, &file, &params, degrees, |r| {
+            solve_many(json, r, &many, cli::solve::Inverse::new, |s| s.answer(&pose, json))
+        }),
         Command::Stiffness {
             file,
             pose,
+            many,
             wrench,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| {
-            cli::stiffness::stiffness(r, &pose, &wrench)
+        } => with_request(json, &file, &params, degrees, |r| {
+            solve_many(
+                json,
+                r,
+                &many,
+                |r| cli::stiffness::Stiffness::new(r, &wrench),
+                |s| s.answer(&pose, json),
+            )
         }),
         Command::Fk {
             file,
             q,
+            many,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| cli::solve::fk(r, &q)),
+        } => with_request(json, &file, &params, degrees, |r| {
+            solve_many(json, r, &many, cli::solve::Forward::new, |s| s.answer(&q, json))
+        }),
         Command::Dynamics {
             file,
             q,
@@ -333,21 +439,7 @@ fn main() -> ExitCode {
                 Err(e) => fail(json, &Failure::new(Kind::Report, e.message())),
             }
         }
-        Command::Analyze { file } => {
-            let (text, shown) = match read(&file) {
-                Ok(t) => t,
-                Err(f) => return fail(json, &f),
-            };
-            match pkm_dsl::analyze_source(&text) {
-                // The analysis's JSON stays indented, as it always was.
-                Ok(a) if json => write_out(&format!(
-                    "{}\n",
-                    serde_json::to_string_pretty(&to_json(&a)).unwrap_or_default()
-                )),
-                Ok(a) => write_out(&a.report()),
-                Err(d) => fail(json, &Failure::parse(&d, &text, &shown)),
-            }
-        }
+        Command::Analyze { file } => analyze(json, &file),
     }
 }
 

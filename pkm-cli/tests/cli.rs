@@ -285,14 +285,17 @@ fn dist(a: &Value, b: &Value) -> f64 {
     (0..3).map(|k| (num(&a[k]) - num(&b[k])).powi(2)).sum::<f64>().sqrt()
 }
 
-/// The keys a script can rely on, with the ok branches' groups by name.
-fn check_schema(v: &Value, given: &str) {
+/// The keys a script can rely on, with the ok branches' groups by name;
+/// lengths in `unit`, the file's `units` block's (else "file unit"); every
+/// branch of the plan numbered in order.
+fn check_schema(v: &Value, given: &str, unit: &str) {
     for key in ["name", given, "units", "branches"] {
         assert!(!v[key].is_null(), "no `{key}` in {v}");
     }
-    assert_eq!(v["units"]["length"], "file unit");
-    for b in v["branches"].as_array().unwrap() {
+    assert_eq!(v["units"]["length"], unit);
+    for (k, b) in v["branches"].as_array().unwrap().iter().enumerate() {
         assert!(b["signs"].is_array(), "{b}");
+        assert_eq!(b["branch"], k, "{b}");
         if b["ok"] == true {
             for key in ["joints", "inputs", "outputs", "points"] {
                 assert!(b[key].is_object(), "no `{key}` in {b}");
@@ -307,7 +310,7 @@ fn check_schema(v: &Value, given: &str) {
 #[test]
 fn fk_by_name() {
     let v = run_json(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1.0"]);
-    check_schema(&v, "inputs");
+    check_schema(&v, "inputs", "file unit");
     assert_eq!(v["units"]["angle"], "rad");
     assert_eq!(v["inputs"]["R1"], 1.0);
     let branches = v["branches"].as_array().unwrap();
@@ -325,21 +328,47 @@ fn fk_by_name() {
     }
 }
 
+/// The slider-crank's slide at crank angle t: r cos t ± sqrt(l² − r² sin² t)
+/// (r = 50, l = 180), branch `+` then `-`.
+fn slider_by_hand(t: f64) -> [f64; 2] {
+    let (r, l) = (50.0f64, 180.0f64);
+    let root = (l * l - (r * t.sin()).powi(2)).sqrt();
+    [r * t.cos() + root, r * t.cos() - root]
+}
+
+/// Without `--json`, `pkm fk` prints a table for people: a title with the
+/// inputs, the names over their units, one row per branch (number, signs,
+/// ok), every 1-DOF joint's value and every output; the slide by hand to the
+/// seven digits shown.
 #[test]
-fn text_answer_is_the_json_indented() {
-    let args = ["fk", FOUR_BAR, "--q", "1.0"];
-    let out = pkm(&args);
+fn fk_prints_a_table_for_people() {
+    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1"]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.lines().count() > 10, "{text}");
-    assert_eq!(serde_json::from_str::<Value>(&text).unwrap(), run_json(&args));
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0], "slider_crank: forward position at R1 = 1; 2 branches, 2 ok",
+        "{text}"
+    );
+    let names: Vec<&str> = lines[2].split_whitespace().collect();
+    assert_eq!(names, ["branch", "signs", "ok", "R1", "R2", "R3", "P1", "s"], "{text}");
+    // The file has no `units` block: its lengths are in "file unit".
+    assert_eq!(lines[3].matches("rad").count(), 3, "{text}");
+    assert_eq!(lines[3].matches("file unit").count(), 2, "{text}");
+    for (k, want) in slider_by_hand(1.0).into_iter().enumerate() {
+        let row: Vec<&str> = lines[4 + k].split_whitespace().collect();
+        assert_eq!(row[..3], [k.to_string().as_str(), ["+", "-"][k], "ok"], "{text}");
+        let p1: f64 = row[6].parse().unwrap();
+        assert!((p1 - want).abs() <= 5e-7 * want.abs(), "{p1} against {want}");
+    }
+    assert_eq!(lines.len(), 6, "{text}");
 }
 
 #[test]
 fn planar_outputs_reproduce_the_pose_given_to_ik() {
     // The four-bar given its rocker angle psi (a joint output).
     let v = run_json(&["ik", FOUR_BAR, "--pose", "psi=2.0"]);
-    check_schema(&v, "pose");
+    check_schema(&v, "pose", "file unit");
     assert_eq!(v["pose"]["psi"], 2.0);
     let ok: Vec<&Value> = v["branches"]
         .as_array()
@@ -483,7 +512,8 @@ fn a_closed_stdout_is_not_a_panic() {
 fn spatial_outputs_round_trip_through_ik() {
     let q = [-106.09, 181.67, -70.29];
     let fk = run_json(&["fk", SEED000_A, "--q=-106.09,181.67,-70.29"]);
-    check_schema(&fk, "inputs");
+    // seed000_a.pkm: `units { length = mm; … }`.
+    check_schema(&fk, "inputs", "mm");
     let ok: Vec<&Value> = fk["branches"]
         .as_array()
         .unwrap()
@@ -525,7 +555,7 @@ fn u_joint_values_by_name() {
     let with_u = "examples/mechanisms/seed000_a_u.pkm";
     let q = "--q=-106.09,181.67,-70.29";
     let (u, a) = (run_json(&["fk", with_u, q]), run_json(&["fk", SEED000_A, q]));
-    check_schema(&u, "inputs");
+    check_schema(&u, "inputs", "file unit");
     let (ub, ab) = (u["branches"].as_array().unwrap(), a["branches"].as_array().unwrap());
     assert_eq!(ub.len(), ab.len());
     let mut ok = 0;
@@ -612,12 +642,12 @@ fn u_joint_dynamics_is_the_written_out_revolutes() {
     }
 }
 
-/// The README's JSON example is what `pkm fk` prints for its command.
+/// The README's JSON example is what `pkm fk --json` prints for its command.
 #[test]
 fn readme_json_example_is_the_real_output() {
     let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
     let after = readme
-        .split("`pkm fk examples/mechanisms/slider_crank.pkm --q 1`:")
+        .split("`pkm fk examples/mechanisms/slider_crank.pkm --q 1`\n(with `--json`, indented here):")
         .nth(1)
         .expect("the README's JSON example");
     let block = after
@@ -626,7 +656,7 @@ fn readme_json_example_is_the_real_output() {
         .and_then(|b| b.split("```").next())
         .unwrap();
     let shown: Value = serde_json::from_str(block).unwrap();
-    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1"]);
+    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--q", "1", "--json"]);
     assert!(out.status.success());
     assert_eq!(serde_json::from_slice::<Value>(&out.stdout).unwrap(), shown);
 }
@@ -821,10 +851,13 @@ fn dynamics_at_many_states() {
 
 const RPS_3: &str = "examples/mechanisms/rps_3.pkm";
 
-/// `pkm stiffness` on seed 004's 3-RPS at home (Z_A = 75 mm, level): the
-/// legs √(20² + 75²) long, leaning in by 20/L, their R axes tangent, so at
-/// the platform centre K_zz = 3·k_a·(75/L)², K_xx = K_yy = (3/2)·(k_a·(20/L)²
-/// + k_c) with k_a = E·A/L, k_c = 3·E·I/L³ (seed 004 eqs. 13–17), by hand.
+/// `pkm stiffness` on seed 004's 3-RPS at home (Z_A = 75 mm, level), in
+/// both of its assemblies: the drawn one, each leg reaching in by h = 20 mm
+/// (RB − RA) to its ball, and the platform turned half a turn about z, each
+/// leg reaching across by h = 180 mm (RB + RA). A leg is √(h² + 75²) long,
+/// its R axis tangent, so at the platform centre K_zz = 3·k_a·(75/L)²,
+/// K_xx = K_yy = (3/2)·(k_a·(h/L)² + k_c) with k_a = E·A/L, k_c = 3·E·I/L³
+/// (seed 004 eqs. 13–17), by hand.
 #[test]
 fn stiffness_of_the_3rps_at_home_by_hand() {
     let v = run_json(&[
@@ -836,12 +869,8 @@ fn stiffness_of_the_3rps_at_home_by_hand() {
         "10,-15,20,-20000,10000,15000",
     ]);
     let (e, a, i) = (2.11e5, std::f64::consts::PI * 400.0, 1.256e5);
-    let l = (20.0f64 * 20.0 + 75.0 * 75.0).sqrt();
-    let (ka, kc) = (e * a / l, 3.0 * e * i / l.powi(3));
-    let kzz = 3.0 * ka * (75.0 / l).powi(2);
-    let kxx = 1.5 * (ka * (20.0 / l).powi(2) + kc);
     let near = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
-    let mut home = 0;
+    let mut seen = [0; 2];
     for b in v["branches"].as_array().unwrap() {
         let lengths: Vec<f64> = b["limbs"]
             .as_array()
@@ -849,15 +878,22 @@ fn stiffness_of_the_3rps_at_home_by_hand() {
             .iter()
             .map(|l| num(&l["length"]))
             .collect();
-        // The drawn assembly (the others turn the platform half a turn).
-        if !lengths.iter().all(|&x| near(x, l)) {
-            continue;
-        }
-        home += 1;
+        let Some(which) = [20.0f64, 180.0]
+            .iter()
+            .position(|&h| lengths.iter().all(|&x| near(x, h.hypot(75.0))))
+        else {
+            panic!("legs {lengths:?} are neither assembly's: {b}");
+        };
+        seen[which] += 1;
+        let h: f64 = [20.0, 180.0][which];
+        let l = h.hypot(75.0);
+        let (ka, kc) = (e * a / l, 3.0 * e * i / l.powi(3));
+        let kzz = 3.0 * ka * (75.0 / l).powi(2);
+        let kxx = 1.5 * (ka * (h / l).powi(2) + kc);
         let k = |r: usize, c: usize| num(&b["K"][r][c]);
         assert!(
             near(k(2, 2), kzz) && near(k(0, 0), kxx) && near(k(1, 1), kxx),
-            "{}",
+            "h = {h}: {}",
             b["K"]
         );
         // Every row's spring is the seed's: three E·A/L, three 3·E·I/L³.
@@ -871,14 +907,116 @@ fn stiffness_of_the_3rps_at_home_by_hand() {
             springs[..3].iter().all(|&s| near(s, ka)) && springs[3..].iter().all(|&s| near(s, kc)),
             "{springs:?}"
         );
-        // A vertical load sinks the level platform by F/K_zz alone.
-        assert!(
-            near(num(&b["deflection"]["translation"][2]), 20.0 / kzz),
-            "{}",
-            b["deflection"]
-        );
+        // A vertical load sinks the level platform by F/K_zz alone; the
+        // wrench's large moments turn the platform by up to 1e-3 rad,
+        // which carries K's rounding into δz at about cond(K)·ε: 1e-10.
+        let dz = num(&b["deflection"]["translation"][2]);
+        assert!((dz - 20.0 / kzz).abs() <= 1e-10 * dz.abs(), "{}", b["deflection"]);
     }
-    assert!(home > 0, "{v}");
+    assert_eq!(seen, [8, 8], "{v}");
+}
+
+/// Issue 29, item 3: `pkm stiffness` listed the 3-RPS's 16 branches at a
+/// pose as 16 answers for 2 distinct platform configurations. Each
+/// configuration is now said to be one assembly, its stiffness computed
+/// once, every branch still listed by number. Checked against `pkm ik` at
+/// the same pose: within a configuration every joint point is the same and
+/// the joint values differ as the stiffness says (R + π with its slide
+/// negated), across the two the balls are elsewhere.
+#[test]
+fn stiffness_says_which_branches_are_one_assembly() {
+    let pose = "ZA=75,alpha=0.2,beta=-0.1";
+    let v = run_json(&["stiffness", RPS_3, "--pose", pose]);
+    let ik = run_json(&["ik", RPS_3, "--pose", pose]);
+    let (branches, solutions) = (v["branches"].as_array().unwrap(), ik["branches"].as_array().unwrap());
+    assert_eq!(branches.len(), 16);
+    let even: Vec<usize> = (0..16).step_by(2).collect();
+    let odd: Vec<usize> = (1..16).step_by(2).collect();
+    let groups: Vec<Vec<usize>> = v["configurations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| serde_json::from_value(c["branches"].clone()).unwrap())
+        .collect();
+    assert_eq!(groups, [even.clone(), odd.clone()], "{}", v["configurations"]);
+    let point = |b: usize, joint: &str| ik["branches"][b]["points"][joint].clone();
+    let value = |b: usize, joint: &str| num(&solutions[b]["joints"][joint]);
+    let scale = 100.0;
+    for group in [&even, &odd] {
+        let first = group[0];
+        for &b in group {
+            assert_eq!(branches[b]["branch"], b);
+            assert_eq!(branches[b]["configuration"], first);
+            // Computed once: the first branch's K, every digit.
+            assert_eq!(branches[b]["K"], branches[first]["K"], "branch {b}");
+            for joint in ["R1", "P1", "S1", "R2", "P2", "S2", "R3", "P3", "S3", "o"] {
+                assert!(
+                    dist(&point(b, joint), &point(first, joint)) <= 1e-9 * scale,
+                    "{joint} of {b}"
+                );
+            }
+            // What the stiffness says differs, from the joint values of ik.
+            let said: Vec<String> =
+                serde_json::from_value(v["configurations"][first % 2]["differences"][b.to_string()].clone())
+                    .unwrap_or_default();
+            for leg in ["1", "2", "3"] {
+                let turned =
+                    ((value(b, &format!("R{leg}")) - value(first, &format!("R{leg}"))).abs() - PI).abs() < 1e-9;
+                let negated = (value(b, &format!("P{leg}")) + value(first, &format!("P{leg}"))).abs() < 1e-9;
+                assert_eq!(turned, negated, "leg {leg} of branch {b}");
+                assert_eq!(said.contains(&format!("R{leg} + π")), turned, "{said:?}");
+                assert_eq!(said.contains(&format!("P{leg} negated")), negated, "{said:?}");
+            }
+        }
+    }
+    for joint in ["S1", "S2", "S3"] {
+        assert!(dist(&point(0, joint), &point(1, joint)) > 1.0, "{joint}");
+    }
+    // The table says so in words, with the criterion and its tolerance.
+    let out = pkm(&["stiffness", RPS_3, "--pose", pose]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("Configuration 0: branches 0, 2, 4, 6, 8, 10, 12, 14 are one assembly: the same platform pose, and every joint at the same place with its axis on the same line, within 1e-7 mm"),
+        "{text}"
+    );
+    assert!(text.contains("  2: R1 + π, P1 negated, S1 turned by π\n"), "{text}");
+    assert!(text.contains("Its stiffness is computed once, on branch 1."), "{text}");
+}
+
+/// Issue 29, item 8: `pkm stiffness` printed 5 187 lines of JSON for one
+/// pose. Without `--json` it prints a table: every branch by number with
+/// its directional stiffnesses, then each configuration's K once; the
+/// 3-RPS at home, its legs √(20² + 75²) on the drawn branch 1, K_zz and
+/// K_xx by hand (as above) to the seven digits shown.
+#[test]
+fn stiffness_prints_a_table_for_people() {
+    let out = pkm(&["stiffness", RPS_3, "--pose", "ZA=75,alpha=0,beta=0"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines.len() < 80, "{} lines:\n{text}", lines.len());
+    assert!(lines[0].contains("16 branches, 16 ok, 2 configurations"), "{text}");
+    for b in 0..16 {
+        let row = format!("{b:>6}  ");
+        assert!(lines.iter().any(|l| l.starts_with(&row)), "branch {b}: {text}");
+    }
+    let (e, a, i) = (2.11e5, std::f64::consts::PI * 400.0, 1.256e5);
+    let l = 20.0f64.hypot(75.0);
+    let (ka, kc) = (e * a / l, 3.0 * e * i / l.powi(3));
+    let (kzz, kxx) = (3.0 * ka * (75.0 / l).powi(2), 1.5 * (ka * (20.0 / l).powi(2) + kc));
+    let at = lines.iter().position(|l| l.starts_with("Configuration 1:")).unwrap();
+    let k_line = at
+        + lines[at..]
+            .iter()
+            .position(|l| l.starts_with("K about o [N/mm, N, N·mm/rad"))
+            .unwrap();
+    let k: Vec<Vec<f64>> = lines[k_line + 1..k_line + 7]
+        .iter()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    for (got, want) in [(k[2][2], kzz), (k[0][0], kxx), (k[1][1], kxx)] {
+        assert!((got - want).abs() <= 5e-7 * want, "{got} against {want}");
+    }
 }
 
 #[test]
@@ -1021,4 +1159,391 @@ fn stiffness_of_the_stewart_platform_by_hand() {
         }
     }
     assert!(drawn > 0, "{v}");
+}
+
+/// The number of the branch with `signs` as the README defines it: bit k
+/// set when choice k is `-`.
+fn number_of(signs: &Value) -> usize {
+    signs
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .map(|(k, s)| usize::from(s == "-") << k)
+        .sum()
+}
+
+/// Issue 29, item 2: every command lists every branch of the plan, in
+/// order, numbered as `pkm fk` and `pkm ik` number them, each ok or with
+/// its reason. `pkm stiffness` on the 3-PRS dropped the eight branches
+/// whose inverse position fails (it listed 8 of 16): they are listed as
+/// `pkm ik` lists them at the same pose. `pkm fk` of a κ = 1 file listed
+/// only the assemblies found: the plan branches without one are listed too.
+#[test]
+fn every_branch_is_listed_by_number() {
+    let (prs, pose) = ("examples/mechanisms/prs_3.pkm", "z=150,rx=0.3,ry=0.2");
+    let stiffness = run_json(&["stiffness", prs, "--pose", pose]);
+    let ik = run_json(&["ik", prs, "--pose", pose]);
+    let (s, i) = (
+        stiffness["branches"].as_array().unwrap(),
+        ik["branches"].as_array().unwrap(),
+    );
+    assert_eq!((s.len(), i.len()), (16, 16));
+    for (k, (sb, ib)) in s.iter().zip(i).enumerate() {
+        assert_eq!((&sb["branch"], &ib["branch"]), (&Value::from(k), &Value::from(k)));
+        assert_eq!(number_of(&sb["signs"]), k);
+        assert_eq!(sb["signs"], ib["signs"]);
+        assert_eq!(sb["ok"], ib["ok"], "branch {k}");
+        if ib["ok"] == false {
+            assert_eq!(sb["reason"], ib["reason"], "branch {k}");
+        }
+    }
+    assert_eq!(s.iter().filter(|b| b["ok"] == false).count(), 8);
+    // In the table: every number, the failed ones `no` with their reasons under it.
+    let text = String::from_utf8(pkm(&["stiffness", prs, "--pose", pose]).stdout).unwrap();
+    for b in i.iter().filter(|b| b["ok"] == false) {
+        let line = format!(
+            "branch {} ({}): {}",
+            b["branch"],
+            b["signs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| s.as_str().unwrap())
+                .collect::<String>(),
+            b["reason"].as_str().unwrap()
+        );
+        assert!(text.contains(&line), "`{line}` not in {text}");
+    }
+
+    // Seed 003's original punch (κ = 1) at A = 0.5: two ± choices, four
+    // plan branches; every one listed in order, several assemblies on one.
+    let v = run_json(&["fk", "examples/mechanisms/seed003_punch_original.pkm", "--q=0.5"]);
+    let numbers: Vec<usize> = v["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| {
+            assert_eq!(b["branch"], number_of(&b["signs"]), "{b}");
+            assert!(b["ok"] == true || b["reason"].is_string(), "{b}");
+            assert_eq!(b["ok"] == true, b["virtual"]["D"].is_number(), "{b}");
+            number_of(&b["signs"])
+        })
+        .collect();
+    let mut distinct = numbers.clone();
+    distinct.dedup();
+    assert_eq!(distinct, [0, 1, 2, 3], "{numbers:?}");
+}
+
+/// Issue 29, item 8: `pkm analyze` passed files the macro refuses (a
+/// `dynamics` without units or masses, a `stiffness` without limbs, `fk`
+/// on κ ≠ 0). It now reports what `pkm::mechanism!` reports: for every
+/// compile-fail case of tests/ui with its mechanism inline, the errors
+/// trybuild recorded from the compiler (tests/ui/*.stderr), each message
+/// at the same line and column, exit code 1.
+#[test]
+fn analyze_refuses_what_the_macro_refuses() {
+    let ui = common::root().join("tests/ui");
+    let mut cases = 0;
+    let mut names: Vec<_> = std::fs::read_dir(&ui).unwrap().map(|e| e.unwrap().path()).collect();
+    names.sort();
+    for rs in names.iter().filter(|p| p.extension().is_some_and(|e| e == "rs")) {
+        let source = std::fs::read_to_string(rs).unwrap();
+        // `pkm::mechanism!(M, "…");`: the mechanism is the string literal.
+        let Some(open) = source.find(", \"mechanism ") else {
+            continue;
+        };
+        let literal = &source[open + 3..];
+        let text = &literal[..literal.find("\");").unwrap()];
+        let text = text.replace("\\\"", "\"").replace("\\\\", "\\");
+        let stem = rs.file_stem().unwrap().to_str().unwrap();
+        let file = scratch_file(&format!("ui_{stem}.pkm"), &text);
+        // Each `error: …` line with the `<inline>:line:column` under it.
+        let errors = |text: &str, place: &str| -> Vec<(String, String)> {
+            let lines: Vec<&str> = text.lines().collect();
+            lines
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| l.starts_with("error: "))
+                .map(|(k, l)| {
+                    let next = lines.get(k + 1).copied().unwrap_or("");
+                    let at = next.split(place).nth(1).map_or(String::new(), |p| p.trim().to_string());
+                    (l.to_string(), at)
+                })
+                .collect()
+        };
+        let recorded = std::fs::read_to_string(rs.with_extension("stderr")).unwrap();
+        let want = errors(&recorded, "<inline>:");
+        let out = pkm(&["analyze", &file]);
+        let got = errors(&String::from_utf8_lossy(&out.stderr), &format!("{file}:"));
+        assert_eq!(out.status.code(), Some(1), "{stem}");
+        assert_eq!(got, want, "{stem}");
+        cases += 1;
+    }
+    // Among them the three the issue names.
+    assert!(cases >= 20, "{cases}");
+    for stem in ["dynamics_without_masses", "stiffness_without_limbs", "coupled_fk"] {
+        assert!(names.iter().any(|p| p.ends_with(format!("{stem}.rs"))), "{stem}");
+    }
+    // With --json: the first error's line and column, every diagnostic.
+    let rrr = std::fs::read_to_string(common::root().join(RRR)).unwrap();
+    let rrr_fk = scratch_file(
+        "rrr_fk.pkm",
+        &rrr.replace("capabilities ik, fk_numeric;", "capabilities fk, ik;"),
+    );
+    let v: Value = serde_json::from_slice(&pkm(&["analyze", &rrr_fk, "--json"]).stdout).unwrap();
+    assert_eq!(v["error"]["kind"], "parse");
+    assert!(v["error"]["message"]
+        .as_str()
+        .unwrap()
+        .starts_with("`fk` needs a closed-form forward position solution"));
+    assert!(
+        v["error"]["line"].is_number() && v["error"]["column"].is_number(),
+        "{v}"
+    );
+}
+
+/// The README's error example is what `pkm` prints for its command.
+#[test]
+fn readme_error_example_is_the_real_output() {
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
+    let at = readme.find("    $ pkm fk ").expect("the README's error example");
+    let mut lines = readme[at..].lines();
+    let command = lines.next().unwrap().trim().trim_start_matches("$ pkm ");
+    let shown: Value = serde_json::from_str(lines.next().unwrap().trim()).unwrap();
+    let out = pkm(&command.split_whitespace().collect::<Vec<_>>());
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(serde_json::from_slice::<Value>(&out.stdout).unwrap(), shown);
+}
+
+/// Reads CSV text into its header and rows.
+fn read_csv(text: &[u8]) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_reader(text);
+    let header = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+/// `pkm fk --csv`: one input a row, every branch of every row, the header
+/// naming each column with its unit; a row that is not a number lists
+/// every branch with why; the slide by hand to every digit (1e-12).
+#[test]
+fn fk_reads_and_writes_csv() {
+    let inputs = scratch_file("crank.csv", "R1\n1\n# a comment\n2\nabc\n\n100\n");
+    let out = pkm(&["fk", "examples/mechanisms/slider_crank.pkm", "--csv", &inputs]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_csv(&out.stdout);
+    assert_eq!(
+        header,
+        [
+            "row",
+            "branch",
+            "signs",
+            "ok",
+            "reason",
+            "R1 [rad]",
+            "R2 [rad]",
+            "R3 [rad]",
+            "P1 [file unit]",
+            "s [file unit]",
+            "tangent"
+        ]
+    );
+    assert_eq!(rows.len(), 8);
+    for (k, row) in rows.iter().enumerate() {
+        let (input, branch) = (k / 2, k % 2);
+        assert_eq!(
+            row[..3],
+            [input.to_string(), branch.to_string(), ["+", "-"][branch].to_string()]
+        );
+        if input == 2 {
+            assert_eq!(
+                row[3..5],
+                ["false".to_string(), "R1 = `abc` is not a number".to_string()]
+            );
+            assert!(row[5..].iter().all(String::is_empty), "{row:?}");
+            continue;
+        }
+        let t = [1.0, 2.0, 0.0, 100.0][input];
+        assert_eq!(row[3], "true", "{row:?}");
+        let p1: f64 = row[8].parse().unwrap();
+        let want = slider_by_hand(t)[branch];
+        assert!(
+            (p1 - want).abs() <= 1e-12 * want.abs(),
+            "row {input}: {p1} against {want}"
+        );
+        assert_eq!(row[5].parse::<f64>().unwrap(), t);
+    }
+    // --out writes the same to a file; --degrees takes degrees, named in the header.
+    let written = scratch_file("crank_out.csv", "");
+    let degrees = scratch_file("crank_deg.csv", "R1 [deg]\n90\n");
+    let out = pkm(&[
+        "fk",
+        "examples/mechanisms/slider_crank.pkm",
+        "--csv",
+        &degrees,
+        "--degrees",
+        "--out",
+        &written,
+    ]);
+    assert!(out.status.success() && out.stdout.is_empty());
+    let (header, rows) = read_csv(std::fs::read_to_string(&written).unwrap().as_bytes());
+    assert_eq!(header[5], "R1 [deg]");
+    let p1: f64 = rows[0][8].parse().unwrap();
+    assert!((p1 - slider_by_hand(PI / 2.0)[0]).abs() <= 1e-12 * p1, "{p1}");
+}
+
+/// `--csv -` streams: each row's branches come out before the next row is
+/// read, so a program can hold pkm open and ask one pose at a time (and a
+/// million rows take the memory of one).
+#[test]
+fn csv_streams_one_row_at_a_time() {
+    use std::io::{BufRead, BufReader, Write};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pkm"))
+        .args(["fk", "examples/mechanisms/slider_crank.pkm", "--csv", "-"])
+        .current_dir(common::root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let (lines_tx, lines) = std::sync::mpsc::channel();
+    let stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            if lines_tx.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
+    let next = || {
+        lines
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .expect("a row before the next input")
+    };
+    writeln!(stdin, "R1\n1").unwrap();
+    stdin.flush().unwrap();
+    assert!(next().starts_with("row,branch,signs,ok,reason,"));
+    for t in [1.0, 2.0, 3.0] {
+        if t > 1.0 {
+            writeln!(stdin, "{t}").unwrap();
+            stdin.flush().unwrap();
+        }
+        for branch in 0..2 {
+            let line = next();
+            let cells: Vec<&str> = line.split(',').collect();
+            let p1: f64 = cells[8].parse().unwrap();
+            let want = slider_by_hand(t)[branch];
+            assert!((p1 - want).abs() <= 1e-12 * want.abs(), "{line}");
+        }
+    }
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+    reader.join().unwrap();
+}
+
+/// `pkm ik --csv` and `pkm stiffness --csv`: the 3-RRR's outputs reproduce
+/// the poses given; the 3-RPS at home has K_zz and K_xx by hand in its
+/// drawn configuration (branch 1 and the seven others it is).
+#[test]
+fn ik_and_stiffness_read_and_write_csv() {
+    let poses = scratch_file("rrr.csv", "phi [deg],x,y\n10,10,20\n-5,0,30\n");
+    let out = pkm(&["ik", RRR, "--csv", &poses, "--degrees"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_csv(&out.stdout);
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    assert_eq!(rows.len(), 16);
+    for row in rows.iter().filter(|r| r[3] == "true") {
+        let given = [[10.0, 10.0, 20.0], [-5.0, 0.0, 30.0]][row[0].parse::<usize>().unwrap()];
+        for (name, want) in ["phi [deg]", "x [file unit]", "y [file unit]"].iter().zip(given) {
+            let got: f64 = row[column(name)].parse().unwrap();
+            assert!((got - want).abs() < 1e-9, "{name}: {row:?}");
+        }
+    }
+
+    let poses = scratch_file("rps.csv", "ZA [mm],alpha,beta\n75,0,0\n0,0,0\n");
+    let out = pkm(&["stiffness", RPS_3, "--csv", &poses]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_csv(&out.stdout);
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (e, a, i) = (2.11e5, std::f64::consts::PI * 400.0, 1.256e5);
+    let l = 20.0f64.hypot(75.0);
+    let (ka, kc) = (e * a / l, 3.0 * e * i / l.powi(3));
+    let (kzz, kxx) = (3.0 * ka * (75.0 / l).powi(2), 1.5 * (ka * (20.0 / l).powi(2) + kc));
+    assert_eq!(rows.len(), 32);
+    let drawn: Vec<&Vec<String>> = rows
+        .iter()
+        .filter(|r| r[0] == "0" && r[column("configuration")] == "1")
+        .collect();
+    assert_eq!(drawn.len(), 8);
+    for row in drawn {
+        for (name, want) in [("K_zz [N/mm]", kzz), ("K_xx [N/mm]", kxx), ("K_yy [N/mm]", kxx)] {
+            let got: f64 = row[column(name)].parse().unwrap();
+            assert!((got - want).abs() <= 1e-12 * want, "{name}: {got} against {want}");
+        }
+    }
+    // The platform in the base plane: every branch listed, none ok, each with why.
+    for row in rows.iter().filter(|r| r[0] == "1") {
+        assert_eq!(row[3], "false");
+        assert!(row[4].contains("actuation singularity"), "{row:?}");
+    }
+}
+
+/// What `--csv` refuses, naming the cause; a file where no row solves
+/// is written out, then exits 1.
+#[test]
+fn csv_failures_name_their_cause() {
+    let crank = "examples/mechanisms/slider_crank.pkm";
+    #[rustfmt::skip]
+    let rows: &[(&str, &str, &str)] = &[
+        ("R2\n1\n", "input", "column `R2` is not a value this command takes; the header must name R1 [rad]"),
+        ("R1 [deg]\n1\n", "input", "column `R1 [deg]` is in deg; R1 is taken in rad"),
+        ("R1,R1\n1,2\n", "input", "column R1 is named twice"),
+        ("R1\n", "input", "has a header and no input row"),
+        ("R1\n1\n1,2\n", "input", "found record with 2 fields"),
+    ];
+    for (k, (text, kind, message)) in rows.iter().enumerate() {
+        let file = scratch_file(&format!("bad{k}.csv"), text);
+        let out = pkm(&["fk", crank, "--csv", &file]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{text}: {err}");
+        assert!(err.contains(message), "{text}: `{message}` not in {err}");
+        let out = pkm(&[
+            "fk",
+            crank,
+            "--csv",
+            &file,
+            "--out",
+            &scratch_file("ignored.csv", ""),
+            "--json",
+        ]);
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["error"]["kind"], *kind, "{v}");
+    }
+    check_failure(
+        &["fk", crank, "--csv", "no/such.csv"],
+        1,
+        "io",
+        "cannot read `no/such.csv`",
+    );
+    // A line over the limit is refused, not read into memory.
+    let long = scratch_file("long.csv", &format!("R1\n{}\n", "1".repeat((1 << 20) + 1)));
+    check_failure(
+        &["fk", crank, "--csv", &long],
+        1,
+        "io",
+        "a line is longer than 1048576 bytes",
+    );
+    // l1 = 1000 closes no branch at any row: every row written, then exit 1.
+    let file = scratch_file("unreachable.csv", "R1\n1\n2\n");
+    let out = pkm(&["fk", FOUR_BAR, "--csv", &file, "--param", "l1=1000"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(read_csv(&out.stdout).1.len(), 4);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no branch solves at any of the 2 input rows"));
+    // --q and --csv are one or the other.
+    let out = pkm(&["fk", crank, "--q=1", "--csv", &file]);
+    assert_eq!(out.status.code(), Some(2));
 }

@@ -1,8 +1,11 @@
 //! `pkm fk` and `pkm ik`: the values given are checked before solving, every
-//! branch comes out as JSON by name (`joints`, `inputs`, `outputs`,
-//! `points`), and when no branch solves the failure names the causes.
+//! branch of the plan comes out by its number, as a table (every 1-DOF
+//! joint's value and every declared output, `table`), as JSON by name
+//! (`joints`, `inputs`, `outputs`, `points`) or, one input a row, as CSV
+//! (`csv`); when no branch solves the failure names the causes.
 
 use super::failure::{Failure, Kind};
+use super::table::{self, Branch, Cell, Column};
 use pkm_dsl::{Analysis, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
@@ -39,16 +42,12 @@ impl Request<'_> {
     }
 
     /// A value for the JSON, in degrees if it is an angle and degrees were asked for.
-    fn shown_value(&self, v: f64, angular: bool) -> f64 {
+    pub(super) fn shown_value(&self, v: f64, angular: bool) -> f64 {
         if self.degrees && angular {
             v.to_degrees()
         } else {
             v
         }
-    }
-
-    fn units(&self) -> Value {
-        json!({ "length": "file unit", "angle": if self.degrees { "deg" } else { "rad" } })
     }
 }
 
@@ -319,13 +318,12 @@ struct Solved {
 fn solved(l: &Loaded, c: &Configuration) -> Solved {
     let m = &l.model;
     // A spherical joint has three values, not one: it is left out of `joints`.
-    let one_dof = |j: &usize| m.joints[*j].kind != JointType::S;
     let value = |j: usize| (m.joints[j].name.clone(), c.values[j], angular(m.joints[j].kind));
     let joint_points = (0..m.joints.len()).map(|j| (m.joints[j].name.clone(), c.joint_point(m, j)));
     let named_points = m.points.iter().map(|p| (p.name.clone(), c.point(p.link, p.at)));
     Solved {
-        joints: (0..m.joints.len()).filter(one_dof).map(value).collect(),
-        inputs: m.inputs().into_iter().filter(one_dof).map(value).collect(),
+        joints: one_dof_joints(m).into_iter().map(value).collect(),
+        inputs: m.inputs().into_iter().filter(|&j| one_dof(m, j)).map(value).collect(),
         outputs: output_names(l)
             .into_iter()
             .zip(output_values(l, c))
@@ -334,6 +332,16 @@ fn solved(l: &Loaded, c: &Configuration) -> Solved {
         points: joint_points.chain(named_points).collect(),
         tangent: false,
     }
+}
+
+/// Whether joint `j` has one value (a spherical joint has three).
+fn one_dof(m: &Model, j: usize) -> bool {
+    m.joints[j].kind != JointType::S
+}
+
+/// The joints a solution gives one value each, in declaration order.
+fn one_dof_joints(m: &Model) -> Vec<usize> {
+    (0..m.joints.len()).filter(|&j| one_dof(m, j)).collect()
 }
 
 /// Why a solution may not be marked ok although the plan returned it: a
@@ -357,11 +365,21 @@ fn non_finite(s: &Solved) -> Option<String> {
 /// A branch's verdict: solved, or the kind and reason of its failure.
 type Verdict = Result<Solved, (Kind, String)>;
 
+/// One branch at one input: its number in the plan (bit k set when choice
+/// k is `-`), its signs, its verdict, and for `fk_numeric` the virtual
+/// variable's value.
+struct Found {
+    number: usize,
+    signs: Vec<Sign>,
+    verdict: Verdict,
+    virtual_value: Option<f64>,
+}
+
 /// Judges every branch: the plan's error (the runtime verifies what it
 /// returns: open joints close, an over-determined pose names the output
 /// the others contradict, by its name from `given_names`) or a non-finite
 /// value.
-fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<(Vec<Sign>, Verdict)> {
+fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<Found> {
     // A branch another one names as its twin met a double root.
     let twins: Vec<usize> = runs
         .iter()
@@ -388,43 +406,55 @@ fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<(Vec<Sign>,
                         None => Ok(s),
                     }
                 });
-            (signs, verdict)
+            Found {
+                number: table::number_of(&signs),
+                signs,
+                verdict,
+                virtual_value: None,
+            }
         })
         .collect()
 }
 
-/// Every branch as JSON, or the failure when none solved: the distinct
+/// The failure of an input at which no branch solves: the distinct
 /// reasons of the branches, the gravest kind among them.
-fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<Value>, Failure> {
-    if verdicts.iter().all(|(_, v)| v.is_err()) {
-        let failures = verdicts.iter().filter_map(|(_, v)| v.as_ref().err());
-        let kind = failures.clone().map(|(k, _)| *k).max().unwrap_or(Kind::Unreachable);
-        let mut reasons: Vec<&str> = Vec::new();
-        for (_, why) in failures {
-            if !reasons.contains(&why.as_str()) {
-                reasons.push(why);
-            }
-        }
-        let why = if reasons.is_empty() {
-            "the plan has no branch".to_string()
-        } else {
-            reasons.join("; ")
-        };
-        return Err(Failure::new(kind, format!("no branch reaches: {why}")));
+fn none_solves(found: &[Found]) -> Option<Failure> {
+    if found.iter().any(|f| f.verdict.is_ok()) {
+        return None;
     }
+    let failures = found.iter().filter_map(|f| f.verdict.as_ref().err());
+    let kind = failures.clone().map(|(k, _)| *k).max().unwrap_or(Kind::Unreachable);
+    let mut reasons: Vec<&str> = Vec::new();
+    for (_, why) in failures {
+        if !reasons.contains(&why.as_str()) {
+            reasons.push(why);
+        }
+    }
+    let why = if reasons.is_empty() {
+        "the plan has no branch".to_string()
+    } else {
+        reasons.join("; ")
+    };
+    Some(Failure::new(kind, format!("no branch reaches: {why}")))
+}
+
+/// Every branch as JSON (`fk_numeric`'s with the virtual variable's value
+/// under `virtual_name`).
+fn branches_json(r: &Request, found: &[Found], virtual_name: Option<(&str, bool)>) -> Vec<Value> {
     let named = |list: &[(String, f64, bool)]| -> Map<String, Value> {
         list.iter()
             .map(|(n, v, angle)| (n.clone(), json!(r.shown_value(*v, *angle))))
             .collect()
     };
-    Ok(verdicts
+    found
         .iter()
-        .map(|(signs, verdict)| {
-            let signs = sign_text(signs);
-            match verdict {
+        .map(|f| {
+            let signs = sign_text(&f.signs);
+            let mut b = match &f.verdict {
                 Ok(s) => {
                     let points: Map<String, Value> = s.points.iter().map(|(n, p)| (n.clone(), json!(p))).collect();
                     json!({
+                        "branch": f.number,
                         "signs": signs,
                         "ok": true,
                         "tangent": s.tangent,
@@ -434,10 +464,113 @@ fn branches_json(r: &Request, verdicts: &[(Vec<Sign>, Verdict)]) -> Result<Vec<V
                         "points": points,
                     })
                 }
-                Err((_, why)) => json!({ "signs": signs, "ok": false, "reason": why }),
+                Err((_, why)) => json!({ "branch": f.number, "signs": signs, "ok": false, "reason": why }),
+            };
+            if let (Some((name, angle)), Some(v)) = (virtual_name, f.virtual_value) {
+                b["virtual"] = json!({ name: r.shown_value(v, angle) });
             }
+            b
         })
-        .collect())
+        .collect()
+}
+
+/// The columns of a position solution's rows: every 1-DOF joint's value,
+/// every declared output, whether a step met a double root.
+fn position_columns(r: &Request, l: &Loaded) -> Vec<Column> {
+    let units = Units::of(r, l);
+    let m = &l.model;
+    let joints = one_dof_joints(m)
+        .into_iter()
+        .map(|j| Column::new(&m.joints[j].name, units.of_kind(angular(m.joints[j].kind))));
+    let outputs = output_names(l)
+        .into_iter()
+        .map(|(n, angle)| Column::new(n, units.of_kind(angle)));
+    joints.chain(outputs).chain([Column::bare("tangent")]).collect()
+}
+
+/// Every branch as rows of [`position_columns`].
+fn position_rows(r: &Request, found: &[Found]) -> Vec<Branch> {
+    let cells = |list: &[(String, f64, bool)]| {
+        list.iter()
+            .map(|(_, v, angle)| Cell::Num(r.shown_value(*v, *angle)))
+            .collect::<Vec<_>>()
+    };
+    found
+        .iter()
+        .map(|f| Branch {
+            number: f.number,
+            signs: f.signs.clone(),
+            values: match &f.verdict {
+                Ok(s) => Ok([cells(&s.joints), cells(&s.outputs), vec![Cell::Flag(s.tangent)]].concat()),
+                Err((_, why)) => Err(why.clone()),
+            },
+        })
+        .collect()
+}
+
+/// The units a command prints in: lengths in the file's unit (its `units`
+/// block), else "file unit"; angles in rad, or deg with `--degrees`.
+pub(super) struct Units {
+    /// The length unit's symbol, or "file unit".
+    pub(super) length: String,
+    /// "rad" or "deg".
+    pub(super) angle: &'static str,
+}
+
+impl Units {
+    pub(super) fn of(r: &Request, l: &Loaded) -> Units {
+        Units {
+            length: l
+                .analysis
+                .mass_and_loads
+                .units
+                .map_or("file unit", |u| u.length.symbol())
+                .to_string(),
+            angle: if r.degrees { "deg" } else { "rad" },
+        }
+    }
+
+    /// An angle's unit or a length's.
+    pub(super) fn of_kind(&self, angle: bool) -> &str {
+        if angle {
+            self.angle
+        } else {
+            &self.length
+        }
+    }
+
+    fn json(&self) -> Value {
+        json!({ "length": self.length, "angle": self.angle })
+    }
+}
+
+/// The values as given, by name, for a title: `R1 = 1, P1 = 20`.
+fn given_text(names: &[&str], values: &[f64]) -> String {
+    names
+        .iter()
+        .zip(values)
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// How many of `found` solve, for a title: `4 branches, 2 ok`; with
+/// `fk_numeric`, where a branch may have several assemblies or none,
+/// `4 assemblies on the plan's 4 branches`.
+fn count_text(found: &[Found], numeric: bool) -> String {
+    let ok = found.iter().filter(|f| f.verdict.is_ok()).count();
+    let plural = |n: usize| if n == 1 { "" } else { "es" };
+    if numeric {
+        let branches = found
+            .iter()
+            .map(|f| f.number)
+            .collect::<std::collections::BTreeSet<_>>()
+            .len();
+        let assemblies = if ok == 1 { "assembly" } else { "assemblies" };
+        format!("{ok} {assemblies} on the plan's {branches} branch{}", plural(branches))
+    } else {
+        format!("{} branch{}, {ok} ok", found.len(), plural(found.len()))
+    }
 }
 
 /// Values the command line gives per input (`flag`: `--q`, `--rates`, …):
@@ -469,90 +602,272 @@ pub(super) fn input_values(
         .collect())
 }
 
-/// `pkm fk`: every branch at input values `q` (actuated joints in the plan's order).
-pub fn fk(r: &Request, q: &[f64]) -> Result<Value, Failure> {
-    let l = load(r)?;
-    if l.analysis.topology.kappa != 0 && l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric) {
-        return fk_numeric(r, &l, q);
-    }
-    let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-    let inputs = plan.input_joints(&l.model);
-    let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
-    let given = input_values(r, &l.model, &inputs, "--q", q)?;
-    let verdicts = verdicts(&l, run_all(&plan, &l.model, &given), &names);
-    let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
-    Ok(json!({
-        "name": l.model.name,
-        "inputs": as_given,
-        "units": r.units(),
-        "branches": branches_json(r, &verdicts)?,
-    }))
+/// How the forward position is solved: the closed-form plan, or for a
+/// κ = 1 file that asks for `fk_numeric` the virtual variable's plan.
+enum Way {
+    Plan(Plan),
+    Numeric(Box<pkm_runtime::fk_numeric::VirtualPlan>),
 }
 
-/// `pkm fk` of a κ = 1 file that asks for `fk_numeric`: every assembly
-/// the virtual variable's compatibility residual has a root for
-/// ([`pkm_runtime::fk_numeric::solve`]), each as a branch with its plan
-/// branch's signs, the virtual variable's value, and `tangent` where the
-/// root was a tangency (found, not certified by a sign change).
-fn fk_numeric(r: &Request, l: &Loaded, q: &[f64]) -> Result<Value, Failure> {
-    let vp = pkm_dsl::planner_numeric::forward_numeric_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-    let inputs = &vp.plan.inputs[..vp.plan.inputs.len() - 1];
-    let names: Vec<&str> = inputs.iter().map(|&j| l.model.joints[j].name.as_str()).collect();
-    let given = input_values(r, &l.model, inputs, "--q", q)?;
-    let found = pkm_runtime::fk_numeric::solve(&l.model, &vp, &given).map_err(|e| Failure::input(e.to_string()))?;
-    let virtual_name = l.model.joints[vp.joint].name.clone();
-    let virtual_angle = angular(l.model.joints[vp.joint].kind);
-    if found.is_empty() {
-        return Err(Failure::new(
-            Kind::Unreachable,
-            format!("no assembly: the compatibility residual has no root over {virtual_name}'s range on any branch"),
-        ));
+/// `pkm fk`: the file loaded and planned once, solved at any inputs.
+pub struct Forward<'r> {
+    r: &'r Request<'r>,
+    l: Loaded,
+    way: Way,
+    /// The actuated joints, in the order `--q` gives them.
+    inputs: Vec<usize>,
+}
+
+impl<'r> Forward<'r> {
+    /// Loads and plans the file of `r`.
+    pub fn new(r: &'r Request<'r>) -> Result<Forward<'r>, Failure> {
+        let l = load(r)?;
+        let numeric =
+            l.analysis.topology.kappa != 0 && l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric);
+        let (way, inputs) = if numeric {
+            let vp = pkm_dsl::planner_numeric::forward_numeric_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+            let inputs = vp.plan.inputs[..vp.plan.inputs.len() - 1].to_vec();
+            (Way::Numeric(Box::new(vp)), inputs)
+        } else {
+            let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+            let inputs = plan.input_joints(&l.model);
+            (Way::Plan(plan), inputs)
+        };
+        Ok(Forward { r, l, way, inputs })
     }
-    let runs: Vec<Run> = found
-        .iter()
-        .map(|a| {
-            let c = Configuration {
-                poses: a.solution.poses.clone(),
-                values: a.solution.values.clone(),
-            };
-            (a.signs.clone(), Ok(c))
-        })
-        .collect();
-    let mut verdicts = verdicts(l, runs, &names);
-    for ((_, v), a) in verdicts.iter_mut().zip(&found) {
-        if let Ok(s) = v {
-            s.tangent = a.kind == pkm_runtime::fk_numeric::RootKind::Tangency;
+
+    fn names(&self) -> Vec<&str> {
+        self.inputs
+            .iter()
+            .map(|&j| self.l.model.joints[j].name.as_str())
+            .collect()
+    }
+
+    /// The virtual variable's joint name and whether it is an angle.
+    fn virtual_joint(&self) -> Option<(&str, bool)> {
+        match &self.way {
+            Way::Plan(_) => None,
+            Way::Numeric(vp) => {
+                let j = &self.l.model.joints[vp.joint];
+                Some((j.name.as_str(), angular(j.kind)))
+            }
         }
     }
-    let mut branches = branches_json(r, &verdicts)?;
-    for (b, a) in branches.iter_mut().zip(&found) {
-        b["virtual"] = json!({ virtual_name.clone(): r.shown_value(a.virtual_value, virtual_angle) });
+
+    /// Every branch at the inputs `q` (as given: degrees with `--degrees`).
+    fn found(&self, q: &[f64]) -> Result<Vec<Found>, Failure> {
+        let given = input_values(self.r, &self.l.model, &self.inputs, "--q", q)?;
+        match &self.way {
+            Way::Plan(plan) => Ok(verdicts(&self.l, run_all(plan, &self.l.model, &given), &self.names())),
+            Way::Numeric(vp) => self.numeric(vp, &given),
+        }
     }
-    let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
-    Ok(json!({
-        "name": l.model.name,
-        "inputs": as_given,
-        "units": r.units(),
-        "virtual": virtual_name,
-        "branches": branches,
-    }))
+
+    /// `fk_numeric`: every assembly the virtual variable's compatibility
+    /// residual has a root for ([`pkm_runtime::fk_numeric::solve`]), each
+    /// under its plan branch's number with the virtual variable's value and
+    /// `tangent` where the root was a tangency (found, not certified by a
+    /// sign change); a plan branch with no assembly listed with why.
+    fn numeric(&self, vp: &pkm_runtime::fk_numeric::VirtualPlan, given: &[f64]) -> Result<Vec<Found>, Failure> {
+        let l = &self.l;
+        let assemblies =
+            pkm_runtime::fk_numeric::solve(&l.model, vp, given).map_err(|e| Failure::input(e.to_string()))?;
+        let virtual_name = &l.model.joints[vp.joint].name;
+        if assemblies.is_empty() {
+            return Err(Failure::new(
+                Kind::Unreachable,
+                format!(
+                    "no assembly: the compatibility residual has no root over {virtual_name}'s range on any branch"
+                ),
+            ));
+        }
+        let runs: Vec<Run> = assemblies
+            .iter()
+            .map(|a| {
+                let c = Configuration {
+                    poses: a.solution.poses.clone(),
+                    values: a.solution.values.clone(),
+                };
+                (a.signs.clone(), Ok(c))
+            })
+            .collect();
+        let mut found = verdicts(l, runs, &self.names());
+        for (f, a) in found.iter_mut().zip(&assemblies) {
+            if let Ok(s) = &mut f.verdict {
+                s.tangent = a.kind == pkm_runtime::fk_numeric::RootKind::Tangency;
+            }
+            f.virtual_value = Some(a.virtual_value);
+        }
+        // The branches without an assembly, in their places.
+        let choices = vp.plan.branches;
+        for n in 0..1usize << choices {
+            if !found.iter().any(|f| f.number == n) {
+                let at = found.iter().position(|f| f.number > n).unwrap_or(found.len());
+                let why = format!(
+                    "no assembly on this branch: the compatibility residual has no root over {virtual_name}'s range here that an earlier branch does not list"
+                );
+                let f = Found {
+                    number: n,
+                    signs: table::signs_of(n, choices),
+                    verdict: Err((Kind::Unreachable, why)),
+                    virtual_value: None,
+                };
+                found.insert(at, f);
+            }
+        }
+        Ok(found)
+    }
+
+    /// Every branch at `q`, as JSON (`json`) or as a table.
+    pub fn answer(&self, q: &[f64], json: bool) -> Result<String, Failure> {
+        let found = self.found(q)?;
+        if let Some(f) = none_solves(&found) {
+            return Err(f);
+        }
+        let names = self.names();
+        if json {
+            let as_given: Map<String, Value> = names.iter().zip(q).map(|(n, v)| (n.to_string(), json!(v))).collect();
+            let mut v = json!({
+                "name": self.l.model.name,
+                "inputs": as_given,
+                "units": Units::of(self.r, &self.l).json(),
+                "branches": branches_json(self.r, &found, self.virtual_joint()),
+            });
+            if let Some((name, _)) = self.virtual_joint() {
+                v["virtual"] = json!(name);
+            }
+            return Ok(format!("{v}\n"));
+        }
+        let how = match self.virtual_joint() {
+            Some((name, _)) => format!(" (κ = 1: the assemblies found by the virtual variable {name})"),
+            None => String::new(),
+        };
+        let title = format!(
+            "{}: forward position at {}{how}; {}\n\n",
+            self.l.model.name,
+            given_text(&names, q),
+            count_text(&found, !how.is_empty())
+        );
+        Ok(title + &table::branch_table(&position_columns(self.r, &self.l), &position_rows(self.r, &found)))
+    }
 }
 
-/// `pkm ik`: every branch at the declared outputs `pose` (by name).
-pub fn ik(r: &Request, pose: &[(String, f64)]) -> Result<Value, Failure> {
-    let l = load(r)?;
-    let plan = pkm_dsl::planner::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
-    let ordered = ordered_pose(r, &l, pose)?;
-    let declared = output_names(&l);
-    let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
-    let verdicts = verdicts(&l, run_all(&plan, &l.model, &ordered), &names);
-    let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
-    Ok(json!({
-        "name": l.model.name,
-        "pose": as_given,
-        "units": r.units(),
-        "branches": branches_json(r, &verdicts)?,
-    }))
+impl super::csv::Solver for Forward<'_> {
+    fn given(&self) -> Vec<Column> {
+        let units = Units::of(self.r, &self.l);
+        let m = &self.l.model;
+        self.inputs
+            .iter()
+            .map(|&j| Column::new(&m.joints[j].name, units.of_kind(angular(m.joints[j].kind))))
+            .collect()
+    }
+
+    fn columns(&self) -> Vec<Column> {
+        position_columns(self.r, &self.l)
+    }
+
+    fn choices(&self) -> usize {
+        match &self.way {
+            Way::Plan(plan) => plan.branches,
+            Way::Numeric(vp) => vp.plan.branches,
+        }
+    }
+
+    fn branches(&self, given: &[f64]) -> Result<Vec<Branch>, Failure> {
+        Ok(position_rows(self.r, &self.found(given)?))
+    }
+}
+
+/// `pkm ik`: the file loaded and planned once, solved at any pose.
+pub struct Inverse<'r> {
+    r: &'r Request<'r>,
+    l: Loaded,
+    plan: Plan,
+}
+
+impl<'r> Inverse<'r> {
+    /// Loads and plans the file of `r`.
+    pub fn new(r: &'r Request<'r>) -> Result<Inverse<'r>, Failure> {
+        let l = load(r)?;
+        let plan = pkm_dsl::planner::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+        Ok(Inverse { r, l, plan })
+    }
+
+    /// Every branch at the declared outputs' values in declaration order,
+    /// as the solver takes them (radians).
+    fn found(&self, ordered: &[f64]) -> Vec<Found> {
+        let declared = output_names(&self.l);
+        let names: Vec<&str> = declared.iter().map(|(n, _)| n.as_str()).collect();
+        verdicts(&self.l, run_all(&self.plan, &self.l.model, ordered), &names)
+    }
+
+    /// Every branch at the declared outputs `pose` (by name), as JSON
+    /// (`json`) or as a table.
+    pub fn answer(&self, pose: &[(String, f64)], json: bool) -> Result<String, Failure> {
+        let ordered = ordered_pose(self.r, &self.l, pose)?;
+        let found = self.found(&ordered);
+        if let Some(f) = none_solves(&found) {
+            return Err(f);
+        }
+        if json {
+            let as_given: Map<String, Value> = pose.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
+            let v = json!({
+                "name": self.l.model.name,
+                "pose": as_given,
+                "units": Units::of(self.r, &self.l).json(),
+                "branches": branches_json(self.r, &found, None),
+            });
+            return Ok(format!("{v}\n"));
+        }
+        let names: Vec<&str> = pose.iter().map(|(n, _)| n.as_str()).collect();
+        let values: Vec<f64> = pose.iter().map(|(_, v)| *v).collect();
+        let title = format!(
+            "{}: inverse position at {}; {}\n\n",
+            self.l.model.name,
+            given_text(&names, &values),
+            count_text(&found, false)
+        );
+        Ok(title + &table::branch_table(&position_columns(self.r, &self.l), &position_rows(self.r, &found)))
+    }
+}
+
+impl super::csv::Solver for Inverse<'_> {
+    fn given(&self) -> Vec<Column> {
+        output_columns(self.r, &self.l)
+    }
+
+    fn columns(&self) -> Vec<Column> {
+        position_columns(self.r, &self.l)
+    }
+
+    fn choices(&self) -> usize {
+        self.plan.branches
+    }
+
+    fn branches(&self, given: &[f64]) -> Result<Vec<Branch>, Failure> {
+        let ordered = solver_pose(self.r, &self.l, given);
+        Ok(position_rows(self.r, &self.found(&ordered)))
+    }
+}
+
+/// The declared outputs as columns, in declaration order with their units:
+/// what an input file of ik or stiffness names.
+pub(super) fn output_columns(r: &Request, l: &Loaded) -> Vec<Column> {
+    let units = Units::of(r, l);
+    output_names(l)
+        .into_iter()
+        .map(|(n, angle)| Column::new(n, units.of_kind(angle)))
+        .collect()
+}
+
+/// The declared outputs' values in declaration order as given (degrees
+/// with `--degrees`), as the solver takes them.
+pub(super) fn solver_pose(r: &Request, l: &Loaded, given: &[f64]) -> Vec<f64> {
+    output_names(l)
+        .iter()
+        .zip(given)
+        .map(|((_, angle), &v)| r.solver_value(v, *angle))
+        .collect()
 }
 
 /// The declared outputs' values as the inverse plan takes them, from
