@@ -484,8 +484,8 @@ def balls_map(name, path, info, others):
 def every_example():
     """(h) on every example and S fixture; the exported ones for (a)."""
     rows, refused, exported = [], [], []
-    sources = [(f.stem, str(f), False) for f in sorted(EXAMPLES.glob("*.pkm"))]
-    sources += [(stem, str(FIXTURES / f"{stem}.pkm"), False) for stem in S_FIXTURES]
+    sources = [(f.stem, str(f)) for f in sorted(EXAMPLES.glob("*.pkm"))]
+    sources += [(stem, str(FIXTURES / f"{stem}.pkm")) for stem in S_FIXTURES]
     for name, (stem, edits) in VARIANTS.items():
         text = (EXAMPLES / f"{stem}.pkm").read_text()
         # Swapped in two steps, so that the second edit does not undo the first.
@@ -494,8 +494,8 @@ def every_example():
             assert old in text, f"{name}: {old}"
             text = text.replace(old, new)
         (WORK / f"{name}.pkm").write_text(text)
-        sources.append((name, str(WORK / f"{name}.pkm"), False))
-    for name, path, _ in sources:
+        sources.append((name, str(WORK / f"{name}.pkm")))
+    for name, path in sources:
         answer, code = pkm_answer("export", path, "--mjcf")
         own = False
         if code == 1 and needs_masses(answer["error"]):

@@ -59,6 +59,13 @@ struct Tree {
     cut: Vec<usize>,
 }
 
+impl Tree {
+    /// Whether a cut joint acts on `link`.
+    fn cut_at(&self, model: &Model, link: usize) -> bool {
+        self.cut.iter().any(|&c| model.joints[c].links.contains(&link))
+    }
+}
+
 /// The tree keeps the actuated joints (a motor needs a joint of the tree),
 /// then slides and parallelograms (no equality constraint closes them),
 /// then the revolute and spherical joints of links without mass (`light`),
@@ -196,7 +203,12 @@ fn placed(p: &Pose<f64>, m: f64) -> String {
 enum MjKind {
     Hinge,
     Slide,
-    Ball,
+    /// A ball: whether the body is on the joint's second link's side, and
+    /// the world pose of the link on the parent's side at the reference.
+    Ball {
+        second: bool,
+        parent: Pose<f64>,
+    },
 }
 
 impl MjKind {
@@ -204,7 +216,7 @@ impl MjKind {
         match self {
             MjKind::Hinge => "hinge",
             MjKind::Slide => "slide",
-            MjKind::Ball => "ball",
+            MjKind::Ball { .. } => "ball",
         }
     }
 }
@@ -224,9 +236,6 @@ struct MjJoint {
     reference: f64,
     /// `qpos = scale · pkm's value` (hinges and slides).
     scale: f64,
-    /// A ball: whether the body is on the joint's second link's side, and
-    /// the world pose of the link on the parent's side at the reference.
-    ball: Option<(bool, Pose<f64>)>,
 }
 
 /// What a body of the tree stands for.
@@ -236,13 +245,12 @@ enum Part {
     Base,
     /// A link.
     Link(usize),
-    /// The bar of a parallelogram of the tree that carries its second
-    /// link: a declared bar with mass (`Some`, its index in `Bars::all`)
-    /// or one without.
-    TreeBar { joint: usize, bar: Option<usize> },
+    /// The bar of a parallelogram of the tree that carries its child: the
+    /// first bar the file declares for it, else one without mass.
+    TreeBar { joint: usize },
     /// Another declared bar with mass, hinged on the arm-carrying link and
     /// tied to the parallelogram's value (its number among the joint's bars).
-    Bar { joint: usize, bar: usize, number: usize },
+    Bar { joint: usize, number: usize },
 }
 
 /// A body of the tree before links without mass are merged away.
@@ -338,7 +346,7 @@ struct Nodes {
 
 /// Builds the nodes along the tree from the base, then the declared bars
 /// that do not carry a link.
-fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -> Nodes {
+fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -> Result<Nodes, Failure> {
     let (model, poses, m) = (a.model, &a.poses, a.m);
     let mut nodes = vec![Node {
         part: Part::Base,
@@ -378,7 +386,6 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
                         axis: scaled(unit(poses[c].rotate(place.axis())), sign),
                         reference: value,
                         scale: 1.0,
-                        ball: None,
                     }]
                 }
                 JointType::P => {
@@ -402,24 +409,27 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
                         axis: scaled(d, sign),
                         reference: value * m,
                         scale: m,
-                        ball: None,
                     }]
                 }
                 JointType::S => vec![MjJoint {
                     name: j.name.clone(),
-                    kind: MjKind::Ball,
+                    kind: MjKind::Ball {
+                        second: child_second,
+                        parent: poses[p],
+                    },
                     pkm: joint,
                     anchor: here,
                     axis: [0.0, 0.0, 1.0],
                     reference: 0.0,
                     scale: 1.0,
-                    ball: Some((child_second, poses[p])),
                 }],
                 JointType::Pa => {
                     // A bar hinged on the parent, turning with θ; the child
                     // hinged at its far end, turning back by θ (an equality
                     // ties the two), so that the child translates.
-                    let pa = parallelogram(model, poses, joint).expect("a parallelogram has an arm");
+                    let Some(pa) = parallelogram(model, poses, joint) else {
+                        return Err(Failure::input(format!("parallelogram {} has no arm", j.name)));
+                    };
                     let declared = bars.of(joint).first().copied();
                     let hinge = declared.map_or(pa.arm_at, |k| bars.hinge(k).into());
                     let on_arm = poses[pa.arm_link].transform_point(hinge);
@@ -443,12 +453,11 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
                         axis: pa.axis,
                         reference: sign * value,
                         scale: sign,
-                        ball: None,
                     };
                     let bar = push(
                         &mut nodes,
                         Node {
-                            part: Part::TreeBar { joint, bar: declared },
+                            part: Part::TreeBar { joint },
                             pose: Pose::from(&pose),
                             parent,
                             own: vec![hinge_joint(j.name.clone(), root, 1.0)],
@@ -500,7 +509,6 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
                 Node {
                     part: Part::Bar {
                         joint,
-                        bar: k,
                         number: number + 1,
                     },
                     pose: Pose::from(&pose),
@@ -513,7 +521,6 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
                         axis: pa.axis,
                         reference: value,
                         scale: 1.0,
-                        ball: None,
                     }],
                     children: Vec::new(),
                     body: Some(bars.all[k].clone()),
@@ -522,7 +529,7 @@ fn nodes(a: &Assembly, tree: &Tree, link_bodies: &[Option<Body>], bars: &Bars) -
             );
         }
     }
-    Nodes { nodes, of_link }
+    Ok(Nodes { nodes, of_link })
 }
 
 /// Whether MuJoCo takes these joints, in this order, in one body: it
@@ -533,7 +540,7 @@ fn one_body<'a>(joints: impl IntoIterator<Item = &'a MjJoint>) -> bool {
         if ball && j.kind != MjKind::Slide {
             return false;
         }
-        ball |= j.kind == MjKind::Ball;
+        ball |= matches!(j.kind, MjKind::Ball { .. });
     }
     true
 }
@@ -556,7 +563,6 @@ fn merge(n: &Nodes, model: &Model, tree: &Tree, loaded: &[bool]) -> Merged {
     let count = n.nodes.len();
     let mut merged = vec![false; count];
     let mut joints: Vec<Vec<MjJoint>> = vec![Vec::new(); count];
-    let on_cut = |l: usize| tree.cut.iter().any(|&c| model.joints[c].links.contains(&l));
     for k in 1..count {
         let node = &n.nodes[k];
         let mut list = if merged[node.parent] {
@@ -566,7 +572,7 @@ fn merge(n: &Nodes, model: &Model, tree: &Tree, loaded: &[bool]) -> Merged {
         };
         list.extend(node.own.iter().cloned());
         let free = match node.part {
-            Part::Link(l) => !on_cut(l) && !loaded[l],
+            Part::Link(l) => !tree.cut_at(model, l) && !loaded[l],
             Part::TreeBar { .. } => true,
             Part::Base | Part::Bar { .. } => false,
         };
@@ -585,13 +591,14 @@ fn merge(n: &Nodes, model: &Model, tree: &Tree, loaded: &[bool]) -> Merged {
 /// `(1 − d)/d` times their inverse weight): on a body with a stand-in mass
 /// it carries next to no force, and the loop opens under load.
 fn ends_without_mass(model: &Model, tree: &Tree, n: &Nodes, merged: &Merged) -> Result<(), Failure> {
-    let on_cut = |l: usize| tree.cut.iter().any(|&c| model.joints[c].links.contains(&l));
     let hanging: Vec<&str> = n
         .nodes
         .iter()
         .enumerate()
         .filter_map(|(k, node)| match node.part {
-            Part::Link(l) if !merged.merged[k] && node.body.is_none() && node.children.is_empty() && on_cut(l) => {
+            Part::Link(l)
+                if !merged.merged[k] && node.body.is_none() && node.children.is_empty() && tree.cut_at(model, l) =>
+            {
                 Some(model.links[l].as_str())
             }
             _ => None,
@@ -654,9 +661,8 @@ struct Writer<'a> {
     assembly: &'a Assembly<'a>,
     nodes: &'a Nodes,
     merged: &'a Merged,
-    /// Per node, its mass properties as exported (file units) and whether
-    /// they are a stand-in.
-    bodies: Vec<Option<(Body, bool)>>,
+    /// Per node with a body, its mass properties as exported (file units).
+    bodies: Vec<Option<Body>>,
     /// Geometry radius (m).
     radius: f64,
     xml: String,
@@ -681,13 +687,18 @@ impl Writer<'_> {
         }
     }
 
-    /// The body a link's joints end up in.
-    fn body_of_link(&self, link: usize) -> usize {
-        let mut k = self.nodes.of_link[link];
+    /// The node whose body carries node `k`'s joints: `k`, or the first
+    /// below it that is not merged.
+    fn down(&self, mut k: usize) -> usize {
         while self.merged.merged[k] {
             k = self.nodes.nodes[k].children[0];
         }
         k
+    }
+
+    /// The body a link's joints end up in.
+    fn body_of_link(&self, link: usize) -> usize {
+        self.down(self.nodes.of_link[link])
     }
 
     /// The node with a body that a node's children hang from.
@@ -715,8 +726,7 @@ impl Writer<'_> {
             "reference": if value.len() == 1 { json!(value[0]) } else { json!(value) },
         });
         let text = match j.kind {
-            MjKind::Ball => {
-                let (second, parent) = j.ball.expect("a ball has its parent's pose");
+            MjKind::Ball { second, parent } => {
                 // qpos = K⁻¹·D·K: K the body's frame in the parent link's
                 // at the reference, D the change of the joint's rotation.
                 let frame = parent.inverse().then(&pose).rotation;
@@ -793,7 +803,7 @@ impl Writer<'_> {
         for j in self.merged.joints[k].clone() {
             self.joint(depth + 1, k, &j);
         }
-        if let Some((b, _)) = &self.bodies[k] {
+        if let Some(b) = &self.bodies[k] {
             let (m, i) = (self.m, b.inertia * (self.m * self.m));
             let text = format!(
                 r#"<inertial pos="{}" mass="{}" fullinertia="{}"/>"#,
@@ -822,11 +832,7 @@ impl Writer<'_> {
             }
         }
         for c in self.nodes.nodes[k].children.clone() {
-            let mut c = c;
-            while self.merged.merged[c] {
-                c = self.nodes.nodes[c].children[0];
-            }
-            self.body(depth + 1, c, loads);
+            self.body(depth + 1, self.down(c), loads);
         }
         self.line(depth, "</body>");
     }
@@ -986,7 +992,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         .map(|l| l > 0 && link_bodies[l].is_none())
         .collect();
     let tree = spanning_tree(model, &light)?;
-    let nodes = nodes(&assembly, &tree, &link_bodies, &bars);
+    let nodes = nodes(&assembly, &tree, &link_bodies, &bars)?;
     let mut loaded = vec![false; model.links.len()];
     for p in &loading.loads {
         loaded[p.link] = true;
@@ -998,7 +1004,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     let size = pkm_runtime::kinematics::model_scale(model);
     let tiny = (STAND_IN * total, STAND_IN * total * size * size);
     let mut stand_ins = Vec::new();
-    let bodies: Vec<Option<(Body, bool)>> = nodes
+    let bodies: Vec<Option<Body>> = nodes
         .nodes
         .iter()
         .enumerate()
@@ -1007,7 +1013,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
                 return None;
             }
             if let Some(b) = &node.body {
-                return Some((as_exported(b, model.planar, tiny.1), false));
+                return Some(as_exported(b, model.planar, tiny.1));
             }
             let carrier = match node.part {
                 Part::Link(l) => Carrier::Link(l),
@@ -1020,19 +1026,16 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
                 Part::Base | Part::Bar { .. } => return None,
             };
             stand_ins.push(k);
-            Some((
-                Body {
-                    carrier,
-                    mass: tiny.0,
-                    centroid: Vector3::zeros(),
-                    inertia: Matrix3::identity() * tiny.1,
-                },
-                true,
-            ))
+            Some(Body {
+                carrier,
+                mass: tiny.0,
+                centroid: Vector3::zeros(),
+                inertia: Matrix3::identity() * tiny.1,
+            })
         })
         .collect();
     let exported_loading = Loading {
-        bodies: bodies.iter().flatten().map(|(b, _)| b.clone()).collect(),
+        bodies: bodies.iter().flatten().cloned().collect(),
         ..loading.clone()
     };
     let skcs = pkm_dsl::numeric::skc_parts(a);
@@ -1136,11 +1139,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         w.line(2, r#"<site name="pkm.world" pos="0 0 0"/>"#);
     }
     for c in nodes.nodes[0].children.clone() {
-        let mut c = c;
-        while merged.merged[c] {
-            c = nodes.nodes[c].children[0];
-        }
-        w.body(2, c, &load_sites);
+        w.body(2, w.down(c), &load_sites);
     }
     w.line(1, "</worldbody>");
 
