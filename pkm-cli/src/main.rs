@@ -314,13 +314,6 @@ fn export(
 
 /// What `pkm export` writes: the XML or the object, to `out` or standard output.
 fn write_export(json: bool, exported: cli::export::Exported, out: Option<&Path>) -> ExitCode {
-    let left_out = exported.info["loads_left_out"].as_array().map_or(0, Vec::len);
-    if left_out > 0 && !json {
-        cli::failure::write_err(&format!(
-            "note: the file's {left_out} load{} are not in the MJCF (MuJoCo has no constant load; --json lists them to apply with mj_applyFT)\n",
-            if left_out == 1 { "" } else { "s" }
-        ));
-    }
     let mut info = exported.info;
     match out {
         Some(path) => {

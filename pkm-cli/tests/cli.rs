@@ -769,6 +769,139 @@ fn export_of_the_punch() {
     assert_eq!(std::fs::read_to_string(&out).unwrap(), xml);
 }
 
+/// Issue 29, item 6: `pkm export` ignored the study's `branch` (seed 000
+/// A came out on branch 0, the punch on branch 1). The default is the
+/// study's branch in `pkm fk`'s numbering, the reference configuration fk's
+/// solution there; `--branch` overrides it.
+#[test]
+fn export_takes_the_studys_branch() {
+    // The examples' studies say `branch 1;` (seed 000 A) and `branch 3;` (the punch).
+    for (file, study) in [(SEED000_A, 1), ("examples/mechanisms/seed003_punch.pkm", 3)] {
+        assert!(
+            std::fs::read_to_string(common::root().join(file))
+                .unwrap()
+                .contains(&format!("branch {study};")),
+            "{file}"
+        );
+        let v = run_json(&["export", file, "--mjcf"]);
+        assert_eq!(v["branch"], study, "{file}");
+        assert_eq!(v["branch_from"], "the study's `branch`", "{file}");
+        let q: Vec<String> = v["input_order"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| num(&v["inputs"][n.as_str().unwrap()]).to_string())
+            .collect();
+        let fk = run_json(&["fk", file, &format!("--q={}", q.join(","))]);
+        let branch = &fk["branches"][study];
+        assert_eq!(v["signs"], branch["signs"], "{file}");
+        // Every revolute's and slide's reference is fk's value on that branch.
+        for (name, j) in v["joints"].as_object().unwrap() {
+            let pkm_name = j["pkm"].as_str().unwrap();
+            if name == pkm_name {
+                let theirs = num(&branch["joints"][pkm_name]);
+                assert!(
+                    (num(&j["reference"]) - theirs).abs() < 1e-9,
+                    "{file} {name}: {j} {theirs}"
+                );
+            }
+        }
+        let xml = v["mjcf"].as_str().unwrap();
+        assert!(xml.contains(&format!("branch {study} (")), "{file}");
+    }
+    let v = run_json(&["export", SEED000_A, "--mjcf", "--branch=0"]);
+    assert_eq!(
+        (v["branch"].as_u64(), v["branch_from"].as_str()),
+        (Some(0), Some("--branch"))
+    );
+    check_failure(
+        &["export", SEED000_A, "--mjcf", "--branch=99"],
+        1,
+        "input",
+        "branch 99 (--branch): the mechanism has",
+    );
+}
+
+/// Issue 29, item 4: `pkm export --mjcf` on the RSSR and the RSUR with
+/// masses panicked (index out of bounds: one value per joint assumed).
+/// A spherical joint of the tree is a ball, whose reference is pkm's
+/// rotation vector; the U's cross, without mass, has no body: its two
+/// hinges are the coupler's. MuJoCo reads both in tests/mujoco/test_mujoco.py.
+#[test]
+fn export_of_spherical_joints() {
+    let v = run_json(&["export", "tests/fixtures/rssr_masses.pkm", "--mjcf", "--q=0.5"]);
+    assert_eq!(v["joints"]["S1"]["type"], "ball");
+    assert_eq!(v["joints"]["S1"]["reference"].as_array().map(Vec::len), Some(3));
+    assert_eq!(v["cut"], serde_json::json!(["S2"]));
+    let xml = v["mjcf"].as_str().unwrap();
+    assert!(xml.contains("<joint name=\"S1\" type=\"ball\""), "{xml}");
+    assert_eq!(xml.matches("<connect ").count(), 1, "{xml}");
+    // The coupler's idle spin leaves pkm's statics without an answer, said so.
+    assert_eq!(v["holding"]["ok"], false);
+    let v = run_json(&["export", "tests/fixtures/rsur_masses.pkm", "--mjcf", "--q=0.5"]);
+    assert_eq!(v["merged"]["U1.cross"], "coupler");
+    for half in ["U1.a", "U1.b"] {
+        assert_eq!(v["joints"][half]["body"], "coupler", "{half}");
+    }
+    assert!(!v["mjcf"].as_str().unwrap().contains("U1.cross"));
+    assert_eq!(v["holding"]["ok"], true);
+}
+
+/// A massless link whose joints can go to the next body has no body of its
+/// own (seed 000 A's cross, r5 and pc: no stand-in mass, and the loops cut
+/// between links with mass); one that would end the tree at a cut joint is
+/// refused, as MuJoCo's constraint on it would carry no force.
+#[test]
+fn export_of_massless_links() {
+    let v = run_json(&["export", SEED000_A, "--mjcf"]);
+    assert_eq!(v["stand_in"]["bodies"], serde_json::json!([]));
+    for link in ["cross", "r5", "pc"] {
+        assert!(v["merged"][link].is_string(), "{link}: {}", v["merged"]);
+    }
+    let leaf = common::example_with(
+        "four_bar",
+        "units { length = mm; mass = kg; } masses { crank { mass = 0.1; centroid = (50, 0); } massless coupler, rocker; }",
+    );
+    let path = scratch_file("four_bar_light_dyad.pkm", &leaf);
+    check_failure(
+        &["export", &path, "--mjcf"],
+        1,
+        "input",
+        "export cannot close a loop through rocker",
+    );
+    // The coupler alone without mass is a chain of two hinges in the rocker's body.
+    let middle = common::example_with(
+        "four_bar",
+        "units { length = mm; mass = kg; } masses { crank { mass = 0.1; centroid = (50, 0); } rocker { mass = 0.1; centroid = (100, 0); } massless coupler; }",
+    );
+    let path = scratch_file("four_bar_light_coupler.pkm", &middle);
+    let v = run_json(&["export", &path, "--mjcf"]);
+    assert_eq!(v["merged"]["coupler"], "rocker");
+    assert_eq!(v["cut"], serde_json::json!(["R4"]));
+}
+
+/// Every example exports or says why, with exit code 1: never a panic.
+#[test]
+fn export_of_every_example_answers() {
+    let dir = common::root().join("examples/mechanisms");
+    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    files.sort();
+    for file in files {
+        let file = file.to_str().unwrap();
+        let out = pkm(&["export", file, "--mjcf", "--json"]);
+        let v: Value = serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|e| panic!("{file}: not JSON ({e}): {}", String::from_utf8_lossy(&out.stderr)));
+        match out.status.code() {
+            Some(0) => assert!(v["mjcf"].as_str().unwrap().starts_with("<mujoco"), "{file}"),
+            Some(1) => assert!(
+                v["error"]["message"].as_str().is_some_and(|m| !m.is_empty()),
+                "{file}: {v}"
+            ),
+            code => panic!("{file}: exit {code:?}: {}", String::from_utf8_lossy(&out.stderr)),
+        }
+    }
+}
+
 /// The first `key="…"` in `text`, as numbers.
 fn attribute_of(text: &str, key: &str) -> Vec<f64> {
     let from = text.find(&format!(" {key}=\"")).unwrap() + key.len() + 3;

@@ -1,19 +1,35 @@
 #!/usr/bin/env python3
 """pkm's inverse dynamics against MuJoCo, on models `pkm export --mjcf` writes.
 
-Four mechanisms: the four-bar, the slider-crank, seed 003's punch (its own
-Table-1 masses) and seed 000's mechanism A (masses of this test's own), the
-first, second and last given the masses below by adding them to the example
-file's text, as the Rust tests' `common::example_with` does.
+(h) Held, every example. Every file of examples/mechanisms/ is exported:
+    one export refuses must fail with a typed error (exit 1, a JSON error
+    with its kind), never a panic. A file without masses is exported again
+    with the test's own (each moving link 0.1 kg at its frame's origin, its
+    inertia from the mechanism's size; the four-bar and the slider-crank get
+    the masses of EXTRA), and so are tests/fixtures' S-joint mechanisms.
+    Each export is loaded in MuJoCo at its keyframe `reference` (the study's
+    start, on its branch): pkm's reference must close MuJoCo's loops, pkm's
+    holding forces (its inverse dynamics at rest, the keyframe's ctrl) must
+    equal MuJoCo's static forces (a least-squares solve, below) with the
+    export's stand-in masses and the mechanism as declared without them, and
+    MuJoCo's own stepping (mj_step at the exported timestep) for 1 s from the
+    keyframe, the motors holding pkm's forces, must keep every loop closed to
+    1e-6 of the mechanism's size, with no warning. A held mechanism can be an
+    unstable equilibrium (seed 000's under its 50 N payload e-folds in 27
+    ms), so the motors also carry a stiff servo about the reference (MuJoCo's
+    own affine bias, 40 Hz, critically damped on each input's own inertia);
+    its share of the motors' force is reported.
 
 (a) Exact. At random states (q, q̇, q̈ all nonzero) on every branch pkm
     solves, MuJoCo's open-chain dynamics of the exported tree (the loops cut:
-    mass matrix `mj_fullM`, bias forces `qfrc_bias`) and the Jacobian of the
-    loop-closure equality constraints (`efc_J`'s equality rows) give the
-    actuators' forces τ and the loop forces λ by one least-squares solve of
-    [Sᵀ Jᵀ] [τ; λ] = M q̈ + b (minimum norm: a planar loop is redundant in
-    3-D). `mj_inverse` is not used: it gives passive joints torque. pkm must
-    agree to 1e-9 of the largest actuator force at that state.
+    mass matrix `mj_fullM`, bias forces `qfrc_bias`, the loads' actuators)
+    and the Jacobian of the loop-closure equality constraints (`efc_J`'s
+    equality rows) give the actuators' forces τ and the loop forces λ by one
+    least-squares solve of [Sᵀ Jᵀ] [τ; λ] = M q̈ + b − f_loads (minimum norm:
+    a planar loop is redundant in 3-D). `mj_inverse` is not used: it gives
+    passive joints torque. pkm must agree to 1e-9 of the largest actuator
+    force at that state. Every exported mechanism whose dynamics `pkm
+    dynamics` answers (no spherical joint yet) is checked, near its reference.
 
 (b) In time. pkm's forces along a trajectory are MuJoCo's motor inputs in a
     forward simulation (MuJoCo's forward dynamics integrated by RK4, each
@@ -27,7 +43,9 @@ file's text, as the Rust tests' `common::example_with` does.
 
 Run: python3 tests/mujoco/test_mujoco.py (from anywhere). Without `mujoco`
 importable, it makes a venv under target/ and installs it there with pip.
-The pkm binary is $PKM, else target/release/pkm (built if missing).
+The pkm binary is $PKM, else target/release/pkm (built if missing). MuJoCo
+writes its log (MUJOCO_LOG.TXT) into the working directory: the test runs in
+target/mujoco.
 """
 
 import json
@@ -37,6 +55,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -60,7 +79,7 @@ def bootstrap():
         subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     subprocess.run([str(python), "-m", "pip", "install", "-q", MUJOCO, "numpy"], check=True)
     os.environ["PKM_MUJOCO_VENV_TRIED"] = "1"
-    os.execv(str(python), [str(python), __file__, *sys.argv[1:]])
+    os.execv(str(python), [str(python), str(Path(__file__).resolve()), *sys.argv[1:]])
 
 
 bootstrap()
@@ -68,11 +87,20 @@ bootstrap()
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
+# MuJoCo writes MUJOCO_LOG.TXT where it runs: under target/, never the root.
+LOGS = ROOT / "target" / "mujoco"
+LOGS.mkdir(parents=True, exist_ok=True)
+os.chdir(LOGS)
+
 EXACT_TOL = 1e-9
+# ... or this over pkm's force conditioning, where that is larger.
+ROUNDING = 2e-14
+EXAMPLES = ROOT / "examples" / "mechanisms"
+FIXTURES = ROOT / "tests" / "fixtures"
 
 # Masses of this test's own, added to the examples that have none. The
-# slider-crank's crank is massless (the export's stand-in mass), and so is
-# seed 000's cross (the link between R3 and R4).
+# slider-crank's crank is massless (its joints go to the rod's body), and so
+# is the Watt six-bar's ternary rocker (a stand-in).
 EXTRA = {
     "four_bar": """
     units { length = mm; mass = kg; }
@@ -91,24 +119,49 @@ EXTRA = {
     }
     gravity (0, -9.81);
 """,
-    "seed000_a": """
+    # The ternary rocker without mass: a body of its own (two links hang
+    # from it), with the export's stand-in mass.
+    "watt_six_bar": """
     units { length = mm; mass = kg; }
     masses {
-        s1 { mass = 0.057; centroid = (0, 0, 40); inertia = (10, 12, 5); }
-        c1 { mass = 0.072; centroid = (90, 3, 1); inertia = (117, 291, 181); }
-        c2 { mass = 0.070; centroid = (100, -2, 0); inertia = (113, 276, 173, 4, -2, 1); }
-        s2 { mass = 0.057; centroid = (0, 0, 50); inertia = (10, 12, 5); }
-        massless cross;
-        platform { mass = 0.494; centroid = (0, l3 / 2, 4); inertia = (7162, 1188, 7106); }
-        pc { mass = 0.106; centroid = (0, 0, 5); inertia = (913, 706, 358); }
-        r5 { mass = 0.03; centroid = (0, 0, 10); inertia = (2, 2, 1); }
-        s3 { mass = 0.067; centroid = (0, 0, 30); inertia = (10, 12, 5); }
+        crank   { mass = 0.1; centroid = (a / 2, 0); inertia = 0.1 * a^2 / 12; }
+        coupler { mass = 0.2; centroid = (b / 2, 5); inertia = 0.2 * b^2 / 12; }
+        massless rocker;
+        link5   { mass = 0.2; centroid = (f / 2, -5); inertia = 0.2 * f^2 / 12; }
+        link6   { mass = 0.15; centroid = (g / 2, 0); inertia = 0.15 * g^2 / 12; }
     }
 """,
-    "seed003_punch": "",
 }
 
-PUNCH_CHANGE_POINTS = (154.5189, 234.6346)  # degrees of crank angle (docs/dynamics.md)
+# Examples changed for the test: seed 000 A with its parallelogram's arm
+# on pc instead of r5 (the same mechanism: its bar DB3 then hangs from D),
+# so that the tree reaches the parallelogram from the side without the arm.
+VARIANTS = {
+    "seed000_a_arm_on_pc": (
+        "seed000_a",
+        [
+            ("Pa = (0, 0, 0) along y; }", "Pa = (0, 0, 0) along y arm (0, 0, -l4); }"),
+            ("Pa = (0, 0, 0) along y arm (0, 0, l4); }", "Pa = (0, 0, 0) along y; }"),
+            ("centroid = (0, 0, l4 / 2); inertia = (976", "centroid = (0, 0, -l4 / 2); inertia = (976"),
+        ],
+    ),
+}
+
+# The S-joint mechanisms of tests/fixtures (the examples with masses).
+S_FIXTURES = ["rssr_masses", "rsur_masses"]
+
+# Mechanisms pkm gives no holding forces for yet, and why (a substring of
+# its reason): an S–S coupler's idle spin leaves Newton–Euler's force
+# equations singular. Their exports are still stepped, held by MuJoCo's own
+# static forces.
+NO_HOLDING = {
+    "rssr_masses": "singular",
+    "rssp": "singular",
+    "rssr": "singular",
+}
+
+# Errors an export may end with, and their kinds: never a panic (exit 101).
+TYPED = {"input", "parse", "unreachable", "inconsistent"}
 
 
 def pkm_binary():
@@ -125,38 +178,79 @@ PKM = pkm_binary()
 WORK = Path(tempfile.mkdtemp(prefix="pkm-mujoco-"))
 
 
-def pkm(*args):
+def pkm_answer(*args):
+    """pkm's JSON answer and exit code; a panic or a non-JSON answer fails."""
     out = subprocess.run([PKM, *args, "--json"], capture_output=True, text=True)
-    answer = json.loads(out.stdout)
-    assert out.returncode == 0, f"pkm {' '.join(args)}: {answer}"
+    assert out.returncode in (0, 1), f"pkm {' '.join(args)} exits {out.returncode}: {out.stderr}"
+    return json.loads(out.stdout), out.returncode
+
+
+def pkm(*args):
+    answer, code = pkm_answer(*args)
+    assert code == 0, f"pkm {' '.join(args)}: {answer}"
     return answer
 
 
-def fixture(stem, simulated=False):
-    """The example with the test's masses, as a file (the example itself if it has its own).
+def link_names(text):
+    """The moving links of a mechanism file: its geometry block's entries but the base."""
+    at = text.index("{", text.index("geometry")) + 1
+    depth, start, names = 1, at, []
+    for k in range(at, len(text)):
+        if text[k] == "{":
+            if depth == 1:
+                names.append(re.findall(r"([\w.]+)\s*$", text[start:k])[0])
+            depth += 1
+        elif text[k] == "}":
+            depth -= 1
+            if depth == 0:
+                break
+            if depth == 1:
+                start = k + 1
+    return [n for n in names if n != "base"]
 
-    simulated: its massless links given a light body (20 g, 20 kg·mm² in a
-    file in mm), as (b) needs. MuJoCo's forward dynamics of a body with the
-    export's 1e-11 stand-in mass is so stiff that explicit steps diverge
-    (seed 000 A, whose cross link and parallelogram sides are massless, leaves
-    twice the motors' force to the servo, with MuJoCo's own forces too);
-    pkm reads the same file, so both sides have the light bodies.
-    """
-    text = (ROOT / "examples" / "mechanisms" / f"{stem}.pkm").read_text()
-    extra = EXTRA[stem]
-    if extra and "units" not in text:
+
+def generic_masses(text, size=None):
+    """The file with the test's own masses: 0.1 kg per moving link on its
+    frame's x axis, 0.13 of the size from its origin (off a spherical
+    mechanism's centre, and on an S–S coupler's line when its joints are on
+    its x axis: its idle spin takes no torque), with an inertia of radius of
+    gyration size/5; without the size, a point mass at the origin (to learn
+    the size)."""
+    planar = re.search(r"\bplanar\s*;", text) is not None
+    lines = []
+    for name in link_names(text):
+        inertia, x = "", 0.0
+        if size is not None:
+            i, x = 0.1 * (0.2 * size) ** 2, 0.13 * size
+            inertia = f" inertia = {i};" if planar else f" inertia = ({i}, {1.3 * i}, {1.6 * i});"
+        centroid = f"({x}, 0)" if planar else f"({x}, 0, 0)"
+        lines.append(f"        {name} {{ mass = 0.1; centroid = {centroid};{inertia} }}")
+    extra = "" if re.search(r"\bunits\s*\{", text) else "    units { length = mm; mass = kg; }\n"
+    extra += "    masses {\n" + "\n".join(lines) + "\n    }\n"
+    end = text.rindex("}")
+    return text[:end] + extra + "}\n"
+
+
+def with_masses(stem):
+    """examples/mechanisms/STEM.pkm with the test's masses, as a file."""
+    text = (EXAMPLES / f"{stem}.pkm").read_text()
+    path = WORK / f"{stem}.pkm"
+    if stem in EXTRA:
         end = text.rindex("}")
-        text = text[:end] + extra + "}\n"
-    if simulated:
-        light = "centroid = (0, 0); inertia = 20;" if "planar;" in text else "centroid = (0, 0, 0); inertia = (20, 20, 20);"
-        text = re.sub(
-            r"massless ([^;]*);",
-            lambda g: " ".join(f"{name.strip()} {{ mass = 0.02; {light} }}" for name in g.group(1).split(",")),
-            text,
-        )
-    path = WORK / (f"{stem}.simulated.pkm" if simulated else f"{stem}.pkm")
-    path.write_text(text)
+        path.write_text(text[:end] + EXTRA[stem] + "}\n")
+        return str(path)
+    path.write_text(generic_masses(text))
+    answer, code = pkm_answer("export", str(path), "--mjcf")
+    if code == 0:
+        path.write_text(generic_masses(text, answer["size"] / answer["metres_per_unit"]))
     return str(path)
+
+
+def needs_masses(error):
+    message = error["message"]
+    if error.get("diagnostics"):
+        message = " ".join(d["message"] for d in error["diagnostics"])
+    return "needs the file's units and masses" in message or "needs every moving link's mass" in message
 
 
 def full_mass_matrix(m, d):
@@ -169,76 +263,105 @@ def full_mass_matrix(m, d):
     return M
 
 
+def quaternion(r):
+    """The unit quaternion [w, x, y, z] of the rotation vector r."""
+    r = np.asarray(r, dtype=float)
+    angle = np.linalg.norm(r)
+    if angle == 0.0:
+        return np.array([1.0, 0.0, 0.0, 0.0])
+    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * r / angle])
+
+
+def times(a, b):
+    w1, v1, w2, v2 = a[0], a[1:], b[0], b[1:]
+    return np.concatenate([[w1 * w2 - v1 @ v2], w1 * v2 + w2 * v1 + np.cross(v1, v2)])
+
+
+def conjugate(q):
+    return np.concatenate([[q[0]], -q[1:]])
+
+
 class Exported:
     """A mechanism's MJCF loaded in MuJoCo, and how its joints map to pkm's."""
 
-    def __init__(self, path, *args):
-        info = pkm("export", path, "--mjcf", *args)
+    def __init__(self, path, *args, info=None):
+        info = info or pkm("export", path, "--mjcf", *args)
         self.info = info
         self.model = mujoco.MjModel.from_xml_string(info["mjcf"])
         self.model.opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
         self.data = mujoco.MjData(self.model)
         self.scratch = {}
         m = self.model
-        self.map = []  # (qpos address, dof address, pkm joint, scale)
+        self.map = []  # (MuJoCo joint name, qpos address, dof address, pkm joint, its entry)
         for name, j in info["joints"].items():
-            assert j["type"] in ("hinge", "slide"), f"{name}: a ball joint is not exercised here"
             k = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
-            self.map.append((m.jnt_qposadr[k], m.jnt_dofadr[k], j["pkm"], j["scale"]))
-        assert len(self.map) == m.nq == m.nv
+            self.map.append((name, m.jnt_qposadr[k], m.jnt_dofadr[k], j["pkm"], j))
+        self.balls = any(j["type"] == "ball" for j in info["joints"].values())
         self.hinge = np.array([m.jnt_type[m.dof_jntid[k]] == mujoco.mjtJoint.mjJNT_HINGE for k in range(m.nv)])
-        # The motors: each drives one joint's dof with gear 1.
-        self.actuators = []  # (pkm name, dof address, MuJoCo force -> pkm unit)
-        for name, a in info["actuators"].items():
+        # The motors: each drives one joint's dof with gear 1; the loads'
+        # actuators after them, at a fixed ctrl of 1.
+        self.actuators = []  # (pkm name, actuator id, dof address, MuJoCo force -> pkm unit)
+        for name in info["input_order"]:
             k = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
             assert m.actuator_gear[k][0] == 1.0
-            self.actuators.append((name, m.jnt_dofadr[m.actuator_trnid[k][0]], a["to_pkm"]))
+            self.actuators.append((name, k, m.jnt_dofadr[m.actuator_trnid[k][0]], info["actuators"][name]["to_pkm"]))
+        self.motors = [a[1] for a in self.actuators]
+        self.loads = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, p["actuator"]) for p in info["loads"]]
+        assert sorted(self.motors + self.loads) == list(range(m.nu))
         self.stand_ins = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in info["stand_in"]["bodies"]]
-        # The file's loads, which MJCF cannot hold: (body, point in its frame, force, moment), SI.
-        self.loads = [
-            (mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, p["body"]), *(np.array(p[k]) for k in ("point", "force", "moment")))
-            for p in info["loads"]
-        ]
+        self.key = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_KEY, info["keyframe"])
+        self.size = info["size"]
+        # The reference inputs in the order pkm takes them.
+        self.start = [info["inputs"][n] for n in info["input_order"]]
 
-    def load_forces(self, m, d):
-        """The loads' generalized forces at d's positions (its kinematics computed)."""
-        out = np.zeros(m.nv)
-        for body, point, force, moment in self.loads:
-            at = d.xpos[body] + d.xmat[body].reshape(3, 3) @ point
-            mujoco.mj_applyFT(m, d, force, moment, at, body, out)
-        return out
+    def qpos(self, values):
+        """MuJoCo's qpos of pkm's joint values (by pkm's joint name)."""
+        q = np.zeros(self.model.nq)
+        for _, qadr, _, name, j in self.map:
+            if j["type"] == "ball":
+                # K⁻¹·D·K, D the change of the joint's rotation from the reference.
+                r, r0, frame = quaternion(values[name]), quaternion(j["reference"]), np.array(j["frame"])
+                change = times(r, conjugate(r0)) if j["second"] else times(conjugate(r), r0)
+                q[qadr : qadr + 4] = times(conjugate(frame), times(change, frame))
+            else:
+                q[qadr] = j["scale"] * values[name]
+        return q
 
     def state(self, motion):
         """qpos, qvel, qacc of pkm's values, rates and accelerations (by joint name)."""
+        assert not self.balls, "pkm dynamics gives no spherical joint's motion yet"
         q, v, a = (np.zeros(self.model.nv) for _ in range(3))
-        for qadr, dadr, name, scale in self.map:
-            q[qadr] = scale * motion["values"][name]
-            v[dadr] = scale * motion["rates"][name]
-            a[dadr] = scale * motion["accelerations"][name]
+        for _, qadr, dadr, name, j in self.map:
+            q[qadr] = j["scale"] * motion["values"][name]
+            v[dadr] = j["scale"] * motion["rates"][name]
+            a[dadr] = j["scale"] * motion["accelerations"][name]
         return q, v, a
 
     def forces(self, q, v, a, model=None):
-        """τ (pkm's units) by [Sᵀ Jᵀ][τ; λ] = M q̈ + b, and how well the state closes the loops."""
+        """τ (pkm's units) by [Sᵀ Jᵀ][τ; λ] = M q̈ + b − f_loads, and how well the state closes the loops."""
         m = model or self.model
         # One scratch MjData per model: making one per state is most of the time.
         if id(m) not in self.scratch:
             self.scratch[id(m)] = (m, mujoco.MjData(m))
         d = self.scratch[id(m)][1]
         d.qpos[:], d.qvel[:] = q, v
+        d.ctrl[:] = 0.0
+        d.ctrl[self.loads] = 1.0
         mujoco.mj_forward(m, d)
         M = full_mass_matrix(m, d)
-        rhs = M @ a + d.qfrc_bias - self.load_forces(m, d)
+        # With the motors at zero, qfrc_actuator is the loads'.
+        rhs = M @ a + d.qfrc_bias - d.qfrc_actuator
         eq = d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
         J = d.efc_J.reshape(d.nefc, m.nv)[eq]
         S = np.zeros((m.nv, len(self.actuators)))
-        for i, (_, dof, _) in enumerate(self.actuators):
+        for i, (_, _, dof, _) in enumerate(self.actuators):
             S[dof, i] = 1.0
         A = np.hstack([S, J.T])
         x, *_ = np.linalg.lstsq(A, rhs, rcond=None)
         residual = np.abs(A @ x - rhs).max() / max(np.abs(rhs).max(), 1e-300)
-        tau = np.array([x[i] * to_pkm for i, (_, _, to_pkm) in enumerate(self.actuators)])
+        tau = np.array([x[i] * to_pkm for i, (_, _, _, to_pkm) in enumerate(self.actuators)])
         # The loops' gaps (m) and their rates (m/s, rad/s) at pkm's state.
-        closure = max(np.abs(d.efc_pos[eq]).max(), np.abs(J @ v).max())
+        closure = max(np.abs(d.efc_pos[eq]).max(), np.abs(J @ v).max()) if eq.any() else 0.0
         return tau, residual, closure
 
     def distance(self, q1, q2):
@@ -257,33 +380,191 @@ class Exported:
         return m
 
 
-def random_inputs(stem, rng, start):
+def gaps(m, d):
+    """The largest gap of the connects (m) and of the joint ties (rad) at d."""
+    eq = d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
+    kinds = m.eq_type[d.efc_id[eq]]
+    pos = np.abs(d.efc_pos[eq])
+    connect = pos[kinds == mujoco.mjtEq.mjEQ_CONNECT]
+    tie = pos[kinds == mujoco.mjtEq.mjEQ_JOINT]
+    return (connect.max() if connect.size else 0.0), (tie.max() if tie.size else 0.0)
+
+
+# The held check's servo: natural frequency (Hz), critically damped on each
+# input's own inertia; seed 000's mechanism B needs 40 Hz (at 20 Hz its
+# unstable mode still grows).
+HOLD_SERVO_HZ = 40
+# The loops' gap over the held second, relative to the mechanism's size.
+GAP_TOL = 1e-6
+
+
+def held(name, path, info):
+    """(h): the keyframe closes the loops, pkm's holding forces equal MuJoCo's
+    statics, and 1 s of mj_step keeps the loops closed. Returns the figures."""
+    ex = Exported(path, info=info)
+    m, d = ex.model, ex.data
+    mujoco.mj_resetDataKeyframe(m, d, ex.key)
+    mujoco.mj_forward(m, d)
+    connect0, tie0 = gaps(m, d)
+    assert connect0 < 1e-12 * ex.size and tie0 < 1e-12, f"{name}: the keyframe does not close the loops"
+    q0, zero = d.qpos.copy(), np.zeros(m.nv)
+    ours = np.array([info["holding"]["actuators"][a[0]] for a in ex.actuators]) if info["holding"]["ok"] else None
+    tau, residual, _ = ex.forces(q0, zero, zero)
+    tau_bare, residual_bare, _ = ex.forces(q0, zero, zero, ex.without_stand_ins())
+    # Without pkm's forces (an S–S coupler) MuJoCo's statics need not be
+    # consistent either: a centroid off the coupler's line turns its spin.
+    consistent = max(residual, residual_bare) < 1e-10
+    assert consistent or not info["holding"]["ok"], f"{name}: MuJoCo's statics are not consistent ({residual:e})"
+    # Forces relative to the largest, or to the weight (times the size for a
+    # torque) where the static forces vanish (a crank whose centroid is on
+    # its vertical axis).
+    weight = m.body_mass.sum() * np.linalg.norm(m.opt.gravity)
+    hinges = [m.jnt_type[m.actuator_trnid[a[1]][0]] == mujoco.mjtJoint.mjJNT_HINGE for a in ex.actuators]
+    scale = max([np.abs(tau).max()] + [weight * (ex.size if h else 1.0) for h in hinges])
+    agreement = None
+    if ours is None:
+        reason = info["holding"]["reason"]
+        assert NO_HOLDING.get(name, "\0") in reason, f"{name}: pkm gives no holding forces: {reason}"
+        ctrl = tau / np.array([a[3] for a in ex.actuators])
+    else:
+        declared = np.array([info["holding"]["as_declared"][a[0]] for a in ex.actuators])
+        agreement = max(np.abs(ours - tau).max(), np.abs(declared - tau_bare).max()) / scale
+        assert agreement < EXACT_TOL, f"{name}: pkm's holding forces differ from MuJoCo's by {agreement:e}"
+        ctrl = d.ctrl[ex.motors].copy()
+        if name in NO_HOLDING:
+            print(f"    {name} now has holding forces: take it out of NO_HOLDING")
+    # The servo: MuJoCo's own affine bias on each motor, k_p (q_ref − q) − k_d q̇.
+    M = full_mass_matrix(m, d)
+    w = 2 * math.pi * HOLD_SERVO_HZ
+    for (_, k, dof, _), u in zip(ex.actuators, ctrl):
+        qadr = m.jnt_qposadr[m.actuator_trnid[k][0]]
+        kp, kd = M[dof, dof] * w * w, 2 * M[dof, dof] * w
+        m.actuator_biastype[k] = mujoco.mjtBias.mjBIAS_AFFINE
+        m.actuator_biasprm[k, :3] = [kp * q0[qadr], -kp, -kd]
+        d.ctrl[k] = u
+    steps = int(round(1.0 / m.opt.timestep))
+    connect, tie, servo = 0.0, 0.0, 0.0
+    for _ in range(steps):
+        mujoco.mj_step(m, d)
+        c, t = gaps(m, d)
+        connect, tie = max(connect, c), max(tie, t)
+        servo = max(servo, np.abs(d.actuator_force[ex.motors] - d.ctrl[ex.motors]).max())
+    warnings = {str(mujoco.mjtWarning(i)): d.warning[i].number for i in range(len(d.warning)) if d.warning[i].number}
+    assert np.isfinite(d.qpos).all() and not warnings, f"{name}: MuJoCo warns {warnings}"
+    assert connect < GAP_TOL * ex.size and tie < GAP_TOL, f"{name}: the loops open by {connect / ex.size:e} of the size, ties {tie:e} rad"
+    share = servo / scale
+    assert share < 1e-3, f"{name}: the servo carries {share:e} of the force"
+    return {
+        "branch": f"{info['branch']} ({''.join(info['signs'])})",
+        "agreement": agreement,
+        "stand_in_change": info["stand_in"]["force_change"],
+        "gap": connect / ex.size,
+        "tie": tie,
+        "servo": share,
+        "merged": ", ".join(f"{k}→{v}" for k, v in info["merged"].items()),
+        "stand_ins": len(info["stand_in"]["bodies"]),
+    }
+
+
+def balls_map(name, path, info, others):
+    """A ball's qpos from pkm's values: pkm's configuration at other inputs
+    (their exports' references) closes the loops of the export at the first."""
+    ex = Exported(path, info=info)
+    m, d = ex.model, ex.data
+    worst = 0.0
+    for q in others:
+        there = pkm("export", path, "--mjcf", "--q=" + ",".join(repr(x) for x in q), f"--branch={info['branch']}")
+        values = {j["pkm"]: j["reference"] for j in there["joints"].values()}
+        d.qpos[:] = ex.qpos(values)
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_makeConstraint(m, d)
+        worst = max(worst, gaps(m, d)[0] / ex.size)
+    assert worst < 1e-12, f"{name}: pkm's configurations do not close MuJoCo's loops through its balls ({worst:e})"
+    return worst
+
+
+def every_example():
+    """(h) on every example and S fixture; the exported ones for (a)."""
+    rows, refused, exported = [], [], []
+    sources = [(f.stem, str(f)) for f in sorted(EXAMPLES.glob("*.pkm"))]
+    sources += [(stem, str(FIXTURES / f"{stem}.pkm")) for stem in S_FIXTURES]
+    for name, (stem, edits) in VARIANTS.items():
+        text = (EXAMPLES / f"{stem}.pkm").read_text()
+        # Swapped in two steps, so that the second edit does not undo the first.
+        text = text.replace(edits[0][0], "\0").replace(edits[1][0], edits[1][1]).replace("\0", edits[0][1])
+        for old, new in edits[2:]:
+            assert old in text, f"{name}: {old}"
+            text = text.replace(old, new)
+        (WORK / f"{name}.pkm").write_text(text)
+        sources.append((name, str(WORK / f"{name}.pkm")))
+    for name, path in sources:
+        answer, code = pkm_answer("export", path, "--mjcf")
+        own = False
+        if code == 1 and needs_masses(answer["error"]):
+            path, own = with_masses(name), True
+            answer, code = pkm_answer("export", path, "--mjcf")
+        if code == 1:
+            error = answer["error"]
+            assert error["kind"] in TYPED and error["message"], f"{name}: {error}"
+            refused.append((name, error["kind"], error["message"]))
+            continue
+        started = time.time()
+        figures = held(name, path, answer)
+        if any(j["type"] == "ball" for j in answer["joints"].values()):
+            start = [answer["inputs"][n] for n in answer["input_order"]]
+            figures["balls"] = balls_map(name, path, answer, [[x + dx for x in start] for dx in (0.7, 2.1, -1.3)])
+        figures["seconds"] = time.time() - started
+        rows.append((name + (" (test's masses)" if own else ""), figures))
+        exported.append((name, path, answer))
+    print("(h) held 1 s at the keyframe (mj_step, the exported timestep), every example:")
+    for name, f in rows:
+        agreement = "no pkm forces" if f["agreement"] is None else f"{f['agreement']:.1e}"
+        extra = f"; balls' map {f['balls']:.0e}" if "balls" in f else ""
+        merged = f"; merged {f['merged']}" if f["merged"] else ""
+        print(
+            f"    {name}: branch {f['branch']}, holding forces vs MuJoCo {agreement}, stand-ins "
+            f"{f['stand_ins']} (change {f['stand_in_change'] or 0:.0e}), gap {f['gap']:.1e} of the size, "
+            f"ties {f['tie']:.0e} rad, servo {f['servo']:.1e}{extra}{merged} ({f['seconds']:.1f} s)"
+        )
+    for name, kind, message in refused:
+        print(f"    {name}: refused ({kind}): {message[:150]}")
+    return exported
+
+
+def random_inputs(stem, rng, start, info=None):
     """One random state of the inputs: values, rates, accelerations (file units)."""
     n = len(start)
     if stem == "seed000_a":
         q = np.array(start) + rng.uniform(-30, 30, n)
         return q, rng.uniform(-300, 300, n), rng.uniform(-3000, 3000, n)
-    while True:
-        q = rng.uniform(-math.pi, math.pi, n)
-        degrees = math.degrees(q[0]) % 360
-        # The punch's change points: a few degrees away.
-        if stem != "seed003_punch" or all(abs(degrees - c) > 3 for c in PUNCH_CHANGE_POINTS):
-            break
-    return q, rng.uniform(-3, 3, n), rng.uniform(-20, 20, n)
+    if stem in ("four_bar", "slider_crank", "seed003_punch"):
+        while True:
+            q = rng.uniform(-math.pi, math.pi, n)
+            degrees = math.degrees(q[0]) % 360
+            # The punch's change points: a few degrees away.
+            if stem != "seed003_punch" or all(abs(degrees - c) > 3 for c in PUNCH_CHANGE_POINTS):
+                break
+        return q, rng.uniform(-3, 3, n), rng.uniform(-20, 20, n)
+    # Elsewhere near the reference: 0.1 rad or 2 % of the size away.
+    size = info["size"] / info["metres_per_unit"]
+    spread = np.array([1.0 if info["actuators"][n]["unit"] == "N·m" else 0.2 * size for n in info["input_order"]])
+    return np.array(start) + rng.uniform(-0.1, 0.1, n) * spread, rng.uniform(-1, 1, n) * spread, rng.uniform(-10, 10, n) * spread
 
 
-def exact(stem, rng, count=40):
-    path = fixture(stem)
-    ex = Exported(path)
-    start = list(ex.info["inputs"].values())
-    names = [a[0] for a in ex.actuators]
-    worst, stand_in, overall, states, pairs = 0.0, 0.0, 0.0, 0, 0
-    # The mechanism as declared: its massless links without mass (MuJoCo's
-    # M q̈ + b is fine with them; only its forward dynamics needs the stand-ins).
+PUNCH_CHANGE_POINTS = (154.5189, 234.6346)  # degrees of crank angle (docs/dynamics.md)
+
+
+def exact(stem, path, rng, count=40, info=None):
+    ex = Exported(path, info=info)
+    start, names = ex.start, [a[0] for a in ex.actuators]
+    worst, bound, stand_in, overall, states, pairs = 0.0, 0.0, 0.0, 0.0, 0, 0
+    # The mechanism as declared: its stand-ins without mass (MuJoCo's
+    # M q̈ + b is fine with them; only its forward dynamics needs them).
     bare = ex.without_stand_ins()
     lines = []
     for _ in range(count):
-        q, qd, qdd = random_inputs(stem, rng, start)
+        q, qd, qdd = random_inputs(stem, rng, start, ex.info)
         lines.append(",".join(repr(float(x)) for x in [*q, *qd, *qdd]))
     states_file = WORK / f"{stem}.states"
     states_file.write_text("\n".join(lines) + "\n")
@@ -301,7 +582,11 @@ def exact(stem, rng, count=40):
             assert closure < 1e-9, f"{stem}: pkm's state does not close MuJoCo's loops ({closure:e})"
             ours = np.array([b["actuators"][n] for n in names])
             peak = np.abs(tau).max()
-            worst = max(worst, np.abs(ours - tau).max() / peak)
+            # Rounding through a force system near a singularity grows as
+            # one over its conditioning (seed 000 B's is 1e-5 near its start).
+            error = np.abs(ours - tau).max() / peak
+            worst = max(worst, error)
+            bound = max(bound, error / max(EXACT_TOL, ROUNDING / min(b["conditioning"])))
             # The exported model's stand-ins, against the largest force of all states.
             tau_exported, _, _ = ex.forces(q, v, a)
             stand_in = max(stand_in, np.abs(tau_exported - tau).max())
@@ -309,10 +594,10 @@ def exact(stem, rng, count=40):
     stand_in /= overall
     print(
         f"(a) {stem}: {states} input states, {pairs} (state, branch) pairs; worst |τ_pkm − τ_MuJoCo| / max|τ_MuJoCo| "
-        f"= {worst:.2e}; the exported stand-in masses change τ by {stand_in:.2e} of the largest τ"
+        f"= {worst:.2e} ({bound:.0e} of its bound); the exported stand-in masses change τ by {stand_in:.2e} of the largest τ"
     )
-    assert states >= 36, f"{stem}: only {states} states solved"
-    assert worst < EXACT_TOL, f"{stem}: pkm and MuJoCo differ by {worst:e}"
+    assert states >= 0.9 * count, f"{stem}: only {states} states solved"
+    assert bound < 1, f"{stem}: pkm and MuJoCo differ by {worst:e}"
     assert stand_in < EXACT_TOL
     return worst, states, pairs
 
@@ -334,8 +619,8 @@ START = {"four_bar": [0.3], "slider_crank": [0.3], "seed003_punch": [math.radian
 # RK4, each stage's motor input pkm's force at that stage's time, so that the
 # forces are exact where the integrator uses them. Its step: 0.1 ms for the
 # fast crank turns (0.2 ms leaves 1.8e-6 of the force to the servo), 0.2 ms
-# for the punch (0.4 ms: 2.2e-7), 0.4 ms for seed 000 A, whose share (5e-8)
-# is the same at 0.2 ms and whose many branches make pkm's states costly.
+# for the punch (0.4 ms: 2.2e-7), 0.4 ms for seed 000 A, whose many
+# branches make pkm's states costly.
 STEP = {"four_bar": 1e-4, "slider_crank": 1e-4, "seed003_punch": 2e-4, "seed000_a": 4e-4}
 # The exported timestep only sets the loops' time constant (2 timesteps): at
 # 1 ms the constraint's own motion is slow enough for RK4 at these steps
@@ -343,64 +628,59 @@ STEP = {"four_bar": 1e-4, "slider_crank": 1e-4, "seed003_punch": 2e-4, "seed000_
 MODEL_TIMESTEP = 1e-3
 # With --euler: mj_step's semi-implicit Euler (implicitfast) at this step.
 EULER_STEP = 1e-4
+# The servo of (b): natural frequency (Hz), critically damped on the dof's
+# own inertia. Seed 000 A under its 50 N payload is an unstable equilibrium
+# held by constant forces (it e-folds in 27 ms): its servo is 40 Hz.
+SERVO_HZ = {"four_bar": 5, "slider_crank": 5, "seed003_punch": 5, "seed000_a": 40}
 # The control run's share (MuJoCo's own inverse dynamics as the motors'
-# input) is the integration's; pkm's must match it, and it must stay small.
-# Seed 000 A with the paper's masses, its parallelogram bar and the 50 N
-# payload leaves 7.0e-7 to the servo at 0.4 and at 0.2 ms alike: not the
-# steps' error but the loops' and the bar's soft equality constraints
-# stretching under the load (its light stand-in bodies of `fixture` at 5 g
-# left 2.9e-6). pkm's forces and MuJoCo's leave the same share to 1e-12.
-CONTROL_TOL = {"four_bar": 5e-7, "slider_crank": 5e-7, "seed003_punch": 1e-7, "seed000_a": 1e-6}
+# input) is the integration's and the soft constraints' stretch under load;
+# pkm's must match it, and it must stay small.
+CONTROL_TOL = {"four_bar": 5e-7, "slider_crank": 5e-7, "seed003_punch": 1e-7, "seed000_a": 1e-5}
 # The largest difference of pkm's servo force from the control's, over the
 # motion, relative to the largest motor force (the exact part's tolerance).
 SAME_TOL = 1e-9
 
 
-def simulate(ex, plan, taus, held, step, euler):
+def simulate(ex, plan, taus, held_steps, step, euler, hz):
     """The servo's force at each step of the motion, under the motor inputs taus.
 
     plan[j] is (q, v, a) at the j-th time of the inputs' grid: every step for
     --euler, every half step for RK4 (its stages' times).
     """
     m, d = ex.model, ex.data
-    dofs = [a[1] for a in ex.actuators]
+    dofs = [a[2] for a in ex.actuators]
     mujoco.mj_resetData(m, d)
     q, v = plan[0][0].copy(), plan[0][1].copy()
     d.qpos[:], d.qvel[:] = q, v
     mujoco.mj_forward(m, d)
-    # A weak servo: natural frequency 5 Hz, critically damped, on the dof's own inertia.
+    # A servo on the dof's own inertia, critically damped.
     M = full_mass_matrix(m, d)
     inertia = np.array([M[k, k] for k in dofs])
-    kp, kd = inertia * (2 * math.pi * 5) ** 2, inertia * 2 * (2 * math.pi * 5)
+    kp, kd = inertia * (2 * math.pi * hz) ** 2, inertia * 2 * (2 * math.pi * hz)
 
     def servo(q, v, j):
         # The inputs' references are pkm's inputs as given, not wrapped.
         q_ref, v_ref, _ = plan[j]
         return kp * (q_ref[dofs] - q[dofs]) + kd * (v_ref[dofs] - v[dofs])
 
-    def loaded(q, v):
-        # The file's loads at these positions, as applied forces.
+    def drive(q, v, j):
         d.qpos[:], d.qvel[:] = q, v
-        if ex.loads:
-            mujoco.mj_kinematics(m, d)
-            mujoco.mj_comPos(m, d)
-            d.qfrc_applied[:] = ex.load_forces(m, d)
+        d.ctrl[ex.motors] = taus[j] + servo(q, v, j)
+        d.ctrl[ex.loads] = 1.0
 
     def qacc(q, v, j):
-        loaded(q, v)
-        d.ctrl[:] = taus[j] + servo(q, v, j)
+        drive(q, v, j)
         mujoco.mj_forward(m, d)
         return d.qacc.copy()
 
     out, stray = [], 0.0
     for k in range(len(taus) // (1 if euler else 2)):
         j = k if euler else 2 * k
-        if k >= held:
+        if k >= held_steps:
             out.append(servo(q, v, j))
             stray = max(stray, np.abs(plan[j][0][dofs] - q[dofs]).max())
         if euler:
-            loaded(q, v)
-            d.ctrl[:] = taus[j] + servo(q, v, j)
+            drive(q, v, j)
             mujoco.mj_step(m, d)
             q, v = d.qpos.copy(), d.qvel.copy()
             continue
@@ -418,8 +698,8 @@ def simulate(ex, plan, taus, held, step, euler):
 
 
 def in_time(stem, euler=False, duration=1.0, settle=0.1):
-    path = fixture(stem, simulated=True)
-    start = START.get(stem) or list(Exported(path).info["inputs"].values())
+    path = str(EXAMPLES / f"{stem}.pkm") if stem not in EXTRA else with_masses(stem)
+    start = START.get(stem) or Exported(path).start
     start, travel = np.array(start, dtype=float), np.array(TRAVEL[stem], dtype=float)
     w = 2 * math.pi / duration
 
@@ -437,13 +717,13 @@ def in_time(stem, euler=False, duration=1.0, settle=0.1):
     # Semi-implicit Euler (mj_step's implicitfast is the same here: nothing
     # depends on the velocity but the bias forces, which it keeps explicit).
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    held, steps = int(round(settle / step)), int(round(duration / step))
+    held_steps, steps = int(round(settle / step)), int(round(duration / step))
     # First held still at the start (the loop constraints' small stretch
     # under the static load settles in), then moved: its times from −settle.
     if euler:
-        times = [(k - held) * step for k in range(held + steps)]
+        times = [(k - held_steps) * step for k in range(held_steps + steps)]
     else:
-        times = [(k - 2 * held) * step / 2 for k in range(2 * (held + steps) + 1)]
+        times = [(k - 2 * held_steps) * step / 2 for k in range(2 * (held_steps + steps) + 1)]
 
     def state(t):
         q, qd, qdd = inputs(t)
@@ -459,15 +739,14 @@ def in_time(stem, euler=False, duration=1.0, settle=0.1):
     answer = pkm("dynamics", path, "--states", str(states_file))
     # Follow the exported branch by continuity of the joint values.
     names = [a[0] for a in ex.actuators]
-    to_si = np.array([1 / a[2] for a in ex.actuators])
+    to_si = np.array([1 / a[3] for a in ex.actuators])
     previous = None
     plan, ours, control, closure = [], [], [], 0.0
     for k, state in enumerate(answer["states"]):
         ok = [b for b in state.get("branches", []) if b["ok"]]
         assert ok, f"{stem}: no dynamics at t = {times[k]}: {state}"
         if previous is None:
-            signs = ["-" if ex.info["branch"] >> i & 1 else "+" for i in range(len(ok[0]["signs"]))]
-            pick = next(b for b in ok if b["signs"] == signs)
+            pick = next(b for b in ok if b["signs"] == ex.info["signs"])
         else:
             pick = min(ok, key=lambda b: ex.distance(ex.state(b["motion"])[0], previous))
         qva = ex.state(pick["motion"])
@@ -480,11 +759,12 @@ def in_time(stem, euler=False, duration=1.0, settle=0.1):
         closure = max(closure, gap)
     assert closure < 1e-9, f"{stem}: the trajectory does not close MuJoCo's loops ({closure:e})"
     peak = np.abs(np.array(ours)).max()
-    servo, stray = simulate(ex, plan, ours, held, step, euler)
-    servo_control, stray_control = simulate(ex, plan, control, held, step, euler)
+    hz = SERVO_HZ[stem]
+    servo, stray = simulate(ex, plan, ours, held_steps, step, euler, hz)
+    servo_control, stray_control = simulate(ex, plan, control, held_steps, step, euler, hz)
     share, share_control = np.abs(servo).max() / peak, np.abs(servo_control).max() / peak
     same = np.abs(servo - servo_control).max() / peak
-    how = f"{'semi-implicit Euler' if euler else 'RK4'}, {steps} steps of {step} s after {held} held"
+    how = f"{'semi-implicit Euler' if euler else 'RK4'}, {steps} steps of {step} s after {held_steps} held, servo {hz} Hz"
     print(
         f"(b) {stem}: {how}; the servo's largest force is {share:.3e} of the motors' largest with pkm's "
         f"forces, {share_control:.3e} with MuJoCo's (they differ by {same:.1e}); the inputs stray at most "
@@ -500,14 +780,29 @@ def in_time(stem, euler=False, duration=1.0, settle=0.1):
 
 def main():
     rng = np.random.default_rng(12)
-    # Arguments: mechanisms to check (all by default), `--exact` or `--in-time`
-    # for one part, `--euler` for (b) by mj_step's semi-implicit Euler.
+    # Arguments: mechanisms for (a) and (b) (all by default), `--held`,
+    # `--exact` or `--in-time` for one part, `--euler` for (b) by mj_step's
+    # semi-implicit Euler.
     args = sys.argv[1:]
-    stems = [a for a in args if not a.startswith("--")] or ["four_bar", "slider_crank", "seed003_punch", "seed000_a"]
-    for stem in stems if "--in-time" not in args else []:
-        exact(stem, rng)
-    for stem in stems if "--exact" not in args else []:
-        in_time(stem, euler="--euler" in args)
+    stems = [a for a in args if not a.startswith("--")]
+    parts = [a for a in args if a in ("--held", "--exact", "--in-time")] or ["--held", "--exact", "--in-time"]
+    began = time.time()
+    exported = every_example() if "--held" in parts or "--exact" in parts else []
+    print(f"    ({time.time() - began:.1f} s)")
+    if "--exact" in parts:
+        began = time.time()
+        for name, path, info in exported:
+            # pkm dynamics takes no spherical joint yet (issue 29, item 4).
+            spherical = any(j["type"] == "S" for j in pkm("analyze", path)["joints"])
+            if (stems and name not in stems) or spherical:
+                continue
+            exact(name, path, rng, info=info)
+        print(f"    ({time.time() - began:.1f} s)")
+    if "--in-time" in parts:
+        began = time.time()
+        for stem in stems or ["four_bar", "slider_crank", "seed003_punch", "seed000_a"]:
+            in_time(stem, euler="--euler" in args)
+        print(f"    ({time.time() - began:.1f} s)")
     print("pkm agrees with MuJoCo")
 
 
