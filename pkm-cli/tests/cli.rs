@@ -946,6 +946,29 @@ fn dynamics_states_fail_when_none_answers() {
     );
 }
 
+/// Issue 29, item 4: `pkm dynamics rssr.pkm --q=0.5` (with masses on its
+/// three links) failed "expected 8 joint values, got 4" (rsur: 7, 5)
+/// although `pkm fk` solves both branches: every branch fk solves now has
+/// its dynamics, a spherical joint's reaction a force without a moment,
+/// its value, rate and acceleration three numbers each.
+#[test]
+fn dynamics_with_spherical_joints() {
+    for (file, branches) in [("examples/mechanisms/rssr.pkm", 2), ("examples/mechanisms/rsur.pkm", 4)] {
+        let (_, d) = branches_as_fk(&[file, "--q=0.5", "--rates=1", "--accels=2"]);
+        assert_eq!(d.len(), branches, "{file}");
+        for b in &d {
+            assert_eq!(b["ok"], true, "{file}: {b}");
+            let s1 = &b["reactions"]["S1"];
+            let force = (0..3).map(|k| num(&s1["force"][k]).abs()).fold(0.0, f64::max);
+            let moment = (0..3).map(|k| num(&s1["moment"][k]).abs()).fold(0.0, f64::max);
+            assert!(force > 0.0 && moment < 1e-9 * force * 200.0, "{file}: {s1}");
+            for part in ["values", "rates", "accelerations"] {
+                assert_eq!(b["motion"][part]["S1"].as_array().map(Vec::len), Some(3), "{file}: {b}");
+            }
+        }
+    }
+}
+
 const RPS_3: &str = "examples/mechanisms/rps_3.pkm";
 
 /// `pkm stiffness` on seed 004's 3-RPS at home (Z_A = 75 mm, level): the

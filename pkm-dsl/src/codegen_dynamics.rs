@@ -96,6 +96,8 @@ pub(super) struct Traced {
     balances: Vec<Balance>,
     /// Bodies whose mass properties come through the parameters.
     bodies: Vec<Body>,
+    /// Bodies and loads on S–S links, checked against the idle spin.
+    spins: Vec<Spin>,
     /// The mechanism's size: moments are solved over it.
     size: Term,
     /// The file's length unit in metres: results come back to N and N·L by it.
@@ -109,6 +111,43 @@ struct Terms {
     list: Vec<Sym>,
     index: std::collections::HashMap<Sym, usize>,
     bodies: Vec<Body>,
+    spins: Vec<Spin>,
+}
+
+/// A body or a load on an S–S link, checked at run time not to depend on
+/// the link's idle spin (`mass_properties::idle_spin_problem` and
+/// `idle_spin_load_problem`): the link's name, the line's point and unit
+/// direction (link frame), and the body's centroid and inertia (row-major)
+/// or the load's point and moment.
+enum Spin {
+    Body(String, [Term; 3], [Term; 3], [Term; 3], [Term; 9]),
+    Load(String, [Term; 3], [Term; 3], [Term; 3], [Term; 3]),
+}
+
+/// The line an S–S link turns freely about, in its frame: the first ball's
+/// centre and the unit direction to the second's, as
+/// `pkm_runtime::mass_properties::idle_spin_line` takes it from the model.
+fn idle_spin_line(g: &Geometry<Sym>, link: usize) -> Option<([Sym; 3], [Sym; 3])> {
+    let mut centres = Vec::new();
+    for jg in g.joints.iter().filter(|j| j.links.contains(&link)) {
+        if jg.kind != JointType::S || jg.links[0] == jg.links[1] {
+            return None;
+        }
+        centres.push(jg.places[usize::from(jg.links[1] == link)].at());
+    }
+    let [a, b] = centres[..] else { return None };
+    let d: [Sym; 3] = std::array::from_fn(|i| b[i] - a[i]);
+    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    Some((a, d.map(|x| x / n)))
+}
+
+/// An inertia without its moment about the unit `axis`: `I − (âᵀIâ) ââᵀ`
+/// (`pkm_runtime::mass_properties::without_axial`).
+fn without_axial(inertia: &[[Sym; 3]; 3], axis: &[Sym; 3]) -> [[Sym; 3]; 3] {
+    let dot = |a: &[Sym; 3], b: &[Sym; 3]| (0..3).fold(Sym::c(0.0), |s, i| s + a[i] * b[i]);
+    let ia: [Sym; 3] = std::array::from_fn(|i| dot(&inertia[i], axis));
+    let along = dot(axis, &ia);
+    std::array::from_fn(|i| std::array::from_fn(|j| inertia[i][j] - axis[i] * axis[j] * along))
 }
 
 impl Terms {
@@ -377,7 +416,24 @@ fn demands(
     let mut demand: Vec<Vec<Sym>> = vec![vec![Sym::c(0.0); w.d]; m.links.len()];
     for body in &ml.masses {
         let mass = sym(&body.mass_expr);
-        let inertia = inertia_of(&body.inertia, kg);
+        let mut inertia = inertia_of(&body.inertia, kg);
+        let name = &m.links[body.link].name;
+        // An S–S link's idle spin does no work: its moment about its line
+        // dropped, as `Loading::idle_spins_dropped` drops it.
+        if let Some((point, axis)) = idle_spin_line(g, body.link) {
+            let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
+            let declared = inertia_of(&body.inertia, Sym::c(1.0));
+            let row_major = std::array::from_fn(|k| terms.of(declared[k / 3][k % 3]));
+            let check = Spin::Body(
+                name.clone(),
+                all(point, terms),
+                all(axis, terms),
+                all(sym3(&body.centroid), terms),
+                row_major,
+            );
+            terms.spins.push(check);
+            inertia = without_axial(&inertia, &axis);
+        }
         let (f, mo) = body_demand(&b.poses[body.link], mass * kg, sym3(&body.centroid), &inertia, gravity);
         for (x, y) in demand[body.link].iter_mut().zip(w.numbers(f, mo)) {
             *x = *x + y;
@@ -436,6 +492,17 @@ fn demands(
             Some(point) => g.local(point, load.link),
             None => [Sym::c(0.0); 3],
         };
+        if let Some((point, axis)) = idle_spin_line(g, load.link) {
+            let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
+            let check = Spin::Load(
+                m.links[load.link].name.clone(),
+                all(point, terms),
+                all(axis, terms),
+                all(at, terms),
+                all(sym3(&load.moment), terms),
+            );
+            terms.spins.push(check);
+        }
         let p = b.poses[load.link].apply(at);
         let f = sym3(&load.force).map(|x| x * per_metre);
         let mo = sym3(&load.moment).map(|x| x * per_metre);
@@ -682,6 +749,7 @@ pub(super) fn trace(
     Ok(Traced {
         terms: terms.list,
         bodies: terms.bodies,
+        spins: terms.spins,
         d,
         skcs,
         place,
@@ -717,7 +785,35 @@ pub(super) fn functions(
         let (mass, moments) = (term(mass), moments.iter().map(term));
         quote! {
             if let ::core::option::Option::Some(problem) = #rt::mass_properties::body_problem(#mass, &[#(#moments),*]) {
-                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: #name, problem });
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: ::std::borrow::Cow::Borrowed(#name), problem });
+            }
+        }
+    });
+    let spin_checks = t.spins.iter().map(|spin| {
+        let v3 = |x: &[Term; 3]| {
+            let [a, b, c] = x.each_ref().map(term);
+            quote! { &#rt::nalgebra::Vector3::new(#a, #b, #c) }
+        };
+        let (name, call) = match spin {
+            Spin::Body(name, point, axis, centroid, inertia) => {
+                let (point, axis, centroid) = (v3(point), v3(axis), v3(centroid));
+                let inertia = inertia.iter().map(term);
+                (
+                    name,
+                    quote! { #rt::mass_properties::idle_spin_problem(#centroid, &#rt::nalgebra::Matrix3::new(#(#inertia),*), #point, #axis, size) },
+                )
+            }
+            Spin::Load(name, point, axis, at, moment) => {
+                let (point, axis, at, moment) = (v3(point), v3(axis), v3(at), v3(moment));
+                (
+                    name,
+                    quote! { #rt::mass_properties::idle_spin_load_problem(#at, #moment, #point, #axis, size) },
+                )
+            }
+        };
+        quote! {
+            if let ::core::option::Option::Some(problem) = #call {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: ::std::borrow::Cow::Borrowed(#name), problem });
             }
         }
     });
@@ -772,6 +868,7 @@ pub(super) fn functions(
                 return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
             }
             let size = #size;
+            #(#spin_checks)*
             // At rest the forces lose digits more slowly than in motion.
             let moving = rates.iter().chain(accelerations.iter()).any(|v| *v != 0.0);
             let mut conditioning = [1.0f64; #n_skcs];
@@ -861,6 +958,7 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
     };
     let joints = &s.joints;
     let undetermined = s.undetermined;
+    let unknowns = s.joints.len() * t.d;
     // Where the SKC reduces to its cut joints, the reduced solve has set
     // its kinematic conditioning; else the whole system's is.
     let kinematic = if s.reduction.is_some() {
@@ -885,7 +983,7 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
             v_t: v_t.as_slice(),
         };
         let mut x = [0.0f64; #n];
-        let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #undetermined, &actuated, size, &mut x)?;
+        let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #unknowns, #undetermined, &actuated, size, &mut x)?;
         #kinematic
         undetermined[#k] = solved.undetermined;
         x

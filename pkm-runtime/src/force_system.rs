@@ -121,8 +121,11 @@ pub fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
 }
 
 /// The minimum-norm least-squares solution `x` of `A x = b` from `A`'s
-/// decomposition, SKC `skc` (joints `joints`, for errors) of which the
-/// topology leaves `undetermined` components free. `actuated` holds one row
+/// decomposition, SKC `skc` (joints `joints`, for errors) of `unknowns`
+/// reaction components (A's columns past them are zero padding), of which
+/// the topology leaves `undetermined` free: A's expected rank is
+/// `unknowns − undetermined` (rows past it, as an S–S link's moment about
+/// its line, are consistency conditions the right-hand side meets). `actuated` holds one row
 /// of `n` numbers per actuator twist (its power coefficients against the
 /// unknowns, zero elsewhere): a null-space direction that moves one by more
 /// than `1e-9·size` means statics cannot tell the actuator's force.
@@ -136,6 +139,7 @@ pub fn min_norm(
     b: &[f64],
     skc: usize,
     joints: &[usize],
+    unknowns: usize,
     undetermined: usize,
     actuated: &[f64],
     size: f64,
@@ -144,7 +148,7 @@ pub fn min_norm(
     let n = d.n;
     let s = d.singular_values;
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
-    let conditioning = conditioning_of(s, n.saturating_sub(undetermined));
+    let conditioning = conditioning_of(s, unknowns.min(n).saturating_sub(undetermined));
     if conditioning.is_nan() || conditioning < FORCE_SINGULAR {
         return Err(DynamicsError::ForceSingular {
             skc,
@@ -178,7 +182,7 @@ pub fn min_norm(
     }
     Ok(Solved {
         conditioning,
-        undetermined: n - rank,
+        undetermined: unknowns.min(n).saturating_sub(rank),
     })
 }
 
@@ -478,7 +482,7 @@ mod tests {
             v_t: v_t.as_slice(),
         };
         let mut x = vec![0.0; n];
-        let s = min_norm(&d, b, 0, &[0, 1], undetermined, actuated, 1.0, &mut x)?;
+        let s = min_norm(&d, b, 0, &[0, 1], n, undetermined, actuated, 1.0, &mut x)?;
         Ok((x, s))
     }
 

@@ -101,7 +101,7 @@ pub enum DynamicsError {
     /// body's.
     MassProperties {
         /// The link (or body) it belongs to.
-        body: &'static str,
+        body: std::borrow::Cow<'static, str>,
         /// What is wrong with it.
         problem: String,
     },
@@ -261,6 +261,13 @@ pub fn inverse_dynamics(
     check_parts(model, skcs)?;
     let size = crate::kinematics::model_scale(model);
     closes(model, values, size)?;
+    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`).
+    let loading = &*loading
+        .idle_spins_dropped(model)
+        .map_err(|(link, problem)| DynamicsError::MassProperties {
+            body: model.links[link].clone().into(),
+            problem,
+        })?;
     let loops = velocity::loops(model, values)?;
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     // Moments and moment rows in units of the mechanism's size.
@@ -377,6 +384,7 @@ pub fn inverse_dynamics(
             rhs.as_slice(),
             k,
             &skc.joints,
+            n,
             skc.undetermined,
             &actuated,
             size,

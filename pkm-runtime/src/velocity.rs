@@ -219,6 +219,15 @@ pub enum VelocityError {
         /// The joint named.
         joint: usize,
     },
+    /// A link that turns freely about its S–S line carries a body or a
+    /// load that would make the forces depend on that turn
+    /// ([`crate::mass_properties::Loading::idle_spins_dropped`]).
+    IdleSpin {
+        /// The link.
+        link: String,
+        /// What is wrong.
+        problem: String,
+    },
 }
 
 impl fmt::Display for VelocityError {
@@ -230,6 +239,7 @@ impl fmt::Display for VelocityError {
                 f,
                 "output singularity: the passive joints move with the inputs held (σ_min/σ_max = {sigma:e})"
             ),
+            VelocityError::IdleSpin { link, problem } => write!(f, "link `{link}`: {problem}"),
             VelocityError::NotABar { joint } => {
                 write!(
                     f,

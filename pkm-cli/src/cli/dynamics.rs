@@ -118,11 +118,12 @@ impl Setup {
                 // As `pkm fk` writes them.
                 let signs = sign_text(&signs);
                 let refused = |why: String| json!({ "signs": signs, "ok": false, "reason": why });
-                let solution = match solution {
-                    Ok(s) => s,
+                // In the model's layout: a spherical joint's three values.
+                let values = match solution {
+                    Ok(s) => s.model_values(model),
                     Err(e) => return refused(pkm_runtime::consistency::name_given(e, &names).to_string()),
                 };
-                match inverse_dynamics(model, &self.loading, &self.skcs, &solution.values, &given[1], &given[2]) {
+                match inverse_dynamics(model, &self.loading, &self.skcs, &values, &given[1], &given[2]) {
                     Ok(d) => {
                         let actuators: Map<String, Value> = names
                             .iter()
@@ -148,7 +149,7 @@ impl Setup {
                             "reactions": reactions,
                             "undetermined": d.undetermined,
                             "conditioning": d.conditioning,
-                            "motion": self.motion(r, &solution.values, given),
+                            "motion": self.motion(r, &values, given),
                         })
                     }
                     Err(e) => refused(e.describe(&joint_name)),
