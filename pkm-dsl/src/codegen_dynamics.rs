@@ -1088,10 +1088,18 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
         });
         quote! {
             #prelude
-            let kinematic = #rt::force_system::conditioning_of(g.singular_values().as_slice(), #m);
+            let lu = g.full_piv_lu();
+            // The bound from the LU where it is above the least, else σ_m/σ_1.
+            let bound = lu.try_inverse().map_or(0.0, |inverse| {
+                #rt::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
+            });
+            let kinematic = if bound >= #rt::force_system::LEAST_IN_MOTION {
+                bound
+            } else {
+                #rt::force_system::conditioning_of(g.singular_values().as_slice(), #m)
+            };
             conditioning[#k] = kinematic;
             #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
-            let lu = g.full_piv_lu();
             let factor = lu.u();
             let pivots: [f64; #m] = ::core::array::from_fn(|i| factor[(i, i)]);
             if #rt::force_system::pivot_ratio(&pivots) > #rt::force_system::LU_TRUSTED {
@@ -1253,9 +1261,11 @@ pub(super) fn items(ident: &proc_macro2::Ident, vis: &syn::Visibility, d: &Direc
             /// Per SKC (position solution's order), its kinematic
             /// conditioning, near 0 at a change point: σ_r/σ_1 of its
             /// passive rows on its cut joints' reactions (the transpose of
-            /// its passive velocity equations), as the runtime's Newton–Euler
-            /// reports it; below 6.06e-4 in motion (1.5e-5 at rest) the
-            /// answer is `DynamicsError::NearChangePoint` instead.
+            /// its passive velocity equations; for a determined SKC where
+            /// the lower bound 1/(‖G‖_F ‖G⁻¹‖_F) is 6.06e-4 or more, that
+            /// bound), as the runtime's Newton–Euler reports it; below
+            /// 6.06e-4 in motion (1.5e-5 at rest) the answer is
+            /// `DynamicsError::NearChangePoint` instead.
             pub conditioning: [f64; #n_skcs],
             /// Per SKC, the reaction components statics leaves undetermined.
             pub undetermined: [usize; #n_skcs],

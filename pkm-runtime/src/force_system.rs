@@ -298,6 +298,22 @@ pub fn tree(ends: &[[usize; 2]], links: usize, d: usize, passive: usize) -> Opti
     Some(Tree { tree, coef, cuts })
 }
 
+/// `1/(‖G‖_F ‖G⁻¹‖_F)` of a square `G` and its inverse (any layout): a
+/// lower bound of σ_m/σ_1 within a factor m (`σ_1 ≤ ‖G‖_F ≤ √m σ_1`, and
+/// likewise for `G⁻¹`), found from an LU where the exact one needs an SVD.
+/// A determined SKC whose bound is [`LEAST_IN_MOTION`] or more keeps six
+/// digits however it moves: its kinematic conditioning is reported as this
+/// bound, in both paths; below it, as σ_m/σ_1.
+pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
+    let frobenius = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let bound = 1.0 / (frobenius(g) * frobenius(inverse));
+    if bound.is_finite() {
+        bound
+    } else {
+        0.0
+    }
+}
+
 /// Scales each row of the `m × m` matrix `g` (column-major, as nalgebra
 /// stores it) to unit length, and the same entry of `rhs` (if it has `m`)
 /// by the same factor; a zero row stays zero. The kinematic conditioning
@@ -620,6 +636,14 @@ mod tests {
         let mut zero = [0.0; 4];
         unit_rows(&mut zero, 2, &mut []);
         assert_eq!(zero, [0.0; 4]);
+    }
+
+    /// diag(2, 1): σ_2/σ_1 = 1/2; the bound 1/(√5 · √(5/4)) = 2/5.
+    #[test]
+    fn a_bound_of_the_conditioning() {
+        let bound = conditioning_bound(&[2.0, 0.0, 0.0, 1.0], &[0.5, 0.0, 0.0, 1.0]);
+        assert!((bound - 0.4).abs() < 1e-15, "{bound}");
+        assert_eq!(conditioning_bound(&[1.0], &[f64::INFINITY]), 0.0);
     }
 
     #[test]

@@ -75,7 +75,9 @@ pub struct Reactions {
     pub undetermined: Vec<usize>,
     /// Per SKC, its kinematic conditioning: σ_r/σ_1 of its passive rows on
     /// its cut joints' reactions, r their rank (of its whole block where it
-    /// does not reduce to its cut joints).
+    /// does not reduce to its cut joints; for a determined SKC far from a
+    /// change point, the lower bound
+    /// [`crate::force_system::conditioning_bound`]).
     pub conditioning: Vec<f64>,
     /// The largest residual of a link's balance, relative to its largest term.
     pub balance: f64,
@@ -494,8 +496,10 @@ fn passive_rows(model: &Model, loops: &velocity::Loops, skc: &SkcParts, size: f6
 /// SKC `skc`'s kinematic conditioning: σ_r/σ_1 of its passive rows acting
 /// on its cut joints' reactions (`G`, [`crate::force_system::tree`]: the
 /// transpose of its passive velocity equations), each row scaled to unit
-/// length, r their rank less what statics leaves undetermined; `None`
-/// where it does not reduce.
+/// length, r their rank less what statics leaves undetermined (for a
+/// determined SKC whose bound from an LU is above the least,
+/// that bound: [`crate::force_system::conditioning_bound`]); `None` where
+/// it does not reduce.
 fn kinematic_conditioning(model: &Model, skc: &SkcParts, passive: &[PassiveRow], d: usize) -> Option<f64> {
     let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(skc.links.len());
     let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| model.joints[j].links.map(node)).collect();
@@ -507,6 +511,15 @@ fn kinematic_conditioning(model: &Model, skc: &SkcParts, passive: &[PassiveRow],
         g[(row, column)] = factor * passive[row].coefficients[c];
     }
     crate::force_system::unit_rows(g.as_mut_slice(), m, &mut []);
+    // A determined SKC far from a change point: the bound from an LU serves.
+    if skc.undetermined == 0 && passive.len() == m {
+        if let Some(inverse) = g.clone().full_piv_lu().try_inverse() {
+            let bound = crate::force_system::conditioning_bound(g.as_slice(), inverse.as_slice());
+            if bound >= crate::force_system::LEAST_IN_MOTION {
+                return Some(bound);
+            }
+        }
+    }
     let s = g.singular_values();
     Some(crate::force_system::conditioning_of(
         s.as_slice(),
