@@ -289,6 +289,43 @@ fn capabilities_met(c: &pkm_dsl::Compiled) -> Result<(), pkm_dsl::Diagnostics> {
     Ok(())
 }
 
+/// `pkm dynamics --states`: every state written as it is solved; the exit
+/// code says whether any line was not a state (input), or no state had an
+/// answer (unreachable), or reading stopped (io), after the list is out.
+fn dynamics_states(json: bool, r: &Request, path: &Path) -> ExitCode {
+    let mut out = std::io::stdout().lock();
+    let (summary, interrupted) = match cli::dynamics::dynamics_states(r, path, &mut out, !json) {
+        Ok(done) => done,
+        Err(f) => return fail(json, &f),
+    };
+    let failure = interrupted.or_else(|| {
+        if summary.malformed > 0 {
+            Some(Failure::input(format!(
+                "{} of {} lines are not states (their `error` says why)",
+                summary.malformed, summary.states
+            )))
+        } else if summary.states > 0 && summary.answered == 0 {
+            Some(Failure::new(
+                Kind::Unreachable,
+                format!(
+                    "none of the {} states has an answer (each one's `error` says why)",
+                    summary.states
+                ),
+            ))
+        } else {
+            None
+        }
+    });
+    match failure {
+        // The list is out: the failure goes to stderr only.
+        Some(f) => {
+            cli::failure::write_err(&format!("error: {}\n", f.message));
+            ExitCode::from(f.kind.exit_code())
+        }
+        None => ExitCode::SUCCESS,
+    }
+}
+
 /// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
 /// printed; with `--json` an object with the XML (or the path) and how the
 /// model maps to the mechanism.
@@ -404,10 +441,12 @@ fn main() -> ExitCode {
             accels,
             params,
             degrees,
-        } => solve(json, &file, &params, degrees, |r| match &states {
-            Some(path) => cli::dynamics::dynamics_states(r, path),
-            None => cli::dynamics::dynamics(r, &q, &rates, &accels),
-        }),
+        } => match &states {
+            Some(path) => with_request(json, &file, &params, degrees, |r| dynamics_states(json, r, path)),
+            None => solve(json, &file, &params, degrees, |r| {
+                cli::dynamics::dynamics(r, &q, &rates, &accels)
+            }),
+        },
         Command::Export {
             file,
             mjcf: _,

@@ -975,11 +975,161 @@ fn dynamics_at_many_states() {
         let one = run_json(&[&["dynamics", punch][..], &args[..]].concat());
         assert_eq!(state["branches"], one["branches"]);
     }
-    let motion = &all[0]["branches"][0]["motion"];
+    let first_ok = all[0]["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["ok"] == true)
+        .unwrap();
+    let motion = &first_ok["motion"];
+    assert_eq!(all[0]["line"], 2);
     assert_eq!(motion["values"]["A"], 0.5);
     assert_eq!(motion["rates"]["A"], 1.0);
     assert_eq!(motion["accelerations"]["A"], 2.0);
     assert!(all[2]["error"].as_str().unwrap().contains("is NaN"), "{}", all[2]);
+}
+
+/// Every branch of `pkm fk` and `pkm dynamics` at one input, side by side:
+/// the same count, order and signs; where fk has no position, dynamics
+/// gives fk's reason. `args`: the file and `--q`, then dynamics' own.
+fn branches_as_fk(args: &[&str]) -> (Vec<Value>, Vec<Value>) {
+    let fk = run_json(&[&["fk"][..], &args[..2]].concat());
+    let dynamics = run_json(&[&["dynamics"][..], args].concat());
+    let (f, d) = (
+        fk["branches"].as_array().unwrap().clone(),
+        dynamics["branches"].as_array().unwrap().clone(),
+    );
+    assert_eq!(f.len(), d.len(), "{args:?}");
+    for (a, b) in f.iter().zip(&d) {
+        assert_eq!(a["signs"], b["signs"], "{args:?}");
+        if a["ok"] == false {
+            assert_eq!(b["ok"], false, "{args:?}: {b}");
+            assert_eq!(a["reason"], b["reason"], "{args:?}");
+        }
+        assert!(b["ok"] == true || b["reason"].is_string(), "{b}");
+    }
+    (f, d)
+}
+
+/// Issue 29, item 1: `pkm dynamics seed003_punch.pkm --q=2.6968633537
+/// --rates=1` (1e-5° past the change point where F passes through H) gave
+/// branch − − − ok with a crank torque of 2670.10 N·mm, exactly −8.914887
+/// (a 60-digit Newton–Euler: tests/fixtures/seed003_change_points.csv).
+/// Now the two branches where F's roots nearly meet say why they have no
+/// answer, and the two others answer.
+#[test]
+fn dynamics_next_to_a_change_point_is_refused_saying_why() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    let (_, d) = branches_as_fk(&[punch, "--q=2.6968633537", "--rates=1"]);
+    let by_signs = |s: &str| {
+        d.iter()
+            .find(|b| {
+                b["signs"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_str().unwrap())
+                    .collect::<String>()
+                    == s
+            })
+            .unwrap()
+    };
+    for signs in ["--+", "---"] {
+        let b = by_signs(signs);
+        assert_eq!(b["ok"], false, "{b}");
+        let why = b["reason"].as_str().unwrap();
+        for part in [
+            "SKC 3 (joints G.2, F, P2) is next to a change point",
+            "below 6.06e-4",
+            "fewer than 6 digits",
+        ] {
+            assert!(why.contains(part), "{why}");
+        }
+    }
+    for signs in ["-++", "-+-"] {
+        assert_eq!(by_signs(signs)["ok"], true);
+    }
+}
+
+/// Issue 29, item 2: every branch of the plan, in fk's order with fk's
+/// signs, ok or with its reason: 1e-6° from the change point (where fk
+/// has the paper's branch with `tangent` and its twin as a double root),
+/// and at q = 1e308.
+#[test]
+fn dynamics_lists_every_branch_as_fk_does() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    let beside = format!("--q={}", 2.6968631790545614f64 + 1e-6f64.to_radians());
+    for args in [
+        vec![punch, beside.as_str()],
+        vec![punch, beside.as_str(), "--rates=1"],
+        vec![punch, "--q=1e308"],
+    ] {
+        let (f, d) = branches_as_fk(&args);
+        assert_eq!(d.len(), 8, "{args:?}");
+        let ok = |l: &[Value]| l.iter().filter(|b| b["ok"] == true).count();
+        assert!(ok(&d) >= 1 && ok(&d) <= ok(&f), "{args:?}");
+    }
+}
+
+/// Issue 29, item 2: `--states` exits non-zero when no state has an
+/// answer, after listing each one's error; and when a line is not a state.
+#[test]
+fn dynamics_states_fail_when_none_answers() {
+    let punch = "examples/mechanisms/seed003_punch.pkm";
+    // The crank's pivot 2 m up: the loop D–G–H closes nowhere.
+    let states = scratch_file("unreachable.states", "0.5, 1\n1.5\n");
+    for json in [true, false] {
+        let mut args = vec!["dynamics", punch, "--param", "n=2000", "--states", &states];
+        if json {
+            args.push("--json");
+        }
+        let out = pkm(&args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let all = v["states"].as_array().unwrap();
+        assert_eq!(all.len(), 2);
+        assert!(
+            all.iter().all(|s| s["error"].as_str().unwrap().contains("no branch")),
+            "{v}"
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("none of the 2 states has an answer"), "{err}");
+    }
+    let states = scratch_file("malformed.states", "0.5, 1\n1, 2, 3, 4\n");
+    let out = pkm(&["dynamics", punch, "--states", &states, "--json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["states"][0]["branches"].is_array(), "{v}");
+    assert!(
+        v["states"][1]["error"]
+            .as_str()
+            .unwrap()
+            .contains(":2: expected 1, 2 or 3 numbers"),
+        "{v}"
+    );
+}
+
+/// Issue 29, item 4: `pkm dynamics rssr.pkm --q=0.5` (with masses on its
+/// three links) failed "expected 8 joint values, got 4" (rsur: 7, 5)
+/// although `pkm fk` solves both branches: every branch fk solves now has
+/// its dynamics, a spherical joint's reaction a force without a moment,
+/// its value, rate and acceleration three numbers each.
+#[test]
+fn dynamics_with_spherical_joints() {
+    for (file, branches) in [("examples/mechanisms/rssr.pkm", 2), ("examples/mechanisms/rsur.pkm", 4)] {
+        let (_, d) = branches_as_fk(&[file, "--q=0.5", "--rates=1", "--accels=2"]);
+        assert_eq!(d.len(), branches, "{file}");
+        for b in &d {
+            assert_eq!(b["ok"], true, "{file}: {b}");
+            let s1 = &b["reactions"]["S1"];
+            let force = (0..3).map(|k| num(&s1["force"][k]).abs()).fold(0.0, f64::max);
+            let moment = (0..3).map(|k| num(&s1["moment"][k]).abs()).fold(0.0, f64::max);
+            assert!(force > 0.0 && moment < 1e-9 * force * 200.0, "{file}: {s1}");
+            for part in ["values", "rates", "accelerations"] {
+                assert_eq!(b["motion"][part]["S1"].as_array().map(Vec::len), Some(3), "{file}: {b}");
+            }
+        }
+    }
 }
 
 const RPS_3: &str = "examples/mechanisms/rps_3.pkm";

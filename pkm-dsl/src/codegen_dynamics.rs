@@ -7,13 +7,15 @@
 //! (no loop-closure velocity equations are solved), its inertial wrench
 //! and the joints' unit twists follow, and each SKC's reaction equations
 //! are written out as entries of a fixed-size matrix. At run time the
-//! SKCs are solved in reverse order on the stack: a square system by LU
-//! while its pivots are far from singular, otherwise from the singular
-//! value decomposition of its matrix
-//! ([`pkm_runtime::force_system::min_norm`]): the minimum-norm reactions,
-//! the conditioning that flags a change point, the check that the
-//! undetermined part leaves the actuators alone. Every link's balance is
-//! verified.
+//! SKCs are solved in reverse order on the stack, each reduced to its cut
+//! joints' reactions: the reduced matrix's singular values give the
+//! kinematic conditioning, which refuses an answer next to a change point
+//! that would keep fewer than six digits
+//! ([`pkm_runtime::force_system::near_change_point`]); then a determined
+//! system is solved by LU, an overconstrained one by the minimum-norm
+//! solve of its reduction, and the whole system's singular value
+//! decomposition ([`pkm_runtime::force_system::min_norm`]) is the way out
+//! where neither serves. Every link's balance is verified.
 
 use super::{sym, sym3, Branch, Direction};
 use crate::analysis::Analysis;
@@ -94,6 +96,8 @@ pub(super) struct Traced {
     balances: Vec<Balance>,
     /// Bodies whose mass properties come through the parameters.
     bodies: Vec<Body>,
+    /// Bodies and loads on S–S links, checked against the idle spin.
+    spins: Vec<Spin>,
     /// The mechanism's size: moments are solved over it.
     size: Term,
     /// The file's length unit in metres: results come back to N and N·L by it.
@@ -107,6 +111,43 @@ struct Terms {
     list: Vec<Sym>,
     index: std::collections::HashMap<Sym, usize>,
     bodies: Vec<Body>,
+    spins: Vec<Spin>,
+}
+
+/// A body or a load on an S–S link, checked at run time not to depend on
+/// the link's idle spin (`mass_properties::idle_spin_problem` and
+/// `idle_spin_load_problem`): the link's name, the line's point and unit
+/// direction (link frame), and the body's centroid and inertia (row-major)
+/// or the load's point and moment.
+enum Spin {
+    Body(String, [Term; 3], [Term; 3], [Term; 3], [Term; 9]),
+    Load(String, [Term; 3], [Term; 3], [Term; 3], [Term; 3]),
+}
+
+/// The line an S–S link turns freely about, in its frame: the first ball's
+/// centre and the unit direction to the second's, as
+/// `pkm_runtime::mass_properties::idle_spin_line` takes it from the model.
+fn idle_spin_line(g: &Geometry<Sym>, link: usize) -> Option<([Sym; 3], [Sym; 3])> {
+    let mut centres = Vec::new();
+    for jg in g.joints.iter().filter(|j| j.links.contains(&link)) {
+        if jg.kind != JointType::S || jg.links[0] == jg.links[1] {
+            return None;
+        }
+        centres.push(jg.places[usize::from(jg.links[1] == link)].at());
+    }
+    let [a, b] = centres[..] else { return None };
+    let d: [Sym; 3] = std::array::from_fn(|i| b[i] - a[i]);
+    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    Some((a, d.map(|x| x / n)))
+}
+
+/// An inertia without its moment about the unit `axis`: `I − (âᵀIâ) ââᵀ`
+/// (`pkm_runtime::mass_properties::without_axial`).
+fn without_axial(inertia: &[[Sym; 3]; 3], axis: &[Sym; 3]) -> [[Sym; 3]; 3] {
+    let dot = |a: &[Sym; 3], b: &[Sym; 3]| (0..3).fold(Sym::c(0.0), |s, i| s + a[i] * b[i]);
+    let ia: [Sym; 3] = std::array::from_fn(|i| dot(&inertia[i], axis));
+    let along = dot(axis, &ia);
+    std::array::from_fn(|i| std::array::from_fn(|j| inertia[i][j] - axis[i] * axis[j] * along))
 }
 
 impl Terms {
@@ -375,7 +416,24 @@ fn demands(
     let mut demand: Vec<Vec<Sym>> = vec![vec![Sym::c(0.0); w.d]; m.links.len()];
     for body in &ml.masses {
         let mass = sym(&body.mass_expr);
-        let inertia = inertia_of(&body.inertia, kg);
+        let mut inertia = inertia_of(&body.inertia, kg);
+        let name = &m.links[body.link].name;
+        // An S–S link's idle spin does no work: its moment about its line
+        // dropped, as `Loading::idle_spins_dropped` drops it.
+        if let Some((point, axis)) = idle_spin_line(g, body.link) {
+            let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
+            let declared = inertia_of(&body.inertia, Sym::c(1.0));
+            let row_major = std::array::from_fn(|k| terms.of(declared[k / 3][k % 3]));
+            let check = Spin::Body(
+                name.clone(),
+                all(point, terms),
+                all(axis, terms),
+                all(sym3(&body.centroid), terms),
+                row_major,
+            );
+            terms.spins.push(check);
+            inertia = without_axial(&inertia, &axis);
+        }
         let (f, mo) = body_demand(&b.poses[body.link], mass * kg, sym3(&body.centroid), &inertia, gravity);
         for (x, y) in demand[body.link].iter_mut().zip(w.numbers(f, mo)) {
             *x = *x + y;
@@ -434,6 +492,17 @@ fn demands(
             Some(point) => g.local(point, load.link),
             None => [Sym::c(0.0); 3],
         };
+        if let Some((point, axis)) = idle_spin_line(g, load.link) {
+            let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
+            let check = Spin::Load(
+                m.links[load.link].name.clone(),
+                all(point, terms),
+                all(axis, terms),
+                all(at, terms),
+                all(sym3(&load.moment), terms),
+            );
+            terms.spins.push(check);
+        }
         let p = b.poses[load.link].apply(at);
         let f = sym3(&load.force).map(|x| x * per_metre);
         let mo = sym3(&load.moment).map(|x| x * per_metre);
@@ -549,8 +618,10 @@ fn skc_system(
 }
 
 /// The reduction of an SKC's system to its cut joints ([`Reduction`]):
-/// a spanning tree of its links from the links it hangs on, breadth
-/// first. `None` where the passive rows outnumber the cut joints' unknowns.
+/// the runtime's spanning tree ([`pkm_runtime::force_system::tree`], which
+/// the runtime's Newton–Euler reads too), with `G`'s entries as terms.
+/// `None` where the tree does not reach every link or the passive rows
+/// outnumber the cut joints' unknowns.
 fn reduce(
     skc: &pkm_runtime::newton_euler::SkcParts,
     g: &Geometry<Sym>,
@@ -562,97 +633,20 @@ fn reduce(
     // Node of a link: its row block, or n_links for any link outside the SKC.
     let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(n_links);
     let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| g.joints[j].links.map(node)).collect();
-    let mut parent: Vec<Option<usize>> = vec![None; n_links];
-    let mut reached = vec![false; n_links + 1];
-    reached[n_links] = true;
-    let mut order = vec![n_links];
-    let mut tree_joint = vec![false; skc.joints.len()];
-    let mut at = 0;
-    while at < order.len() {
-        let here = order[at];
-        at += 1;
-        for (i, e) in ends.iter().enumerate() {
-            let other = if e[0] == here {
-                e[1]
-            } else if e[1] == here {
-                e[0]
-            } else {
-                continue;
-            };
-            if !reached[other] && !tree_joint[i] {
-                reached[other] = true;
-                parent[other] = Some(i);
-                tree_joint[i] = true;
-                order.push(other);
-            }
-        }
-    }
-    if reached.iter().any(|r| !r) {
-        return None;
-    }
-    let cuts: Vec<usize> = (0..skc.joints.len()).filter(|&i| !tree_joint[i]).collect();
-    if passive.len() > cuts.len() * d {
-        return None;
-    }
-    // How joint i acts on node e: +1 on its second link, −1 on its first.
-    let sign = |i: usize, e: usize| if ends[i][1] == e { 1.0 } else { -1.0 };
-    let mut tree = vec![None; skc.joints.len()];
-    let mut coef = vec![vec![0.0; cuts.len()]; skc.joints.len()];
-    for (i, &is_tree) in tree_joint.iter().enumerate() {
-        if !is_tree {
-            coef[i][cuts.iter().position(|&c| c == i).expect("a cut joint")] = 1.0;
-            continue;
-        }
-        // The child end and its subtree.
-        let child = if parent.get(ends[i][1]).copied().flatten() == Some(i) {
-            ends[i][1]
-        } else {
-            ends[i][0]
-        };
-        // A link is in the subtree if the way up from it passes the child.
-        let up = |l: usize| parent[l].map(|p| if ends[p][0] == l { ends[p][1] } else { ends[p][0] });
-        let subtree: Vec<usize> = (0..n_links)
-            .filter(|&l| {
-                let mut at = Some(l);
-                while let Some(here) = at.filter(|&h| h < n_links) {
-                    if here == child {
-                        return true;
-                    }
-                    at = up(here);
-                }
-                false
-            })
-            .collect();
-        let s = sign(i, child);
-        // s·x_i = Σ b over the subtree − Σ sign(c, end in it)·x_c over the cuts crossing it.
-        for (kk, &c) in cuts.iter().enumerate() {
-            let inside = ends[c].map(|e| subtree.contains(&e));
-            if inside[0] != inside[1] {
-                let end = if inside[0] { ends[c][0] } else { ends[c][1] };
-                coef[i][kk] = -s * sign(c, end);
-            }
-        }
-        tree[i] = Some((s, subtree));
-    }
-    let mut entries = Vec::new();
-    for (r, (i, p, _)) in passive.iter().enumerate() {
-        for (kk, cut) in coef[*i].iter().enumerate() {
-            if *cut == 0.0 {
-                continue;
-            }
-            for (cc, pc) in p.iter().enumerate() {
-                entries.push((r, kk * d + cc, terms.of(*pc * Sym::c(*cut))));
-            }
-        }
-    }
+    let tree = pkm_runtime::force_system::tree(&ends, n_links, d, passive.len())?;
+    let rows: Vec<usize> = passive.iter().map(|(i, _, _)| *i).collect();
+    let entries = tree
+        .g_entries(&rows, d)
+        .map(|(r, column, c, factor)| (r, column, terms.of(passive[r].1[c] * Sym::c(factor))))
+        .collect();
     let passive = passive
         .iter()
         .map(|(i, p, right)| (*i, p.iter().map(|x| terms.of(*x)).collect(), *right))
         .collect();
     Some(Reduction {
-        tree,
-        coef,
-        cuts,
+        tree: tree.tree,
+        coef: tree.coef,
+        cuts: tree.cuts,
         passive,
         g: entries,
     })
@@ -755,6 +749,7 @@ pub(super) fn trace(
     Ok(Traced {
         terms: terms.list,
         bodies: terms.bodies,
+        spins: terms.spins,
         d,
         skcs,
         place,
@@ -790,7 +785,35 @@ pub(super) fn functions(
         let (mass, moments) = (term(mass), moments.iter().map(term));
         quote! {
             if let ::core::option::Option::Some(problem) = #rt::mass_properties::body_problem(#mass, &[#(#moments),*]) {
-                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: #name, problem });
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: ::std::borrow::Cow::Borrowed(#name), problem });
+            }
+        }
+    });
+    let spin_checks = t.spins.iter().map(|spin| {
+        let v3 = |x: &[Term; 3]| {
+            let [a, b, c] = x.each_ref().map(term);
+            quote! { &#rt::nalgebra::Vector3::new(#a, #b, #c) }
+        };
+        let (name, call) = match spin {
+            Spin::Body(name, point, axis, centroid, inertia) => {
+                let (point, axis, centroid) = (v3(point), v3(axis), v3(centroid));
+                let inertia = inertia.iter().map(term);
+                (
+                    name,
+                    quote! { #rt::mass_properties::idle_spin_problem(#centroid, &#rt::nalgebra::Matrix3::new(#(#inertia),*), #point, #axis, size) },
+                )
+            }
+            Spin::Load(name, point, axis, at, moment) => {
+                let (point, axis, at, moment) = (v3(point), v3(axis), v3(at), v3(moment));
+                (
+                    name,
+                    quote! { #rt::mass_properties::idle_spin_load_problem(#at, #moment, #point, #axis, size) },
+                )
+            }
+        };
+        quote! {
+            if let ::core::option::Option::Some(problem) = #call {
+                return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::MassProperties { body: ::std::borrow::Cow::Borrowed(#name), problem });
             }
         }
     });
@@ -845,6 +868,9 @@ pub(super) fn functions(
                 return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
             }
             let size = #size;
+            #(#spin_checks)*
+            // At rest the forces lose digits more slowly than in motion.
+            let moving = rates.iter().chain(accelerations.iter()).any(|v| *v != 0.0);
             let mut conditioning = [1.0f64; #n_skcs];
             let mut undetermined = [0usize; #n_skcs];
             #(#solves)*
@@ -932,7 +958,20 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
     };
     let joints = &s.joints;
     let undetermined = s.undetermined;
-    let by_svd = quote! {
+    let unknowns = s.joints.len() * t.d;
+    // Where the SKC reduces to its cut joints, the reduced solve has set
+    // its kinematic conditioning; else the whole system's is.
+    let kinematic = if s.reduction.is_some() {
+        quote! {}
+    } else {
+        quote! {
+            #rt::force_system::near_change_point(solved.conditioning, moving, #k, &[#(#joints),*])?;
+            conditioning[#k] = solved.conditioning;
+        }
+    };
+    let full = quote! {
+        let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
+        #(#entries)*
         let svd = a.svd(true, true);
         let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
             return ::core::result::Result::Err(#rt::newton_euler::DynamicsError::NotFinite);
@@ -944,36 +983,12 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
             v_t: v_t.as_slice(),
         };
         let mut x = [0.0f64; #n];
-        let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #undetermined, &actuated, size, &mut x)?;
-        conditioning[#k] = solved.conditioning;
+        let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #unknowns, #undetermined, &actuated, size, &mut x)?;
+        #kinematic
         undetermined[#k] = solved.undetermined;
         x
     };
-    // A square system statics determines: LU first, the SVD only near a change point.
-    let solve = if undetermined == 0 && s.rows == s.joints.len() * t.d {
-        quote! {
-            let lu = a.full_piv_lu();
-            let factor = lu.u();
-            let pivots: [f64; #n] = ::core::array::from_fn(|i| factor[(i, i)]);
-            let estimate = #rt::force_system::pivot_ratio(&pivots);
-            match if estimate > #rt::force_system::LU_TRUSTED { lu.solve(&b) } else { ::core::option::Option::None } {
-                ::core::option::Option::Some(x) => {
-                    let _ = &actuated;
-                    conditioning[#k] = estimate;
-                    ::core::array::from_fn(|i| x[i])
-                }
-                ::core::option::Option::None => { #by_svd }
-            }
-        }
-    } else {
-        by_svd
-    };
     let reduced = s.reduction.as_ref().map(|r| reduced_solve(t, k, s, r));
-    let full = quote! {
-        let mut a = #rt::nalgebra::SMatrix::<f64, #n, #n>::zeros();
-        #(#entries)*
-        #solve
-    };
     let body = match reduced {
         Some(reduced) => quote! {
             'solve: {
@@ -1010,6 +1025,7 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
     let n = s.joints.len() * d;
     let m = r.cuts.len() * d;
     let link_rows = s.rows - r.passive.len();
+    let joints = &s.joints;
     // x0: a tree joint's subtree sums.
     let x0 = r
         .tree
@@ -1048,6 +1064,8 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
         #(#q)*
         let mut g = #rt::nalgebra::SMatrix::<f64, #m, #m>::zeros();
         #(#g)*
+        // Each passive row as a direction: the kinematic conditioning's.
+        #rt::force_system::unit_rows(g.as_mut_slice(), #m, q.as_mut_slice());
     };
     if s.undetermined == 0 && r.passive.len() == m {
         // x = x0 + C y.
@@ -1071,13 +1089,22 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
         quote! {
             #prelude
             let lu = g.full_piv_lu();
+            // The bound from the LU where it is above the least, else σ_m/σ_1.
+            let bound = lu.try_inverse().map_or(0.0, |inverse| {
+                #rt::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
+            });
+            let kinematic = if bound >= #rt::force_system::LEAST_IN_MOTION {
+                bound
+            } else {
+                #rt::force_system::conditioning_of(g.singular_values().as_slice(), #m)
+            };
+            conditioning[#k] = kinematic;
+            #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
             let factor = lu.u();
             let pivots: [f64; #m] = ::core::array::from_fn(|i| factor[(i, i)]);
-            let estimate = #rt::force_system::pivot_ratio(&pivots);
-            if estimate > #rt::force_system::LU_TRUSTED {
+            if #rt::force_system::pivot_ratio(&pivots) > #rt::force_system::LU_TRUSTED {
                 if let ::core::option::Option::Some(y) = lu.solve(&q) {
                     let _ = &actuated;
-                    conditioning[#k] = estimate;
                     let mut x = x0;
                     #(#add)*
                     break 'solve x;
@@ -1096,9 +1123,13 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
         }
         let c = c.iter().map(|v| lit(*v));
         let undetermined = s.undetermined;
+        let rank = m.saturating_sub(undetermined);
         quote! {
             #prelude
             let svd = g.svd(true, true);
+            let kinematic = #rt::force_system::conditioning_of(svd.singular_values.as_slice(), #rank);
+            conditioning[#k] = kinematic;
+            #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
             if let (::core::option::Option::Some(u), ::core::option::Option::Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) {
                 let decomposition = #rt::force_system::Decomposition {
                     n: #m,
@@ -1110,7 +1141,6 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
                 let reduced = #rt::force_system::Reduced { n: #n, m: #m, c: &C, x0: &x0 };
                 let mut x = [0.0f64; #n];
                 if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm(&decomposition, q.as_slice(), &reduced, #k, #undetermined, &actuated, size, &mut x)? {
-                    conditioning[#k] = solved.conditioning;
                     undetermined[#k] = solved.undetermined;
                     break 'solve x;
                 }
@@ -1228,10 +1258,14 @@ pub(super) fn items(ident: &proc_macro2::Ident, vis: &syn::Visibility, d: &Direc
             /// moment about its point that its first link exerts on its
             /// second, base axes (N and N·L).
             pub joints: [#rt::newton_euler::JointReaction; #n_joints],
-            /// Per SKC (position solution's order), the conditioning of its
-            /// determined part, near 0 at a change point: σ_r/σ_1 where it
-            /// is decomposed by SVD (overconstrained, or near a change
-            /// point), else the LU's smallest over largest pivot.
+            /// Per SKC (position solution's order), its kinematic
+            /// conditioning, near 0 at a change point: σ_r/σ_1 of its
+            /// passive rows on its cut joints' reactions (the transpose of
+            /// its passive velocity equations; for a determined SKC where
+            /// the lower bound 1/(‖G‖_F ‖G⁻¹‖_F) is 6.06e-4 or more, that
+            /// bound), as the runtime's Newton–Euler reports it; below
+            /// 6.06e-4 in motion (1.5e-5 at rest) the answer is
+            /// `DynamicsError::NearChangePoint` instead.
             pub conditioning: [f64; #n_skcs],
             /// Per SKC, the reaction components statics leaves undetermined.
             pub undetermined: [usize; #n_skcs],

@@ -1,11 +1,58 @@
 //! One SKC's reaction equations solved from the singular value
 //! decomposition of its (padded, square) matrix: the minimum-norm solution,
 //! the conditioning of the determined part, and the check that the
-//! undetermined part does not move an actuator's force. Newton–Euler
-//! ([`crate::newton_euler`]) and the generated inverse dynamics both read
-//! it; they differ only in where the matrix lives (heap or stack).
+//! undetermined part does not move an actuator's force; the SKC's
+//! reduction to its cut joints' reactions ([`tree`]), whose passive rows are
+//! the transpose of its passive velocity equations and whose conditioning
+//! is the kinematic conditioning that decides whether an answer keeps six
+//! digits ([`near_change_point`]). Newton–Euler ([`crate::newton_euler`])
+//! and the generated inverse dynamics both read it; they differ only in
+//! where the matrix lives (heap or stack).
 
 use crate::newton_euler::{DynamicsError, FORCE_SINGULAR};
+
+/// The relative accuracy an answer of inverse dynamics keeps: 6 significant
+/// digits of each force and moment against the largest of its kind.
+pub const ACCURACY: f64 = 1e-6;
+
+/// Below this kinematic conditioning c (an SKC's σ_r/σ_1, see [`tree`]) a
+/// state with motion keeps fewer than [`ACCURACY`]: next to a change point
+/// the position carries ε/c, the rates ε/c², the accelerations and so the
+/// forces ε/c³ (docs/dynamics.md), and ε/c³ ≤ 1e-6 needs
+/// c ≥ (ε/1e-6)^(1/3) = 6.06e-4.
+pub const LEAST_IN_MOTION: f64 = 6.06e-4;
+
+/// The same at rest (every input rate and acceleration zero): the forces
+/// carry ε/c², and ε/c² ≤ 1e-6 needs c ≥ (ε/1e-6)^(1/2) = 1.49e-5, 1.5e-5
+/// rounded up.
+pub const LEAST_AT_REST: f64 = 1.5e-5;
+
+/// The least kinematic conditioning that keeps [`ACCURACY`]: in motion (a
+/// rate or an acceleration of an input not zero) or at rest.
+pub fn least_conditioning(moving: bool) -> f64 {
+    if moving {
+        LEAST_IN_MOTION
+    } else {
+        LEAST_AT_REST
+    }
+}
+
+/// [`DynamicsError::NearChangePoint`] where SKC `skc` (joints `joints`)
+/// has a kinematic conditioning below the least that keeps six digits
+/// ([`least_conditioning`]); a conditioning that is not a number counts as 0.
+pub fn near_change_point(conditioning: f64, moving: bool, skc: usize, joints: &[usize]) -> Result<(), DynamicsError> {
+    let least = least_conditioning(moving);
+    if conditioning >= least {
+        return Ok(());
+    }
+    Err(DynamicsError::NearChangePoint {
+        skc,
+        joints: joints.to_vec(),
+        conditioning: if conditioning.is_nan() { 0.0 } else { conditioning },
+        least,
+        moving,
+    })
+}
 
 /// An SVD `A = U Σ Vᵀ` of an `n × n` matrix, column-major slices of `U`
 /// and `Vᵀ` (as nalgebra stores them) and the singular values, in any order.
@@ -58,7 +105,7 @@ pub struct Solved {
 
 /// σ_r/σ_1 of the singular values `s` (any order), r the rank expected
 /// (1 if it is 0 or every value is 0): the conditioning of the determined part.
-fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
+pub fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
     let r = rank_expected.min(s.len());
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
     if r == 0 || smax <= 0.0 {
@@ -74,8 +121,11 @@ fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
 }
 
 /// The minimum-norm least-squares solution `x` of `A x = b` from `A`'s
-/// decomposition, SKC `skc` (joints `joints`, for errors) of which the
-/// topology leaves `undetermined` components free. `actuated` holds one row
+/// decomposition, SKC `skc` (joints `joints`, for errors) of `unknowns`
+/// reaction components (A's columns past them are zero padding), of which
+/// the topology leaves `undetermined` free: A's expected rank is
+/// `unknowns − undetermined` (rows past it, as an S–S link's moment about
+/// its line, are consistency conditions the right-hand side meets). `actuated` holds one row
 /// of `n` numbers per actuator twist (its power coefficients against the
 /// unknowns, zero elsewhere): a null-space direction that moves one by more
 /// than `1e-9·size` means statics cannot tell the actuator's force.
@@ -89,6 +139,7 @@ pub fn min_norm(
     b: &[f64],
     skc: usize,
     joints: &[usize],
+    unknowns: usize,
     undetermined: usize,
     actuated: &[f64],
     size: f64,
@@ -97,7 +148,7 @@ pub fn min_norm(
     let n = d.n;
     let s = d.singular_values;
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
-    let conditioning = conditioning_of(s, n.saturating_sub(undetermined));
+    let conditioning = conditioning_of(s, unknowns.min(n).saturating_sub(undetermined));
     if conditioning.is_nan() || conditioning < FORCE_SINGULAR {
         return Err(DynamicsError::ForceSingular {
             skc,
@@ -131,7 +182,7 @@ pub fn min_norm(
     }
     Ok(Solved {
         conditioning,
-        undetermined: n - rank,
+        undetermined: unknowns.min(n).saturating_sub(rank),
     })
 }
 
@@ -140,6 +191,171 @@ pub const MAX_NULL: usize = 12;
 
 /// The most unknowns [`reduced_min_norm`] handles on the stack.
 pub const MAX_UNKNOWNS: usize = 127;
+
+/// How an SKC's reactions reduce to its cut joints' ([`tree`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tree {
+    /// Per joint (its position in the SKC): for a tree joint, its sign on
+    /// its subtree and the subtree's links (their positions in the SKC);
+    /// `None` for a cut joint.
+    pub tree: Vec<Option<(f64, Vec<usize>)>>,
+    /// `C` per joint and cut joint (the cut joints' order): a joint's
+    /// reaction is its `x0` plus `Σ C·y` over the cut joints' reactions `y`.
+    pub coef: Vec<Vec<f64>>,
+    /// The cut joints' positions.
+    pub cuts: Vec<usize>,
+}
+
+/// The reduction of an SKC's reaction system to its cut joints'
+/// reactions: a spanning tree of its links from the links it hangs on,
+/// breadth first. `ends` gives each joint's two links as positions in the
+/// SKC's `links` links, `links` standing for any link outside the SKC; a
+/// tree joint carries the signed sum of its subtree's demands plus the cut
+/// joints' reactions that cross into the subtree. `None` where the tree
+/// does not reach every link, or where the `passive` rows (one per unit
+/// twist of a passive joint) outnumber the cut joints' `d` unknowns each.
+///
+/// The passive rows acting on the cut joints' reactions (`G = P C`) are
+/// then the transpose of the SKC's passive velocity equations with the
+/// links it hangs on held: their conditioning is the SKC's kinematic
+/// conditioning (0 where two assemblies meet, a change point).
+pub fn tree(ends: &[[usize; 2]], links: usize, d: usize, passive: usize) -> Option<Tree> {
+    let outside = links;
+    let mut parent: Vec<Option<usize>> = vec![None; links];
+    let mut reached = vec![false; links + 1];
+    reached[outside] = true;
+    let mut order = vec![outside];
+    let mut tree_joint = vec![false; ends.len()];
+    let mut at = 0;
+    while at < order.len() {
+        let here = order[at];
+        at += 1;
+        for (i, e) in ends.iter().enumerate() {
+            let other = if e[0] == here {
+                e[1]
+            } else if e[1] == here {
+                e[0]
+            } else {
+                continue;
+            };
+            if !reached[other] && !tree_joint[i] {
+                reached[other] = true;
+                parent[other] = Some(i);
+                tree_joint[i] = true;
+                order.push(other);
+            }
+        }
+    }
+    if reached.iter().any(|r| !r) {
+        return None;
+    }
+    let cuts: Vec<usize> = (0..ends.len()).filter(|&i| !tree_joint[i]).collect();
+    if passive > cuts.len() * d {
+        return None;
+    }
+    // How joint i acts on node e: +1 on its second link, −1 on its first.
+    let sign = |i: usize, e: usize| if ends[i][1] == e { 1.0 } else { -1.0 };
+    let mut tree = vec![None; ends.len()];
+    let mut coef = vec![vec![0.0; cuts.len()]; ends.len()];
+    for (i, &is_tree) in tree_joint.iter().enumerate() {
+        if !is_tree {
+            if let Some(k) = cuts.iter().position(|&c| c == i) {
+                coef[i][k] = 1.0;
+            }
+            continue;
+        }
+        // The child end and its subtree.
+        let child = if parent.get(ends[i][1]).copied().flatten() == Some(i) {
+            ends[i][1]
+        } else {
+            ends[i][0]
+        };
+        // A link is in the subtree if the way up from it passes the child.
+        let up = |l: usize| parent[l].map(|p| if ends[p][0] == l { ends[p][1] } else { ends[p][0] });
+        let subtree: Vec<usize> = (0..links)
+            .filter(|&l| {
+                let mut at = Some(l);
+                while let Some(here) = at.filter(|&h| h < links) {
+                    if here == child {
+                        return true;
+                    }
+                    at = up(here);
+                }
+                false
+            })
+            .collect();
+        let s = sign(i, child);
+        // s·x_i = Σ b over the subtree − Σ sign(c, end in it)·x_c over the cuts crossing it.
+        for (k, &c) in cuts.iter().enumerate() {
+            let inside = ends[c].map(|e| subtree.contains(&e));
+            if inside[0] != inside[1] {
+                let end = if inside[0] { ends[c][0] } else { ends[c][1] };
+                coef[i][k] = -s * sign(c, end);
+            }
+        }
+        tree[i] = Some((s, subtree));
+    }
+    Some(Tree { tree, coef, cuts })
+}
+
+/// `1/(‖G‖_F ‖G⁻¹‖_F)` of a square `G` and its inverse (any layout): a
+/// lower bound of σ_m/σ_1 within a factor m (`σ_1 ≤ ‖G‖_F ≤ √m σ_1`, and
+/// likewise for `G⁻¹`), found from an LU where the exact one needs an SVD.
+/// A determined SKC whose bound is [`LEAST_IN_MOTION`] or more keeps six
+/// digits however it moves: its kinematic conditioning is reported as this
+/// bound, in both paths; below it, as σ_m/σ_1.
+pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
+    let frobenius = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let bound = 1.0 / (frobenius(g) * frobenius(inverse));
+    if bound.is_finite() {
+        bound
+    } else {
+        0.0
+    }
+}
+
+/// Scales each row of the `m × m` matrix `g` (column-major, as nalgebra
+/// stores it) to unit length, and the same entry of `rhs` (if it has `m`)
+/// by the same factor; a zero row stays zero. The kinematic conditioning
+/// is that of the rows as directions, whatever the units of each passive
+/// joint's twist (a parallelogram's is per radian of its arm, in lengths),
+/// and the solutions of `g y = rhs` do not change.
+pub fn unit_rows(g: &mut [f64], m: usize, rhs: &mut [f64]) {
+    for r in 0..m {
+        let norm = (0..m).map(|c| g[c * m + r] * g[c * m + r]).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            (0..m).for_each(|c| g[c * m + r] /= norm);
+            if let Some(b) = rhs.get_mut(r) {
+                *b /= norm;
+            }
+        }
+    }
+}
+
+impl Tree {
+    /// The number of the cut joints' unknowns, `G`'s size: `d` each.
+    pub fn unknowns(&self, d: usize) -> usize {
+        self.cuts.len() * d
+    }
+
+    /// The entries of `G = P C` for the passive rows, given by the joint
+    /// (position in the SKC) each row belongs to: `(row, column,
+    /// component, factor)`, `G[row, column] = factor · coefficient[component]`
+    /// of that row's `d` coefficients (columns `cut · d + component`).
+    pub fn g_entries<'a>(
+        &'a self,
+        rows: &'a [usize],
+        d: usize,
+    ) -> impl Iterator<Item = (usize, usize, usize, f64)> + 'a {
+        rows.iter().enumerate().flat_map(move |(r, &i)| {
+            self.coef[i]
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| **f != 0.0)
+                .flat_map(move |(k, &f)| (0..d).map(move |c| (r, k * d + c, c, f)))
+        })
+    }
+}
 
 /// An SKC's reactions reduced to its cut joints' (the spanning tree of its
 /// links carries the rest): every solution of its links' balances is
@@ -282,7 +498,7 @@ mod tests {
             v_t: v_t.as_slice(),
         };
         let mut x = vec![0.0; n];
-        let s = min_norm(&d, b, 0, &[0, 1], undetermined, actuated, 1.0, &mut x)?;
+        let s = min_norm(&d, b, 0, &[0, 1], n, undetermined, actuated, 1.0, &mut x)?;
         Ok((x, s))
     }
 
@@ -354,6 +570,80 @@ mod tests {
         // An actuator reading x1 + x2 is blind to y; one reading x1 is not.
         assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 1.0, 0.0], 1.0, &mut x).is_ok());
         assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
+    }
+
+    /// The least conditionings are the error model's: ε/c³ = 1e-6 in
+    /// motion, ε/c² = 1e-6 at rest (rounded up).
+    #[test]
+    fn least_conditionings_keep_six_digits() {
+        let (motion, rest) = ((f64::EPSILON / ACCURACY).cbrt(), (f64::EPSILON / ACCURACY).sqrt());
+        assert!(LEAST_IN_MOTION >= motion && LEAST_IN_MOTION < 1.01 * motion, "{motion}");
+        assert!(LEAST_AT_REST >= rest && LEAST_AT_REST < 1.01 * rest, "{rest}");
+        assert!(near_change_point(LEAST_AT_REST, false, 0, &[]).is_ok());
+        assert!(near_change_point(LEAST_AT_REST, true, 0, &[]).is_err());
+        match near_change_point(f64::NAN, true, 2, &[6, 7, 8]) {
+            Err(DynamicsError::NearChangePoint {
+                skc: 2,
+                conditioning,
+                least,
+                moving: true,
+                ..
+            }) => assert!(conditioning == 0.0 && least == LEAST_IN_MOTION),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A four-bar's SKC (links 0, 1, 2 in a row, joints A base–0, B 0–1,
+    /// C 1–2, D 2–base; 3 stands for the base): the tree from the base
+    /// takes A, D, then B, and cuts C. By hand, from the links' balances
+    /// (a reaction acts + on its second link, − on its first): link 1
+    /// gives x_B − x_C = b₁, so x_B = b₁ + x_C; links 0 and 1 give
+    /// x_A = b₀ + b₁ + x_C; link 2 gives x_C − x_D = b₂, so x_D = x_C − b₂.
+    #[test]
+    fn a_four_bar_reduces_to_its_cut_joint() {
+        let ends = [[3, 0], [0, 1], [1, 2], [2, 3]];
+        let t = tree(&ends, 3, 3, 3).unwrap();
+        assert_eq!(t.cuts, [2]);
+        assert_eq!(t.coef, [[1.0], [1.0], [1.0], [1.0]]);
+        assert_eq!(
+            t.tree,
+            [
+                Some((1.0, vec![0, 1])),
+                Some((1.0, vec![1])),
+                None,
+                Some((-1.0, vec![2]))
+            ]
+        );
+        // The passive rows of B, C and D (a planar reaction: 3 numbers)
+        // each read the cut's reaction once.
+        let entries: Vec<_> = t.g_entries(&[1, 2, 3], 3).collect();
+        let by_hand: Vec<_> = (0..3).flat_map(|r| (0..3).map(move |c| (r, c, c, 1.0))).collect();
+        assert_eq!(entries, by_hand);
+        // More passive rows than the cut's unknowns: no reduction.
+        assert!(tree(&ends, 3, 3, 4).is_none());
+        // A link the tree does not reach: none either.
+        assert!(tree(&[[3, 0], [0, 0]], 2, 1, 0).is_none());
+    }
+
+    #[test]
+    fn unit_rows_keep_the_solutions() {
+        // [[3, 4], [0, 2]] column-major, right-hand side (5, 2).
+        let mut g = [3.0, 0.0, 4.0, 2.0];
+        let mut rhs = [5.0, 2.0];
+        unit_rows(&mut g, 2, &mut rhs);
+        assert_eq!(g, [0.6, 0.0, 0.8, 1.0]);
+        assert_eq!(rhs, [1.0, 1.0]);
+        let mut zero = [0.0; 4];
+        unit_rows(&mut zero, 2, &mut []);
+        assert_eq!(zero, [0.0; 4]);
+    }
+
+    /// diag(2, 1): σ_2/σ_1 = 1/2; the bound 1/(√5 · √(5/4)) = 2/5.
+    #[test]
+    fn a_bound_of_the_conditioning() {
+        let bound = conditioning_bound(&[2.0, 0.0, 0.0, 1.0], &[0.5, 0.0, 0.0, 1.0]);
+        assert!((bound - 0.4).abs() < 1e-15, "{bound}");
+        assert_eq!(conditioning_bound(&[1.0], &[f64::INFINITY]), 0.0);
     }
 
     #[test]

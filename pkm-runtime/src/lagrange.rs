@@ -6,7 +6,9 @@
 //! `T = Σ ½ m |ċ|² + ½ Ωᵀ I Ω` over the links' and the parallelograms'
 //! bars' bodies (Ω the body's angular velocity in its own
 //! axes, `[Ω]× = Rᵀ Ṙ`), `U = −Σ m g·c`, and `Q_k` the loads' generalized
-//! forces. Every derivative of the link poses R(q), c(q) is exact: the
+//! forces (an S–S link's moment about its line dropped: its idle spin does
+//! no work, `Loading::idle_spins_dropped`). Every derivative of the link
+//! poses R(q), c(q) is exact: the
 //! plan's closed-form steps run on hyper-dual inputs ([`HyperDual`]),
 //! `ε₁` along q̇ and `ε₂` along q̇, q̈ or one input's unit vector. It shares
 //! no code with the virtual-work path ([`crate::virtual_work`]), which
@@ -51,6 +53,12 @@ pub fn actuator_forces(
             )),
         });
     }
+    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`).
+    let loading = &*loading
+        .idle_spins_dropped(model)
+        .map_err(|(link, problem)| SolveError::BadInput {
+            what: Cow::Owned(format!("link `{}`: {problem}", model.links[link])),
+        })?;
     let geometry = Geometry::<HyperDual>::of(model);
     let name = |_: usize| Cow::Borrowed("");
     // The link poses with ε₁ along `d1` and ε₂ along `d2`, then every

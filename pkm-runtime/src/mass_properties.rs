@@ -95,6 +95,120 @@ impl Loading {
     pub fn to_newtons(&self, x: f64) -> f64 {
         x * self.metres_per_unit
     }
+
+    /// The loading with the idle spin of every S–S link taken out
+    /// ([`idle_spin_line`]). Such a link turns freely about the line
+    /// through its two ball centres: the position fixes it by a convention
+    /// and the velocity analysis by another, and nothing in the mechanism
+    /// resists it. The dynamics take it as not spinning (its angular
+    /// velocity about the line zero at every instant), which a body
+    /// symmetric about the line (its centroid on it, its inertia the same
+    /// about every normal to it) keeps: its moment about the line then
+    /// does no work, and with it dropped (`I − (âᵀIâ) ââᵀ`) its inertial
+    /// wrench is the same whatever spin a path's convention gives it. A
+    /// body that is not symmetric, or a load with a moment about the line,
+    /// would make the forces depend on the spin, and a load off the line or
+    /// with a moment would spin it: an error naming the link.
+    pub fn idle_spins_dropped(&self, model: &Model) -> Result<std::borrow::Cow<'_, Loading>, (usize, String)> {
+        let lines: Vec<Option<(Vector3<f64>, Vector3<f64>)>> =
+            (0..model.links.len()).map(|l| idle_spin_line(model, l)).collect();
+        if lines.iter().all(Option::is_none) {
+            return Ok(std::borrow::Cow::Borrowed(self));
+        }
+        let size = crate::kinematics::model_scale(model);
+        let mut out = self.clone();
+        for b in &mut out.bodies {
+            let Carrier::Link(l) = b.carrier else { continue };
+            let Some((point, axis)) = lines[l] else { continue };
+            if let Some(problem) = idle_spin_problem(&b.centroid, &b.inertia, &point, &axis, size) {
+                return Err((l, problem));
+            }
+            b.inertia = without_axial(&b.inertia, &axis);
+        }
+        for load in &self.loads {
+            let Some((point, axis)) = lines[load.link] else {
+                continue;
+            };
+            if let Some(problem) = idle_spin_load_problem(&load.at, &load.moment, &point, &axis, size) {
+                return Err((load.link, problem));
+            }
+        }
+        Ok(std::borrow::Cow::Owned(out))
+    }
+}
+
+/// The line about which `link` turns freely: for a link held by exactly
+/// two spherical joints and by nothing else (an S–S coupler), the first
+/// ball's centre and the unit direction to the second's, in the link's
+/// frame; `None` for any other link (or two centres at one point).
+pub fn idle_spin_line(model: &Model, link: usize) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    let mut centres = Vec::new();
+    for j in model.joints.iter().filter(|j| j.links.contains(&link)) {
+        if j.kind != JointType::S || j.links[0] == j.links[1] {
+            return None;
+        }
+        let side = usize::from(j.links[1] == link);
+        centres.push(Vector3::from(j.places[side].at()));
+    }
+    let [a, b] = centres[..] else { return None };
+    let d = b - a;
+    (d.norm() > 0.0).then(|| (a, d.normalize()))
+}
+
+/// Why a body on a link that turns freely about the line through `point`
+/// along the unit `axis` (the body's frame) would make the forces depend
+/// on that turn, if it would: its centroid off the line (by more than
+/// 1e-9 of `size`), or its inertia not the same about every normal to the
+/// line (the line not a principal axis, or the two other principal moments
+/// unequal, by more than 1e-9 of the trace).
+pub fn idle_spin_problem(
+    centroid: &Vector3<f64>,
+    inertia: &Matrix3<f64>,
+    point: &Vector3<f64>,
+    axis: &Vector3<f64>,
+    size: f64,
+) -> Option<String> {
+    let off = (centroid - point).cross(axis).norm();
+    if off.is_nan() || off > 1e-9 * size {
+        return Some(format!(
+            "its centroid is {off:e} off the line through its two ball centres, about which it turns freely: give it a centroid on that line"
+        ));
+    }
+    let along = axis.dot(&(inertia * axis));
+    let transverse = 0.5 * (inertia.trace() - along);
+    let symmetric = Matrix3::identity() * transverse + axis * axis.transpose() * (along - transverse);
+    let asymmetry = (inertia - symmetric).abs().max();
+    if asymmetry.is_nan() || asymmetry > 1e-9 * inertia.trace().abs() {
+        return Some(format!(
+            "its inertia is not the same about every normal to the line through its two ball centres, about which it turns freely (off by {asymmetry:e}): give it an inertia symmetric about that line"
+        ));
+    }
+    None
+}
+
+/// Why a load at `at` (the link's frame) with the moment `moment` on a
+/// link that turns freely about the line through `point` along `axis`
+/// would turn it, if it would: a force off the line (by more than 1e-9 of
+/// `size`), or a moment (whose component along the line depends on the
+/// link's pose). A force through the line has no moment about it.
+pub fn idle_spin_load_problem(
+    at: &Vector3<f64>,
+    moment: &Vector3<f64>,
+    point: &Vector3<f64>,
+    axis: &Vector3<f64>,
+    size: f64,
+) -> Option<String> {
+    let off = (at - point).cross(axis).norm();
+    (off.is_nan() || off > 1e-9 * size || moment.norm() > 0.0).then(|| {
+        "a load on it has a moment about the line through its two ball centres, about which it turns freely (a moment, or a force off the line): nothing would hold it".to_string()
+    })
+}
+
+/// An inertia without its moment about the unit `axis`: `I − (âᵀIâ) ââᵀ`
+/// (for an inertia symmetric about the axis, the moment about every
+/// normal to it, the axial one zero).
+pub fn without_axial(inertia: &Matrix3<f64>, axis: &Vector3<f64>) -> Matrix3<f64> {
+    inertia - axis * axis.transpose() * axis.dot(&(inertia * axis))
 }
 
 /// The inertia tensor in the link's axes from its moments as declared:

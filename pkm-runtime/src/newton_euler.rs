@@ -23,11 +23,17 @@
 //!
 //! Near a configuration where an SKC's force equations lose rank beyond the
 //! overconstraint (a change point, where reactions grow like 1/(φ − φ*)),
-//! the block's conditioning falls to 0: below [`FORCE_SINGULAR`] it is an
-//! error naming the SKC's joints, and above it the conditioning is returned
-//! with the reactions.
+//! its kinematic conditioning c falls to 0: the σ_r/σ_1 of its passive
+//! rows acting on its cut joints' reactions, the transpose of its passive
+//! velocity equations ([`crate::force_system::tree`]; the whole block's
+//! where it does not reduce). The position then carries ε/c, the rates
+//! ε/c², the accelerations and forces ε/c³: below
+//! [`crate::force_system::least_conditioning`] (6.06e-4 in motion, 1.5e-5
+//! at rest) that leaves fewer than six digits and the answer is refused
+//! ([`DynamicsError::NearChangePoint`], naming the SKC's joints); above it
+//! the conditioning is returned with the reactions.
 
-use crate::force_system::{min_norm, Decomposition};
+use crate::force_system::{min_norm, near_change_point, Decomposition};
 use crate::mass_properties::{Carrier, Loading};
 use crate::model::Model;
 use crate::velocity::{self, BarTurn, Twist, VelocityError};
@@ -67,7 +73,11 @@ pub struct Reactions {
     /// Per SKC, the reaction components statics leaves undetermined (the
     /// reactions given are the minimum-norm ones).
     pub undetermined: Vec<usize>,
-    /// Per SKC, the conditioning of its determined part (σ_r/σ_1, r its rank).
+    /// Per SKC, its kinematic conditioning: σ_r/σ_1 of its passive rows on
+    /// its cut joints' reactions, r their rank (of its whole block where it
+    /// does not reduce to its cut joints; for a determined SKC far from a
+    /// change point, the lower bound
+    /// [`crate::force_system::conditioning_bound`]).
     pub conditioning: Vec<f64>,
     /// The largest residual of a link's balance, relative to its largest term.
     pub balance: f64,
@@ -93,9 +103,25 @@ pub enum DynamicsError {
     /// body's.
     MassProperties {
         /// The link (or body) it belongs to.
-        body: &'static str,
+        body: std::borrow::Cow<'static, str>,
         /// What is wrong with it.
         problem: String,
+    },
+    /// An SKC is so near a change point that the answer would keep fewer
+    /// than six digits: its kinematic conditioning is below the least
+    /// ([`crate::force_system::least_conditioning`]).
+    NearChangePoint {
+        /// The SKC, from 0 in the position solution's order.
+        skc: usize,
+        /// Its joints.
+        joints: Vec<usize>,
+        /// Its kinematic conditioning.
+        conditioning: f64,
+        /// The least that keeps six digits.
+        least: f64,
+        /// Whether an input moves (rates and accelerations lose digits
+        /// faster than positions).
+        moving: bool,
     },
     /// An SKC's force equations are singular: a change point.
     ForceSingular {
@@ -127,34 +153,60 @@ pub enum DynamicsError {
     },
 }
 
-impl fmt::Display for DynamicsError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl DynamicsError {
+    /// The error in words, each joint by `name` (its index in the model).
+    pub fn describe(&self, name: &dyn Fn(usize) -> String) -> String {
+        let names = |joints: &[usize]| joints.iter().map(|&j| name(j)).collect::<Vec<_>>().join(", ");
         match self {
-            DynamicsError::Velocity(e) => write!(f, "{e}"),
-            DynamicsError::Position(e) => write!(f, "{e}"),
-            DynamicsError::MassProperties { body, problem } => write!(f, "the mass properties of `{body}`: {problem}"),
+            DynamicsError::Velocity(e) => e.to_string(),
+            DynamicsError::Position(e) => e.to_string(),
+            DynamicsError::MassProperties { body, problem } => format!("the mass properties of `{body}`: {problem}"),
+            DynamicsError::NearChangePoint {
+                skc,
+                joints,
+                conditioning,
+                least,
+                moving,
+            } => {
+                let lost = if *moving {
+                    "the rates and accelerations (errors ε/c² and ε/c³), and with them the forces,"
+                } else {
+                    "the position (error ε/c), and with it the forces (ε/c²),"
+                };
+                format!(
+                    "SKC {} (joints {}) is next to a change point: its kinematic conditioning c = {conditioning:.1e} \
+                     is below {least:.2e}, where {lost} keep fewer than 6 digits",
+                    skc + 1,
+                    names(joints)
+                )
+            }
             DynamicsError::ForceSingular {
                 skc,
                 joints,
                 conditioning,
-            } => write!(
-                f,
-                "the force equations of SKC {} (joints {joints:?}) are singular here (conditioning {conditioning:e}): a change point",
-                skc + 1
+            } => format!(
+                "the force equations of SKC {} (joints {}) are singular here (conditioning {conditioning:e}): a change point",
+                skc + 1,
+                names(joints)
             ),
             DynamicsError::Undetermined { skc } => {
-                write!(f, "the actuators' forces in SKC {} are not determined by statics", skc + 1)
+                format!("the actuators' forces in SKC {} are not determined by statics", skc + 1)
             }
-            DynamicsError::BadParts(why) => write!(f, "the SKCs given are not a partition: {why}"),
-            DynamicsError::NotFinite => write!(f, "a reaction is not a finite number"),
-            DynamicsError::NotClosed { residual } => write!(
-                f,
+            DynamicsError::BadParts(why) => format!("the SKCs given are not a partition: {why}"),
+            DynamicsError::NotFinite => "a reaction is not a finite number".to_string(),
+            DynamicsError::NotClosed { residual } => format!(
                 "the joint values do not close the mechanism's loops (residual {residual:e}): solve the position first"
             ),
             DynamicsError::Unbalanced { balance } => {
-                write!(f, "the reactions found leave a link unbalanced by {balance:e} of its largest force")
+                format!("the reactions found leave a link unbalanced by {balance:e} of its largest force")
             }
         }
+    }
+}
+
+impl fmt::Display for DynamicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.describe(&|j| j.to_string()))
     }
 }
 
@@ -211,6 +263,13 @@ pub fn inverse_dynamics(
     check_parts(model, skcs)?;
     let size = crate::kinematics::model_scale(model);
     closes(model, values, size)?;
+    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`).
+    let loading = &*loading
+        .idle_spins_dropped(model)
+        .map_err(|(link, problem)| DynamicsError::MassProperties {
+            body: model.links[link].clone().into(),
+            problem,
+        })?;
     let loops = velocity::loops(model, values)?;
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     // Moments and moment rows in units of the mechanism's size.
@@ -251,19 +310,15 @@ pub fn inverse_dynamics(
     let mut reaction: Vec<Option<Vec<f64>>> = vec![None; model.joints.len()];
     let mut undetermined = vec![0; skcs.len()];
     let mut conditioning = vec![1.0; skcs.len()];
+    let moving = input_rates.iter().chain(input_accels).any(|&v| v != 0.0);
     for (k, skc) in skcs.iter().enumerate().rev() {
         let n = skc.joints.len() * d;
-        let passive: Vec<(usize, usize, Vec<f64>, bool)> = skc
-            .joints
-            .iter()
-            .enumerate()
-            .filter(|(_, &j)| !model.joints[j].actuated)
-            .flat_map(|(i, &j)| {
-                loops.twists[j]
-                    .iter()
-                    .map(move |t| (i, j, coefficients(planar, t), t.w.norm() > 0.0))
-            })
-            .collect();
+        let passive = passive_rows(model, &loops, skc, size);
+        // The kinematic conditioning, where the SKC reduces to its cut joints.
+        let kinematic = kinematic_conditioning(model, skc, &passive, d);
+        if let Some(c) = kinematic {
+            near_change_point(c, moving, k, &skc.joints)?;
+        }
         let rows = skc.links.len() * d + passive.len();
         let mut a = DMatrix::zeros(rows, n);
         let mut rhs = DVector::zeros(rows);
@@ -289,16 +344,13 @@ pub fn inverse_dynamics(
                 }
             }
         }
-        for (p, (i, j, xi, turns)) in passive.iter().enumerate() {
-            let row = skc.links.len() * d + p;
-            // A turn's row has lever arms (lengths) against forces, a
-            // slide's unit direction: both in units of the size.
-            let k = if *turns { 1.0 / size } else { 1.0 };
+        for (p, row) in passive.iter().enumerate() {
+            let at = skc.links.len() * d + p;
             for c in 0..d {
-                a[(row, i * d + c)] = xi[c] * unit(c) * k;
+                a[(at, row.at * d + c)] = row.coefficients[c];
             }
             // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
-            rhs[row] = -bar_work[*j] * k;
+            rhs[at] = -bar_work[row.joint] * row.scale;
         }
         // Zero rows (or columns) up to a square matrix, so that the
         // decomposition holds the whole null space (the thin one has only
@@ -334,12 +386,19 @@ pub fn inverse_dynamics(
             rhs.as_slice(),
             k,
             &skc.joints,
+            n,
             skc.undetermined,
             &actuated,
             size,
             &mut x,
         )?;
-        conditioning[k] = solved.conditioning;
+        conditioning[k] = match kinematic {
+            Some(c) => c,
+            None => {
+                near_change_point(solved.conditioning, moving, k, &skc.joints)?;
+                solved.conditioning
+            }
+        };
         undetermined[k] = solved.undetermined;
         for (i, &j) in skc.joints.iter().enumerate() {
             reaction[j] = Some((0..d).map(|c| x[i * d + c] * unit(c)).collect());
@@ -392,6 +451,80 @@ pub fn inverse_dynamics(
         conditioning,
         balance,
     })
+}
+
+/// One row of an SKC's reaction system for a unit twist of a passive
+/// joint: the reaction does no work along it (`ξ·W = 0`).
+struct PassiveRow {
+    /// The joint's position in the SKC.
+    at: usize,
+    /// The joint.
+    joint: usize,
+    /// The twist's power coefficients against the joint's reaction, moments
+    /// over the size, and the row over the size for a turn (lever arms
+    /// against forces) or as it is for a slide (a unit direction; a
+    /// parallelogram's, per radian of its arm, is left in lengths).
+    coefficients: Vec<f64>,
+    /// What the row was divided by: 1/size for a turn, else 1.
+    scale: f64,
+}
+
+/// SKC `skc`'s passive rows, a row per unit twist of each passive joint.
+fn passive_rows(model: &Model, loops: &velocity::Loops, skc: &SkcParts, size: f64) -> Vec<PassiveRow> {
+    let planar = model.planar;
+    let d = if planar { 3 } else { 6 };
+    let unit = |i: usize| if i >= moments_from(d) { size } else { 1.0 };
+    let mut rows = Vec::new();
+    for (at, &joint) in skc.joints.iter().enumerate() {
+        if model.joints[joint].actuated {
+            continue;
+        }
+        for t in &loops.twists[joint] {
+            let scale = if t.w.norm() > 0.0 { 1.0 / size } else { 1.0 };
+            let xi = coefficients(planar, t);
+            rows.push(PassiveRow {
+                at,
+                joint,
+                coefficients: (0..d).map(|c| xi[c] * unit(c) * scale).collect(),
+                scale,
+            });
+        }
+    }
+    rows
+}
+
+/// SKC `skc`'s kinematic conditioning: σ_r/σ_1 of its passive rows acting
+/// on its cut joints' reactions (`G`, [`crate::force_system::tree`]: the
+/// transpose of its passive velocity equations), each row scaled to unit
+/// length, r their rank less what statics leaves undetermined (for a
+/// determined SKC whose bound from an LU is above the least,
+/// that bound: [`crate::force_system::conditioning_bound`]); `None` where
+/// it does not reduce.
+fn kinematic_conditioning(model: &Model, skc: &SkcParts, passive: &[PassiveRow], d: usize) -> Option<f64> {
+    let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(skc.links.len());
+    let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| model.joints[j].links.map(node)).collect();
+    let tree = crate::force_system::tree(&ends, skc.links.len(), d, passive.len())?;
+    let m = tree.unknowns(d);
+    let at: Vec<usize> = passive.iter().map(|r| r.at).collect();
+    let mut g = DMatrix::zeros(m, m);
+    for (row, column, c, factor) in tree.g_entries(&at, d) {
+        g[(row, column)] = factor * passive[row].coefficients[c];
+    }
+    crate::force_system::unit_rows(g.as_mut_slice(), m, &mut []);
+    // A determined SKC far from a change point: the bound from an LU serves.
+    if skc.undetermined == 0 && passive.len() == m {
+        if let Some(inverse) = g.clone().full_piv_lu().try_inverse() {
+            let bound = crate::force_system::conditioning_bound(g.as_slice(), inverse.as_slice());
+            if bound >= crate::force_system::LEAST_IN_MOTION {
+                return Some(bound);
+            }
+        }
+    }
+    let s = g.singular_values();
+    Some(crate::force_system::conditioning_of(
+        s.as_slice(),
+        m.saturating_sub(skc.undetermined),
+    ))
 }
 
 /// A parallelogram bar's demand `w` (its inertial wrench less gravity,

@@ -219,6 +219,15 @@ pub enum VelocityError {
         /// The joint named.
         joint: usize,
     },
+    /// A link that turns freely about its S–S line carries a body or a
+    /// load that would make the forces depend on that turn
+    /// ([`crate::mass_properties::Loading::idle_spins_dropped`]).
+    IdleSpin {
+        /// The link.
+        link: String,
+        /// What is wrong.
+        problem: String,
+    },
 }
 
 impl fmt::Display for VelocityError {
@@ -230,6 +239,7 @@ impl fmt::Display for VelocityError {
                 f,
                 "output singularity: the passive joints move with the inputs held (σ_min/σ_max = {sigma:e})"
             ),
+            VelocityError::IdleSpin { link, problem } => write!(f, "link `{link}`: {problem}"),
             VelocityError::NotABar { joint } => {
                 write!(
                     f,
@@ -399,13 +409,8 @@ impl Loops {
 
     /// Every rate from the actuated ones (`input_rates` in input order),
     /// with `bias` added to the right-hand side (`A q̇ = −bias`; zero for
-    /// velocities, the velocity-product terms for accelerations).
-    fn solve(&self, input_rates: &[f64], bias: &DVector<f64>, scale: f64) -> Result<Vec<f64>, VelocityError> {
-        let (svd, sigma) = self.passive_svd(scale);
-        self.solve_with(svd.as_ref(), sigma, input_rates, bias, scale)
-    }
-
-    /// [`Loops::solve`] on the passive columns' decomposition ([`Loops::passive_svd`]).
+    /// velocities, the velocity-product terms for accelerations), on the
+    /// passive columns' decomposition ([`Loops::passive_svd`]).
     fn solve_with(
         &self,
         svd: Option<&SVD<f64, Dyn, Dyn>>,
@@ -475,15 +480,36 @@ pub struct Velocities {
     pub rates: Vec<f64>,
     /// Every link's twist.
     pub twists: Vec<Twist>,
+    /// σ_min/σ_max of the passive columns (lengths over the mechanism's
+    /// size; 1 without passive joints): the kinematic conditioning c. Next
+    /// to a change point, where two assemblies meet, a position solved
+    /// there carries ε/c, its rates ε/c² and its accelerations ε/c³
+    /// (docs/dynamics.md): below
+    /// [`crate::force_system::LEAST_AT_REST`] the rates, below
+    /// [`crate::force_system::LEAST_IN_MOTION`] the accelerations keep
+    /// fewer than six digits. Inverse dynamics refuses there; these
+    /// analyses return the number for the caller to judge.
+    pub conditioning: f64,
 }
 
 /// Every joint rate and link twist from the inputs' rates.
 pub fn velocities(model: &Model, values: &[f64], input_rates: &[f64]) -> Result<Velocities, VelocityError> {
     let l = loops(model, values)?;
     let scale = crate::kinematics::model_scale(model);
-    let rates = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
+    let (svd, conditioning) = l.passive_svd(scale);
+    let rates = l.solve_with(
+        svd.as_ref(),
+        conditioning,
+        input_rates,
+        &DVector::zeros(l.a.nrows()),
+        scale,
+    )?;
     let twists = (0..model.links.len()).map(|k| l.link_twist(k, &rates)).collect();
-    Ok(Velocities { rates, twists })
+    Ok(Velocities {
+        rates,
+        twists,
+        conditioning,
+    })
 }
 
 /// A configuration's accelerations: every joint's second derivative and
@@ -545,7 +571,9 @@ pub fn accelerations_on(
     input_accels: &[f64],
 ) -> Result<Accelerations, VelocityError> {
     let scale = crate::kinematics::model_scale(model);
-    let qd = l.solve(input_rates, &DVector::zeros(l.a.nrows()), scale)?;
+    let (svd, conditioning) = l.passive_svd(scale);
+    let solve = |rates: &[f64], bias: &DVector<f64>| l.solve_with(svd.as_ref(), conditioning, rates, bias, scale);
+    let qd = solve(input_rates, &DVector::zeros(l.a.nrows()))?;
     let twists: Vec<Twist> = (0..model.links.len()).map(|k| l.link_twist(k, &qd)).collect();
     let xi_dot = all_twist_rates(model, l, values, &qd, &twists);
     // Bias: the differentiated loop rows with q̈ = 0.
@@ -563,12 +591,16 @@ pub fn accelerations_on(
             bias[6 * row + i] = *x;
         }
     }
-    let qdd = l.solve(input_accels, &bias, scale)?;
+    let qdd = solve(input_accels, &bias)?;
     let twist_rates = (0..model.links.len())
         .map(|k| twist_rate(l, k, &qd, &qdd, &xi_dot))
         .collect();
     Ok(Accelerations {
-        velocities: Velocities { rates: qd, twists },
+        velocities: Velocities {
+            rates: qd,
+            twists,
+            conditioning,
+        },
         rates: qdd,
         twists: twist_rates,
     })

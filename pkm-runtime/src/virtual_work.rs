@@ -56,6 +56,13 @@ pub fn actuator_forces(
     input_accels: &[f64],
 ) -> Result<Vec<f64>, VelocityError> {
     let loops = velocity::loops(model, values)?;
+    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`).
+    let loading = &*loading
+        .idle_spins_dropped(model)
+        .map_err(|(link, problem)| VelocityError::IdleSpin {
+            link: model.links[link].clone(),
+            problem,
+        })?;
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
     let columns = loops.input_columns(crate::kinematics::model_scale(model))?;
     let poses = &loops.poses;

@@ -1,13 +1,17 @@
 //! `pkm dynamics`: inverse dynamics at given inputs, their rates and
-//! accelerations, every branch: the actuators' forces and every joint's
+//! accelerations, every branch of the forward plan in its order (as `pkm
+//! fk` lists them), each with the actuators' forces and every joint's
 //! reaction by Newton–Euler over the ordered SKCs
-//! (`pkm_runtime::newton_euler`), and every joint's value, rate and
-//! acceleration, as JSON by name; at one state or at every line of a file.
+//! (`pkm_runtime::newton_euler`) and every joint's value, rate and
+//! acceleration, or with the reason it has none; as JSON by name, at one
+//! state or at every line of a file (read, solved and written one state at
+//! a time).
 
 use super::failure::{Failure, Kind};
 use super::solve::{input_values, load, sign_text, Request};
-use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError};
+use pkm_runtime::newton_euler::inverse_dynamics;
 use serde_json::{json, Map, Value};
+use std::io::{BufRead, Write};
 
 /// What every state's dynamics reads: the loaded file, its loading, its
 /// plan's inputs and SKCs, its length unit's name.
@@ -101,125 +105,284 @@ impl Setup {
         }))
     }
 
-    /// Every branch's answer at the inputs `given` (values, rates, accelerations).
-    fn branches(&self, r: &Request, given: &[Vec<f64>]) -> Result<Vec<Value>, Failure> {
+    /// Every branch of the plan at the inputs `given` (values, rates,
+    /// accelerations), in the plan's order as `pkm fk` lists them: its
+    /// answer, or why it has none (no position there, or no dynamics).
+    fn branches(&self, r: &Request, given: &[Vec<f64>]) -> Vec<Value> {
         let model = &self.l.model;
         let names: Vec<&str> = self.inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
-        let mut branches = Vec::new();
-        let mut causes = Vec::new();
-        for (signs, solution) in pkm_runtime::spatial::run_all(model, &self.plan, &given[0]) {
-            // As `pkm fk` writes them.
-            let signs = sign_text(&signs);
-            let solution = match solution {
-                Ok(s) => s,
-                Err(e) => {
-                    causes.push(format!("branch {}: {e}", signs.concat()));
-                    continue;
-                }
-            };
-            match inverse_dynamics(model, &self.loading, &self.skcs, &solution.values, &given[1], &given[2]) {
-                Ok(d) => {
-                    let actuators: Map<String, Value> = names
-                        .iter()
-                        .zip(&d.actuators)
-                        .map(|(n, v)| (n.to_string(), json!(v)))
-                        .collect();
-                    let reactions: Map<String, Value> = model
-                        .joints
-                        .iter()
-                        .zip(&d.joints)
-                        .map(|(j, w)| {
-                            let [first, second] = j.links.map(|k| model.links[k].clone());
-                            (
-                                j.name.clone(),
-                                json!({ "on": second, "by": first, "force": w.force, "moment": w.moment }),
-                            )
+        let joint_name = |j: usize| model.joints[j].name.clone();
+        pkm_runtime::spatial::run_all(model, &self.plan, &given[0])
+            .into_iter()
+            .map(|(signs, solution)| {
+                // As `pkm fk` writes them.
+                let signs = sign_text(&signs);
+                let refused = |why: String| json!({ "signs": signs, "ok": false, "reason": why });
+                // In the model's layout: a spherical joint's three values.
+                let values = match solution {
+                    Ok(s) => s.model_values(model),
+                    Err(e) => return refused(pkm_runtime::consistency::name_given(e, &names).to_string()),
+                };
+                match inverse_dynamics(model, &self.loading, &self.skcs, &values, &given[1], &given[2]) {
+                    Ok(d) => {
+                        let actuators: Map<String, Value> = names
+                            .iter()
+                            .zip(&d.actuators)
+                            .map(|(n, v)| (n.to_string(), json!(v)))
+                            .collect();
+                        let reactions: Map<String, Value> = model
+                            .joints
+                            .iter()
+                            .zip(&d.joints)
+                            .map(|(j, w)| {
+                                let [first, second] = j.links.map(|k| model.links[k].clone());
+                                (
+                                    j.name.clone(),
+                                    json!({ "on": second, "by": first, "force": w.force, "moment": w.moment }),
+                                )
+                            })
+                            .collect();
+                        json!({
+                            "signs": signs,
+                            "ok": true,
+                            "actuators": actuators,
+                            "reactions": reactions,
+                            "undetermined": d.undetermined,
+                            "conditioning": d.conditioning,
+                            "motion": self.motion(r, &values, given),
                         })
-                        .collect();
-                    branches.push(json!({
-                        "signs": signs,
-                        "ok": true,
-                        "actuators": actuators,
-                        "reactions": reactions,
-                        "undetermined": d.undetermined,
-                        "conditioning": d.conditioning,
-                        "motion": self.motion(r, &solution.values, given),
-                    }));
+                    }
+                    Err(e) => refused(e.describe(&joint_name)),
                 }
-                Err(
-                    e @ (DynamicsError::ForceSingular { .. }
-                    | DynamicsError::Undetermined { .. }
-                    | DynamicsError::Unbalanced { .. }),
-                ) => {
-                    branches.push(json!({ "signs": signs, "ok": false, "reason": e.to_string() }));
-                }
-                Err(e) => causes.push(format!("branch {}: {e}", signs.concat())),
-            }
-        }
-        if branches.is_empty() {
-            return Err(Failure::new(
-                Kind::Unreachable,
-                format!("no branch gives the dynamics here: {}", causes.join("; ")),
-            ));
-        }
-        Ok(branches)
+            })
+            .collect()
     }
 }
 
-/// Every solved branch's actuator forces and joint reactions at inputs `q`
-/// with rates `rates` and accelerations `accels` (zeros where not given),
-/// and every joint's value, rate and acceleration (`motion`).
+/// The failure when no branch has an answer: every distinct reason, in
+/// the branches' order.
+fn none_answers(branches: &[Value]) -> Option<Failure> {
+    if branches.iter().any(|b| b["ok"] == true) {
+        return None;
+    }
+    let mut reasons: Vec<&str> = Vec::new();
+    for why in branches.iter().filter_map(|b| b["reason"].as_str()) {
+        if !reasons.contains(&why) {
+            reasons.push(why);
+        }
+    }
+    let why = if reasons.is_empty() {
+        "the plan has no branch".to_string()
+    } else {
+        reasons.join("; ")
+    };
+    Some(Failure::new(
+        Kind::Unreachable,
+        format!("no branch gives the dynamics here: {why}"),
+    ))
+}
+
+/// Every branch's actuator forces and joint reactions at inputs `q` with
+/// rates `rates` and accelerations `accels` (zeros where not given), and
+/// every joint's value, rate and acceleration (`motion`); a branch without
+/// an answer says why. A failure where no branch has one.
 pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result<Value, Failure> {
     let s = Setup::new(r)?;
     let given = s.given(r, q, rates, accels)?;
-    Ok(json!({
-        "name": s.l.model.name,
-        "units": s.units(r),
-        "branches": s.branches(r, &given)?,
-    }))
-}
-
-/// [`dynamics`] at every state of a file: one state a line, the inputs'
-/// values, then their rates, then their accelerations, separated by commas
-/// (rates and accelerations may be left out: zeros); blank lines and lines
-/// starting with `#` are skipped. A state without an answer holds its
-/// `error` instead of `branches`.
-pub fn dynamics_states(r: &Request, path: &std::path::Path) -> Result<Value, Failure> {
-    let s = Setup::new(r)?;
-    let shown = path.display();
-    let text =
-        std::fs::read_to_string(path).map_err(|e| Failure::new(Kind::Io, format!("cannot read `{shown}`: {e}")))?;
-    let n = s.inputs.len();
-    let mut states = Vec::new();
-    for (k, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let numbers: Vec<f64> = line
-            .split(',')
-            .map(|x| x.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|e| Failure::input(format!("{shown}:{}: {e}", k + 1)))?;
-        if numbers.is_empty() || !numbers.len().is_multiple_of(n) || numbers.len() > 3 * n {
-            return Err(Failure::input(format!(
-                "{shown}:{}: expected {n}, {} or {} numbers (values, rates, accelerations), found {}",
-                k + 1,
-                2 * n,
-                3 * n,
-                numbers.len()
-            )));
-        }
-        let part = |i: usize| numbers.get(i * n..(i + 1) * n).unwrap_or(&[]);
-        let state = s
-            .given(r, part(0), part(1), part(2))
-            .and_then(|given| s.branches(r, &given))
-            .map_or_else(|f| json!({ "error": f.message }), |b| json!({ "branches": b }));
-        states.push(state);
+    let branches = s.branches(r, &given);
+    if let Some(f) = none_answers(&branches) {
+        return Err(f);
     }
     Ok(json!({
         "name": s.l.model.name,
         "units": s.units(r),
-        "states": states,
+        "branches": branches,
     }))
+}
+
+/// The longest line `--states` reads (a state is a few numbers).
+pub const MAX_STATE_LINE: usize = 64 * 1024;
+
+/// How a `--states` run went.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StatesSummary {
+    /// States read (lines that are not blank or comments).
+    pub states: usize,
+    /// States with at least one branch's answer.
+    pub answered: usize,
+    /// Lines that are not states (too long, not numbers, a wrong count).
+    pub malformed: usize,
+}
+
+/// One line of a `--states` file as a state: the inputs' values, rates and
+/// accelerations (`n` inputs), or why it is not one.
+fn state_numbers(line: &str, n: usize) -> Result<Vec<f64>, String> {
+    let numbers: Vec<f64> = line
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    if numbers.is_empty() || !numbers.len().is_multiple_of(n) || numbers.len() > 3 * n {
+        return Err(format!(
+            "expected {n}, {} or {} numbers (values, rates, accelerations), found {}",
+            2 * n,
+            3 * n,
+            numbers.len()
+        ));
+    }
+    Ok(numbers)
+}
+
+/// One line of `reader`, at most [`MAX_STATE_LINE`] bytes kept (the rest
+/// of a longer line is read and dropped): `None` at the end, else the
+/// line and whether it was longer.
+fn next_line(reader: &mut dyn BufRead, line: &mut Vec<u8>) -> std::io::Result<Option<bool>> {
+    line.clear();
+    let mut long = false;
+    loop {
+        let (done, used) = {
+            let buf = reader.fill_buf()?;
+            if buf.is_empty() {
+                return Ok((!line.is_empty() || long).then_some(long));
+            }
+            match buf.iter().position(|&b| b == b'\n') {
+                Some(i) => {
+                    let room = MAX_STATE_LINE.saturating_sub(line.len()).min(i);
+                    long |= i > room;
+                    line.extend_from_slice(&buf[..room]);
+                    (true, i + 1)
+                }
+                None => {
+                    let room = MAX_STATE_LINE.saturating_sub(line.len()).min(buf.len());
+                    long |= buf.len() > room;
+                    line.extend_from_slice(&buf[..room]);
+                    (false, buf.len())
+                }
+            }
+        };
+        reader.consume(used);
+        if done {
+            return Ok(Some(long));
+        }
+    }
+}
+
+/// [`dynamics`] at every state of the file `path`, one state a line: the
+/// inputs' values, then their rates, then their accelerations, separated
+/// by commas (rates and accelerations may be left out: zeros); blank lines
+/// and lines starting with `#` are skipped. Each state is read, solved and
+/// written to `out` before the next is read, so memory stays constant
+/// however many there are: `{"name", "units", "states": [...]}`, each
+/// state with its `line` and its `branches`, or its `error` (no branch has
+/// an answer, or the line is not a state). `pretty`: indented, as the
+/// command line prints without `--json`. An error before the first state
+/// (the mechanism, the file) is a failure; one while reading after it ends
+/// the list, and is returned with what was written.
+pub fn dynamics_states(
+    r: &Request,
+    path: &std::path::Path,
+    out: &mut dyn Write,
+    pretty: bool,
+) -> Result<(StatesSummary, Option<Failure>), Failure> {
+    let s = Setup::new(r)?;
+    let shown = path.display();
+    let file = std::fs::File::open(path).map_err(|e| Failure::new(Kind::Io, format!("cannot read `{shown}`: {e}")))?;
+    let mut reader = std::io::BufReader::new(file);
+    // A reader that has gone (`… | head`) is not a failure of ours: the
+    // states stop there (as `failure::write_out`).
+    let gone = std::cell::Cell::new(false);
+    let emit = |out: &mut dyn Write, bytes: &[u8]| -> Result<(), Failure> {
+        match out.write_all(bytes) {
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+                gone.set(true);
+                Ok(())
+            }
+            other => other.map_err(|e| Failure::new(Kind::Io, format!("cannot write the output: {e}"))),
+        }
+    };
+    let head = json!({ "name": s.l.model.name, "units": s.units(r) });
+    let text = |v: &Value| {
+        if pretty {
+            serde_json::to_string_pretty(v).unwrap_or_else(|_| v.to_string())
+        } else {
+            v.to_string()
+        }
+    };
+    // The head's fields, then the states one by one.
+    let head_text = text(&head);
+    let head_text = head_text.trim_end();
+    let head_text = head_text.strip_suffix('}').unwrap_or(head_text).trim_end();
+    let (open, separator, close) = if pretty {
+        (",\n  \"states\": [\n", ",\n", "\n  ]\n}\n")
+    } else {
+        (",\"states\":[", ",", "]}\n")
+    };
+    emit(out, format!("{head_text}{open}").as_bytes())?;
+    let n = s.inputs.len();
+    let mut summary = StatesSummary::default();
+    let mut line = Vec::new();
+    let mut number = 0;
+    let mut interrupted = None;
+    loop {
+        let long = match next_line(&mut reader, &mut line) {
+            Ok(Some(long)) => long,
+            Ok(None) => break,
+            Err(e) => {
+                interrupted = Some(Failure::new(
+                    Kind::Io,
+                    format!("cannot read `{shown}` after line {number}: {e}"),
+                ));
+                break;
+            }
+        };
+        number += 1;
+        let text_line = String::from_utf8_lossy(&line);
+        let trimmed = text_line.trim();
+        if !long && (trimmed.is_empty() || trimmed.starts_with('#')) {
+            continue;
+        }
+        let state = if long {
+            Err(format!("{shown}:{number}: longer than {MAX_STATE_LINE} bytes"))
+        } else {
+            state_numbers(trimmed, n).map_err(|e| format!("{shown}:{number}: {e}"))
+        };
+        let value = match state {
+            Err(why) => {
+                summary.malformed += 1;
+                json!({ "line": number, "error": why })
+            }
+            Ok(numbers) => {
+                let part = |i: usize| numbers.get(i * n..(i + 1) * n).unwrap_or(&[]);
+                let answer = s.given(r, part(0), part(1), part(2)).and_then(|given| {
+                    let branches = s.branches(r, &given);
+                    none_answers(&branches).map_or(Ok(branches), Err)
+                });
+                match answer {
+                    Ok(branches) => {
+                        summary.answered += 1;
+                        json!({ "line": number, "branches": branches })
+                    }
+                    Err(f) => json!({ "line": number, "error": f.message }),
+                }
+            }
+        };
+        if summary.states > 0 {
+            emit(out, separator.as_bytes())?;
+        }
+        summary.states += 1;
+        let state_text = text(&value);
+        if pretty {
+            // Indented under "states".
+            let indented: Vec<String> = state_text.lines().map(|l| format!("    {l}")).collect();
+            emit(out, indented.join("\n").as_bytes())?;
+        } else {
+            emit(out, state_text.as_bytes())?;
+        }
+        if gone.get() {
+            return Ok((summary, None));
+        }
+    }
+    emit(out, close.as_bytes())?;
+    let _ = out.flush();
+    Ok((summary, interrupted))
 }
