@@ -74,17 +74,20 @@ enum Command {
             long,
             value_delimiter = ',',
             allow_hyphen_values = true,
-            required_unless_present = "states"
+            required_unless_present_any = ["states", "csv"],
+            conflicts_with = "csv"
         )]
         q: Vec<f64>,
-        /// Many states from a file instead of --q/--rates/--accels: one a line, the inputs' values, rates and accelerations separated by commas.
-        #[arg(long, conflicts_with_all = ["q", "rates", "accels"])]
+        /// Many states from a file instead of --q/--rates/--accels: one a line, the inputs' values, rates and accelerations separated by commas; JSON streamed out, a state at a time.
+        #[arg(long, conflicts_with_all = ["q", "rates", "accels", "csv"])]
         states: Option<PathBuf>,
+        #[command(flatten)]
+        many: Many,
         /// The inputs' rates (per second); zeros if not given.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with = "csv")]
         rates: Vec<f64>,
         /// The inputs' accelerations (per second²); zeros if not given.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with = "csv")]
         accels: Vec<f64>,
         /// Override a parameter: `--param l1=120`.
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
@@ -159,7 +162,7 @@ enum Command {
 /// Many inputs from a CSV file, every branch of each as CSV (README, "Many inputs").
 #[derive(clap::Args)]
 struct Many {
-    /// Read the inputs from this CSV file (`-`: standard input): a header row naming them (fk: the actuated joints; ik, stiffness: the outputs), then one input a row; write every branch of every row as CSV.
+    /// Read the inputs from this CSV file (`-`: standard input): a header row naming them (fk: the actuated joints; ik, stiffness: the outputs; dynamics: the actuated joints, then `NAME rate` and `NAME accel` for each), then one input a row; write every branch of every row as CSV.
     #[arg(long)]
     csv: Option<PathBuf>,
     /// With --csv: write the CSV to this file, not to standard output.
@@ -202,20 +205,6 @@ fn with_request(
         file: &shown,
         params,
         degrees,
-    })
-}
-
-/// Reads a mechanism file, solves on it, prints the answer or the failure.
-fn solve(
-    json: bool,
-    file: &Path,
-    params: &[(String, f64)],
-    degrees: bool,
-    run: impl FnOnce(&Request) -> Result<Value, Failure>,
-) -> ExitCode {
-    with_request(json, file, params, degrees, |request| match run(request) {
-        Ok(v) => answer(json, &v),
-        Err(f) => fail(json, &f),
     })
 }
 
@@ -437,16 +426,17 @@ fn main() -> ExitCode {
             file,
             q,
             states,
+            many,
             rates,
             accels,
             params,
             degrees,
-        } => match &states {
-            Some(path) => with_request(json, &file, &params, degrees, |r| dynamics_states(json, r, path)),
-            None => solve(json, &file, &params, degrees, |r| {
-                cli::dynamics::dynamics(r, &q, &rates, &accels)
+        } => with_request(json, &file, &params, degrees, |r| match &states {
+            Some(path) => dynamics_states(json, r, path),
+            None => solve_many(json, r, &many, cli::dynamics::Dynamics::new, |s| {
+                s.answer(&q, &rates, &accels, json)
             }),
-        },
+        }),
         Command::Export {
             file,
             mjcf: _,

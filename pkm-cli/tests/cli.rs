@@ -1830,3 +1830,68 @@ fn csv_failures_name_their_cause() {
     let out = pkm(&["fk", crank, "--q=1", "--csv", &file]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `pkm dynamics` for people and for many states (issue 29, item 8): a
+/// table by default (every branch by fk's number, the actuators with their
+/// units, each answered branch's reactions under it), and `--csv` one state
+/// a row. The slider-crank fixture at rest without gravity, pushed along
+/// its slide by fx: by virtual work the crank holds τ = −fx·ds/dθ, s = r
+/// cos θ ± √(l² − r² sin² θ), on each branch; a row with rates is the one
+/// state `--json` gives.
+#[test]
+fn dynamics_table_and_csv() {
+    let crank = "tests/fixtures/slider_crank_dynamics.pkm";
+    let params = ["--param", "gy=0", "--param", "fx=25"];
+    let out = pkm(&[&["dynamics", crank, "--q=0.7"][..], &params].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("branch  signs  ok") && text.contains("N·mm"), "{text}");
+    assert!(text.contains("branch 0 (+):") && text.contains("Fx"), "{text}");
+
+    let states = scratch_file(
+        "crank_states.csv",
+        "R1 [rad], R1 rate [rad/s], R1 accel [rad/s²]\n0.7, 0, 0\n2.0, 0, 0\n1.1, 3, -2\nx, 0, 0\n",
+    );
+    let out = pkm(&[&["dynamics", crank, "--csv", &states][..], &params].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_csv(&out.stdout);
+    assert_eq!(header[..6], ["row", "branch", "signs", "ok", "reason", "R1 [N·mm]"]);
+    assert!(header.contains(&"R3.Fx [N]".to_string()) && header.contains(&"R1.Mz [N·mm]".to_string()));
+    assert_eq!(rows.len(), 8);
+    let (r, l, fx) = (50.0f64, 180.0f64, 25.0);
+    for theta in [0.7f64, 2.0] {
+        let root = (l * l - (r * theta.sin()).powi(2)).sqrt();
+        let mut want: Vec<f64> = [1.0, -1.0]
+            .iter()
+            .map(|side| -fx * (-r * theta.sin() - side * r * r * theta.sin() * theta.cos() / root))
+            .collect();
+        let row = if theta == 0.7 { "0" } else { "1" };
+        let mut got: Vec<f64> = rows
+            .iter()
+            .filter(|x| x[0] == row && x[3] == "true")
+            .map(|x| x[5].parse().unwrap())
+            .collect();
+        for v in [&mut want, &mut got] {
+            v.sort_by(f64::total_cmp);
+        }
+        assert_eq!(got.len(), 2, "{rows:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() <= 1e-9 * w.abs(), "θ = {theta}: {g} against {w}");
+        }
+    }
+    let one = run_json(&[&["dynamics", crank, "--q=1.1", "--rates=3", "--accels=-2"][..], &params].concat());
+    for (b, row) in one["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(rows.iter().filter(|x| x[0] == "2"))
+    {
+        assert_eq!(b["branch"].as_u64().unwrap().to_string(), row[1]);
+        // serde_json reads a float to within an ulp, not always to it.
+        let (a, c) = (num(&b["actuators"]["R1"]), row[5].parse::<f64>().unwrap());
+        assert!((a - c).abs() <= 2.0 * f64::EPSILON * c.abs(), "{a} against {c}");
+    }
+    for row in rows.iter().filter(|x| x[0] == "3") {
+        assert_eq!(row[3..5], ["false".to_string(), "R1 = `x` is not a number".to_string()]);
+    }
+}

@@ -8,7 +8,8 @@
 //! a time).
 
 use super::failure::{Failure, Kind};
-use super::solve::{input_values, load, sign_text, Request};
+use super::solve::{angular, input_values, load, sign_text, Request};
+use super::table::{self, Branch, Cell, Column};
 use pkm_runtime::newton_euler::inverse_dynamics;
 use serde_json::{json, Map, Value};
 use std::io::{BufRead, Write};
@@ -115,9 +116,10 @@ impl Setup {
         pkm_runtime::spatial::run_all(model, &self.plan, &given[0])
             .into_iter()
             .map(|(signs, solution)| {
-                // As `pkm fk` writes them.
+                // As `pkm fk` numbers and writes them.
+                let number = table::number_of(&signs);
                 let signs = sign_text(&signs);
-                let refused = |why: String| json!({ "signs": signs, "ok": false, "reason": why });
+                let refused = |why: String| json!({ "branch": number, "signs": signs, "ok": false, "reason": why });
                 // In the model's layout: a spherical joint's three values.
                 let values = match solution {
                     Ok(s) => s.model_values(model),
@@ -143,6 +145,7 @@ impl Setup {
                             })
                             .collect();
                         json!({
+                            "branch": number,
                             "signs": signs,
                             "ok": true,
                             "actuators": actuators,
@@ -182,22 +185,197 @@ fn none_answers(branches: &[Value]) -> Option<Failure> {
     ))
 }
 
-/// Every branch's actuator forces and joint reactions at inputs `q` with
-/// rates `rates` and accelerations `accels` (zeros where not given), and
-/// every joint's value, rate and acceleration (`motion`); a branch without
-/// an answer says why. A failure where no branch has one.
-pub fn dynamics(r: &Request, q: &[f64], rates: &[f64], accels: &[f64]) -> Result<Value, Failure> {
-    let s = Setup::new(r)?;
-    let given = s.given(r, q, rates, accels)?;
-    let branches = s.branches(r, &given);
-    if let Some(f) = none_answers(&branches) {
-        return Err(f);
+/// `pkm dynamics`: the file loaded and planned once, answered at any state.
+pub struct Dynamics<'r> {
+    r: &'r Request<'r>,
+    s: Setup,
+}
+
+impl<'r> Dynamics<'r> {
+    /// Loads and plans the file of `r`; fails where it has no units or
+    /// masses, or no forward plan.
+    pub fn new(r: &'r Request<'r>) -> Result<Dynamics<'r>, Failure> {
+        Ok(Dynamics { r, s: Setup::new(r)? })
     }
-    Ok(json!({
-        "name": s.l.model.name,
-        "units": s.units(r),
-        "branches": branches,
-    }))
+
+    /// Every branch's actuator forces and joint reactions at inputs `q`
+    /// with rates `rates` and accelerations `accels` (zeros where not
+    /// given), and every joint's value, rate and acceleration (`motion`);
+    /// a branch without an answer says why. A failure where no branch has
+    /// one. JSON (`json`), or a table of the actuators and, under it, each
+    /// answered branch's reactions.
+    pub fn answer(&self, q: &[f64], rates: &[f64], accels: &[f64], json: bool) -> Result<String, Failure> {
+        let (r, s) = (self.r, &self.s);
+        let given = s.given(r, q, rates, accels)?;
+        let branches = s.branches(r, &given);
+        if let Some(f) = none_answers(&branches) {
+            return Err(f);
+        }
+        if json {
+            let v = json!({
+                "name": s.l.model.name,
+                "units": s.units(r),
+                "branches": branches,
+            });
+            return Ok(format!("{v}\n"));
+        }
+        let names = self.input_names();
+        let at = |list: &[f64]| {
+            names
+                .iter()
+                .zip(list)
+                .map(|(n, v)| format!("{n} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut title = format!("{}: inverse dynamics at {}", s.l.model.name, at(q));
+        for (what, list) in [("rates", rates), ("accelerations", accels)] {
+            if !list.is_empty() {
+                title += &format!("; {what} {}", at(list));
+            }
+        }
+        let ok = branches.iter().filter(|b| b["ok"] == true).count();
+        title += &format!("; {} branches, {ok} with an answer\n\n", branches.len());
+        let rows: Vec<Branch> = branches.iter().map(|b| self.row(b)).collect();
+        let mut out = title + &table::branch_table(&self.columns_of(), &rows);
+        out += &format!(
+            "\nReactions: force (N) and moment (N·{}) about the joint's point that `by` exerts on `on`, base axes.\n",
+            s.unit
+        );
+        for (b, row) in branches.iter().zip(&rows) {
+            if b["ok"] == true {
+                out += &format!("\nbranch {} ({}):\n", row.number, table::signs_word(&row.signs));
+                out += &self.reaction_table(b);
+            }
+        }
+        Ok(out)
+    }
+
+    fn input_names(&self) -> Vec<&str> {
+        let m = &self.s.l.model;
+        self.s.inputs.iter().map(|&j| m.joints[j].name.as_str()).collect()
+    }
+
+    /// An input's unit ("rad", "deg" or the length's) with `per` appended.
+    fn input_unit(&self, j: usize, per: &str) -> String {
+        let kind = self.s.l.model.joints[j].kind;
+        let unit = if angular(kind) {
+            if self.r.degrees {
+                "deg"
+            } else {
+                "rad"
+            }
+        } else {
+            self.s.unit
+        };
+        format!("{unit}{per}")
+    }
+
+    /// The actuators' columns (a torque in N·length for a turning input, a
+    /// force in N for a sliding one), then every joint's reaction (CSV only).
+    fn columns_of(&self) -> Vec<Column> {
+        let m = &self.s.l.model;
+        let torque = format!("N·{}", self.s.unit);
+        let actuators = self.s.inputs.iter().map(|&j| {
+            let unit = if angular(m.joints[j].kind) {
+                torque.as_str()
+            } else {
+                "N"
+            };
+            Column::new(&m.joints[j].name, unit)
+        });
+        let reactions = m.joints.iter().flat_map(|j| {
+            let force = ["Fx", "Fy", "Fz"].map(|c| Column::new(format!("{}.{c}", j.name), "N").csv_only());
+            let moment = ["Mx", "My", "Mz"].map(|c| Column::new(format!("{}.{c}", j.name), torque.as_str()).csv_only());
+            force.into_iter().chain(moment)
+        });
+        actuators.chain(reactions).collect()
+    }
+
+    /// A branch's JSON answer as a row of [`Dynamics::columns_of`].
+    fn row(&self, b: &Value) -> Branch {
+        let number = b["branch"].as_u64().unwrap_or(0) as usize;
+        let signs = table::signs_of(number, self.s.plan.branches);
+        if b["ok"] != true {
+            let why = b["reason"].as_str().unwrap_or("no answer").to_string();
+            return Branch {
+                number,
+                signs,
+                values: Err(why),
+            };
+        }
+        let num = |v: &Value| v.as_f64().map_or(Cell::Empty, Cell::Num);
+        let mut cells: Vec<Cell> = self.input_names().iter().map(|n| num(&b["actuators"][*n])).collect();
+        for j in &self.s.l.model.joints {
+            let w = &b["reactions"][&j.name];
+            for part in ["force", "moment"] {
+                cells.extend((0..3).map(|k| num(&w[part][k])));
+            }
+        }
+        Branch {
+            number,
+            signs,
+            values: Ok(cells),
+        }
+    }
+
+    /// Every joint's reaction in an answered branch, a row each.
+    fn reaction_table(&self, b: &Value) -> String {
+        let torque = format!("N·{}", self.s.unit);
+        let mut columns = vec![Column::bare("joint"), Column::bare("on"), Column::bare("by")];
+        columns.extend(["Fx", "Fy", "Fz"].map(|c| Column::new(c, "N")));
+        columns.extend(["Mx", "My", "Mz"].map(|c| Column::new(c, torque.as_str())));
+        let num = |v: &Value| v.as_f64().map_or(Cell::Empty, Cell::Num);
+        let rows = self
+            .s
+            .l
+            .model
+            .joints
+            .iter()
+            .map(|j| {
+                let w = &b["reactions"][&j.name];
+                let text = |v: &Value| Cell::Text(v.as_str().unwrap_or("").to_string());
+                let mut row = vec![Cell::Text(j.name.clone()), text(&w["on"]), text(&w["by"])];
+                for part in ["force", "moment"] {
+                    row.extend((0..3).map(|k| num(&w[part][k])));
+                }
+                row
+            })
+            .collect();
+        table::Table { columns, rows, key: 1 }.render(table::width())
+    }
+}
+
+impl super::csv::Solver for Dynamics<'_> {
+    /// Each input's value, then each one's rate and acceleration
+    /// (`R1 rate`, `R1 accel`).
+    fn given(&self) -> Vec<Column> {
+        let m = &self.s.l.model;
+        let name = |j: usize, suffix: &str| format!("{}{suffix}", m.joints[j].name);
+        let of = |suffix: &'static str, per: &'static str| {
+            self.s
+                .inputs
+                .iter()
+                .map(move |&j| Column::new(name(j, suffix), self.input_unit(j, per)))
+        };
+        of("", "").chain(of(" rate", "/s")).chain(of(" accel", "/s²")).collect()
+    }
+
+    fn columns(&self) -> Vec<Column> {
+        self.columns_of()
+    }
+
+    fn choices(&self) -> usize {
+        self.s.plan.branches
+    }
+
+    fn branches(&self, given: &[f64]) -> Result<Vec<Branch>, Failure> {
+        let n = self.s.inputs.len();
+        let (q, rest) = given.split_at(n);
+        let (rates, accels) = rest.split_at(n);
+        let given = self.s.given(self.r, q, rates, accels)?;
+        Ok(self.s.branches(self.r, &given).iter().map(|b| self.row(b)).collect())
+    }
 }
 
 /// The longest line `--states` reads (a state is a few numbers).
