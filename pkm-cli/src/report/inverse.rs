@@ -26,11 +26,11 @@ pub(super) fn inverse_only(
     l: &Loaded,
     study: &Resolved,
     o: &ReportOptions,
+    unit: &str,
     file: &str,
     why: &str,
 ) -> Result<(), ReportError> {
     let model = &l.model;
-    let unit = o.unit.as_str();
     let _ = writeln!(
         page,
         "<h2>No forward solution</h2><p>There is no closed-form forward plan ({}), so the input sweep and the \

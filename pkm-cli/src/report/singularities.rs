@@ -2,6 +2,7 @@
 //! plans, named, and over a coarser sweep of the followed branch the
 //! near-singular nodes by σ_in and σ_out and by each factor.
 
+use super::follow;
 use super::html::{html_escape, Page};
 use super::loaded::{Loaded, Plan};
 use super::workspace::{largest_pair, plane_name, AXES};
@@ -96,38 +97,39 @@ pub(super) fn singularities(
     factor_loci(page, at, &measured, named, pair)
 }
 
-/// The followed branch's nodes of `coarse` that solve and whose velocity
-/// equations can be formed, measured.
+/// The nodes of `coarse` the followed assembly reaches (by continuity,
+/// as the workspace's sweep) whose velocity equations can be formed, measured.
 fn measure_coarse(at: &Sampling, coarse: &Grid) -> Vec<Measured> {
     let (model, outputs) = (&at.l.model, &at.l.outputs);
     let (link, local) = at.point;
-    let mut measured = Vec::new();
-    let mut q = vec![0.0; coarse.ranges.len()];
-    for index in 0..coarse.len() {
-        coarse.node(index, &mut q);
-        let Ok(v) = at.plan.solve(model, &q, &at.branch_signs) else {
-            continue;
-        };
-        let Ok(poses) = newton::link_poses(model, &v) else {
-            continue;
-        };
+    let measure = |v: &[f64]| -> Option<Measured> {
+        let poses = newton::link_poses(model, v).ok()?;
         let p = poses[link].transform_point(&local.into());
         let (sigma_in, sigma_out) = if outputs.is_empty() {
             (f64::NAN, f64::NAN)
         } else {
-            match velocity::jacobians(model, &v, outputs) {
-                Ok(j) => (j.input_sigma, j.output_sigma),
-                Err(_) => continue,
-            }
+            let j = velocity::jacobians(model, v, outputs).ok()?;
+            (j.input_sigma, j.output_sigma)
         };
-        measured.push(Measured {
+        Some(Measured {
             at: [p.x, p.y, p.z],
             sigma_in,
             sigma_out,
             factors: plan_factors(at.l, at.plan, &poses).map(|(_, f)| f.value).collect(),
-        });
-    }
-    measured
+        })
+    };
+    follow::followed(
+        at.l,
+        at.plan,
+        coarse,
+        |q| q.to_vec(),
+        &at.s.start.0,
+        &at.sample,
+        |_, v| measure(v),
+    )
+    .into_iter()
+    .filter_map(|n| n.and_then(|n| n.kept))
+    .collect()
 }
 
 /// The axis labels of the world plane `pair` in `unit`.

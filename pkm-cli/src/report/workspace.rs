@@ -3,6 +3,7 @@
 //! or a length, by its dimension), its figures and sections, and the
 //! `--compare` table of other files' workspaces.
 
+use super::follow;
 use super::html::{html_escape, sign_text, tuple_text, Page};
 use super::loaded::{joint_unit, load, point_of, signs, world, Loaded, Plan};
 use super::{invalid, ReportError, ReportOptions, Sampling};
@@ -251,13 +252,14 @@ fn section(
 /// with the reason it is skipped.
 fn compare_table(
     this: &Loaded,
+    this_unit: &str,
     plan: &Plan,
     name: &str,
     o: &ReportOptions,
     grid: &Grid,
     point: &str,
 ) -> Result<String, ReportError> {
-    let unit = o.unit.as_str();
+    let unit = this_unit;
     let mut html = format!(
         "<h3>Workspaces of {point}, every branch</h3><p>The same ranges and grid ({} nodes), each file's point \
          `{point}`.</p><table><tr><th class=l>mechanism</th><th>branch</th><th>reachable nodes</th>\
@@ -326,6 +328,17 @@ fn compare_table(
             html.push_str(&skip("it has no geometry".into()));
             continue;
         };
+        let other_unit = l
+            .analysis
+            .mass_and_loads
+            .units
+            .map_or("file unit", |u| u.length.symbol());
+        if other_unit != unit {
+            html.push_str(&skip(format!(
+                "its lengths are in {other_unit} and this file's in {unit}: one table would mix them"
+            )));
+            continue;
+        }
         let inputs = l.model.inputs().len();
         if inputs != grid.ranges.len() {
             html.push_str(&skip(format!(
@@ -355,14 +368,33 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         ranges: s.ranges.0.clone(),
         counts: vec![s.nodes.0; n],
     };
-    let nodes = sweep_point(model, at.plan, &grid, &at.branch_signs, at.point)?;
+    if n > 3 {
+        return Err(invalid(format!(
+            "the report sweeps mechanisms with 1 to 3 inputs; this one has {n}"
+        )));
+    }
+    let followed = follow::followed(
+        at.l,
+        at.plan,
+        &grid,
+        |q| q.to_vec(),
+        &s.start.0,
+        &at.sample,
+        |_, v| world(model, v, at.point.0, at.point.1),
+    );
+    let nodes: Vec<Option<[f64; 3]>> = followed.iter().map(|f| f.as_ref().and_then(|f| f.kept)).collect();
     let cloud: Vec<[f64; 3]> = nodes.iter().flatten().copied().collect();
     let shape_of = shape(&cloud);
     let dim = dimension(&shape_of, n);
+    let names: Vec<(String, String)> = model
+        .inputs()
+        .iter()
+        .map(|&j| (model.joints[j].name.clone(), joint_unit(model, j, unit)))
+        .collect();
     let _ = writeln!(
         page,
-        "<h2>Workspace of {point_name}</h2><p>Branch {} ({}), the inputs swept over {} with {} nodes each: {} of {} \
-         nodes reachable. The set is {}.</p>",
+        "<h2>Workspace of {point_name}</h2><p>The assembly of branch {} ({}) at the sample, the inputs swept over {} \
+         with {} nodes each: {} of {} nodes reached. The set is {}.</p><p>{}</p>",
         s.branch.0,
         sign_text(&at.branch_signs),
         s.ranges
@@ -374,7 +406,8 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         s.nodes.0,
         cloud.len(),
         grid.len(),
-        html_escape(&measure(&grid, &nodes, unit))
+        html_escape(&measure(&grid, &nodes, unit)),
+        html_escape(&follow::meetings(&grid, &followed, &names, at.plan.choices()))
     );
     let label = |i: usize| format!("{} ({unit})", AXES[i]);
     if n == 1 {
@@ -472,7 +505,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         }
     }
     if !o.compare.is_empty() {
-        let table = compare_table(at.l, at.plan, model.name.as_str(), o, &grid, point_name)?;
+        let table = compare_table(at.l, unit, at.plan, model.name.as_str(), o, &grid, point_name)?;
         page.html.push_str(&table);
     }
     Ok(cloud)
