@@ -460,6 +460,11 @@ pub fn animation(path: &Path, frames: &[Scene], view: View, duration: f64, point
         return Err(PlotError("no frames to animate".into()));
     };
     let (xr, yr) = extent(frames, view);
+    let title = "the animation";
+    let (xr, yr) = (
+        plots::checked_extent(title, "horizontal", xr)?,
+        plots::checked_extent(title, "vertical", yr)?,
+    );
     let (w, h) = (720.0, 540.0);
     let a = Animated {
         frames,

@@ -93,6 +93,43 @@ pub(crate) fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// The largest magnitude a figure's extent may reach: beyond it the
+/// extent's span, or the squares a drawing takes of it, would overflow.
+pub const MAX_EXTENT: f64 = 1e150;
+
+/// `r`, the extent along `axis` of the figure `title`, if a chart can be
+/// drawn over it: both ends finite and within ±[`MAX_EXTENT`], the high end
+/// above the low one by more than rounding (10⁻¹² of their size), else an
+/// error that says why. Every extent goes through this before it reaches
+/// plotters, whose tick routine does not return on an infinite extent.
+///
+/// ```
+/// use pkm_cli::plots::checked_extent;
+/// assert_eq!(checked_extent("f", "x", (-1.0, 2.0)).unwrap(), (-1.0, 2.0));
+/// assert!(checked_extent("f", "x", (-1.05e308, 60.0)).is_err());
+/// assert!(checked_extent("f", "y", (0.0, f64::INFINITY)).is_err());
+/// assert!(checked_extent("f", "y", (1e20, 1e20)).is_err());
+/// ```
+pub fn checked_extent(title: &str, axis: &str, r: (f64, f64)) -> Result<(f64, f64), PlotError> {
+    let (lo, hi) = r;
+    let why = if !(lo.is_finite() && hi.is_finite()) {
+        Some("it is not finite".to_string())
+    } else if lo.abs().max(hi.abs()) > MAX_EXTENT {
+        Some(format!("it reaches beyond ±{MAX_EXTENT:e}"))
+    } else if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
+        Some("its span is below rounding".to_string())
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(PlotError(format!(
+            "the figure \"{title}\" cannot be drawn: its {axis} extent {lo:e} .. {hi:e} is out of range ({why}); \
+             is a coordinate or a parameter of the file too large?"
+        ))),
+        None => Ok(r),
+    }
+}
+
 /// A figure that can draw itself on any plotters back end.
 pub(crate) trait Draw {
     fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
@@ -146,6 +183,10 @@ pub(crate) fn frame<'a, DB: DrawingBackend>(
     equal: bool,
 ) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
     let (w, h) = area.dim_in_pixel();
+    let (xr, yr) = (
+        checked_extent(title, labels[0], xr)?,
+        checked_extent(title, labels[1], yr)?,
+    );
     let (xr, yr) = if equal {
         equalise(
             xr,
@@ -156,6 +197,10 @@ pub(crate) fn frame<'a, DB: DrawingBackend>(
     } else {
         (xr, yr)
     };
+    let (xr, yr) = (
+        checked_extent(title, labels[0], xr)?,
+        checked_extent(title, labels[1], yr)?,
+    );
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 20))
         .margin(MARGIN)
@@ -652,19 +697,47 @@ fn tick_digits(v: f64, significant: usize) -> String {
     }
 }
 
+/// The edges of node `k`'s cell on the axis of node values `v` (at least
+/// two): half a step either side of it.
+fn cell_edges(v: &[f64], k: usize) -> (f64, f64) {
+    let n = v.len();
+    let lo = if k == 0 { v[1] - v[0] } else { v[k] - v[k - 1] };
+    let hi = if k + 1 == n {
+        v[n - 1] - v[n - 2]
+    } else {
+        v[k + 1] - v[k]
+    };
+    (v[k] - lo / 2.0, v[k] + hi / 2.0)
+}
+
+/// How a heat map colours and marks its nodes.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct HeatStyle<'a> {
+    /// Colour by the logarithm of the value (when every finite value is
+    /// above 0; else linear): a map over decades reads in each of them.
+    pub log: bool,
+    /// Nodes marked with a cross (one flag per value, or empty for none).
+    pub marked: &'a [bool],
+    /// What a cross means (the legend under the colour bar and the CSV's
+    /// last column's name).
+    pub mark_label: &'a str,
+}
+
 /// A heat map of `values` over the grid `xs` × `ys` (`values[i · ys.len() + j]`
 /// at `(xs[i], ys[j])`, each node's cell centred on it): the colour bar
-/// beside it labelled `value_label`; a node whose value is not finite is
-/// left blank (white). The CSV has one row per node, its value empty where
-/// there is none.
+/// beside it labelled `value_label`, linear or logarithmic (`style.log`); a
+/// node whose value is not finite is left blank (white); a node
+/// `style.marked` is crossed. The CSV has one row per node, its value empty
+/// where there is none, and a column of the marks when there are any.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-heat");
 /// let f = pkm_cli::plots::heat_map(&stem, "Heat", ["x (mm)", "y (mm)"], &[0.0, 1.0], &[0.0, 1.0],
-///     &[1.0, 2.0, f64::NAN, 4.0], "k (N/mm)").unwrap();
+///     &[1.0, 2.0, f64::NAN, 4.0], "k (N/mm)", &Default::default()).unwrap();
 /// let csv = std::fs::read_to_string(f.csv).unwrap();
 /// assert_eq!(csv.lines().nth(3), Some("1,0,"));
 /// ```
+#[allow(clippy::too_many_arguments)]
 pub fn heat_map(
     stem: &Path,
     title: &str,
@@ -673,6 +746,7 @@ pub fn heat_map(
     ys: &[f64],
     values: &[f64],
     value_label: &str,
+    style: &HeatStyle,
 ) -> Result<Figure, PlotError> {
     if xs.len() < 2 || ys.len() < 2 || values.len() != xs.len() * ys.len() {
         return Err(PlotError(format!(
@@ -682,19 +756,42 @@ pub fn heat_map(
             values.len()
         )));
     }
+    let marked = |n: usize| style.marked.get(n).copied().unwrap_or(false);
+    let any_marked = (0..values.len()).any(marked);
     let csv = stem.with_extension("csv");
+    let mut header = vec![labels[0], labels[1], value_label];
+    if any_marked {
+        header.push(style.mark_label);
+    }
     write_csv(
         &csv,
-        &[labels[0], labels[1], value_label],
+        &header,
         (0..values.len()).map(|n| {
             let v = values[n];
-            vec![
+            let mut row = vec![
                 xs[n / ys.len()].to_string(),
                 ys[n % ys.len()].to_string(),
                 if v.is_finite() { v.to_string() } else { String::new() },
-            ]
+            ];
+            if any_marked {
+                row.push(marked(n).to_string());
+            }
+            row
         }),
     )?;
+    let (nx, ny) = (xs.len(), ys.len());
+    let xr = checked_extent(title, labels[0], (cell_edges(xs, 0).0, cell_edges(xs, nx - 1).1))?;
+    let yr = checked_extent(title, labels[1], (cell_edges(ys, 0).0, cell_edges(ys, ny - 1).1))?;
+    let finite = || values.iter().copied().filter(|v| v.is_finite());
+    let log = style.log && finite().next().is_some() && finite().all(|v| v > 0.0);
+    // The colour scale's variable: the value or its decimal logarithm.
+    let scaled = |v: f64| if log { v.log10() } else { v };
+    let (lo, hi) = finite().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(scaled(v)), b.max(scaled(v)))
+    });
+    let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    checked_extent(title, value_label, (lo, lo + span))?;
     struct Heat<'a> {
         title: &'a str,
         labels: [&'a str; 2],
@@ -702,29 +799,20 @@ pub fn heat_map(
         ys: &'a [f64],
         values: &'a [f64],
         value_label: &'a str,
+        style: &'a HeatStyle<'a>,
+        log: bool,
+        xr: (f64, f64),
+        yr: (f64, f64),
+        lo: f64,
+        span: f64,
     }
     impl Draw for Heat<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
             let (w, _) = area.dim_in_pixel();
             let (main, bar) = area.split_horizontally(w.saturating_sub(BAR_WIDTH));
-            let (nx, ny) = (self.xs.len(), self.ys.len());
-            // Each cell reaches half a step either side of its node.
-            let half = |v: &[f64], k: usize| {
-                let n = v.len();
-                let lo = if k == 0 { v[1] - v[0] } else { v[k] - v[k - 1] };
-                let hi = if k + 1 == n {
-                    v[n - 1] - v[n - 2]
-                } else {
-                    v[k + 1] - v[k]
-                };
-                (v[k] - lo / 2.0, v[k] + hi / 2.0)
-            };
-            let xr = (half(self.xs, 0).0, half(self.xs, nx - 1).1);
-            let yr = (half(self.ys, 0).0, half(self.ys, ny - 1).1);
-            let finite = self.values.iter().copied().filter(|v| v.is_finite());
-            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-            let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
-            let span = if hi > lo { hi - lo } else { 1.0 };
+            let ny = self.ys.len();
+            let (xr, yr, lo, span) = (self.xr, self.yr, self.lo, self.span);
+            let scaled = |v: f64| if self.log { v.log10() } else { v };
             let mut chart = ChartBuilder::on(&main)
                 .caption(self.title, ("sans-serif", 20))
                 .margin(MARGIN)
@@ -743,14 +831,26 @@ pub fn heat_map(
                 .draw()
                 .map_err(err)?;
             let cells = (0..self.values.len()).filter(|&n| self.values[n].is_finite()).map(|n| {
-                let (x0, x1) = half(self.xs, n / ny);
-                let (y0, y1) = half(self.ys, n % ny);
-                let c = viridis((self.values[n] - lo) / span);
+                let (x0, x1) = cell_edges(self.xs, n / ny);
+                let (y0, y1) = cell_edges(self.ys, n % ny);
+                let c = viridis((scaled(self.values[n]) - lo) / span);
                 Rectangle::new([(x0, y0), (x1, y1)], c.filled())
             });
             chart.draw_series(cells).map_err(err)?;
+            let crosses = (0..self.values.len())
+                .filter(|&n| self.style.marked.get(n).copied().unwrap_or(false))
+                .map(|n| {
+                    let at = (self.xs[n / ny], self.ys[n % ny]);
+                    EmptyElement::at(at)
+                        + PathElement::new(vec![(-4, -4), (4, 4)], RED.stroke_width(2))
+                        + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))
+                });
+            chart.draw_series(crosses).map_err(err)?;
             // The colour bar: a column of 100 bands from the least value to the greatest.
-            let (top, bottom) = (CAPTION + MARGIN, X_LABELS + MARGIN);
+            let (top, bottom) = (
+                CAPTION + MARGIN,
+                X_LABELS + MARGIN + if self.style.marked.is_empty() { 0 } else { 30 },
+            );
             let mut scale = ChartBuilder::on(&bar)
                 .margin_top(top)
                 .margin_bottom(bottom)
@@ -761,10 +861,22 @@ pub fn heat_map(
                 .build_cartesian_2d(0.0..1.0, lo..lo + span)
                 .map_err(err)?
                 .set_secondary_coord(0.0..1.0, lo..lo + span);
+            let label = if self.log {
+                format!("{} (log scale)", self.value_label)
+            } else {
+                self.value_label.to_string()
+            };
+            let value = |v: f64| if self.log { 10f64.powf(v) } else { v };
             scale
                 .configure_secondary_axes()
-                .y_desc(self.value_label)
-                .y_label_formatter(&|v| tick_within(snap(*v, span), span))
+                .y_desc(label)
+                .y_label_formatter(&|v| {
+                    if self.log {
+                        tick(value(*v))
+                    } else {
+                        tick_within(snap(*v, span), span)
+                    }
+                })
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(err)?;
@@ -778,6 +890,22 @@ pub fn heat_map(
                     )
                 }))
                 .map_err(err)?;
+            if self.style.marked.iter().any(|&m| m) {
+                let (_, h) = bar.dim_in_pixel();
+                let y = h as i32 - 24;
+                bar.draw(
+                    &(EmptyElement::at((14, y))
+                        + PathElement::new(vec![(-4, -4), (4, 4)], RED.stroke_width(2))
+                        + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))),
+                )
+                .map_err(err)?;
+                bar.draw(&Text::new(
+                    self.style.mark_label.to_string(),
+                    (24, y - 7),
+                    ("sans-serif", 12),
+                ))
+                .map_err(err)?;
+            }
             Ok(())
         }
     }
@@ -788,6 +916,12 @@ pub fn heat_map(
         ys,
         values,
         value_label,
+        style,
+        log,
+        xr,
+        yr,
+        lo,
+        span,
     };
     let (png, svg) = both(stem, (700 + BAR_WIDTH, 600), &d)?;
     Ok(Figure { png, svg, csv })

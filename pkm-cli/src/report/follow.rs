@@ -103,7 +103,7 @@ pub(super) fn meetings<T>(
                 grid.node(k, &mut q);
                 q.iter()
                     .zip(names)
-                    .map(|(v, (name, unit))| format!("{name} = {v:.4} {unit}"))
+                    .map(|(v, (name, unit))| format!("{name} = {v:.4}{}{unit}", if unit.is_empty() { "" } else { " " }))
                     .collect::<Vec<_>>()
                     .join(", ")
             };
