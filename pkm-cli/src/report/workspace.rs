@@ -414,18 +414,17 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         displacement(page, at, &grid, &nodes)?;
     }
     if !model.planar && dim >= 2 {
-        let f = plots::cloud3d(
+        let f = plots::solid3d(
             &page.dir.join("workspace_3d"),
-            &format!("Workspace of {point_name}: 3-D view"),
+            &format!("Workspace of {point_name} as a solid"),
             [&label(0), &label(1), &label(2)],
             &cloud,
         )?;
         page.figure(
             &f,
-            &format!(
-                "The workspace in 3-D (equal scales; at most {} nodes drawn)",
-                plots::DENSE
-            ),
+            "The workspace as a solid: the cells of a grid over it (about 28 along its longest extent) that hold \
+             a reached node, their outer faces shaded and coloured by height, seen from two sides; the axes are \
+             ticked on the box's near edges",
         );
     }
     // One input traces a curve: its points joined in order.
