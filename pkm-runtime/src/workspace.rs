@@ -216,6 +216,11 @@ pub struct Followed<T> {
     pub kept: T,
 }
 
+/// How near the prediction, as a fraction of the last step, the branch a
+/// followed sweep continues from must be for [`follow`] not to solve the
+/// others.
+pub const FOLLOW_TOLERANCE: f64 = 0.1;
+
 /// `f` over `items` on the machine's cores, in order.
 fn on_all_cores<I: Sync, O: Send>(items: &[I], f: impl Fn(&I) -> O + Sync) -> Vec<O> {
     let threads = if items.len() < 64 { 1 } else { threads(items.len()) };
@@ -239,13 +244,21 @@ fn on_all_cores<I: Sync, O: Send>(items: &[I], f: impl Fn(&I) -> O + Sync) -> Ve
 /// A sweep that follows one assembly by continuity, as a trajectory does:
 /// from node `start` (where the solution nearest `seed` is taken) outwards,
 /// breadth first over the grid's neighbours (one step along one input),
-/// each node takes the candidate nearest the configuration continued from
+/// each node takes the solution nearest the configuration continued from
 /// the neighbour it was reached from ([`Continuity::predict`] along that
-/// direction), whichever branch it is. `candidates` gives every branch's
-/// solution at a node's inputs (branch index, joint values); `keep` what is
-/// kept of the chosen one. A node the followed assembly cannot reach (no
-/// candidate there, or reached only across such nodes) is `None`. Each
+/// direction), whichever of the `branches` it is. `solve` gives a branch's
+/// solution at a node's inputs (its joint values), `keep` what is kept of
+/// the chosen one. A node the followed assembly cannot reach (no branch
+/// solves there, or reached only across such nodes) is `None`. Each
 /// breadth-first level is solved on all cores.
+///
+/// The branch of the node it is continued from is solved first: when its
+/// solution is within a tenth of the last step of the prediction
+/// ([`FOLLOW_TOLERANCE`]), no other root can be nearer unless two roots are
+/// within a fifth of a step of each other, where they are the same
+/// configuration to that tolerance, so the others are not solved; else
+/// (the first step, and near a crossing, where the followed root leaves
+/// the prediction by a fraction of a step) every branch is.
 ///
 /// # Example
 /// Two roots `±|q|` that swap at `q = 0`: branch 0 is `+|q|`, branch 1
@@ -255,7 +268,8 @@ fn on_all_cores<I: Sync, O: Send>(items: &[I], f: impl Fn(&I) -> O + Sync) -> Ve
 /// use pkm_runtime::workspace::{follow, Continuity, Grid};
 /// let grid = Grid { ranges: vec![(-1.0, 1.0)], counts: vec![21] };
 /// let c = Continuity { angular: vec![false], size: 1.0 };
-/// let followed = follow(&grid, 0, &[-1.0], &c, |q| vec![(0, vec![q[0].abs()]), (1, vec![-q[0].abs()])], |_, v| v[0]);
+/// let root = |q: &[f64], b: usize| Some(vec![if b == 0 { q[0].abs() } else { -q[0].abs() }]);
+/// let followed = follow(&grid, 0, &[-1.0], &c, 2, root, |_, v| v[0]);
 /// for (k, node) in followed.iter().enumerate() {
 ///     let node = node.as_ref().unwrap();
 ///     let q = grid.value(0, k);
@@ -271,7 +285,8 @@ pub fn follow<T: Send>(
     start: usize,
     seed: &[f64],
     continuity: &Continuity,
-    candidates: impl Fn(&[f64]) -> Vec<(usize, Vec<f64>)> + Sync,
+    branches: usize,
+    solve: impl Fn(&[f64], usize) -> Option<Vec<f64>> + Sync,
     keep: impl Fn(&[f64], &[f64]) -> T + Sync,
 ) -> Vec<Option<Followed<T>>> {
     let total = grid.len();
@@ -289,6 +304,8 @@ pub fn follow<T: Send>(
         from: Option<usize>,
         before: Option<usize>,
     }
+    // The branch and configuration chosen at each node of the last two levels.
+    type Level = HashMap<usize, (usize, Vec<f64>)>;
     let mut seen = vec![false; total];
     seen[start] = true;
     let mut level = vec![Next {
@@ -296,18 +313,30 @@ pub fn follow<T: Send>(
         from: None,
         before: None,
     }];
-    // The chosen configurations of the last two levels.
-    let mut last: HashMap<usize, Vec<f64>> = HashMap::new();
-    let mut earlier: HashMap<usize, Vec<f64>> = HashMap::new();
+    let mut last: Level = HashMap::new();
+    let mut earlier: Level = HashMap::new();
     while !level.is_empty() {
         let solved = on_all_cores(&level, |next| {
             let mut q = vec![0.0; n];
             grid.node(next.node, &mut q);
-            let predicted = match next.from.and_then(|f| last.get(&f)) {
-                Some(from) => continuity.predict(from, next.before.and_then(|b| earlier.get(&b)).map(Vec::as_slice)),
+            let from = next.from.and_then(|f| last.get(&f));
+            let predicted = match from {
+                Some((_, v)) => {
+                    continuity.predict(v, next.before.and_then(|b| earlier.get(&b)).map(|(_, v)| v.as_slice()))
+                }
                 None => seed.to_vec(),
             };
-            let all = candidates(&q);
+            // The branch continued from, alone, when it goes on as predicted.
+            if let Some((branch, v)) = from {
+                let step = continuity.distance(v, &predicted);
+                if let Some(own) = solve(&q, *branch) {
+                    if continuity.distance(&own, &predicted) <= FOLLOW_TOLERANCE * step {
+                        let kept = keep(&q, &own);
+                        return Some((*branch, own, kept));
+                    }
+                }
+            }
+            let all: Vec<(usize, Vec<f64>)> = (0..branches).filter_map(|b| solve(&q, b).map(|v| (b, v))).collect();
             let (branch, values) = continuity.nearest(&all, &predicted)?;
             let kept = keep(&q, values);
             Some((*branch, values.clone(), kept))
@@ -324,7 +353,7 @@ pub fn follow<T: Send>(
                 from: next.from,
                 kept,
             });
-            last.insert(node, values);
+            last.insert(node, (branch, values));
             for i in 0..n {
                 let d = digit(node, i);
                 // One step down along input i, then one step up.
@@ -726,13 +755,8 @@ mod tests {
             0,
             &[-1.0],
             &c,
-            |q| {
-                if reachable(q) {
-                    vec![(0, vec![q[0].abs()]), (1, vec![-q[0].abs()])]
-                } else {
-                    Vec::new()
-                }
-            },
+            2,
+            |q, b| reachable(q).then(|| vec![if b == 0 { q[0].abs() } else { -q[0].abs() }]),
             |_, v| v[0],
         );
         let mut q = [0.0; 2];

@@ -49,12 +49,14 @@ pub(super) fn followed<T: Send>(
     seed: &[f64],
     keep: impl Fn(&[f64], &[f64]) -> T + Sync,
 ) -> Vec<Option<Followed<T>>> {
+    let choices = plan.choices();
     follow(
         grid,
         nearest_node(grid, start),
         seed,
         &Continuity::of(&l.model),
-        |q| every_branch(l, plan, &given(q)),
+        1 << choices,
+        |q, b| plan.solve(&l.model, &given(q), &signs(choices, b)).ok(),
         keep,
     )
 }
