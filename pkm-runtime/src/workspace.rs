@@ -252,13 +252,14 @@ fn on_all_cores<I: Sync, O: Send>(items: &[I], f: impl Fn(&I) -> O + Sync) -> Ve
 /// solves there, or reached only across such nodes) is `None`. Each
 /// breadth-first level is solved on all cores.
 ///
-/// The branch of the node it is continued from is solved first: when its
-/// solution is within a tenth of the last step of the prediction
-/// ([`FOLLOW_TOLERANCE`]), no other root can be nearer unless two roots are
-/// within a fifth of a step of each other, where they are the same
-/// configuration to that tolerance, so the others are not solved; else
-/// (the first step, and near a crossing, where the followed root leaves
-/// the prediction by a fraction of a step) every branch is.
+/// The branch of the node it is continued from is solved first, and kept
+/// when its solution is within a tenth of the last step of the prediction
+/// ([`FOLLOW_TOLERANCE`]). Else (the start's neighbours, where there is no
+/// last step, and near a crossing, where the followed root leaves the
+/// prediction by a fraction of a step) the nearest of it and the branches
+/// one choice away is taken: where two roots of a step meet they swap by
+/// that step's choice. A node where none of them solves is not reached.
+/// Only the start node solves every branch.
 ///
 /// # Example
 /// Two roots `±|q|` that swap at `q = 0`: branch 0 is `+|q|`, branch 1
@@ -326,17 +327,30 @@ pub fn follow<T: Send>(
                 }
                 None => seed.to_vec(),
             };
-            // The branch continued from, alone, when it goes on as predicted.
-            if let Some((branch, v)) = from {
-                let step = continuity.distance(v, &predicted);
-                if let Some(own) = solve(&q, *branch) {
-                    if continuity.distance(&own, &predicted) <= FOLLOW_TOLERANCE * step {
-                        let kept = keep(&q, &own);
-                        return Some((*branch, own, kept));
+            let every = |bs: &mut dyn Iterator<Item = usize>| -> Vec<(usize, Vec<f64>)> {
+                bs.filter_map(|b| solve(&q, b).map(|v| (b, v))).collect()
+            };
+            let all = match from {
+                Some((branch, v)) => {
+                    let own = solve(&q, *branch);
+                    let step = continuity.distance(v, &predicted);
+                    match own {
+                        // The branch continued from, alone, when it goes on as predicted.
+                        Some(own) if continuity.distance(&own, &predicted) <= FOLLOW_TOLERANCE * step => {
+                            let kept = keep(&q, &own);
+                            return Some((*branch, own, kept));
+                        }
+                        // Else it and the branches one choice away.
+                        own => {
+                            let mut near =
+                                every(&mut (0..usize::BITS).map(|k| branch ^ (1 << k)).filter(|&b| b < branches));
+                            near.extend(own.map(|own| (*branch, own)));
+                            near
+                        }
                     }
                 }
-            }
-            let all: Vec<(usize, Vec<f64>)> = (0..branches).filter_map(|b| solve(&q, b).map(|v| (b, v))).collect();
+                None => every(&mut (0..branches)),
+            };
             let (branch, values) = continuity.nearest(&all, &predicted)?;
             let kept = keep(&q, values);
             Some((*branch, values.clone(), kept))

@@ -42,6 +42,58 @@ impl Page<'_> {
     }
 }
 
+impl Page<'_> {
+    /// Curves over `x` (its axis `x_label`), one chart per unit: `series`
+    /// are (name, unit, values). One unit: the figure `stem`; more: one
+    /// `stem_UNIT` each (the unit's letters and digits), its title and
+    /// caption naming the unit.
+    pub(super) fn curves_per_unit(
+        &mut self,
+        stem: &str,
+        title: &str,
+        x_label: &str,
+        x: &[f64],
+        series: &[(String, String, Vec<f64>)],
+        caption: &str,
+    ) -> Result<(), ReportError> {
+        let mut units: Vec<&str> = Vec::new();
+        for (_, u, _) in series {
+            if !units.contains(&u.as_str()) {
+                units.push(u);
+            }
+        }
+        for unit in &units {
+            let of: Vec<(String, Vec<f64>)> = series
+                .iter()
+                .filter(|(_, u, _)| u == unit)
+                .map(|(n, _, v)| (n.clone(), v.clone()))
+                .collect();
+            let (stem, title, caption) = if units.len() == 1 {
+                (stem.to_string(), title.to_string(), caption.to_string())
+            } else {
+                let tag: String = unit
+                    .chars()
+                    .map(|c| if c.is_alphanumeric() { c } else { '_' })
+                    .collect();
+                (
+                    format!("{stem}_{tag}"),
+                    format!("{title} ({unit})"),
+                    format!("{caption}: those in {unit}"),
+                )
+            };
+            let f = plots::curves(
+                &self.dir.join(&stem),
+                &title,
+                [x_label, &format!("value ({unit})")],
+                x,
+                &of,
+            )?;
+            self.figure(&f, &caption);
+        }
+        Ok(())
+    }
+}
+
 impl std::fmt::Write for Page<'_> {
     fn write_str(&mut self, s: &str) -> std::fmt::Result {
         self.html.push_str(s);

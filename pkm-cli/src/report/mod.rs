@@ -422,7 +422,7 @@ fn numeric(
 
     // 3. Position solutions and the determinants' factors at the sample input.
     positions::solutions(page, &at)?;
-    let sample_factors = named_factors(l, plan, &sample_poses);
+    let sample_factors = named_factors(l, Some(plan), &sample_poses);
     positions::factors(page, &at, &sample_factors);
 
     // 4. Workspace.

@@ -150,9 +150,12 @@ pub(super) fn stiffness_map(
             return Ok(());
         }
     };
-    let Some(plan) = &l.inverse else {
-        not_mapped(page, "it has no inverse plan from its outputs");
-        return Ok(());
+    let plan = match &l.inverse {
+        Ok(plan) => plan,
+        Err(why) => {
+            not_mapped(page, &format!("it has no inverse plan from its outputs ({why})"));
+            return Ok(());
+        }
     };
     let platform = l.outputs.iter().find_map(Output::point);
     let Some((link, local)) = platform.filter(|_| !l.model.planar) else {

@@ -384,8 +384,6 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
     );
     let nodes: Vec<Option<[f64; 3]>> = followed.iter().map(|f| f.as_ref().and_then(|f| f.kept)).collect();
     let cloud: Vec<[f64; 3]> = nodes.iter().flatten().copied().collect();
-    let shape_of = shape(&cloud);
-    let dim = dimension(&shape_of, n);
     let names: Vec<(String, String)> = model
         .inputs()
         .iter()
@@ -409,16 +407,54 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         html_escape(&measure(&grid, &nodes, unit)),
         html_escape(&follow::meetings(&grid, &followed, &names, at.plan.choices()))
     );
-    let label = |i: usize| format!("{} ({unit})", AXES[i]);
     if n == 1 {
         displacement(page, at, &grid, &nodes)?;
     }
-    if !model.planar && dim >= 2 {
+    // One input traces a curve: its points joined in order.
+    let dim = cloud_figures(page, model.planar, point_name, unit, &cloud, n, n == 1)?;
+    if !s.sections.0.is_empty() {
+        if dim < 3 {
+            let _ = writeln!(
+                page,
+                "<p>Sections skipped: the workspace is {}, so a plane's section of it is not an area.</p>",
+                if model.planar { "planar" } else { "flat or a curve" }
+            );
+        } else {
+            for &(axis, value) in &s.sections.0 {
+                section(page, &cloud, axis, value, point_name, unit)?;
+            }
+        }
+    }
+    if !o.compare.is_empty() {
+        let table = compare_table(at.l, unit, at.plan, model.name.as_str(), o, &grid, point_name)?;
+        page.html.push_str(&table);
+    }
+    Ok(cloud)
+}
+
+/// The figures of the workspace `cloud` (world positions, `unit`) of the
+/// point `point_name`, swept over `inputs` values (`joined`: in order, a
+/// curve): a solid's 3-D view and its projections on the world planes, a
+/// flat set in its plane, a curve in the plane it spreads most in; a planar
+/// mechanism's in its plane. Returns the set's dimension.
+pub(super) fn cloud_figures(
+    page: &mut Page,
+    planar: bool,
+    point_name: &str,
+    unit: &str,
+    cloud: &[[f64; 3]],
+    inputs: usize,
+    joined: bool,
+) -> Result<usize, ReportError> {
+    let label = |i: usize| format!("{} ({unit})", AXES[i]);
+    let shape_of = shape(cloud);
+    let dim = dimension(&shape_of, inputs);
+    if !planar && dim >= 2 {
         let f = plots::solid3d(
             &page.dir.join("workspace_3d"),
             &format!("Workspace of {point_name} as a solid"),
             [&label(0), &label(1), &label(2)],
-            &cloud,
+            cloud,
         )?;
         page.figure(
             &f,
@@ -427,9 +463,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
              ticked on the box's near edges",
         );
     }
-    // One input traces a curve: its points joined in order.
-    let joined = n == 1;
-    if !model.planar && dim == 2 && world_axis(shape_of.axes[2]).is_none() {
+    if !planar && dim == 2 && world_axis(shape_of.axes[2]).is_none() {
         // A tilted plane: drawn in its own coordinates.
         let (u, v) = (shape_of.axes[0], shape_of.axes[1]);
         let c = shape_of.centre;
@@ -455,7 +489,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
             "The flat workspace in its own plane (from its centre)",
         )?;
     } else {
-        let planes: Vec<[usize; 2]> = if model.planar {
+        let planes: Vec<[usize; 2]> = if planar {
             vec![[0, 1]]
         } else if dim >= 3 {
             vec![[0, 1], [1, 2], [0, 2]]
@@ -463,7 +497,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
             let rest: Vec<usize> = (0..3).filter(|&i| i != k).collect();
             vec![[rest[0], rest[1]]]
         } else {
-            vec![largest_pair(&cloud)]
+            vec![largest_pair(cloud)]
         };
         let (title, caption) = if planes.len() > 1 {
             ("projection on", "Projection on")
@@ -490,24 +524,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
             )?;
         }
     }
-    if !s.sections.0.is_empty() {
-        if dim < 3 {
-            let _ = writeln!(
-                page,
-                "<p>Sections skipped: the workspace is {}, so a plane's section of it is not an area.</p>",
-                if model.planar { "planar" } else { "flat or a curve" }
-            );
-        } else {
-            for &(axis, value) in &s.sections.0 {
-                section(page, &cloud, axis, value, point_name, unit)?;
-            }
-        }
-    }
-    if !o.compare.is_empty() {
-        let table = compare_table(at.l, unit, at.plan, model.name.as_str(), o, &grid, point_name)?;
-        page.html.push_str(&table);
-    }
-    Ok(cloud)
+    Ok(dim)
 }
 
 /// One input: the point's coordinates against it (a displacement diagram),
