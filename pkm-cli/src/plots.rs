@@ -317,6 +317,25 @@ fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64)
         .collect()
 }
 
+/// Each place of `points` once, in order: points within 10⁻⁹ of the set's
+/// extent of an earlier one are left out.
+///
+/// ```
+/// let p = pkm_cli::plots::places(&[[0.0, 0.0], [1.0, 1.0], [0.0, 1e-12], [1.0, 0.0]]);
+/// assert_eq!(p, [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]);
+/// ```
+pub fn places(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let xr = range(points.iter().map(|p| p[0]));
+    let yr = range(points.iter().map(|p| p[1]));
+    let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
+    let mut seen = std::collections::HashSet::new();
+    points
+        .iter()
+        .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
+        .copied()
+        .collect()
+}
+
 /// How a scatter is drawn.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Style {
@@ -352,18 +371,9 @@ pub fn scatter(
     let sets = if style.joined {
         sets
     } else {
-        let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
         owned = sets
             .iter()
-            .map(|(name, points)| {
-                let mut seen = std::collections::HashSet::new();
-                let kept = points
-                    .iter()
-                    .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
-                    .copied()
-                    .collect();
-                (name.clone(), kept)
-            })
+            .map(|(name, points)| (name.clone(), places(points)))
             .collect();
         &owned[..]
     };

@@ -10,9 +10,9 @@
 
 use super::follow;
 use super::html::{class_text, html_escape, sign_text, tuple_text, Page};
-use super::loaded::{default_point, joint_unit, output_columns, point_of, reach, signs, Loaded, Plan};
+use super::loaded::{default_point, joint_unit, point_of, reach, signs, Loaded, Plan};
 use super::settings::{check_duration, check_nodes};
-use super::singularities::{self, Measured, Plane};
+use super::singularities::{self, Drawn, Measured, Plane};
 use super::workspace::{cloud_figures, largest_pair, measure};
 use super::{invalid, io, ReportError, ReportOptions};
 use crate::drawing::{self, View};
@@ -36,9 +36,10 @@ enum Kind {
     Angle,
 }
 
-/// One output value: its name, its name with its unit, and its kind.
+/// One output value: its name, its unit, its name with its unit, and its kind.
 struct Value {
     name: String,
+    unit: String,
     column: String,
     kind: Kind,
 }
@@ -76,9 +77,16 @@ fn values(l: &Loaded, unit: &str) -> Vec<Value> {
     }
     let names = l.analysis.geometry.outputs.iter().flat_map(|o| o.names.iter().cloned());
     names
-        .zip(output_columns(l, unit))
         .zip(kinds)
-        .map(|((name, column), kind)| Value { name, column, kind })
+        .map(|(name, kind)| {
+            let unit = if kind == Kind::Angle { "rad" } else { unit }.to_string();
+            Value {
+                column: format!("{name} ({unit})"),
+                name,
+                unit,
+                kind,
+            }
+        })
         .collect()
 }
 
@@ -200,10 +208,11 @@ pub(super) fn inverse_only(
     held.motion(page, &amplitudes, view, duration)
 }
 
-/// The sample pose: every output 0 if the first branch that reaches it is
-/// well conditioned there (σ_in and σ_out at least 10⁻²); else the
-/// best-conditioned pose (so measured) with one position (z if the outputs give it) or length value
-/// scanned over ± the mechanism's reach, the others 0. Returns the pose
+/// The sample pose: every output 0 if the branch nearest home that reaches
+/// it ([`by_home`]) is well conditioned there (σ_in and σ_out at least 10⁻²); else the
+/// best-conditioned pose (so measured) with one value scanned, the others
+/// 0: z over (0, the reach] (above the base), else another length over ±
+/// the reach, else an angle over ± π. Returns the pose
 /// and how it was chosen.
 fn sample_pose(
     l: &Loaded,
@@ -215,11 +224,10 @@ fn sample_pose(
     const WELL: f64 = 1e-2;
     const SCANNED: usize = 100;
     let model = &l.model;
-    let choices = plan.choices();
-    // The conditioning at `pose` of the first branch that reaches it: the
-    // least of σ_in and σ_out.
+    // The conditioning at `pose` of the branch nearest home that reaches
+    // it: the least of σ_in and σ_out.
     let quality = |pose: &[f64]| -> Option<f64> {
-        let v = (0..1usize << choices).find_map(|b| plan.solve(model, pose, &signs(choices, b)).ok())?;
+        let (_, v) = by_home(l, plan, pose).into_iter().next()?;
         let j = velocity::jacobians(model, &v, &l.outputs).ok()?;
         Some(j.input_sigma.min(j.output_sigma))
     };
@@ -228,22 +236,38 @@ fn sample_pose(
     if at_zero.is_some_and(|q| q >= WELL) {
         return Ok((zeros, "every output 0".into()));
     }
-    let z: Vec<usize> = (0..values.len())
-        .filter(|&i| values[i].kind == Kind::Position(2))
-        .collect();
-    let scanned: Vec<usize> = if z.is_empty() {
-        (0..values.len()).filter(|&i| values[i].kind != Kind::Angle).collect()
-    } else {
-        z
-    };
+    // Scanned in turn until one gives a well-conditioned pose: z, the other
+    // lengths, the angles (a 3-RPR with similar base and platform is
+    // singular at every translation with its platform unturned).
+    let groups: [Vec<usize>; 3] = [
+        (0..values.len())
+            .filter(|&i| values[i].kind == Kind::Position(2))
+            .collect(),
+        (0..values.len())
+            .filter(|&i| !matches!(values[i].kind, Kind::Angle | Kind::Position(2)))
+            .collect(),
+        (0..values.len()).filter(|&i| values[i].kind == Kind::Angle).collect(),
+    ];
     let mut best: Option<(f64, Vec<f64>, usize)> = at_zero.map(|q| (q, zeros.clone(), usize::MAX));
-    for &i in &scanned {
-        for k in 0..=2 * SCANNED {
-            let mut pose = zeros.clone();
-            pose[i] = size * (k as f64 / SCANNED as f64 - 1.0);
-            if let Some(q) = quality(&pose) {
-                if best.as_ref().is_none_or(|b| q > b.0) {
-                    best = Some((q, pose, i));
+    for group in &groups {
+        if best.as_ref().is_some_and(|b| b.0 >= WELL) {
+            break;
+        }
+        for &i in group {
+            for k in 0..=2 * SCANNED {
+                let t = k as f64 / SCANNED as f64 - 1.0;
+                let mut pose = zeros.clone();
+                pose[i] = match values[i].kind {
+                    // z above the base, as the platform is built.
+                    Kind::Position(2) if k == 0 => continue,
+                    Kind::Position(2) => size * k as f64 / (2 * SCANNED) as f64,
+                    Kind::Angle => PI * t,
+                    _ => size * t,
+                };
+                if let Some(q) = quality(&pose) {
+                    if best.as_ref().is_none_or(|b| q > b.0) {
+                        best = Some((q, pose, i));
+                    }
                 }
             }
         }
@@ -256,18 +280,40 @@ fn sample_pose(
     })?;
     let how = match values.get(i) {
         Some(v) => format!(
-            "every output 0 but {}, the value among {} over ± the mechanism's reach where the first branch that \
-             reaches the pose is best conditioned: σ_in and σ_out at least {q:.3e}",
+            "every output 0 but {}, the value among {} over {}, where the branch nearest the home configuration \
+             that reaches the pose is best conditioned: σ_in and σ_out at least {q:.3e}",
             v.name,
-            2 * SCANNED + 1
+            2 * SCANNED + 1,
+            match v.kind {
+                Kind::Position(2) => "(0, the mechanism's reach], above the base",
+                Kind::Angle => "± π",
+                _ => "± the mechanism's reach",
+            }
         ),
         None => format!("every output 0; no pose scanned is better conditioned (σ {q:.3e})"),
     };
     Ok((pose, how))
 }
 
-/// The branch shown at the sample `pose`: the `given` one, else the first
-/// that reaches it, regular if one is.
+/// The branches that reach `pose`, nearest the geometry's home
+/// configuration first (every joint value 0, as the `geometry` block places
+/// the links; by [`Continuity`]): the least turned assembly, not the one a
+/// sign order happens to put first.
+fn by_home(l: &Loaded, plan: &Plan, pose: &[f64]) -> Vec<(usize, Vec<f64>)> {
+    let continuity = Continuity::of(&l.model);
+    let mut all = follow::every_branch(l, plan, pose);
+    let home = vec![0.0; all.first().map_or(0, |b| b.1.len())];
+    all.sort_by(|a, b| {
+        continuity
+            .distance(&a.1, &home)
+            .total_cmp(&continuity.distance(&b.1, &home))
+    });
+    all
+}
+
+/// The branch shown at the sample `pose`: the `given` one, else the one
+/// nearest the home configuration that is regular there, else the nearest
+/// that reaches it.
 fn sample_branch(
     l: &Loaded,
     plan: &Plan,
@@ -275,31 +321,26 @@ fn sample_branch(
     given: Option<usize>,
     file: &str,
 ) -> Result<usize, ReportError> {
-    let model = &l.model;
     let choices = plan.choices();
-    Ok(match given {
-        Some(b) if b >= 1 << choices => {
+    if let Some(b) = given {
+        if b >= 1 << choices {
             return Err(invalid(format!(
                 "--branch {b}: {file}'s inverse solution has {} branches (0 to {})",
                 1usize << choices,
                 (1usize << choices) - 1
-            )))
+            )));
         }
-        Some(b) => b,
-        None => (0..1usize << choices)
-            .find(|&b| {
-                plan.solve(model, pose, &signs(choices, b)).is_ok_and(|v| {
-                    velocity::jacobians(model, &v, &l.outputs)
-                        .is_ok_and(|j| j.singularity == velocity::Singularity::None)
-                })
-            })
-            .or_else(|| (0..1usize << choices).find(|&b| plan.solve(model, pose, &signs(choices, b)).is_ok()))
-            .ok_or_else(|| {
-                invalid(format!(
-                    "{file}: the inverse solution reaches no branch at the pose {}",
-                    tuple_text(pose, 3)
-                ))
-            })?,
+        return Ok(b);
+    }
+    let reached = by_home(l, plan, pose);
+    let regular = reached.iter().find(|(_, v)| {
+        velocity::jacobians(&l.model, v, &l.outputs).is_ok_and(|j| j.singularity == velocity::Singularity::None)
+    });
+    regular.or(reached.first()).map(|(b, _)| *b).ok_or_else(|| {
+        invalid(format!(
+            "{file}: the inverse solution reaches no branch at the pose {}",
+            tuple_text(pose, 3)
+        ))
     })
 }
 
@@ -352,7 +393,7 @@ impl Held<'_> {
         self.values
             .iter()
             .zip(pose)
-            .map(|(v, x)| format!("{} = {x:.4}{}", v.name, v.column.strip_prefix(&v.name).unwrap_or("")))
+            .map(|(v, x)| format!("{} = {x:.4} {}", v.name, v.unit))
             .collect::<Vec<_>>()
             .join(", ")
     }
@@ -413,9 +454,12 @@ impl Held<'_> {
             return Ok(None);
         }
         let (l, unit) = (self.l, self.unit);
+        // Two or three spatial angles (rx, ry, rz) to a right angle either
+        // way: beyond it the angles' triple turns back on itself (ry = ±π/2).
         let half = match space {
             Space::Positions => reach(&l.model),
-            Space::Angles => PI,
+            Space::Angles if l.model.planar || n == 1 => PI,
+            Space::Angles => PI / 2.0,
         };
         let per = nodes.unwrap_or(match n {
             1 => 721,
@@ -432,6 +476,21 @@ impl Held<'_> {
         };
         let found = self.follow(indices, &coarse, |q, _| q.to_vec());
         let reached: Vec<&Vec<f64>> = found.iter().flatten().map(|f| &f.kept).collect();
+        let swept_names: Vec<&str> = indices.iter().map(|&i| self.values[i].name.as_str()).collect();
+        if reached.len() <= 1 {
+            let _ = writeln!(
+                page,
+                "<p>With the other outputs held at the sample, {} cannot change: the assembly at the sample reaches no \
+                 other node of a sweep over the sample ± {half:.4} ({} nodes each). The {} is the sample alone.</p>",
+                swept_names.join(", "),
+                coarse.counts[0],
+                match space {
+                    Space::Positions => "constant-orientation workspace",
+                    Space::Angles => "orientation workspace",
+                }
+            );
+            return Ok(None);
+        }
         let bound = |k: usize| {
             let (lo, hi) = reached.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| {
                 (a.min(q[k]), b.max(q[k]))
@@ -444,6 +503,9 @@ impl Held<'_> {
             ranges: (0..n).map(bound).collect(),
             counts: vec![per; n],
         };
+        // A set that reaches the first sweep's box on every side is bounded by
+        // the box, not by the mechanism.
+        let fills = (0..n).all(|k| grid.ranges[k] == coarse.ranges[k]);
         let followed = self.follow(indices, &grid, |q, v| self.drawn_at(space, q, v));
         let points: Vec<Option<[f64; 3]>> = followed.iter().map(|f| f.as_ref().and_then(|f| f.kept)).collect();
         let cloud: Vec<[f64; 3]> = points.iter().flatten().copied().collect();
@@ -465,7 +527,7 @@ impl Held<'_> {
         } else {
             held_values
                 .iter()
-                .map(|&i| format!("{} = {:.4}", self.values[i].column, self.pose[i]))
+                .map(|&i| format!("{} = {:.4} {}", self.values[i].name, self.pose[i], self.values[i].unit))
                 .collect::<Vec<_>>()
                 .join(", ")
         };
@@ -505,16 +567,22 @@ impl Held<'_> {
             page,
             "<h2>{title}</h2><p>The poses with {over} ({per} nodes each; the box of the set found by a first sweep \
              over the sample ± {}), {held_text} held at the sample, that the assembly of branch {} ({}) at the \
-             sample reaches: {} of {} nodes. The set is {}.</p><p>{}</p>",
+             sample reaches: {} of {} nodes. The set is {}.{}</p><p>{}</p>",
             match space {
                 Space::Positions => format!("the mechanism's reach, {half:.4} {unit}"),
-                Space::Angles => "π rad".into(),
+                Space::Angles => format!("{half:.4} rad"),
             },
             self.branch,
             sign_text(&signs(self.plan.choices(), self.branch)),
             cloud.len(),
             grid.len(),
             html_escape(&what),
+            if fills {
+                " It reaches the first sweep's box on every side: nothing the file declares (no stroke or joint \
+                 limit) bounds these values there, so the set drawn is the box, not a limit of the mechanism."
+            } else {
+                ""
+            },
             html_escape(&follow::meetings(&grid, &followed, &names, self.plan.choices()))
         );
         if cloud.is_empty() {
@@ -627,23 +695,18 @@ impl Held<'_> {
         let poses = newton::link_poses(&self.l.model, &self.sample).map_err(|e| invalid(e.to_string()))?;
         let named = singularities::named_factors(self.l, None, &poses);
         let columns: Vec<String> = swept.indices.iter().map(|&i| self.values[i].column.clone()).collect();
-        let plane = match swept.space {
-            Space::Positions if self.l.model.planar => Plane::world([0, 1], self.unit),
+        let drawn = match swept.space {
+            _ if n == 1 => Drawn::Line(columns[0].clone()),
+            Space::Positions if self.l.model.planar => Drawn::Plane(Plane::world([0, 1], self.unit)),
             Space::Positions => {
                 let cloud: Vec<[f64; 3]> = measured.iter().map(|m| m.at).collect();
-                Plane::world(largest_pair(&cloud), self.unit)
+                Drawn::Plane(Plane::world(largest_pair(&cloud), self.unit))
             }
-            Space::Angles => Plane {
+            Space::Angles => Drawn::Plane(Plane {
                 pair: [0, 1],
-                labels: [
-                    columns[0].clone(),
-                    columns.get(1).cloned().unwrap_or_else(|| "(none)".into()),
-                ],
-                name: format!(
-                    "the plane of {}",
-                    columns.iter().take(2).cloned().collect::<Vec<_>>().join(" and ")
-                ),
-            },
+                labels: [columns[0].clone(), columns[1].clone()],
+                name: format!("the plane of {} and {}", columns[0], columns[1]),
+            }),
         };
         let _ = writeln!(
             page,
@@ -675,7 +738,7 @@ impl Held<'_> {
             self.l,
             &measured,
             &named,
-            &plane,
+            &drawn,
             &format!("{} per value", coarse.counts[0]),
         )
     }

@@ -93,6 +93,16 @@ pub(super) struct Plane {
     pub(super) name: String,
 }
 
+/// Where the measured nodes are drawn: on a plane, or (a sweep of one
+/// value) each measure against that value, the node's first coordinate,
+/// labelled so.
+pub(super) enum Drawn {
+    /// Nodes on a plane.
+    Plane(Plane),
+    /// Curves against one value.
+    Line(String),
+}
+
 impl Plane {
     /// The world plane `pair` of a point's positions in `unit`.
     pub(super) fn world(pair: [usize; 2], unit: &str) -> Plane {
@@ -150,7 +160,7 @@ pub(super) fn singularities(
         at.l,
         &measured,
         named,
-        &plane,
+        &Drawn::Plane(plane),
         &format!("{} per input", coarse.counts[0]),
     )
 }
@@ -163,7 +173,7 @@ pub(super) fn loci(
     l: &Loaded,
     measured: &[Measured],
     named: &[(String, f64, String)],
-    plane: &Plane,
+    drawn: &Drawn,
     grid: &str,
 ) -> Result<(), ReportError> {
     if l.outputs.is_empty() {
@@ -174,18 +184,40 @@ pub(super) fn loci(
             measured.len()
         );
     } else {
-        sigma_loci(page, measured, plane, grid)?;
+        sigma_loci(page, measured, drawn, grid)?;
     }
     if named.is_empty() {
         return Ok(());
     }
-    factor_loci(page, measured, named, plane)
+    factor_loci(page, measured, named, drawn)
+}
+
+/// Curves of `of` each measured node against its first coordinate, in
+/// its order: the figure `stem`.
+fn against(
+    page: &mut Page,
+    stem: &str,
+    title: &str,
+    value: &str,
+    measured: &[Measured],
+    of: &[(String, &dyn Fn(&Measured) -> f64)],
+    caption: &str,
+) -> Result<(), ReportError> {
+    let mut order: Vec<&Measured> = measured.iter().collect();
+    order.sort_by(|a, b| a.at[0].total_cmp(&b.at[0]));
+    let x: Vec<f64> = order.iter().map(|m| m.at[0]).collect();
+    let series: Vec<(String, Vec<f64>)> = of
+        .iter()
+        .map(|(name, f)| (name.clone(), order.iter().map(|m| f(m)).collect()))
+        .collect();
+    let f = crate::plots::curves(&page.dir.join(stem), title, [value, "measure (1)"], &x, &series)?;
+    page.figure(&f, caption);
+    Ok(())
 }
 
 /// The smallest σ_in and σ_out over the `measured` nodes (`per_input` per
 /// input), and (figure) the lowest 5 % of each on the plane `pair`.
-fn sigma_loci(page: &mut Page, measured: &[Measured], plane: &Plane, grid: &str) -> Result<(), ReportError> {
-    let on_plane = |m: &Measured| plane.on(m);
+fn sigma_loci(page: &mut Page, measured: &[Measured], drawn: &Drawn, grid: &str) -> Result<(), ReportError> {
     let sigma = |m: &Measured, k: usize| if k == 0 { m.sigma_in } else { m.sigma_out };
     let quantile = |k: usize| {
         let mut v: Vec<f64> = measured.iter().map(|m| sigma(m, k)).collect();
@@ -193,9 +225,6 @@ fn sigma_loci(page: &mut Page, measured: &[Measured], plane: &Plane, grid: &str)
         v.get(v.len() / 20).copied().unwrap_or(0.0)
     };
     let (qi, qo) = (quantile(0), quantile(1));
-    let near = |k: usize, limit: f64| -> Vec<[f64; 2]> {
-        measured.iter().filter(|m| sigma(m, k) <= limit).map(on_plane).collect()
-    };
     let combined = measured
         .iter()
         .filter(|m| m.sigma_in < velocity::SINGULAR && m.sigma_out < velocity::SINGULAR)
@@ -203,12 +232,40 @@ fn sigma_loci(page: &mut Page, measured: &[Measured], plane: &Plane, grid: &str)
     let _ = writeln!(
         page,
         "<p>Over {} nodes of the followed assembly ({grid}): the smallest σ_in is {:.3e}, the smallest \
-         σ_out {:.3e}; {combined} nodes are singular in both senses at once (threshold {:e}).</p>",
+         σ_out {:.3e}; {combined} nodes are singular in both senses at once (threshold {:e}).{}</p>",
         measured.len(),
         measured.iter().map(|m| m.sigma_in).fold(f64::INFINITY, f64::min),
         measured.iter().map(|m| m.sigma_out).fold(f64::INFINITY, f64::min),
-        velocity::SINGULAR
+        velocity::SINGULAR,
+        if !measured.is_empty() && measured.iter().all(|m| m.sigma_in < velocity::SINGULAR) {
+            " σ_in is 0 at every node: the declared outputs do not fix every motion of the mechanism (some \
+             motion leaves them all still, at every pose), so σ_in does not locate singularities here; σ_out \
+             and the determinant factors do."
+        } else {
+            ""
+        }
     );
+    let plane = match drawn {
+        Drawn::Plane(plane) => plane,
+        Drawn::Line(value) => {
+            return against(
+                page,
+                "singularity_loci",
+                "σ_in and σ_out",
+                value,
+                measured,
+                &[
+                    ("σ_in".into(), &|m: &Measured| m.sigma_in),
+                    ("σ_out".into(), &|m: &Measured| m.sigma_out),
+                ],
+                &format!("σ_in and σ_out against {value}: 0 at an input or output singularity"),
+            )
+        }
+    };
+    let on_plane = |m: &Measured| plane.on(m);
+    let near = |k: usize, limit: f64| -> Vec<[f64; 2]> {
+        measured.iter().filter(|m| sigma(m, k) <= limit).map(on_plane).collect()
+    };
     let all: Vec<[f64; 2]> = measured.iter().map(on_plane).collect();
     let [x, y] = &plane.labels;
     page.scatter(
@@ -231,9 +288,12 @@ fn factor_loci(
     page: &mut Page,
     measured: &[Measured],
     named: &[(String, f64, String)],
-    plane: &Plane,
+    drawn: &Drawn,
 ) -> Result<(), ReportError> {
-    let on_plane = |m: &Measured| plane.on(m);
+    let on_plane = |m: &Measured| match drawn {
+        Drawn::Plane(plane) => plane.on(m),
+        Drawn::Line(_) => [m.at[0], 0.0],
+    };
     let mut series = vec![(
         "all measured nodes".to_string(),
         measured.iter().map(on_plane).collect::<Vec<_>>(),
@@ -259,6 +319,31 @@ fn factor_loci(
         }
     }
     page.html.push_str("</table>\n");
+    let plane = match drawn {
+        Drawn::Plane(plane) => plane,
+        Drawn::Line(value) => {
+            let of: Vec<(String, Box<dyn Fn(&Measured) -> f64>)> = (0..named.len())
+                .map(|k| {
+                    (
+                        named[k].0.clone(),
+                        Box::new(move |m: &Measured| m.factors.get(k).copied().unwrap_or(f64::NAN))
+                            as Box<dyn Fn(&Measured) -> f64>,
+                    )
+                })
+                .collect();
+            let of: Vec<(String, &dyn Fn(&Measured) -> f64)> =
+                of.iter().map(|(n, f)| (n.clone(), f.as_ref())).collect();
+            return against(
+                page,
+                "singularity_factors",
+                "Determinant factors",
+                value,
+                measured,
+                &of,
+                &format!("Each determinant factor against {value}: 0 where it vanishes"),
+            );
+        }
+    };
     if series.len() > 1 {
         let [x, y] = &plane.labels;
         page.scatter(

@@ -504,21 +504,19 @@ pub(super) fn cloud_figures(
         } else {
             ("in", "The workspace in")
         };
-        let dense = if cloud.len() > plots::DENSE {
-            "; a dense cloud drawn as occupied cells"
-        } else {
-            ""
-        };
         for p in &planes {
             let name = plane_name(*p);
+            let projected: Vec<[f64; 2]> = cloud.iter().map(|q| [q[p[0]], q[p[1]]]).collect();
+            let dense = if !joined && plots::places(&projected).len() > plots::DENSE {
+                "; a dense cloud drawn as occupied cells"
+            } else {
+                ""
+            };
             page.scatter(
                 &format!("workspace_{name}"),
                 &format!("Workspace of {point_name}: {title} {name}"),
                 [&label(p[0]), &label(p[1])],
-                &[(
-                    point_name.to_string(),
-                    cloud.iter().map(|q| [q[p[0]], q[p[1]]]).collect(),
-                )],
+                &[(point_name.to_string(), projected)],
                 joined,
                 &format!("{caption} {name}, equal axis scales{dense}"),
             )?;
