@@ -845,7 +845,8 @@ pub fn solid3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]])
 }
 
 /// Curves over a shared abscissa: `series` are (name, values) with the same
-/// length as `x`; the legend sits beside the plot.
+/// length as `x`; the legend sits beside the plot. A value that is not
+/// finite is a gap in its curve and an empty field in the CSV.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-curves");
@@ -870,11 +871,12 @@ pub fn curves(
         &header,
         x.iter().enumerate().map(|(i, t)| {
             let mut row = vec![t.to_string()];
-            row.extend(
-                series
-                    .iter()
-                    .map(|(_, v)| v.get(i).map(|x| x.to_string()).unwrap_or_default()),
-            );
+            row.extend(series.iter().map(|(_, v)| {
+                v.get(i)
+                    .filter(|x| x.is_finite())
+                    .map(|x| x.to_string())
+                    .unwrap_or_default()
+            }));
             row
         }),
     )?;

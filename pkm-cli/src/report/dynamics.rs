@@ -84,8 +84,16 @@ impl Recorder {
 
     /// The section: the driving forces, then every joint's reaction.
     pub(super) fn write(self, page: &mut Page, model: &Model, unit: &str) -> Result<(), ReportError> {
+        let steps = self.t.len();
         let marks = if self.change_points.is_empty() {
             "No step is next to a change point.".to_string()
+        } else if self.change_points.len() == steps {
+            let (_, _, c, skc) = &self.change_points[0];
+            format!(
+                "The force equations of {skc} are singular at every step (conditioning {c:.1e} at t = 0): not a \
+                 change point of the motion but a freedom they cannot fix (such as a link between two spherical \
+                 joints spinning about its own axis), so no force or reaction is drawn."
+            )
         } else {
             // Runs of consecutive steps, each by its lowest conditioning.
             let mut runs: Vec<Vec<&(usize, f64, f64, String)>> = Vec::new();
@@ -131,7 +139,8 @@ impl Recorder {
              reaction is the force its first link exerts on its second, base axes. {marks}{}</p>",
             html_escape(&failed)
         );
-        if self.failed.0 == self.t.len() {
+        if self.failed.0 + self.change_points.len() >= steps && self.actuators.iter().flatten().all(|a| !a.is_finite())
+        {
             return Ok(());
         }
         // One chart per unit: the slides' forces in N, the turns' torques in N·length unit.
@@ -152,7 +161,7 @@ impl Recorder {
                     )
                 })
                 .collect();
-            if series.is_empty() {
+            if series.iter().all(|(_, v)| v.iter().all(|x| !x.is_finite())) {
                 continue;
             }
             let f = plots::curves(
@@ -179,7 +188,12 @@ impl Recorder {
         } else {
             &[(0, "x"), (1, "y"), (2, "z")]
         };
+        let mut without = Vec::new();
         for (j, joint) in model.joints.iter().enumerate() {
+            if self.forces.iter().all(|f| f[j].iter().all(|x| !x.is_finite())) {
+                without.push(joint.name.as_str());
+                continue;
+            }
             let series: Vec<(String, Vec<f64>)> = components
                 .iter()
                 .map(|&(c, name)| (format!("R{name}"), self.forces.iter().map(|f| f[j][c]).collect()))
@@ -195,6 +209,14 @@ impl Recorder {
             page.figure(
                 &f,
                 &format!("Joint {}: the force link {by} exerts on link {on}", joint.name),
+            );
+        }
+        if !without.is_empty() {
+            let _ = writeln!(
+                page,
+                "<p>No step gives a reaction at {} (every step next to a change point or without an answer): not \
+                 drawn.</p>",
+                html_escape(&without.join(", "))
             );
         }
         Ok(())

@@ -841,6 +841,14 @@ impl Held<'_> {
             &series(&values, false),
             "The actuators' values along the motion, from the inverse solution",
         )?;
+        if rates.iter().flatten().all(|r| !r.is_finite()) {
+            let _ = writeln!(
+                page,
+                "<p>No actuator rates: J_i is singular at every step (σ_in 0: the declared outputs do not fix every \
+                 motion of the mechanism).</p>"
+            );
+            return self.animate(page, &frames, &ts, view, duration);
+        }
         page.curves_per_unit(
             "motion_rates",
             "The actuators' rates along the motion",
@@ -849,10 +857,22 @@ impl Held<'_> {
             &series(&rates, true),
             "The actuators' rates along the motion: J_i times the outputs' rates",
         )?;
+        self.animate(page, &frames, &ts, view, duration)
+    }
+
+    /// The motion's animation: `frames` at the times `ts`.
+    fn animate(
+        &self,
+        page: &mut Page,
+        frames: &[drawing::Scene],
+        ts: &[f64],
+        view: View,
+        duration: f64,
+    ) -> Result<(), ReportError> {
         if frames.len() >= 2 {
             let path = page.dir.join("animation.svg");
             let played = ts.last().copied().unwrap_or(duration).max(1e-3);
-            drawing::animation(&path, &frames, view, played, &self.point_name)?;
+            drawing::animation(&path, frames, view, played, &self.point_name)?;
             let svg = std::fs::read_to_string(&path).map_err(io(&path))?;
             let _ = writeln!(
                 page,
