@@ -1051,7 +1051,7 @@ pub struct HeatStyle<'a> {
 /// beside it labelled `value_label`, linear or logarithmic (`style.log`); a
 /// node whose value is not finite is left blank (white); a node
 /// `style.marked` is crossed. The CSV has one row per node, its value empty
-/// where there is none, and a column of the marks when there are any.
+/// where there is none, and a column of the marks when `style` gives them.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-heat");
@@ -1080,7 +1080,8 @@ pub fn heat_map(
         )));
     }
     let marked = |n: usize| style.marked.get(n).copied().unwrap_or(false);
-    let any_marked = (0..values.len()).any(marked);
+    // The marks' column whenever there are marks to give, crossed or not.
+    let any_marked = !style.marked.is_empty();
     let csv = stem.with_extension("csv");
     let mut header = vec![labels[0], labels[1], value_label];
     if any_marked {
