@@ -177,9 +177,12 @@ impl Continuity {
     /// one, `last + (last − before)` (angles' steps wrapped), or `last`
     /// when there is no step before it. Where two branches cross (a dyad
     /// through its double root) both are as near the last configuration,
-    /// and the one that goes on smoothly is the one nearest this.
+    /// and the one that goes on smoothly is the one nearest this. A last
+    /// step longer than [`LONGEST_STEP`] is not one of a smooth motion (a
+    /// jump through a degenerate configuration, where the plan picks one of
+    /// a continuum) and is not extrapolated: the prediction is `last`.
     pub fn predict(&self, last: &[f64], before: Option<&[f64]>) -> Vec<f64> {
-        match before {
+        match before.filter(|b| self.distance(last, b) <= LONGEST_STEP) {
             Some(b) => last
                 .iter()
                 .zip(b)
@@ -204,6 +207,10 @@ impl Continuity {
         })
     }
 }
+
+/// The longest step ([`Continuity::distance`]: half a radian, or half the
+/// mechanism's size) that [`Continuity::predict`] extrapolates.
+pub const LONGEST_STEP: f64 = 0.5;
 
 /// One node of a followed sweep ([`follow`]).
 #[derive(Debug, Clone, PartialEq)]
