@@ -107,9 +107,9 @@ pub(super) fn head(title: &str) -> String {
     format!(
         "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{title}</title>\
          <style>body{{font-family:sans-serif;max-width:64em;margin:auto;padding:0 1em}}\
-         pre{{background:#f6f6f6;padding:1em;overflow:auto}}table{{border-collapse:collapse;margin:0.5em 0}}\
-         td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}th{{background:#f0f0f0}}\
-         td.l,th.l{{text-align:left}}figure{{margin:1em 0}}figure img,figure svg{{max-width:100%;height:auto}}\
+         pre{{background:#f6f6f6;padding:1em;overflow:auto}}table{{border-collapse:collapse;margin:0.5em 0;display:block;overflow-x:auto;max-width:100%}}\
+         td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap}}th{{background:#f0f0f0}}\
+         td.l,th.l{{text-align:left;white-space:normal}}figure{{margin:1em 0}}figure img,figure svg{{max-width:100%;height:auto}}\
          figcaption{{color:#444}}</style></head><body><h1>{title}</h1>\n"
     )
 }

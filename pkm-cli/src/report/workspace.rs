@@ -262,7 +262,8 @@ fn compare_table(
     let unit = this_unit;
     let mut html = format!(
         "<h3>Workspaces of {point}, every branch</h3><p>The same ranges and grid ({} nodes), each file's point \
-         `{point}`.</p><table><tr><th class=l>mechanism</th><th>branch</th><th>reachable nodes</th>\
+         `{point}`, per branch index as `pkm fk` numbers them: the nodes where that branch solves (not followed by \
+         continuity as the sweep above is).</p><table><tr><th class=l>mechanism</th><th>branch</th><th>reachable nodes</th>\
          <th class=l>workspace</th></tr>",
         grid.len()
     );
