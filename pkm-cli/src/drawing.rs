@@ -30,6 +30,15 @@ pub struct JointMark {
     pub at: [f64; 3],
 }
 
+/// A segment drawn besides the links.
+#[derive(Debug, Clone, Copy)]
+pub struct Segment {
+    /// Its two ends.
+    pub ends: ([f64; 3], [f64; 3]),
+    /// The link whose colour it takes; `None`: a grey guide or arm.
+    pub link: Option<usize>,
+}
+
 /// A configuration in world coordinates.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -37,8 +46,10 @@ pub struct Scene {
     pub links: Vec<Vec<[f64; 3]>>,
     /// Every joint.
     pub joints: Vec<JointMark>,
-    /// Extra segments: P guides and parallelogram arms.
-    pub segments: Vec<([f64; 3], [f64; 3])>,
+    /// Extra segments: P guides and parallelogram arms (grey), and the
+    /// members a slide joins (a leg's cylinder to its piston), in their
+    /// link's colour.
+    pub segments: Vec<Segment>,
     /// The followed point.
     pub point: [f64; 3],
 }
@@ -98,11 +109,21 @@ pub fn scene(model: &Model, poses: &[Pose3], point: (usize, [f64; 3])) -> Scene 
                     let k = 0.6 * size / norm(d).max(1e-12);
                     // The guide through the slider's point, along its direction.
                     let c = at;
-                    let _ = p;
-                    segments.push((
-                        [c[0] - k * d[0], c[1] - k * d[1], c[2] - k * d[2]],
-                        [c[0] + k * d[0], c[1] + k * d[1], c[2] + k * d[2]],
-                    ));
+                    segments.push(Segment {
+                        ends: (
+                            [c[0] - k * d[0], c[1] - k * d[1], c[2] - k * d[2]],
+                            [c[0] + k * d[0], c[1] + k * d[1], c[2] + k * d[2]],
+                        ),
+                        link: None,
+                    });
+                    // A guide on a moving link (a leg's cylinder): the member
+                    // from the guide's point to the slider's, in its colour.
+                    if j.links[s] != 0 && norm(sub(p, c)) > 1e-9 * size {
+                        segments.push(Segment {
+                            ends: (p, c),
+                            link: Some(j.links[s]),
+                        });
+                    }
                 }
                 Place::Arm { at: hinge, axis, .. } => {
                     let other = world(&poses[j.links[1 - s]], j.places[1 - s].at());
@@ -112,10 +133,14 @@ pub fn scene(model: &Model, poses: &[Pose3], point: (usize, [f64; 3])) -> Scene 
                     let k = 0.15 * arm / norm(d).max(1e-12);
                     let shift = |p: [f64; 3]| [p[0] + k * d[0], p[1] + k * d[1], p[2] + k * d[2]];
                     // The parallelogram: both arms and both short sides.
-                    segments.push((a, other));
-                    segments.push((shift(a), shift(other)));
-                    segments.push((a, shift(a)));
-                    segments.push((other, shift(other)));
+                    for ends in [
+                        (a, other),
+                        (shift(a), shift(other)),
+                        (a, shift(a)),
+                        (other, shift(other)),
+                    ] {
+                        segments.push(Segment { ends, link: None });
+                    }
                 }
                 _ => {}
             }
@@ -236,6 +261,77 @@ fn extent(scenes: &[Scene], view: View) -> ((f64, f64), (f64, f64)) {
     // Room for the ground hatching below the lowest joint.
     let pad = 0.08 * (xr.1 - xr.0).max(yr.1 - yr.0);
     ((xr.0 - pad, xr.1 + pad), (yr.0 - pad, yr.1 + pad))
+}
+
+/// The part of the segment `a`–`b` inside the window `(x range, y range)`
+/// (Liang–Barsky), if any: a line leaving the plot is cut at its edge, in
+/// its own direction.
+///
+/// ```
+/// use pkm_cli::drawing::clip;
+/// let w = ((0.0, 10.0), (0.0, 10.0));
+/// assert_eq!(clip((-10.0, 5.0), (20.0, 5.0), w), Some(((0.0, 5.0), (10.0, 5.0))));
+/// // A diagonal keeps its direction: (−5, −5)–(15, 15) becomes (0, 0)–(10, 10).
+/// assert_eq!(clip((-5.0, -5.0), (15.0, 15.0), w), Some(((0.0, 0.0), (10.0, 10.0))));
+/// assert_eq!(clip((-5.0, 20.0), (15.0, 20.0), w), None);
+/// ```
+pub fn clip(a: (f64, f64), b: (f64, f64), window: ((f64, f64), (f64, f64))) -> Option<((f64, f64), (f64, f64))> {
+    let ((x0, x1), (y0, y1)) = window;
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [(-dx, a.0 - x0), (dx, x1 - a.0), (-dy, a.1 - y0), (dy, y1 - a.1)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    if !(t0 <= t1) {
+        return None;
+    }
+    let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
+    Some((at(t0), at(t1)))
+}
+
+/// The world axes' directions in the view, at the plot's lower left: x, y
+/// (and z in an axonometric view) as arrows 34 pixels long.
+fn triad<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, view: View) -> Result<(), PlotError> {
+    let (xs, ys) = (chart.x_range(), chart.y_range());
+    let corner = (xs.start, ys.start);
+    let origin = (40, -40);
+    for (k, name) in ["x", "y", "z"].iter().enumerate() {
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        let d = view.project(e);
+        let length = d[0].hypot(d[1]);
+        if length < 1e-6 {
+            continue;
+        }
+        let tip = (
+            origin.0 + (34.0 * d[0]).round() as i32,
+            origin.1 - (34.0 * d[1]).round() as i32,
+        );
+        let label = (
+            origin.0 + (44.0 * d[0] / length.max(0.5)).round() as i32 - 4,
+            origin.1 - (44.0 * d[1] / length.max(0.5)).round() as i32 - 7,
+        );
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at(corner)
+                    + PathElement::new(vec![origin, tip], BLACK.stroke_width(2))
+                    + Circle::new(tip, 2, BLACK.filled())
+                    + Text::new(name.to_string(), label, ("sans-serif", 14)),
+            ))
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// The colour of guides and arms.
@@ -375,10 +471,19 @@ pub fn draw(
                 let q = v.project(a);
                 (q[0], q[1])
             };
-            for (a, b) in &s.segments {
-                chart
-                    .draw_series(LineSeries::new(vec![p(*a), p(*b)], GUIDE.stroke_width(2)))
-                    .map_err(err)?;
+            // Guides leave the plot: clipped to it, never clamped (a clamped
+            // end would turn the line).
+            let (xs, ys) = (chart.x_range(), chart.y_range());
+            let window = ((xs.start, xs.end), (ys.start, ys.end));
+            for seg in &s.segments {
+                let Some((a, b)) = clip(p(seg.ends.0), p(seg.ends.1), window) else {
+                    continue;
+                };
+                let style = match seg.link {
+                    Some(k) => colour(k).stroke_width(4),
+                    None => GUIDE.stroke_width(2),
+                };
+                chart.draw_series(LineSeries::new(vec![a, b], style)).map_err(err)?;
             }
             // Ground: a bar under each base joint, hatched.
             let h = 0.025 * (xr.1 - xr.0).max(yr.1 - yr.0);
@@ -395,12 +500,28 @@ pub fn draw(
                     BLACK.to_rgba()
                 };
                 marker(&mut chart, j.kind, p(j.at), c)?;
+            }
+            // Joints drawn within a few pixels of each other share one label.
+            let mut labels: Vec<((i32, i32), (f64, f64), Vec<&str>)> = Vec::new();
+            for j in &s.joints {
+                let at = p(j.at);
+                let px = chart.backend_coord(&at);
+                match labels
+                    .iter_mut()
+                    .find(|(q, _, _)| (q.0 - px.0).abs() <= 6 && (q.1 - px.1).abs() <= 6)
+                {
+                    Some((_, _, names)) => names.push(&j.name),
+                    None => labels.push((px, at, vec![&j.name])),
+                }
+            }
+            for (_, at, names) in labels {
                 chart
                     .draw_series(std::iter::once(
-                        EmptyElement::at(p(j.at)) + Text::new(j.name.clone(), (8, -18), ("sans-serif", 13)),
+                        EmptyElement::at(at) + Text::new(names.join(", "), (8, -18), ("sans-serif", 13)),
                     ))
                     .map_err(err)?;
             }
+            triad(&mut chart, v)?;
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at(p(s.point))
@@ -460,6 +581,11 @@ pub fn animation(path: &Path, frames: &[Scene], view: View, duration: f64, point
         return Err(PlotError("no frames to animate".into()));
     };
     let (xr, yr) = extent(frames, view);
+    let title = "the animation";
+    let (xr, yr) = (
+        plots::checked_extent(title, "horizontal", xr)?,
+        plots::checked_extent(title, "vertical", yr)?,
+    );
     let (w, h) = (720.0, 540.0);
     let a = Animated {
         frames,
@@ -537,18 +663,27 @@ impl Animated<'_> {
         self.frames.iter().map(f).collect::<Vec<_>>().join(";")
     }
 
-    /// The guides and arms, grey lines whose ends move.
+    /// The guides and arms, grey lines whose ends move, and the members
+    /// slides join, in their links' colours. (The SVG's own viewport clips
+    /// what leaves it.)
     fn segments(&self, svg: &mut String) {
         let (first, dur) = (self.first, &self.dur);
         for k in 0..first.segments.len() {
             let at = |s: &Scene, e: usize| {
-                let (a, b) = s.segments.get(k).copied().unwrap_or(first.segments[k]);
+                let (a, b) = s.segments.get(k).unwrap_or(&first.segments[k]).ends;
                 self.px(if e == 0 { a } else { b })
             };
             let (a, b) = (at(first, 0), at(first, 1));
+            let (stroke, width) = match first.segments[k].link {
+                Some(l) => {
+                    let c = colour(l);
+                    (format!("rgb({},{},{})", c.0, c.1, c.2), 4)
+                }
+                None => ("#999".to_string(), 2),
+            };
             let _ = write!(
                 svg,
-                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#999\" stroke-width=\"2\">",
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{stroke}\" stroke-width=\"{width}\">",
                 a.0, a.1, b.0, b.1
             );
             for (attr, e, c) in [("x1", 0, 0), ("y1", 0, 1), ("x2", 1, 0), ("y2", 1, 1)] {

@@ -93,6 +93,43 @@ pub(crate) fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// The largest magnitude a figure's extent may reach: beyond it the
+/// extent's span, or the squares a drawing takes of it, would overflow.
+pub const MAX_EXTENT: f64 = 1e150;
+
+/// `r`, the extent along `axis` of the figure `title`, if a chart can be
+/// drawn over it: both ends finite and within ±[`MAX_EXTENT`], the high end
+/// above the low one by more than rounding (10⁻¹² of their size), else an
+/// error that says why. Every extent goes through this before it reaches
+/// plotters, whose tick routine does not return on an infinite extent.
+///
+/// ```
+/// use pkm_cli::plots::checked_extent;
+/// assert_eq!(checked_extent("f", "x", (-1.0, 2.0)).unwrap(), (-1.0, 2.0));
+/// assert!(checked_extent("f", "x", (-1.05e308, 60.0)).is_err());
+/// assert!(checked_extent("f", "y", (0.0, f64::INFINITY)).is_err());
+/// assert!(checked_extent("f", "y", (1e20, 1e20)).is_err());
+/// ```
+pub fn checked_extent(title: &str, axis: &str, r: (f64, f64)) -> Result<(f64, f64), PlotError> {
+    let (lo, hi) = r;
+    let why = if !(lo.is_finite() && hi.is_finite()) {
+        Some("it is not finite".to_string())
+    } else if lo.abs().max(hi.abs()) > MAX_EXTENT {
+        Some(format!("it reaches beyond ±{MAX_EXTENT:e}"))
+    } else if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
+        Some("its span is below rounding".to_string())
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(PlotError(format!(
+            "the figure \"{title}\" cannot be drawn: its {axis} extent {lo:e} .. {hi:e} is out of range ({why}); \
+             is a coordinate or a parameter of the file too large?"
+        ))),
+        None => Ok(r),
+    }
+}
+
 /// A figure that can draw itself on any plotters back end.
 pub(crate) trait Draw {
     fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
@@ -146,6 +183,10 @@ pub(crate) fn frame<'a, DB: DrawingBackend>(
     equal: bool,
 ) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
     let (w, h) = area.dim_in_pixel();
+    let (xr, yr) = (
+        checked_extent(title, labels[0], xr)?,
+        checked_extent(title, labels[1], yr)?,
+    );
     let (xr, yr) = if equal {
         equalise(
             xr,
@@ -156,6 +197,10 @@ pub(crate) fn frame<'a, DB: DrawingBackend>(
     } else {
         (xr, yr)
     };
+    let (xr, yr) = (
+        checked_extent(title, labels[0], xr)?,
+        checked_extent(title, labels[1], yr)?,
+    );
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 20))
         .margin(MARGIN)
@@ -272,6 +317,25 @@ fn cells(points: &[[f64; 2]], xr: (f64, f64), yr: (f64, f64)) -> Vec<[(f64, f64)
         .collect()
 }
 
+/// Each place of `points` once, in order: points within 10⁻⁹ of the set's
+/// extent of an earlier one are left out.
+///
+/// ```
+/// let p = pkm_cli::plots::places(&[[0.0, 0.0], [1.0, 1.0], [0.0, 1e-12], [1.0, 0.0]]);
+/// assert_eq!(p, [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]);
+/// ```
+pub fn places(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let xr = range(points.iter().map(|p| p[0]));
+    let yr = range(points.iter().map(|p| p[1]));
+    let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
+    let mut seen = std::collections::HashSet::new();
+    points
+        .iter()
+        .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
+        .copied()
+        .collect()
+}
+
 /// How a scatter is drawn.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Style {
@@ -307,18 +371,9 @@ pub fn scatter(
     let sets = if style.joined {
         sets
     } else {
-        let scale = (xr.1 - xr.0).max(yr.1 - yr.0) * 1e-9;
         owned = sets
             .iter()
-            .map(|(name, points)| {
-                let mut seen = std::collections::HashSet::new();
-                let kept = points
-                    .iter()
-                    .filter(|p| seen.insert(((p[0] / scale).round() as i64, (p[1] / scale).round() as i64)))
-                    .copied()
-                    .collect();
-                (name.clone(), kept)
-            })
+            .map(|(name, points)| (name.clone(), places(points)))
             .collect();
         &owned[..]
     };
@@ -391,95 +446,407 @@ pub fn scatter(
     Ok(Figure { png, svg, csv })
 }
 
-/// A 3-D view of a point cloud (at most [`DENSE`] points drawn, evenly
-/// chosen; the CSV holds those drawn).
+/// A view of 3-D space from azimuth `azimuth` and elevation `elevation`
+/// (radians; azimuth 0 looks from −y towards +y, positive turns the viewer
+/// towards +x): a point's place across and up the view, and its distance
+/// towards the viewer.
+#[derive(Debug, Clone, Copy)]
+struct Camera {
+    right: [f64; 3],
+    up: [f64; 3],
+    toward: [f64; 3],
+}
+
+impl Camera {
+    fn new(azimuth: f64, elevation: f64) -> Camera {
+        let (a, e) = (azimuth, elevation);
+        Camera {
+            right: [a.cos(), a.sin(), 0.0],
+            up: [-e.sin() * a.sin(), e.sin() * a.cos(), e.cos()],
+            toward: [a.sin() * e.cos(), -a.cos() * e.cos(), e.sin()],
+        }
+    }
+
+    fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    /// Across and up the view.
+    fn project(&self, p: [f64; 3]) -> (f64, f64) {
+        (Camera::dot(self.right, p), Camera::dot(self.up, p))
+    }
+}
+
+/// A cloud of points as a solid: the cubic cells of a grid over it that
+/// hold a point (a gap of one cell between two full ones filled), each
+/// cell `edge` wide from `origin`, `dims` cells per axis.
+#[derive(Debug, Clone)]
+pub struct Voxels {
+    /// The grid's lowest corner.
+    pub origin: [f64; 3],
+    /// A cell's edge.
+    pub edge: f64,
+    /// Cells per axis.
+    pub dims: [usize; 3],
+    /// Whether each cell is full (index `(i · dims[1] + j) · dims[2] + k`).
+    pub full: Vec<bool>,
+}
+
+impl Voxels {
+    /// The cells of `points`, about `across` along the cloud's longest
+    /// extent (at least 1).
+    ///
+    /// ```
+    /// // The 11³ nodes of a cube of side 10: every cell of a 5-cell grid full.
+    /// let pts: Vec<[f64; 3]> = (0..1331).map(|n| [(n / 121) as f64, (n / 11 % 11) as f64, (n % 11) as f64]).collect();
+    /// let v = pkm_cli::plots::Voxels::of(&pts, 5);
+    /// assert_eq!(v.full.iter().filter(|f| **f).count(), v.full.len());
+    /// assert!((v.volume() - 1000.0).abs() < 0.3 * 1000.0);
+    /// ```
+    pub fn of(points: &[[f64; 3]], across: usize) -> Voxels {
+        let lo: [f64; 3] = std::array::from_fn(|i| points.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
+        let hi: [f64; 3] = std::array::from_fn(|i| points.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max));
+        let longest = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+        let edge = if longest > 0.0 && longest.is_finite() {
+            longest / across.max(1) as f64
+        } else {
+            1.0
+        };
+        let dims: [usize; 3] =
+            std::array::from_fn(|i| (((hi[i] - lo[i]) / edge).floor() as usize + 1).clamp(1, 4 * across.max(1)));
+        // Centred on the cloud along each axis.
+        let origin: [f64; 3] = std::array::from_fn(|i| (lo[i] + hi[i]) / 2.0 - dims[i] as f64 * edge / 2.0);
+        let index = |c: [usize; 3]| (c[0] * dims[1] + c[1]) * dims[2] + c[2];
+        let mut full = vec![false; dims[0] * dims[1] * dims[2]];
+        for p in points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
+            let c: [usize; 3] = std::array::from_fn(|i| (((p[i] - origin[i]) / edge) as usize).min(dims[i] - 1));
+            full[index(c)] = true;
+        }
+        // A cell between two full ones along an axis is full: a lattice of
+        // samples coarser than the cells leaves one-cell holes otherwise.
+        let at = |full: &[bool], c: [usize; 3], axis: usize, d: isize| {
+            let k = c[axis] as isize + d;
+            if k < 0 || k >= dims[axis] as isize {
+                return false;
+            }
+            let mut n = c;
+            n[axis] = k as usize;
+            full[index(n)]
+        };
+        let mut closed = full.clone();
+        for i in 0..dims[0] {
+            for j in 0..dims[1] {
+                for k in 0..dims[2] {
+                    let c = [i, j, k];
+                    if (0..3).any(|a| at(&full, c, a, -1) && at(&full, c, a, 1)) {
+                        closed[index(c)] = true;
+                    }
+                }
+            }
+        }
+        Voxels {
+            origin,
+            edge,
+            dims,
+            full: closed,
+        }
+    }
+
+    /// The full cells' volume.
+    pub fn volume(&self) -> f64 {
+        self.full.iter().filter(|f| **f).count() as f64 * self.edge.powi(3)
+    }
+
+    fn is_full(&self, c: [isize; 3]) -> bool {
+        if (0..3).any(|i| c[i] < 0 || c[i] >= self.dims[i] as isize) {
+            return false;
+        }
+        self.full[(c[0] as usize * self.dims[1] + c[1] as usize) * self.dims[2] + c[2] as usize]
+    }
+
+    /// The boundary faces: each a full cell's face whose neighbour is
+    /// empty, as its four corners and outward normal.
+    fn faces(&self) -> Vec<([[f64; 3]; 4], [f64; 3])> {
+        let mut faces = Vec::new();
+        let d = self.dims;
+        for i in 0..d[0] {
+            for j in 0..d[1] {
+                for k in 0..d[2] {
+                    let c = [i as isize, j as isize, k as isize];
+                    if !self.is_full(c) {
+                        continue;
+                    }
+                    for axis in 0..3 {
+                        for side in [0isize, 1] {
+                            let mut n = c;
+                            n[axis] += 2 * side - 1;
+                            if self.is_full(n) {
+                                continue;
+                            }
+                            // The face's four corners, in order round it.
+                            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                            let corner = |a: usize, b: usize| {
+                                let mut g = [c[0] as f64, c[1] as f64, c[2] as f64];
+                                g[axis] += side as f64;
+                                g[u] += a as f64;
+                                g[v] += b as f64;
+                                std::array::from_fn(|m| self.origin[m] + g[m] * self.edge)
+                            };
+                            let mut normal = [0.0; 3];
+                            normal[axis] = (2 * side - 1) as f64;
+                            faces.push(([corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)], normal));
+                        }
+                    }
+                }
+            }
+        }
+        faces
+    }
+}
+
+/// Tick values over `lo ..= hi`: about five, at 1, 2 or 5 times a power of ten.
+fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let span = hi - lo;
+    if !(span > 0.0 && span.is_finite()) {
+        return vec![lo];
+    }
+    let raw = span / 5.0;
+    let power = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * power)
+        .find(|s| span / s <= 6.0)
+        .unwrap_or(10.0 * power);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// A solid seen in 3-D: the cloud `points` drawn as its occupied cells
+/// ([`Voxels`], about 28 across) whose outer faces are shaded (lit from
+/// the upper left, coloured by height on the viridis scale), from two
+/// sides (azimuth 35° and 215°, elevation 25°), each in its box with the
+/// axes `labels` (x, y, z) ticked on the box's near edges and a triad.
+/// The CSV holds the full cells' centres.
 ///
 /// ```
-/// let stem = std::env::temp_dir().join("pkm-doc-cloud");
-/// let f = pkm_cli::plots::cloud3d(&stem, "Cube corners", ["x (mm)", "y (mm)", "z (mm)"], &[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]).unwrap();
-/// assert_eq!(std::fs::read_to_string(f.csv).unwrap().lines().count(), 3);
+/// let stem = std::env::temp_dir().join("pkm-doc-solid");
+/// let ball: Vec<[f64; 3]> = (0..8000)
+///     .map(|n| [(n / 400) as f64 - 10.0, (n / 20 % 20) as f64 - 10.0, (n % 20) as f64 - 10.0])
+///     .filter(|p| p[0] * p[0] + p[1] * p[1] + p[2] * p[2] <= 100.0)
+///     .collect();
+/// let f = pkm_cli::plots::solid3d(&stem, "Ball", ["x (mm)", "y (mm)", "z (mm)"], &ball).unwrap();
+/// assert!(std::fs::read_to_string(f.csv).unwrap().starts_with("x (mm),y (mm),z (mm)"));
 /// ```
-pub fn cloud3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]]) -> Result<Figure, PlotError> {
-    let stride = points.len().div_ceil(DENSE).max(1);
-    let drawn: Vec<[f64; 3]> = points.iter().step_by(stride).copied().collect();
+pub fn solid3d(stem: &Path, title: &str, labels: [&str; 3], points: &[[f64; 3]]) -> Result<Figure, PlotError> {
+    let finite: Vec<[f64; 3]> = points
+        .iter()
+        .copied()
+        .filter(|p| p.iter().all(|x| x.is_finite()))
+        .collect();
+    if finite.is_empty() {
+        return Err(PlotError(format!("the figure \"{title}\" has no point to draw")));
+    }
+    for (i, label) in labels.iter().enumerate() {
+        let r = range(finite.iter().map(|p| p[i]));
+        checked_extent(title, label, r)?;
+    }
+    let voxels = Voxels::of(&finite, 28);
     let csv = stem.with_extension("csv");
+    let d = voxels.dims;
     write_csv(
         &csv,
         &labels,
-        drawn
-            .iter()
-            .map(|p| p.iter().map(|v| v.to_string()).collect::<Vec<_>>()),
+        (0..voxels.full.len()).filter(|&n| voxels.full[n]).map(|n| {
+            let c = [n / (d[1] * d[2]), n / d[2] % d[1], n % d[2]];
+            (0..3)
+                .map(|i| (voxels.origin[i] + (c[i] as f64 + 0.5) * voxels.edge).to_string())
+                .collect::<Vec<_>>()
+        }),
     )?;
-    let r: Vec<(f64, f64)> = (0..3).map(|i| range(drawn.iter().map(|p| p[i]))).collect();
-    // One scale on every axis: each range widened to the longest.
-    let span = r.iter().map(|(a, b)| b - a).fold(0.0, f64::max);
-    let r: Vec<(f64, f64)> = r
-        .iter()
-        .map(|(a, b)| ((a + b) / 2.0 - span / 2.0, (a + b) / 2.0 + span / 2.0))
-        .collect();
-    struct Cloud<'a> {
+    struct Solid<'a> {
         title: &'a str,
         labels: [&'a str; 3],
-        points: &'a [[f64; 3]],
-        r: Vec<(f64, f64)>,
+        voxels: &'a Voxels,
+        faces: Vec<([[f64; 3]; 4], [f64; 3])>,
     }
-    impl Draw for Cloud<'_> {
-        fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-            let r = &self.r;
-            // plotters' 3-D charts put y up; the world's z is drawn up.
+    impl Solid<'_> {
+        fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, azimuth: f64) -> Result<(), PlotError> {
+            let cam = Camera::new(azimuth.to_radians(), 25f64.to_radians());
+            let v = self.voxels;
+            let lo = v.origin;
+            let hi: [f64; 3] = std::array::from_fn(|i| v.origin[i] + v.dims[i] as f64 * v.edge);
+            let box_corner =
+                |c: usize| -> [f64; 3] { std::array::from_fn(|i| if c >> i & 1 == 1 { hi[i] } else { lo[i] }) };
+            let projected: Vec<(f64, f64)> = (0..8).map(|c| cam.project(box_corner(c))).collect();
+            let xr = range(projected.iter().map(|p| p.0));
+            let yr = range(projected.iter().map(|p| p.1));
+            let (w, h) = area.dim_in_pixel();
+            // Room round the box for the ticks and names.
+            let (xr, yr) = equalise(
+                (xr.0 - 0.18 * (xr.1 - xr.0), xr.1 + 0.18 * (xr.1 - xr.0)),
+                (yr.0 - 0.18 * (yr.1 - yr.0), yr.1 + 0.12 * (yr.1 - yr.0)),
+                f64::from(w),
+                f64::from(h) - 30.0,
+            );
             let mut chart = ChartBuilder::on(area)
-                .caption(self.title, ("sans-serif", 20))
-                .margin(20)
-                .build_cartesian_3d(r[0].0..r[0].1, r[2].0..r[2].1, r[1].0..r[1].1)
+                .caption(format!("seen from azimuth {azimuth:.0}°"), ("sans-serif", 15))
+                .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
                 .map_err(err)?;
-            chart.with_projection(|mut p| {
-                p.yaw = 0.6;
-                p.pitch = 0.35;
-                p.scale = 0.8;
-                p.into_matrix()
-            });
+            let centre = cam.project(std::array::from_fn(|i| (lo[i] + hi[i]) / 2.0));
+            // The box's twelve edges, thin, under the solid.
+            let grey = RGBColor(170, 170, 170);
+            for a in 0..8usize {
+                for i in 0..3 {
+                    let b = a | 1 << i;
+                    if b != a {
+                        chart
+                            .draw_series(LineSeries::new(vec![projected[a], projected[b]], grey.stroke_width(1)))
+                            .map_err(err)?;
+                    }
+                }
+            }
+            // The faces that look towards the viewer, far ones first.
+            let light = {
+                let l = [
+                    cam.toward[0] + 0.6 * cam.up[0] - 0.4 * cam.right[0],
+                    cam.toward[1] + 0.6 * cam.up[1] - 0.4 * cam.right[1],
+                    cam.toward[2] + 0.6 * cam.up[2] - 0.4 * cam.right[2],
+                ];
+                let n = Camera::dot(l, l).sqrt();
+                l.map(|x| x / n)
+            };
+            let mut shown: Vec<&([[f64; 3]; 4], [f64; 3])> = self
+                .faces
+                .iter()
+                .filter(|(_, n)| Camera::dot(*n, cam.toward) > 1e-9)
+                .collect();
+            let depth = |f: &([[f64; 3]; 4], [f64; 3])| {
+                let c: [f64; 3] = std::array::from_fn(|i| (f.0[0][i] + f.0[2][i]) / 2.0);
+                Camera::dot(c, cam.toward)
+            };
+            shown.sort_by(|a, b| depth(a).total_cmp(&depth(b)));
+            let zspan = (hi[2] - lo[2]).max(f64::MIN_POSITIVE);
             chart
-                .configure_axes()
-                .label_style(("sans-serif", 12))
-                .x_labels(5)
-                .y_labels(5)
-                .z_labels(5)
-                .draw()
+                .draw_series(shown.iter().map(|(corners, normal)| {
+                    let height = (corners.iter().map(|c| c[2]).sum::<f64>() / 4.0 - lo[2]) / zspan;
+                    let base = viridis(height);
+                    let shade = 0.5 + 0.5 * Camera::dot(*normal, light).max(0.0);
+                    let c = RGBColor(
+                        (f64::from(base.0) * shade) as u8,
+                        (f64::from(base.1) * shade) as u8,
+                        (f64::from(base.2) * shade) as u8,
+                    );
+                    Polygon::new(corners.iter().map(|p| cam.project(*p)).collect::<Vec<_>>(), c.filled())
+                }))
                 .map_err(err)?;
-            let c = colour(0);
-            chart
-                .draw_series(
-                    self.points
-                        .iter()
-                        .map(|p| Circle::new((p[0], p[2], p[1]), 1, c.mix(0.35).filled())),
-                )
-                .map_err(err)?;
-            // Axis names at each axis's far end.
-            let ends = [
-                ((r[0].1, r[2].0, r[1].0), self.labels[0]),
-                ((r[0].0, r[2].1, r[1].0), self.labels[2]),
-                ((r[0].0, r[2].0, r[1].1), self.labels[1]),
-            ];
-            for (at, name) in ends {
+            // Each axis ticked along the box edge nearest the viewer, the
+            // labels pushed outwards from the box's centre.
+            let near = |i: usize| if cam.toward[i] < 0.0 { lo[i] } else { hi[i] };
+            for axis in 0..3 {
+                let (a, b) = match axis {
+                    0 => (1, 2),
+                    1 => (0, 2),
+                    _ => (0, 1),
+                };
+                let mut at = [0.0; 3];
+                at[a] = near(a);
+                // x and y along the bottom; z up the side away from the viewer's right.
+                at[b] = if axis == 2 {
+                    if cam.right[b] > 0.0 {
+                        lo[b]
+                    } else {
+                        hi[b]
+                    }
+                } else {
+                    lo[b]
+                };
+                if axis == 2 {
+                    at[a] = if cam.right[a] > 0.0 { lo[a] } else { hi[a] };
+                }
+                let ticks = nice_ticks(lo[axis], hi[axis]);
+                let mid = {
+                    let mut m = at;
+                    m[axis] = (lo[axis] + hi[axis]) / 2.0;
+                    cam.project(m)
+                };
+                let (ox, oy) = (mid.0 - centre.0, mid.1 - centre.1);
+                let on = (ox * ox + oy * oy).sqrt().max(f64::MIN_POSITIVE);
+                let out = ((ox / on * 14.0) as i32, (-oy / on * 14.0) as i32);
+                let mut last: Option<(i32, i32)> = None;
+                for t in ticks {
+                    let mut p = at;
+                    p[axis] = t;
+                    let q = cam.project(p);
+                    // A tick's label needs room: one too near the last drawn is left out.
+                    let px = chart.backend_coord(&q);
+                    if last.is_some_and(|l| (l.0 - px.0).pow(2) + (l.1 - px.1).pow(2) < 30 * 30) {
+                        continue;
+                    }
+                    last = Some(px);
+                    chart
+                        .draw_series(std::iter::once(
+                            EmptyElement::at(q)
+                                + Circle::new((0, 0), 2, BLACK.filled())
+                                + Text::new(tick(t), (out.0 * 2 - 12, out.1 * 2 - 6), ("sans-serif", 12)),
+                        ))
+                        .map_err(err)?;
+                }
                 chart
-                    .draw_series(std::iter::once(Text::new(name.to_string(), at, ("sans-serif", 15))))
+                    .draw_series(std::iter::once(
+                        EmptyElement::at(mid)
+                            + Text::new(
+                                self.labels[axis].to_string(),
+                                (out.0 * 5 - 20, out.1 * 5 - 6),
+                                ("sans-serif", 14),
+                            ),
+                    ))
+                    .map_err(err)?;
+            }
+            // The triad at the lower left.
+            let origin = (40, -40);
+            for (k, name) in ["x", "y", "z"].iter().enumerate() {
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                let d = cam.project(e);
+                let tip = (origin.0 + (30.0 * d.0) as i32, origin.1 - (30.0 * d.1) as i32);
+                chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at((xr.0, yr.0))
+                            + PathElement::new(vec![origin, tip], BLACK.stroke_width(2))
+                            + Text::new(
+                                name.to_string(),
+                                (origin.0 + (40.0 * d.0) as i32 - 4, origin.1 - (40.0 * d.1) as i32 - 7),
+                                ("sans-serif", 13),
+                            ),
+                    ))
                     .map_err(err)?;
             }
             Ok(())
         }
     }
-    let d = Cloud {
+    impl Draw for Solid<'_> {
+        fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+            let area = area.titled(self.title, ("sans-serif", 20)).map_err(err)?;
+            let (w, _) = area.dim_in_pixel();
+            let (left, right) = area.split_horizontally(w / 2);
+            self.panel(&left, 35.0)?;
+            self.panel(&right, 215.0)
+        }
+    }
+    let d = Solid {
         title,
         labels,
-        points: &drawn,
-        r,
+        faces: voxels.faces(),
+        voxels: &voxels,
     };
-    let (png, svg) = both(stem, (800, 700), &d)?;
+    let (png, svg) = both(stem, (1100, 560), &d)?;
     Ok(Figure { png, svg, csv })
 }
 
 /// Curves over a shared abscissa: `series` are (name, values) with the same
-/// length as `x`; the legend sits beside the plot.
+/// length as `x`; the legend sits beside the plot. A value that is not
+/// finite is a gap in its curve and an empty field in the CSV.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-curves");
@@ -504,11 +871,12 @@ pub fn curves(
         &header,
         x.iter().enumerate().map(|(i, t)| {
             let mut row = vec![t.to_string()];
-            row.extend(
-                series
-                    .iter()
-                    .map(|(_, v)| v.get(i).map(|x| x.to_string()).unwrap_or_default()),
-            );
+            row.extend(series.iter().map(|(_, v)| {
+                v.get(i)
+                    .filter(|x| x.is_finite())
+                    .map(|x| x.to_string())
+                    .unwrap_or_default()
+            }));
             row
         }),
     )?;
@@ -652,19 +1020,47 @@ fn tick_digits(v: f64, significant: usize) -> String {
     }
 }
 
+/// The edges of node `k`'s cell on the axis of node values `v` (at least
+/// two): half a step either side of it.
+fn cell_edges(v: &[f64], k: usize) -> (f64, f64) {
+    let n = v.len();
+    let lo = if k == 0 { v[1] - v[0] } else { v[k] - v[k - 1] };
+    let hi = if k + 1 == n {
+        v[n - 1] - v[n - 2]
+    } else {
+        v[k + 1] - v[k]
+    };
+    (v[k] - lo / 2.0, v[k] + hi / 2.0)
+}
+
+/// How a heat map colours and marks its nodes.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct HeatStyle<'a> {
+    /// Colour by the logarithm of the value (when every finite value is
+    /// above 0; else linear): a map over decades reads in each of them.
+    pub log: bool,
+    /// Nodes marked with a cross (one flag per value, or empty for none).
+    pub marked: &'a [bool],
+    /// What a cross means (the legend under the colour bar and the CSV's
+    /// last column's name).
+    pub mark_label: &'a str,
+}
+
 /// A heat map of `values` over the grid `xs` × `ys` (`values[i · ys.len() + j]`
 /// at `(xs[i], ys[j])`, each node's cell centred on it): the colour bar
-/// beside it labelled `value_label`; a node whose value is not finite is
-/// left blank (white). The CSV has one row per node, its value empty where
-/// there is none.
+/// beside it labelled `value_label`, linear or logarithmic (`style.log`); a
+/// node whose value is not finite is left blank (white); a node
+/// `style.marked` is crossed. The CSV has one row per node, its value empty
+/// where there is none, and a column of the marks when `style` gives them.
 ///
 /// ```
 /// let stem = std::env::temp_dir().join("pkm-doc-heat");
 /// let f = pkm_cli::plots::heat_map(&stem, "Heat", ["x (mm)", "y (mm)"], &[0.0, 1.0], &[0.0, 1.0],
-///     &[1.0, 2.0, f64::NAN, 4.0], "k (N/mm)").unwrap();
+///     &[1.0, 2.0, f64::NAN, 4.0], "k (N/mm)", &Default::default()).unwrap();
 /// let csv = std::fs::read_to_string(f.csv).unwrap();
 /// assert_eq!(csv.lines().nth(3), Some("1,0,"));
 /// ```
+#[allow(clippy::too_many_arguments)]
 pub fn heat_map(
     stem: &Path,
     title: &str,
@@ -673,6 +1069,7 @@ pub fn heat_map(
     ys: &[f64],
     values: &[f64],
     value_label: &str,
+    style: &HeatStyle,
 ) -> Result<Figure, PlotError> {
     if xs.len() < 2 || ys.len() < 2 || values.len() != xs.len() * ys.len() {
         return Err(PlotError(format!(
@@ -682,19 +1079,43 @@ pub fn heat_map(
             values.len()
         )));
     }
+    let marked = |n: usize| style.marked.get(n).copied().unwrap_or(false);
+    // The marks' column whenever there are marks to give, crossed or not.
+    let any_marked = !style.marked.is_empty();
     let csv = stem.with_extension("csv");
+    let mut header = vec![labels[0], labels[1], value_label];
+    if any_marked {
+        header.push(style.mark_label);
+    }
     write_csv(
         &csv,
-        &[labels[0], labels[1], value_label],
+        &header,
         (0..values.len()).map(|n| {
             let v = values[n];
-            vec![
+            let mut row = vec![
                 xs[n / ys.len()].to_string(),
                 ys[n % ys.len()].to_string(),
                 if v.is_finite() { v.to_string() } else { String::new() },
-            ]
+            ];
+            if any_marked {
+                row.push(marked(n).to_string());
+            }
+            row
         }),
     )?;
+    let (nx, ny) = (xs.len(), ys.len());
+    let xr = checked_extent(title, labels[0], (cell_edges(xs, 0).0, cell_edges(xs, nx - 1).1))?;
+    let yr = checked_extent(title, labels[1], (cell_edges(ys, 0).0, cell_edges(ys, ny - 1).1))?;
+    let finite = || values.iter().copied().filter(|v| v.is_finite());
+    let log = style.log && finite().next().is_some() && finite().all(|v| v > 0.0);
+    // The colour scale's variable: the value or its decimal logarithm.
+    let scaled = |v: f64| if log { v.log10() } else { v };
+    let (lo, hi) = finite().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(scaled(v)), b.max(scaled(v)))
+    });
+    let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    checked_extent(title, value_label, (lo, lo + span))?;
     struct Heat<'a> {
         title: &'a str,
         labels: [&'a str; 2],
@@ -702,29 +1123,20 @@ pub fn heat_map(
         ys: &'a [f64],
         values: &'a [f64],
         value_label: &'a str,
+        style: &'a HeatStyle<'a>,
+        log: bool,
+        xr: (f64, f64),
+        yr: (f64, f64),
+        lo: f64,
+        span: f64,
     }
     impl Draw for Heat<'_> {
         fn on<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
             let (w, _) = area.dim_in_pixel();
             let (main, bar) = area.split_horizontally(w.saturating_sub(BAR_WIDTH));
-            let (nx, ny) = (self.xs.len(), self.ys.len());
-            // Each cell reaches half a step either side of its node.
-            let half = |v: &[f64], k: usize| {
-                let n = v.len();
-                let lo = if k == 0 { v[1] - v[0] } else { v[k] - v[k - 1] };
-                let hi = if k + 1 == n {
-                    v[n - 1] - v[n - 2]
-                } else {
-                    v[k + 1] - v[k]
-                };
-                (v[k] - lo / 2.0, v[k] + hi / 2.0)
-            };
-            let xr = (half(self.xs, 0).0, half(self.xs, nx - 1).1);
-            let yr = (half(self.ys, 0).0, half(self.ys, ny - 1).1);
-            let finite = self.values.iter().copied().filter(|v| v.is_finite());
-            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-            let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
-            let span = if hi > lo { hi - lo } else { 1.0 };
+            let ny = self.ys.len();
+            let (xr, yr, lo, span) = (self.xr, self.yr, self.lo, self.span);
+            let scaled = |v: f64| if self.log { v.log10() } else { v };
             let mut chart = ChartBuilder::on(&main)
                 .caption(self.title, ("sans-serif", 20))
                 .margin(MARGIN)
@@ -743,14 +1155,26 @@ pub fn heat_map(
                 .draw()
                 .map_err(err)?;
             let cells = (0..self.values.len()).filter(|&n| self.values[n].is_finite()).map(|n| {
-                let (x0, x1) = half(self.xs, n / ny);
-                let (y0, y1) = half(self.ys, n % ny);
-                let c = viridis((self.values[n] - lo) / span);
+                let (x0, x1) = cell_edges(self.xs, n / ny);
+                let (y0, y1) = cell_edges(self.ys, n % ny);
+                let c = viridis((scaled(self.values[n]) - lo) / span);
                 Rectangle::new([(x0, y0), (x1, y1)], c.filled())
             });
             chart.draw_series(cells).map_err(err)?;
+            let crosses = (0..self.values.len())
+                .filter(|&n| self.style.marked.get(n).copied().unwrap_or(false))
+                .map(|n| {
+                    let at = (self.xs[n / ny], self.ys[n % ny]);
+                    EmptyElement::at(at)
+                        + PathElement::new(vec![(-4, -4), (4, 4)], RED.stroke_width(2))
+                        + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))
+                });
+            chart.draw_series(crosses).map_err(err)?;
             // The colour bar: a column of 100 bands from the least value to the greatest.
-            let (top, bottom) = (CAPTION + MARGIN, X_LABELS + MARGIN);
+            let (top, bottom) = (
+                CAPTION + MARGIN,
+                X_LABELS + MARGIN + if self.style.marked.is_empty() { 0 } else { 30 },
+            );
             let mut scale = ChartBuilder::on(&bar)
                 .margin_top(top)
                 .margin_bottom(bottom)
@@ -761,10 +1185,22 @@ pub fn heat_map(
                 .build_cartesian_2d(0.0..1.0, lo..lo + span)
                 .map_err(err)?
                 .set_secondary_coord(0.0..1.0, lo..lo + span);
+            let label = if self.log {
+                format!("{} (log scale)", self.value_label)
+            } else {
+                self.value_label.to_string()
+            };
+            let value = |v: f64| if self.log { 10f64.powf(v) } else { v };
             scale
                 .configure_secondary_axes()
-                .y_desc(self.value_label)
-                .y_label_formatter(&|v| tick_within(snap(*v, span), span))
+                .y_desc(label)
+                .y_label_formatter(&|v| {
+                    if self.log {
+                        tick(value(*v))
+                    } else {
+                        tick_within(snap(*v, span), span)
+                    }
+                })
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(err)?;
@@ -778,6 +1214,22 @@ pub fn heat_map(
                     )
                 }))
                 .map_err(err)?;
+            if self.style.marked.iter().any(|&m| m) {
+                let (_, h) = bar.dim_in_pixel();
+                let y = h as i32 - 24;
+                bar.draw(
+                    &(EmptyElement::at((14, y))
+                        + PathElement::new(vec![(-4, -4), (4, 4)], RED.stroke_width(2))
+                        + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))),
+                )
+                .map_err(err)?;
+                bar.draw(&Text::new(
+                    self.style.mark_label.to_string(),
+                    (24, y - 7),
+                    ("sans-serif", 12),
+                ))
+                .map_err(err)?;
+            }
             Ok(())
         }
     }
@@ -788,6 +1240,12 @@ pub fn heat_map(
         ys,
         values,
         value_label,
+        style,
+        log,
+        xr,
+        yr,
+        lo,
+        span,
     };
     let (png, svg) = both(stem, (700 + BAR_WIDTH, 600), &d)?;
     Ok(Figure { png, svg, csv })

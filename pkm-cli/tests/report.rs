@@ -54,6 +54,30 @@ fn extent(rows: &[Vec<String>], column: usize) -> f64 {
     hi - lo
 }
 
+/// The page's text without its inline images (base64 would match any word).
+fn page_text(html: &str) -> String {
+    let mut out = String::new();
+    let mut rest = html;
+    while let Some(at) = rest.find("base64,") {
+        out.push_str(&rest[..at]);
+        rest = &rest[at..];
+        rest = &rest[rest.find('"').unwrap_or(rest.len())..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The length unit a file's labels must show: its `units` block's, else "file unit".
+fn unit_of(text: &str) -> &'static str {
+    if text.contains("length = m;") {
+        "m"
+    } else if text.contains("length = mm;") {
+        "mm"
+    } else {
+        "file unit"
+    }
+}
+
 #[test]
 fn every_example_with_no_options() {
     let dir = common::root().join("examples/mechanisms");
@@ -73,21 +97,50 @@ fn every_example_with_no_options() {
             write_report(&text, &path, &ReportOptions::default(), &out).unwrap_or_else(|e| panic!("{name}: {e}"));
         let html = std::fs::read_to_string(page).unwrap();
         assert!(html.contains("<h2>Topology</h2>"), "{name}");
+        // No number that is not one is printed, on the page or in a CSV.
+        let words = page_text(&html);
+        for bad in ["NaN", "inf,", " inf ", "None"] {
+            assert!(!words.contains(bad), "{name}: the page prints {bad}");
+        }
         let csvs = read_csvs(&out);
+        for (stem, _, rows) in &csvs {
+            assert!(
+                rows.iter().flatten().all(|f| !f.contains("NaN") && !f.contains("inf")),
+                "{name}: {stem}.csv holds a value that is not a number"
+            );
+        }
         let csv = |stem: &str| csvs.iter().find(|(n, _, _)| n == stem);
         // The link–joint graph is drawn for every file.
         assert!(csv("topology").is_some(), "{name}");
         let planar = text.contains("planar;");
+        let unit = unit_of(&text);
+        let length = |axis: &str| format!("{axis} ({unit})");
+        // Every file with geometry and an inverse or forward plan is drawn
+        // and moved: only the two whose κ = 1 files declare no outputs are topology only.
+        let topology_only = ["seed003_punch_original", "stephenson3"].contains(&name.as_str());
+        assert_eq!(csv("mechanism").is_none(), topology_only, "{name}: the drawing");
         if let Some((_, header, rows)) = csv("mechanism") {
-            assert_eq!(header[3..], ["x (mm)", "y (mm)", "z (mm)"], "{name}");
+            assert_eq!(header[3..], [length("x"), length("y"), length("z")], "{name}");
             assert!(
-                extent(rows, 3) > 1.0 && extent(rows, 4) > 1.0,
-                "{name}: the drawing spans x and y"
+                extent(rows, 3) > 1.0 || extent(rows, 4) > 1.0,
+                "{name}: the drawing spans the plane"
             );
             assert!(html.contains("<svg"), "{name}: the animation is in the page");
             assert!(out.join("animation.svg").exists(), "{name}");
-            // The 3-RRR, 3-RPR and 3-UPU have no forward plan: their motion is driven by poses, with no rates.
-            let inputs_driven = !["planar_3rrr", "planar_3rpr", "upu_3"].contains(&name.as_str());
+            // With no forward plan the motion is driven by poses: the actuators' values along it.
+            let inputs_driven = html.contains("<h2>Velocity and acceleration");
+            let pose_driven = html.contains("<h2>Motion</h2>");
+            assert!(inputs_driven != pose_driven, "{name}: one motion");
+            if pose_driven {
+                assert!(
+                    csvs.iter().any(|(n, _, _)| n.starts_with("motion_inputs")),
+                    "{name}: the actuators along the motion"
+                );
+                assert!(
+                    html.contains("<h2>Singularities of the inverse solution</h2>"),
+                    "{name}"
+                );
+            }
             for stem in ["velocity", "acceleration"].into_iter().filter(|_| inputs_driven) {
                 let (_, header, rows) = csv(stem).unwrap_or_else(|| panic!("{name}: {stem}"));
                 assert_eq!(header[0], "t (s)");
@@ -98,9 +151,9 @@ fn every_example_with_no_options() {
                 );
                 assert!(rows.len() > 2, "{name}: {stem}");
             }
-            if planar {
+            if planar && inputs_driven {
                 let (_, header, rows) = csv("workspace_xOy").unwrap_or_else(|| panic!("{name}: workspace in xOy"));
-                assert_eq!(header[1..], ["x (mm)", "y (mm)"]);
+                assert_eq!(header[1..], [length("x"), length("y")]);
                 match csv("displacement") {
                     // One input: a path, and its coordinates against the input.
                     Some((_, header, rows)) => {
@@ -115,8 +168,23 @@ fn every_example_with_no_options() {
                         )
                     }
                 }
+            }
+            if planar {
                 for flat in ["workspace_yOz", "workspace_xOz", "workspace_3d"] {
                     assert!(csv(flat).is_none(), "{name}: no {flat} for a planar mechanism");
+                }
+            }
+        }
+        // Every length label is in the file's unit.
+        for (stem, header, _) in &csvs {
+            for h in header {
+                for other in ["(mm)", "(m)", "(file unit)", "(mm/s)", "(N·mm)"] {
+                    if h.contains(other) {
+                        assert!(
+                            h.contains(&format!("({unit}")) || h.contains(&format!("·{unit})")),
+                            "{name}: {stem}: {h}"
+                        );
+                    }
                 }
             }
         }
@@ -137,7 +205,7 @@ fn slider_crank_stroke() {
     // An in-line slider-crank (r = 50, e = 0) strokes 2r = 100 mm; over a full
     // crank turn the slider goes there and back: a path 4r = 200 mm long.
     let (html, out) = page("slider_crank", ReportOptions::default());
-    assert!(html.contains("a curve, length 2.0000e2 mm"));
+    assert!(html.contains("a curve, length 2.0000e2 file unit"));
     let _ = std::fs::remove_dir_all(out);
 }
 
@@ -177,6 +245,8 @@ fn mechanism_a_from_its_study_block() {
     // The velocity CSV holds the whole 0–5 s trajectory: 501 rows and a header.
     let csv = std::fs::read_to_string(out.join("velocity.csv")).unwrap();
     assert_eq!(csv.lines().count(), 502);
+    // Seed 000's actuators slide: their forces in N, on a chart of their own.
+    assert!(out.join("driving_forces.csv").exists() && !out.join("driving_torques.csv").exists());
     for stem in [
         "workspace_3d",
         "workspace_xOy",
@@ -517,9 +587,57 @@ fn stiffness_map_of_the_3rps_matches_pkm_stiffness() {
             close(got_least, expect_least),
             "node {node}: least {got_least} against {expect_least}"
         );
+        // Crossed where J is ill-conditioned, as pkm stiffness measures it.
+        let conditioning = branch["conditioning"].as_f64().unwrap();
+        assert_eq!(
+            along_z[node][3] == "true",
+            conditioning < 1e-2,
+            "node {node}: σ {conditioning}"
+        );
+        conditioning < 1e-2
     };
     for node in [20 * 41 + 20, 0, 33 * 41 + 7] {
-        check(node);
+        assert!(!check(node), "node {node}: well conditioned at ZA = 75");
+    }
+    assert!(html.contains("The colour scales are logarithmic"));
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// Issue 29, item 5: the 3-RPS's map at its default held height (where J
+/// is best conditioned level) spans 4.5 decades of the stiffness along z:
+/// its colours are on a log scale, and the corner (0.3, −0.3) where it is
+/// least is crossed as ill-conditioned, as `pkm stiffness` measures J's
+/// conditioning there (below 1e-2); the held pose is not.
+#[test]
+fn stiffness_map_marks_ill_conditioned_nodes() {
+    let (html, out) = page("rps_3", ReportOptions::default());
+    let words = page_text(&html);
+    let at = words.find("ZA (mm) = ").unwrap() + "ZA (mm) = ".len();
+    let za: f64 = words[at..]
+        .split(|c: char| c != '.' && !c.is_ascii_digit())
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let (_, header, rows) = read_csvs(&out)
+        .into_iter()
+        .find(|(n, _, _)| n == "stiffness_z")
+        .unwrap();
+    assert_eq!(header[3], "ill-conditioned");
+    let values: Vec<f64> = rows.iter().filter_map(|r| r[2].parse().ok()).collect();
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+    assert!(hi / lo > 1e4, "{lo} .. {hi}: over four decades");
+    for (node, crossed) in [(20 * 41 + 20, false), (40 * 41, true)] {
+        let (alpha, beta) = (&rows[node][0], &rows[node][1]);
+        let branch = shortest_legs_branch(
+            "examples/mechanisms/rps_3.pkm",
+            &format!("ZA={za},alpha={alpha},beta={beta}"),
+        );
+        let conditioning = branch["conditioning"].as_f64().unwrap();
+        assert_eq!(conditioning < 1e-2, crossed, "node {node}: σ {conditioning}");
+        assert_eq!(rows[node][3] == "true", crossed, "node {node}");
     }
     let _ = std::fs::remove_dir_all(out);
 }
@@ -544,4 +662,457 @@ fn no_stiffness_map_without_limbs() {
         hold("height"),
         "--hold height: no such output (the outputs: ZA, alpha, beta)",
     );
+}
+
+/// The text of an example with `from` replaced by `to` (each must occur).
+fn edited(name: &str, edits: &[(&str, &str)]) -> (String, String) {
+    let (mut text, path) = example(name);
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name}: no `{from}`");
+        text = text.replacen(from, to, 1);
+    }
+    (text, path)
+}
+
+/// Issue 29, item 5: a file in metres is labelled in metres everywhere
+/// (page and CSV headers), never mm. The punch with its lengths, masses'
+/// centroids and inertias in m (kg·m² = 10⁶ kg·mm²): its drawing's joint
+/// positions are the millimetre file's divided by 1000, its crank torque
+/// (N·m) the millimetre file's (N·mm) divided by 1000.
+#[test]
+fn a_file_in_metres_is_labelled_in_metres() {
+    let (text, path) = example("seed003_punch");
+    let metres = text
+        .replace("units { length = mm; mass = kg; }", "units { length = m; mass = kg; }")
+        .replace(
+            "parameters { m = 235; n = 205; l1 = 40; l2 = 117; l8 = 80; l4 = 170; l5 = 108.96; l7 = 108.96; }",
+            "parameters { m = 0.235; n = 0.205; l1 = 0.040; l2 = 0.117; l8 = 0.080; l4 = 0.170; l5 = 0.10896; l7 = 0.10896; }",
+        )
+        .replace("inertia = 0.631 - 0.00118 * (l1 / 2)^2;", "inertia = 0.631e-6 - 0.00118 * (l1 / 2)^2;")
+        .replace("inertia = 12.534;", "inertia = 12.534e-6;")
+        .replace("inertia = 9.63;", "inertia = 9.63e-6;")
+        .replace("inertia = 2.75;", "inertia = 2.75e-6;")
+        .replace("inertia = 11 - 0.00277 * (l7 / 2)^2;", "inertia = 11e-6 - 0.00277 * (l7 / 2)^2;")
+        .replace("gravity (0, -9.80665);", "gravity (0, -9.80665);");
+    assert_eq!(metres.matches("e-6").count(), 5);
+    let nodes = ReportOptions {
+        nodes: Some(73),
+        ..Default::default()
+    };
+    let (out_m, out_mm) = (out_dir("metres"), out_dir("millimetres"));
+    let page = write_report(&metres, &path, &nodes, &out_m).unwrap();
+    write_report(&text, &path, &nodes, &out_mm).unwrap();
+    let words = page_text(&std::fs::read_to_string(page).unwrap());
+    for mm in [" mm", "(mm", "·mm", "mm)", "mm/", "mm²", "mm³"] {
+        assert!(!words.contains(mm), "the page in metres says `{mm}`");
+    }
+    assert!(words.contains("Lengths in m and angles in radians"));
+    assert!(words.contains("torques in N·m"));
+    for (stem, header, _) in read_csvs(&out_m) {
+        assert!(header.iter().all(|h| !h.contains("mm")), "{stem}: {header:?}");
+    }
+    let column = |dir: &Path, stem: &str, k: usize| -> Vec<f64> {
+        let (_, _, rows) = read_csvs(dir).into_iter().find(|(n, _, _)| n == stem).unwrap();
+        rows.iter().map(|r| r[k].parse().unwrap()).collect()
+    };
+    for k in [3, 4] {
+        for (a, b) in column(&out_m, "mechanism", k)
+            .iter()
+            .zip(column(&out_mm, "mechanism", k))
+        {
+            assert!(
+                (a * 1000.0 - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "{a} m against {b} mm"
+            );
+        }
+    }
+    let (m, mm) = (
+        column(&out_m, "driving_torques", 1),
+        column(&out_mm, "driving_torques", 1),
+    );
+    // Both files' dimensions are the same decimals in another unit, rounded
+    // differently: the torques agree to 1e-6 (of the largest) where the
+    // force equations are well conditioned, and both leave the same steps out.
+    let largest = mm.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    assert_eq!(m.len(), mm.len());
+    for (a, b) in m.iter().zip(&mm) {
+        assert!((a * 1000.0 - b).abs() <= 1e-6 * largest, "{a} N·m against {b} N·mm");
+    }
+    // A name on the command line that is not the file's unit is an error.
+    let e = write_report(
+        &metres,
+        &path,
+        &ReportOptions {
+            unit: Some("mm".into()),
+            ..Default::default()
+        },
+        &out_dir("metres-mm"),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("declares its lengths in m"), "{e}");
+    let _ = std::fs::remove_dir_all(out_m);
+    let _ = std::fs::remove_dir_all(out_mm);
+}
+
+/// Issue 29, item 5: a coordinate of −1e308 made plotters' tick routine
+/// spin forever; every extent is checked before it reaches plotters, so
+/// the report is an error naming the figure, well within a minute.
+#[test]
+fn an_overflowing_extent_is_an_error_not_a_hang() {
+    let (big, path) = edited("scotch_yoke", &[("R1 = (0, 0);", "R1 = (-1e308, 0);")]);
+    let cases = [
+        (big, ReportOptions::default()),
+        (
+            example("scotch_yoke").0,
+            ReportOptions {
+                params: vec![("r".into(), 1e308)],
+                ..Default::default()
+            },
+        ),
+    ];
+    for (k, (text, options)) in cases.into_iter().enumerate() {
+        let (send, receive) = std::sync::mpsc::channel();
+        let (path, out) = (path.clone(), out_dir(&format!("overflow-{k}")));
+        std::thread::spawn(move || {
+            let _ = send.send(write_report(&text, &path, &options, &out).map(|_| ()));
+        });
+        let result = receive
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .unwrap_or_else(|_| panic!("case {k}: no answer within 60 s"));
+        let e = result.unwrap_err().to_string();
+        assert!(
+            e.contains("cannot be drawn") && e.contains("out of range"),
+            "case {k}: {e}"
+        );
+    }
+}
+
+/// `pkm` with `args`, its standard output as JSON.
+fn pkm_json(args: &[&str]) -> serde_json::Value {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pkm"))
+        .args(args)
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Issue 29, item 5: the punch's sweep of F against A parked F at x = 0
+/// for 161 of 721 nodes (the fixed branch index, whose root is F at H past
+/// the change points). With l5 = l7 the two roots of F are x = 0 and
+/// x = 2·G_x (the isosceles triangle H–G–F): followed by continuity, F is
+/// 2·G_x at every node, G from `pkm fk` at that input; and the page says
+/// where the assembly passes from branch 3 to branch 7, around φ* =
+/// 2.6968631790545614 rad, where F passes through H (G_x = 0).
+#[test]
+fn the_punch_sweep_follows_f_through_h() {
+    let (html, out) = page("seed003_punch", ReportOptions::default());
+    let (_, header, rows) = read_csvs(&out)
+        .into_iter()
+        .find(|(n, _, _)| n == "displacement")
+        .unwrap();
+    assert_eq!(header, ["A (rad)", "x", "y"]);
+    assert_eq!(rows.len(), 721, "every node reached");
+    let parked = rows
+        .iter()
+        .filter(|r| r[1].parse::<f64>().unwrap().abs() < 1e-9)
+        .count();
+    assert!(parked <= 1, "{parked} nodes at x = 0");
+    // fk's G at every 20th node (its four solvable branches share G).
+    for r in rows.iter().step_by(20) {
+        let a: f64 = r[0].parse().unwrap();
+        let fk = pkm_json(&["fk", "examples/mechanisms/seed003_punch.pkm", &format!("--q={a}")]);
+        // Branches 3 and 7 (− − ±): C below B, G by the − root; F's is the third sign.
+        let gx = fk["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["ok"] == true && b["signs"][0] == "-" && b["signs"][1] == "-")
+            .map(|b| b["points"]["G"][0].as_f64().unwrap())
+            .unwrap();
+        let x: f64 = r[1].parse().unwrap();
+        assert!((x - 2.0 * gx).abs() < 1e-9, "A = {a}: F at {x}, 2·G_x = {}", 2.0 * gx);
+    }
+    let phi = 2.6968631790545614;
+    let at = html
+        .find("from branch 3 (−−+) to branch 7 (−−−) between A = 2.")
+        .expect("the pass at φ*");
+    let between: Vec<f64> = html[at..]
+        .split("A = ")
+        .skip(1)
+        .take(2)
+        .map(|s| s.split(' ').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(between[0] < phi && phi < between[1], "{between:?}");
+    // The trajectory names the same passes.
+    assert!(html.contains("The assembly passes from branch 3 (−−+) to branch 7 (−−−) at t = "));
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// Issue 29, item 5: the 3-RPS's legs are drawn as members, from each base
+/// revolute to its ball, as long as `pkm ik` makes the leg (seed 004's
+/// home: √(20² + 75²) = 77.62 mm), and joints drawn at one place share one
+/// label (P1 and S1 at the ball).
+#[test]
+fn legs_are_drawn_as_members_with_one_label_per_place() {
+    let (text, _) = example("rps_3");
+    let a = pkm_dsl::compile(&text).unwrap().analysis;
+    let values = pkm_dsl::params::overrides(&a, &[]).unwrap();
+    let model = pkm_dsl::numeric::model(&a, &values).unwrap();
+    let plan = pkm_dsl::planner::inverse_plan(&a).unwrap();
+    // Every branch: each member as long as its slide's value; on the one
+    // with the shortest legs (the seed's assembly) each is the home leg.
+    let choices = plan.choices();
+    let mut shortest: Option<(f64, pkm_cli::drawing::Scene)> = None;
+    for b in 0..1usize << choices {
+        let signs: Vec<_> = (0..choices)
+            .map(|k| {
+                if b >> k & 1 == 1 {
+                    pkm_runtime::primitives::Sign::Minus
+                } else {
+                    pkm_runtime::primitives::Sign::Plus
+                }
+            })
+            .collect();
+        let Ok(v) = plan.solve(&model, &[75.0, 0.0, 0.0], &signs) else {
+            continue;
+        };
+        let poses = pkm_runtime::newton::link_poses(&model, &v).unwrap();
+        let scene = pkm_cli::drawing::scene(&model, &poses, (0, [0.0; 3]));
+        let members: Vec<f64> = scene
+            .segments
+            .iter()
+            .filter(|s| s.link.is_some())
+            .map(|s| {
+                let (a, b) = s.ends;
+                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+            })
+            .collect();
+        assert_eq!(members.len(), 3);
+        let (offsets, _) = model.value_offsets();
+        let mut slides: Vec<f64> = model
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| j.kind == pkm_runtime::model::JointType::P)
+            .map(|(k, _)| v[offsets[k]].abs())
+            .collect();
+        let mut sorted = members.clone();
+        sorted.sort_by(f64::total_cmp);
+        slides.sort_by(f64::total_cmp);
+        for (m, s) in sorted.iter().zip(&slides) {
+            assert!((m - s).abs() < 1e-9, "branch {b}: member {m} against slide {s}");
+        }
+        let total: f64 = members.iter().sum();
+        if shortest.as_ref().is_none_or(|(t, _)| total < *t) {
+            shortest = Some((total, scene));
+        }
+    }
+    let (total, scene) = shortest.unwrap();
+    let leg = (20f64.powi(2) + 75f64.powi(2)).sqrt();
+    assert!((total - 3.0 * leg).abs() < 1e-9, "{total} against 3 × {leg}");
+    let out = out_dir("members");
+    std::fs::create_dir_all(&out).unwrap();
+    pkm_cli::drawing::draw(
+        &out.join("rps"),
+        "rps",
+        &scene,
+        pkm_cli::drawing::View::Axonometric,
+        "mm",
+        "o",
+    )
+    .unwrap();
+    let svg = std::fs::read_to_string(out.join("rps.svg")).unwrap();
+    for label in ["P1, S1", "P2, S2", "P3, S3"] {
+        assert!(svg.contains(label), "{label}");
+    }
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// Issue 29, item 5: seed000_a's P1 and P2 slide on one base line; their
+/// guides, clipped to the plot, lie on one line in the drawing (clamped,
+/// they turned at the plot's edge and crossed).
+#[test]
+fn guides_leaving_the_plot_are_clipped_in_their_direction() {
+    let (_, out) = page(
+        "seed000_a",
+        ReportOptions {
+            nodes: Some(6),
+            ..Default::default()
+        },
+    );
+    let svg = std::fs::read_to_string(out.join("mechanism.svg")).unwrap();
+    // The grey guides: polylines stroked rgb(150, 150, 150), two points each.
+    let mut guides: Vec<[(f64, f64); 2]> = Vec::new();
+    for line in svg.split("<polyline").skip(1) {
+        if !line.contains("#969696") {
+            continue;
+        }
+        let points = line.split("points=\"").nth(1).unwrap().split('"').next().unwrap();
+        let p: Vec<(f64, f64)> = points
+            .split_whitespace()
+            .map(|xy| {
+                let (x, y) = xy.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        if p.len() == 2 {
+            guides.push([p[0], p[1]]);
+        }
+    }
+    // Two of them (P1's and P2's) are collinear: each end of one on the other's line.
+    let on_line = |g: [(f64, f64); 2], p: (f64, f64)| {
+        let (d, e) = ((g[1].0 - g[0].0, g[1].1 - g[0].1), (p.0 - g[0].0, p.1 - g[0].1));
+        (d.0 * e.1 - d.1 * e.0).abs() / (d.0.hypot(d.1)) < 1.5
+    };
+    let pairs = (0..guides.len())
+        .flat_map(|i| (i + 1..guides.len()).map(move |j| (i, j)))
+        .filter(|&(i, j)| on_line(guides[i], guides[j][0]) && on_line(guides[i], guides[j][1]))
+        .count();
+    assert!(pairs >= 1, "no two guides on one line: {guides:?}");
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// Issue 29, items 2 and 5: seed 004's 3-RPS, 3-SPR and 6-UPS, and the
+/// agile eye, have an inverse plan and no forward one: their pages draw
+/// them, sweep the workspace through the inverse solution, map the inverse
+/// singularities and move them. Every branch `pkm ik` lists at the sample
+/// pose is in the page's table in its order, each ok or with its reason;
+/// the actuators' rates along the motion (J_i times the outputs' rates)
+/// are the differences of their values to the step's second order.
+#[test]
+fn inverse_only_mechanisms_get_kinematics() {
+    for name in ["rps_3", "spr_3", "ups_6", "agile_eye"] {
+        let (html, out) = page(
+            name,
+            ReportOptions {
+                nodes: Some(12),
+                ..Default::default()
+            },
+        );
+        for section in [
+            "<h2>The mechanism at the sample pose</h2>",
+            "<h2>Singularities of the inverse solution</h2>",
+            "<h2>Motion</h2>",
+        ] {
+            assert!(html.contains(section), "{name}: {section}");
+        }
+        assert!(!html.contains("no inverse plan"), "{name}");
+        assert!(
+            out.join("mechanism.svg").exists() && out.join("animation.svg").exists(),
+            "{name}"
+        );
+        // The sample pose, as the page gives it, through `pkm ik`.
+        let words = page_text(&html);
+        let at = words.find("The sample pose: ").unwrap() + "The sample pose: ".len();
+        let pose: Vec<String> = words[at..]
+            .split(" (")
+            .next()
+            .unwrap()
+            .split(", ")
+            .map(|kv| {
+                let (k, v) = kv.split_once(" = ").unwrap();
+                format!("{k}={}", v.split(' ').next().unwrap())
+            })
+            .collect();
+        let file = format!("examples/mechanisms/{name}.pkm");
+        let ik = pkm_json(&["ik", &file, "--pose", &pose.join(",")]);
+        let branches = ik["branches"].as_array().unwrap();
+        let table = &words[words.find("<code>pkm ik</code> lists them").unwrap()..];
+        let table = &table[..table.find("</table>").unwrap()];
+        let rows: Vec<&str> = table.split("<tr><td>").skip(1).collect();
+        assert_eq!(rows.len(), branches.len(), "{name}: every branch");
+        for (k, (row, b)) in rows.iter().zip(branches).enumerate() {
+            let signs: String = b["signs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| if s == "+" { '+' } else { '−' })
+                .collect();
+            assert!(row.starts_with(&k.to_string()), "{name}: row {k}: {row}");
+            assert!(row.contains(&format!("<td>{signs}</td>")), "{name}: row {k}: {row}");
+            assert_eq!(b["ok"] == true, !row.contains("no solution"), "{name}: row {k}: {row}");
+        }
+        // Rates against differences of the values (central, interior steps).
+        let csvs = read_csvs(&out);
+        let values: Vec<_> = csvs.iter().filter(|(n, _, _)| n.starts_with("motion_inputs")).collect();
+        let rates: Vec<_> = csvs.iter().filter(|(n, _, _)| n.starts_with("motion_rates")).collect();
+        if name == "agile_eye" {
+            // Its outputs (a point fixed at the centre and one turn) do not fix every motion.
+            assert!(rates.is_empty() && html.contains("No actuator rates"));
+            continue;
+        }
+        assert_eq!(values.len(), rates.len(), "{name}");
+        for ((_, vh, v), (_, rh, r)) in values.iter().zip(&rates) {
+            assert_eq!(vh.len(), rh.len());
+            let t: Vec<f64> = v.iter().map(|row| row[0].parse().unwrap()).collect();
+            for c in 1..vh.len() {
+                let x: Vec<f64> = v.iter().map(|row| row[c].parse().unwrap()).collect();
+                let xd: Vec<f64> = r.iter().map(|row| row[c].parse().unwrap()).collect();
+                let scale = xd.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+                for i in 1..t.len() - 1 {
+                    let fd = (x[i + 1] - x[i - 1]) / (t[i + 1] - t[i - 1]);
+                    assert!(
+                        (fd - xd[i]).abs() < 2e-3 * scale,
+                        "{name} {}: t = {}: {fd} against {}",
+                        vh[c],
+                        t[i],
+                        xd[i]
+                    );
+                }
+            }
+        }
+        let _ = std::fs::remove_dir_all(out);
+    }
+}
+
+/// Issue 29, item 4: files with spherical joints get a whole page; with
+/// masses on the RSSR's links the force system is singular at every step
+/// (the coupler spins about its own axis), which the page says instead of
+/// drawing empty charts or printing NaN.
+#[test]
+fn spherical_joints_get_a_whole_page() {
+    for name in ["rssr", "rsur", "rssp"] {
+        let (html, out) = page(name, ReportOptions::default());
+        for section in [
+            "The mechanism at the sample input",
+            "Workspace of",
+            "Velocity and acceleration",
+        ] {
+            assert!(html.contains(section), "{name}: {section}");
+        }
+        assert!(!page_text(&html).contains("NaN"), "{name}");
+        let _ = std::fs::remove_dir_all(out);
+    }
+    let masses = common::example_with(
+        "rssr",
+        "units { length = mm; mass = kg; }
+         masses {
+             crank { mass = 0.1; centroid = (a / 2, 0, 0); inertia = (20, 20, 20); }
+             coupler { mass = 0.3; centroid = (l / 2, 0, 0); inertia = (50, 600, 600); }
+             rocker { mass = 0.2; centroid = (0, b / 2, 0); inertia = (240, 20, 240); }
+         }
+         gravity (0, 0, -9.80665);",
+    )
+    .replace("capabilities fk, ik;", "capabilities fk, ik, dynamics;");
+    let out = out_dir("rssr-masses");
+    let page = write_report(&masses, "rssr_masses.pkm", &ReportOptions::default(), &out).unwrap();
+    let words = page_text(&std::fs::read_to_string(page).unwrap());
+    assert!(words.contains("<h2>Driving forces and joint reactions</h2>"));
+    assert!(!words.contains("NaN"));
+    // Whatever Newton–Euler gives here, no chart is drawn empty.
+    for (stem, _, rows) in read_csvs(&out) {
+        if stem.starts_with("reaction_") || stem.starts_with("driving_") {
+            assert!(
+                rows.iter().any(|r| r[1..].iter().any(|f| !f.is_empty())),
+                "{stem} is empty"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(out);
 }

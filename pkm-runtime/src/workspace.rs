@@ -1,8 +1,11 @@
 //! Workspace by sweeping the actuator ranges through a forward solution:
 //! every node of a grid over the inputs, on all cores, keeping the points
 //! a chosen platform point reaches; the volume by counting occupied voxels.
+//! A sweep may also follow one assembly by continuity ([`follow`]): at each
+//! node the solution nearest the one continued from a neighbour, whichever
+//! branch of the plan it is, as a trajectory follows it ([`Continuity`]).
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// A regular grid over the actuators' ranges: `counts[i]` values from
 /// `ranges[i].0` to `ranges[i].1`, both ends included.
@@ -114,6 +117,288 @@ pub fn sweep_nodes<const N: usize>(
         handles.into_iter().map(|h| h.join().unwrap_or_default()).collect()
     });
     parts.concat()
+}
+
+/// How two configurations of one mechanism are compared when an assembly
+/// is followed by continuity: by their joint values, a revolute's (and a
+/// ball's rotation components') difference wrapped to (−π, π], a slide's
+/// divided by the mechanism's size, so that a turn of 1 rad and a slide of
+/// the size weigh the same.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Continuity {
+    /// Per value (as [`crate::model::Model::value_offsets`]): whether it is an angle.
+    pub angular: Vec<bool>,
+    /// The length a slide's difference is divided by.
+    pub size: f64,
+}
+
+impl Continuity {
+    /// The comparison for `model`'s joint values (its size from
+    /// [`crate::kinematics::model_scale`]).
+    pub fn of(model: &crate::model::Model) -> Continuity {
+        Continuity {
+            angular: model
+                .joints
+                .iter()
+                .flat_map(|j| std::iter::repeat_n(j.kind != crate::model::JointType::P, j.kind.dof()))
+                .collect(),
+            size: crate::kinematics::model_scale(model),
+        }
+    }
+
+    /// Value `i`'s difference `a − b`, in the comparison's units.
+    fn difference(&self, i: usize, a: f64, b: f64) -> f64 {
+        if self.angular.get(i).copied().unwrap_or(false) {
+            crate::solution::wrap_angle(a - b)
+        } else {
+            (a - b) / self.size
+        }
+    }
+
+    /// The distance between two configurations.
+    ///
+    /// ```
+    /// use pkm_runtime::workspace::Continuity;
+    /// let c = Continuity { angular: vec![true, false], size: 100.0 };
+    /// // 3.1 and −3.1 rad are 0.083 rad apart; 30 mm of a 100 mm mechanism is 0.3.
+    /// let d = c.distance(&[3.1, 0.0], &[-3.1, 30.0]);
+    /// assert!((d - (0.0832_f64.powi(2) + 0.09).sqrt()).abs() < 1e-4);
+    /// ```
+    pub fn distance(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .map(|(i, (x, y))| self.difference(i, *x, *y))
+            .fold(0.0, |acc, d| d.mul_add(d, acc))
+            .sqrt()
+    }
+
+    /// Where a followed configuration goes next: one more step of the last
+    /// one, `last + (last − before)` (angles' steps wrapped), or `last`
+    /// when there is no step before it. Where two branches cross (a dyad
+    /// through its double root) both are as near the last configuration,
+    /// and the one that goes on smoothly is the one nearest this. A last
+    /// step longer than [`LONGEST_STEP`] is not one of a smooth motion (a
+    /// jump through a degenerate configuration, where the plan picks one of
+    /// a continuum) and is not extrapolated: the prediction is `last`.
+    pub fn predict(&self, last: &[f64], before: Option<&[f64]>) -> Vec<f64> {
+        match before.filter(|b| self.distance(last, b) <= LONGEST_STEP) {
+            Some(b) => last
+                .iter()
+                .zip(b)
+                .enumerate()
+                .map(|(i, (x, y))| {
+                    x + if self.angular.get(i).copied().unwrap_or(false) {
+                        crate::solution::wrap_angle(x - y)
+                    } else {
+                        x - y
+                    }
+                })
+                .collect(),
+            None => last.to_vec(),
+        }
+    }
+
+    /// The candidate nearest `predicted` (the first of equals), if any.
+    pub fn nearest<'a, B>(&self, candidates: &'a [(B, Vec<f64>)], predicted: &[f64]) -> Option<&'a (B, Vec<f64>)> {
+        candidates.iter().min_by(|x, y| {
+            self.distance(&x.1, predicted)
+                .total_cmp(&self.distance(&y.1, predicted))
+        })
+    }
+}
+
+/// The longest step ([`Continuity::distance`]: half a radian, or half the
+/// mechanism's size) that [`Continuity::predict`] extrapolates.
+pub const LONGEST_STEP: f64 = 0.5;
+
+/// One node of a followed sweep ([`follow`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Followed<T> {
+    /// The branch (its index in the plan's order) the followed assembly is on here.
+    pub branch: usize,
+    /// The neighbouring node it was continued from (`None` at the start).
+    pub from: Option<usize>,
+    /// What the caller kept of it.
+    pub kept: T,
+}
+
+/// How near the prediction, as a fraction of the last step, the branch a
+/// followed sweep continues from must be for [`follow`] not to solve the
+/// others.
+pub const FOLLOW_TOLERANCE: f64 = 0.1;
+
+/// `f` over `items` on the machine's cores, in order.
+fn on_all_cores<I: Sync, O: Send>(items: &[I], f: impl Fn(&I) -> O + Sync) -> Vec<O> {
+    let threads = if items.len() < 64 { 1 } else { threads(items.len()) };
+    if threads == 1 {
+        return items.iter().map(f).collect();
+    }
+    let chunk = items.len().div_ceil(threads);
+    let f = &f;
+    std::thread::scope(|s| {
+        let handles: Vec<_> = items
+            .chunks(chunk)
+            .map(|part| s.spawn(move || part.iter().map(f).collect::<Vec<O>>()))
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    })
+}
+
+/// A sweep that follows one assembly by continuity, as a trajectory does:
+/// from node `start` (where the solution nearest `seed` is taken) outwards,
+/// breadth first over the grid's neighbours (one step along one input),
+/// each node takes the solution nearest the configuration continued from
+/// the neighbour it was reached from ([`Continuity::predict`] along that
+/// direction), whichever of the `branches` it is. `solve` gives a branch's
+/// solution at a node's inputs (its joint values), `keep` what is kept of
+/// the chosen one. A node the followed assembly cannot reach (no branch
+/// solves there, or reached only across such nodes) is `None`. Each
+/// breadth-first level is solved on all cores.
+///
+/// The branch of the node it is continued from is solved first, and kept
+/// when its solution is within a tenth of the last step of the prediction
+/// ([`FOLLOW_TOLERANCE`]). Else (the start's neighbours, where there is no
+/// last step, and near a crossing, where the followed root leaves the
+/// prediction by a fraction of a step) the nearest of it and the branches
+/// one choice away is taken: where two roots of a step meet they swap by
+/// that step's choice. A node where none of them solves is not reached.
+/// Only the start node solves every branch.
+///
+/// # Example
+/// Two roots `±|q|` that swap at `q = 0`: branch 0 is `+|q|`, branch 1
+/// `−|q|`. The assembly `x = q` followed from `q = −1` (branch 1) is
+/// branch 0 past the crossing, where a fixed branch index would turn back.
+/// ```
+/// use pkm_runtime::workspace::{follow, Continuity, Grid};
+/// let grid = Grid { ranges: vec![(-1.0, 1.0)], counts: vec![21] };
+/// let c = Continuity { angular: vec![false], size: 1.0 };
+/// let root = |q: &[f64], b: usize| Some(vec![if b == 0 { q[0].abs() } else { -q[0].abs() }]);
+/// let followed = follow(&grid, 0, &[-1.0], &c, 2, root, |_, v| v[0]);
+/// for (k, node) in followed.iter().enumerate() {
+///     let node = node.as_ref().unwrap();
+///     let q = grid.value(0, k);
+///     assert!((node.kept - q).abs() < 1e-12);
+///     // At the crossing both roots are 0: either branch is the assembly.
+///     if q.abs() > 1e-12 {
+///         assert_eq!(node.branch, if q > 0.0 { 0 } else { 1 });
+///     }
+/// }
+/// ```
+pub fn follow<T: Send>(
+    grid: &Grid,
+    start: usize,
+    seed: &[f64],
+    continuity: &Continuity,
+    branches: usize,
+    solve: impl Fn(&[f64], usize) -> Option<Vec<f64>> + Sync,
+    keep: impl Fn(&[f64], &[f64]) -> T + Sync,
+) -> Vec<Option<Followed<T>>> {
+    let total = grid.len();
+    let mut out: Vec<Option<Followed<T>>> = (0..total).map(|_| None).collect();
+    if start >= total {
+        return out;
+    }
+    let n = grid.counts.len();
+    let strides: Vec<usize> = (0..n).map(|i| grid.counts[i + 1..].iter().product()).collect();
+    let digit = |index: usize, i: usize| index / strides[i] % grid.counts[i];
+    // One node to solve: it, the node it is continued from, and the node
+    // one step before that along the same direction, if the grid has it.
+    struct Next {
+        node: usize,
+        from: Option<usize>,
+        before: Option<usize>,
+    }
+    // The branch and configuration chosen at each node of the last two levels.
+    type Level = HashMap<usize, (usize, Vec<f64>)>;
+    let mut seen = vec![false; total];
+    seen[start] = true;
+    let mut level = vec![Next {
+        node: start,
+        from: None,
+        before: None,
+    }];
+    let mut last: Level = HashMap::new();
+    let mut earlier: Level = HashMap::new();
+    while !level.is_empty() {
+        let solved = on_all_cores(&level, |next| {
+            let mut q = vec![0.0; n];
+            grid.node(next.node, &mut q);
+            let from = next.from.and_then(|f| last.get(&f));
+            let predicted = match from {
+                Some((_, v)) => {
+                    continuity.predict(v, next.before.and_then(|b| earlier.get(&b)).map(|(_, v)| v.as_slice()))
+                }
+                None => seed.to_vec(),
+            };
+            let every = |bs: &mut dyn Iterator<Item = usize>| -> Vec<(usize, Vec<f64>)> {
+                bs.filter_map(|b| solve(&q, b).map(|v| (b, v))).collect()
+            };
+            let all = match from {
+                Some((branch, v)) => {
+                    let own = solve(&q, *branch);
+                    let step = continuity.distance(v, &predicted);
+                    match own {
+                        // The branch continued from, alone, when it goes on as predicted.
+                        Some(own) if continuity.distance(&own, &predicted) <= FOLLOW_TOLERANCE * step => {
+                            let kept = keep(&q, &own);
+                            return Some((*branch, own, kept));
+                        }
+                        // Else it and the branches one choice away.
+                        own => {
+                            let mut near =
+                                every(&mut (0..usize::BITS).map(|k| branch ^ (1 << k)).filter(|&b| b < branches));
+                            near.extend(own.map(|own| (*branch, own)));
+                            near
+                        }
+                    }
+                }
+                None => every(&mut (0..branches)),
+            };
+            let (branch, values) = continuity.nearest(&all, &predicted)?;
+            let kept = keep(&q, values);
+            Some((*branch, values.clone(), kept))
+        });
+        earlier = std::mem::take(&mut last);
+        let mut following = Vec::new();
+        for (next, solved) in level.iter().zip(solved) {
+            let Some((branch, values, kept)) = solved else {
+                continue;
+            };
+            let node = next.node;
+            out[node] = Some(Followed {
+                branch,
+                from: next.from,
+                kept,
+            });
+            last.insert(node, (branch, values));
+            for i in 0..n {
+                let d = digit(node, i);
+                // One step down along input i, then one step up.
+                for (to, back) in [
+                    (d > 0).then(|| (node - strides[i], (d + 1 < grid.counts[i]).then(|| node + strides[i]))),
+                    (d + 1 < grid.counts[i]).then(|| (node + strides[i], (d > 0).then(|| node - strides[i]))),
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    if !seen[to] {
+                        seen[to] = true;
+                        following.push(Next {
+                            node: to,
+                            from: Some(node),
+                            before: back,
+                        });
+                    }
+                }
+            }
+        }
+        level = following;
+    }
+    out
 }
 
 /// What a batch sweep's solver fills: the lanes' given values (one slice
@@ -466,6 +751,46 @@ mod tests {
             counts: vec![0],
         };
         assert_eq!(sweep_batch::<1, ()>(&empty, |_| Err(())), Ok(Points::default()));
+    }
+
+    #[test]
+    fn follow_goes_round_an_unreachable_patch_and_through_a_crossing() {
+        // Roots ±|q0| (branches 0 and 1), unreachable where |q0| < 0.3 and
+        // q1 < 0.5; an island q0 > 0.8, q1 < −0.8 walled off by unreachable
+        // nodes. The assembly x = q0 from (−1, −1) crosses at q0 = 0 above
+        // the patch and comes down on the far side still x = q0: branch 0,
+        // where a fixed branch 1 gives −q0. The island is not reached.
+        let grid = Grid {
+            ranges: vec![(-1.0, 1.0), (-1.0, 1.0)],
+            counts: vec![21, 21],
+        };
+        let c = Continuity {
+            angular: vec![false],
+            size: 1.0,
+        };
+        let wall = |q: &[f64]| (q[0] - 0.75).abs() < 0.06 && q[1] < -0.75 || (q[1] + 0.75).abs() < 0.06 && q[0] > 0.75;
+        let reachable = |q: &[f64]| !(q[0].abs() < 0.3 && q[1] < 0.5) && !wall(q);
+        let island = |q: &[f64]| q[0] > 0.8 && q[1] < -0.8;
+        let followed = follow(
+            &grid,
+            0,
+            &[-1.0],
+            &c,
+            2,
+            |q, b| reachable(q).then(|| vec![if b == 0 { q[0].abs() } else { -q[0].abs() }]),
+            |_, v| v[0],
+        );
+        let mut q = [0.0; 2];
+        for (k, node) in followed.iter().enumerate() {
+            grid.node(k, &mut q);
+            match node {
+                Some(node) => {
+                    assert!(reachable(&q) && !island(&q), "{q:?}");
+                    assert!((node.kept - q[0]).abs() < 1e-12, "{q:?}: {}", node.kept);
+                }
+                None => assert!(!reachable(&q) || island(&q), "{q:?} not reached"),
+            }
+        }
     }
 
     #[test]

@@ -2,12 +2,12 @@
 //! masses: the actuators' forces and every joint's reaction along it by
 //! Newton–Euler over the ordered SKCs, and the change points it passes.
 
-use super::html::Page;
+use super::html::{html_escape, Page};
 use super::loaded::Loaded;
 use super::ReportError;
 use crate::plots;
 use pkm_runtime::mass_properties::Loading;
-use pkm_runtime::model::Model;
+use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton_euler::{inverse_dynamics, DynamicsError, SkcParts};
 use std::fmt::Write as _;
 
@@ -25,6 +25,8 @@ pub(super) struct Recorder {
     forces: Vec<Vec<[f64; 3]>>,
     /// The steps next to a change point: step, time, conditioning and why.
     change_points: Vec<(usize, f64, f64, String)>,
+    /// The steps where Newton–Euler failed for another reason: how many, and the first's time and reason.
+    failed: (usize, Option<(f64, String)>),
 }
 
 impl Recorder {
@@ -43,6 +45,7 @@ impl Recorder {
             actuators: Vec::new(),
             forces: Vec::new(),
             change_points: Vec::new(),
+            failed: (0, None),
         }))
     }
 
@@ -68,6 +71,9 @@ impl Recorder {
                 if let DynamicsError::ForceSingular { skc, conditioning, .. } = e {
                     self.change_points
                         .push((self.t.len(), t, conditioning, format!("SKC {}", skc + 1)));
+                } else {
+                    self.failed.0 += 1;
+                    self.failed.1.get_or_insert((t, e.to_string()));
                 }
                 self.actuators.push(vec![f64::NAN; model.inputs().len()]);
                 self.forces.push(vec![nan; n]);
@@ -78,8 +84,16 @@ impl Recorder {
 
     /// The section: the driving forces, then every joint's reaction.
     pub(super) fn write(self, page: &mut Page, model: &Model, unit: &str) -> Result<(), ReportError> {
+        let steps = self.t.len();
         let marks = if self.change_points.is_empty() {
             "No step is next to a change point.".to_string()
+        } else if self.change_points.len() == steps {
+            let (_, _, c, skc) = &self.change_points[0];
+            format!(
+                "The force equations of {skc} are singular at every step (conditioning {c:.1e} at t = 0): not a \
+                 change point of the motion but a freedom they cannot fix (such as a link between two spherical \
+                 joints spinning about its own axis), so no force or reaction is drawn."
+            )
         } else {
             // Runs of consecutive steps, each by its lowest conditioning.
             let mut runs: Vec<Vec<&(usize, f64, f64, String)>> = Vec::new();
@@ -109,40 +123,77 @@ impl Recorder {
                 list.join("; ")
             )
         };
+        let failed = match &self.failed {
+            (0, _) => String::new(),
+            (k, Some((t, why))) => format!(
+                " Newton–Euler gives no answer at {k} of the {} steps (left out of the curves), the first at t = \
+                 {t:.3} s: {why}.",
+                self.t.len()
+            ),
+            (k, None) => format!(" Newton–Euler gives no answer at {k} steps."),
+        };
         let _ = writeln!(
             page,
             "<h2>Driving forces and joint reactions</h2><p>Newton–Euler over the ordered SKCs along the same \
              trajectory, with the file's masses, gravity and loads. Forces in N, torques in N·{unit}. A joint's \
-             reaction is the force its first link exerts on its second, base axes. {marks}</p>"
+             reaction is the force its first link exerts on its second, base axes. {marks}{}</p>",
+            html_escape(&failed)
         );
+        if self.failed.0 + self.change_points.len() >= steps && self.actuators.iter().flatten().all(|a| !a.is_finite())
+        {
+            return Ok(());
+        }
+        // One chart per unit: the slides' forces in N, the turns' torques in N·length unit.
         let inputs = model.inputs();
-        let series: Vec<(String, Vec<f64>)> = inputs
-            .iter()
-            .enumerate()
-            .map(|(k, &j)| {
-                (
-                    model.joints[j].name.clone(),
-                    self.actuators.iter().map(|a| a[k]).collect(),
-                )
-            })
-            .collect();
-        let f = plots::curves(
-            &page.dir.join("driving_forces"),
-            "Driving forces and torques",
-            ["t (s)", &format!("N or N·{unit}")],
-            &self.t,
-            &series,
-        )?;
-        page.figure(
-            &f,
-            "The actuators' forces (slides, N) and torques (turns, N·length unit)",
-        );
+        let torque = format!("N·{unit}");
+        for (stem, title, axis, slides) in [
+            ("driving_forces", "Driving forces", "N", true),
+            ("driving_torques", "Driving torques", torque.as_str(), false),
+        ] {
+            let series: Vec<(String, Vec<f64>)> = inputs
+                .iter()
+                .enumerate()
+                .filter(|(_, &j)| (model.joints[j].kind == JointType::P) == slides)
+                .map(|(k, &j)| {
+                    (
+                        model.joints[j].name.clone(),
+                        self.actuators.iter().map(|a| a[k]).collect(),
+                    )
+                })
+                .collect();
+            if series.iter().all(|(_, v)| v.iter().all(|x| !x.is_finite())) {
+                continue;
+            }
+            let f = plots::curves(
+                &page.dir.join(stem),
+                title,
+                [
+                    "t (s)",
+                    &format!("{} ({axis})", if slides { "force" } else { "torque" }),
+                ],
+                &self.t,
+                &series,
+            )?;
+            page.figure(
+                &f,
+                &if slides {
+                    "The slide actuators' forces (N)".to_string()
+                } else {
+                    format!("The turning actuators' torques (N·{unit})")
+                },
+            );
+        }
         let components: &[(usize, &str)] = if model.planar {
             &[(0, "x"), (1, "y")]
         } else {
             &[(0, "x"), (1, "y"), (2, "z")]
         };
+        let mut without = Vec::new();
         for (j, joint) in model.joints.iter().enumerate() {
+            if self.forces.iter().all(|f| f[j].iter().all(|x| !x.is_finite())) {
+                without.push(joint.name.as_str());
+                continue;
+            }
             let series: Vec<(String, Vec<f64>)> = components
                 .iter()
                 .map(|&(c, name)| (format!("R{name}"), self.forces.iter().map(|f| f[j][c]).collect()))
@@ -151,13 +202,21 @@ impl Recorder {
             let f = plots::curves(
                 &page.dir.join(format!("reaction_{}", joint.name.replace('.', "_"))),
                 &format!("Reaction at {}", joint.name),
-                ["t (s)", "N"],
+                ["t (s)", "force (N)"],
                 &self.t,
                 &series,
             )?;
             page.figure(
                 &f,
                 &format!("Joint {}: the force link {by} exerts on link {on}", joint.name),
+            );
+        }
+        if !without.is_empty() {
+            let _ = writeln!(
+                page,
+                "<p>No step gives a reaction at {} (every step next to a change point or without an answer): not \
+                 drawn.</p>",
+                html_escape(&without.join(", "))
             );
         }
         Ok(())

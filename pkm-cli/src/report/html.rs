@@ -42,6 +42,58 @@ impl Page<'_> {
     }
 }
 
+impl Page<'_> {
+    /// Curves over `x` (its axis `x_label`), one chart per unit: `series`
+    /// are (name, unit, values). One unit: the figure `stem`; more: one
+    /// `stem_UNIT` each (the unit's letters and digits), its title and
+    /// caption naming the unit.
+    pub(super) fn curves_per_unit(
+        &mut self,
+        stem: &str,
+        title: &str,
+        x_label: &str,
+        x: &[f64],
+        series: &[(String, String, Vec<f64>)],
+        caption: &str,
+    ) -> Result<(), ReportError> {
+        let mut units: Vec<&str> = Vec::new();
+        for (_, u, _) in series {
+            if !units.contains(&u.as_str()) {
+                units.push(u);
+            }
+        }
+        for unit in &units {
+            let of: Vec<(String, Vec<f64>)> = series
+                .iter()
+                .filter(|(_, u, _)| u == unit)
+                .map(|(n, _, v)| (n.clone(), v.clone()))
+                .collect();
+            let (stem, title, caption) = if units.len() == 1 {
+                (stem.to_string(), title.to_string(), caption.to_string())
+            } else {
+                let tag: String = unit
+                    .chars()
+                    .map(|c| if c.is_alphanumeric() { c } else { '_' })
+                    .collect();
+                (
+                    format!("{stem}_{tag}"),
+                    format!("{title} ({unit})"),
+                    format!("{caption}: those in {unit}"),
+                )
+            };
+            let f = plots::curves(
+                &self.dir.join(&stem),
+                &title,
+                [x_label, &format!("value ({unit})")],
+                x,
+                &of,
+            )?;
+            self.figure(&f, &caption);
+        }
+        Ok(())
+    }
+}
+
 impl std::fmt::Write for Page<'_> {
     fn write_str(&mut self, s: &str) -> std::fmt::Result {
         self.html.push_str(s);
@@ -55,9 +107,9 @@ pub(super) fn head(title: &str) -> String {
     format!(
         "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{title}</title>\
          <style>body{{font-family:sans-serif;max-width:64em;margin:auto;padding:0 1em}}\
-         pre{{background:#f6f6f6;padding:1em;overflow:auto}}table{{border-collapse:collapse;margin:0.5em 0}}\
-         td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}th{{background:#f0f0f0}}\
-         td.l,th.l{{text-align:left}}figure{{margin:1em 0}}figure img,figure svg{{max-width:100%;height:auto}}\
+         pre{{background:#f6f6f6;padding:1em;overflow:auto}}table{{border-collapse:collapse;margin:0.5em 0;display:block;overflow-x:auto;max-width:100%}}\
+         td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap}}th{{background:#f0f0f0}}\
+         td.l,th.l{{text-align:left;white-space:normal}}figure{{margin:1em 0}}figure img,figure svg{{max-width:100%;height:auto}}\
          figcaption{{color:#444}}</style></head><body><h1>{title}</h1>\n"
     )
 }

@@ -17,8 +17,8 @@ pub(super) struct Loaded {
     pub(super) outputs: Vec<Output>,
     /// The forward plan, or why there is none (κ ≠ 0).
     pub(super) forward: Result<Plan, String>,
-    /// The inverse plan, if the file declares outputs.
-    pub(super) inverse: Option<Plan>,
+    /// The inverse plan from the declared outputs, or why there is none.
+    pub(super) inverse: Result<Plan, String>,
     /// The parameter values used.
     pub(super) values: HashMap<String, f64>,
 }
@@ -60,7 +60,11 @@ pub(super) fn load(
     // Every parameter's value, for the study block's expressions.
     let values = pkm_dsl::numeric::parameter_values(&a, &values).map_err(render)?;
     let forward = pkm_dsl::planner::forward_plan(&a).map_err(|d| headline(&d));
-    let inverse = pkm_dsl::planner::inverse_plan(&a).ok();
+    let inverse = if a.geometry.outputs.is_empty() {
+        Err("the file declares no outputs".to_string())
+    } else {
+        pkm_dsl::planner::inverse_plan(&a).map_err(|d| headline(&d))
+    };
     Ok((
         a.clone(),
         Some(Loaded {

@@ -11,6 +11,7 @@
 //! overriding each key, and sensible defaults for the rest.
 
 mod dynamics;
+mod follow;
 mod html;
 mod inverse;
 mod loaded;
@@ -80,9 +81,11 @@ pub struct ReportOptions {
     /// theirs. Default: angles and x, y at 0, z where `J` is best conditioned.
     #[arg(long = "hold", value_parser = parse_param, allow_hyphen_values = true)]
     pub hold: Vec<(String, f64)>,
-    /// The length unit's name, for labels.
-    #[arg(long, default_value = "mm")]
-    pub unit: String,
+    /// The length unit's name, for the labels of a file without a `units`
+    /// block (default: "file unit"); a file with one is labelled in its
+    /// unit, and another name here is an error.
+    #[arg(long)]
+    pub unit: Option<String>,
     /// Other `.pkm` files whose workspaces (of the same point, every
     /// branch, the same ranges) are tabled beside this one's.
     #[arg(long, value_delimiter = ',')]
@@ -103,7 +106,7 @@ impl Default for ReportOptions {
             duration: None,
             sections: Vec::new(),
             hold: Vec::new(),
-            unit: "mm".into(),
+            unit: None,
             compare: Vec::new(),
         }
     }
@@ -228,6 +231,22 @@ pub fn parse_section(s: &str) -> Result<(usize, f64), String> {
     Ok((i, v))
 }
 
+/// The length unit the page labels its lengths with: the file's `units`
+/// block's, else `--unit`'s name, else "file unit"; `--unit` naming another
+/// unit than the file's is an error.
+fn length_unit(a: &pkm_dsl::analysis::Analysis, o: &ReportOptions, file: &str) -> Result<String, ReportError> {
+    match (a.mass_and_loads.units, &o.unit) {
+        (Some(u), Some(given)) if given != u.length.symbol() => Err(invalid(format!(
+            "--unit {given}: {file} declares its lengths in {} (its `units` block); the report labels them so",
+            u.length.symbol()
+        ))),
+        (Some(u), _) => Ok(u.length.symbol().to_string()),
+        (None, Some(given)) if given.trim().is_empty() => Err(invalid("--unit: the unit's name is empty")),
+        (None, Some(given)) => Ok(given.clone()),
+        (None, None) => Ok("file unit".into()),
+    }
+}
+
 /// Writes the report for the mechanism text `text` (read from `file`, the
 /// name its errors show) into `out` (created if needed); returns the page's
 /// path.
@@ -260,6 +279,7 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
         .unwrap_or_else(|| a.geometry.nominal());
     let study =
         pkm_dsl::study::resolve(&ast.studies, &input_names, &values).map_err(|d| ReportError::source(d, text, file))?;
+    let unit = length_unit(&a, o, file)?;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let m = &a.mechanism;
     let mut page = Page {
@@ -268,9 +288,21 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
     };
     let _ = writeln!(
         page,
-        "<p>From <code>{}</code>. Lengths in {} and angles in radians throughout.</p>",
+        "<p>From <code>{}</code>. Lengths in {} and angles in radians throughout{}.</p>",
         html_escape(file),
-        html_escape(&o.unit)
+        html_escape(&unit),
+        if a.mass_and_loads.units.is_some() {
+            format!(
+                " (the file's <code>units</code> block); forces in N, torques in N·{}",
+                html_escape(&unit)
+            )
+        } else if o.unit.is_some() {
+            " (the file declares no <code>units</code>: the length unit is named on the command line)".to_string()
+        } else {
+            " (the file declares no <code>units</code>: lengths are in the unit its numbers are in, the \
+             \"file unit\")"
+                .to_string()
+        }
     );
 
     // 1. Topology.
@@ -321,9 +353,9 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
             match &l.forward {
                 Ok(plan) => {
                     let s = settings(&l, plan, &study, o, file)?;
-                    numeric(&mut page, &l, plan, &s, o, file)?;
+                    numeric(&mut page, &l, plan, &s, o, &unit, file)?;
                 }
-                Err(why) => inverse::inverse_only(&mut page, &l, &study, o, file, why)?,
+                Err(why) => inverse::inverse_only(&mut page, &l, &study, o, &unit, file, why)?,
             }
             // 7. Static stiffness, for a file that declares its legs.
             stiffness_map::stiffness_map(&mut page, &l, &o.hold, file)?;
@@ -345,6 +377,8 @@ struct Sampling<'a> {
     point: (usize, [f64; 3]),
     /// The followed branch's signs.
     branch_signs: Vec<Sign>,
+    /// The joint values at the sample input on the followed branch.
+    sample: Vec<f64>,
     view: View,
     /// The length unit's name.
     unit: &'a str,
@@ -357,28 +391,38 @@ fn numeric(
     plan: &Plan,
     s: &Settings,
     o: &ReportOptions,
+    unit: &str,
     file: &str,
 ) -> Result<(), ReportError> {
     let point_name = s.point.0.as_str();
     let point = point_of(&l.model, point_name).ok_or_else(|| invalid(format!("no point `{point_name}`")))?;
+    let branch_signs = signs(plan.choices(), s.branch.0);
+    let sample = plan.solve(&l.model, &s.start.0, &branch_signs).map_err(|e| {
+        invalid(format!(
+            "{file}: the start {} is not reachable on branch {}: {e}",
+            html::tuple_text(&s.start.0, 4),
+            s.branch.0
+        ))
+    })?;
     let at = Sampling {
         l,
         plan,
         s,
         point,
-        branch_signs: signs(plan.choices(), s.branch.0),
+        branch_signs,
+        sample,
         view: if l.model.planar { View::Plane } else { View::Axonometric },
-        unit: &o.unit,
+        unit,
     };
-    page.html.push_str(&settings_html(l, s, &o.unit));
+    page.html.push_str(&settings_html(l, s, unit));
 
     // 2. The mechanism at the sample input; its animation goes below it.
-    let sample_poses = positions::sample_drawing(page, &at, file)?;
+    let sample_poses = positions::sample_drawing(page, &at)?;
     let animation_at = page.html.len();
 
     // 3. Position solutions and the determinants' factors at the sample input.
     positions::solutions(page, &at)?;
-    let sample_factors = named_factors(l, plan, &sample_poses);
+    let sample_factors = named_factors(l, Some(plan), &sample_poses);
     positions::factors(page, &at, &sample_factors);
 
     // 4. Workspace.

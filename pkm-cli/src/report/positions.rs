@@ -13,17 +13,10 @@ use std::fmt::Write as _;
 
 /// The drawing of the mechanism at the sample input on the followed branch;
 /// returns its link poses.
-pub(super) fn sample_drawing(page: &mut Page, at: &Sampling, file: &str) -> Result<Vec<Pose3>, ReportError> {
+pub(super) fn sample_drawing(page: &mut Page, at: &Sampling) -> Result<Vec<Pose3>, ReportError> {
     let (model, s) = (&at.l.model, at.s);
     let start = &s.start.0;
-    let sample = at.plan.solve(model, start, &at.branch_signs).map_err(|e| {
-        invalid(format!(
-            "{file}: the start {} is not reachable on branch {}: {e}",
-            tuple_text(start, 4),
-            s.branch.0
-        ))
-    })?;
-    let sample_poses = newton::link_poses(model, &sample).map_err(|e| invalid(e.to_string()))?;
+    let sample_poses = newton::link_poses(model, &at.sample).map_err(|e| invalid(e.to_string()))?;
     let scene = drawing::scene(model, &sample_poses, at.point);
     let f = drawing::draw(
         &page.dir.join("mechanism"),

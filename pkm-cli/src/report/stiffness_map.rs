@@ -3,6 +3,7 @@
 //! platform, the platform's stiffness over a grid of two of the pose's
 //! values, the others held (docs/stiffness.md, "Report").
 
+use super::follow;
 use super::html::{html_escape, sign_text, tuple_text, Page};
 use super::loaded::{default_point, output_columns, reach, signs, Loaded, Plan};
 use super::{invalid, ReportError};
@@ -12,7 +13,7 @@ use pkm_dsl::limb_properties::ResolvedLimb;
 use pkm_runtime::newton::Output;
 use pkm_runtime::primitives::Sign;
 use pkm_runtime::stiffness::{LimbProperties, PlatformStiffness};
-use pkm_runtime::workspace::{sweep_nodes, Grid};
+use pkm_runtime::workspace::Grid;
 use std::fmt::Write as _;
 
 /// Grid nodes along each of the map's two values.
@@ -24,6 +25,9 @@ pub const TILT_RANGE: f64 = 0.3;
 /// The half-width of the map's grid over two positions, as a fraction of
 /// the mechanism's reach ([`reach`]).
 pub const SHIFT_RANGE: f64 = 0.25;
+
+/// Below this σ_min/σ_max of `J` a node of the map is ill-conditioned.
+pub const ILL_CONDITIONED: f64 = 1e-2;
 
 /// Heights tried for a held z (evenly over (0, reach]).
 const HEIGHTS: usize = 200;
@@ -146,9 +150,12 @@ pub(super) fn stiffness_map(
             return Ok(());
         }
     };
-    let Some(plan) = &l.inverse else {
-        not_mapped(page, "it has no inverse plan from its outputs");
-        return Ok(());
+    let plan = match &l.inverse {
+        Ok(plan) => plan,
+        Err(why) => {
+            not_mapped(page, &format!("it has no inverse plan from its outputs ({why})"));
+            return Ok(());
+        }
     };
     let platform = l.outputs.iter().find_map(Output::point);
     let Some((link, local)) = platform.filter(|_| !l.model.planar) else {
@@ -224,27 +231,43 @@ pub(super) fn stiffness_map(
         ranges: axes.iter().map(|&i| (held[i] - half, held[i] + half)).collect(),
         counts: vec![MAP_NODES; 2],
     };
-    // Some([along z, least, 0]) at a stiff node, Some([NaN, NaN, 1]) where
-    // the pose is reached but singular, None where it is not reached.
-    let nodes = sweep_nodes::<2>(&grid, |q| {
+    // The held pose's assembly followed over the grid by continuity; at
+    // each node reached, its stiffness, or the cause where it has none.
+    let seed = plan
+        .solve(&l.model, &held, &branch_signs)
+        .map_err(|e| invalid(format!("{file}: the held pose on branch {branch}: {e}")))?;
+    let given = |q: &[f64]| {
         let mut pose = held.clone();
         pose[axes[0]] = q[0];
         pose[axes[1]] = q[1];
-        match map.node(&pose, &branch_signs) {
-            Ok(n) => Some([n.along_z, n.least, 0.0]),
-            Err(_) => pkm_runtime::spatial::run(&l.model, plan, &pose, &branch_signs)
-                .ok()
-                .map(|_| [f64::NAN, f64::NAN, 1.0]),
-        }
-    });
+        pose
+    };
+    let followed = follow::followed(l, plan, &grid, given, &[held[axes[0]], held[axes[1]]], &seed, |_, _| ());
+    let mut q = [0.0; 2];
+    let nodes: Vec<Option<Result<Node, String>>> = followed
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let f = f.as_ref()?;
+            grid.node(k, &mut q);
+            Some(map.node(&given(&q), &signs(plan.choices(), f.branch)))
+        })
+        .collect();
     let xs: Vec<f64> = (0..MAP_NODES).map(|k| grid.value(0, k)).collect();
     let ys: Vec<f64> = (0..MAP_NODES).map(|k| grid.value(1, k)).collect();
-    let value = |n: &Option<[f64; 3]>, q: usize| n.map_or(f64::NAN, |v| v[q]);
-    let along_z: Vec<f64> = nodes.iter().map(|n| value(n, 0)).collect();
-    let least: Vec<f64> = nodes.iter().map(|n| value(n, 1)).collect();
+    let value = |n: &Option<Result<Node, String>>, of: fn(&Node) -> f64| match n {
+        Some(Ok(n)) => of(n),
+        _ => f64::NAN,
+    };
+    let along_z: Vec<f64> = nodes.iter().map(|n| value(n, |n| n.along_z)).collect();
+    let least: Vec<f64> = nodes.iter().map(|n| value(n, |n| n.least)).collect();
+    let ill: Vec<bool> = nodes.iter().map(|n| value(n, |n| n.sigma) < ILL_CONDITIONED).collect();
     let stiff = along_z.iter().filter(|v| v.is_finite()).count();
-    let singular = nodes.iter().filter(|n| n.is_some_and(|v| v[2] == 1.0)).count();
+    let singular = nodes.iter().filter(|n| matches!(n, Some(Err(_)))).count();
     let unreached = nodes.iter().filter(|n| n.is_none()).count();
+    let ill_count = ill.iter().filter(|&&b| b).count();
+    let sigmas = nodes.iter().map(|n| value(n, |n| n.sigma)).filter(|v| v.is_finite());
+    let (sigma_lo, sigma_hi) = sigmas.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
     let (cx, cy) = (columns[axes[0]].as_str(), columns[axes[1]].as_str());
     let held_text: Vec<String> = (0..held.len())
         .filter(|i| !axes.contains(i))
@@ -254,11 +277,14 @@ pub(super) fn stiffness_map(
         page,
         "<h2>Static stiffness</h2><p>The platform's stiffness <code>K = Jᵀ K_p J</code> from the file's \
          <code>limbs</code> (docs/stiffness.md), at its reference point, over a {MAP_NODES} × {MAP_NODES} grid of \
-         {} and {} (± {half:.3} about the held pose), the other outputs held: {}{}. Branch {branch} ({}) of the \
-         inverse solution: the one with the shortest legs at the held pose, its signs kept over the grid. Of {} \
-         nodes, {stiff} have a stiffness, {singular} are reached at a singular configuration and {unreached} are \
-         not reached: both left blank. At the held pose the directional stiffness along z is {:.1} N/{unit} and \
-         the least eigenvalue of the translational block {:.1} N/{unit}.</p>",
+         {} and {} (± {half:.3} about the held pose), the other outputs held: {}{}. At the held pose, branch \
+         {branch} ({}) of the inverse solution: the one with the shortest legs there. {} Of {} nodes, {stiff} \
+         have a stiffness, {singular} are reached at a singular configuration and {unreached} are not reached: both \
+         left blank. σ_min/σ_max of J runs from {sigma_lo:.2e} to {sigma_hi:.2e} over the grid; {ill_count} \
+         nodes are ill-conditioned (below {ILL_CONDITIONED:e}: a load there moves the platform far in some \
+         direction, and the value is sensitive to the dimensions), crossed red. \
+         The colour scales are logarithmic. At the held pose the directional stiffness along z is {:.1} N/{unit} \
+         and the least eigenvalue of the translational block {:.1} N/{unit}.</p>",
         html_escape(cx),
         html_escape(cy),
         html_escape(&held_text.join(", ")),
@@ -269,6 +295,12 @@ pub(super) fn stiffness_map(
             ""
         },
         sign_text(&branch_signs),
+        html_escape(&follow::meetings(
+            &grid,
+            &followed,
+            &[(cx.to_string(), String::new()), (cy.to_string(), String::new())],
+            plan.choices()
+        )),
         grid.len(),
         centre.along_z,
         centre.least,
@@ -384,11 +416,16 @@ pub(super) fn stiffness_map(
             &ys,
             values,
             &format!("stiffness ({stiffness_unit})"),
+            &plots::HeatStyle {
+                log: true,
+                marked: &ill,
+                mark_label: "ill-conditioned",
+            },
         )?;
         page.figure(
             &f,
             &format!(
-                "{name}, {meaning}, over the grid of {cx} and {cy} (white: not reached or singular). It shows how \
+                "{name}, {meaning}, over the grid of {cx} and {cy}, colour on a log scale (white: not reached or singular; red cross: ill-conditioned). It shows how \
                  much stiffer or softer the platform is away from the held pose, and where it is softest"
             ),
         );

@@ -3,15 +3,16 @@
 //! the differentiated loop equations, the driving forces and reactions where
 //! the file has masses, and the mechanism's animation.
 
-use super::html::{tuple_text, Page};
+use super::follow::every_branch;
+use super::html::{sign_text, tuple_text, Page};
 use super::loaded::signs;
 use super::{invalid, io, ReportError, Sampling};
 use crate::drawing::{self, Scene};
 use crate::plots;
 use pkm_dsl::study::Motion;
-use pkm_runtime::model::JointType;
 use pkm_runtime::newton;
 use pkm_runtime::velocity;
+use pkm_runtime::workspace::Continuity;
 use std::fmt::Write as _;
 
 /// The trajectory: the point's velocity and acceleration along it, and the
@@ -21,14 +22,7 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     const FRAMES: usize = 100;
     let (model, plan, s, point, unit) = (&at.l.model, at.plan, at.s, at.point, at.unit);
     let n = s.start.0.len();
-    let choices = plan.choices();
-    // One per value in the model's layout (a spherical joint's three
-    // rotation-vector components are angles too).
-    let revolute: Vec<bool> = model
-        .joints
-        .iter()
-        .flat_map(|j| std::iter::repeat_n(j.kind != JointType::P, j.kind.dof()))
-        .collect();
+    let continuity = Continuity::of(model);
     let (start, (motion, rates)) = (&s.start.0, (s.motion.0, &s.motion.1));
     let dt = s.duration.0 / STEPS as f64;
     let mut previous: Option<Vec<f64>> = None;
@@ -36,6 +30,9 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let (mut ts, mut vel, mut acc) = (Vec::new(), vec![Vec::new(); 4], vec![Vec::new(); 4]);
     let mut frames: Vec<Scene> = Vec::new();
     let mut stopped = String::new();
+    // The branch the followed assembly is on, and where it passes to another.
+    let mut on = s.branch.0;
+    let mut passes: Vec<String> = Vec::new();
     let mut dynamics = super::dynamics::Recorder::new(at.l)?;
     for k in 0..=STEPS {
         let t = k as f64 * dt;
@@ -52,41 +49,20 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
                 vec![0.0; n],
             ),
         };
-        let candidates: Vec<Vec<f64>> = match &previous {
-            None => plan.solve(model, &q, &signs(choices, s.branch.0)).into_iter().collect(),
-            Some(_) => (0..1usize << choices)
-                .filter_map(|b| plan.solve(model, &q, &signs(choices, b)).ok())
-                .collect(),
-        };
+        // The first step on the followed branch; then the solution nearest
+        // the last step's continuation, whichever branch it is.
         let chosen = match &previous {
-            None => candidates.into_iter().next(),
+            None => plan
+                .solve(model, &q, &signs(plan.choices(), s.branch.0))
+                .ok()
+                .map(|v| (s.branch.0, v)),
             Some(p) => {
-                // Where two branches cross (a dyad through its double root)
-                // both are as near the last step; the one that goes on
-                // smoothly is the one nearest the last step's continuation,
-                // p + (p − the step before).
-                let predicted: Vec<f64> = match &before_previous {
-                    Some(pp) => p
-                        .iter()
-                        .zip(pp)
-                        .zip(&revolute)
-                        .map(|((a, b), &r)| {
-                            a + if r {
-                                pkm_runtime::solution::wrap_angle(a - b)
-                            } else {
-                                a - b
-                            }
-                        })
-                        .collect(),
-                    None => p.clone(),
-                };
-                candidates.into_iter().min_by(|x, y| {
-                    pkm_runtime::solution::joint_distance(x, &predicted, &revolute)
-                        .total_cmp(&pkm_runtime::solution::joint_distance(y, &predicted, &revolute))
-                })
+                let predicted = continuity.predict(p, before_previous.as_deref());
+                let candidates = every_branch(at.l, plan, &q);
+                continuity.nearest(&candidates, &predicted).cloned()
             }
         };
-        let Some(v) = chosen else {
+        let Some((branch, v)) = chosen else {
             stopped = format!(
                 "; it stops at t = {t:.3} s, where no branch reaches q = {}",
                 tuple_text(&q, 4)
@@ -118,6 +94,14 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
         }
         vel[3].push(pv.norm());
         acc[3].push(pa.norm());
+        if branch != on {
+            passes.push(format!(
+                "from branch {on} ({}) to branch {branch} ({}) at t = {t:.3} s",
+                sign_text(&signs(plan.choices(), on)),
+                sign_text(&signs(plan.choices(), branch))
+            ));
+            on = branch;
+        }
         before_previous = previous.replace(v);
     }
     let point_name = s.point.0.as_str();
@@ -128,10 +112,19 @@ pub(super) fn trajectory(page: &mut Page, at: &Sampling, animation_at: usize) ->
     let _ = writeln!(
         page,
         "<h2>Velocity and acceleration of {point_name}</h2><p>Inputs {law}, 0 ≤ t ≤ {:.4} s, along the branch that \
-         continues from branch {} ({} steps){stopped}; rates from the differentiated loop equations.</p>",
+         continues from branch {} ({} steps){stopped}; rates from the differentiated loop equations. {}</p>",
         s.duration.0,
         s.branch.0,
         ts.len(),
+        if passes.is_empty() {
+            "It stays on that branch throughout.".to_string()
+        } else {
+            format!(
+                "The assembly passes {}: two roots of a step meet there, and the branches' signs swap which \
+                 physical assembly they are.",
+                passes.join("; ")
+            )
+        }
     );
     let components: &[usize] = if model.planar { &[0, 1, 3] } else { &[0, 1, 2, 3] };
     let names = ["x", "y", "z", "magnitude"];

@@ -3,6 +3,7 @@
 //! or a length, by its dimension), its figures and sections, and the
 //! `--compare` table of other files' workspaces.
 
+use super::follow;
 use super::html::{html_escape, sign_text, tuple_text, Page};
 use super::loaded::{joint_unit, load, point_of, signs, world, Loaded, Plan};
 use super::{invalid, ReportError, ReportOptions, Sampling};
@@ -251,16 +252,18 @@ fn section(
 /// with the reason it is skipped.
 fn compare_table(
     this: &Loaded,
+    this_unit: &str,
     plan: &Plan,
     name: &str,
     o: &ReportOptions,
     grid: &Grid,
     point: &str,
 ) -> Result<String, ReportError> {
-    let unit = o.unit.as_str();
+    let unit = this_unit;
     let mut html = format!(
         "<h3>Workspaces of {point}, every branch</h3><p>The same ranges and grid ({} nodes), each file's point \
-         `{point}`.</p><table><tr><th class=l>mechanism</th><th>branch</th><th>reachable nodes</th>\
+         `{point}`, per branch index as `pkm fk` numbers them: the nodes where that branch solves (not followed by \
+         continuity as the sweep above is).</p><table><tr><th class=l>mechanism</th><th>branch</th><th>reachable nodes</th>\
          <th class=l>workspace</th></tr>",
         grid.len()
     );
@@ -326,6 +329,17 @@ fn compare_table(
             html.push_str(&skip("it has no geometry".into()));
             continue;
         };
+        let other_unit = l
+            .analysis
+            .mass_and_loads
+            .units
+            .map_or("file unit", |u| u.length.symbol());
+        if other_unit != unit {
+            html.push_str(&skip(format!(
+                "its lengths are in {other_unit} and this file's in {unit}: one table would mix them"
+            )));
+            continue;
+        }
         let inputs = l.model.inputs().len();
         if inputs != grid.ranges.len() {
             html.push_str(&skip(format!(
@@ -355,14 +369,31 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         ranges: s.ranges.0.clone(),
         counts: vec![s.nodes.0; n],
     };
-    let nodes = sweep_point(model, at.plan, &grid, &at.branch_signs, at.point)?;
+    if n > 3 {
+        return Err(invalid(format!(
+            "the report sweeps mechanisms with 1 to 3 inputs; this one has {n}"
+        )));
+    }
+    let followed = follow::followed(
+        at.l,
+        at.plan,
+        &grid,
+        |q| q.to_vec(),
+        &s.start.0,
+        &at.sample,
+        |_, v| world(model, v, at.point.0, at.point.1),
+    );
+    let nodes: Vec<Option<[f64; 3]>> = followed.iter().map(|f| f.as_ref().and_then(|f| f.kept)).collect();
     let cloud: Vec<[f64; 3]> = nodes.iter().flatten().copied().collect();
-    let shape_of = shape(&cloud);
-    let dim = dimension(&shape_of, n);
+    let names: Vec<(String, String)> = model
+        .inputs()
+        .iter()
+        .map(|&j| (model.joints[j].name.clone(), joint_unit(model, j, unit)))
+        .collect();
     let _ = writeln!(
         page,
-        "<h2>Workspace of {point_name}</h2><p>Branch {} ({}), the inputs swept over {} with {} nodes each: {} of {} \
-         nodes reachable. The set is {}.</p>",
+        "<h2>Workspace of {point_name}</h2><p>The assembly of branch {} ({}) at the sample, the inputs swept over {} \
+         with {} nodes each: {} of {} nodes reached. The set is {}.</p><p>{}</p>",
         s.branch.0,
         sign_text(&at.branch_signs),
         s.ranges
@@ -374,30 +405,66 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         s.nodes.0,
         cloud.len(),
         grid.len(),
-        html_escape(&measure(&grid, &nodes, unit))
+        html_escape(&measure(&grid, &nodes, unit)),
+        html_escape(&follow::meetings(&grid, &followed, &names, at.plan.choices()))
     );
-    let label = |i: usize| format!("{} ({unit})", AXES[i]);
     if n == 1 {
         displacement(page, at, &grid, &nodes)?;
     }
-    if !model.planar && dim >= 2 {
-        let f = plots::cloud3d(
+    // One input traces a curve: its points joined in order.
+    let dim = cloud_figures(page, model.planar, point_name, unit, &cloud, n, n == 1)?;
+    if !s.sections.0.is_empty() {
+        if dim < 3 {
+            let _ = writeln!(
+                page,
+                "<p>Sections skipped: the workspace is {}, so a plane's section of it is not an area.</p>",
+                if model.planar { "planar" } else { "flat or a curve" }
+            );
+        } else {
+            for &(axis, value) in &s.sections.0 {
+                section(page, &cloud, axis, value, point_name, unit)?;
+            }
+        }
+    }
+    if !o.compare.is_empty() {
+        let table = compare_table(at.l, unit, at.plan, model.name.as_str(), o, &grid, point_name)?;
+        page.html.push_str(&table);
+    }
+    Ok(cloud)
+}
+
+/// The figures of the workspace `cloud` (world positions, `unit`) of the
+/// point `point_name`, swept over `inputs` values (`joined`: in order, a
+/// curve): a solid's 3-D view and its projections on the world planes, a
+/// flat set in its plane, a curve in the plane it spreads most in; a planar
+/// mechanism's in its plane. Returns the set's dimension.
+pub(super) fn cloud_figures(
+    page: &mut Page,
+    planar: bool,
+    point_name: &str,
+    unit: &str,
+    cloud: &[[f64; 3]],
+    inputs: usize,
+    joined: bool,
+) -> Result<usize, ReportError> {
+    let label = |i: usize| format!("{} ({unit})", AXES[i]);
+    let shape_of = shape(cloud);
+    let dim = dimension(&shape_of, inputs);
+    if !planar && dim >= 2 {
+        let f = plots::solid3d(
             &page.dir.join("workspace_3d"),
-            &format!("Workspace of {point_name}: 3-D view"),
+            &format!("Workspace of {point_name} as a solid"),
             [&label(0), &label(1), &label(2)],
-            &cloud,
+            cloud,
         )?;
         page.figure(
             &f,
-            &format!(
-                "The workspace in 3-D (equal scales; at most {} nodes drawn)",
-                plots::DENSE
-            ),
+            "The workspace as a solid: the cells of a grid over it (about 28 along its longest extent) that hold \
+             a reached node, their outer faces shaded and coloured by height, seen from two sides; the axes are \
+             ticked on the box's near edges",
         );
     }
-    // One input traces a curve: its points joined in order.
-    let joined = n == 1;
-    if !model.planar && dim == 2 && world_axis(shape_of.axes[2]).is_none() {
+    if !planar && dim == 2 && world_axis(shape_of.axes[2]).is_none() {
         // A tilted plane: drawn in its own coordinates.
         let (u, v) = (shape_of.axes[0], shape_of.axes[1]);
         let c = shape_of.centre;
@@ -423,7 +490,7 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
             "The flat workspace in its own plane (from its centre)",
         )?;
     } else {
-        let planes: Vec<[usize; 2]> = if model.planar {
+        let planes: Vec<[usize; 2]> = if planar {
             vec![[0, 1]]
         } else if dim >= 3 {
             vec![[0, 1], [1, 2], [0, 2]]
@@ -431,51 +498,32 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
             let rest: Vec<usize> = (0..3).filter(|&i| i != k).collect();
             vec![[rest[0], rest[1]]]
         } else {
-            vec![largest_pair(&cloud)]
+            vec![largest_pair(cloud)]
         };
         let (title, caption) = if planes.len() > 1 {
             ("projection on", "Projection on")
         } else {
             ("in", "The workspace in")
         };
-        let dense = if cloud.len() > plots::DENSE {
-            "; a dense cloud drawn as occupied cells"
-        } else {
-            ""
-        };
         for p in &planes {
             let name = plane_name(*p);
+            let projected: Vec<[f64; 2]> = cloud.iter().map(|q| [q[p[0]], q[p[1]]]).collect();
+            let dense = if !joined && plots::places(&projected).len() > plots::DENSE {
+                "; a dense cloud drawn as occupied cells"
+            } else {
+                ""
+            };
             page.scatter(
                 &format!("workspace_{name}"),
                 &format!("Workspace of {point_name}: {title} {name}"),
                 [&label(p[0]), &label(p[1])],
-                &[(
-                    point_name.to_string(),
-                    cloud.iter().map(|q| [q[p[0]], q[p[1]]]).collect(),
-                )],
+                &[(point_name.to_string(), projected)],
                 joined,
                 &format!("{caption} {name}, equal axis scales{dense}"),
             )?;
         }
     }
-    if !s.sections.0.is_empty() {
-        if dim < 3 {
-            let _ = writeln!(
-                page,
-                "<p>Sections skipped: the workspace is {}, so a plane's section of it is not an area.</p>",
-                if model.planar { "planar" } else { "flat or a curve" }
-            );
-        } else {
-            for &(axis, value) in &s.sections.0 {
-                section(page, &cloud, axis, value, point_name, unit)?;
-            }
-        }
-    }
-    if !o.compare.is_empty() {
-        let table = compare_table(at.l, at.plan, model.name.as_str(), o, &grid, point_name)?;
-        page.html.push_str(&table);
-    }
-    Ok(cloud)
+    Ok(dim)
 }
 
 /// One input: the point's coordinates against it (a displacement diagram),
