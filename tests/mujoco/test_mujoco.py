@@ -190,7 +190,7 @@ NO_HOLDING = {
 # the 3-UPU (two of its U's cut whole) differs by 6.7e-8 of the largest
 # force at random states, where at rest it agrees to 1.4e-15 and the 6-UPS
 # in motion to 1.8e-14. pkm's forces are smooth in the pose there (1e-9 mm
-# moves them by 3e-11), its force equations' conditioning is 0.018, and its
+# moves them by 3e-11 N of 2.2 N), its force equations' conditioning is 0.018, and its
 # joint accelerations satisfy MuJoCo's loop constraints at the acceleration
 # level to finite differences' accuracy (as the 6-UPS's do): not explained
 # yet (reported, issue 29).
