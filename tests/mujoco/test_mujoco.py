@@ -185,15 +185,15 @@ NO_HOLDING = {
     "rssr": "singular",
 }
 
-# Mechanisms whose forces in motion agree with MuJoCo's less closely than
-# EXACT_TOL, and the tolerance they are held to until the cause is found:
-# the 3-UPU (two of its U's cut whole) differs by 6.7e-8 of the largest
-# force at random states, where at rest it agrees to 1.4e-15 and the 6-UPS
-# in motion to 1.8e-14. pkm's forces are smooth in the pose there (1e-9 mm
-# moves them by 3e-11 N of 2.2 N), its force equations' conditioning is 0.018, and its
-# joint accelerations satisfy MuJoCo's loop constraints at the acceleration
-# level to finite differences' accuracy (as the 6-UPS's do): not explained
-# yet (reported, issue 29).
+# Mechanisms whose forces agree with MuJoCo's less closely than EXACT_TOL,
+# and the tolerance they are held to until pkm's are mended: the 3-UPU
+# differs by 6.7e-8 of the largest force at one of (a)'s 8 states, by
+# 2.8e-8 even at rest there (pose x = 1.200713418466638, y =
+# 2.8079374345009525, z = 57.54539871295128, branch 0): 1e-9 mm away in x
+# pkm's forces move by 6e-8 N (of 2.3 N) and agree again to 6e-15, while MuJoCo's at
+# pkm's configuration (its loops closed to 8e-17) stay put. The force
+# equations' conditioning there is 0.017: pkm's Newton–Euler, not the
+# export (reported, issue 29).
 LESS_EXACT = {"upu_3": 1e-6}
 
 # The examples the export refuses, and why (a substring of its message):
