@@ -103,12 +103,24 @@ enum Command {
         /// MuJoCo's MJCF, the one format so far.
         #[arg(long, required = true)]
         mjcf: bool,
-        /// The reference configuration's inputs (as for fk); default the study's start, else zeros.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        /// The reference configuration's inputs (as for fk); default the study's start, else zeros (κ ≠ 0 without a forward solution: the outputs' home).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with = "pose")]
         q: Vec<f64>,
-        /// The assembly branch, by index (as `branch` in a study); default the study's, else the first that assembles.
+        /// The reference configuration's outputs by name, solved by the inverse plan (as for ik): `--pose x=0,y=0,z=300,…`.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = pkm_cli::report::parse_param)]
+        pose: Vec<(String, f64)>,
+        /// The assembly branch, by index (as `branch` in a study; ik's numbering with --pose); default the study's, else the first that assembles.
         #[arg(long)]
         branch: Option<usize>,
+        /// With fk_numeric (κ = 1), which of the branch's assemblies, from 0 in `pkm fk`'s order; default the first.
+        #[arg(long)]
+        assembly: Option<usize>,
+        /// The inputs' rates at the reference (as for dynamics): the keyframe's qvel, and its ctrl the forces of that motion; default at rest.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        rates: Vec<f64>,
+        /// The inputs' accelerations at the reference (as for dynamics), which the keyframe's ctrl gives; default zero.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        accels: Vec<f64>,
         /// The simulation timestep (s); the loops' constraints relax in two timesteps.
         #[arg(long, default_value_t = 0.001)]
         timestep: f64,
@@ -118,7 +130,7 @@ enum Command {
         /// Override a parameter: `--param l1=120`.
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
-        /// Reference inputs given to --q in degrees.
+        /// Reference inputs given to --q, and angular outputs to --pose, in degrees.
         #[arg(long)]
         degrees: bool,
     },
@@ -318,20 +330,16 @@ fn dynamics_states(json: bool, r: &Request, path: &Path) -> ExitCode {
 /// `pkm export --mjcf`: the XML on stdout, or in `out` with its path
 /// printed; with `--json` an object with the XML (or the path) and how the
 /// model maps to the mechanism.
-#[allow(clippy::too_many_arguments)]
 fn export(
     json: bool,
     file: &Path,
     params: &[(String, f64)],
     degrees: bool,
-    q: &[f64],
-    branch: Option<usize>,
-    timestep: f64,
+    options: &cli::export::Options,
     out: Option<&Path>,
 ) -> ExitCode {
-    let options = cli::export::Options { q, branch, timestep };
     with_request(json, file, params, degrees, |request| {
-        match cli::export::mjcf(request, &options) {
+        match cli::export::mjcf(request, options) {
             Ok(exported) => write_export(json, exported, out),
             Err(f) => fail(json, &f),
         }
@@ -441,12 +449,27 @@ fn main() -> ExitCode {
             file,
             mjcf: _,
             q,
+            pose,
             branch,
+            assembly,
+            rates,
+            accels,
             timestep,
             out,
             params,
             degrees,
-        } => export(json, &file, &params, degrees, &q, branch, timestep, out.as_deref()),
+        } => {
+            let options = cli::export::Options {
+                q: &q,
+                pose: &pose,
+                branch,
+                assembly,
+                rates: &rates,
+                accels: &accels,
+                timestep,
+            };
+            export(json, &file, &params, degrees, &options, out.as_deref())
+        }
         Command::Report { file, out, options } => {
             let (text, shown) = match read(&file) {
                 Ok(t) => t,

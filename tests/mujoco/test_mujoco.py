@@ -6,7 +6,9 @@
     with its kind), never a panic. A file without masses is exported again
     with the test's own (each moving link 0.1 kg at its frame's origin, its
     inertia from the mechanism's size; the four-bar and the slider-crank get
-    the masses of EXTRA), and so are tests/fixtures' S-joint mechanisms.
+    the masses of EXTRA), and so are tests/fixtures' S-joint mechanisms and
+    the agile eye with outputs. Only the agile eye's own file is refused
+    (REFUSED: nothing solves its position); a variant gives it fk_numeric.
     Each export is loaded in MuJoCo at its keyframe `reference` (the study's
     start, on its branch): pkm's reference must close MuJoCo's loops, pkm's
     holding forces (its inverse dynamics at rest, the keyframe's ctrl) must
@@ -29,7 +31,11 @@
     a planar loop is redundant in 3-D). `mj_inverse` is not used: it gives
     passive joints torque. pkm must agree to 1e-9 of the largest actuator
     force at that state. Every exported mechanism whose dynamics `pkm
-    dynamics` answers (no spherical joint yet) is checked, near its reference.
+    dynamics` answers (no spherical joint yet) is checked, near its
+    reference; the others (S joints, no closed-form forward plan) at 8
+    states each near their reference, pkm's forces from `pkm export --rates
+    --accels` (its keyframe in motion), whose qvel must be the test's own
+    map of pkm's joint rates.
 
 (b) In time. pkm's forces along a trajectory are MuJoCo's motor inputs in a
     forward simulation (MuJoCo's forward dynamics integrated by RK4, each
@@ -48,14 +54,17 @@ writes its log (MUJOCO_LOG.TXT) into the working directory: the test runs in
 target/mujoco.
 """
 
+import atexit
 import json
 import math
-import re
 import os
+import re
+import shutil
 import subprocess
 import sys
 import tempfile
 import time
+import zlib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -133,22 +142,38 @@ EXTRA = {
 """,
 }
 
-# Examples changed for the test: seed 000 A with its parallelogram's arm
-# on pc instead of r5 (the same mechanism: its bar DB3 then hangs from D),
-# so that the tree reaches the parallelogram from the side without the arm.
+# Examples changed for the test, each by replacements in turn: seed 000 A
+# with its parallelogram's arm on pc instead of r5 (the same mechanism: its
+# bar DB3 then hangs from D), so that the tree reaches the parallelogram
+# from the side without the arm; the agile eye (κ = 1), which asks for no
+# solver of its position, with `fk_numeric` and a start (at zeros every
+# proximal-distal joint's axis passes the platform's joints: no assembly).
 VARIANTS = {
     "seed000_a_arm_on_pc": (
         "seed000_a",
         [
-            ("Pa = (0, 0, 0) along y; }", "Pa = (0, 0, 0) along y arm (0, 0, -l4); }"),
+            # Swapped in two steps, so that the second does not undo the first.
+            ("Pa = (0, 0, 0) along y; }", "\0"),
             ("Pa = (0, 0, 0) along y arm (0, 0, l4); }", "Pa = (0, 0, 0) along y; }"),
+            ("\0", "Pa = (0, 0, 0) along y arm (0, 0, -l4); }"),
             ("centroid = (0, 0, l4 / 2); inertia = (976", "centroid = (0, 0, -l4 / 2); inertia = (976"),
+        ],
+    ),
+    "agile_eye_fk_numeric": (
+        "agile_eye",
+        [
+            (
+                'title "Agile eye (3-RRR spherical parallel mechanism)";',
+                'title "Agile eye (3-RRR spherical parallel mechanism)";\n'
+                "    capabilities fk_numeric;\n    study { start (0.3, 0.2, 0.1); }",
+            ),
         ],
     ),
 }
 
-# The S-joint mechanisms of tests/fixtures (the examples with masses).
-S_FIXTURES = ["rssr_masses", "rsur_masses"]
+# Mechanisms of tests/fixtures: with S joints and masses; the agile eye
+# with an inverse solution (about one axis).
+FIXTURE_STEMS = ["rssr_masses", "rsur_masses", "agile_eye_ik"]
 
 # Mechanisms pkm gives no holding forces for yet, and why (a substring of
 # its reason): an S–S coupler's idle spin leaves Newton–Euler's force
@@ -159,6 +184,22 @@ NO_HOLDING = {
     "rssp": "singular",
     "rssr": "singular",
 }
+
+# Mechanisms whose forces agree with MuJoCo's less closely than EXACT_TOL,
+# and the tolerance they are held to until pkm's are mended: the 3-UPU
+# differs by 6.7e-8 of the largest force at one of (a)'s 8 states, by
+# 2.8e-8 even at rest there (pose x = 1.200713418466638, y =
+# 2.8079374345009525, z = 57.54539871295128, branch 0): 1e-9 mm away in x
+# pkm's forces move by 6e-8 N (of 2.3 N) and agree again to 6e-15, while MuJoCo's at
+# pkm's configuration (its loops closed to 8e-17) stay put. The force
+# equations' conditioning there is 0.017: pkm's Newton–Euler, not the
+# export (reported, issue 29).
+LESS_EXACT = {"upu_3": 1e-6}
+
+# The examples the export refuses, and why (a substring of its message):
+# the agile eye declares no outputs and asks for no `fk_numeric`, so
+# nothing solves its position (VARIANTS and FIXTURE_STEMS export it).
+REFUSED = {"agile_eye": "nothing solves agile_eye's position"}
 
 # Errors an export may end with, and their kinds: never a panic (exit 101).
 TYPED = {"input", "parse", "unreachable", "inconsistent"}
@@ -176,6 +217,7 @@ def pkm_binary():
 
 PKM = pkm_binary()
 WORK = Path(tempfile.mkdtemp(prefix="pkm-mujoco-"))
+atexit.register(shutil.rmtree, WORK, ignore_errors=True)
 
 
 def pkm_answer(*args):
@@ -231,9 +273,9 @@ def generic_masses(text, size=None):
     return text[:end] + extra + "}\n"
 
 
-def with_masses(stem):
-    """examples/mechanisms/STEM.pkm with the test's masses, as a file."""
-    text = (EXAMPLES / f"{stem}.pkm").read_text()
+def with_masses(stem, source=None):
+    """examples/mechanisms/STEM.pkm (or the file `source`) with the test's masses, as a file."""
+    text = Path(source or EXAMPLES / f"{stem}.pkm").read_text()
     path = WORK / f"{stem}.pkm"
     if stem in EXTRA:
         end = text.rindex("}")
@@ -381,11 +423,11 @@ class Exported:
 
 
 def gaps(m, d):
-    """The largest gap of the connects (m) and of the joint ties (rad) at d."""
+    """The largest gap of the connects and a cut U's tendon (m), and of the joint ties (rad) at d."""
     eq = d.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY
     kinds = m.eq_type[d.efc_id[eq]]
     pos = np.abs(d.efc_pos[eq])
-    connect = pos[kinds == mujoco.mjtEq.mjEQ_CONNECT]
+    connect = pos[(kinds == mujoco.mjtEq.mjEQ_CONNECT) | (kinds == mujoco.mjtEq.mjEQ_TENDON)]
     tie = pos[kinds == mujoco.mjtEq.mjEQ_JOINT]
     return (connect.max() if connect.size else 0.0), (tie.max() if tie.size else 0.0)
 
@@ -466,14 +508,23 @@ def held(name, path, info):
     }
 
 
-def balls_map(name, path, info, others):
-    """A ball's qpos from pkm's values: pkm's configuration at other inputs
-    (their exports' references) closes the loops of the export at the first."""
+def balls_map(name, path, info):
+    """A ball's qpos from pkm's values: pkm's configuration at three other
+    inputs (or poses, for an export by the inverse solution; their exports'
+    references) closes the loops of the export at the first."""
     ex = Exported(path, info=info)
     m, d = ex.model, ex.data
     worst = 0.0
-    for q in others:
-        there = pkm("export", path, "--mjcf", "--q=" + ",".join(repr(x) for x in q), f"--branch={info['branch']}")
+    for dx in (0.7, 2.1, -1.3):
+        if info["solver"] == "ik":
+            # Lengths by a few hundredths of the size, angles by hundredths of a radian.
+            size = info["size"] / info["metres_per_unit"]
+            pose = {n: v + dx * (0.01 if abs(v) < 10 and n not in ("z", "ZA") else 0.02 * size) for n, v in info["pose"].items()}
+            moved = "--pose=" + ",".join(f"{n}={v!r}" for n, v in pose.items())
+        else:
+            start = [info["inputs"][n] for n in info["input_order"]]
+            moved = "--q=" + ",".join(repr(x + dx) for x in start)
+        there = pkm("export", path, "--mjcf", moved, f"--branch={info['branch']}")
         values = {j["pkm"]: j["reference"] for j in there["joints"].values()}
         d.qpos[:] = ex.qpos(values)
         mujoco.mj_kinematics(m, d)
@@ -488,12 +539,10 @@ def every_example():
     """(h) on every example and S fixture; the exported ones for (a)."""
     rows, refused, exported = [], [], []
     sources = [(f.stem, str(f)) for f in sorted(EXAMPLES.glob("*.pkm"))]
-    sources += [(stem, str(FIXTURES / f"{stem}.pkm")) for stem in S_FIXTURES]
+    sources += [(stem, str(FIXTURES / f"{stem}.pkm")) for stem in FIXTURE_STEMS]
     for name, (stem, edits) in VARIANTS.items():
         text = (EXAMPLES / f"{stem}.pkm").read_text()
-        # Swapped in two steps, so that the second edit does not undo the first.
-        text = text.replace(edits[0][0], "\0").replace(edits[1][0], edits[1][1]).replace("\0", edits[0][1])
-        for old, new in edits[2:]:
+        for old, new in edits:
             assert old in text, f"{name}: {old}"
             text = text.replace(old, new)
         (WORK / f"{name}.pkm").write_text(text)
@@ -502,21 +551,22 @@ def every_example():
         answer, code = pkm_answer("export", path, "--mjcf")
         own = False
         if code == 1 and needs_masses(answer["error"]):
-            path, own = with_masses(name), True
+            path, own = with_masses(name, path), True
             answer, code = pkm_answer("export", path, "--mjcf")
         if code == 1:
             error = answer["error"]
             assert error["kind"] in TYPED and error["message"], f"{name}: {error}"
+            assert REFUSED.get(name, "\0") in error["message"], f"{name} is refused: {error['message']}"
             refused.append((name, error["kind"], error["message"]))
             continue
         started = time.time()
         figures = held(name, path, answer)
         if any(j["type"] == "ball" for j in answer["joints"].values()):
-            start = [answer["inputs"][n] for n in answer["input_order"]]
-            figures["balls"] = balls_map(name, path, answer, [[x + dx for x in start] for dx in (0.7, 2.1, -1.3)])
+            figures["balls"] = balls_map(name, path, answer)
         figures["seconds"] = time.time() - started
         rows.append((name + (" (test's masses)" if own else ""), figures))
         exported.append((name, path, answer))
+    assert sorted(n for n, _, _ in refused) == sorted(REFUSED), f"refused: {refused}"
     print("(h) held 1 s at the keyframe (mj_step, the exported timestep), every example:")
     for name, f in rows:
         agreement = "no pkm forces" if f["agreement"] is None else f"{f['agreement']:.1e}"
@@ -600,6 +650,88 @@ def exact(stem, path, rng, count=40, info=None):
     assert bound < 1, f"{stem}: pkm and MuJoCo differ by {worst:e}"
     assert stand_in < EXACT_TOL
     return worst, states, pairs
+
+
+def motion_of(ex, m, d, joints):
+    """MuJoCo's qvel and qacc of pkm's joint rates and accelerations (the
+    export's `joints`) at d.qpos: a hinge's or slide's scaled; a ball's
+    the body's angular velocity relative to its parent link's in the body's
+    axes, R_cᵀ·ω, and its derivative R_cᵀ·(α − ω_c × ω), where pkm gives
+    ω and α in the world's axes (of the joint's second link relative to its
+    first: negated when the body is on the first's side)."""
+    mujoco.mj_kinematics(m, d)
+    qvel, balls = np.zeros(m.nv), []
+    for name, _, dadr, _, j in ex.map:
+        if j["type"] == "ball":
+            sign = 1.0 if j["second"] else -1.0
+            body = m.jnt_bodyid[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)]
+            R = d.xmat[body].reshape(3, 3)
+            w, a = sign * np.array(j["rate"]), sign * np.array(j["acceleration"])
+            qvel[dadr : dadr + 3] = R.T @ w
+            balls.append((dadr, body, R, w, a))
+        else:
+            qvel[dadr] = j["scale"] * j["rate"]
+    d.qvel[:] = qvel
+    mujoco.mj_forward(m, d)
+    qacc = np.zeros(m.nv)
+    for name, _, dadr, _, j in ex.map:
+        if j["type"] != "ball":
+            qacc[dadr] = j["scale"] * j["acceleration"]
+    for dadr, body, R, w, a in balls:
+        spin = np.zeros(6)
+        mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_BODY, body, spin, 0)
+        qacc[dadr : dadr + 3] = R.T @ (a - np.cross(spin[:3], w))
+    return qvel, qacc
+
+
+def exact_by_export(name, path, rng, info, count=8):
+    """(a) where `pkm dynamics` cannot answer (no closed-form forward plan,
+    or a spherical joint): pkm's forces come from `pkm export --rates
+    --accels`, its keyframe at a random state near the reference (its pose
+    for an export by the inverse solution, else its inputs; the same
+    branch), against MuJoCo's inverse dynamics there. The keyframe's qvel
+    must be this test's own map of pkm's joint rates."""
+    size = info["size"] / info["metres_per_unit"]
+    spread = np.array([1.0 if info["actuators"][n]["unit"] == "N·m" else 0.2 * size for n in info["input_order"]])
+    worst, solved = 0.0, 0
+    for _ in range(count):
+        rates = rng.uniform(-1, 1, len(spread)) * spread
+        accels = rng.uniform(-10, 10, len(spread)) * spread
+        motion = ["--rates=" + ",".join(repr(float(x)) for x in rates), "--accels=" + ",".join(repr(float(x)) for x in accels)]
+        if info["solver"] == "ik":
+            # Each output moved by up to 0.05 rad or 2 % of the size; then,
+            # if that pose is not reached (the agile eye's centre cannot
+            # move), the angles alone.
+            moves = {n: rng.uniform(-0.05, 0.05) * (1.0 if info["pose_units"][n] == "rad" else 0.4 * size) for n in info["pose"]}
+            tries = [moves, {n: d if info["pose_units"][n] == "rad" else 0.0 for n, d in moves.items()}]
+            ats = ["--pose=" + ",".join(f"{n}={info['pose'][n] + d[n]!r}" for n in info["pose"]) for d in tries]
+        else:
+            start = np.array([info["inputs"][n] for n in info["input_order"]])
+            ats = ["--q=" + ",".join(repr(float(x)) for x in start + rng.uniform(-0.1, 0.1, len(start)) * spread)]
+        for at in ats:
+            answer, code = pkm_answer("export", path, "--mjcf", at, f"--branch={info['branch']}", *motion)
+            if code == 0:
+                break
+        if code != 0:
+            continue
+        solved += 1
+        ex = Exported(path, info=answer)
+        m, d = ex.model, ex.data
+        mujoco.mj_resetDataKeyframe(m, d, ex.key)
+        q, key_qvel = d.qpos.copy(), d.qvel.copy()
+        v, a = motion_of(ex, m, d, answer["joints"])
+        assert np.abs(v - key_qvel).max() <= 1e-12 * max(np.abs(v).max(), 1e-300), f"{name}: the keyframe's qvel is not pkm's rates"
+        tau, residual, closure = ex.forces(q, v, a, ex.without_stand_ins())
+        assert residual < 1e-12, f"{name}: the least-squares system is not consistent ({residual:e})"
+        assert closure < 1e-9, f"{name}: pkm's state does not close MuJoCo's loops ({closure:e})"
+        ours = np.array([answer["holding"]["as_declared"][n] for n in answer["input_order"]])
+        worst = max(worst, np.abs(ours - tau).max() / np.abs(tau).max())
+    print(f"(a) {name}: {solved} states by `pkm export --rates --accels` ({info['solver']}); worst |τ_pkm − τ_MuJoCo| / max|τ_MuJoCo| = {worst:.2e}")
+    assert solved >= count // 2, f"{name}: only {solved} of {count} states export"
+    assert worst < LESS_EXACT.get(name, EXACT_TOL), f"{name}: pkm and MuJoCo differ by {worst:e}"
+    if name in LESS_EXACT and worst < EXACT_TOL:
+        print(f"    {name} now agrees within {EXACT_TOL:.0e}: take it out of LESS_EXACT")
+    return worst
 
 
 # The trajectories of (b): from rest to rest, q(t) = start + travel·(t/T −
@@ -792,9 +924,15 @@ def main():
     if "--exact" in parts:
         began = time.time()
         for name, path, info in exported:
-            # pkm dynamics takes no spherical joint yet (issue 29, item 4).
+            if stems and name not in stems:
+                continue
+            # pkm dynamics takes no spherical joint yet (issue 29, item 4),
+            # nor a mechanism without a closed-form forward plan.
             spherical = any(j["type"] == "S" for j in pkm("analyze", path)["joints"])
-            if (stems and name not in stems) or spherical:
+            if spherical or info["solver"] != "fk":
+                if info["holding"]["ok"]:
+                    # Its own draws: the others' states stay as they were.
+                    exact_by_export(name, path, np.random.default_rng([12, zlib.crc32(name.encode())]), info)
                 continue
             exact(name, path, rng, info=info)
         print(f"    ({time.time() - began:.1f} s)")

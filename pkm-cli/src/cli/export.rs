@@ -4,23 +4,32 @@
 //! equality constraints at a cut joint, a motor on every actuated joint,
 //! the file's loads as constant forces, and a keyframe `reference` whose
 //! motor inputs hold the mechanism still there (pkm's inverse dynamics at
-//! rest).
+//! rest; with `--rates`/`--accels`, in that motion).
 //!
 //! The model is built at a reference configuration (an assembled position
-//! of the mechanism, on the study's branch) and each joint's `ref` is pkm's
-//! value there, so that a hinge's `qpos` is pkm's angle and a slide's is
-//! pkm's length in metres. A link without mass carries no body where its
-//! joints can go to the next body down the tree (MuJoCo composes several
-//! joints in one body as a serial chain): the spanning tree is chosen so
-//! that the loops are cut between links with mass. docs/export.md gives
-//! every convention and unit.
+//! of the mechanism, on the study's branch: by the closed-form forward
+//! plan, by the virtual variable of `fk_numeric` for κ = 1, or by the
+//! inverse plan at a pose) and each joint's `ref` is pkm's value there, so
+//! that a hinge's `qpos` is pkm's angle and a slide's is pkm's length in
+//! metres. A link without mass carries no body where its joints can go to
+//! the next body down the tree (MuJoCo composes several joints in one body
+//! as a serial chain): the spanning tree is chosen so that the loops are
+//! cut between links with mass, and a U joint's cross that would hang at a
+//! cut is cut whole. docs/export.md gives every convention and unit.
 
 use super::failure::{Failure, Kind};
-use super::solve::{angular, input_values, load, sign_text, Request};
+use super::solve::{angular, input_values, load, ordered_pose, output_names, sign_text, Loaded, Request};
+use super::table::{number_of, signs_of};
+use pkm_dsl::mechanism::Capability;
+use pkm_runtime::fk_numeric::{RootKind, VirtualPlan};
 use pkm_runtime::kinematics::Pose;
 use pkm_runtime::mass_properties::{arm_side, bar_pose, Body, Carrier, Loading};
 use pkm_runtime::model::{Joint, JointType, Model, Place};
 use pkm_runtime::nalgebra::{Isometry3, Matrix3, Vector3};
+use pkm_runtime::newton::Output;
+use pkm_runtime::primitives::Sign;
+use pkm_runtime::solution::SolveError;
+use pkm_runtime::spatial::{Plan, Solution};
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 
@@ -37,8 +46,18 @@ pub const STAND_IN: f64 = 1e-11;
 pub struct Options<'a> {
     /// The reference configuration's inputs; empty: the study's start, else zeros.
     pub q: &'a [f64],
-    /// The assembly branch (its index in `pkm fk`'s list, as `branch` in a study).
+    /// The reference configuration's outputs by name (solved by the inverse
+    /// plan); empty: inputs, or the outputs' home where there is no forward solution.
+    pub pose: &'a [(String, f64)],
+    /// The assembly branch (its index in `pkm fk`'s list, or `pkm ik`'s
+    /// with a pose; as `branch` in a study).
     pub branch: Option<usize>,
+    /// With `fk_numeric`, which of the branch's assemblies (from 0, in `pkm fk`'s order).
+    pub assembly: Option<usize>,
+    /// The inputs' rates at the reference (input order); empty: at rest.
+    pub rates: &'a [f64],
+    /// The inputs' accelerations at the reference; empty: zero.
+    pub accels: &'a [f64],
     /// The simulation timestep (s).
     pub timestep: f64,
 }
@@ -57,12 +76,86 @@ struct Tree {
     children: Vec<Vec<(usize, usize)>>,
     /// The joints left out, each closed by equality constraints.
     cut: Vec<usize>,
+    /// The U joints cut whole: their crosses have no body.
+    crosses: Vec<Cross>,
 }
 
 impl Tree {
-    /// Whether a cut joint acts on `link`.
+    /// Whether a cut joint or a cut U acts on `link`.
     fn cut_at(&self, model: &Model, link: usize) -> bool {
         self.cut.iter().any(|&c| model.joints[c].links.contains(&link))
+            || self.crosses.iter().any(|c| c.ends.contains(&link))
+    }
+}
+
+/// A U joint cut whole: a link without mass between two revolute joints
+/// whose axes meet (a U joint's cross), which the tree would leave hanging
+/// from one of them with the other cut. MuJoCo's constraint on a body
+/// without mass carries no force, so the cross has no body: its two
+/// neighbours share the centre (a `connect`) and keep the angle between
+/// the two axes (a spatial tendon between a point on each axis, one size
+/// from the centre, of fixed length), which is the U's constraint.
+struct Cross {
+    /// The cross.
+    link: usize,
+    /// Its revolute joints, and the links on their far sides.
+    joints: [usize; 2],
+    ends: [usize; 2],
+    /// The centre, in the cross's frame.
+    centre: [f64; 3],
+}
+
+/// The crosses of U joints ([`Cross`]) that hang from the tree at a cut:
+/// each taken out of the tree (its joints leave, its cut joint with them).
+fn cut_crosses(model: &Model, tree: &mut Tree, light: &[bool], loaded: &[bool]) {
+    let size = pkm_runtime::kinematics::model_scale(model);
+    for link in 1..model.links.len() {
+        let joints: Vec<usize> = (0..model.joints.len())
+            .filter(|&j| model.joints[j].links.contains(&link))
+            .collect();
+        let [a, b] = joints[..] else { continue };
+        let revolute = |j: usize| model.joints[j].kind == JointType::R && !model.joints[j].actuated;
+        let hanging = tree.cut.contains(&a) != tree.cut.contains(&b) && tree.children[link].is_empty();
+        if !(light[link] && !loaded[link] && revolute(a) && revolute(b) && hanging) {
+            continue;
+        }
+        let place = |j: usize| {
+            let joint = &model.joints[j];
+            joint.places[usize::from(joint.links[1] == link)]
+        };
+        let (p, u, q, v) = (
+            Vector3::from(place(a).at()),
+            Vector3::from(place(a).axis()).normalize(),
+            Vector3::from(place(b).at()),
+            Vector3::from(place(b).axis()).normalize(),
+        );
+        let n = u.cross(&v);
+        // The axes meet: not parallel, and no gap between them.
+        if n.norm() < 1e-9 || (q - p).dot(&n).abs() / n.norm() > 1e-9 * size {
+            continue;
+        }
+        // The point of a's axis nearest b's: p + t·u with (p + t·u − q)·(v × n) = 0.
+        let t = (q - p).dot(&v.cross(&n)) / u.dot(&v.cross(&n));
+        let centre = p + u * t;
+        let far = |j: usize| {
+            let l = model.joints[j].links;
+            if l[0] == link {
+                l[1]
+            } else {
+                l[0]
+            }
+        };
+        let (tree_joint, cut_joint) = if tree.cut.contains(&a) { (b, a) } else { (a, b) };
+        tree.cut.retain(|&c| c != cut_joint);
+        for children in &mut tree.children {
+            children.retain(|&(j, _)| j != tree_joint);
+        }
+        tree.crosses.push(Cross {
+            link,
+            joints: [a, b],
+            ends: [far(a), far(b)],
+            centre: centre.into(),
+        });
     }
 }
 
@@ -144,7 +237,11 @@ fn spanning_tree(model: &Model, light: &[bool]) -> Result<Tree, Failure> {
             model.links[l]
         )));
     }
-    Ok(Tree { children, cut })
+    Ok(Tree {
+        children,
+        cut,
+        crosses: Vec::new(),
+    })
 }
 
 /// A number for the XML: the shortest text that reads back to it.
@@ -308,6 +405,10 @@ struct Assembly<'a> {
     poses: Vec<Pose<f64>>,
     /// Every joint's values, in the model's layout (three per spherical joint).
     values: Vec<f64>,
+    /// Their rates and accelerations (zeros at rest; a spherical joint's:
+    /// the relative angular velocity and its rate, world axes).
+    rates: Vec<f64>,
+    accels: Vec<f64>,
     offsets: Vec<usize>,
     /// Metres per file length unit.
     m: f64,
@@ -316,8 +417,13 @@ struct Assembly<'a> {
 impl Assembly<'_> {
     /// A joint's values (one, or a spherical joint's three).
     fn of(&self, joint: usize) -> &[f64] {
+        self.part(&self.values, joint)
+    }
+
+    /// A joint's part of `all` (values, rates or accelerations).
+    fn part<'v>(&self, all: &'v [f64], joint: usize) -> &'v [f64] {
         let at = self.offsets[joint];
-        &self.values[at..at + self.model.joints[joint].kind.dof()]
+        &all[at..at + self.model.joints[joint].kind.dof()]
     }
 }
 
@@ -638,19 +744,94 @@ fn as_exported(b: &Body, planar: bool, tiny: f64) -> Body {
     Body { inertia, ..b.clone() }
 }
 
-/// The actuators' forces (pkm's units, input order) that hold the
-/// mechanism at rest at `values` under gravity and the loads of `loading`.
+/// The reference's motion: every joint's rate and acceleration from the
+/// inputs' (`--rates`, `--accels`; zeros, at rest, where not given), and
+/// the inputs' in the model's input order, as Newton–Euler takes them.
+struct Motion {
+    given: bool,
+    input_rates: Vec<f64>,
+    input_accels: Vec<f64>,
+    rates: Vec<f64>,
+    accels: Vec<f64>,
+}
+
+fn motion(r: &Request, model: &Model, inputs: &[usize], values: &[f64], o: &Options) -> Result<Motion, Failure> {
+    let order = model.inputs();
+    let zeros = vec![0.0; inputs.len()];
+    let mut given = Vec::new();
+    for (flag, list) in [("--rates", o.rates), ("--accels", o.accels)] {
+        let list = if list.is_empty() { &zeros } else { list };
+        let v = input_values(r, model, inputs, flag, list)?;
+        // In the model's input order.
+        given.push(
+            order
+                .iter()
+                .map(|j| inputs.iter().position(|k| k == j).map_or(0.0, |k| v[k]))
+                .collect::<Vec<f64>>(),
+        );
+    }
+    let input_accels = given.pop().unwrap_or_default();
+    let input_rates = given.pop().unwrap_or_default();
+    if o.rates.is_empty() && o.accels.is_empty() {
+        return Ok(Motion {
+            given: false,
+            input_rates,
+            input_accels,
+            rates: vec![0.0; values.len()],
+            accels: vec![0.0; values.len()],
+        });
+    }
+    let a = pkm_runtime::velocity::accelerations(model, values, &input_rates, &input_accels).map_err(|e| {
+        Failure::new(
+            Kind::Unreachable,
+            format!("the inputs' rates and accelerations give no motion at the reference: {e}"),
+        )
+    })?;
+    Ok(Motion {
+        given: true,
+        input_rates,
+        input_accels,
+        rates: a.velocities.rates,
+        accels: a.rates,
+    })
+}
+
+/// The actuators' forces (pkm's units, in the order of `inputs`) at
+/// `values` in the reference's motion (at rest: the forces that hold it)
+/// under gravity and the loads of `loading` (Newton–Euler takes and gives
+/// them in the model's input order).
 fn holding(
     model: &Model,
     loading: &Loading,
     skcs: &[pkm_runtime::newton_euler::SkcParts],
     values: &[f64],
-    inputs: usize,
-) -> Result<Vec<f64>, String> {
-    let zeros = vec![0.0; inputs];
-    pkm_runtime::newton_euler::inverse_dynamics(model, loading, skcs, values, &zeros, &zeros)
-        .map(|r| r.actuators)
-        .map_err(|e| e.to_string())
+    inputs: &[usize],
+    motion: &Motion,
+) -> Result<Held, String> {
+    let order = model.inputs();
+    let r = pkm_runtime::newton_euler::inverse_dynamics(
+        model,
+        loading,
+        skcs,
+        values,
+        &motion.input_rates,
+        &motion.input_accels,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(Held {
+        forces: inputs
+            .iter()
+            .map(|j| order.iter().position(|k| k == j).map_or(f64::NAN, |k| r.actuators[k]))
+            .collect(),
+        conditioning: r.conditioning.iter().copied().fold(1.0, f64::min),
+    })
+}
+
+/// The actuators' forces of [`holding`] and the least conditioning of an
+/// SKC's force equations there (1 regular, 0 at a change point).
+struct Held {
+    forces: Vec<f64>,
+    conditioning: f64,
 }
 
 /// Everything the writer reads.
@@ -667,8 +848,9 @@ struct Writer<'a> {
     radius: f64,
     xml: String,
     joints: Map<String, Value>,
-    /// The keyframe's `qpos`, in MuJoCo's order.
+    /// The keyframe's `qpos` and `qvel`, in MuJoCo's order.
     qpos: Vec<f64>,
+    qvel: Vec<f64>,
 }
 
 impl Writer<'_> {
@@ -717,13 +899,17 @@ impl Writer<'_> {
         let (m, name) = (self.m, escape(&j.name));
         let at = nums(&scaled(inverse.transform_point(j.anchor), m));
         let pkm_joint = &self.model.joints[j.pkm];
-        let value = self.assembly.of(j.pkm);
+        let a = self.assembly;
+        let one_or_three = |v: &[f64]| if v.len() == 1 { json!(v[0]) } else { json!(v) };
+        let rate = a.part(&a.rates, j.pkm);
         let mut entry = json!({
             "pkm": pkm_joint.name,
             "type": j.kind.name(),
             "body": self.name(k),
             "scale": j.scale,
-            "reference": if value.len() == 1 { json!(value[0]) } else { json!(value) },
+            "reference": one_or_three(a.of(j.pkm)),
+            "rate": one_or_three(rate),
+            "acceleration": one_or_three(a.part(&a.accels, j.pkm)),
         });
         let text = match j.kind {
             MjKind::Ball { second, parent } => {
@@ -733,10 +919,17 @@ impl Writer<'_> {
                 entry["second"] = json!(second);
                 entry["frame"] = json!(frame);
                 self.qpos.extend([1.0, 0.0, 0.0, 0.0]);
+                // qvel: the body's angular velocity relative to the parent
+                // link's, in the body's axes; pkm's is the second link's
+                // relative to the first's, in the world's.
+                let sign = if second { 1.0 } else { -1.0 };
+                self.qvel
+                    .extend(inverse.rotate([rate[0], rate[1], rate[2]].map(|x| sign * x)));
                 format!(r#"<joint name="{name}" type="ball" pos="{at}"/>"#)
             }
             kind => {
                 self.qpos.push(j.reference);
+                self.qvel.push(j.scale * rate[0]);
                 format!(
                     r#"<joint name="{name}" type="{}" pos="{at}" axis="{}" ref="{}"/>"#,
                     kind.name(),
@@ -838,17 +1031,50 @@ impl Writer<'_> {
     }
 }
 
-/// The reference configuration's inputs (given, else the study's start,
-/// else zeros) and the branch (given, else the study's), each with where
-/// it came from.
+/// The reference configuration: the actuated joints (in the order `--q`,
+/// `pkm dynamics` and the motors take them) and their values, the branch,
+/// the solution, and how each was chosen (for the JSON and the XML's
+/// comment).
 struct Reference {
-    inputs: Vec<f64>,
+    /// The actuated joints, in input order.
+    inputs: Vec<usize>,
+    /// Their values at the reference.
+    given: Vec<f64>,
     inputs_from: &'static str,
-    branch: Option<(usize, &'static str)>,
+    branch: usize,
+    signs: Vec<&'static str>,
+    branch_from: &'static str,
+    solution: Solution,
+    /// `solver`, and the pose (ik) or the virtual variable and the
+    /// assembly (`fk_numeric`).
+    how: Map<String, Value>,
+    /// Where it was solved, for the XML's comment.
+    at: String,
 }
 
-fn reference(r: &Request, l: &super::solve::Loaded, inputs: &[usize], o: &Options) -> Result<Reference, Failure> {
-    let model = &l.model;
+/// One branch's signs and its solution or why it has none.
+type Run = (Vec<Sign>, Result<Solution, SolveError>);
+
+/// The branch asked for (`--branch`, else the study's), with where it came from.
+type Wanted = Option<(usize, &'static str)>;
+
+/// How a reference configuration is solved: by the closed-form forward
+/// plan (κ = 0), by the virtual variable (`fk_numeric`, a κ = 1 file that
+/// asks for it), or by the inverse plan at a pose.
+enum Way {
+    Forward(Plan),
+    Numeric(Box<VirtualPlan>),
+    Inverse(Plan),
+}
+
+/// The reference configuration. With `--pose`, the inverse plan there;
+/// else, with a forward solution (κ = 0, or κ = 1 and `fk_numeric`), the
+/// inputs `--q`, else the study's start, else zeros; else (κ ≠ 0) the
+/// inverse plan at the outputs' home ([`inverse_reference`]). The branch is
+/// `--branch`, else the study's, else the first that assembles (at the
+/// home pose: the best conditioned).
+fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Reference, Failure> {
+    let (a, model) = (&l.analysis, &l.model);
     let ast = pkm_dsl::parse(r.source).map_err(|d| r.parse_failure(d.into()))?;
     let names: Vec<String> = model
         .joints
@@ -856,14 +1082,93 @@ fn reference(r: &Request, l: &super::solve::Loaded, inputs: &[usize], o: &Option
         .filter(|j| j.actuated)
         .map(|j| j.name.clone())
         .collect();
-    let values = pkm_dsl::numeric::parameter_values(&l.analysis, &l.values).map_err(|d| r.parse_failure(d))?;
+    let values = pkm_dsl::numeric::parameter_values(a, &l.values).map_err(|d| r.parse_failure(d))?;
     let study = pkm_dsl::study::resolve(&ast.studies, &names, &values).map_err(|d| r.parse_failure(d))?;
-    let branch = match (o.branch, study.branch) {
+    let wanted = match (o.branch, study.branch) {
         (Some(b), _) => Some((b, "--branch")),
         (None, Some(b)) => Some((b, "the study's `branch`")),
         (None, None) => None,
     };
-    let (inputs, inputs_from) = match (o.q.is_empty(), study.start) {
+    let numeric = a.topology.kappa == 1 && a.mechanism.wants(Capability::FkNumeric);
+    let way = if !o.pose.is_empty() {
+        Way::Inverse(pkm_dsl::planner::inverse_plan(a).map_err(|d| r.parse_failure(d))?)
+    } else if a.topology.kappa == 0 {
+        Way::Forward(pkm_dsl::planner::forward_plan(a).map_err(|d| r.parse_failure(d))?)
+    } else if numeric && (!o.q.is_empty() || study.start.is_some() || pkm_dsl::planner::inverse_plan(a).is_err()) {
+        Way::Numeric(Box::new(
+            pkm_dsl::planner_numeric::forward_numeric_plan(a).map_err(|d| r.parse_failure(d))?,
+        ))
+    } else if !o.q.is_empty() {
+        return Err(Failure::input(format!(
+            "--q: {} has no forward solution to take inputs (κ = {}{}): give its outputs with --pose",
+            model.name,
+            a.topology.kappa,
+            if a.topology.kappa == 1 {
+                ", and it does not ask for `fk_numeric`"
+            } else {
+                ""
+            }
+        )));
+    } else {
+        match pkm_dsl::planner::inverse_plan(a) {
+            Ok(plan) => Way::Inverse(plan),
+            Err(d) => {
+                let why = d.0.first().map(|x| x.message.clone()).unwrap_or_default();
+                return Err(Failure::input(format!(
+                    "export needs an assembled configuration, and nothing solves {}'s position: it has no \
+                     closed-form forward plan (κ = {}), {}, and no inverse plan ({why})",
+                    model.name,
+                    a.topology.kappa,
+                    if a.topology.kappa == 1 {
+                        "does not ask for `fk_numeric` (the virtual variable's forward solution)"
+                    } else {
+                        "and κ > 1 has no numeric forward solution"
+                    }
+                )));
+            }
+        }
+    };
+    if o.assembly.is_some() && !matches!(way, Way::Numeric(_)) {
+        return Err(Failure::input(
+            "--assembly picks one of a branch's assemblies of `fk_numeric` (κ = 1); this reference is solved in closed form, one assembly per branch",
+        ));
+    }
+    match way {
+        Way::Forward(plan) => {
+            let inputs = plan.input_joints(model);
+            let (given, inputs_from) = given_inputs(r, model, &inputs, &names, &study, o)?;
+            let runs = pkm_runtime::spatial::run_all(model, &plan, &given);
+            let at = format!("inputs ({}) from {inputs_from}", nums_comma(&given));
+            let (branch, signs, solution, branch_from) = assembled(runs, wanted, &at, "--q")?;
+            let mut how = Map::new();
+            how.insert("solver".into(), json!("fk"));
+            Ok(Reference {
+                inputs,
+                given,
+                inputs_from,
+                branch,
+                signs,
+                branch_from,
+                solution,
+                how,
+                at,
+            })
+        }
+        Way::Numeric(vp) => numeric_reference(r, l, &vp, &names, &study, o, wanted),
+        Way::Inverse(plan) => inverse_reference(r, l, &plan, o, wanted),
+    }
+}
+
+/// The inputs' values: `--q`, else the study's start, else zeros.
+fn given_inputs(
+    r: &Request,
+    model: &Model,
+    inputs: &[usize],
+    names: &[String],
+    study: &pkm_dsl::study::Resolved,
+    o: &Options,
+) -> Result<(Vec<f64>, &'static str), Failure> {
+    Ok(match (o.q.is_empty(), &study.start) {
         (false, _) => (input_values(r, model, inputs, "--q", o.q)?, "--q"),
         // The study's start is in the declaration order of the actuated joints.
         (true, Some(start)) => (
@@ -877,24 +1182,285 @@ fn reference(r: &Request, l: &super::solve::Loaded, inputs: &[usize], o: &Option
             "the study's start",
         ),
         (true, None) => (vec![0.0; inputs.len()], "zeros"),
-    };
-    Ok(Reference {
-        inputs,
-        inputs_from,
-        branch,
     })
 }
 
-/// The branch to export and its solution: the one asked for (by `--branch`
-/// or the study), else the first that assembles.
+fn nums_comma(v: &[f64]) -> String {
+    v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", ")
+}
+
+/// A κ = 1 file that asks for `fk_numeric`: the assemblies the virtual
+/// variable finds at the inputs, numbered as `pkm fk` lists them (the plan
+/// branch they are found on; `--assembly` counts those of one branch, in
+/// `pkm fk`'s order).
+fn numeric_reference(
+    r: &Request,
+    l: &Loaded,
+    vp: &VirtualPlan,
+    names: &[String],
+    study: &pkm_dsl::study::Resolved,
+    o: &Options,
+    wanted: Wanted,
+) -> Result<Reference, Failure> {
+    let model = &l.model;
+    let inputs = vp.plan.inputs[..vp.plan.inputs.len() - 1].to_vec();
+    let (given, inputs_from) = given_inputs(r, model, &inputs, names, study, o)?;
+    let at = format!("inputs ({}) from {inputs_from}", nums_comma(&given));
+    let virtual_name = model.joints[vp.joint].name.clone();
+    let found = pkm_runtime::fk_numeric::solve(model, vp, &given).map_err(|e| Failure::input(e.to_string()))?;
+    let count = 1usize << vp.plan.branches;
+    let listed: Vec<Value> = found
+        .iter()
+        .map(|f| json!({ "branch": number_of(&f.signs), "signs": sign_text(&f.signs), "virtual": f.virtual_value }))
+        .collect();
+    let (branch, branch_from) = match (wanted, found.first()) {
+        (Some((b, from)), _) if b >= count => {
+            return Err(Failure::input(format!(
+                "branch {b} ({from}): the plan has {count} branches, 0 to {}",
+                count - 1
+            )))
+        }
+        (Some((b, from)), _) => (b, from),
+        (None, Some(first)) => (number_of(&first.signs), "the first that assembles"),
+        (None, None) => {
+            return Err(Failure::new(
+                Kind::Unreachable,
+                format!(
+                    "no assembly at the {at}: the virtual variable {virtual_name}'s compatibility residual has no root on any branch (give --q)"
+                ),
+            ))
+        }
+    };
+    // The branch's assemblies in `pkm fk`'s order; `--assembly` picks one.
+    let on_branch: Vec<&pkm_runtime::fk_numeric::Assembly> =
+        found.iter().filter(|f| number_of(&f.signs) == branch).collect();
+    let within = o.assembly.unwrap_or(0);
+    let Some(&assembly) = on_branch.get(within) else {
+        return Err(Failure::new(
+            Kind::Unreachable,
+            format!(
+                "branch {branch} ({branch_from}) has {} assembl{} at the {at}{}; the virtual variable {virtual_name} finds {} in all",
+                on_branch.len(),
+                if on_branch.len() == 1 { "y" } else { "ies" },
+                o.assembly.map_or(String::new(), |k| format!(", no assembly {k} (--assembly)")),
+                found.len()
+            ),
+        ));
+    };
+    let mut how = Map::new();
+    how.insert("solver".into(), json!("fk_numeric"));
+    how.insert("virtual".into(), json!({ virtual_name: assembly.virtual_value }));
+    how.insert("assembly".into(), json!(within));
+    how.insert("tangent".into(), json!(assembly.kind == RootKind::Tangency));
+    how.insert("assemblies".into(), json!(listed));
+    Ok(Reference {
+        inputs,
+        given,
+        inputs_from,
+        branch,
+        signs: sign_text(&assembly.signs),
+        branch_from,
+        solution: assembly.solution.clone(),
+        how,
+        at: format!("{at}, assembly {within} of its branch"),
+    })
+}
+
+/// Values tried for one output when the outputs' home is singular.
+const SCAN: usize = 200;
+
+/// The inverse plan at `--pose`, else at the outputs' home: every output
+/// 0, unless no branch is regular there (the actuators cannot hold it).
+/// Then one output moves from home to where the forward velocity map of
+/// the first branch that assembles (or the one asked for) is best
+/// conditioned (σ_min/σ_max of the loop equations' passive columns, 0 at an
+/// output singularity): a platform's height z over (0, the mechanism's
+/// reach], as `pkm report`'s stiffness map holds its platform level at its
+/// best-conditioned height; without a height, the best of each output over
+/// (−reach, reach] (an angle over (−π, π]). There the branch is the best
+/// conditioned (the first of equals).
+fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: Wanted) -> Result<Reference, Failure> {
+    let model = &l.model;
+    let inputs = model.inputs();
+    let outputs = output_names(l);
+    let count = 1usize << plan.branches;
+    if let Some((b, from)) = wanted.filter(|(b, _)| *b >= count) {
+        return Err(Failure::input(format!(
+            "branch {b} ({from}): the inverse plan has {count} branches, 0 to {}",
+            count - 1
+        )));
+    }
+    let scale = pkm_runtime::kinematics::model_scale(model);
+    let sigma = |pose: &[f64], b: usize| -> Option<f64> {
+        let s = pkm_runtime::spatial::run(model, plan, pose, &signs_of(b, plan.branches)).ok()?;
+        let loops = pkm_runtime::velocity::loops(model, &s.model_values(model)).ok()?;
+        Some(loops.passive_sigma(scale))
+    };
+    // Equal conditionings (branches that differ by a leg's sense) within
+    // rounding: the first.
+    let better = |s: f64, than: f64| s > than * (1.0 + 1e-9);
+    // The best-conditioned (branch, σ) at a pose, on the wanted branch or any.
+    let best = |pose: &[f64]| -> Option<(usize, f64)> {
+        let branches: Vec<usize> = match wanted {
+            Some((b, _)) => vec![b],
+            None => (0..count).collect(),
+        };
+        branches
+            .into_iter()
+            .filter_map(|b| sigma(pose, b).map(|s| (b, s)))
+            .fold(None, |acc: Option<(usize, f64)>, x| match acc {
+                Some(a) if !better(x.1, a.1) => Some(a),
+                _ => Some(x),
+            })
+    };
+    let (pose, pose_from, preferred) = if o.pose.is_empty() {
+        let home = vec![0.0; outputs.len()];
+        match best(&home).filter(|(_, s)| *s > pkm_runtime::velocity::SINGULAR) {
+            Some((b, _)) => (home, "the outputs' home (every output 0)".to_string(), Some(b)),
+            None => {
+                // One output moved at a time: the platform's height over
+                // (0, R] if an output is one, else each output over (−R, R]
+                // (an angle over (−π, π]); R the mechanism's reach.
+                let reach = reach(model);
+                let moved: Vec<(usize, f64, f64)> = match height_output(l) {
+                    Some(z) => vec![(z, 0.0, reach)],
+                    None => outputs
+                        .iter()
+                        .enumerate()
+                        .map(|(i, (_, angle))| {
+                            let r = if *angle { std::f64::consts::PI } else { reach };
+                            (i, -r, r)
+                        })
+                        .collect(),
+                };
+                let mut found: Option<(usize, f64, f64)> = None;
+                for &(i, low, high) in &moved {
+                    for k in 1..=SCAN {
+                        let mut pose = home.clone();
+                        pose[i] = low + (high - low) * k as f64 / SCAN as f64;
+                        // The wanted branch, or the first that assembles.
+                        let first = match wanted {
+                            Some((b, _)) => sigma(&pose, b),
+                            None => (0..count).find_map(|b| sigma(&pose, b)),
+                        };
+                        if let Some(s) = first.filter(|&s| found.is_none_or(|f| better(s, f.2))) {
+                            found = Some((i, pose[i], s));
+                        }
+                    }
+                }
+                let mut pose = home;
+                // There, the best-conditioned branch.
+                match found.and_then(|(i, v, _)| {
+                    pose[i] = v;
+                    best(&pose).map(|(b, _)| (i, b))
+                }) {
+                    Some((i, b)) => {
+                        let why = format!(
+                            "the outputs' home, where no branch is regular, with {} where the forward velocity map of the first branch that assembles is best conditioned{}",
+                            outputs[i].0,
+                            if moved.len() == 1 { " (the platform's height)" } else { " (each output tried)" }
+                        );
+                        (pose, why, Some(b))
+                    }
+                    None => (pose, "the outputs' home (every output 0)".to_string(), None),
+                }
+            }
+        }
+    } else {
+        (ordered_pose(r, l, o.pose)?, "--pose".to_string(), None)
+    };
+    let pose_text = outputs
+        .iter()
+        .zip(&pose)
+        .map(|((n, _), v)| format!("{n} = {}", num(*v)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let at = format!("pose ({pose_text}) from {pose_from}");
+    let pose_from = pose_from.as_str();
+    let runs = pkm_runtime::spatial::run_all(model, plan, &pose);
+    // At the home pose without a branch asked for: the best-conditioned one.
+    let wanted = wanted.or(preferred.map(|b| (b, "the best conditioned at the pose")));
+    let (branch, signs, solution, branch_from) = assembled(runs, wanted, &at, "--pose")?;
+    let given = inputs.iter().map(|&j| solution.values[j]).collect();
+    let mut how = Map::new();
+    how.insert("solver".into(), json!("ik"));
+    let by_name: Map<String, Value> = outputs
+        .iter()
+        .zip(&pose)
+        .map(|((n, angle), v)| (n.clone(), json!(r.shown_value(*v, *angle))))
+        .collect();
+    how.insert("pose".into(), Value::Object(by_name));
+    let length = l
+        .analysis
+        .mass_and_loads
+        .units
+        .map_or("file unit", |u| u.length.symbol());
+    let angle = if r.degrees { "deg" } else { "rad" };
+    let units: Map<String, Value> = outputs
+        .iter()
+        .map(|(n, is_angle)| (n.clone(), json!(if *is_angle { angle } else { length })))
+        .collect();
+    how.insert("pose_units".into(), Value::Object(units));
+    how.insert("pose_from".into(), json!(pose_from));
+    Ok(Reference {
+        inputs,
+        given,
+        inputs_from: "the inverse solution at the pose",
+        branch,
+        signs,
+        branch_from,
+        solution,
+        how,
+        at,
+    })
+}
+
+/// Which declared output value is a platform's height (z of a spatial
+/// pose or point output, or a pose part z), if one is.
+fn height_output(l: &Loaded) -> Option<usize> {
+    let mut at = 0;
+    for (declared, o) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+        let z = match *o {
+            Output::Pose { .. } | Output::Point { .. } if !l.model.planar => Some(2),
+            Output::Parts { parts, .. } => parts.given().position(|p| p == 2),
+            _ => None,
+        };
+        if let Some(z) = z.filter(|&z| z < declared.names.len()) {
+            return Some(at + z);
+        }
+        at += declared.names.len();
+    }
+    None
+}
+
+/// The mechanism's reach: each link's largest distance between two of its
+/// joint places, summed over the moving links.
+fn reach(model: &Model) -> f64 {
+    let mut per_link = vec![0.0f64; model.links.len()];
+    for a in &model.joints {
+        for b in &model.joints {
+            for (sa, &la) in a.links.iter().enumerate() {
+                for (sb, &lb) in b.links.iter().enumerate() {
+                    if la == lb {
+                        let (p, q) = (a.places[sa].at(), b.places[sb].at());
+                        let d = (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>().sqrt();
+                        per_link[la] = per_link[la].max(d);
+                    }
+                }
+            }
+        }
+    }
+    per_link.iter().skip(1).sum::<f64>().max(1.0)
+}
+
+/// The branch to export and its solution: the one asked for (by `--branch`,
+/// the study or the best conditioned), else the first that assembles.
 fn assembled(
-    runs: Vec<(
-        Vec<pkm_runtime::primitives::Sign>,
-        Result<pkm_runtime::spatial::Solution, pkm_runtime::solution::SolveError>,
-    )>,
-    wanted: Option<(usize, &'static str)>,
+    runs: Vec<Run>,
+    wanted: Wanted,
     at: &str,
-) -> Result<(usize, Vec<&'static str>, pkm_runtime::spatial::Solution), Failure> {
+    flag: &str,
+) -> Result<(usize, Vec<&'static str>, Solution, &'static str), Failure> {
     let count = runs.len();
     if let Some((b, from)) = wanted {
         let Some((signs, run)) = runs.into_iter().nth(b) else {
@@ -904,7 +1470,7 @@ fn assembled(
             )));
         };
         return match run {
-            Ok(s) => Ok((b, sign_text(&signs), s)),
+            Ok(s) => Ok((b, sign_text(&signs), s, from)),
             Err(e) => Err(Failure::new(
                 Kind::Unreachable,
                 format!("branch {b} ({from}) does not assemble at the {at}: {e}"),
@@ -914,13 +1480,13 @@ fn assembled(
     let mut reasons = Vec::new();
     for (k, (signs, run)) in runs.into_iter().enumerate() {
         match run {
-            Ok(s) => return Ok((k, sign_text(&signs), s)),
+            Ok(s) => return Ok((k, sign_text(&signs), s, "the first that assembles")),
             Err(e) => reasons.push(format!("branch {k}: {e}")),
         }
     }
     Err(Failure::new(
         Kind::Unreachable,
-        format!("no branch assembles at the {at} (give --q): {}", reasons.join("; ")),
+        format!("no branch assembles at the {at} (give {flag}): {}", reasons.join("; ")),
     ))
 }
 
@@ -954,20 +1520,24 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         ));
     }
     let m = units.length.metres();
-    let plan = pkm_dsl::planner::forward_plan(a).map_err(|d| r.parse_failure(d))?;
-    let inputs = plan.input_joints(model);
-    let reference = reference(r, &l, &inputs, o)?;
-    let given = &reference.inputs;
-    let runs = pkm_runtime::spatial::run_all(model, &plan, given);
-    let shown: Vec<String> = given.iter().map(|v| num(*v)).collect();
-    let at = format!("inputs ({}) from {}", shown.join(", "), reference.inputs_from);
-    let (branch, signs, solution) = assembled(runs, reference.branch, &at)?;
+    let reference = reference(r, &l, o)?;
+    let (inputs, given, branch, signs, solution, at) = (
+        &reference.inputs,
+        &reference.given,
+        reference.branch,
+        &reference.signs,
+        &reference.solution,
+        &reference.at,
+    );
     // The model's layout: three values per spherical joint.
+    let values = solution.model_values(model);
+    let motion = motion(r, model, inputs, &values, o)?;
     let assembly = Assembly {
         model,
         poses: solution.poses.iter().map(Pose::from).collect(),
-        // The model's layout: three values per spherical joint.
-        values: solution.model_values(model),
+        values,
+        rates: motion.rates.clone(),
+        accels: motion.accels.clone(),
         offsets: model.value_offsets().0,
         m,
     };
@@ -991,12 +1561,13 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     let light: Vec<bool> = (0..model.links.len())
         .map(|l| l > 0 && link_bodies[l].is_none())
         .collect();
-    let tree = spanning_tree(model, &light)?;
-    let nodes = nodes(&assembly, &tree, &link_bodies, &bars)?;
     let mut loaded = vec![false; model.links.len()];
     for p in &loading.loads {
         loaded[p.link] = true;
     }
+    let mut tree = spanning_tree(model, &light)?;
+    cut_crosses(model, &mut tree, &light, &loaded);
+    let nodes = nodes(&assembly, &tree, &link_bodies, &bars)?;
     let merged = merge(&nodes, model, &tree, &loaded);
     ends_without_mass(model, &tree, &nodes, &merged)?;
 
@@ -1039,8 +1610,8 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         ..loading.clone()
     };
     let skcs = pkm_dsl::numeric::skc_parts(a);
-    let held = holding(model, &exported_loading, &skcs, &assembly.values, inputs.len());
-    let declared = holding(model, &loading, &skcs, &assembly.values, inputs.len());
+    let held = holding(model, &exported_loading, &skcs, &assembly.values, inputs, &motion);
+    let declared = holding(model, &loading, &skcs, &assembly.values, inputs, &motion);
 
     let mut w = Writer {
         model,
@@ -1054,6 +1625,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         xml: String::new(),
         joints: Map::new(),
         qpos: Vec::new(),
+        qvel: Vec::new(),
     };
     let g = loading.gravity * m;
     let solref = format!(
@@ -1130,18 +1702,50 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         .iter()
         .map(|p| format!("load.{}", p.name))
         .collect();
-    let load_sites: Vec<(String, usize, [f64; 3])> = load_names
+    let mut sites: Vec<(String, usize, [f64; 3])> = load_names
         .iter()
         .zip(&loading.loads)
         .map(|(n, p)| (n.clone(), p.link, p.at.into()))
         .collect();
-    if !load_sites.is_empty() {
+    if !sites.is_empty() {
         w.line(2, r#"<site name="pkm.world" pos="0 0 0"/>"#);
     }
+    // A cut U's two points, one on each axis a size from the centre, in
+    // the frames of the links on either side (the tendon's ends).
+    let mut tendons = Vec::new();
+    for c in &tree.crosses {
+        let cross = &assembly.poses[c.link];
+        let name = &model.links[c.link];
+        let mut ends = Vec::new();
+        for (k, (&j, &end)) in c.joints.iter().zip(&c.ends).enumerate() {
+            let joint = &model.joints[j];
+            let axis = unit(cross.rotate(joint.places[usize::from(joint.links[1] == c.link)].axis()));
+            let point = cross.transform_point(c.centre);
+            let along = [0, 1, 2].map(|i| point[i] + size * axis[i]);
+            let site = format!("{name}.{}", ["a", "b"][k]);
+            sites.push((site.clone(), end, assembly.poses[end].inverse().transform_point(along)));
+            ends.push(site);
+        }
+        tendons.push((format!("{name}.angle"), ends));
+    }
     for c in nodes.nodes[0].children.clone() {
-        w.body(2, w.down(c), &load_sites);
+        w.body(2, w.down(c), &sites);
     }
     w.line(1, "</worldbody>");
+    if !tendons.is_empty() {
+        w.line(1, "<tendon>");
+        for (name, ends) in &tendons {
+            w.line(
+                2,
+                &format!(r#"<spatial name="{}" width="{}">"#, escape(name), num(0.5 * w.radius)),
+            );
+            for site in ends {
+                w.line(3, &format!(r#"<site site="{}"/>"#, escape(site)));
+            }
+            w.line(2, "</spatial>");
+        }
+        w.line(1, "</tendon>");
+    }
 
     let mut equalities = Vec::new();
     let mut cut = Vec::new();
@@ -1163,6 +1767,32 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
             let d = unit(j.places[0].axis());
             equalities.push(connect(&format!("{name}.axis"), [0, 1, 2].map(|i| at[i] + size * d[i])));
         }
+    }
+    // A cut U: its neighbours share the centre, and the tendon between its
+    // axes keeps its length at the reference (the angle between the axes).
+    let mut crosses = Vec::new();
+    for (c, (tendon, _)) in tree.crosses.iter().zip(&tendons) {
+        let [u, v] = c.ends;
+        let (body1, body2) = (w.name(w.body_of_link(u)), w.name(w.body_of_link(v)));
+        let centre = assembly.poses[u]
+            .inverse()
+            .transform_point(assembly.poses[c.link].transform_point(c.centre));
+        let name = escape(&model.links[c.link]);
+        equalities.push(format!(
+            r#"<connect name="{name}" body1="{body1}" body2="{body2}" anchor="{}" {solref}/>"#,
+            nums(&scaled(centre, m))
+        ));
+        let tendon = escape(tendon);
+        equalities.push(format!(
+            r#"<tendon name="{tendon}" tendon1="{tendon}" polycoef="0 0 0 0 0" {solref}/>"#
+        ));
+        crosses.push(json!({
+            "cross": model.links[c.link],
+            "joints": c.joints.map(|j| model.joints[j].name.clone()),
+            "bodies": [body1, body2],
+            "connect": model.links[c.link],
+            "tendon": tendon,
+        }));
     }
     for node in &nodes.nodes {
         match node.part {
@@ -1202,7 +1832,7 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
         } else {
             ("N", 1.0)
         };
-        ctrl.push(held.as_ref().map_or(0.0, |h| h[k] / to_pkm));
+        ctrl.push(held.as_ref().map_or(0.0, |h| h.forces[k] / to_pkm));
         actuators.insert(
             joint.name.clone(),
             json!({ "joint": joint.name, "unit": unit_name, "to_pkm": to_pkm }),
@@ -1233,8 +1863,13 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     }
     w.line(1, "</actuator>");
     w.line(1, "<keyframe>");
+    let qvel = if motion.given {
+        format!(r#" qvel="{}""#, nums(&w.qvel))
+    } else {
+        String::new()
+    };
     let key = format!(
-        r#"<key name="reference" qpos="{}" ctrl="{}"/>"#,
+        r#"<key name="reference" qpos="{}"{qvel} ctrl="{}"/>"#,
         nums(&w.qpos),
         nums(&ctrl)
     );
@@ -1251,16 +1886,33 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     info.insert("size".into(), json!(size * m));
     info.insert("branch".into(), json!(branch));
     info.insert("signs".into(), json!(signs));
-    info.insert(
-        "branch_from".into(),
-        json!(reference.branch.map_or("the first that assembles", |(_, from)| from)),
-    );
+    info.insert("branch_from".into(), json!(reference.branch_from));
     info.insert("inputs".into(), Value::Object(by_name(given)));
     // The inputs in the order `--q`, `pkm dynamics` and the keyframe's ctrl take them.
     info.insert("input_order".into(), json!(names));
     info.insert("inputs_from".into(), json!(reference.inputs_from));
+    // How the reference was solved: `solver`, the pose or the virtual variable.
+    info.extend(reference.how.clone());
+    // The inputs' rates and accelerations (the model's input order: by name).
+    let by_input = |v: &[f64]| -> Map<String, Value> {
+        model
+            .inputs()
+            .iter()
+            .zip(v)
+            .map(|(&j, x)| (model.joints[j].name.clone(), json!(x)))
+            .collect()
+    };
+    info.insert(
+        "motion".into(),
+        json!({
+            "at_rest": !motion.given,
+            "rates": by_input(&motion.input_rates),
+            "accelerations": by_input(&motion.input_accels),
+        }),
+    );
     info.insert("joints".into(), Value::Object(w.joints.clone()));
     info.insert("cut".into(), json!(cut));
+    info.insert("cut_crosses".into(), json!(crosses));
     info.insert("actuators".into(), Value::Object(actuators));
     let merged_links: Map<String, Value> = (1..model.links.len())
         .filter(|&l| merged.merged[nodes.of_link[l]])
@@ -1269,8 +1921,12 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     info.insert("merged".into(), Value::Object(merged_links));
     let change = match (&held, &declared) {
         (Ok(h), Ok(d)) => {
-            let peak = d.iter().fold(0.0f64, |p, x| p.max(x.abs()));
-            let most = h.iter().zip(d).fold(0.0f64, |p, (x, y)| p.max((x - y).abs()));
+            let peak = d.forces.iter().fold(0.0f64, |p, x| p.max(x.abs()));
+            let most = h
+                .forces
+                .iter()
+                .zip(&d.forces)
+                .fold(0.0f64, |p, (x, y)| p.max((x - y).abs()));
             json!(if peak > 0.0 { most / peak } else { most })
         }
         _ => Value::Null,
@@ -1287,7 +1943,12 @@ pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     info.insert(
         "holding".into(),
         match (&held, &declared) {
-            (Ok(h), Ok(d)) => json!({ "ok": true, "actuators": by_name(h), "as_declared": by_name(d) }),
+            (Ok(h), Ok(d)) => json!({
+                "ok": true,
+                "actuators": by_name(&h.forces),
+                "as_declared": by_name(&d.forces),
+                "conditioning": d.conditioning,
+            }),
             (Err(e), _) | (_, Err(e)) => json!({ "ok": false, "reason": e }),
         },
     );

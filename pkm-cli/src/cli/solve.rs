@@ -261,7 +261,7 @@ fn kind_of(e: &SolveError) -> Kind {
 
 /// The declared outputs' names in order, each with whether it is an angle
 /// (a pose's angle, a revolute joint's value).
-fn output_names(l: &Loaded) -> Vec<(String, bool)> {
+pub(super) fn output_names(l: &Loaded) -> Vec<(String, bool)> {
     let mut names = Vec::new();
     for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
         let n = o.names.len();
