@@ -8,7 +8,7 @@
 //! a time).
 
 use super::failure::{Failure, Kind};
-use super::solve::{angular, input_values, load, sign_text, Request};
+use super::solve::{angular, given_text, input_values, load, sign_text, Request};
 use super::table::{self, Branch, Cell, Column};
 use pkm_runtime::newton_euler::inverse_dynamics;
 use serde_json::{json, Map, Value};
@@ -220,14 +220,7 @@ impl<'r> Dynamics<'r> {
             return Ok(format!("{v}\n"));
         }
         let names = self.input_names();
-        let at = |list: &[f64]| {
-            names
-                .iter()
-                .zip(list)
-                .map(|(n, v)| format!("{n} = {v}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
+        let at = |list: &[f64]| given_text(&names, list);
         let mut title = format!("{}: inverse dynamics at {}", s.l.model.name, at(q));
         for (what, list) in [("rates", rates), ("accelerations", accels)] {
             if !list.is_empty() {

@@ -545,7 +545,7 @@ impl Units {
 }
 
 /// The values as given, by name, for a title: `R1 = 1, P1 = 20`.
-fn given_text(names: &[&str], values: &[f64]) -> String {
+pub(super) fn given_text(names: &[&str], values: &[f64]) -> String {
     names
         .iter()
         .zip(values)

@@ -9,7 +9,7 @@
 //! along a pose trajectory with the actuators' values and rates.
 
 use super::follow;
-use super::html::{class_text, html_escape, sign_text, tuple_text, Page};
+use super::html::{html_escape, sign_text, tuple_text, Page};
 use super::loaded::{default_point, joint_unit, point_of, reach, signs, Loaded, Plan};
 use super::settings::{check_duration, check_nodes};
 use super::singularities::{self, Drawn, Measured, Plane};
@@ -944,14 +944,7 @@ fn branches_table(page: &mut Page, h: &Held) -> Result<(), ReportError> {
             Ok(v) => {
                 let p = super::loaded::world(model, &v, h.point.0, h.point.1).unwrap_or([f64::NAN; 3]);
                 let p = if model.planar { &p[..2] } else { &p[..] };
-                let (si, so, class) = match velocity::jacobians(model, &v, &l.outputs) {
-                    Ok(j) => (
-                        format!("{:.3e}", j.input_sigma),
-                        format!("{:.3e}", j.output_sigma),
-                        class_text(j.singularity).to_string(),
-                    ),
-                    Err(e) => ("—".into(), "—".into(), e.to_string()),
-                };
+                let (si, so, class) = super::positions::sigma_cells(model, &v, &l.outputs);
                 let _ = writeln!(
                     page,
                     "<tr><td>{b}{mark}</td><td>{}</td>{}<td>{}</td><td>{si}</td><td>{so}</td><td class=l>{}</td></tr>",

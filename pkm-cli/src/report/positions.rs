@@ -80,14 +80,7 @@ pub(super) fn solutions(page: &mut Page, at: &Sampling) -> Result<(), ReportErro
                 let (si, so, class) = if outputs.is_empty() {
                     ("—".to_string(), "—".to_string(), "— (no outputs)".to_string())
                 } else {
-                    match velocity::jacobians(model, &v, outputs) {
-                        Ok(j) => (
-                            format!("{:.3e}", j.input_sigma),
-                            format!("{:.3e}", j.output_sigma),
-                            class_text(j.singularity).to_string(),
-                        ),
-                        Err(e) => ("—".into(), "—".into(), e.to_string()),
-                    }
+                    sigma_cells(model, &v, outputs)
                 };
                 let _ = writeln!(
                     page,
@@ -137,4 +130,21 @@ pub(super) fn factors(page: &mut Page, at: &Sampling, named: &[(String, f64, Str
         );
     }
     page.html.push_str("</table>\n");
+}
+
+/// A branch table's σ_in, σ_out and class cells at joint values `v`, or
+/// dashes and why the velocity equations give none.
+pub(super) fn sigma_cells(
+    model: &pkm_runtime::model::Model,
+    v: &[f64],
+    outputs: &[pkm_runtime::newton::Output],
+) -> (String, String, String) {
+    match velocity::jacobians(model, v, outputs) {
+        Ok(j) => (
+            format!("{:.3e}", j.input_sigma),
+            format!("{:.3e}", j.output_sigma),
+            class_text(j.singularity).to_string(),
+        ),
+        Err(e) => ("—".into(), "—".into(), e.to_string()),
+    }
 }
