@@ -549,7 +549,14 @@ pub(super) fn given_text(names: &[&str], values: &[f64]) -> String {
     names
         .iter()
         .zip(values)
-        .map(|(n, v)| format!("{n} = {v}"))
+        .map(|(n, v)| {
+            // 1e308 as 1e308, not its 309 digits.
+            if v.abs() >= 1e16 || (v.abs() < 1e-6 && *v != 0.0) {
+                format!("{n} = {v:e}")
+            } else {
+                format!("{n} = {v}")
+            }
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
