@@ -115,6 +115,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
         ),
     };
     let n_solutions = 1usize << n_branches;
+    let conventions = crate::codegen_solver::conventions_doc(a, plan);
 
     let value_names: Vec<String> = match direction {
         Direction::Forward => inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),
@@ -167,6 +168,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             #[doc = #all_doc]
             /// A branch that is another's solution again (a double root, at a
             /// tangency) is `SolveError::DoubleRoot`, and its twin is `tangent`.
+            #conventions
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
                 let prepared = Self::prepare(params);
                 let mut all = [#(#branches),*];

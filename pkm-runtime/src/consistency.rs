@@ -348,6 +348,31 @@ pub fn mark_double_roots<S, const D: usize, const N: usize>(
     }
 }
 
+/// [`mark_double_roots`] where the branches are told apart by `keys[i]`
+/// (branch `i`'s [`crate::steps::choice_values`]: what its ± choices
+/// solved) instead of their results: generated solvers that return the
+/// outputs (or the actuators' values) alone, which two assemblies may
+/// share. Keys are compared as [`same_solution`] compares lengths.
+pub fn mark_double_roots_by<S, const D: usize, const N: usize, const K: usize>(
+    branches: &mut [Branch<S, D>; N],
+    keys: &[[f64; K]; N],
+) {
+    let size: [f64; N] = core::array::from_fn(|k| magnitude(&keys[k]));
+    let plain = [false; K];
+    for i in 1..N {
+        let all = &*branches;
+        if let Some(k) = twin_of(
+            i,
+            &plain,
+            |k| all[k].result.is_ok().then_some(&keys[k][..]),
+            |k, _| size[k],
+        ) {
+            branches[i].result = Err(SolveError::DoubleRoot { twin: k });
+            branches[k].tangent = true;
+        }
+    }
+}
+
 /// [`mark_double_roots`] for the interpreter's lists of (signs, result).
 pub fn mark_double_roots_in<S>(
     branches: &mut [(Vec<crate::primitives::Sign>, Result<S, SolveError>)],

@@ -527,7 +527,7 @@ pub fn execute<T: Scalar>(
         Step::Transfer { input, .. } => transfer::execute(&mv, *input),
         Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
-        Step::PaPlane { pa, target, .. } => pa_plane::execute(&mv, *pa, target)?,
+        Step::PaPlane { pa, target, branch, .. } => pa_plane::execute(&mv, *pa, target, *branch)?,
         Step::Guide {
             slide,
             point,
@@ -720,6 +720,34 @@ pub fn run<T: Scalar>(
         execute(k, step, geometry, &mut state, given)?;
     }
     Ok(state)
+}
+
+/// What tells one branch's solution from another's: for each step that
+/// chooses a root, in plan order, what it solved (a turn's cosine and
+/// sine, a slide; for a pose given in part, the placed link's origin and
+/// first two axes). Every other step is a function of the given values and
+/// of these, so two branches whose choices' values agree are one solution
+/// (a double root), and two whose results agree while these do not are two
+/// assemblies (the two postures of a parallelogram's leg reach the same
+/// platform).
+pub fn choice_values<T: Scalar>(plan: &Plan, state: &Solved<T>) -> Vec<T> {
+    let mut out = Vec::new();
+    for step in plan.steps.iter().filter(|s| s.branch().is_some()) {
+        match step {
+            Step::Parasitic { link, .. } => {
+                let p = &state.poses[*link];
+                out.extend(p.t);
+                out.extend(p.column(0));
+                out.extend(p.column(1));
+            }
+            _ => match step.joint().and_then(|j| state.values[j]) {
+                Some(JointValue::Turn(c, s, _)) => out.extend([c, s]),
+                Some(JointValue::Slide(t)) => out.push(t),
+                None => {}
+            },
+        }
+    }
+    out
 }
 
 /// Joint `j`'s value in a solution: the step's where a step solved it,
@@ -930,6 +958,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             to,
             pa,
             target,
+            ..
         } => pa_plane::factor(at, k, *joint, *from, *to, *pa, target),
         Step::Guide {
             joint,
