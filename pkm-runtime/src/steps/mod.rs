@@ -282,6 +282,20 @@ pub struct Geometry<T> {
 }
 
 impl<T: Scalar> Geometry<T> {
+    /// The mechanism's size: the largest distance of a joint's place or a
+    /// named point from its link's origin, or 1 where there is none
+    /// ([`crate::kinematics::model_scale`], for every [`Scalar`]: generated
+    /// code prepares it from the parameters).
+    pub fn scale(&self) -> T {
+        let places = self.joints.iter().flat_map(|j| j.places.iter().map(|p| p.at()));
+        let zero = T::c(0.0);
+        let l = places
+            .chain(self.named.iter().copied())
+            .map(norm)
+            .fold(zero, crate::scalar::max);
+        T::if_less(zero, l, l, T::c(1.0))
+    }
+
     /// A point of a link in that link's frame: a joint's place on it or a named point.
     pub fn local(&self, point: PointRef, link: usize) -> [T; 3] {
         match point {
@@ -452,9 +466,52 @@ pub struct Given<'a, T: Scalar> {
     pub sites: usize,
 }
 
-/// The name of a step's loop: its joints, `R2–R3–R4`.
+/// The name of a step's loop: its joints, `R2–R3–R4`; a step that closes
+/// no loop (a place or pose given) is "the given position".
 pub fn loop_name(step: &Step, joint: impl Fn(usize) -> String) -> String {
-    step.loop_joints().into_iter().map(joint).collect::<Vec<_>>().join("–")
+    let joints = step.loop_joints();
+    if joints.is_empty() {
+        return "the given position".into();
+    }
+    joints.into_iter().map(joint).collect::<Vec<_>>().join("–")
+}
+
+/// How far from the origin a given length (a slide's value, a position)
+/// may reach, in the mechanism's sizes ([`Geometry::scale`]):
+/// `1/VERIFY_TOL`. Beyond it the verification's tolerance (`VERIFY_TOL` of
+/// the solution's extent) would exceed the mechanism itself, and rounding
+/// the coordinates (1e308 ± 150 is 1e308) would merge its assemblies: such
+/// a value is out of reach (refused at the step that takes it), never a
+/// wrong ok, a NaN or a false double root.
+pub const REACH: f64 = 1.0 / crate::consistency::VERIFY_TOL;
+
+/// Refuses step `k`'s given lengths beyond [`REACH`] sizes as out of reach:
+/// a slide given to a transfer (or across which a point is carried), the
+/// position a place or a pose given in part puts its point at. Angles are not limited: a turn is its cosine
+/// and sine, which any finite angle has.
+fn in_reach<T: Scalar>(k: usize, step: &Step, geometry: &Geometry<T>, given: &Given<'_, T>) -> Result<(), SolveError> {
+    let lengths: Vec<usize> = match *step {
+        Step::Transfer { joint, input, .. } | Step::Beyond { given: joint, input, .. }
+            if geometry.joints[joint].kind == JointType::P =>
+        {
+            vec![input]
+        }
+        Step::Place { input, planar, .. } => (input..input + if planar { 2 } else { 3 }).collect(),
+        Step::Parasitic { input, parts, .. } => parts
+            .given()
+            .enumerate()
+            .filter(|&(_, part)| part < 3)
+            .map(|(i, _)| input + i)
+            .collect(),
+        _ => return Ok(()),
+    };
+    let far = T::c(REACH) * geometry.scale();
+    for i in lengths {
+        let v = given.values[i].abs();
+        let beyond = crate::scalar::Failure::Unreachable("|given length| <= 1e10 sizes of the mechanism", v - far);
+        T::require(v, far, beyond, [k, given.sites + k]).map_err(|e| step_error(k, (given.name)(k), e))?;
+    }
+    Ok(())
 }
 
 /// Executes step number `k`: sets the pose of the link it solves and the
@@ -467,6 +524,7 @@ pub fn execute<T: Scalar>(
     given: &Given<'_, T>,
 ) -> Result<(), SolveError> {
     use crate::spatial::Constraint;
+    in_reach(k, step, geometry, given)?;
     let (joint, from, to) = match *step {
         Step::Place {
             link,
