@@ -94,6 +94,8 @@ struct Branch {
     /// tells this branch's solution from the others'.
     choices: Vec<Sym>,
     values: Vec<Sym>,
+    /// Each ball's rotation vector, in joint order (`full` only).
+    balls: Vec<[Sym; 3]>,
     points: Vec<[Sym; 3]>,
     outputs: Vec<Sym>,
     residual: Vec<Sym>,
@@ -151,10 +153,21 @@ fn branch(
         }
     }
     let value = |j: usize| steps::value(g, &state, j);
-    let joint_values: Vec<Sym> = if full {
-        (0..m.joints.len()).map(value).collect()
+    // A ball's value in `q` is its rotation's angle; its rotation vector
+    // is in `balls` (`steps::ball_rotation`).
+    let ball = |j: usize| g.joints[j].kind == pkm_runtime::model::JointType::S;
+    let (joint_values, balls): (Vec<Sym>, Vec<[Sym; 3]>) = if full {
+        let rotations: Vec<_> = (0..m.joints.len())
+            .map(|j| ball(j).then(|| steps::ball_rotation(g, &state, j)))
+            .collect();
+        (
+            (0..m.joints.len())
+                .map(|j| rotations[j].map_or_else(|| value(j), |(_, theta)| theta))
+                .collect(),
+            rotations.iter().flatten().map(|&(r, _)| r).collect(),
+        )
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let mut points: Vec<[Sym; 3]> = Vec::new();
     if full {
@@ -237,6 +250,7 @@ fn branch(
         result,
         choices,
         values: joint_values,
+        balls,
         points,
         outputs,
         residual,
@@ -651,6 +665,7 @@ impl Parts<'_> {
             ..
         } = self;
         let mut roots: Vec<Sym> = d.given.values.clone();
+        roots.extend(d.given.balls.iter().flatten());
         roots.extend(d.given.points.iter().flatten());
         roots.extend(&d.given.outputs);
         roots.extend(&d.given.residual);
@@ -660,6 +675,8 @@ impl Parts<'_> {
         let n_points = d.given.points.len();
         let n_outputs = d.given.outputs.len();
         let (values, rest) = exprs.split_at(n_joints);
+        let (balls, rest) = rest.split_at(3 * d.given.balls.len());
+        let balls: Vec<TokenStream> = balls.chunks(3).map(xyz).collect();
         let (points, rest) = rest.split_at(3 * n_points);
         let (outputs, rest) = rest.split_at(n_outputs);
         // A planar mechanism's points are (x, y): its plane is z = 0.
@@ -676,6 +693,7 @@ impl Parts<'_> {
                 #check
                 ::core::result::Result::Ok(#sol_ty {
                     q: [#(#values),*],
+                    balls: [#(#balls),*],
                     points: [#(#points),*],
                     outputs: [#(#outputs),*],
                 })
