@@ -785,7 +785,14 @@ type Draw<'a> = &'a dyn Fn(&mut SplitMix) -> Option<Vec<f64>>;
 /// spin; a U-P leg's cross, [`pkm::runtime::steps::plane_through`]).
 /// Returns how many converged configurations it matched, and in how many
 /// samples it found every listed branch.
-fn every_assembly(file: &str, forward: bool, draw: Draw, samples: usize, starts: usize, convention: &[&str]) -> (usize, usize) {
+fn every_assembly(
+    file: &str,
+    forward: bool,
+    draw: Draw,
+    samples: usize,
+    starts: usize,
+    convention: &[&str],
+) -> (usize, usize) {
     use pkm::runtime::model::JointType;
     let (a, model) = common::example(file);
     let plan = if forward {
@@ -801,7 +808,9 @@ fn every_assembly(file: &str, forward: bool, draw: Draw, samples: usize, starts:
         .filter(|&j| !convention.iter().any(|c| model.joints[j].name.starts_with(c)))
         .collect();
     let points = |poses: &[pkm::runtime::nalgebra::Isometry3<f64>]| -> Vec<[f64; 3]> {
-        (0..model.joints.len()).map(|j| kinematics::joint_point(&model, poses, j)).collect()
+        (0..model.joints.len())
+            .map(|j| kinematics::joint_point(&model, poses, j))
+            .collect()
     };
     let mut rng = SplitMix::new(0xa55e);
     let (mut matched, mut complete) = (0, 0);
@@ -943,7 +952,13 @@ fn every_inverse_assembly_is_listed() {
         let (matched, _) = every_assembly(file, false, &reached(file, ranges), 6, 40, &[]);
         assert!(matched >= 60, "{file}: Newton converged only {matched} times");
     }
-    let planar = |rng: &mut SplitMix| Some(vec![20.0 * rng.symmetric(), 20.0 * rng.symmetric(), 0.2 * rng.symmetric()]);
+    let planar = |rng: &mut SplitMix| {
+        Some(vec![
+            20.0 * rng.symmetric(),
+            20.0 * rng.symmetric(),
+            0.2 * rng.symmetric(),
+        ])
+    };
     let platforms: [(&str, Draw<'_>, &[&str]); 8] = [
         ("planar_3rpr", &planar, &[]),
         ("planar_3rrr", &planar, &[]),

@@ -350,7 +350,10 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 
 /// Every branch of `file`'s forward plan at `q`, by the interpreter.
-fn interpreted(file: &str, q: &[f64]) -> Vec<Result<pkm::runtime::spatial::Solution, pkm::runtime::solution::SolveError>> {
+fn interpreted(
+    file: &str,
+    q: &[f64],
+) -> Vec<Result<pkm::runtime::spatial::Solution, pkm::runtime::solution::SolveError>> {
     let (text, _) = common::example_text(file);
     let a = pkm::dsl::analyze_source(&text).unwrap();
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
@@ -391,9 +394,16 @@ fn huge_angles_are_reduced() {
         let lean = prepared.fk(&[q]);
         for (k, w) in want.iter().enumerate() {
             let s = all[k].as_ref().unwrap_or_else(|e| panic!("{q:e} branch {k}: {e}"));
-            assert!((s.values[r4] - w).abs() < 1e-12, "{q:e} branch {k}: R4 {} vs {w}", s.values[r4]);
+            assert!(
+                (s.values[r4] - w).abs() < 1e-12,
+                "{q:e} branch {k}: R4 {} vs {w}",
+                s.values[r4]
+            );
             let g = generated[k].result.as_ref().unwrap();
-            assert!((g.q[r4] - w).abs() < 1e-12 && !generated[k].tangent, "{q:e} generated branch {k}");
+            assert!(
+                (g.q[r4] - w).abs() < 1e-12 && !generated[k].tangent,
+                "{q:e} generated branch {k}"
+            );
             assert!(lean[k].result.is_ok() && !lean[k].tangent, "{q:e} prepared branch {k}");
         }
     }
@@ -405,17 +415,26 @@ fn huge_angles_are_reduced() {
         (1e11, 1.1908745855222387),
         (1e15, 2.1096981170701126),
     ] {
-        let (huge, near) = (interpreted("seed003_punch", &[q]), interpreted("seed003_punch", &[reduced]));
+        let (huge, near) = (
+            interpreted("seed003_punch", &[q]),
+            interpreted("seed003_punch", &[reduced]),
+        );
         assert_eq!(huge.iter().filter(|r| r.is_ok()).count(), 4, "{q:e}");
         for (k, (a, b)) in huge.iter().zip(&near).enumerate() {
             match (a, b) {
                 (Ok(a), Ok(b)) => {
                     for (x, y) in a.values.iter().zip(&b.values).skip(1) {
-                        assert!(pkm::runtime::solution::wrap_angle(x - y).abs() < 1e-9, "{q:e} branch {k}: {x} vs {y}");
+                        assert!(
+                            pkm::runtime::solution::wrap_angle(x - y).abs() < 1e-9,
+                            "{q:e} branch {k}: {x} vs {y}"
+                        );
                     }
                 }
                 (Err(a), Err(b)) => {
-                    assert!(!matches!(a, pkm::runtime::solution::SolveError::DoubleRoot { .. }), "{q:e} branch {k}: {a}");
+                    assert!(
+                        !matches!(a, pkm::runtime::solution::SolveError::DoubleRoot { .. }),
+                        "{q:e} branch {k}: {a}"
+                    );
                     assert_eq!(std::mem::discriminant(a), std::mem::discriminant(b));
                 }
                 other => panic!("{q:e} branch {k}: {other:?}"),
@@ -513,7 +532,11 @@ fn contradicted_values_with_a_huge_angle() {
                     contradicted: Some(c), ..
                 }) => {
                     assert_eq!((c.index, c.given), (2, phi), "φ = {phi} {signs:?}");
-                    assert!((c.nearest - (phi - reduced)).abs() < 1e-6, "φ = {phi} {signs:?}: {}", c.nearest);
+                    assert!(
+                        (c.nearest - (phi - reduced)).abs() < 1e-6,
+                        "φ = {phi} {signs:?}: {}",
+                        c.nearest
+                    );
                 }
                 other => panic!("φ = {phi} {signs:?}: {other:?}"),
             }

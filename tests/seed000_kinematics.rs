@@ -126,10 +126,17 @@ fn mechanism_a_both_postures_of_the_parallelogram_leg() {
     let listed = [(1.0329, 0.3445), (0.5778, 0.3445), (-0.5778, 2.7971), (-1.0329, 2.7971)];
     for (b, (r, p)) in listed.iter().enumerate() {
         let s = &fk[b];
-        assert!((s.values[r5] - r).abs() < 5e-5 && (s.values[pa] - p).abs() < 5e-5, "branch {b}");
+        assert!(
+            (s.values[r5] - r).abs() < 5e-5 && (s.values[pa] - p).abs() < 5e-5,
+            "branch {b}"
+        );
         // Branch b + 4: the same choices and the parallelogram plane's other root.
         let t = &fk[b + 4];
-        assert!(wrap_angle(t.values[r5] - (s.values[r5] + PI)).abs() < 1e-12, "branch {}", b + 4);
+        assert!(
+            wrap_angle(t.values[r5] - (s.values[r5] + PI)).abs() < 1e-12,
+            "branch {}",
+            b + 4
+        );
         assert!(wrap_angle(t.values[pa] - (PI - s.values[pa])).abs() < 1e-12);
         assert!(wrap_angle(t.values[r6] - (s.values[r6] + PI)).abs() < 1e-12);
         let (ps, pt) = (m.pose(s), m.pose(t));

@@ -356,7 +356,10 @@ fn combined_singularities_only_on_the_five_bars_reach() {
             250.0 * m as f64 / 12.0,
             -300.0 + 50.0 * n as f64,
         ];
-        for signs in [[Sign::Minus, Sign::Plus, Sign::Plus], [Sign::Minus, Sign::Minus, Sign::Plus]] {
+        for signs in [
+            [Sign::Minus, Sign::Plus, Sign::Plus],
+            [Sign::Minus, Sign::Minus, Sign::Plus],
+        ] {
             let Ok(b) = SeedA::fk_branch(&p, &q, signs) else {
                 continue;
             };
@@ -373,7 +376,10 @@ fn combined_singularities_only_on_the_five_bars_reach() {
     // the slider is input-singular at once. The combined set is that line on
     // the boundary of the reachable inputs (and the corner x1 = x2 = 0), so
     // the paper's statement holds for the interior only.
-    for signs in [[Sign::Minus, Sign::Plus, Sign::Plus], [Sign::Minus, Sign::Minus, Sign::Plus]] {
+    for signs in [
+        [Sign::Minus, Sign::Plus, Sign::Plus],
+        [Sign::Minus, Sign::Minus, Sign::Plus],
+    ] {
         let b = SeedA::fk_branch(&p, &[-200.0, 200.0, 0.0], signs).unwrap();
         let (i, o, class) = measure(&s, &b.q);
         assert_eq!(class, Singularity::Combined, "{i:e} {o:e}");

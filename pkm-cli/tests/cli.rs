@@ -1041,7 +1041,10 @@ fn every_assembly_and_huge_values() {
     }
     let out = pkm(&["fk", "examples/mechanisms/cylinder_rocker.pkm", "--q=1e308", "--json"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(!out.status.success() && text.contains("unreachable") && text.contains("fails by 1e308"), "{text}");
+    assert!(
+        !out.status.success() && text.contains("unreachable") && text.contains("fails by 1e308"),
+        "{text}"
+    );
     assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
     let v = run_json(&["fk", "examples/mechanisms/seed000_a.pkm", "--q=-106.09,181.67,-70.29"]);
     let branches = v["branches"].as_array().unwrap();

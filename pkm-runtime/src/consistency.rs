@@ -113,9 +113,21 @@ pub fn nearest(
     let reduced: Vec<f64> = given
         .iter()
         .enumerate()
-        .map(|(i, &x)| if angular.get(i).copied().unwrap_or(false) { wrap_angle(x) } else { x })
+        .map(|(i, &x)| {
+            if angular.get(i).copied().unwrap_or(false) {
+                wrap_angle(x)
+            } else {
+                x
+            }
+        })
         .collect();
-    let turns = |x: Vec<f64>| -> Vec<f64> { x.iter().zip(given).zip(&reduced).map(|((x, g), r)| g + (x - r)).collect() };
+    let turns = |x: Vec<f64>| -> Vec<f64> {
+        x.iter()
+            .zip(given)
+            .zip(&reduced)
+            .map(|((x, g), r)| g + (x - r))
+            .collect()
+    };
     nearest_reduced(&reduced, angular, extent, &mut residual).map(turns)
 }
 
@@ -302,7 +314,12 @@ pub fn name_given(mut e: SolveError, names: &[&str]) -> SolveError {
 /// and would make every pair of branches "one").
 #[inline]
 pub fn same_solution(a: &[f64], b: &[f64], revolute: &[bool]) -> bool {
-    same_within(a, b, revolute, VERIFY_TOL * magnitude(a, revolute).max(magnitude(b, revolute)))
+    same_within(
+        a,
+        b,
+        revolute,
+        VERIFY_TOL * magnitude(a, revolute).max(magnitude(b, revolute)),
+    )
 }
 
 /// The largest magnitude of the lengths of `v` (the entries `revolute`
@@ -356,7 +373,12 @@ pub fn mark_double_roots<S, const D: usize, const N: usize>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    let size: [f64; N] = core::array::from_fn(|k| branches[k].result.as_ref().map_or(0.0, |s| magnitude(values(s), revolute)));
+    let size: [f64; N] = core::array::from_fn(|k| {
+        branches[k]
+            .result
+            .as_ref()
+            .map_or(0.0, |s| magnitude(values(s), revolute))
+    });
     for i in 1..N {
         let all = &*branches;
         if let Some(k) = twin_of(

@@ -289,7 +289,11 @@ mod tests {
             (-1e308, -2.6710203145624654),
             (10.0 * PI + 0.1, 0.1),
         ] {
-            assert!((wrap_angle(x) - want).abs() <= 2.0 * PI * f64::EPSILON, "{x:e}: {}", wrap_angle(x));
+            assert!(
+                (wrap_angle(x) - want).abs() <= 2.0 * PI * f64::EPSILON,
+                "{x:e}: {}",
+                wrap_angle(x)
+            );
         }
     }
 }

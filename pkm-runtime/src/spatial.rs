@@ -679,7 +679,9 @@ impl Plan {
         self.steps
             .iter()
             .filter_map(|s| match *s {
-                Step::Rod { joint: j, to, other, .. } => Some(format!(
+                Step::Rod {
+                    joint: j, to, other, ..
+                } => Some(format!(
                     "{}'s spin about the line through the centres of {} and {} is idle: one turn is listed, \
                      the smallest from its drawn orientation",
                     link(to),

@@ -30,12 +30,7 @@ use crate::spatial::{Anchor, Step};
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its
 /// hinge on the new link) through the anchored point `target`; `branch`
 /// chooses the root ([`pa_plane`]).
-pub fn execute<T: Scalar>(
-    mv: &Move<'_, T>,
-    pa: usize,
-    target: &Anchor,
-    branch: usize,
-) -> Result<Found<T>, SolveError> {
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, pa: usize, target: &Anchor, branch: usize) -> Result<Found<T>, SolveError> {
     let (axis, zero) = mv.turning("a parallelogram turned by a non-revolute")?;
     let p = &mv.geometry.joints[pa];
     let side = usize::from(p.links[0] != mv.to);
