@@ -79,7 +79,7 @@ fn dynamics(c: &mut Criterion) {
         let d = prepared
             .inverse_dynamics(
                 &[q[0], q[1], q[2]],
-                [Minus, Plus],
+                [Minus, Plus, Plus],
                 &[1.0, -0.5, 0.25],
                 &[-2.0, 0.75, 1.5],
             )
@@ -91,7 +91,7 @@ fn dynamics(c: &mut Criterion) {
         "seed000_a",
         &seed_a,
         &[-106.09, 181.67, -70.29],
-        &[Minus, Plus],
+        &[Minus, Plus, Plus],
         &[1.0, -0.5, 0.25],
         &[-2.0, 0.75, 1.5],
         Some(&generated),

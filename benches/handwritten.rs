@@ -253,7 +253,7 @@ fn handwritten(c: &mut Criterion) {
     let solver = SeedA::prepare(&Default::default());
     // Seed 000 Table 1's inputs; the paper's assembly.
     let q = [-106.09, 181.67, -70.29];
-    let signs = signs_of::<2>(0b01);
+    let signs = signs_of::<3>(0b001);
     let out = solver.fk_branch(&q, signs).unwrap();
     // The hand-written branch that is the generated one.
     let (up, plus) = [(true, true), (true, false), (false, true), (false, false)]
@@ -269,7 +269,7 @@ fn handwritten(c: &mut Criterion) {
     group.bench_function("hand_all", |b| b.iter(|| seed000_a::fk_all(black_box(&q))));
     group.finish();
 
-    let signs = signs_of::<3>(0b001);
+    let signs = signs_of::<4>(0b0001);
     let x = out;
     let inputs = solver.ik_branch(&x, signs).unwrap();
     let picks = (0..8)
@@ -291,21 +291,21 @@ fn handwritten(c: &mut Criterion) {
     // asks for at most 5×): the Jacobians, the velocities and the
     // accelerations at the solution.
     let params = Default::default();
-    let all = SeedA::fk_branch(&params, &q, signs_of::<2>(0b01)).unwrap().q;
+    let all = SeedA::fk_branch(&params, &q, signs_of::<3>(0b001)).unwrap().q;
     let rates = [1.0, -0.5, 0.25];
     let mut group = c.benchmark_group("seed000_a/velocity");
     group.bench_function("fk_branch", |b| {
-        b.iter(|| solver.fk_branch(black_box(&q), signs_of::<2>(0b01)))
+        b.iter(|| solver.fk_branch(black_box(&q), signs_of::<3>(0b001)))
     });
     group.bench_function("fk_rates", |b| {
-        b.iter(|| solver.fk_rates(black_box(&q), signs_of::<2>(0b01), black_box(&rates)))
+        b.iter(|| solver.fk_rates(black_box(&q), signs_of::<3>(0b001), black_box(&rates)))
     });
     group.bench_function("fk_jacobian", |b| {
-        b.iter(|| solver.fk_jacobian(black_box(&q), signs_of::<2>(0b01)))
+        b.iter(|| solver.fk_jacobian(black_box(&q), signs_of::<3>(0b001)))
     });
     let accelerations = [-2.0, 0.75, 1.5];
     group.bench_function("fk_accelerations", |b| {
-        b.iter(|| solver.fk_accelerations(black_box(&q), signs_of::<2>(0b01), &rates, black_box(&accelerations)))
+        b.iter(|| solver.fk_accelerations(black_box(&q), signs_of::<3>(0b001), &rates, black_box(&accelerations)))
     });
     group.bench_function("jacobian", |b| b.iter(|| SeedA::jacobian(&params, black_box(&all))));
     group.bench_function("velocity", |b| {

@@ -119,7 +119,7 @@ fn workspace(c: &mut Criterion) {
     };
     let sa = SeedA::prepare(&Default::default());
     assert_eq!(SeedA::POINTS[G], "G");
-    let signs = [Sign::Minus, Sign::Plus];
+    let signs = [Sign::Minus, Sign::Plus, Sign::Plus];
     let per_node = |grid: &Grid| sweep_nodes::<3>(grid, |q| sa.fk_solution(q, signs).ok().map(|s| s.points[G]));
     let batch = |grid: &Grid| {
         sweep_batch::<3, _>(grid, |(given, out, ok): Lanes<3>| {

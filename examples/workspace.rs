@@ -35,8 +35,8 @@ fn main() {
     let a = move |signs| -> Solve { Box::new(move |(g, out, ok)| sa.fk_point_batch::<GA>(g, signs, out, ok)) };
     let b = move |signs| -> Solve { Box::new(move |(g, out, ok)| sb.fk_point_batch::<GB>(g, signs, out, ok)) };
     let runs: [(&str, Solve); 4] = [
-        ("A (−, +)", a([m, p])),
-        ("A (−, −)", a([m, m])),
+        ("A (−, +, +)", a([m, p, p])),
+        ("A (−, −, +)", a([m, m, p])),
         ("B (−, −, +)", b([m, m, p])),
         ("B (−, −, −)", b([m, m, m])),
     ];

@@ -150,7 +150,7 @@ macro_rules! agree {
 #[test]
 fn seed000_a_batch_equals_scalar() {
     agree!(
-        SeedA, 2, 3,
+        SeedA, 3, 4,
         [(-400.0, 150.0), (-150.0, 400.0), (-500.0, 500.0)], 1,
         [0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20]
     );
@@ -168,7 +168,7 @@ fn seed000_b_batch_equals_scalar() {
 #[test]
 fn five_bar_pa_batch_equals_scalar() {
     agree!(
-        FiveBarPa, 2, 3,
+        FiveBarPa, 3, 4,
         [(-PI, PI), (-PI, PI), (-600.0, 600.0)], 3,
         [0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15]
     );
@@ -212,8 +212,10 @@ fn seed000_a_point_g_matches_its_closed_form() {
     let n = q.len();
     let cols = columns(&q);
     let given: [&[f64]; 3] = std::array::from_fn(|k| &cols[k][..]);
-    for b in 0..4 {
-        let signs = signs_of::<2>(b);
+    // Eight branches: four platforms, each with the R5–parallelogram leg
+    // in either posture (the same G).
+    for b in 0..8 {
+        let signs = signs_of::<3>(b);
         let (mut x, mut y, mut z, mut ok) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![false; n]);
         s.fk_point_batch::<G>(given, signs, [&mut x, &mut y, &mut z], &mut ok)
             .unwrap();
@@ -259,7 +261,7 @@ fn lengths_are_checked() {
         let [o0, o1, o2, o3] = &mut out[..] else { unreachable!() };
         let r = s.fk_batch(
             [&given[0], &given[1], &given[2]],
-            signs_of::<2>(0),
+            signs_of::<3>(0),
             [o0, o1, o2, o3],
             &mut ok,
         );

@@ -405,7 +405,7 @@ fn five_bar_pa_with_parameters() {
                 mz: v["mz"],
                 ..Default::default()
             };
-            let signs: [Sign; 2] = signs.try_into().expect("two choices");
+            let signs: [Sign; 3] = signs.try_into().expect("three choices");
             let at = |x: &[f64]| [x[0], x[1], x[2]];
             let d = FiveBarPa::inverse_dynamics(&p, &at(q), signs, &at(rates), &at(accels))?;
             Ok((d.actuators.to_vec(), d.joints.to_vec()))

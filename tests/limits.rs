@@ -3,6 +3,8 @@
 //! beyond it the error states the limit; nothing panics, hangs or overflows
 //! the stack (these tests run on the test harness's 2 MiB threads).
 
+mod common;
+
 use pkm::dsl::limits::{
     MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_JOINTS, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS, MAX_RELATIONS,
 };
@@ -342,4 +344,202 @@ fn overrides_recompute_what_reads_them() {
     let d = model(&[("l1", 300.0)]).unwrap_err();
     let span = d.0[0].span.unwrap();
     assert_eq!(&DERIVED[span.start..span.end], "h = sqrt(l2^2 - l1^2)");
+}
+
+pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
+pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+
+/// Every branch of `file`'s forward plan at `q`, by the interpreter.
+fn interpreted(
+    file: &str,
+    q: &[f64],
+) -> Vec<Result<pkm::runtime::spatial::Solution, pkm::runtime::solution::SolveError>> {
+    let (text, _) = common::example_text(file);
+    let a = pkm::dsl::analyze_source(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    pkm::runtime::spatial::run_all(&model, &plan, q)
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect()
+}
+
+/// Issue 29, item 7: `pkm fk four_bar.pkm --q=1e11` reported one branch
+/// tangent and the other a double root: the twin tolerance scaled with the
+/// unreduced input angle. An angle is its cosine and sine, whatever its
+/// size: at 1e11, 1e15, ±1e308 rad both branches are listed, neither a
+/// double root, R4 as by hand at the input reduced by 2π in 400 digits
+/// (mpmath: 1e11 ≡ 1.1908745855222387, 1e15 ≡ 2.1096981170701126,
+/// ±1e308 ≡ ±2.6710203145624654, the doubles nearest those inputs): the
+/// rocker closes `A cos ψ + B sin ψ = C` with the crank pin B = l1(cos θ,
+/// sin θ), R4 = (l4, 0), A = 2·l3·(l4 − Bx), B = −2·l3·By, C = l2² − |R4 −
+/// B|² − l3², ψ = atan2(B, A) ± acos(C/√(A² + B²)), evaluated at the same
+/// 400 digits. (The issue's −1.98 for the second root is not the
+/// arithmetic's: −2.4286.) Interpreted, generated `FourBar::fk` and the
+/// prepared `fk` alike.
+#[test]
+fn huge_angles_are_reduced() {
+    let cases: [(f64, [f64; 2]); 4] = [
+        (1e11, [1.7494924528818856, -2.428590097057323]),
+        (1e15, [2.1771248776644154, -2.6563382513882687]),
+        (1e308, [2.4444413524963045, -2.6764256602354872]),
+        (-1e308, [2.6764256602354872, -2.4444413524963045]),
+    ];
+    let r4 = 3;
+    let p = Default::default();
+    let prepared = FourBar::prepare(&p);
+    for (q, want) in cases {
+        let all = interpreted("four_bar", &[q]);
+        let generated = FourBar::fk(&p, &[q]);
+        let lean = prepared.fk(&[q]);
+        for (k, w) in want.iter().enumerate() {
+            let s = all[k].as_ref().unwrap_or_else(|e| panic!("{q:e} branch {k}: {e}"));
+            assert!(
+                (s.values[r4] - w).abs() < 1e-12,
+                "{q:e} branch {k}: R4 {} vs {w}",
+                s.values[r4]
+            );
+            let g = generated[k].result.as_ref().unwrap();
+            assert!(
+                (g.q[r4] - w).abs() < 1e-12 && !generated[k].tangent,
+                "{q:e} generated branch {k}"
+            );
+            assert!(lean[k].result.is_ok() && !lean[k].tangent, "{q:e} prepared branch {k}");
+        }
+    }
+    // The punch's crank at ±1e308 and 1e11 rad: as at the reduced angle
+    // (four of eight branches reach there), none a double root.
+    for (q, reduced) in [
+        (1e308, 2.6710203145624654),
+        (-1e308, -2.6710203145624654),
+        (1e11, 1.1908745855222387),
+        (1e15, 2.1096981170701126),
+    ] {
+        let (huge, near) = (
+            interpreted("seed003_punch", &[q]),
+            interpreted("seed003_punch", &[reduced]),
+        );
+        assert_eq!(huge.iter().filter(|r| r.is_ok()).count(), 4, "{q:e}");
+        for (k, (a, b)) in huge.iter().zip(&near).enumerate() {
+            match (a, b) {
+                (Ok(a), Ok(b)) => {
+                    for (x, y) in a.values.iter().zip(&b.values).skip(1) {
+                        assert!(
+                            pkm::runtime::solution::wrap_angle(x - y).abs() < 1e-9,
+                            "{q:e} branch {k}: {x} vs {y}"
+                        );
+                    }
+                }
+                (Err(a), Err(b)) => {
+                    assert!(
+                        !matches!(a, pkm::runtime::solution::SolveError::DoubleRoot { .. }),
+                        "{q:e} branch {k}: {a}"
+                    );
+                    assert_eq!(std::mem::discriminant(a), std::mem::discriminant(b));
+                }
+                other => panic!("{q:e} branch {k}: {other:?}"),
+            }
+        }
+    }
+}
+
+/// A given length beyond `REACH` sizes of the mechanism is out of reach, a
+/// typed error at the step that takes it with a finite excess: a slide of
+/// ±1e308 (the cylinder's stroke, carried across the rocker; seed 000 A's
+/// sliders at ∓1e308, whose difference overflows, and P3), a position of
+/// 1e308 given to an inverse solution (seed 000 A's x, which rounded the
+/// sliders' x ± 150 into one value and answered ok with every other branch
+/// its double root). Just inside the limit the kernels refuse it as they
+/// refuse any other miss, with a finite excess. Never NaN, never ok.
+#[test]
+fn huge_lengths_are_out_of_reach() {
+    use pkm::runtime::solution::SolveError;
+    let refused = |r: &Result<pkm::runtime::spatial::Solution, SolveError>, what: &str| match r {
+        Err(SolveError::Unreachable { constraint, by, .. }) => {
+            assert!(by.is_finite() && *by > 0.0, "{what}: by {by}");
+            *constraint
+        }
+        other => panic!("{what}: {other:?}"),
+    };
+    let limit = "|given length| <= 1e10 sizes of the mechanism";
+    for (file, q) in [
+        ("cylinder_rocker", vec![1e308]),
+        ("cylinder_rocker", vec![-1e308]),
+        ("seed000_a", vec![-1e308, 1e308, 0.0]),
+        ("seed000_a", vec![-100.0, 100.0, 1e308]),
+    ] {
+        for r in interpreted(file, &q) {
+            assert_eq!(refused(&r, file), limit);
+        }
+    }
+    // The generated solvers: the same refusal, by guard.
+    for q in [1e308, -1e308] {
+        for b in Cylinder::fk(&Default::default(), &[q]) {
+            assert!(
+                matches!(&b.result, Err(SolveError::Unreachable { constraint, by, .. }) if *constraint == limit && by.is_finite()),
+                "{q:e}: {:?}",
+                b.result
+            );
+        }
+    }
+    // Seed 000 A's size is 450 (the platform's D): 4.4e12 is inside, the
+    // sliders 8.8e12 apart where the five-bar reaches 400.
+    for r in interpreted("seed000_a", &[-4.4e12, 4.4e12, 0.0]) {
+        assert_ne!(refused(&r, "inside the limit"), limit);
+    }
+    // The inverse solution given x = 1e308.
+    let (text, _) = common::example_text("seed000_a");
+    let a = pkm::dsl::analyze_source(&text).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    for (_, r) in pkm::runtime::spatial::run_all(&model, &plan, &[1e308, -300.0, 0.0, 0.0]) {
+        assert_eq!(refused(&r, "ik at x = 1e308"), limit);
+    }
+}
+
+/// An x-y table (two slides in series, closed by a second pair): its
+/// table never turns, so a given angle contradicts the others.
+const XY_TABLE: &str = "mechanism xy_table {
+    capabilities ik;
+    planar;
+    base P1* [s1] ⊥ P2* [table] ⊥ P3 [s3] ⊥ P4 base;
+    x ∥ P1 ∥ P3;
+    geometry {
+        base  { P1 = through (0, 0) along x; P4 = through (0, 50) along y; }
+        s1    { P1 = (0, 0); P2 = through (0, 0) along y; }
+        table { P2 = (0, 0); P3 = through (0, 0) along x; point o = (0, 0); }
+        s3    { P3 = (0, 0); P4 = (0, 0); }
+    }
+    outputs { x, y, phi = pose of table at o; }
+}";
+
+/// The projection that names a contradicted value starts from the given
+/// angles reduced: the x-y table given φ = 0.1 is refused naming φ, its
+/// nearest 0; given φ = 0.1 + 2π·10¹⁰ (6.28e10 rad, ≡ 0.0903 by 400-digit
+/// reduction: the double nearest), the nearest is that angle less its
+/// 0.0903, the same turns (unreduced, its ulp of 7.6e-6 swallowed the
+/// projection's difference steps of 1e-6 rad).
+#[test]
+fn contradicted_values_with_a_huge_angle() {
+    use pkm::runtime::solution::SolveError;
+    let a = pkm::dsl::analyze_source(XY_TABLE).unwrap();
+    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+    let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    for (phi, reduced) in [(0.1, 0.1), (62831853071.88617, 0.09030466434088233)] {
+        for (signs, r) in pkm::runtime::spatial::run_all(&model, &plan, &[10.0, 20.0, phi]) {
+            match r {
+                Err(SolveError::Inconsistent {
+                    contradicted: Some(c), ..
+                }) => {
+                    assert_eq!((c.index, c.given), (2, phi), "φ = {phi} {signs:?}");
+                    assert!(
+                        (c.nearest - (phi - reduced)).abs() < 1e-6,
+                        "φ = {phi} {signs:?}: {}",
+                        c.nearest
+                    );
+                }
+                other => panic!("φ = {phi} {signs:?}: {other:?}"),
+            }
+        }
+    }
 }

@@ -43,7 +43,7 @@ fn check<const N: usize, const R: usize>(got: &[[f64; N]; R], want: &[[f64; N]; 
 fn seed000_a_jacobian_and_rates() {
     let params = Default::default();
     let solver = SeedA::prepare(&params);
-    let signs = signs_of::<2>(0b01);
+    let signs = signs_of::<3>(0b001);
     // Seed 000 Table 1's inputs and a few around them.
     for q in [[-106.09, 181.67, -70.29], [-60.0, 120.0, 40.0], [-150.0, 90.0, -200.0]] {
         let j = solver.fk_jacobian(&q, signs).unwrap();
@@ -78,12 +78,12 @@ fn seed000_a_jacobian_and_rates() {
 #[allow(clippy::needless_range_loop)] // Matrix products read best by index.
 fn seed000_a_inverse_jacobian() {
     let solver = SeedA::prepare(&Default::default());
-    let signs = signs_of::<2>(0b01);
+    let signs = signs_of::<3>(0b001);
     for q in [[-106.09, 181.67, -70.29], [-60.0, 120.0, 40.0], [-150.0, 90.0, -200.0]] {
         let pose = solver.fk_branch(&q, signs).unwrap();
         let jf = solver.fk_jacobian(&q, signs).unwrap();
-        let ik = (0..8)
-            .map(signs_of::<3>)
+        let ik = (0..16)
+            .map(signs_of::<4>)
             .find(|&s| {
                 solver
                     .ik_branch(&pose, s)
@@ -119,7 +119,7 @@ fn seed000_a_inverse_jacobian() {
 fn seed000_a_accelerations() {
     let params = Default::default();
     let solver = SeedA::prepare(&params);
-    let signs = signs_of::<2>(0b01);
+    let signs = signs_of::<3>(0b001);
     let model = SeedA::model(&params);
     let platform = model.links.iter().position(|l| l == "platform").unwrap();
     let o = SeedA::POINTS.iter().position(|p| *p == "o").unwrap();

@@ -103,8 +103,8 @@ fn forces(m: &Mechanism, signs: &[Sign], t: f64) -> Option<[f64; 3]> {
 
 /// A's roots at the start: α ≈ +0.30054 (the study's branch 1, where
 /// Table 3 was taken) and α ≈ −0.71059 (the text's Fig. 6a configuration).
-const A_TABLE_ROOT: [Sign; 2] = [Minus, Plus];
-const A_TEXT_ROOT: [Sign; 2] = [Minus, Minus];
+const A_TABLE_ROOT: [Sign; 3] = [Minus, Plus, Plus];
+const A_TEXT_ROOT: [Sign; 3] = [Minus, Minus, Plus];
 /// B's study branch: z_E = 409.05, α = 1.3272 at the start.
 const B_ROOT: [Sign; 3] = [Minus, Minus, Plus];
 

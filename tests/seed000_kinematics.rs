@@ -86,8 +86,10 @@ fn mechanism_a_table_1() {
         .map(|s| m.pose(s))
         .collect();
     // The paper takes the five-bar's C above its sliders (H = +√…): two
-    // solutions. pkm lists the other assembly of the five-bar too (z = −38.92).
-    assert_eq!(poses.len(), 4);
+    // solutions. pkm lists the other assembly of the five-bar too (z = −38.92),
+    // and each pose twice: the R5–parallelogram leg's two postures
+    // (`mechanism_a_both_postures_of_the_parallelogram_leg`).
+    assert_eq!(poses.len(), 8);
     for alpha in [-0.7097, 0.2547] {
         let hit = poses
             .iter()
@@ -95,7 +97,55 @@ fn mechanism_a_table_1() {
         let p = hit.unwrap_or_else(|| panic!("no solution with α = {alpha}: {poses:?}"));
         assert!((p[0] - 37.79).abs() < 5e-3 && (p[1] + 300.0).abs() < 1e-9);
     }
-    assert_eq!(poses.iter().filter(|p| (p[2] + 38.9192).abs() < 5e-5).count(), 2);
+    assert_eq!(poses.iter().filter(|p| (p[2] + 38.9192).abs() < 5e-5).count(), 4);
+}
+
+/// Issue 29, item 3: at Table 1's inputs `pkm fk` listed four assemblies,
+/// one posture of the R5–parallelogram leg each (R5 = 1.0329, 0.5778,
+/// −0.5778, −1.0329, Pa = 0.3445 or 2.7971). The leg's other posture turns
+/// R5 and its bar half a turn about R5's axis (x) and swings the
+/// parallelogram to π − Pa: the bar's end D is where it was (the arm l4
+/// along (0, −sin(R5 + Pa'), cos(R5 + Pa')) from B3, turned by R5 + π and
+/// π − Pa: the same vector), so the platform is too, and R6 turns the
+/// coupler pc, now half a turn about x from before, back onto it. By hand,
+/// each of the four is listed again with R5 + π, π − Pa and R6 + π, the
+/// platform's pose unchanged; and the model's loop equations (not the
+/// plan) close at all eight (`solved`).
+#[test]
+fn mechanism_a_both_postures_of_the_parallelogram_leg() {
+    use pkm::runtime::solution::wrap_angle;
+    use std::f64::consts::PI;
+    let m = a();
+    let joint = |n: &str| m.model.joints.iter().position(|j| j.name == n).unwrap();
+    let (r5, pa, r6) = (joint("R5"), joint("Pa"), joint("R6"));
+    let all = spatial::run_all(&m.model, &m.fk, &[-106.09, 181.67, -70.29]);
+    assert_eq!(all.len(), 8);
+    assert!(all.iter().all(|(_, r)| r.is_ok()), "{all:?}");
+    let fk = m.solved(&m.fk, &[-106.09, 181.67, -70.29]);
+    // The four the plan listed before, branches 0–3, by their R5 and Pa.
+    let listed = [(1.0329, 0.3445), (0.5778, 0.3445), (-0.5778, 2.7971), (-1.0329, 2.7971)];
+    for (b, (r, p)) in listed.iter().enumerate() {
+        let s = &fk[b];
+        assert!(
+            (s.values[r5] - r).abs() < 5e-5 && (s.values[pa] - p).abs() < 5e-5,
+            "branch {b}"
+        );
+        // Branch b + 4: the same choices and the parallelogram plane's other root.
+        let t = &fk[b + 4];
+        assert!(
+            wrap_angle(t.values[r5] - (s.values[r5] + PI)).abs() < 1e-12,
+            "branch {}",
+            b + 4
+        );
+        assert!(wrap_angle(t.values[pa] - (PI - s.values[pa])).abs() < 1e-12);
+        assert!(wrap_angle(t.values[r6] - (s.values[r6] + PI)).abs() < 1e-12);
+        let (ps, pt) = (m.pose(s), m.pose(t));
+        assert!((0..4).all(|k| (ps[k] - pt[k]).abs() < 1e-9), "{ps:?} vs {pt:?}");
+        // Another assembly: the bar DB3 turned half a turn about x.
+        let bar = m.model.links.iter().position(|l| l == "r5").unwrap();
+        let turn = s.poses[bar].rotation.angle_to(&t.poses[bar].rotation);
+        assert!((turn - PI).abs() < 1e-9, "branch {b}: the bar turns {turn}");
+    }
 }
 
 #[test]
@@ -117,7 +167,9 @@ fn mechanism_a_table_2() {
     };
     for pose in [first, [37.79, -300.0, 238.9192, -0.7097]] {
         let ik: Vec<Vec<f64>> = m.solved(&m.ik, &pose).iter().map(|s| m.inputs(s)).collect();
-        assert_eq!(ik.len(), 8);
+        // Eight assemblies of the legs' actuated joints, each with the
+        // R5–parallelogram leg in either posture.
+        assert_eq!(ik.len(), 16);
         let [u1, u2, v1, v2] = eq14(pose);
         // The paper's four rows: x2 = 2·x_C3 − x1, x3 either root of eq. (14).
         for (x1, x2) in [(u1, u2), (u2, u1)] {
@@ -129,9 +181,9 @@ fn mechanism_a_table_2() {
                 );
             }
         }
-        // The other four put both sliders of the five-bar at one place
-        // (x1 = x2), which the paper leaves out.
-        assert_eq!(ik.iter().filter(|q| (q[0] - q[1]).abs() < 1e-9).count(), 4);
+        // The other four (eight with the leg's postures) put both sliders of
+        // the five-bar at one place (x1 = x2), which the paper leaves out.
+        assert_eq!(ik.iter().filter(|q| (q[0] - q[1]).abs() < 1e-9).count(), 8);
     }
     // At the exact pose the inputs come back: x3 = −70.29 (row 4) and the
     // other root 145.8700. The paper prints 145.8604 and −70.2804; its own

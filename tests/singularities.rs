@@ -70,7 +70,7 @@ const P3: usize = 7;
 #[test]
 fn table_1_is_regular() {
     let s = setup();
-    let q = SeedA::fk_branch(&Default::default(), &[-106.09, 181.67, -70.29], [Sign::Plus; 2])
+    let q = SeedA::fk_branch(&Default::default(), &[-106.09, 181.67, -70.29], [Sign::Plus; 3])
         .unwrap()
         .q;
     let (i, o, class) = measure(&s, &q);
@@ -102,7 +102,7 @@ const SLIDER_3: &str = "the path of R5 (B3) moved by P3 (A3) touches the sphere 
 fn input_singularity_when_x3_equals_x_c3() {
     let s = setup();
     let p = Default::default();
-    let x_c3 = SeedA::fk_branch(&p, &[-106.09, 181.67, -70.29], [Sign::Plus; 2])
+    let x_c3 = SeedA::fk_branch(&p, &[-106.09, 181.67, -70.29], [Sign::Plus; 3])
         .unwrap()
         .points[SeedA::POINTS.iter().position(|n| *n == "o").unwrap()][0];
 
@@ -166,7 +166,8 @@ fn output_singularity_when_sliders_meet() {
             assert!(o > 1e-3, "x1 ≠ x2: output σ {o:e}");
         }
     }
-    assert_eq!(met, 4);
+    // Four, each with the R5–parallelogram leg in either posture.
+    assert_eq!(met, 8);
 }
 
 #[test]
@@ -355,7 +356,10 @@ fn combined_singularities_only_on_the_five_bars_reach() {
             250.0 * m as f64 / 12.0,
             -300.0 + 50.0 * n as f64,
         ];
-        for signs in [[Sign::Minus, Sign::Plus], [Sign::Minus, Sign::Minus]] {
+        for signs in [
+            [Sign::Minus, Sign::Plus, Sign::Plus],
+            [Sign::Minus, Sign::Minus, Sign::Plus],
+        ] {
             let Ok(b) = SeedA::fk_branch(&p, &q, signs) else {
                 continue;
             };
@@ -372,7 +376,10 @@ fn combined_singularities_only_on_the_five_bars_reach() {
     // the slider is input-singular at once. The combined set is that line on
     // the boundary of the reachable inputs (and the corner x1 = x2 = 0), so
     // the paper's statement holds for the interior only.
-    for signs in [[Sign::Minus, Sign::Plus], [Sign::Minus, Sign::Minus]] {
+    for signs in [
+        [Sign::Minus, Sign::Plus, Sign::Plus],
+        [Sign::Minus, Sign::Minus, Sign::Plus],
+    ] {
         let b = SeedA::fk_branch(&p, &[-200.0, 200.0, 0.0], signs).unwrap();
         let (i, o, class) = measure(&s, &b.q);
         assert_eq!(class, Singularity::Combined, "{i:e} {o:e}");

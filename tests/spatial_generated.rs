@@ -1,7 +1,7 @@
 //! Generated spatial solvers against the plan interpreter (the two paths
 //! that must agree), for seed 000 mechanisms A and B and the five-bar with
 //! a parallelogram branch: every branch of fk at random inputs, and of ik
-//! at the poses fk finds.
+//! at the poses fk finds; the balls' rotations of the S-joint mechanisms.
 
 mod common;
 
@@ -103,9 +103,36 @@ fn five_bar_pa_generated_equals_interpreted() {
     check!(FiveBarPa, "five_bar_pa", [(-PI, PI), (-PI, PI), (-300.0, 300.0)]);
 }
 
+/// The generated solution's joint values against the interpreter's, the
+/// largest difference: an R, P or Pa joint's value; a ball's rotation
+/// vector in `balls` against `Solution::model_values` (nalgebra's
+/// quaternion logarithm of `R_uᵀ·R_v`, the runtime model's form) and its
+/// angle in `q` against that vector's length.
+fn joints_differ(model: &pkm::runtime::model::Model, q: &[f64], balls: &[[f64; 3]], i: &Solution) -> f64 {
+    use pkm::runtime::model::JointType;
+    let full = i.model_values(model);
+    let (mut at, mut ball, mut worst) = (0, 0, 0.0f64);
+    for (j, joint) in model.joints.iter().enumerate() {
+        if joint.kind == JointType::S {
+            let r = &full[at..at + 3];
+            let g = balls[ball];
+            let d = (0..3).map(|c| (g[c] - r[c]).abs()).fold(0.0, f64::max);
+            let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+            worst = worst.max(d).max((q[j] - norm).abs());
+            assert!(q[j].is_finite(), "{}: {}", joint.name, q[j]);
+            (at, ball) = (at + 3, ball + 1);
+        } else {
+            worst = worst.max((q[j] - i.values[j]).abs());
+            at += 1;
+        }
+    }
+    assert_eq!(ball, balls.len());
+    worst
+}
+
 /// A mechanism with an S–S link (the RSSR, the R-S-S-P), fk over the crank's turn and ik at the angles fk
 /// (crank) finds: the generated branch and the interpreted one give the same
-/// joint values (an S joint's is NaN in both) and the same points in
+/// joint values (a ball's rotation vector and angle: [`joints_differ`]) and the same points in
 /// space, the S–S link's midpoint M among them, or the same error.
 macro_rules! with_spheres {
     ($ty:ident, $sol:ident, $file:expr) => {{
@@ -117,12 +144,8 @@ macro_rules! with_spheres {
         );
         let same = |g: &Result<$sol, SolveError>, i: &Result<Solution, SolveError>| match (g, i) {
             (Ok(g), Ok(i)) => {
-                for (a, b) in g.q.iter().zip(&i.values) {
-                    assert!(
-                        (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-12 * 300.0,
-                        "{a} vs {b}"
-                    );
-                }
+                let d = joints_differ(&model, &g.q, &g.balls, i);
+                assert!(d < 1e-12 * 300.0, "{:?} vs {:?}: {d:e}", g.q, i.values);
                 let points = (0..model.joints.len())
                     .map(|j| pkm::runtime::kinematics::joint_point(&model, &i.poses, j))
                     .chain(std::iter::once(
@@ -175,4 +198,57 @@ fn rssp_generated_equals_interpreted() {
 #[test]
 fn rsur_generated_equals_interpreted() {
     with_spheres!(Rsur, RsurSolution, "rsur");
+}
+
+pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
+pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
+pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
+pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
+
+/// Issue 29, item 4: a ball's value in generated `q` was NaN. The inverse
+/// solutions of seed 004's 3-RPS and 3-SPR, the Stewart platform and the
+/// 3-UPU at random poses: every branch's joint values, its balls' rotation
+/// vectors and angles among them, are the interpreter's
+/// ([`joints_differ`]), or both give the same error.
+macro_rules! balls_of_ik {
+    ($ty:ident, $file:expr, $pose:path, $n:expr) => {{
+        let (a, model) = common::example($file);
+        let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
+        let mut rng = pkm::dsl::screw::SplitMix::new(29);
+        let (mut compared, mut worst) = (0usize, 0.0f64);
+        for _ in 0..$n {
+            let g = $pose(&mut rng);
+            let generated = $ty::ik(&Default::default(), &g);
+            let interpreted = spatial::run_all(&model, &plan, &g);
+            assert_eq!(generated.len(), interpreted.len());
+            for (g, (_, i)) in generated.iter().zip(&interpreted) {
+                match (&g.result, i) {
+                    (Ok(g), Ok(i)) => {
+                        worst = worst.max(joints_differ(&model, &g.q, &g.balls, i));
+                        compared += 1;
+                    }
+                    (Err(a), Err(b)) => assert_eq!(a, b),
+                    other => panic!("{}: generated and interpreted differ: {other:?}", $file),
+                }
+            }
+        }
+        assert!(compared >= $n, "{}: {compared} solutions", $file);
+        assert!(worst < 1e-12 * 300.0, "{}: {worst:e}", $file);
+        (compared, worst)
+    }};
+}
+
+#[test]
+fn balls_of_generated_inverse_solutions_are_the_interpreters() {
+    assert_eq!(
+        (Rps::BALLS, Spr::BALLS.len(), Ups::BALLS.len(), Upu::BALLS.len()),
+        (["S1", "S2", "S3"], 3, 6, 0)
+    );
+    let figures = [
+        balls_of_ik!(Rps, "rps_3", common::poses::seed, 200),
+        balls_of_ik!(Spr, "spr_3", common::poses::seed, 200),
+        balls_of_ik!(Ups, "ups_6", common::poses::ups, 20),
+        balls_of_ik!(Upu, "upu_3", common::poses::upu, 200),
+    ];
+    eprintln!("{figures:?}");
 }

@@ -214,7 +214,7 @@ fn generated_point_velocities_and_accelerations() {
     // point functions (order `POINTS`) against differences of its fk points.
     use pkm::runtime::primitives::Sign;
     let p = Default::default();
-    let signs = [Sign::Minus, Sign::Plus];
+    let signs = [Sign::Minus, Sign::Plus, Sign::Plus];
     let (q0, qd, qdd) = ([-106.09, 181.67, -70.29], [20.0, -10.0, 20.0], [-5.0, 8.0, 3.0]);
     let h = 2.5e-4;
     let s: Vec<SeedASolution> = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0]

@@ -2171,3 +2171,32 @@ fn dynamics_table_and_csv() {
         assert_eq!(row[3..5], ["false".to_string(), "R1 = `x` is not a number".to_string()]);
     }
 }
+
+/// Issue 29, items 3 and 7, the issue's commands: `pkm fk four_bar.pkm
+/// --q=1e11` lists both assemblies (R4 = 1.74949…, −2.42859…, by hand at
+/// the input reduced in 400 digits: tests/limits.rs), neither tangent nor
+/// a double root; a slide of 1e308 is out of reach, not NaN; seed 000 A at
+/// Table 1's inputs lists eight assemblies, the R5–parallelogram leg in
+/// both postures.
+#[test]
+fn every_assembly_and_huge_values() {
+    let v = run_json(&["fk", "examples/mechanisms/four_bar.pkm", "--q=1e11"]);
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 2);
+    for (b, want) in branches.iter().zip([1.7494924528818856, -2.428590097057323]) {
+        assert_eq!(b["ok"], true, "{b}");
+        assert_eq!(b["tangent"], false, "{b}");
+        assert!((b["joints"]["R4"].as_f64().unwrap() - want).abs() < 1e-12, "{b}");
+    }
+    let out = pkm(&["fk", "examples/mechanisms/cylinder_rocker.pkm", "--q=1e308", "--json"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !out.status.success() && text.contains("unreachable") && text.contains("fails by 1e308"),
+        "{text}"
+    );
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    let v = run_json(&["fk", "examples/mechanisms/seed000_a.pkm", "--q=-106.09,181.67,-70.29"]);
+    let branches = v["branches"].as_array().unwrap();
+    assert_eq!(branches.len(), 8);
+    assert!(branches.iter().all(|b| b["ok"] == true), "{v}");
+}

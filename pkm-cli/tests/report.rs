@@ -234,8 +234,9 @@ fn mechanism_a_from_its_study_block() {
     ] {
         assert!(html.contains(section), "missing {section}");
     }
-    // A's four branches and B's eight in one table.
-    assert_eq!(html.matches("<tr><td class=l>seed000_a</td>").count(), 4);
+    // A's eight branches (four platforms, each with the R5–parallelogram
+    // leg in either posture: the same workspace) and B's eight in one table.
+    assert_eq!(html.matches("<tr><td class=l>seed000_a</td>").count(), 8);
     assert_eq!(html.matches("<tr><td class=l>seed000_b</td>").count(), 8);
     // The output columns are named, with units; the class is named.
     assert!(html.contains("<th>alpha (rad)</th>") && html.contains("<th>x (mm)</th>"));

@@ -31,6 +31,13 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         .iter()
         .map(|j| j.kind != crate::mechanism::JointKind::P)
         .collect();
+    let ball_names: Vec<&str> = m
+        .joints
+        .iter()
+        .filter(|j| j.kind == crate::mechanism::JointKind::S)
+        .map(|j| j.name.as_str())
+        .collect();
+    let n_balls = ball_names.len();
     let dim: usize = if m.planar { 2 } else { 3 };
     let output_names: Vec<&str> = a
         .geometry
@@ -61,8 +68,15 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         #[doc = #sol_doc]
         #[derive(Debug, Clone, Copy, PartialEq)]
         #vis struct #sol_ty {
-            /// Joint values in declaration order (radians for R, lengths for P); see `JOINTS`.
+            /// Joint values in declaration order (radians for R, lengths for P,
+            /// a ball's rotation angle θ in [0, π] for S); see `JOINTS`.
             pub q: [f64; #n_joints],
+            /// Each spherical joint's rotation, in `JOINTS` order (see `BALLS`):
+            /// the rotation vector `r = θ·n` of `R_uᵀ·R_v` between the poses of
+            /// its two links as declared, the runtime model's form
+            /// (`T_v = T_u · Trans(c_u) · Rot(r) · Trans(−c_v)`), the same three
+            /// numbers as the interpreter's `Solution::model_values`.
+            pub balls: [[f64; 3]; #n_balls],
             /// Every joint's point, then every named point (x, y, and z in a
             /// spatial mechanism); see `POINTS`.
             pub points: [[f64; #dim]; #n_points],
@@ -76,6 +90,8 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
             pub const JOINTS: [&'static str; #n_joints] = [#(#joint_names),*];
             /// The points, in the order of a solution's `points`.
             pub const POINTS: [&'static str; #n_points] = [#(#point_names),*];
+            /// The spherical joints, in the order of a solution's `balls`.
+            pub const BALLS: [&'static str; #n_balls] = [#(#ball_names),*];
             /// Which joints are revolute (their values are angles).
             pub const REVOLUTE: [bool; #n_joints] = [#(#revolute),*];
             /// The declared outputs, in the order of a solution's `outputs` and
@@ -115,6 +131,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
         ),
     };
     let n_solutions = 1usize << n_branches;
+    let conventions = crate::codegen_solver::conventions_doc(a, plan);
 
     let value_names: Vec<String> = match direction {
         Direction::Forward => inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),
@@ -167,6 +184,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             #[doc = #all_doc]
             /// A branch that is another's solution again (a double root, at a
             /// tangency) is `SolveError::DoubleRoot`, and its twin is `tangent`.
+            #conventions
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
                 let prepared = Self::prepare(params);
                 let mut all = [#(#branches),*];

@@ -90,7 +90,12 @@ struct Branch {
     /// values it solves: their guards bind only where something reads those.
     waivable: Vec<(usize, Vec<Sym>)>,
     result: Vec<Sym>,
+    /// What the plan's choices solved ([`steps::choice_values`]): what
+    /// tells this branch's solution from the others'.
+    choices: Vec<Sym>,
     values: Vec<Sym>,
+    /// Each ball's rotation vector, in joint order (`full` only).
+    balls: Vec<[Sym; 3]>,
     points: Vec<[Sym; 3]>,
     outputs: Vec<Sym>,
     residual: Vec<Sym>,
@@ -148,10 +153,21 @@ fn branch(
         }
     }
     let value = |j: usize| steps::value(g, &state, j);
-    let joint_values: Vec<Sym> = if full {
-        (0..m.joints.len()).map(value).collect()
+    // A ball's value in `q` is its rotation's angle; its rotation vector
+    // is in `balls` (`steps::ball_rotation`).
+    let ball = |j: usize| g.joints[j].kind == pkm_runtime::model::JointType::S;
+    let (joint_values, balls): (Vec<Sym>, Vec<[Sym; 3]>) = if full {
+        let rotations: Vec<_> = (0..m.joints.len())
+            .map(|j| ball(j).then(|| steps::ball_rotation(g, &state, j)))
+            .collect();
+        (
+            (0..m.joints.len())
+                .map(|j| rotations[j].map_or_else(|| value(j), |(_, theta)| theta))
+                .collect(),
+            rotations.iter().flatten().map(|&(r, _)| r).collect(),
+        )
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let mut points: Vec<[Sym; 3]> = Vec::new();
     if full {
@@ -191,6 +207,7 @@ fn branch(
             OutputKind::Joint(j) => outputs.push(value(*j)),
         }
     }
+    let choices = steps::choice_values(plan, &state);
     let guards = crate::trace::take_guards();
     let checks = plan.checks(m.joints.len());
     // The largest coordinate of the origins of the links the results need, at least 1.
@@ -231,7 +248,9 @@ fn branch(
         guards,
         waivable,
         result,
+        choices,
         values: joint_values,
+        balls,
         points,
         outputs,
         residual,
@@ -432,16 +451,10 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         .collect();
     // The owner of each emitted row.
     let row_owners: Vec<String> = d.rows.iter().map(|r| open_names[r / RESIDUAL_ROWS].clone()).collect();
-    let (given_names, result_angles) = if d.forward {
-        (quote! { #ident::INPUTS }, quote! { #ident::OUTPUT_ANGLES })
+    let given_names = if d.forward {
+        quote! { #ident::INPUTS }
     } else {
-        let revolute: Vec<bool> = m
-            .joints
-            .iter()
-            .filter(|j| j.actuated)
-            .map(|j| j.kind != JointKind::P)
-            .collect();
-        (quote! { #ident::OUTPUTS }, quote! { [#(#revolute),*] })
+        quote! { #ident::OUTPUTS }
     };
     let angular: Vec<bool> = match crate::numeric::model(a, &Default::default()) {
         Ok(model) => d.plan.angular_inputs(&model),
@@ -473,7 +486,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         &format_ident!("{}Solution", ident),
         m,
     );
-    let all = parts.every_branch(&format_ident!("{}", name), &result_angles);
+    let all = parts.every_branch(&format_ident!("{}", name), &conventions_doc(a, d.plan));
     let check_of = |rest: &[TokenStream]| parts.check_of(rest);
     let derivatives = derivative_fns(emit, d, &parts.given_sig, &parts.finite, &check_of, name, what);
     let inverse_dynamics = d
@@ -652,6 +665,7 @@ impl Parts<'_> {
             ..
         } = self;
         let mut roots: Vec<Sym> = d.given.values.clone();
+        roots.extend(d.given.balls.iter().flatten());
         roots.extend(d.given.points.iter().flatten());
         roots.extend(&d.given.outputs);
         roots.extend(&d.given.residual);
@@ -661,6 +675,8 @@ impl Parts<'_> {
         let n_points = d.given.points.len();
         let n_outputs = d.given.outputs.len();
         let (values, rest) = exprs.split_at(n_joints);
+        let (balls, rest) = rest.split_at(3 * d.given.balls.len());
+        let balls: Vec<TokenStream> = balls.chunks(3).map(xyz).collect();
         let (points, rest) = rest.split_at(3 * n_points);
         let (outputs, rest) = rest.split_at(n_outputs);
         // A planar mechanism's points are (x, y): its plane is z = 0.
@@ -677,6 +693,7 @@ impl Parts<'_> {
                 #check
                 ::core::result::Result::Ok(#sol_ty {
                     q: [#(#values),*],
+                    balls: [#(#balls),*],
                     points: [#(#points),*],
                     outputs: [#(#outputs),*],
                 })
@@ -685,7 +702,7 @@ impl Parts<'_> {
     }
 
     /// Every branch, what they share computed once; double roots marked.
-    fn every_branch(&self, f_all: &proc_macro2::Ident, result_angles: &TokenStream) -> TokenStream {
+    fn every_branch(&self, f_all: &proc_macro2::Ident, conventions: &TokenStream) -> TokenStream {
         let Parts {
             emit,
             d,
@@ -696,11 +713,16 @@ impl Parts<'_> {
         } = self;
         let n_given = d.plan.n_inputs;
         let n_choices = d.plan.branches;
+        // Each branch's result, what its choices solved (what tells it
+        // from the others, as two assemblies may give one result), then
+        // its check.
+        let n_key = d.every[0].choices.len();
         let roots: Vec<Vec<Sym>> = d
             .every
             .iter()
             .map(|b| {
                 let mut r = b.result.clone();
+                r.extend(&b.choices);
                 r.extend(&b.residual);
                 r.push(b.extent);
                 r
@@ -715,25 +737,40 @@ impl Parts<'_> {
             .collect();
         let body = emit.branches(&roots, &guards, n_choices, &|b, exprs, label| {
             let (result, rest) = exprs.split_at(*n_result);
+            let (key, rest) = rest.split_at(n_key);
             let signs = quote! { #rt::signs_of::<#n_choices>(#b) };
             let check = self.check(
                 rest,
                 &signs,
                 |e| quote! { break #label (::core::result::Result::Err(#e)); },
             );
+            let keep = (n_key > 0).then(|| quote! { keys[#b] = [#(#key),*]; });
             quote! {
                 #check
+                #keep
                 ::core::result::Result::Ok([#(#result),*])
             }
         });
+        // One branch has no twin to tell it from.
+        let (keys, mark) = if n_key == 0 {
+            (quote! {}, quote! {})
+        } else {
+            (
+                quote! { let mut keys = [[0.0f64; #n_key]; #n_solutions]; },
+                quote! { ::pkm::runtime::consistency::mark_double_roots_by(&mut all, &keys); },
+            )
+        };
         let all_doc = format!(
             " {what} position, every branch ({n_solutions}, in `signs_of` order), \
              what the branches share computed once."
         );
         quote! {
             #[doc = #all_doc]
-            /// A branch that is another's solution again (a double root) is
-            /// `SolveError::DoubleRoot`, and its twin is `tangent`.
+            /// A branch that is another's solution again (a double root: what
+            /// its ± choices solved agrees) is `SolveError::DoubleRoot`, and
+            /// its twin is `tangent`; two assemblies with one result (the two
+            /// postures of a leg that reach the same platform) are both listed.
+            #conventions
             pub fn #f_all(&self, given: &[f64; #n_given]) -> [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] {
                 let mut all: [#rt::Branch<[f64; #n_result], #n_choices>; #n_solutions] = ::core::array::from_fn(|i| #rt::Branch {
                     signs: #rt::signs_of::<#n_choices>(i),
@@ -742,13 +779,30 @@ impl Parts<'_> {
                     }),
                     tangent: false,
                 });
+                #keys
                 if given.iter().all(|v| v.is_finite()) {
                     #body
                 }
-                ::pkm::runtime::consistency::mark_double_roots(&mut all, &#result_angles, |s: &[f64; #n_result]| &s[..]);
+                #mark
                 all
             }
         }
+    }
+}
+
+/// The doc lines naming the postures `plan` fixes by a convention instead
+/// of listing them ([`Plan::conventions`]); none where it lists every one.
+pub(crate) fn conventions_doc(a: &Analysis, plan: &Plan) -> TokenStream {
+    let m = &a.mechanism;
+    let lines = plan.conventions(|j| m.joints[j].name.clone(), |l| m.links[l].name.clone());
+    if lines.is_empty() {
+        return TokenStream::new();
+    }
+    let lines = lines.iter().map(|l| format!(" - {l}."));
+    quote! {
+        ///
+        /// Postures not listed, by convention (the outputs and the actuators' values do not depend on them):
+        #(#[doc = #lines])*
     }
 }
 

@@ -107,6 +107,37 @@ pub fn nearest(
     extent: f64,
     mut residual: impl FnMut(&[f64]) -> Option<Vec<f64>>,
 ) -> Option<Vec<f64>> {
+    // Angles projected from their value in (−π, π] (`wrap_angle`: reduced
+    // by the exact π), the turns given added back after: an unreduced
+    // angle (1e11 rad) would swallow the difference steps (its ulp is 1.5e-5).
+    let reduced: Vec<f64> = given
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| {
+            if angular.get(i).copied().unwrap_or(false) {
+                wrap_angle(x)
+            } else {
+                x
+            }
+        })
+        .collect();
+    let turns = |x: Vec<f64>| -> Vec<f64> {
+        x.iter()
+            .zip(given)
+            .zip(&reduced)
+            .map(|((x, g), r)| g + (x - r))
+            .collect()
+    };
+    nearest_reduced(&reduced, angular, extent, &mut residual).map(turns)
+}
+
+/// [`nearest`] from given values whose angles are in (−π, π].
+fn nearest_reduced(
+    given: &[f64],
+    angular: &[bool],
+    extent: f64,
+    mut residual: impl FnMut(&[f64]) -> Option<Vec<f64>>,
+) -> Option<Vec<f64>> {
     let n = given.len();
     let weight: Vec<f64> = (0..n)
         .map(|i| {
@@ -277,18 +308,27 @@ pub fn name_given(mut e: SolveError, names: &[&str]) -> SolveError {
 }
 
 /// Two solutions are one when their joint values (angles modulo 2π) agree
-/// to [`VERIFY_TOL`] of the larger value magnitude (at least 1).
+/// to [`VERIFY_TOL`] of the larger length among them (at least 1): the
+/// lengths alone set the scale, never an angle, which a given input may
+/// carry unreduced (1e11 rad is an angle of the mechanism like any other,
+/// and would make every pair of branches "one").
 #[inline]
 pub fn same_solution(a: &[f64], b: &[f64], revolute: &[bool]) -> bool {
-    same_within(a, b, revolute, VERIFY_TOL * magnitude(a).max(magnitude(b)))
+    same_within(
+        a,
+        b,
+        revolute,
+        VERIFY_TOL * magnitude(a, revolute).max(magnitude(b, revolute)),
+    )
 }
 
-/// The largest magnitude of `v`, at least 1 (NaN compares false).
+/// The largest magnitude of the lengths of `v` (the entries `revolute`
+/// does not mark), at least 1 (NaN compares false).
 #[inline]
-fn magnitude(v: &[f64]) -> f64 {
+fn magnitude(v: &[f64], revolute: &[bool]) -> f64 {
     let mut m = 1.0f64;
-    for x in v {
-        if x.abs() > m {
+    for (x, r) in v.iter().zip(revolute) {
+        if !r && x.abs() > m {
             m = x.abs();
         }
     }
@@ -333,13 +373,43 @@ pub fn mark_double_roots<S, const D: usize, const N: usize>(
     revolute: &[bool],
     values: impl Fn(&S) -> &[f64],
 ) {
-    let size: [f64; N] = core::array::from_fn(|k| branches[k].result.as_ref().map_or(0.0, |s| magnitude(values(s))));
+    let size: [f64; N] = core::array::from_fn(|k| {
+        branches[k]
+            .result
+            .as_ref()
+            .map_or(0.0, |s| magnitude(values(s), revolute))
+    });
     for i in 1..N {
         let all = &*branches;
         if let Some(k) = twin_of(
             i,
             revolute,
             |k| all[k].result.as_ref().ok().map(&values),
+            |k, _| size[k],
+        ) {
+            branches[i].result = Err(SolveError::DoubleRoot { twin: k });
+            branches[k].tangent = true;
+        }
+    }
+}
+
+/// [`mark_double_roots`] where the branches are told apart by `keys[i]`
+/// (branch `i`'s [`crate::steps::choice_values`]: what its ± choices
+/// solved) instead of their results: generated solvers that return the
+/// outputs (or the actuators' values) alone, which two assemblies may
+/// share. Keys are compared as [`same_solution`] compares lengths.
+pub fn mark_double_roots_by<S, const D: usize, const N: usize, const K: usize>(
+    branches: &mut [Branch<S, D>; N],
+    keys: &[[f64; K]; N],
+) {
+    let plain = [false; K];
+    let size: [f64; N] = core::array::from_fn(|k| magnitude(&keys[k], &plain));
+    for i in 1..N {
+        let all = &*branches;
+        if let Some(k) = twin_of(
+            i,
+            &plain,
+            |k| all[k].result.is_ok().then_some(&keys[k][..]),
             |k, _| size[k],
         ) {
             branches[i].result = Err(SolveError::DoubleRoot { twin: k });
@@ -360,7 +430,7 @@ pub fn mark_double_roots_in<S>(
             i,
             revolute,
             |k| all[k].1.as_ref().ok().map(&values),
-            |_, v| magnitude(v),
+            |_, v| magnitude(v, revolute),
         ) {
             branches[i].1 = Err(SolveError::DoubleRoot { twin: k });
         }

@@ -284,7 +284,9 @@ pub enum Step {
         target: Direction,
     },
     /// A revolute's angle that puts parallelogram `pa`'s plane (its hinge on
-    /// `to`) through the anchored point (the other hinge).
+    /// `to`) through the anchored point (the other hinge): two roots half a
+    /// turn apart where the parallelogram's axis is normal to the
+    /// revolute's, two postures of the leg ([`crate::steps::pa_plane`]).
     PaPlane {
         /// The revolute.
         joint: usize,
@@ -296,6 +298,10 @@ pub enum Step {
         pa: usize,
         /// The other hinge's position.
         target: Anchor,
+        /// This step's index in the sign vector (it always branches),
+        /// numbered after every other step's, so that the postures plans
+        /// listed before it branched keep their numbers.
+        branch: usize,
     },
     /// A revolute's angle that puts the line `point` travels on, seen from
     /// `to` (`point` is on the link across prismatic `slide` from `to`),
@@ -612,6 +618,24 @@ impl Step {
         out
     }
 
+    /// The step's index in the sign vector, where it chooses a root.
+    pub fn branch(&self) -> Option<usize> {
+        match self {
+            Step::Locus { branch, .. } | Step::Parasitic { branch, .. } | Step::PlaneThrough { branch, .. } => *branch,
+            Step::Guide { branch, .. }
+            | Step::Beyond { branch, .. }
+            | Step::Cone { branch, .. }
+            | Step::TwoTurns { branch, .. }
+            | Step::PaPlane { branch, .. } => Some(*branch),
+            Step::Place { .. }
+            | Step::Transfer { .. }
+            | Step::Aim { .. }
+            | Step::Align { .. }
+            | Step::SlideToLine { .. }
+            | Step::Rod { .. } => None,
+        }
+    }
+
     /// The joint this step solves (and so closes), if any.
     pub fn joint(&self) -> Option<usize> {
         match self {
@@ -643,6 +667,41 @@ impl Plan {
             }
         }
         (0..n_joints).filter(|&j| !solved[j]).collect()
+    }
+
+    /// The postures of the assemblies the plan lists that it fixes by a
+    /// convention rather than listing each (architecture.md, "Every
+    /// assembly"), in words, by the joints' and links' names: an S–S
+    /// link's idle spin ([`Step::Rod`]), a U-P leg's cross turned over
+    /// ([`Step::PlaneThrough`] through the turning centre). Empty where
+    /// every assembly is listed.
+    pub fn conventions(&self, joint: impl Fn(usize) -> String, link: impl Fn(usize) -> String) -> Vec<String> {
+        self.steps
+            .iter()
+            .filter_map(|s| match *s {
+                Step::Rod {
+                    joint: j, to, other, ..
+                } => Some(format!(
+                    "{}'s spin about the line through the centres of {} and {} is idle: one turn is listed, \
+                     the smallest from its drawn orientation",
+                    link(to),
+                    joint(j),
+                    joint(other)
+                )),
+                Step::PlaneThrough {
+                    joint: j,
+                    to,
+                    branch: None,
+                    ..
+                } => Some(format!(
+                    "{}, turned over about {}, reaches the same leg line with the leg turned half a turn \
+                     about it (the same joint points and slide): one of the two is listed",
+                    link(to),
+                    joint(j)
+                )),
+                _ => None,
+            })
+            .collect()
     }
 
     /// How many ± choices the plan makes: it has 2^choices branches.

@@ -282,6 +282,20 @@ pub struct Geometry<T> {
 }
 
 impl<T: Scalar> Geometry<T> {
+    /// The mechanism's size: the largest distance of a joint's place or a
+    /// named point from its link's origin, or 1 where there is none
+    /// ([`crate::kinematics::model_scale`], for every [`Scalar`]: generated
+    /// code prepares it from the parameters).
+    pub fn scale(&self) -> T {
+        let places = self.joints.iter().flat_map(|j| j.places.iter().map(|p| p.at()));
+        let zero = T::c(0.0);
+        let l = places
+            .chain(self.named.iter().copied())
+            .map(norm)
+            .fold(zero, crate::scalar::max);
+        T::if_less(zero, l, l, T::c(1.0))
+    }
+
     /// A point of a link in that link's frame: a joint's place on it or a named point.
     pub fn local(&self, point: PointRef, link: usize) -> [T; 3] {
         match point {
@@ -452,9 +466,53 @@ pub struct Given<'a, T: Scalar> {
     pub sites: usize,
 }
 
-/// The name of a step's loop: its joints, `R2–R3–R4`.
+/// The name of a step's loop: its joints, `R2–R3–R4`; a step that closes
+/// no loop (a place or pose given) is "the given position".
 pub fn loop_name(step: &Step, joint: impl Fn(usize) -> String) -> String {
-    step.loop_joints().into_iter().map(joint).collect::<Vec<_>>().join("–")
+    let joints = step.loop_joints();
+    if joints.is_empty() {
+        return "the given position".into();
+    }
+    joints.into_iter().map(joint).collect::<Vec<_>>().join("–")
+}
+
+/// How far from the origin a given length (a slide's value, a position)
+/// may reach, in the mechanism's sizes ([`Geometry::scale`]):
+/// `1/VERIFY_TOL`. Beyond it the verification's tolerance (`VERIFY_TOL` of
+/// the solution's extent) would exceed the mechanism itself, and rounding
+/// the coordinates (1e308 ± 150 is 1e308) would merge its assemblies: such
+/// a value is out of reach (refused at the step that takes it), never a
+/// wrong ok, a NaN or a false double root.
+pub const REACH: f64 = 1.0 / crate::consistency::VERIFY_TOL;
+
+/// Refuses step `k`'s given lengths beyond [`REACH`] sizes as out of reach:
+/// a slide given to a transfer (or across which a point is carried), the
+/// position a place or a pose given in part puts its point at. Angles are not limited: a turn is its cosine
+/// and sine, which any finite angle has.
+fn in_reach<T: Scalar>(k: usize, step: &Step, geometry: &Geometry<T>, given: &Given<'_, T>) -> Result<(), SolveError> {
+    let lengths: Vec<usize> = match *step {
+        Step::Transfer { joint, input, .. }
+        | Step::Beyond {
+            given: joint, input, ..
+        } if geometry.joints[joint].kind == JointType::P => {
+            vec![input]
+        }
+        Step::Place { input, planar, .. } => (input..input + if planar { 2 } else { 3 }).collect(),
+        Step::Parasitic { input, parts, .. } => parts
+            .given()
+            .enumerate()
+            .filter(|&(_, part)| part < 3)
+            .map(|(i, _)| input + i)
+            .collect(),
+        _ => return Ok(()),
+    };
+    let far = T::c(REACH) * geometry.scale();
+    for i in lengths {
+        let v = given.values[i].abs();
+        let beyond = crate::scalar::Failure::Unreachable("|given length| <= 1e10 sizes of the mechanism", v - far);
+        T::require(v, far, beyond, [k, given.sites + k]).map_err(|e| step_error(k, (given.name)(k), e))?;
+    }
+    Ok(())
 }
 
 /// Executes step number `k`: sets the pose of the link it solves and the
@@ -467,6 +525,7 @@ pub fn execute<T: Scalar>(
     given: &Given<'_, T>,
 ) -> Result<(), SolveError> {
     use crate::spatial::Constraint;
+    in_reach(k, step, geometry, given)?;
     let (joint, from, to) = match *step {
         Step::Place {
             link,
@@ -527,7 +586,7 @@ pub fn execute<T: Scalar>(
         Step::Transfer { input, .. } => transfer::execute(&mv, *input),
         Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
-        Step::PaPlane { pa, target, .. } => pa_plane::execute(&mv, *pa, target)?,
+        Step::PaPlane { pa, target, branch, .. } => pa_plane::execute(&mv, *pa, target, *branch)?,
         Step::Guide {
             slide,
             point,
@@ -722,6 +781,34 @@ pub fn run<T: Scalar>(
     Ok(state)
 }
 
+/// What tells one branch's solution from another's: for each step that
+/// chooses a root, in plan order, what it solved (a turn's cosine and
+/// sine, a slide; for a pose given in part, the placed link's origin and
+/// first two axes). Every other step is a function of the given values and
+/// of these, so two branches whose choices' values agree are one solution
+/// (a double root), and two whose results agree while these do not are two
+/// assemblies (the two postures of a parallelogram's leg reach the same
+/// platform).
+pub fn choice_values<T: Scalar>(plan: &Plan, state: &Solved<T>) -> Vec<T> {
+    let mut out = Vec::new();
+    for step in plan.steps.iter().filter(|s| s.branch().is_some()) {
+        match step {
+            Step::Parasitic { link, .. } => {
+                let p = &state.poses[*link];
+                out.extend(p.t);
+                out.extend(p.column(0));
+                out.extend(p.column(1));
+            }
+            _ => match step.joint().and_then(|j| state.values[j]) {
+                Some(JointValue::Turn(c, s, _)) => out.extend([c, s]),
+                Some(JointValue::Slide(t)) => out.push(t),
+                None => {}
+            },
+        }
+    }
+    out
+}
+
 /// Joint `j`'s value in a solution: the step's where a step solved it,
 /// otherwise from its links' poses.
 pub fn value<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> T {
@@ -732,6 +819,44 @@ pub fn value<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> 
             joint.value_between(&state.poses[joint.links[0]], &state.poses[joint.links[1]])
         }
     }
+}
+
+/// A spherical joint's rotation in the runtime model's form
+/// ([`crate::model`]: `T_v = T_u · Trans(c_u) · Rot(r) · Trans(−c_v)`): the
+/// rotation vector `r = θ·n` of `R = R_uᵀ·R_v` between its two links'
+/// poses (`joint.links` order), θ in [0, π], and θ. With `v = (R₃₂ − R₂₃,
+/// R₁₃ − R₃₁, R₂₁ − R₁₂) = 2 sin θ·n` and `cos θ = (tr R − 1)/2`, θ is
+/// `atan2(|v|/2, cos θ)`; where cos θ ≥ 0, `r = v·θ/|v|` (½·v at θ = 0);
+/// beyond a quarter turn, where `v` fades towards the half turn, `n` is
+/// the column of `(R + Rᵀ)/2 − cos θ·I = (1 − cos θ)·n·nᵀ` with the largest
+/// diagonal, normalised, signed along `v`. For every [`Scalar`]: generated
+/// solutions give the same numbers as [`crate::spatial::Solution::model_values`].
+pub fn ball_rotation<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> ([T; 3], T) {
+    let [u, w] = geometry.joints[j].links;
+    rotation_vector(state.poses[u].inverse().then(&state.poses[w]).r)
+}
+
+/// The rotation vector of the rotation matrix `m` and its angle θ in
+/// [0, π] ([`ball_rotation`]).
+pub fn rotation_vector<T: Scalar>(m: [[T; 3]; 3]) -> ([T; 3], T) {
+    let (zero, half) = (T::c(0.0), T::c(0.5));
+    let v = [m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]];
+    let c = (m[0][0] + m[1][1] + m[2][2] - T::c(1.0)) * half;
+    let nv = norm(v);
+    let theta = (nv * half).atan2(c);
+    let f = T::if_less(zero, nv, theta / nv, half);
+    let near = scale(f, v);
+    let d = [m[0][0] - c, m[1][1] - c, m[2][2] - c];
+    let column =
+        |k: usize| -> [T; 3] { core::array::from_fn(|i| if i == k { d[k] } else { (m[i][k] + m[k][i]) * half }) };
+    let pick = |a: T, b: T, x: [T; 3], y: [T; 3]| -> [T; 3] { core::array::from_fn(|i| T::if_less(a, b, x[i], y[i])) };
+    let b01 = pick(d[0], d[1], column(1), column(0));
+    let d01 = crate::scalar::max(d[0], d[1]);
+    let b = pick(d01, d[2], column(2), b01);
+    let along = dot(b, v);
+    let signed = T::if_less(along, zero, -theta, theta) / norm(b);
+    let far = scale(signed, b);
+    (pick(c, zero, far, near), theta)
 }
 
 /// The residual of every check ([`RESIDUAL_ROWS`] rows each): an open
@@ -930,6 +1055,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             to,
             pa,
             target,
+            ..
         } => pa_plane::factor(at, k, *joint, *from, *to, *pa, target),
         Step::Guide {
             joint,
@@ -1005,5 +1131,54 @@ fn locus_factor(
         condition,
         points: [joint_point(joint, from), LinkPoint { link: to, point }, other],
         value: crossing(t, n, at.scale),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rotation_vector;
+    use nalgebra::{Rotation3, Vector3};
+
+    /// The rotation vector back from the matrix nalgebra builds of a known
+    /// one (the ground truth is the vector itself): angles from 0 through
+    /// a quarter turn (where the kernel changes form) to a hair short of
+    /// the half turn, about 200 axes; within 4 ulps of π.
+    #[test]
+    fn rotation_vector_of_known_rotations() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let angles = [
+            0.0,
+            1e-300,
+            1e-12,
+            1e-6,
+            0.3,
+            1.5,
+            FRAC_PI_2 - 1e-9,
+            FRAC_PI_2 + 1e-9,
+            2.5,
+            3.0,
+            PI - 1e-6,
+            PI - 1e-12,
+        ];
+        let mut worst = 0.0f64;
+        for _ in 0..200 {
+            let n = Vector3::new(next(), next(), next()).normalize();
+            for &theta in &angles {
+                let r = n * theta;
+                let m = Rotation3::from_scaled_axis(r);
+                let m = core::array::from_fn(|i| core::array::from_fn(|j| m[(i, j)]));
+                let (got, angle) = rotation_vector::<f64>(m);
+                let d = (0..3).map(|c| (got[c] - r[c]).abs()).fold(0.0, f64::max);
+                worst = worst.max(d).max((angle - theta).abs());
+            }
+        }
+        assert!(worst <= 4.0 * PI * f64::EPSILON, "{worst:e}");
     }
 }

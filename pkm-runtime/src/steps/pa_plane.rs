@@ -1,6 +1,20 @@
 //! A revolute's angle that puts a parallelogram's plane through a known
-//! point (the other hinge): `a·cosθ + b·sinθ = c`, the root nearer 0.
-
+//! point (the other hinge): `a·cosθ + b·sinθ = c`, two roots. Where the
+//! parallelogram's axis is normal to the revolute's (`c = 0`: seed 000 A's
+//! R5 and its parallelogram) they are half a turn apart, and both are
+//! assemblies: the second turns the parallelogram's hinge and its arm by
+//! π about the revolute's axis, and the parallelogram's swing beyond it
+//! reaches the same hinge at π − its angle. The coupler beyond lands where
+//! it did, but the links between (the revolute's link, the parallelogram's
+//! bars, the coupler's turn about its next joint) are another posture, with
+//! other forces where they carry mass off the revolute's axis.
+//!
+//! `Plus` is the root nearer the revolute's zero (the larger cosine), the
+//! only root the plans took before they listed both, so those branches
+//! keep their numbers; `Minus` the other. The labels change places where
+//! the two roots are a quarter turn either side of the zero (for seed 000
+//! A: where D passes the height of B3), so a posture is followed across
+//! there by continuity (`fk_follow`), not by its signs.
 use super::search::{reversed, Search};
 use super::{Found, Geometry, Motion, Move};
 use crate::frame::Frame;
@@ -14,31 +28,38 @@ use crate::spatial::v3;
 use crate::spatial::{Anchor, Step};
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its
-/// hinge on the new link) through the anchored point `target`.
-pub fn execute<T: Scalar>(mv: &Move<'_, T>, pa: usize, target: &Anchor) -> Result<Found<T>, SolveError> {
+/// hinge on the new link) through the anchored point `target`; `branch`
+/// chooses the root ([`pa_plane`]).
+pub fn execute<T: Scalar>(mv: &Move<'_, T>, pa: usize, target: &Anchor, branch: usize) -> Result<Found<T>, SolveError> {
     let (axis, zero) = mv.turning("a parallelogram turned by a non-revolute")?;
     let p = &mv.geometry.joints[pa];
     let side = usize::from(p.links[0] != mv.to);
     let normal = zero.rotate(super::place_axis(&p.places[side]));
     let hinge = zero.apply(p.places[side].at());
     let target = mv.geometry.anchor(&mv.state.poses, target);
-    Ok(mv.found(pa_plane(axis, normal, hinge, target, mv.site()).map_err(|e| mv.fail(e))?))
+    let turn = pa_plane(axis, normal, hinge, target, mv.choice(Some(branch)), mv.site()).map_err(|e| mv.fail(e))?;
+    Ok(mv.found(turn))
 }
 
 /// The turn about unit `k` that puts the plane through `hinge` with normal
 /// `n` (at angle 0) through `target`: `(n⊥·u) cosθ + ((k × n⊥)·u) sinθ =
-/// −(n∥·u)` with `u = target − hinge`. Of the two roots, the one nearer 0
-/// (the larger cosine): the half-turned parallelogram moves its coupler the
-/// same way.
+/// −(n∥·u)` with `u = target − hinge`, [`super::on_plane::trig_turns`].
+/// `Plus` is the root nearer 0 (the larger cosine; the first where the two
+/// are equal), `Minus` the other: for `n ⊥ k` the plane half-turned, the
+/// other posture of the parallelogram's leg (the module's).
 ///
 /// ```
+/// use pkm_runtime::primitives::Sign;
 /// use pkm_runtime::steps::pa_plane::pa_plane;
 ///
-/// // The plane x = 0 (normal x) about z, through (1, 1, 0): turned by ±45°;
-/// // the root nearer 0 is −45° (the normal turned to (1, −1)/√2).
+/// // The plane x = 0 (normal x) about z, through (1, 1, 0): turned by −45°
+/// // (Plus: nearer 0, the normal turned to (1, −1)/√2) or by 135° (Minus).
 /// let z = [0.0, 0.0, 1.0];
-/// let [c, s] = pa_plane(z, [1.0, 0.0, 0.0], [0.0; 3], [1.0, 1.0, 0.0], [0, 0]).unwrap();
-/// assert!((c - 0.5f64.sqrt()).abs() < 1e-15 && (s + 0.5f64.sqrt()).abs() < 1e-15);
+/// let h = 0.5f64.sqrt();
+/// let [c, s] = pa_plane(z, [1.0, 0.0, 0.0], [0.0; 3], [1.0, 1.0, 0.0], Sign::Plus, [0, 0]).unwrap();
+/// assert!((c - h).abs() < 1e-15 && (s + h).abs() < 1e-15);
+/// let [c, s] = pa_plane(z, [1.0, 0.0, 0.0], [0.0; 3], [1.0, 1.0, 0.0], Sign::Minus, [0, 0]).unwrap();
+/// assert!((c + h).abs() < 1e-15 && (s - h).abs() < 1e-15);
 /// ```
 #[inline]
 pub fn pa_plane<T: Scalar>(
@@ -46,6 +67,7 @@ pub fn pa_plane<T: Scalar>(
     n: [T; 3],
     hinge: [T; 3],
     target: [T; 3],
+    choice: T::Choice,
     site: [usize; 2],
 ) -> Result<[T; 2], GeomError<f64>> {
     let u = sub(target, hinge);
@@ -55,9 +77,27 @@ pub fn pa_plane<T: Scalar>(
     let b = dot(cross(k, n_perp), u);
     let c = -dot(n_par, u);
     let [p, m] = super::on_plane::trig_turns(a, b, c, site, None)?;
-    // The root with the larger cosine.
+    // The root with the larger cosine, then the other.
     let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
-    Ok([nearer(p[0], m[0]), nearer(p[1], m[1])])
+    let farther = |x: T, y: T| T::if_less(p[0], m[0], x, y);
+    let pick = |i: usize| T::pick(choice, nearer(p[i], m[i]), farther(p[i], m[i]));
+    Ok([pick(0), pick(1)])
+}
+
+/// Numbers the plan's parallelogram planes' choices after every other
+/// step's, from `first` (the other steps' count) in plan order, and gives
+/// the plan's count of choices: the postures plans listed before a
+/// plane branched keep their branch numbers (bit k of a branch's number is
+/// choice k's sign), each plane's half-turned postures following them.
+pub(crate) fn number_choices(steps: &mut [Step], first: usize) -> usize {
+    let mut next = first;
+    for s in steps {
+        if let Step::PaPlane { branch, .. } = s {
+            *branch = next;
+            next += 1;
+        }
+    }
+    next
 }
 
 /// The pose of the plane's known link at the plane's zero (from that of
@@ -198,6 +238,8 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                         hops: reversed(&r.hops),
                         point: PointRef::Joint(p),
                     },
+                    // Numbered once the plan is found (`number_choices`).
+                    branch: 0,
                 };
                 s.push(step, to, j);
                 return true;
@@ -280,7 +322,7 @@ mod tests {
         ];
         for (k, a, arm, c, q) in cases {
             let (k, a) = (unit(k), unit(a));
-            let plane = pa_plane(k, a, c, q, [0, 0]).unwrap();
+            let plane = pa_plane(k, a, c, q, crate::primitives::Sign::Plus, [0, 0]).unwrap();
             let (a1, arm1) = (turn(k, plane, a), turn(k, plane, arm));
             let swing = crate::steps::aim::turn_onto(a1, arm1, sub(q, c), [0, 0]).unwrap();
             let d = sub(add(c, turn(a1, swing, arm1)), q);

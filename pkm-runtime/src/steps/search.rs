@@ -93,11 +93,13 @@ impl<'a> Search<'a> {
     }
 
     /// The plan found, for `n_inputs` given values (`inputs`: the input
-    /// joints of a forward plan).
-    pub fn into_plan(self, n_inputs: usize, inputs: Vec<usize>) -> Plan {
+    /// joints of a forward plan). The parallelograms' planes take their
+    /// choices last (`pa_plane::number_choices`).
+    pub fn into_plan(mut self, n_inputs: usize, inputs: Vec<usize>) -> Plan {
+        let branches = super::pa_plane::number_choices(&mut self.steps, self.branches);
         Plan {
             steps: self.steps,
-            branches: self.branches,
+            branches,
             n_inputs,
             inputs,
             by_miss: Vec::new(),
