@@ -448,8 +448,9 @@ fn change_points_accurate_or_refused() {
         2 * 15 * 2 * 3 * 8,
         "two points, 15 offsets a side, three states, eight branches"
     );
-    // Per state: answered, refused, the worst error of an answer and of its motion.
-    let mut tally: Vec<((f64, f64), usize, usize, f64, f64)> = Vec::new();
+    // Per state (ω, α): answered, refused, the worst error of an answer and of its motion.
+    type Tally = ((f64, f64), usize, usize, f64, f64);
+    let mut tally: Vec<Tally> = Vec::new();
     for row in &rows {
         let (position, runtime, gen) = both_paths(&p, &generated, row);
         let at = format!(

@@ -14,6 +14,9 @@ use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 
+/// A joint label: its pixel, its place, the names drawn there.
+type Label<'a> = ((i32, i32), (f64, f64), Vec<&'a str>);
+
 /// One joint as drawn.
 #[derive(Debug, Clone)]
 pub struct JointMark {
@@ -293,7 +296,8 @@ pub fn clip(a: (f64, f64), b: (f64, f64), window: ((f64, f64), (f64, f64))) -> O
             }
         }
     }
-    if !(t0 <= t1) {
+    // NaN ends it too.
+    if t0.partial_cmp(&t1).is_none_or(|o| o == std::cmp::Ordering::Greater) {
         return None;
     }
     let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
@@ -502,7 +506,7 @@ pub fn draw(
                 marker(&mut chart, j.kind, p(j.at), c)?;
             }
             // Joints drawn within a few pixels of each other share one label.
-            let mut labels: Vec<((i32, i32), (f64, f64), Vec<&str>)> = Vec::new();
+            let mut labels: Vec<Label> = Vec::new();
             for j in &s.joints {
                 let at = p(j.at);
                 let px = chart.backend_coord(&at);

@@ -375,12 +375,12 @@ pub fn follow<T: Send>(
                 kept,
             });
             last.insert(node, (branch, values));
-            for i in 0..n {
+            for (i, (&stride, &count)) in strides.iter().zip(&grid.counts).enumerate().take(n) {
                 let d = digit(node, i);
                 // One step down along input i, then one step up.
                 for (to, back) in [
-                    (d > 0).then(|| (node - strides[i], (d + 1 < grid.counts[i]).then(|| node + strides[i]))),
-                    (d + 1 < grid.counts[i]).then(|| (node + strides[i], (d > 0).then(|| node - strides[i]))),
+                    (d > 0).then(|| (node - stride, (d + 1 < count).then(|| node + stride))),
+                    (d + 1 < count).then(|| (node + stride, (d > 0).then(|| node - stride))),
                 ]
                 .into_iter()
                 .flatten()
@@ -769,7 +769,7 @@ mod tests {
             size: 1.0,
         };
         let wall = |q: &[f64]| (q[0] - 0.75).abs() < 0.06 && q[1] < -0.75 || (q[1] + 0.75).abs() < 0.06 && q[0] > 0.75;
-        let reachable = |q: &[f64]| !(q[0].abs() < 0.3 && q[1] < 0.5) && !wall(q);
+        let reachable = |q: &[f64]| !(wall(q) || q[0].abs() < 0.3 && q[1] < 0.5);
         let island = |q: &[f64]| q[0] > 0.8 && q[1] < -0.8;
         let followed = follow(
             &grid,

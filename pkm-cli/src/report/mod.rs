@@ -42,7 +42,7 @@ pub const MAX_DURATION: f64 = 1.0e4;
 
 /// What the report samples (also the `pkm report` command line's options).
 /// Each overrides the file's `study` block.
-#[derive(Debug, Clone, clap::Args)]
+#[derive(Debug, Clone, Default, clap::Args)]
 pub struct ReportOptions {
     /// Override a parameter: `--param l1=120`.
     #[arg(long = "param", value_parser = parse_param)]
@@ -90,26 +90,6 @@ pub struct ReportOptions {
     /// branch, the same ranges) are tabled beside this one's.
     #[arg(long, value_delimiter = ',')]
     pub compare: Vec<PathBuf>,
-}
-
-impl Default for ReportOptions {
-    fn default() -> Self {
-        ReportOptions {
-            params: Vec::new(),
-            ranges: Vec::new(),
-            nodes: None,
-            branch: None,
-            point: None,
-            start: None,
-            amplitude: None,
-            speed: None,
-            duration: None,
-            sections: Vec::new(),
-            hold: Vec::new(),
-            unit: None,
-            compare: Vec::new(),
-        }
-    }
 }
 
 /// Why a report could not be written. Its `Display` text is complete (one

@@ -13,6 +13,9 @@ use pkm_runtime::workspace::Grid;
 use pkm_runtime::{singular, velocity};
 use std::fmt::Write as _;
 
+/// One measure of a node, by which a chart draws it.
+type Measure = dyn Fn(&Measured) -> f64;
+
 /// A factor below this is near vanishing (the factors are normalised to [0, 1]).
 const NEAR: f64 = 0.05;
 
@@ -200,7 +203,7 @@ fn against(
     title: &str,
     value: &str,
     measured: &[Measured],
-    of: &[(String, &dyn Fn(&Measured) -> f64)],
+    of: &[(String, &Measure)],
     caption: &str,
 ) -> Result<(), ReportError> {
     let mut order: Vec<&Measured> = measured.iter().collect();
@@ -322,17 +325,15 @@ fn factor_loci(
     let plane = match drawn {
         Drawn::Plane(plane) => plane,
         Drawn::Line(value) => {
-            let of: Vec<(String, Box<dyn Fn(&Measured) -> f64>)> = (0..named.len())
+            let of: Vec<(String, Box<Measure>)> = (0..named.len())
                 .map(|k| {
                     (
                         named[k].0.clone(),
-                        Box::new(move |m: &Measured| m.factors.get(k).copied().unwrap_or(f64::NAN))
-                            as Box<dyn Fn(&Measured) -> f64>,
+                        Box::new(move |m: &Measured| m.factors.get(k).copied().unwrap_or(f64::NAN)) as Box<Measure>,
                     )
                 })
                 .collect();
-            let of: Vec<(String, &dyn Fn(&Measured) -> f64)> =
-                of.iter().map(|(n, f)| (n.clone(), f.as_ref())).collect();
+            let of: Vec<(String, &Measure)> = of.iter().map(|(n, f)| (n.clone(), f.as_ref())).collect();
             return against(
                 page,
                 "singularity_factors",
