@@ -139,7 +139,7 @@ fn seed000_a_with_masses() -> String {
 fn seed000_a_statics_balance_gravity_and_the_payload() {
     let (model, loading, plan) = compiled(&seed000_a_with_masses(), &[]);
     let q = [-106.09, 181.67, -70.29];
-    let signs = [Sign::Minus, Sign::Plus];
+    let signs = [Sign::Minus, Sign::Plus, Sign::Plus];
     let values = plan.solve(&model, &q, &signs).expect("the paper's assembly");
     let got = actuator_forces(&model, &loading, &values, &[0.0; 3], &[0.0; 3]).expect("forces");
     let h = 1e-4;
