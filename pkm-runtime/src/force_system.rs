@@ -585,6 +585,32 @@ mod tests {
         );
     }
 
+    /// A decomposition 1e-6 off its matrix (that of A + E, as nalgebra's
+    /// SVD can be off A) still gives A's own solution to rounding once
+    /// refined against A: 2x + y = 3, x + 3y = 5 by hand, x = 4/5, y = 7/5;
+    /// unrefined (no matrix given) it is about 1e-6 off.
+    #[test]
+    fn a_decomposition_off_its_matrix_is_refined_against_it() {
+        let a = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 3.0]);
+        let off = DMatrix::from_row_slice(2, 2, &[2.0 + 1e-6, 1.0, 1.0 - 1e-6, 3.0]);
+        let svd = off.svd(true, true);
+        let (u, v_t) = (svd.u.unwrap(), svd.v_t.unwrap());
+        let solve = |matrix: &[f64]| {
+            let d = Decomposition {
+                n: 2,
+                singular_values: svd.singular_values.as_slice(),
+                u: u.as_slice(),
+                v_t: v_t.as_slice(),
+                matrix,
+            };
+            let mut x = [0.0; 2];
+            pseudo_solve(&d, &[3.0, 5.0], 1e-12, &mut x);
+            (x[0] - 0.8).abs().max((x[1] - 1.4).abs())
+        };
+        assert!(solve(&[]) > 1e-7, "{}", solve(&[]));
+        assert!(solve(a.as_slice()) < 1e-15, "{}", solve(a.as_slice()));
+    }
+
     /// A matrix losing rank beyond what the topology leaves free is a
     /// change point: an error with its conditioning.
     #[test]
