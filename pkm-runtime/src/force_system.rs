@@ -120,13 +120,13 @@ pub fn pseudo_solve(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64]) {
     };
     let mut last = residual(x, r);
     for _ in 0..REFINEMENTS {
-        if !(last > 0.0) {
+        if last.is_nan() || last <= 0.0 {
             return;
         }
         apply(r, dx);
         x[..n].iter_mut().zip(dx.iter()).for_each(|(x, d)| *x += d);
         let now = residual(x, r);
-        if !(now < last) {
+        if now.is_nan() || now >= last {
             x[..n].iter_mut().zip(dx.iter()).for_each(|(x, d)| *x -= d);
             return;
         }

@@ -474,14 +474,14 @@ fn refined_solve(
     let mut r = rhs - matrix * &x;
     let mut last = r.norm_squared();
     for _ in 0..4 {
-        if !(last > 0.0) {
+        if last.is_nan() || last <= 0.0 {
             break;
         }
         let dx = svd.solve(&r, tolerance).ok()?;
         let trial = &x + dx;
         let now_r = rhs - matrix * &trial;
         let now = now_r.norm_squared();
-        if !(now < last) {
+        if now.is_nan() || now >= last {
             break;
         }
         (x, r, last) = (trial, now_r, now);
