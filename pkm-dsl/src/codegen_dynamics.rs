@@ -981,6 +981,7 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
             singular_values: svd.singular_values.as_slice(),
             u: u.as_slice(),
             v_t: v_t.as_slice(),
+            matrix: a.as_slice(),
         };
         let mut x = [0.0f64; #n];
         let solved = #rt::force_system::min_norm(&decomposition, b.as_slice(), #k, &[#(#joints),*], #unknowns, #undetermined, &actuated, size, &mut x)?;
@@ -1136,6 +1137,7 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
                     singular_values: svd.singular_values.as_slice(),
                     u: u.as_slice(),
                     v_t: v_t.as_slice(),
+                    matrix: g.as_slice(),
                 };
                 const C: [f64; #n * #m] = [#(#c),*];
                 let reduced = #rt::force_system::Reduced { n: #n, m: #m, c: &C, x0: &x0 };

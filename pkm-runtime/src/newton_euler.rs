@@ -370,7 +370,7 @@ pub fn inverse_dynamics(
                 actuated.extend(row);
             }
         }
-        let svd = a.svd(true, true);
+        let svd = a.clone().svd(true, true);
         let (Some(u), Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
             return Err(DynamicsError::NotFinite);
         };
@@ -379,6 +379,7 @@ pub fn inverse_dynamics(
             singular_values: svd.singular_values.as_slice(),
             u: u.as_slice(),
             v_t: v_t.as_slice(),
+            matrix: a.as_slice(),
         };
         let mut x = vec![0.0; size_n];
         let solved = min_norm(

@@ -185,17 +185,6 @@ NO_HOLDING = {
     "rssr": "singular",
 }
 
-# Mechanisms whose forces agree with MuJoCo's less closely than EXACT_TOL,
-# and the tolerance they are held to until pkm's are mended: the 3-UPU
-# differs by 6.7e-8 of the largest force at one of (a)'s 8 states, by
-# 2.8e-8 even at rest there (pose x = 1.200713418466638, y =
-# 2.8079374345009525, z = 57.54539871295128, branch 0): 1e-9 mm away in x
-# pkm's forces move by 6e-8 N (of 2.3 N) and agree again to 6e-15, while MuJoCo's at
-# pkm's configuration (its loops closed to 8e-17) stay put. The force
-# equations' conditioning there is 0.017: pkm's Newton–Euler, not the
-# export (reported, issue 29).
-LESS_EXACT = {"upu_3": 1e-6}
-
 # The examples the export refuses, and why (a substring of its message):
 # the agile eye declares no outputs and asks for no `fk_numeric`, so
 # nothing solves its position (VARIANTS and FIXTURE_STEMS export it).
@@ -728,9 +717,7 @@ def exact_by_export(name, path, rng, info, count=8):
         worst = max(worst, np.abs(ours - tau).max() / np.abs(tau).max())
     print(f"(a) {name}: {solved} states by `pkm export --rates --accels` ({info['solver']}); worst |τ_pkm − τ_MuJoCo| / max|τ_MuJoCo| = {worst:.2e}")
     assert solved >= count // 2, f"{name}: only {solved} of {count} states export"
-    assert worst < LESS_EXACT.get(name, EXACT_TOL), f"{name}: pkm and MuJoCo differ by {worst:e}"
-    if name in LESS_EXACT and worst < EXACT_TOL:
-        print(f"    {name} now agrees within {EXACT_TOL:.0e}: take it out of LESS_EXACT")
+    assert worst < EXACT_TOL, f"{name}: pkm and MuJoCo differ by {worst:e}"
     return worst
 
 
