@@ -180,15 +180,13 @@ FIXTURE_STEMS = ["rssr_masses", "rsur_masses", "agile_eye_ik"]
 # equations singular. Their exports are still stepped, held by MuJoCo's own
 # static forces.
 NO_HOLDING = {
-    "rssr_masses": "singular",
-    "rssp": "singular",
-    "rssr": "singular",
+    "rssp": "turns freely",
 }
 
 # The examples the export refuses, and why (a substring of its message):
-# the agile eye declares no outputs and asks for no `fk_numeric`, so
-# nothing solves its position (VARIANTS and FIXTURE_STEMS export it).
-REFUSED = {"agile_eye": "nothing solves agile_eye's position"}
+# none since the agile eye declares its outputs (x, y, z, phi) and is
+# assembled by ik at a pose.
+REFUSED = {}
 
 # Errors an export may end with, and their kinds: never a panic (exit 101).
 TYPED = {"input", "parse", "unreachable", "inconsistent"}
