@@ -497,11 +497,14 @@ impl Voxels {
     /// extent (at least 1).
     ///
     /// ```
-    /// // The 11³ nodes of a cube of side 10: every cell of a 5-cell grid full.
+    /// // The 11³ nodes of a cube of side 10, cells of edge 10 / 5 = 2 centred
+    /// // on it: 6 a side (the nodes at 0 and at 10 in cells of their own),
+    /// // every one full, the cube grown by half a cell each side: 12³.
     /// let pts: Vec<[f64; 3]> = (0..1331).map(|n| [(n / 121) as f64, (n / 11 % 11) as f64, (n % 11) as f64]).collect();
     /// let v = pkm_cli::plots::Voxels::of(&pts, 5);
+    /// assert_eq!(v.dims, [6, 6, 6]);
     /// assert_eq!(v.full.iter().filter(|f| **f).count(), v.full.len());
-    /// assert!((v.volume() - 1000.0).abs() < 0.3 * 1000.0);
+    /// assert!((v.volume() - 1728.0).abs() < 1e-9);
     /// ```
     pub fn of(points: &[[f64; 3]], across: usize) -> Voxels {
         let lo: [f64; 3] = std::array::from_fn(|i| points.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
