@@ -10,7 +10,10 @@
 //! and each cut joint closes a loop: `V_v − V_u − Σ q̇ ξ = 0` (six rows per
 //! loop). With the actuated rates given, the passive rates follow by least
 //! squares, which is exact while the passive columns keep full rank (no
-//! output singularity).
+//! output singularity). An S–S link turns freely about the line through its
+//! two balls, which the loop rows leave open: one more row per such link
+//! takes its spin about that line as zero, the state the dynamics assume
+//! (`Loops::spins`).
 //!
 //! An S joint's three rates are its angular velocity about the world x, y, z
 //! axes (not the derivative of its rotation vector).
@@ -268,8 +271,17 @@ pub struct Loops {
     /// Each link's twist as a linear map of the rates: `paths[l]` lists
     /// (rate index, ±1) along the tree from the base.
     pub paths: Vec<Vec<(usize, f64)>>,
-    /// `A q̇ = 0`: six rows per cut joint, one column per rate.
+    /// `A q̇ = 0`: six rows per cut joint (the first [`Loops::loop_rows`]),
+    /// then one row per S–S link ([`Loops::spins`]), one column per rate.
     pub a: DMatrix<f64>,
+    /// How many of `a`'s rows are loop rows: six per cut joint.
+    pub loop_rows: usize,
+    /// Each S–S link and its line's unit direction (world): the link turns
+    /// freely about that line, the loop rows leave its spin undetermined,
+    /// and its row in `a` takes it as zero (`ω·â = 0`; `ω̇·â = 0` for the
+    /// accelerations), the state the dynamics assume
+    /// ([`crate::mass_properties::Loading::idle_spins_dropped`]).
+    pub spins: Vec<(usize, Vector3<f64>)>,
     /// The first rate of each joint.
     pub offsets: Vec<usize>,
     /// The rates of the actuated joints, in input order.
@@ -305,7 +317,11 @@ pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
         p.extend((0..joint.kind.dof()).map(|k| (offsets[j] + k, sign)));
         paths[link] = p;
     }
-    let mut a = DMatrix::zeros(6 * tree.cut.len(), n);
+    let spins: Vec<(usize, Vector3<f64>)> = (0..model.links.len())
+        .filter_map(|l| crate::mass_properties::idle_spin_line(model, l).map(|(_, axis)| (l, poses[l].rotation * axis)))
+        .collect();
+    let loop_rows = 6 * tree.cut.len();
+    let mut a = DMatrix::zeros(loop_rows + spins.len(), n);
     for (row, &c) in tree.cut.iter().enumerate() {
         let [u, v] = model.joints[c].links;
         let mut add = |col: usize, t: &Twist, k: f64| {
@@ -325,6 +341,12 @@ pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
             add(offsets[c] + k, t, -1.0);
         }
     }
+    // An S–S link's spin about its line: `â·ω = 0`.
+    for (k, (link, axis)) in spins.iter().enumerate() {
+        for &(col, sign) in &paths[*link] {
+            a[(loop_rows + k, col)] += sign * twist_of_rate(&twists, &offsets, col).w.dot(axis);
+        }
+    }
     let mut actuated = Vec::new();
     for j in model.inputs() {
         actuated.extend(offsets[j]..offsets[j] + model.joints[j].kind.dof());
@@ -340,6 +362,8 @@ pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
         twists,
         paths,
         a,
+        loop_rows,
+        spins,
         offsets,
         actuated,
         passive,
@@ -385,7 +409,7 @@ impl Loops {
             m.set_column(k, &(self.a.column(c) * unit));
         }
         // Position rows in units of the mechanism's size, as the loop residual.
-        for r in 0..m.nrows() {
+        for r in 0..self.loop_rows {
             if r % 6 >= 3 {
                 m.row_mut(r).scale_mut(1.0 / scale);
             }
@@ -437,7 +461,7 @@ impl Loops {
         let Some(svd) = svd else {
             return Ok(q);
         };
-        for r in 0..rhs.len() {
+        for r in 0..self.loop_rows {
             if r % 6 >= 3 {
                 rhs[r] /= scale;
             }
@@ -620,6 +644,11 @@ pub fn accelerations_on(
         for (i, x) in t.rows().iter().enumerate() {
             bias[6 * row + i] = *x;
         }
+    }
+    // An S–S link's spin acceleration `â·ω̇ = 0` (its spin is zero, so the
+    // line's own turn adds nothing): the velocity-product part of `â·ω̇`.
+    for (k, (link, axis)) in l.spins.iter().enumerate() {
+        bias[l.loop_rows + k] = twist_rate(l, *link, &qd, &zero, &xi_dot).w.dot(axis);
     }
     let qdd = solve(input_accels, &bias)?;
     let twist_rates = (0..model.links.len())

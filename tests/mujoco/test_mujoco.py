@@ -183,13 +183,6 @@ NO_HOLDING = {
     "rssp": "turns freely",
 }
 
-# An open defect (issue 29's note): pkm's Newton–Euler takes an S–S
-# coupler's spin about its line as zero, while the rates it prints and
-# exports give it the least-norm joint rates' spin, so the coupler's
-# gyroscopic term I_axis·ω_s·ė differs: the RSSR in motion is 1.3e-6 off
-# MuJoCo (at rest exact). Held here to 1e-5 so that it is seen, not hidden.
-IDLE_SPIN = {"rssr": 1e-5, "rssr_masses": 1e-4}
-
 # The examples the export refuses, and why (a substring of its message):
 # none since the agile eye declares its outputs (x, y, z, phi) and is
 # assembled by ik at a pose.
@@ -716,19 +709,16 @@ def exact_by_export(name, path, rng, info, count=8):
         v, a = motion_of(ex, m, d, answer["joints"])
         assert np.abs(v - key_qvel).max() <= 1e-12 * max(np.abs(v).max(), 1e-300), f"{name}: the keyframe's qvel is not pkm's rates"
         tau, residual, closure = ex.forces(q, v, a, ex.without_stand_ins())
-        # An S–S coupler's spin about its line is free: pkm's rates give it
-        # the least-norm spin, which MuJoCo must drive about that line with
-        # a torque no actuator gives (the least squares' residual).
-        if name not in IDLE_SPIN:
-            assert residual < 1e-12, f"{name}: the least-squares system is not consistent ({residual:e})"
+        # An S–S coupler's spin about its line is free: pkm's rates take it
+        # as zero, the state its dynamics assume, which MuJoCo then drives
+        # with no torque about that line (a residual would show it).
+        assert residual < 1e-12, f"{name}: the least-squares system is not consistent ({residual:e})"
         assert closure < 1e-9, f"{name}: pkm's state does not close MuJoCo's loops ({closure:e})"
         ours = np.array([answer["holding"]["as_declared"][n] for n in answer["input_order"]])
         worst = max(worst, np.abs(ours - tau).max() / np.abs(tau).max())
     print(f"(a) {name}: {solved} states by `pkm export --rates --accels` ({info['solver']}); worst |τ_pkm − τ_MuJoCo| / max|τ_MuJoCo| = {worst:.2e}")
     assert solved >= count // 2, f"{name}: only {solved} of {count} states export"
-    if name in IDLE_SPIN:
-        print(f"    {name}: OPEN DEFECT, the coupler's spin convention differs between pkm's rates and its dynamics ({worst:.1e})")
-    assert worst < IDLE_SPIN.get(name, EXACT_TOL), f"{name}: pkm and MuJoCo differ by {worst:e}"
+    assert worst < EXACT_TOL, f"{name}: pkm and MuJoCo differ by {worst:e}"
     return worst
 
 
