@@ -93,7 +93,9 @@
 //! its forward solution would need; with only `ik` it compiles.
 #![deny(missing_docs)]
 
-/// The compiler as a library (parser, topology analysis, code generation).
+/// The compiler as a library (parser, topology analysis, code generation),
+/// with the feature `compiler`; the macro needs none of it at run time.
+#[cfg(feature = "compiler")]
 pub use pkm_dsl as dsl;
 pub use pkm_macros::mechanism;
 /// The runtime: shared types that generated code uses.

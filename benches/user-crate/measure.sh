@@ -15,7 +15,7 @@ runs=${1:-5}
 shift || true
 # Resolve dependencies as the workspace does.
 [ -f Cargo.lock ] || cp ../../Cargo.lock .
-cargo build -q --bin expand_time --lib
+cargo build -q --bin expand_time --features compiler
 "${CARGO_TARGET_DIR:-target}"/debug/expand_time "$runs" "$@"
 
 best() { # best wall time in seconds of `cargo build --lib` with features $1

@@ -1,6 +1,6 @@
 //! Times `pkm::dsl::expand` — the whole body of `pkm::mechanism!` — for each
 //! example mechanism, in this crate's profile. Built with plain
-//! `cargo run --bin expand_time`, pkm-dsl and its dependencies are compiled
+//! `cargo run --features compiler --bin expand_time`, pkm-dsl and its dependencies are compiled
 //! at opt-level 0, as the proc-macro is in a user's debug build.
 //!
 //! Usage: `expand_time [RUNS] [NAME…]` (default 5 runs, every example; a
