@@ -44,7 +44,7 @@ fn interpreted(
     let plan = pkm::dsl::planner::inverse_plan(a).unwrap();
     let outputs = pkm::dsl::numeric::newton_outputs(a, &model, values).unwrap();
     let (link, local) = outputs.iter().find_map(|o| o.point()).unwrap();
-    let limbs = pkm::dsl::limb_properties::limb_properties(a, values).unwrap();
+    let limbs = pkm::dsl::numeric::limb_properties(a, values).unwrap();
     spatial::run_all(&model, &plan, given)
         .into_iter()
         .map(|(signs, solution)| {

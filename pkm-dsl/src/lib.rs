@@ -6,14 +6,14 @@
 //! tested on plain strings and [`proc_macro2::TokenStream`]s.
 #![deny(missing_docs)]
 
-pub mod ast;
 pub mod diagnostics;
-pub mod expr;
+pub mod syntax;
+pub use syntax::{ast, expr};
 pub mod geometry;
 pub mod limb_properties;
 pub mod limits;
 pub mod mass_and_loads;
-mod parser;
+use syntax::parser;
 
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use parser::parse;

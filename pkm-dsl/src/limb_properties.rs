@@ -1,8 +1,8 @@
 //! What the static stiffness model reads besides the geometry: each limb's
 //! leg properties, declared per `branch` in a `limbs { … }` block
-//! ([`build_limbs`]), checked against the mechanism when the file is
+//! (`crate::syntax::limbs`), checked against the mechanism when the file is
 //! analysed ([`check`], kept as expressions in [`crate::Analysis::limbs`])
-//! and evaluated at a parameter set ([`limb_properties`]).
+//! and evaluated at a parameter set ([`crate::numeric::limb_properties`]).
 //!
 //! A limb is a branch of the file that is one serial leg from the base to
 //! the platform. Its leg is given either by its material and section,
@@ -30,41 +30,17 @@
 //!     units { length = mm; mass = kg; }
 //!     limbs { A, B { E = 2.11e5; A = pi * d^2 / 4; I = pi * d^4 / 64; }
 //!             C { axial = 1.0e5; bending = 350; actuator = 2.0e5; } } }").unwrap();
-//! let limbs = pkm_dsl::limb_properties::limb_properties(&a, &Default::default()).unwrap();
+//! let limbs = pkm_dsl::numeric::limb_properties(&a, &Default::default()).unwrap();
 //! assert_eq!(a.names(&limbs[0].joints), ["R1", "P1", "S1"]);
 //! assert_eq!(limbs[2].actuator, Some(2.0e5));
 //! ```
 
-use crate::analysis::Analysis;
 use crate::ast::Name;
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::Expr;
 use crate::geometry::Geometry;
 use crate::mechanism::{suggest, JointKind, Mechanism};
-use crate::parser::{self, Rule};
-use pest::iterators::Pair;
+pub use crate::syntax::limbs::{LimbDecl, LimbValue};
 use std::collections::HashMap;
-
-/// One entry of a `limbs { … }` block as written:
-/// `A, B { E = …; A = …; I = …; }`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LimbDecl {
-    /// The branches it gives properties to.
-    pub branches: Vec<Name>,
-    /// Each `key = value;`, the value with its span.
-    pub items: Vec<(Name, LimbValue)>,
-    /// The whole entry.
-    pub span: Span,
-}
-
-/// A value of a limb property: its expression and where it is written.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LimbValue {
-    /// The expression (of the parameters).
-    pub expr: Expr,
-    /// Where it is written.
-    pub span: Span,
-}
 
 /// A leg's stiffness as declared: by material and section, or directly.
 /// `T` is a [`LimbValue`] as written or an `f64` evaluated.
@@ -176,7 +152,7 @@ pub fn with_joints<'a, L>(limbs: &'a [L], joints: impl Fn(&'a L) -> &'a [usize],
 }
 
 /// The keys of a limb entry, with what each is (for messages).
-const KEYS: [(&str, &str); 6] = [
+pub(crate) const KEYS: [(&str, &str); 6] = [
     ("E", "Young's modulus"),
     ("A", "cross-section area"),
     ("I", "second moment of area"),
@@ -186,47 +162,6 @@ const KEYS: [(&str, &str); 6] = [
 ];
 const SECTION: [&str; 3] = ["E", "A", "I"];
 const DIRECT: [&str; 2] = ["axial", "bending"];
-
-/// The grammar's name for a rule of the block, for syntax errors.
-pub(crate) fn rule_name(r: Rule) -> &'static str {
-    match r {
-        Rule::limbs_stmt | Rule::kw_limbs => "`limbs { BRANCH { … } }`",
-        Rule::limb_entry => "a limb's properties `BRANCH, … { E = …; A = …; I = …; }`",
-        _ => "`E = …;`, `A = …;`, `I = …;`, `axial = …;`, `bending = …;` or `actuator = …;`",
-    }
-}
-
-/// Builds the entries of a `limbs` block from its parse.
-pub(crate) fn build_limbs(p: Pair<Rule>) -> Vec<LimbDecl> {
-    p.into_inner()
-        .filter(|q| q.as_rule() == Rule::limb_entry)
-        .map(|q| {
-            let span = parser::span_of(&q);
-            let mut branches = Vec::new();
-            let mut items = Vec::new();
-            for r in q.into_inner() {
-                match r.as_rule() {
-                    Rule::name => branches.push(parser::name(r)),
-                    Rule::limb_item => {
-                        let mut kv = r.into_inner();
-                        let key = parser::name(kv.next().expect("the key"));
-                        let v = kv.next().expect("the value");
-                        let span = parser::span_of(&v);
-                        items.push((
-                            key,
-                            LimbValue {
-                                expr: parser::expr(v),
-                                span,
-                            },
-                        ));
-                    }
-                    _ => {}
-                }
-            }
-            LimbDecl { branches, items, span }
-        })
-        .collect()
-}
 
 /// Checks the `limbs` blocks (each a list of entries with the block's span)
 /// against the mechanism: the file's units (`units_declared`), each branch
@@ -511,56 +446,12 @@ fn actuator_is_a_slide(mech: &Mechanism, i: usize, actuated: &[usize], at: Span,
     );
 }
 
-/// Every declared limb's properties in numbers at the parameters `values`
-/// (overrides by name; the others keep the file's values, derived ones
-/// follow), one per limb in branch order. A value that is not a positive
-/// finite number there is an error at the value, naming the limb.
-///
-/// Which branches have no entry is not an error here: `stiffness` asks for
-/// every branch's ([`crate::check_capabilities`]).
-pub fn limb_properties(a: &Analysis, values: &HashMap<String, f64>) -> Result<Vec<ResolvedLimb>, Diagnostics> {
-    let params = crate::numeric::parameter_values(a, values)?;
-    let mut errors = Diagnostics::default();
-    let mut out = Vec::with_capacity(a.limbs.len());
-    for limb in &a.limbs {
-        let name = &a.mechanism.branches[limb.branch].name;
-        let mut eval = |key: &str, v: &LimbValue| -> f64 {
-            let what = KEYS.iter().find(|(k, _)| *k == key).map_or("value", |(_, w)| w);
-            let problem = match v.expr.eval_checked(&params) {
-                Ok(x) if x > 0.0 => return x,
-                Ok(x) => format!("the {what} `{key}` of limb `{name}` is {x} at these parameters; it must be positive"),
-                Err(why) => format!("the {what} `{key}` of limb `{name}` is not a number at these parameters: {why}"),
-            };
-            errors.push(Diagnostic::new(v.span, problem).label("here"));
-            f64::NAN
-        };
-        let leg = match &limb.leg {
-            LegStiffness::Section { e, a, i } => LegStiffness::Section {
-                e: eval("E", e),
-                a: eval("A", a),
-                i: eval("I", i),
-            },
-            LegStiffness::Direct { axial, bending } => LegStiffness::Direct {
-                axial: eval("axial", axial),
-                bending: eval("bending", bending),
-            },
-        };
-        let actuator = limb.actuator.as_ref().map(|v| eval("actuator", v));
-        out.push(ResolvedLimb {
-            branch: limb.branch,
-            name: name.clone(),
-            joints: limb.joints.clone(),
-            actuated: limb.actuated.clone(),
-            leg,
-            actuator,
-        });
-    }
-    errors.into_result(out)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::expr::Expr;
+    use crate::numeric::limb_properties;
+    use crate::Analysis;
 
     /// A 3-RPS topology with units and two parameters; `limbs` is line 7.
     fn rps(limbs: &str) -> String {

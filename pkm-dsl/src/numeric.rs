@@ -4,6 +4,7 @@
 
 use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::limb_properties::{LegStiffness, LimbValue, ResolvedLimb, KEYS};
 use crate::mechanism::JointKind;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint};
 use std::collections::HashMap;
@@ -301,4 +302,51 @@ pub fn skc_parts(a: &Analysis) -> Vec<pkm_runtime::newton_euler::SkcParts> {
             }
         })
         .collect()
+}
+
+/// Every declared limb's properties in numbers at the parameters `values`
+/// (overrides by name; the others keep the file's values, derived ones
+/// follow), one per limb in branch order. A value that is not a positive
+/// finite number there is an error at the value, naming the limb.
+///
+/// Which branches have no entry is not an error here: `stiffness` asks for
+/// every branch's ([`crate::check_capabilities`]).
+pub fn limb_properties(a: &Analysis, values: &HashMap<String, f64>) -> Result<Vec<ResolvedLimb>, Diagnostics> {
+    let params = parameter_values(a, values)?;
+    let mut errors = Diagnostics::default();
+    let mut out = Vec::with_capacity(a.limbs.len());
+    for limb in &a.limbs {
+        let name = &a.mechanism.branches[limb.branch].name;
+        let mut eval = |key: &str, v: &LimbValue| -> f64 {
+            let what = KEYS.iter().find(|(k, _)| *k == key).map_or("value", |(_, w)| w);
+            let problem = match v.expr.eval_checked(&params) {
+                Ok(x) if x > 0.0 => return x,
+                Ok(x) => format!("the {what} `{key}` of limb `{name}` is {x} at these parameters; it must be positive"),
+                Err(why) => format!("the {what} `{key}` of limb `{name}` is not a number at these parameters: {why}"),
+            };
+            errors.push(Diagnostic::new(v.span, problem).label("here"));
+            f64::NAN
+        };
+        let leg = match &limb.leg {
+            LegStiffness::Section { e, a, i } => LegStiffness::Section {
+                e: eval("E", e),
+                a: eval("A", a),
+                i: eval("I", i),
+            },
+            LegStiffness::Direct { axial, bending } => LegStiffness::Direct {
+                axial: eval("axial", axial),
+                bending: eval("bending", bending),
+            },
+        };
+        let actuator = limb.actuator.as_ref().map(|v| eval("actuator", v));
+        out.push(ResolvedLimb {
+            branch: limb.branch,
+            name: name.clone(),
+            joints: limb.joints.clone(),
+            actuated: limb.actuated.clone(),
+            leg,
+            actuator,
+        });
+    }
+    errors.into_result(out)
 }

@@ -99,7 +99,7 @@ impl<'r> Stiffness<'r> {
                 "stiffness needs the file's units and limbs: `units { length = mm; mass = kg; }` and a `limbs` block giving every limb's E, A, I (or its springs)",
             ));
         }
-        let limbs = pkm_dsl::limb_properties::limb_properties(a, &l.values).map_err(|d| r.parse_failure(d))?;
+        let limbs = pkm_dsl::numeric::limb_properties(a, &l.values).map_err(|d| r.parse_failure(d))?;
         if limbs.is_empty() {
             return Err(Failure::input(
                 "stiffness needs a `limbs` block giving every limb's E, A, I (or its springs)",

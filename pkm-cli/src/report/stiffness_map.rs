@@ -142,7 +142,7 @@ pub(super) fn stiffness_map(
     let Some(units) = a.mass_and_loads.units.filter(|_| declared) else {
         return Ok(());
     };
-    let limbs = match pkm_dsl::limb_properties::limb_properties(a, &l.values) {
+    let limbs = match pkm_dsl::numeric::limb_properties(a, &l.values) {
         Ok(limbs) => limbs,
         Err(d) => {
             let why = d.0.first().map(|x| x.message.clone()).unwrap_or_default();

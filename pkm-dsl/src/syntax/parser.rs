@@ -1,15 +1,15 @@
 //! The pest parser: text to [`MechanismAst`]. Grammar errors become
 //! [`Diagnostic`]s with spans; nothing here panics on user input.
 
-use crate::ast::*;
+use super::ast::*;
+use super::expr::Expr;
 use crate::diagnostics::{Diagnostic, Span};
-use crate::expr::Expr;
 use crate::limits::{MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS};
 use pest::iterators::Pair;
 use pest::Parser;
 
 #[derive(pest_derive::Parser)]
-#[grammar = "grammar.pest"]
+#[grammar = "syntax/grammar.pest"]
 struct DslParser;
 
 /// Parses one mechanism description.
@@ -333,7 +333,7 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::kw_speed
         | Rule::kw_duration
         | Rule::kw_sections
-        | Rule::kw_nodes => crate::study::rule_name(r),
+        | Rule::kw_nodes => super::study::rule_name(r),
         Rule::units_stmt
         | Rule::unit_item
         | Rule::masses_stmt
@@ -353,8 +353,8 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::kw_gravity
         | Rule::kw_loads
         | Rule::kw_force
-        | Rule::kw_moment => crate::mass_and_loads::rule_name(r),
-        Rule::limbs_stmt | Rule::limb_entry | Rule::limb_item | Rule::kw_limbs => crate::limb_properties::rule_name(r),
+        | Rule::kw_moment => super::masses::rule_name(r),
+        Rule::limbs_stmt | Rule::limb_entry | Rule::limb_item | Rule::kw_limbs => super::limbs::rule_name(r),
     }
 }
 
@@ -451,17 +451,17 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                 ast.point = Some((point, joint));
             }
             Rule::chain => ast.chains.push(chain(stmt, None)),
-            Rule::study_stmt => ast.studies.push(crate::study::build(stmt)),
-            Rule::units_stmt => ast.units.push(crate::mass_and_loads::build_units(stmt)),
+            Rule::study_stmt => ast.studies.push(super::study::build(stmt)),
+            Rule::units_stmt => ast.units.push(super::masses::build_units(stmt)),
             Rule::masses_stmt => {
                 let span = span_of(&stmt);
-                ast.masses.push((crate::mass_and_loads::build_masses(stmt), span));
+                ast.masses.push((super::masses::build_masses(stmt), span));
             }
-            Rule::gravity_stmt => ast.gravity.push(crate::mass_and_loads::build_gravity(stmt)),
-            Rule::loads_stmt => ast.loads.extend(crate::mass_and_loads::build_loads(stmt)),
+            Rule::gravity_stmt => ast.gravity.push(super::masses::build_gravity(stmt)),
+            Rule::loads_stmt => ast.loads.extend(super::masses::build_loads(stmt)),
             Rule::limbs_stmt => {
                 let span = span_of(&stmt);
-                ast.limbs.push((crate::limb_properties::build_limbs(stmt), span));
+                ast.limbs.push((super::limbs::build_limbs(stmt), span));
             }
             Rule::outputs_stmt => ast.outputs.extend(
                 stmt.into_inner()

@@ -1,8 +1,8 @@
 //! The syntax tree of a mechanism description, as written (before any
 //! semantic check). Every name keeps its span for diagnostics.
 
+use super::expr::Expr;
 use crate::diagnostics::Span;
-use crate::expr::Expr;
 
 /// A name with its place in the text.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -71,17 +71,17 @@ pub struct MechanismAst {
     /// `outputs { … }`.
     pub outputs: Vec<OutputDecl>,
     /// `study { … }` blocks: what `pkm report` samples (one allowed; a second is reported there).
-    pub studies: Vec<crate::study::Study>,
+    pub studies: Vec<super::study::Study>,
     /// `units { … }` blocks (one allowed; a second is reported).
-    pub units: Vec<crate::mass_and_loads::UnitsDecl>,
+    pub units: Vec<super::masses::UnitsDecl>,
     /// `masses { … }` blocks: their entries and the block's span.
-    pub masses: Vec<(Vec<crate::mass_and_loads::MassDecl>, Span)>,
+    pub masses: Vec<(Vec<super::masses::MassDecl>, Span)>,
     /// `gravity (…);` statements (one allowed).
-    pub gravity: Vec<crate::mass_and_loads::Value>,
+    pub gravity: Vec<super::masses::Value>,
     /// The loads of `loads { … }` blocks.
-    pub loads: Vec<crate::mass_and_loads::LoadDecl>,
+    pub loads: Vec<super::masses::LoadDecl>,
     /// `limbs { … }` blocks: their entries and the block's span.
-    pub limbs: Vec<(Vec<crate::limb_properties::LimbDecl>, Span)>,
+    pub limbs: Vec<(Vec<super::limbs::LimbDecl>, Span)>,
 }
 
 /// `x, y, phi = pose of platform at o;` or `psi = joint R4;`.

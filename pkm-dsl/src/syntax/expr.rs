@@ -488,7 +488,7 @@ mod tests {
     use super::*;
 
     fn check(source: &str, expected: f64) {
-        let ast = crate::parse(&format!(
+        let ast = crate::syntax::parser::parse(&format!(
             "mechanism m {{ parameters {{ a = 3; b = 4; v = {source}; }} }}"
         ))
         .unwrap();
@@ -523,7 +523,7 @@ mod tests {
     /// Resolves `parameters { BODY }` with `overrides`: the value of `name`
     /// (`Ok`) or the errors' messages (`Err`).
     fn resolved(body: &str, overrides: &[(&str, f64)], name: &str) -> Result<f64, Vec<String>> {
-        let ast = crate::parse(&format!("mechanism m {{ parameters {{ {body} }} }}")).unwrap();
+        let ast = crate::syntax::parser::parse(&format!("mechanism m {{ parameters {{ {body} }} }}")).unwrap();
         let defs: Vec<Definition> = ast
             .parameters
             .iter()
@@ -618,13 +618,13 @@ mod tests {
             "2^-a^2",
             "atan2(b, -a)",
         ] {
-            let ast = crate::parse(&format!(
+            let ast = crate::syntax::parser::parse(&format!(
                 "mechanism m {{ parameters {{ a = 3; b = 4; v = {source}; }} }}"
             ))
             .unwrap();
             let shown = ast.parameters[2].1.to_string();
             check(source, {
-                let again = crate::parse(&format!(
+                let again = crate::syntax::parser::parse(&format!(
                     "mechanism m {{ parameters {{ a = 3; b = 4; v = {shown}; }} }}"
                 ))
                 .unwrap();
