@@ -1,6 +1,11 @@
-//! Snapshots of the code `pkm::mechanism!` generates, pretty-printed with
-//! prettyplease (parsing it with syn also proves it is valid Rust). Each
-//! snapshot was read line by line against the example's analysis.
+//! Snapshots of what `pkm::mechanism!` generates. Three examples keep the
+//! whole generated code, pretty-printed with prettyplease (parsing it with
+//! syn also proves it is valid Rust): a planar four-bar, seed 003's punch
+//! (planar, eight bars, `fk` only) and the spatial R-S-U-R. Every other
+//! example's snapshot is its plans as text
+//! ([`pkm::runtime::spatial::Plan::display`]): the steps the generated code
+//! traces, one line each. Each snapshot was read line by line against the
+//! example's joints.
 
 mod common;
 
@@ -15,8 +20,23 @@ fn expansion_of(text: &str, type_name: &str) -> String {
     prettyplease::unparse(&syn::parse_file(&tokens.to_string()).unwrap())
 }
 
-/// One snapshot per example file, named after it.
-macro_rules! snapshots {
+/// An example's forward and inverse plans as text, or why it has none.
+fn plans(file: &str) -> String {
+    let (text, path) = common::example_text(file);
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+    let model = pkm::dsl::numeric::model(&c.analysis, &Default::default()).unwrap();
+    let mut out = String::new();
+    for (direction, plan) in [("forward", c.forward()), ("inverse", c.inverse())] {
+        match plan {
+            Ok(plan) => out += &plan.display(&model).to_string(),
+            Err(d) => out += &format!("no {direction} plan: {}\n", d.0[0].message),
+        }
+    }
+    out
+}
+
+/// The whole generated code of one example file, named after it.
+macro_rules! code_snapshots {
     ($($file:ident => $ty:literal),* $(,)?) => {$(
         #[test]
         fn $file() {
@@ -26,38 +46,50 @@ macro_rules! snapshots {
     )*};
 }
 
-snapshots! {
-    four_bar => "FourBar",
-    slider_crank => "SliderCrank",
-    inverted_slider_crank => "Inverted",
-    crank_shaper => "Shaper",
-    cylinder_rocker => "Cylinder",
-    scotch_yoke => "Yoke",
-    four_bar_coupler_driven => "CouplerDriven",
-    planar_3rpr => "ThreeRpr",
-    spherical_four_bar => "Spherical",
-    agile_eye => "AgileEye",
-    five_bar => "FiveBar",
-    watt_six_bar => "Watt",
-    planar_3rrr => "ThreeRrr",
-    seed003_punch => "Punch",
-    seed003_punch_original => "PunchOriginal",
-    stephenson3 => "Stephenson3",
-    seed000_a => "SeedA",
-    seed000_a_u => "SeedAU",
-    seed000_b => "SeedB",
-    five_bar_pa => "FiveBarPa",
-    rps_3 => "Rps",
-    spr_3 => "Spr",
-    rssr => "Rssr",
-    rssp => "Rssp",
-    rsur => "Rsur",
-    upu_3 => "Upu",
-    ups_6 => "Ups",
-    rps_3_tilt => "RpsTilt",
-    prs_3 => "Prs",
+/// The plans of one example file, named after it.
+macro_rules! plan_snapshots {
+    ($($file:ident),* $(,)?) => {$(
+        #[test]
+        fn $file() {
+            insta::assert_snapshot!(plans(stringify!($file)));
+        }
+    )*};
 }
 
+code_snapshots! {
+    four_bar => "FourBar",
+    seed003_punch => "Punch",
+    rsur => "Rsur",
+}
+
+plan_snapshots! {
+    slider_crank,
+    inverted_slider_crank,
+    crank_shaper,
+    cylinder_rocker,
+    scotch_yoke,
+    four_bar_coupler_driven,
+    planar_3rpr,
+    spherical_four_bar,
+    agile_eye,
+    five_bar,
+    watt_six_bar,
+    planar_3rrr,
+    seed003_punch_original,
+    stephenson3,
+    seed000_a,
+    seed000_a_u,
+    seed000_b,
+    five_bar_pa,
+    rps_3,
+    spr_3,
+    rssr,
+    rssp,
+    upu_3,
+    ups_6,
+    rps_3_tilt,
+    prs_3,
+}
 #[test]
 fn pay_for_what_you_use() {
     // `ik` only (3-RRR, κ = 1): an inverse solver and no forward one.

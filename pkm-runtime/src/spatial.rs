@@ -42,6 +42,9 @@ use crate::solution::{PointRef, SolveError};
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
 use std::borrow::Cow;
 
+mod listing;
+pub use listing::Listing;
+
 /// A link's pose in the world.
 pub type Pose3 = Isometry3<f64>;
 
