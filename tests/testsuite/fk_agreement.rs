@@ -1,7 +1,7 @@
 //! Two paths that must agree: the closed-form plan (interpreter) and the
 //! reference Newton solver, started near each branch, at random inputs.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::kinematics;

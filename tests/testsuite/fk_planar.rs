@@ -3,7 +3,7 @@
 //! equations (1)–(4) written out here, textbook closed forms, and the joint
 //! conventions of the numeric model (`joint_transform`, a 3-D code path).
 
-mod common;
+use crate::common;
 
 use pkm::runtime::model::{joint_transform, Model};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};

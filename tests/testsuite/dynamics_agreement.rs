@@ -13,7 +13,7 @@
 //! components each SKC leaves undetermined are as many as its loops'
 //! Σ (6 − ξ_L) from the topology.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::mass_properties::{Body, Carrier, Loading, PointLoad};

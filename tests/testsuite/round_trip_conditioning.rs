@@ -11,7 +11,7 @@
 //! which grows without bound as the arm turns upright (z → l1 ± l5). There
 //! the round trip multiplies fk's last-bit rounding of z by that factor.
 
-mod common;
+use crate::common;
 
 use common::max_error;
 use pkm::runtime::newton::{self, NewtonOptions, Output};

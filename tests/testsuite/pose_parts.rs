@@ -5,7 +5,7 @@
 //! leg as long as its slide, the platform rigid and at the given height
 //! and tilt) and against Newton's inverse solution.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::spatial;

@@ -5,7 +5,7 @@
 //! finds is found, and every assembly reported closes the model's loops to
 //! rounding (`kinematics::loop_residual`, no step of the plan involved).
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::fk_numeric::{self, RootKind};

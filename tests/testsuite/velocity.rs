@@ -6,7 +6,7 @@
 //! forward velocity map reproduces the output rates and the inverse map
 //! takes them back to the input rates.
 
-mod common;
+use crate::common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;

@@ -8,7 +8,7 @@
 //! paper rules out (x_E = x1 or x2, x1 = x2, z_E = l1: "not reachable") are
 //! not placed.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};

@@ -11,7 +11,7 @@
 //! solution (κ = 2, no closed-form plan) is Newton's from the home pose,
 //! labelled numeric.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton::{self, NewtonOptions};

@@ -3,7 +3,7 @@
 //! beyond it the error states the limit; nothing panics, hangs or overflows
 //! the stack (these tests run on the test harness's 2 MiB threads).
 
-mod common;
+use crate::common;
 
 use pkm::dsl::limits::{
     MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_JOINTS, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS, MAX_RELATIONS,

@@ -13,7 +13,7 @@
 //! of the weights and the payload, with DB3's centroid taken as the
 //! midpoint of the named points B3 and D (not from the bar's pose).
 
-mod common;
+use crate::common;
 
 use pkm::runtime::mass_properties::Loading;
 use pkm::runtime::model::Model;

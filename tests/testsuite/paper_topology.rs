@@ -3,7 +3,7 @@
 //! counts for the textbook mechanisms (four-bar, slider-crank, 5R five-bar,
 //! 3-RRR, 3-RPS, 3-SPR, whose ξ, Δ and κ follow from Σf and the loop type).
 
-mod common;
+use crate::common;
 
 use pkm::dsl::{analyze_source, Analysis};
 

@@ -8,7 +8,7 @@
 //! stiffnesses and deflection, or the same kind of failure; the deflection
 //! helper checked against `K δ = W`; bad input typed.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::nalgebra::{Matrix6, Vector6};

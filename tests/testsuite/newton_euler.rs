@@ -6,7 +6,7 @@
 
 use pkm::runtime::primitives::Sign;
 
-mod common;
+use crate::common;
 
 /// The slider-crank of `examples/mechanisms/slider_crank.pkm` (r = 50,
 /// l = 180, e = 0), its slider alone with mass, pushed back along its guide.

@@ -3,7 +3,7 @@
 //! in this file, and pure statics (no motion) from finite differences of
 //! the positions the solver gives, on seed 000's mechanism A.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::mass_properties::{Carrier, Loading};
 use pkm::runtime::model::Model;

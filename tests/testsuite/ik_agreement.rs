@@ -3,7 +3,7 @@
 //! outputs as inputs), started 1e-3 away from that branch, at poses the
 //! generated fk reaches from random inputs.
 
-mod common;
+use crate::common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;

@@ -7,7 +7,7 @@
 //! U's two turns, `two_turns` and an aim) are run one by one, the sphere's
 //! root chosen, the U's the `+` one.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::frame::Frame;
 use pkm::runtime::primitives::Sign;

@@ -11,7 +11,7 @@
 //! and H (uniform rods give m l²/3 = 0.629 and 10.96 kg·mm² there), so the
 //! file subtracts m (l/2)² for the centroidal values.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::mass_properties::Loading;
 use pkm::runtime::model::Model;

@@ -10,7 +10,7 @@
 //! mechanism's size, angles modulo 2π, both to 1e-9 (see `bound` for the
 //! few draws next to a branch switch).
 
-mod common;
+use crate::common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;

@@ -4,7 +4,7 @@
 //! the forward solution): the actuators' forces and every joint's reaction
 //! agree to 1e-9 of the largest.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton_euler::{inverse_dynamics, DynamicsError, JointReaction, Reactions};

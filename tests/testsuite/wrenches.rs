@@ -10,7 +10,7 @@
 //! platform's displacement, and for the 3-RPS the closed forms of seed 004
 //! (eqs. 8–12) and K = Jᵀ K_p J (eqs. 13–17) written out.
 
-mod common;
+use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::model::{JointType, Model, Place};

@@ -8,7 +8,7 @@
 //! generated solvers against the plan interpreter, and every branch against
 //! Newton's inverse solution.
 
-mod common;
+use crate::common;
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;

@@ -3,7 +3,7 @@
 //! trips fk∘ik and ik∘fk; every plan solution also closes the loops of the
 //! numeric model (the Newton reference's residual).
 
-mod common;
+use crate::common;
 
 use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;

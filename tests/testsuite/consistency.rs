@@ -6,7 +6,7 @@
 //! every `ok` answer: the forward solution at its inputs must reproduce
 //! the given outputs to 1e-9 of the mechanism's extent.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::consistency::Contradicted;
 use pkm::runtime::solution::SolveError;

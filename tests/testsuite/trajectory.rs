@@ -5,7 +5,7 @@
 //! agree with central differences of the followed positions to 1e-6 of
 //! their size, and the path has no jump.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::{kinematics, velocity};
 use std::f64::consts::PI;

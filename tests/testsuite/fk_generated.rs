@@ -1,7 +1,7 @@
 //! Generated forward solvers against the plan interpreter (two paths that
 //! must agree), branch by branch, at many inputs.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::solution::signs_of;
 use pkm::runtime::spatial;

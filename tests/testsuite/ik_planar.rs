@@ -2,7 +2,7 @@
 //! the generated code against Newton's forward solution (3-RRR, κ = 1, so no
 //! closed-form fk exists) and against the closed-form fk (round trips).
 
-mod common;
+use crate::common;
 
 use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};

@@ -5,16 +5,16 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 
 const EXAMPLES: [&str; 10] = [
-    include_str!("../examples/mechanisms/seed000_a.pkm"),
-    include_str!("../examples/mechanisms/seed000_b.pkm"),
-    include_str!("../examples/mechanisms/seed003_punch_original.pkm"),
-    include_str!("../examples/mechanisms/seed003_punch.pkm"),
-    include_str!("../examples/mechanisms/four_bar.pkm"),
-    include_str!("../examples/mechanisms/slider_crank.pkm"),
-    include_str!("../examples/mechanisms/five_bar.pkm"),
-    include_str!("../examples/mechanisms/planar_3rrr.pkm"),
-    include_str!("../examples/mechanisms/rps_3.pkm"),
-    include_str!("../examples/mechanisms/spr_3.pkm"),
+    include_str!("../../examples/mechanisms/seed000_a.pkm"),
+    include_str!("../../examples/mechanisms/seed000_b.pkm"),
+    include_str!("../../examples/mechanisms/seed003_punch_original.pkm"),
+    include_str!("../../examples/mechanisms/seed003_punch.pkm"),
+    include_str!("../../examples/mechanisms/four_bar.pkm"),
+    include_str!("../../examples/mechanisms/slider_crank.pkm"),
+    include_str!("../../examples/mechanisms/five_bar.pkm"),
+    include_str!("../../examples/mechanisms/planar_3rrr.pkm"),
+    include_str!("../../examples/mechanisms/rps_3.pkm"),
+    include_str!("../../examples/mechanisms/spr_3.pkm"),
 ];
 
 const TOKENS: &[&str] = &[

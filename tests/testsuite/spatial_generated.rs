@@ -3,7 +3,7 @@
 //! a parallelogram branch: every branch of fk at random inputs, and of ik
 //! at the poses fk finds; the balls' rotations of the S-joint mechanisms.
 
-mod common;
+use crate::common;
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::solution::{Branch, SolveError};

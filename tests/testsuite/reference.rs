@@ -3,9 +3,8 @@
 //! every point, and equal to a hand derivation of the four-bar in the same
 //! precision.
 
-mod common;
-#[path = "common/work_precision.rs"]
-mod work_precision;
+use crate::common;
+use crate::work_precision;
 
 use pkm::runtime::real::Real;
 use pkm::runtime::reference::{f256, max_error, to_f64, STEP_TOLERANCE};
