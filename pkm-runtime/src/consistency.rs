@@ -17,6 +17,7 @@
 //! [`SolveError::DoubleRoot`], naming its twin.
 
 use crate::primitives::TANGENCY_TOL;
+pub use crate::solution::Contradicted;
 use crate::solution::{wrap_angle, Branch, SolveError};
 use nalgebra::{DMatrix, DVector};
 use std::borrow::Cow;
@@ -32,20 +33,6 @@ pub const VERIFY_TOL: f64 = 0.1 * TANGENCY_TOL;
 
 /// How many Gauss–Newton steps [`nearest`] takes at most.
 pub const NEAREST_ITERATIONS: usize = 40;
-
-/// A given value that the others contradict (see [`SolveError::Inconsistent`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Contradicted {
-    /// Its index among the given values.
-    pub index: usize,
-    /// Its name (an output's or an input's), or `#k` (1-based) where the
-    /// solver does not know it.
-    pub name: Cow<'static, str>,
-    /// The value given.
-    pub given: f64,
-    /// The nearest value consistent with the other given values.
-    pub nearest: f64,
-}
 
 /// The extent of a solution: the largest coordinate magnitude of its
 /// points, at least 1 (the scale residuals are measured against).

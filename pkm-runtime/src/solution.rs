@@ -54,7 +54,7 @@ pub enum SolveError {
         gap: f64,
         /// The given value the others contradict, where the projection onto
         /// consistent values found it.
-        contradicted: Option<Box<crate::consistency::Contradicted>>,
+        contradicted: Option<Box<Contradicted>>,
     },
     /// This branch is the same solution as branch number `twin`: a double
     /// root (tangency) of one step, where its two signs meet.
@@ -241,6 +241,21 @@ pub fn extrapolate<const J: usize>(previous: &[f64; J], before: &[f64; J], revol
         out[k] += if revolute[k] { wrap_angle(step) } else { step };
     }
     out
+}
+
+/// A given value that the others contradict (see [`SolveError::Inconsistent`], found by
+/// [`crate::consistency::inconsistent`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contradicted {
+    /// Its index among the given values.
+    pub index: usize,
+    /// Its name (an output's or an input's), or `#k` (1-based) where the
+    /// solver does not know it.
+    pub name: Cow<'static, str>,
+    /// The value given.
+    pub given: f64,
+    /// The nearest value consistent with the other given values.
+    pub nearest: f64,
 }
 
 #[cfg(test)]
