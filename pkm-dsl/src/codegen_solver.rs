@@ -405,8 +405,7 @@ pub fn generate(
     }
     let prepared = format_ident!("{}Prepared", ident);
     let params_ty = format_ident!("{}Params", ident);
-    let n = emit.slot_count();
-    let prepare = emit.prepare();
+    let (fields, prepare) = emit.prepared(&prepared);
     let doc = format!(
         " `{}` prepared at its parameters ([`{ident}::prepare`]): what depends on the dimensions alone, computed once.",
         a.mechanism.name
@@ -414,8 +413,9 @@ pub fn generate(
     Ok(quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(non_snake_case)]
         #vis struct #prepared {
-            k: [f64; #n],
+            #fields
         }
 
         #[automatically_derived]
@@ -424,7 +424,7 @@ pub fn generate(
             /// dimensions the solvers use, computed once.
             pub fn prepare(params: &#params_ty) -> #prepared {
                 let _ = params;
-                #prepared { k: { #prepare } }
+                #prepare
             }
         }
 
