@@ -73,7 +73,10 @@ impl Listing<'_> {
     /// The link reached from `link` across `hops`.
     fn end(&self, link: usize, hops: &[super::Hop]) -> usize {
         hops.iter().fold(link, |_, h| {
-            self.model.joints.get(h.joint).map_or(usize::MAX, |j| j.links[usize::from(h.forward)])
+            self.model
+                .joints
+                .get(h.joint)
+                .map_or(usize::MAX, |j| j.links[usize::from(h.forward)])
         })
     }
 
@@ -87,7 +90,12 @@ impl Listing<'_> {
         if a.hops.is_empty() || own {
             format!("{} of {}", self.point(a.point), self.link(a.link))
         } else {
-            format!("{} known from {}{}", self.point(a.point), self.link(a.link), self.through(&a.hops))
+            format!(
+                "{} known from {}{}",
+                self.point(a.point),
+                self.link(a.link),
+                self.through(&a.hops)
+            )
         }
     }
 
@@ -106,7 +114,12 @@ impl Listing<'_> {
         if d.hops.is_empty() {
             format!("the axis of {} of {}", self.joint(d.joint), self.link(d.link))
         } else {
-            format!("the axis of {} known from {}{}", self.joint(d.joint), self.link(d.link), self.through(&d.hops))
+            format!(
+                "the axis of {} known from {}{}",
+                self.joint(d.joint),
+                self.link(d.link),
+                self.through(&d.hops)
+            )
         }
     }
 
@@ -133,7 +146,11 @@ impl Listing<'_> {
                 format!("the sphere about {} of radius {radius}", self.anchor(centre))
             }
             Constraint::Plane { normal, anchor } => {
-                format!("the plane through {} normal to {}", self.anchor(anchor), self.direction(normal))
+                format!(
+                    "the plane through {} normal to {}",
+                    self.anchor(anchor),
+                    self.direction(normal)
+                )
             }
             Constraint::Cylinder { hops, joint, link } => format!(
                 "the cylinder about {} of {}{}",
@@ -167,7 +184,10 @@ impl Listing<'_> {
                     Turn::Angles => " and its rx, ry, rz".into(),
                     Turn::Fixed | Turn::Free => String::new(),
                 };
-                out.insert(input, format!("{xyz} of {} at {}{turn}", self.link(link), self.point(point)));
+                out.insert(
+                    input,
+                    format!("{xyz} of {} at {}{turn}", self.link(link), self.point(point)),
+                );
             }
             Step::Parasitic {
                 link,
@@ -177,7 +197,10 @@ impl Listing<'_> {
                 ..
             } => {
                 let names: Vec<&str> = parts.given().map(|p| PoseParts::NAMES[p]).collect();
-                out.insert(input, format!("{} of {} at {}", names.join(", "), self.link(link), self.point(point)));
+                out.insert(
+                    input,
+                    format!("{} of {} at {}", names.join(", "), self.link(link), self.point(point)),
+                );
             }
             Step::Transfer { joint, input, .. } => {
                 out.insert(input, self.joint(joint).to_string());
@@ -225,7 +248,11 @@ impl Listing<'_> {
                 point,
                 meet: Meet::Through(target),
                 ..
-            } => format!("the line of {} through {}", self.joint(*slide), self.point_at(*point, target)),
+            } => format!(
+                "the line of {} through {}",
+                self.joint(*slide),
+                self.point_at(*point, target)
+            ),
             Step::SlideToLine {
                 slide,
                 point,
@@ -522,7 +549,13 @@ forward plan: given R1; 1 ± choice, 2 branches
             link: 4,
             at: [0.0; 3],
         };
-        let m = model("leg", false, &["base", "U1.cross", "A1", "A2", "platform"], joints, vec![o]);
+        let m = model(
+            "leg",
+            false,
+            &["base", "U1.cross", "A1", "A2", "platform"],
+            joints,
+            vec![o],
+        );
         let ball = Anchor {
             link: 4,
             hops: hop(3, false),
