@@ -98,8 +98,7 @@ pub(crate) fn generate(
     let samples = vp.samples;
     let prepared = format_ident!("{}FkNumeric", ident);
     let params_ty = format_ident!("{}Params", ident);
-    let n_slots = emit.slot_count();
-    let prepare = emit.prepare();
+    let (fields, prepare) = emit.prepared(&prepared);
     let virtual_name = &m.joints[vp.joint].name;
     let fk_doc = format!(
         " Every real assembly at the inputs `q` (the actuated joints in declaration order, [`{prepared}::GIVEN`] but the last), by a virtual variable ([`{prepared}::fk_numeric`])."
@@ -158,8 +157,9 @@ pub(crate) fn generate(
     Ok(quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(non_snake_case)]
         #vis struct #prepared {
-            k: [f64; #n_slots],
+            #fields
         }
 
         #[automatically_derived]
@@ -167,7 +167,7 @@ pub(crate) fn generate(
             /// The forward solution by a virtual variable prepared at `params`.
             pub fn prepare_fk_numeric(params: &#params_ty) -> #prepared {
                 let _ = params;
-                #prepared { k: { #prepare } }
+                #prepare
             }
 
             #[doc = #fk_doc]

@@ -147,9 +147,15 @@ fn branch(
         }
     }
     for (j, v) in state.values.iter().enumerate() {
-        if let Some(steps::JointValue::Turn(c, s, _)) = v {
-            c.named(&|| format!("cos_{}", m.joints[j].name));
-            s.named(&|| format!("sin_{}", m.joints[j].name));
+        match v {
+            Some(steps::JointValue::Turn(c, s, _)) => {
+                c.named(&|| format!("cos_{}", m.joints[j].name));
+                s.named(&|| format!("sin_{}", m.joints[j].name));
+            }
+            Some(steps::JointValue::Slide(t)) => {
+                t.named(&|| m.joints[j].name.clone());
+            }
+            None => {}
         }
     }
     let value = |j: usize| steps::value(g, &state, j);
@@ -205,6 +211,24 @@ fn branch(
                 outputs.extend(parts.given().map(|i| six[i]));
             }
             OutputKind::Joint(j) => outputs.push(value(*j)),
+        }
+    }
+    // Names for what the solvers return: the outputs, every joint's value
+    // and every point's coordinates (those no step named already).
+    for (v, n) in outputs.iter().zip(a.geometry.outputs.iter().flat_map(|o| &o.names)) {
+        v.named(&|| n.clone());
+    }
+    for (v, joint) in joint_values.iter().zip(&m.joints) {
+        v.named(&|| joint.name.clone());
+    }
+    let point_names = m
+        .joints
+        .iter()
+        .map(|j| &j.name)
+        .chain(a.geometry.points.iter().map(|p| &p.name));
+    for (p, n) in points.iter().zip(point_names) {
+        for (v, c) in p.iter().zip(["x", "y", "z"]) {
+            v.named(&|| format!("{n}_{c}"));
         }
     }
     let choices = steps::choice_values(plan, &state);
@@ -405,8 +429,7 @@ pub fn generate(
     }
     let prepared = format_ident!("{}Prepared", ident);
     let params_ty = format_ident!("{}Params", ident);
-    let n = emit.slot_count();
-    let prepare = emit.prepare();
+    let (fields, prepare) = emit.prepared(&prepared);
     let doc = format!(
         " `{}` prepared at its parameters ([`{ident}::prepare`]): what depends on the dimensions alone, computed once.",
         a.mechanism.name
@@ -414,8 +437,9 @@ pub fn generate(
     Ok(quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(non_snake_case)]
         #vis struct #prepared {
-            k: [f64; #n],
+            #fields
         }
 
         #[automatically_derived]
@@ -424,7 +448,7 @@ pub fn generate(
             /// dimensions the solvers use, computed once.
             pub fn prepare(params: &#params_ty) -> #prepared {
                 let _ = params;
-                #prepared { k: { #prepare } }
+                #prepare
             }
         }
 

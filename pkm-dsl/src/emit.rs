@@ -19,6 +19,8 @@ pub struct Emit<'g> {
     g: &'g Graph,
     slots: RefCell<Vec<Sym>>,
     slot_of: RefCell<HashMap<Sym, usize>>,
+    /// Each slot's field of the prepared type, in slot order.
+    fields: RefCell<Vec<proc_macro2::Ident>>,
     /// The name of each kernel site's loop, for errors.
     sites: Vec<String>,
 }
@@ -87,6 +89,28 @@ fn named_constant(x: f64) -> Option<TokenStream> {
     })
 }
 
+/// How many operations deep a name describes a node ([`Emit::label`]).
+const LABEL_DEPTH: usize = 3;
+
+/// The longest name a node is given, in characters ([`Emit::label`]).
+const LABEL_LEN: usize = 24;
+
+/// A name as an identifier: a description's names may be numbers or
+/// non-ASCII words, or Rust's keywords.
+fn ident_text(n: &str) -> String {
+    let n: String = n
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    if n.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("n{n}")
+    } else if syn::parse_str::<syn::Ident>(&n).is_err() {
+        format!("{n}_")
+    } else {
+        n
+    }
+}
+
 /// How a function under emission refers to its nodes.
 struct Scope {
     uses: HashMap<Sym, usize>,
@@ -100,6 +124,7 @@ impl<'g> Emit<'g> {
             g,
             slots: RefCell::default(),
             slot_of: RefCell::default(),
+            fields: RefCell::default(),
             sites,
         }
     }
@@ -112,25 +137,78 @@ impl<'g> Emit<'g> {
         self.g.live[s.0 as usize]
     }
 
-    /// The prepared slot of a parameter-only node.
+    /// The prepared slot of a parameter-only node: a field of the prepared
+    /// type named after what it is (`self.l2`, `self.abs_l3_sq`), or
+    /// `self.k{i}` where the node has no short name.
     fn slot(&self, s: Sym) -> TokenStream {
         let mut of = self.slot_of.borrow_mut();
         let i = *of.entry(s).or_insert_with(|| {
             let mut slots = self.slots.borrow_mut();
             slots.push(s);
-            slots.len() - 1
+            let i = slots.len() - 1;
+            let mut fields = self.fields.borrow_mut();
+            let base = self
+                .label(s, LABEL_DEPTH)
+                .map_or_else(|| format!("k{i}"), |l| ident_text(&l));
+            let taken = |f: &str| fields.iter().any(|x| x == f);
+            let field = if taken(&base) {
+                (2..)
+                    .map(|n| format!("{base}_{n}"))
+                    .find(|f| !taken(f))
+                    .unwrap_or_default()
+            } else {
+                base
+            };
+            fields.push(format_ident!("{}", field));
+            i
         });
-        quote! { self.k[#i] }
+        let field = &self.fields.borrow()[i];
+        quote! { self.#field }
+    }
+
+    /// What a node is, in words short enough for a name: the tracer's
+    /// name for it (a link's coordinate, a joint's cosine), a parameter's
+    /// name, or its operation on its operands' names (`l2_sq`,
+    /// `half_inv_abs_l3`, `cos_R1_times_l2`); `None` beyond `depth`
+    /// operations or [`LABEL_LEN`] characters.
+    fn label(&self, s: Sym, depth: usize) -> Option<String> {
+        if let Some(n) = &self.g.names[s.0 as usize] {
+            return Some(n.clone());
+        }
+        let sub = |o: Sym| if depth == 0 { None } else { self.label(o, depth - 1) };
+        let k = |o: Sym| self.g.constant(o);
+        let l = match self.node(s) {
+            Node::Param(n) => n.clone(),
+            Node::Extent(_) => "extent".into(),
+            Node::Chosen(_, _, v) => return self.label(*v, depth),
+            Node::Mul(a, b) if a == b => format!("{}_sq", sub(*a)?),
+            Node::Mul(a, b) | Node::Mul(b, a) if k(*a).is_some() => {
+                let by = [(2.0, "twice"), (0.5, "half"), (-1.0, "neg")]
+                    .iter()
+                    .find(|c| k(*a) == Some(c.0));
+                format!("{}_{}", by?.1, sub(*b)?)
+            }
+            Node::Div(a, b) if k(*a).is_some() => {
+                let by = [(1.0, "inv"), (0.5, "half_inv")].iter().find(|c| k(*a) == Some(c.0));
+                format!("{}_{}", by?.1, sub(*b)?)
+            }
+            Node::Add(a, b) => format!("{}_plus_{}", sub(*a)?, sub(*b)?),
+            Node::Sub(a, b) => format!("{}_minus_{}", sub(*a)?, sub(*b)?),
+            Node::Mul(a, b) => format!("{}_times_{}", sub(*a)?, sub(*b)?),
+            Node::Div(a, b) => format!("{}_over_{}", sub(*a)?, sub(*b)?),
+            Node::Neg(a) => format!("neg_{}", sub(*a)?),
+            Node::Abs(a) => format!("abs_{}", sub(*a)?),
+            Node::Sqrt(a) => format!("sqrt_{}", sub(*a)?),
+            Node::Sin(a) => format!("sin_{}", sub(*a)?),
+            Node::Cos(a) => format!("cos_{}", sub(*a)?),
+            _ => return None,
+        };
+        (l.chars().count() <= LABEL_LEN).then_some(l)
     }
 
     /// The constant a node is, if it is one.
     pub fn constant(&self, s: Sym) -> Option<f64> {
         self.g.constant(s)
-    }
-
-    /// How many slots the prepared solver has.
-    pub fn slot_count(&self) -> usize {
-        self.slots.borrow().len()
     }
 
     /// The guards of `guards` a function computing `roots` must check: all
@@ -286,21 +364,12 @@ impl<'g> Emit<'g> {
         Some((self.name(s), self.compute(s, &|o| self.expr(o, scope))))
     }
 
+    /// A `let`'s name: what the node is ([`Emit::label`]) and its number,
+    /// unique in the whole graph (`cos_R1_17`), or `v{number}` for a node
+    /// with no short name.
     fn name(&self, s: Sym) -> proc_macro2::Ident {
-        match &self.g.names[s.0 as usize] {
-            Some(n) => {
-                // A description's names may be numbers or non-ASCII words.
-                let n: String = n
-                    .chars()
-                    .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-                    .collect();
-                let prefix = if n.starts_with(|c: char| c.is_ascii_digit()) {
-                    "n"
-                } else {
-                    ""
-                };
-                format_ident!("{}{}_{}", prefix, n, s.0)
-            }
+        match self.label(s, LABEL_DEPTH) {
+            Some(n) => format_ident!("{}_{}", ident_text(&n), s.0),
             None => format_ident!("v{}", s.0),
         }
     }
@@ -489,8 +558,25 @@ impl<'g> Emit<'g> {
         }
     }
 
-    /// `prepare`'s body: every slot handed out, computed from `params`.
-    pub fn prepare(&self) -> TokenStream {
+    /// The prepared type's fields, one per slot handed out
+    /// (`l2: f64, abs_l3_sq: f64`), and `prepare`'s body, a value of
+    /// `ty` computed from `params`.
+    pub fn prepared(&self, ty: &proc_macro2::Ident) -> (TokenStream, TokenStream) {
+        let (lets, values) = self.prepare();
+        let fields = self.fields.borrow();
+        let inits = fields.iter().zip(values).map(|(f, v)| {
+            if v.to_string() == f.to_string() {
+                quote! { #f }
+            } else {
+                quote! { #f: #v }
+            }
+        });
+        (quote! { #(#fields: f64,)* }, quote! { #lets #ty { #(#inits),* } })
+    }
+
+    /// Every slot handed out, computed from `params`: the `let`s of what
+    /// two or more slots share, and each slot's value, in slot order.
+    fn prepare(&self) -> (TokenStream, Vec<TokenStream>) {
         let slots = self.slots.borrow().clone();
         let (order, uses) = {
             // Parameter-only nodes reachable from the slots.
@@ -521,17 +607,23 @@ impl<'g> Emit<'g> {
             bound: RefCell::default(),
         };
         let mut lets = TokenStream::new();
+        // Locals named after what they are, a number added only where two
+        // share a name; `params` is the argument.
+        let mut taken: std::collections::HashSet<String> = ["params".to_string()].into();
         for &s in &order {
             if self.g.constant(s).is_some() || scope.uses.get(&s).copied().unwrap_or(0) < 2 {
                 continue;
             }
-            let v = self.name(s);
+            let v = match self.label(s, LABEL_DEPTH).map(|l| ident_text(&l)) {
+                Some(l) if taken.insert(l.clone()) => format_ident!("{}", l),
+                _ => self.name(s),
+            };
             let e = self.compute(s, &|o| self.prepared_expr(o, &scope));
             lets.extend(quote! { let #v = #e; });
             scope.bound.borrow_mut().insert(s, quote! { #v });
         }
-        let values = slots.iter().map(|s| self.prepared_expr(*s, &scope));
-        quote! { #lets [#(#values),*] }
+        let values = slots.iter().map(|s| self.prepared_expr(*s, &scope)).collect();
+        (lets, values)
     }
 
     fn prepared_expr(&self, s: Sym, scope: &Scope) -> TokenStream {
@@ -547,6 +639,56 @@ impl<'g> Emit<'g> {
 
 #[cfg(test)]
 mod tests {
+    /// A prepared slot is a field named after what it is: a parameter, or
+    /// an operation on named operands; numbered where it has no short
+    /// name, and a number added where two nodes share a name.
+    #[test]
+    fn prepared_fields_are_named_after_what_they_are() {
+        use crate::trace::{record, Sym};
+        use pkm_runtime::scalar::Scalar;
+        let (slots, g) = record(|| {
+            let (l2, l3) = (Sym::param("l2"), Sym::param("l3"));
+            vec![
+                l2,
+                l2 * l2,
+                Sym::c(0.5) / l3.abs(),
+                Sym::c(2.0) * l2,
+                l3 - l2,
+                l2.atan2(l3),
+                Sym::param("l2_sq"),
+            ]
+        });
+        let emit = super::Emit::new(&g, vec![]);
+        let got: Vec<String> = slots
+            .iter()
+            .map(|s| emit.slot(*s).to_string().replace(' ', ""))
+            .collect();
+        let want = [
+            "self.l2",
+            "self.l2_sq",
+            "self.half_inv_abs_l3",
+            "self.twice_l2",
+            "self.l3_minus_l2",
+            "self.k5",
+            "self.l2_sq_2",
+        ];
+        assert_eq!(got, want);
+        let (fields, prepare) = emit.prepared(&quote::format_ident!("P"));
+        assert_eq!(
+            fields.to_string().replace(' ', ""),
+            "l2:f64,l2_sq:f64,half_inv_abs_l3:f64,twice_l2:f64,l3_minus_l2:f64,k5:f64,l2_sq_2:f64,"
+        );
+        // Each slot is a `let` of its own name (the name a second node
+        // takes has its number), and the value its field's.
+        assert_eq!(
+            prepare.to_string().replace(' ', ""),
+            "letl2=params.l2;letl3=params.l3;letl2_sq=(l2*l2);lethalf_inv_abs_l3=(0.5f64/l3.abs());\
+             lettwice_l2=(2f64*l2);letl3_minus_l2=(l3-l2);letv9=::pkm::runtime::scalar::angle(l2,l3);\
+             letl2_sq_10=params.l2_sq;\
+             P{l2,l2_sq,half_inv_abs_l3,twice_l2,l3_minus_l2,k5:v9,l2_sq_2:l2_sq_10}"
+        );
+    }
+
     /// What a literal is written as.
     fn check(x: f64, want: &str) {
         assert_eq!(super::lit(x).to_string().replace(' ', ""), want, "{x}");
