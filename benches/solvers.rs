@@ -5,8 +5,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pkm::runtime::newton::{self, NewtonOptions};
+use pkm::runtime::plan;
 use pkm::runtime::solution::signs_of;
-use pkm::runtime::spatial;
 use std::collections::HashMap;
 use std::hint::black_box;
 
@@ -30,7 +30,7 @@ fn interpreter(
         pkm::dsl::planner::forward_plan(a).unwrap()
     };
     move |model, given, signs| {
-        black_box(spatial::run(model, &p, given, signs).unwrap());
+        black_box(plan::run(model, &p, given, signs).unwrap());
     }
 }
 

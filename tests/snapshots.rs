@@ -3,7 +3,7 @@
 //! syn also proves it is valid Rust): a planar four-bar, seed 003's punch
 //! (planar, eight bars, `fk` only) and the spatial R-S-U-R. Every other
 //! example's snapshot is its plans as text
-//! ([`pkm::runtime::spatial::Plan::display`]): the steps the generated code
+//! ([`pkm::runtime::plan::Plan::display`]): the steps the generated code
 //! traces, one line each. Each snapshot was read line by line against the
 //! example's joints.
 

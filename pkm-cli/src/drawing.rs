@@ -7,7 +7,7 @@
 
 use crate::plots::{self, both, colour, err, frame, legend_strip, with_legend, Draw, Figure, Mark, PlotError};
 use pkm_runtime::model::{JointType, Model, Place};
-use pkm_runtime::spatial::Pose3;
+use pkm_runtime::plan::Pose3;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;

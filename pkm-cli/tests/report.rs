@@ -506,7 +506,7 @@ fn five_bar_cranks_turning_together() {
     let _ = std::fs::remove_dir_all(out);
 }
 
-/// `pkm stiffness --json` (the command line's own path: `spatial::run_all`,
+/// `pkm stiffness --json` (the command line's own path: `plan::run_all`,
 /// every branch) at `pose`: the branch with the shortest legs among those
 /// with a stiffness, as tests/frame/pkm_against_frame.py draws it.
 fn shortest_legs_branch(file: &str, pose: &str) -> serde_json::Value {

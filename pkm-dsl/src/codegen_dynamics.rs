@@ -656,7 +656,7 @@ fn reduce(
 pub(super) fn trace(
     a: &Analysis,
     g: &Geometry<Sym>,
-    plan: &pkm_runtime::spatial::Plan,
+    plan: &pkm_runtime::plan::Plan,
     b: &Branch,
 ) -> Result<Traced, String> {
     let m = &a.mechanism;

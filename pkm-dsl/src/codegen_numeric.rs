@@ -51,7 +51,7 @@ pub(crate) fn generate(
         quote! { #rt::fk_numeric::Compatibility::input_residual(#arc, #computed, given[#input]) }
     };
     // Every check's rows that can fail verify a solution, the
-    // compatibility residual's too (as the interpreter's `spatial::run`).
+    // compatibility residual's too (as the interpreter's `plan::run`).
     let others: Vec<_> = (0..b.residual.len())
         .filter(|&i| emit.constant(b.residual[i]) != Some(0.0))
         .map(|i| b.residual[i])

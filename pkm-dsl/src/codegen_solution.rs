@@ -4,7 +4,7 @@
 //! and calls it.
 
 use crate::analysis::Analysis;
-use pkm_runtime::spatial::Plan;
+use pkm_runtime::plan::Plan;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 

@@ -8,10 +8,10 @@
 //!    ([`crate::expand`], from a [`Compiled`]).
 //!
 //! A plan is the same for planar and spatial mechanisms
-//! ([`pkm_runtime::spatial::Plan`], made by [`crate::planner`]).
+//! ([`pkm_runtime::plan::Plan`], made by [`crate::planner`]).
 
 use crate::{Analysis, Diagnostics};
-use pkm_runtime::spatial::Plan;
+use pkm_runtime::plan::Plan;
 use std::cell::OnceCell;
 
 /// A description compiled: its analysis, and its plans on first use.

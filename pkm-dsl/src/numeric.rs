@@ -21,7 +21,7 @@ pub fn newton_outputs(
     // Derived parameters follow the overrides, as in `model`.
     let all = parameter_values(a, values)?;
     let local = |point, link| {
-        pkm_runtime::spatial::local_point(model, point, link)
+        pkm_runtime::plan::local_point(model, point, link)
             .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))
     };
     a.geometry
@@ -249,7 +249,7 @@ pub fn loading(
         .iter()
         .map(|p| {
             let at = match p.at {
-                Some(point) => pkm_runtime::spatial::local_point(model, point, p.link)
+                Some(point) => pkm_runtime::plan::local_point(model, point, p.link)
                     .map_err(|e| Diagnostics::from(Diagnostic::new(span, e.to_string())))?,
                 None => [0.0; 3],
             };

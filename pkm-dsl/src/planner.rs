@@ -1,5 +1,5 @@
 //! Solution plans of every mechanism, planar and spatial (see
-//! `pkm_runtime::spatial`): links are solved one joint at a time, each
+//! `pkm_runtime::plan`): links are solved one joint at a time, each
 //! joint value from what the rest of the mechanism fixes about one point or
 //! direction of the new link. This is the driver: it builds the search
 //! (`pkm_runtime::steps::search::Search`) from the analysis (the nominal
@@ -14,8 +14,8 @@ use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::geometry::OutputKind;
 use pkm_runtime::model::Model;
+use pkm_runtime::plan::{self, Plan, Step, Turn};
 use pkm_runtime::solution::PointRef;
-use pkm_runtime::spatial::{self, Plan, Step, Turn};
 use pkm_runtime::steps::parasitic;
 use pkm_runtime::steps::place::PoseParts;
 use pkm_runtime::steps::search::Search;
@@ -44,7 +44,7 @@ pub(crate) fn solve(
         if let Step::Place { link, point, turn, .. } = s {
             match turn {
                 Turn::Free => {
-                    let at = spatial::local_point(model, *point, *link)
+                    let at = plan::local_point(model, *point, *link)
                         .map_err(|e| Diagnostics::from(Diagnostic::new(a.mechanism.name_span(), e.to_string())))?;
                     pinned[*link] = Some(at);
                 }
@@ -199,12 +199,12 @@ mod tests {
     type Misses<'a> = &'a [(&'a str, bool, bool)];
 
     /// The open joints each plan of `file` checks by a miss
-    /// ([`pkm_runtime::spatial::Plan::by_miss`]), by name: `(forward, inverse)`.
+    /// ([`pkm_runtime::plan::Plan::by_miss`]), by name: `(forward, inverse)`.
     fn check(file: &str, want: (Misses<'_>, Misses<'_>)) {
         let path = format!("{}/../examples/mechanisms/{file}", env!("CARGO_MANIFEST_DIR"));
         let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
         let joints = &c.analysis.mechanism.joints;
-        let names = |p: &pkm_runtime::spatial::Plan| -> Vec<(String, bool, bool)> {
+        let names = |p: &pkm_runtime::plan::Plan| -> Vec<(String, bool, bool)> {
             p.by_miss
                 .iter()
                 .map(|b| (joints[b.joint].name.clone(), b.plane.is_some(), b.skipped))

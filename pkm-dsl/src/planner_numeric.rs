@@ -28,7 +28,7 @@ use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::screw::SplitMix;
 use pkm_runtime::fk_numeric::{self, Compatibility, VirtualPlan};
 use pkm_runtime::model::{JointType, Model};
-use pkm_runtime::spatial::{Check, Plan, Step};
+use pkm_runtime::plan::{Check, Plan, Step};
 use std::collections::HashMap;
 
 /// Samples of the virtual variable over its range (a revolute's turn:

@@ -21,9 +21,9 @@
 //! plan interpreter; generated code runs it on its own residual function.
 
 use crate::model::{JointType, Model};
+use crate::plan::{self, Plan, Solution};
 use crate::primitives::Sign;
 use crate::solution::SolveError;
-use crate::spatial::{self, Plan, Solution};
 
 /// How a root was found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -517,11 +517,11 @@ fn residual_with(
 }
 
 /// A solution of the virtual plan at a root, verified: the plan's own
-/// checks ([`spatial::run`]) and, for an [`Compatibility::Input`], the
+/// checks ([`plan::run`]) and, for an [`Compatibility::Input`], the
 /// computed value meets the given one to the verification tolerance
 /// ([`zero_of`]).
 fn verified(model: &Model, vp: &VirtualPlan, given: &[f64], signs: &[Sign]) -> Option<Solution> {
-    let solution = spatial::run(model, &vp.plan, given, signs).ok()?;
+    let solution = plan::run(model, &vp.plan, given, signs).ok()?;
     if let Compatibility::Input { joint, input, arc } = vp.compatibility {
         let r = Compatibility::input_residual(arc, solution.values[joint], given[input]);
         if r.is_nan() || r.abs() > zero_of(model) {
@@ -541,7 +541,7 @@ pub fn zero_of(model: &Model) -> f64 {
 
 /// Every assembly at the mechanism's `inputs`: on every branch, every root
 /// of the compatibility residual over the virtual variable's range,
-/// solved and verified by the plan interpreter ([`spatial::run`]); an
+/// solved and verified by the plan interpreter ([`plan::run`]); an
 /// assembly two branches share (where they meet) once.
 ///
 /// # Errors

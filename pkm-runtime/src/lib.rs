@@ -15,6 +15,7 @@ pub mod mass_properties;
 pub mod model;
 pub mod newton;
 pub mod newton_euler;
+pub mod plan;
 pub mod primitives;
 pub mod real;
 #[cfg(feature = "high-precision")]
@@ -22,7 +23,6 @@ pub mod reference;
 pub mod scalar;
 pub mod singular;
 pub mod solution;
-pub mod spatial;
 pub mod steps;
 pub mod stiffness;
 pub mod topology_report;

@@ -214,7 +214,7 @@ pub fn place_transform(kind: JointType, places: &[Place; 2], values: &[f64]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spatial::v3;
+    use crate::plan::v3;
     use nalgebra::Vector3;
 
     fn close(a: Vector3<f64>, b: [f64; 3]) -> bool {

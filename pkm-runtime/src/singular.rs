@@ -16,8 +16,8 @@
 
 use crate::frame::Frame;
 use crate::model::{JointType, Model};
+use crate::plan::{self, Pose3};
 use crate::solution::PointRef;
-use crate::spatial::{self, Pose3};
 use crate::steps::{Geometry, Motion};
 use nalgebra::{Point3, Vector3};
 
@@ -150,7 +150,7 @@ fn named_as(model: &Model, poses: &[Pose3], name: String, link: usize, at: [f64;
     }
 }
 
-use crate::spatial::v3;
+use crate::plan::v3;
 
 /// |cos| of the angle between `t` and `n`: 0 when either is (relatively) zero.
 pub(crate) fn crossing(t: Vector3<f64>, n: Vector3<f64>, scale: f64) -> f64 {
@@ -190,7 +190,7 @@ impl Configuration {
     fn of(model: &Model, poses: &[Pose3]) -> Self {
         Configuration {
             g: Geometry::of(model),
-            frames: poses.iter().map(spatial::frame_of).collect(),
+            frames: poses.iter().map(plan::frame_of).collect(),
             scale: crate::kinematics::model_scale(model),
         }
     }
@@ -201,7 +201,7 @@ impl Configuration {
     }
 
     /// An anchored point in the world, and the link point it names.
-    pub(crate) fn anchored(&self, a: &spatial::Anchor) -> (Vector3<f64>, LinkPoint) {
+    pub(crate) fn anchored(&self, a: &plan::Anchor) -> (Vector3<f64>, LinkPoint) {
         let (_, last) = self.g.across(self.frames[a.link], a.link, &a.hops);
         (
             v3(self.g.anchor(&self.frames, a)),
@@ -230,7 +230,7 @@ impl Configuration {
 /// the same model). Steps that only place a link from given values (inputs
 /// or a pose) have none; each other step kind's factor is its `factor`, in
 /// its file in [`crate::steps`].
-pub fn spatial_factors(model: &Model, plan: &spatial::Plan, poses: &[Pose3]) -> Vec<Factor> {
+pub fn spatial_factors(model: &Model, plan: &plan::Plan, poses: &[Pose3]) -> Vec<Factor> {
     let at = Configuration::of(model, poses);
     plan.steps
         .iter()

@@ -1,7 +1,7 @@
 //! What a solver returns: its error type ([`SolveError`]), one branch of a
 //! generated solver ([`Branch`]) and the branch order ([`signs_of`]), and
 //! following a branch along a trajectory ([`nearest_branch`],
-//! [`extrapolate`]). Shared by the interpreter ([`crate::spatial`]) and
+//! [`extrapolate`]). Shared by the interpreter ([`crate::plan`]) and
 //! generated code.
 
 use crate::primitives::{Error as GeomError, Sign};
@@ -186,7 +186,7 @@ pub struct Branch<S, const D: usize> {
 }
 
 /// The sign vector of branch number `index` (bit k set: choice k is `Minus`),
-/// the order in which generated solvers and [`crate::spatial::run_all`] list branches.
+/// the order in which generated solvers and [`crate::plan::run_all`] list branches.
 pub const fn signs_of<const D: usize>(index: usize) -> [Sign; D] {
     let mut signs = [Sign::Plus; D];
     let mut k = 0;

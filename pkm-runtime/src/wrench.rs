@@ -443,18 +443,18 @@ fn from_hat(w: &Vector6<f64>, p: &Vector3<f64>, s: f64, couple: bool) -> Wrench 
 }
 
 /// The wrench analysis of `model` at the configuration `solution` (link
-/// poses and joint values as [`crate::spatial::run`] returns them; an S
+/// poses and joint values as [`crate::plan::run`] returns them; an S
 /// joint's value is not read) with `platform` the platform link.
 pub fn analyse(
     model: &Model,
-    solution: &crate::spatial::Solution,
+    solution: &crate::plan::Solution,
     platform: usize,
 ) -> Result<WrenchAnalysis, WrenchError> {
     analyse_poses(model, &solution.poses, &solution.values, platform)
 }
 
 /// [`analyse`] from the link poses and the per-joint values (one per joint,
-/// as [`crate::spatial::Solution::values`]; only a parallelogram's is read,
+/// as [`crate::plan::Solution::values`]; only a parallelogram's is read,
 /// and an S joint's, which has no one value, need not be finite).
 pub fn analyse_poses(
     model: &Model,

@@ -138,7 +138,7 @@ pub fn inconsistency(
     let poses = newton::link_poses(model, q).unwrap();
     let at = newton::point(model, &poses, point).unwrap();
     let link = model.points.iter().find(|p| p.name == point).unwrap().link;
-    let angle = pkm::runtime::spatial::angle_about(&poses[link], axis);
+    let angle = pkm::runtime::plan::angle_about(&poses[link], axis);
     let output = (0..3)
         .map(|i| (at[i] - given[i]).abs() / extent)
         .fold(pkm::runtime::solution::wrap_angle(angle - given[3]).abs(), f64::max);
@@ -177,7 +177,7 @@ use pkm::dsl::screw::SplitMix;
 use pkm::runtime::kinematics;
 use pkm::runtime::model::{JointType, Model};
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial::{self, Solution};
+use pkm::runtime::plan::{self, Solution};
 use std::collections::HashMap;
 
 /// One value per R and P joint of a full joint-value vector (an S joint's
@@ -227,7 +227,7 @@ pub fn inverse_agrees_with_newton(
     for _ in 0..200 {
         let given = pose(&mut rng);
         let generated = generated(&given);
-        let interpreted = spatial::run_all(&model, &plan, &given);
+        let interpreted = plan::run_all(&model, &plan, &given);
         assert_eq!(generated.len(), interpreted.len(), "{name}");
         let solved: Vec<&Solution> = interpreted.iter().filter_map(|(_, r)| r.as_ref().ok()).collect();
         for ((_, r), g) in interpreted.iter().zip(&generated) {

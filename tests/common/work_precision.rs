@@ -12,10 +12,10 @@ use std::collections::HashMap;
 
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions, NewtonSolution, Output};
+use pkm::runtime::plan;
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::reference::{self, f256, Reference};
 use pkm::runtime::solution::signs_of;
-use pkm::runtime::spatial;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
@@ -117,12 +117,12 @@ pub fn seed000_b() -> Generated {
 }
 
 /// The plan interpreter of one direction.
-pub struct Interpreter(pub spatial::Plan);
+pub struct Interpreter(pub plan::Plan);
 
 impl Interpreter {
     /// The joint values on the branch `signs`, or `None` if it fails.
     pub fn run(&self, model: &Model, given: &[f64], signs: &[Sign]) -> Option<Vec<f64>> {
-        spatial::run(model, &self.0, given, signs).ok().map(|s| s.values)
+        plan::run(model, &self.0, given, signs).ok().map(|s| s.values)
     }
 }
 

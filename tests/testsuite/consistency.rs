@@ -172,7 +172,7 @@ fn a_double_root_is_flagged_not_repeated() {
     .unwrap();
     let model = pkm::dsl::numeric::model(&a, &Default::default()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-    let run = pkm::runtime::spatial::run_all(&model, &plan, &[theta]);
+    let run = pkm::runtime::plan::run_all(&model, &plan, &[theta]);
     assert!(run[0].1.is_ok());
     assert_eq!(run[1].1, Err(SolveError::DoubleRoot { twin: 0 }));
     // 1e-6 rad inside the fold (a smaller crank angle brings R2 nearer R4):

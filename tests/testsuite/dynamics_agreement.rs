@@ -433,7 +433,7 @@ fn upu_3_with_the_mujoco_checks_masses_at_rest() {
     let mut worst = 0.0f64;
     for dx in [0.0, -1e-9, 1e-9] {
         let given = [x + dx, y, z];
-        let (_, solution) = pkm::runtime::spatial::run_all(&model, &plan, &given).remove(0);
+        let (_, solution) = pkm::runtime::plan::run_all(&model, &plan, &given).remove(0);
         let values = solution.expect("branch 0 assembles").model_values(&model);
         let ne = newton_euler::inverse_dynamics(&model, &loading, &skcs, &values, &[0.0; 3], &[0.0; 3])
             .expect("Newton–Euler");

@@ -25,7 +25,7 @@ struct Runtime {
     model: pkm::runtime::model::Model,
     loading: pkm::runtime::mass_properties::Loading,
     skcs: Vec<pkm::runtime::newton_euler::SkcParts>,
-    plan: pkm::runtime::spatial::Plan,
+    plan: pkm::runtime::plan::Plan,
 }
 
 fn runtime(stem: &str) -> Runtime {

@@ -7,7 +7,7 @@ use pkm::dsl::screw::SplitMix;
 use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial;
+use pkm::runtime::plan;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -30,7 +30,7 @@ fn load_text(text: &str) -> (Model, Solver) {
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
     let solve: Solver = Box::new(move |model, q| {
-        spatial::run_all(model, &plan, q)
+        plan::run_all(model, &plan, q)
             .into_iter()
             .filter_map(|(signs, r)| r.ok().map(|s| (signs, s)))
             .map(|(signs, s)| {
@@ -409,14 +409,14 @@ fn spherical_four_bar_by_hand() {
         let cones = plan
             .steps
             .iter()
-            .filter(|s| matches!(s, spatial::Step::Cone { .. }))
+            .filter(|s| matches!(s, plan::Step::Cone { .. }))
             .count();
         assert_eq!(cones, usize::from(text == example), "{}", a.mechanism.name);
         spherical_freudenstein(&model, &plan);
     }
 }
 
-fn spherical_freudenstein(model: &Model, plan: &spatial::Plan) {
+fn spherical_freudenstein(model: &Model, plan: &plan::Plan) {
     let [a1, a2, a3, a4] = [30.0f64, 70.0, 60.0, 80.0].map(f64::to_radians);
     let r = 100.0;
     let wrap = |x: f64| x.sin().atan2(x.cos());
@@ -432,8 +432,8 @@ fn spherical_freudenstein(model: &Model, plan: &spatial::Plan) {
         let c = a2.cos() - a3.cos() * (a1.sin() * a4.sin() * theta.cos() + a1.cos() * a4.cos());
         let half = (c / a.hypot(b)).acos();
         let mut want = [b.atan2(a) + half, b.atan2(a) - half].map(wrap);
-        let world = |s: &spatial::Solution, n: usize| spatial::at(&s.poses[model.points[n].link], model.points[n].at);
-        let mut got: Vec<(f64, f64)> = spatial::run_all(model, plan, &[theta])
+        let world = |s: &plan::Solution, n: usize| plan::at(&s.poses[model.points[n].link], model.points[n].at);
+        let mut got: Vec<(f64, f64)> = plan::run_all(model, plan, &[theta])
             .into_iter()
             .filter_map(|(_, s)| s.ok())
             .map(|s| {
@@ -545,10 +545,7 @@ fn seed000_a_u_turns_by_its_two_values() {
     let mut compared = 0;
     for _ in 0..50 {
         let q = [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)].map(|(lo, hi)| uniform(&mut rng, lo, hi));
-        for s in spatial::run_all(&model, &plan, &q)
-            .into_iter()
-            .filter_map(|(_, r)| r.ok())
-        {
+        for s in plan::run_all(&model, &plan, &q).into_iter().filter_map(|(_, r)| r.ok()) {
             let (tc, tp) = (s.poses[c2], s.poses[platform]);
             let relative = (tc.rotation.inverse() * tp.rotation).to_rotation_matrix();
             let by_hand = Rotation3::from_axis_angle(&Vector3::x_axis(), -PI / 2.0)
@@ -657,7 +654,7 @@ fn rssr_coupler_spin_by_the_convention() {
     };
     let mut rng = SplitMix::new(3);
     for theta in [-3.0, -1.5, -0.4, 0.0, 0.9, 2.0, PI] {
-        for (signs, s) in spatial::run_all(&model, &plan, &[theta]) {
+        for (signs, s) in plan::run_all(&model, &plan, &[theta]) {
             let s = s.unwrap();
             let plan_turn = s.poses[coupler].rotation;
             let e = plan_turn.angle_to(&convention(&s.poses));
@@ -740,7 +737,7 @@ fn rsur_by_hand() {
         let cc = l * l - (d - a * c).powi(2) - (e - a * s).powi(2) - h * h - b * b;
         let (base, half) = (bb.atan2(aa), (cc / aa.hypot(bb)).acos());
         let want = [base + half, base - half];
-        let branches = spatial::run_all(&model, &plan, &[theta]);
+        let branches = plan::run_all(&model, &plan, &[theta]);
         assert_eq!(branches.len(), 4, "θ = {theta}");
         let mut seen = [[0usize; 2]; 2];
         for (signs, r) in branches {
@@ -816,7 +813,7 @@ fn every_assembly(
     let (mut matched, mut complete) = (0, 0);
     for _ in 0..samples {
         let Some(given) = draw(&mut rng) else { continue };
-        let listed: Vec<(usize, Vec<f64>, Vec<[f64; 3]>)> = spatial::run_all(&model, &plan, &given)
+        let listed: Vec<(usize, Vec<f64>, Vec<[f64; 3]>)> = plan::run_all(&model, &plan, &given)
             .into_iter()
             .enumerate()
             .filter_map(|(i, (_, r))| r.ok().map(|s| (i, s.model_values(&model), points(&s.poses))))
@@ -899,7 +896,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
     let ranges = ranges.to_vec();
     move |rng| {
         let q: Vec<f64> = ranges.iter().map(|&(lo, hi)| uniform(rng, lo, hi)).collect();
-        let solved: Vec<Vec<f64>> = spatial::run_all(&model, &plan, &q)
+        let solved: Vec<Vec<f64>> = plan::run_all(&model, &plan, &q)
             .into_iter()
             .filter_map(|(_, r)| r.ok().map(|s| s.model_values(&model)))
             .collect();

@@ -3,8 +3,8 @@
 
 use crate::common;
 
+use pkm::runtime::plan;
 use pkm::runtime::solution::signs_of;
-use pkm::runtime::spatial;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
@@ -18,7 +18,7 @@ pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
 pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
-fn interpreter(file: &str) -> (pkm::runtime::model::Model, spatial::Plan) {
+fn interpreter(file: &str) -> (pkm::runtime::model::Model, plan::Plan) {
     let (a, model) = common::example(file);
     (model, pkm::dsl::planner::forward_plan(&a).unwrap())
 }
@@ -32,7 +32,7 @@ macro_rules! agree {
         assert_eq!(generated.len(), 1 << plan.branches);
         for (i, branch) in generated.iter().enumerate() {
             assert_eq!(branch.signs.to_vec(), signs_of::<16>(i)[..plan.branches].to_vec());
-            let interpreted = spatial::run(&model, &plan, &$q, &branch.signs);
+            let interpreted = plan::run(&model, &plan, &$q, &branch.signs);
             match (&branch.result, &interpreted) {
                 (Ok(g), Ok(s)) => {
                     for (k, (a, b)) in g.q.iter().zip(&s.values).enumerate() {

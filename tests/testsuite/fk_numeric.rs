@@ -15,12 +15,12 @@ use pkm::runtime::newton::{self, NewtonOptions};
 use std::f64::consts::PI;
 
 /// Every joint's point, the solution compared by them (angles wrap).
-fn points(model: &Model, poses: &[pkm::runtime::spatial::Pose3]) -> Vec<[f64; 3]> {
+fn points(model: &Model, poses: &[pkm::runtime::plan::Pose3]) -> Vec<[f64; 3]> {
     (0..model.joints.len())
         .map(|j| kinematics::joint_point(model, poses, j))
         .chain(model.links.iter().enumerate().skip(1).map(|(l, _)| {
             // A point off each link's origin so that a turn about it shows.
-            pkm::runtime::spatial::at(&poses[l], [100.0, 0.0, 0.0])
+            pkm::runtime::plan::at(&poses[l], [100.0, 0.0, 0.0])
         }))
         .collect()
 }
@@ -137,7 +137,7 @@ fn planar_inputs(file: &str, seed: u64) -> Vec<Vec<f64>> {
     let mut inputs = Vec::new();
     while inputs.len() < 6 {
         let pose = [40.0 * rng.symmetric(), 40.0 * rng.symmetric(), 0.5 * rng.symmetric()];
-        let all = pkm::runtime::spatial::run_all(&model, &plan, &pose);
+        let all = pkm::runtime::plan::run_all(&model, &plan, &pose);
         let k = ((rng.symmetric() + 1.0) * 4.0) as usize % all.len();
         if let Ok(s) = &all[k].1 {
             inputs.push(actuated.iter().map(|&j| s.values[j]).collect());
@@ -400,9 +400,9 @@ fn planar_3rrr_six_assemblies() {
     let o = model.points.iter().position(|p| p.name == "o").unwrap();
     let platform = model.points[o].link;
     // The platform's pose (x, y, φ) at o, from its link pose.
-    let pose = |poses: &[pkm::runtime::spatial::Pose3]| {
-        let p = pkm::runtime::spatial::at(&poses[platform], [0.0, 0.0, 0.0]);
-        let e = pkm::runtime::spatial::at(&poses[platform], [1.0, 0.0, 0.0]);
+    let pose = |poses: &[pkm::runtime::plan::Pose3]| {
+        let p = pkm::runtime::plan::at(&poses[platform], [0.0, 0.0, 0.0]);
+        let e = pkm::runtime::plan::at(&poses[platform], [1.0, 0.0, 0.0]);
         [p[0], p[1], (e[1] - p[1]).atan2(e[0] - p[0])]
     };
 

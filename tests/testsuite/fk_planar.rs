@@ -6,9 +6,9 @@
 use crate::common;
 
 use pkm::runtime::model::{joint_transform, Model};
+use pkm::runtime::plan::{run, run_all, Plan, Solution};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
 use pkm::runtime::solution::SolveError;
-use pkm::runtime::spatial::{run, run_all, Plan, Solution};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 

@@ -102,7 +102,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
                 ) {
                     for q in [0.3, -2.0] {
                         let inputs = vec![q; plan.inputs.len()];
-                        for (_, result) in pkm::runtime::spatial::run_all(&model, &plan, &inputs) {
+                        for (_, result) in pkm::runtime::plan::run_all(&model, &plan, &inputs) {
                             if let Ok(sol) = result {
                                 prop_assert!(sol.values.iter().all(|v| !v.is_nan()), "NaN joint value");
                             }

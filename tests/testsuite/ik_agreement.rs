@@ -149,7 +149,7 @@ fn agile_eye() {
             })
             .collect();
         let generated = AgileEye::ik(&params, &given);
-        let interpreted = pkm::runtime::spatial::run_all(&model, &plan, &given);
+        let interpreted = pkm::runtime::plan::run_all(&model, &plan, &given);
         assert_eq!(generated.len(), 8);
         for (g, (_, s)) in generated.iter().zip(&interpreted) {
             let (g, s) = (g.result.as_ref().unwrap(), s.as_ref().unwrap());
@@ -192,7 +192,7 @@ fn agile_eye() {
 /// poses, 1e-3 off) and the revolutes and every joint point are compared.
 macro_rules! with_spheres {
     ($ty:ident, $file:expr) => {{
-        use pkm::runtime::spatial;
+        use pkm::runtime::plan;
         let (a, model) = common::example($file);
         let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
         let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
@@ -210,7 +210,7 @@ macro_rules! with_spheres {
                 .iter()
                 .filter_map(|b| b.result.as_ref().ok())
             {
-                for (_, s) in spatial::run_all(&model, &plan, &f.outputs) {
+                for (_, s) in plan::run_all(&model, &plan, &f.outputs) {
                     let s = s.unwrap_or_else(|e| panic!("{}: ik at {:?}: {e}", $file, f.outputs));
                     let values = s.model_values(&model);
                     let guess: Vec<f64> = values.iter().map(|v| v + 1e-3 * rng.symmetric()).collect();

@@ -6,7 +6,7 @@ use crate::common;
 
 use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial::{self, Plan};
+use pkm::runtime::plan::{self, Plan};
 
 pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
@@ -33,7 +33,7 @@ fn three_rrr_inverse_against_newton_forward() {
         [25.0, -20.0, 0.5],
     ] {
         let generated = ThreeRrr::ik(&Default::default(), &pose);
-        for (branch, g) in spatial::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
+        for (branch, g) in plan::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
             let (signs, result) = branch;
             assert_eq!(signs, g.signs.to_vec());
             let (Ok(sol), Ok(gen)) = (result, &g.result) else {
@@ -99,7 +99,7 @@ fn three_rpr_inverse_by_hand_and_against_newton_forward() {
             .collect();
         let generated = ThreeRpr::ik(&Default::default(), &pose);
         assert_eq!(generated.len(), 8);
-        for (branch, g) in spatial::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
+        for (branch, g) in plan::run_all(&model, &plan, &pose).into_iter().zip(&generated) {
             let (signs, result) = branch;
             assert_eq!(signs, g.signs.to_vec());
             let (Ok(sol), Ok(gen)) = (result, &g.result) else {

@@ -350,15 +350,12 @@ pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
 pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 
 /// Every branch of `file`'s forward plan at `q`, by the interpreter.
-fn interpreted(
-    file: &str,
-    q: &[f64],
-) -> Vec<Result<pkm::runtime::spatial::Solution, pkm::runtime::solution::SolveError>> {
+fn interpreted(file: &str, q: &[f64]) -> Vec<Result<pkm::runtime::plan::Solution, pkm::runtime::solution::SolveError>> {
     let (text, _) = common::example_text(file);
     let a = pkm::dsl::analyze_source(&text).unwrap();
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
-    pkm::runtime::spatial::run_all(&model, &plan, q)
+    pkm::runtime::plan::run_all(&model, &plan, q)
         .into_iter()
         .map(|(_, r)| r)
         .collect()
@@ -454,7 +451,7 @@ fn huge_angles_are_reduced() {
 #[test]
 fn huge_lengths_are_out_of_reach() {
     use pkm::runtime::solution::SolveError;
-    let refused = |r: &Result<pkm::runtime::spatial::Solution, SolveError>, what: &str| match r {
+    let refused = |r: &Result<pkm::runtime::plan::Solution, SolveError>, what: &str| match r {
         Err(SolveError::Unreachable { constraint, by, .. }) => {
             assert!(by.is_finite() && *by > 0.0, "{what}: by {by}");
             *constraint
@@ -492,7 +489,7 @@ fn huge_lengths_are_out_of_reach() {
     let a = pkm::dsl::analyze_source(&text).unwrap();
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
-    for (_, r) in pkm::runtime::spatial::run_all(&model, &plan, &[1e308, -300.0, 0.0, 0.0]) {
+    for (_, r) in pkm::runtime::plan::run_all(&model, &plan, &[1e308, -300.0, 0.0, 0.0]) {
         assert_eq!(refused(&r, "ik at x = 1e308"), limit);
     }
 }
@@ -526,7 +523,7 @@ fn contradicted_values_with_a_huge_angle() {
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
     for (phi, reduced) in [(0.1, 0.1), (62831853071.88617, 0.09030466434088233)] {
-        for (signs, r) in pkm::runtime::spatial::run_all(&model, &plan, &[10.0, 20.0, phi]) {
+        for (signs, r) in pkm::runtime::plan::run_all(&model, &plan, &[10.0, 20.0, phi]) {
             match r {
                 Err(SolveError::Inconsistent {
                     contradicted: Some(c), ..

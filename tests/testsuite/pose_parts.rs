@@ -8,7 +8,7 @@
 use crate::common;
 
 use pkm::dsl::screw::SplitMix;
-use pkm::runtime::spatial;
+use pkm::runtime::plan;
 
 pkm::mechanism!(RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
 pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
@@ -193,12 +193,12 @@ fn all_six_given_place_the_platform() {
     let (mut matched, mut refused) = (0, 0);
     for _ in 0..100 {
         let given = pose(&mut rng);
-        for (_, r) in spatial::run_all(&model, &plan, &given) {
+        for (_, r) in plan::run_all(&model, &plan, &given) {
             let Ok(s) = r else { continue };
-            let frame = spatial::frame_of(&s.poses[platform]);
+            let frame = plan::frame_of(&s.poses[platform]);
             let mut full = pkm::runtime::steps::place::pose_values(&frame, local);
             let legs: Vec<f64> = slides.iter().map(|&j| s.values[j]).collect();
-            let found = spatial::run_all(&model, &plan6, &full)
+            let found = plan::run_all(&model, &plan6, &full)
                 .into_iter()
                 .filter_map(|(_, r)| r.ok())
                 .any(|t| {
@@ -210,7 +210,7 @@ fn all_six_given_place_the_platform() {
             assert!(found, "{full:?}: no branch with legs {legs:?}");
             matched += 1;
             full[0] += 1.0;
-            refused += usize::from(spatial::run_all(&model, &plan6, &full).iter().all(|(_, r)| r.is_err()));
+            refused += usize::from(plan::run_all(&model, &plan6, &full).iter().all(|(_, r)| r.is_err()));
         }
     }
     assert_eq!(refused, matched, "a pose off the parasitic motion must not assemble");

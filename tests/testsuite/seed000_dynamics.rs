@@ -19,8 +19,8 @@ use pkm::runtime::mass_properties::Loading;
 use pkm::runtime::model::Model;
 use pkm::runtime::nalgebra::Vector3;
 use pkm::runtime::newton_euler::{inverse_dynamics, SkcParts};
+use pkm::runtime::plan::Plan;
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
-use pkm::runtime::spatial::Plan;
 use pkm::runtime::{lagrange, virtual_work};
 use std::f64::consts::PI;
 

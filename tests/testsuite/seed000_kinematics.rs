@@ -7,7 +7,7 @@ use crate::common;
 
 use pkm::runtime::kinematics;
 use pkm::runtime::model::Model;
-use pkm::runtime::spatial::{self, Plan, Solution};
+use pkm::runtime::plan::{self, Plan, Solution};
 
 struct Mech {
     model: Model,
@@ -36,13 +36,8 @@ fn load(file: &str, point: &str, about: [f64; 3]) -> Mech {
 impl Mech {
     /// (x, y, z, α) of a solution.
     fn pose(&self, s: &Solution) -> [f64; 4] {
-        let p = spatial::at(&s.poses[self.platform], self.point);
-        [
-            p[0],
-            p[1],
-            p[2],
-            spatial::angle_about(&s.poses[self.platform], self.about),
-        ]
+        let p = plan::at(&s.poses[self.platform], self.point);
+        [p[0], p[1], p[2], plan::angle_about(&s.poses[self.platform], self.about)]
     }
 
     fn inputs(&self, s: &Solution) -> Vec<f64> {
@@ -62,7 +57,7 @@ impl Mech {
 
     /// As `solved`, without the loop-closure check.
     fn solved_fast(&self, plan: &Plan, given: &[f64]) -> Vec<Solution> {
-        spatial::run_all(&self.model, plan, given)
+        plan::run_all(&self.model, plan, given)
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .collect()
@@ -118,7 +113,7 @@ fn mechanism_a_both_postures_of_the_parallelogram_leg() {
     let m = a();
     let joint = |n: &str| m.model.joints.iter().position(|j| j.name == n).unwrap();
     let (r5, pa, r6) = (joint("R5"), joint("Pa"), joint("R6"));
-    let all = spatial::run_all(&m.model, &m.fk, &[-106.09, 181.67, -70.29]);
+    let all = plan::run_all(&m.model, &m.fk, &[-106.09, 181.67, -70.29]);
     assert_eq!(all.len(), 8);
     assert!(all.iter().all(|(_, r)| r.is_ok()), "{all:?}");
     let fk = m.solved(&m.fk, &[-106.09, 181.67, -70.29]);

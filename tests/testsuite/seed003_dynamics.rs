@@ -16,8 +16,8 @@ use crate::common;
 use pkm::runtime::mass_properties::Loading;
 use pkm::runtime::model::Model;
 use pkm::runtime::newton_euler::{inverse_dynamics, DynamicsError, JointReaction, Reactions, SkcParts};
+use pkm::runtime::plan::Plan;
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
-use pkm::runtime::spatial::Plan;
 use pkm::runtime::{lagrange, virtual_work};
 
 struct Punch {
@@ -408,12 +408,12 @@ fn both_paths(
     generated: &PunchGeneratedPrepared,
     row: &Exact,
 ) -> (
-    Result<pkm::runtime::spatial::Solution, pkm::runtime::solution::SolveError>,
+    Result<pkm::runtime::plan::Solution, pkm::runtime::solution::SolveError>,
     Result<Reactions, DynamicsError>,
     Result<PunchGeneratedDynamics, DynamicsError>,
 ) {
     let (rates, accels) = (rates_of(row), accels_of(row));
-    let position = pkm::runtime::spatial::run_all(&p.model, &p.plan, &[row.q])
+    let position = pkm::runtime::plan::run_all(&p.model, &p.plan, &[row.q])
         .into_iter()
         .find(|(s, _)| s[..] == row.signs[..])
         .expect("every branch")

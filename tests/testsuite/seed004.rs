@@ -15,7 +15,7 @@ use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial;
+use pkm::runtime::plan;
 
 pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
 pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
@@ -337,11 +337,11 @@ fn numeric_fk_from_home_recovers_the_hand_pose() {
         let (a, model) = common::example(name);
         let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
         let platform = model.links.iter().position(|l| l == "platform").unwrap();
-        let home = spatial::run_all(&model, &plan, &[H, 0.0, 0.0])
+        let home = plan::run_all(&model, &plan, &[H, 0.0, 0.0])
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .find(|s| {
-                let frame = spatial::frame_of(&s.poses[platform]);
+                let frame = plan::frame_of(&s.poses[platform]);
                 model.inputs().iter().all(|&j| s.values[j] > 0.0) && frame.r[0][0] > 0.5
             })
             .unwrap_or_else(|| panic!("{name}: no home branch"));

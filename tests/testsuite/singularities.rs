@@ -12,7 +12,7 @@ use crate::common;
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
-use pkm::runtime::{kinematics, singular, spatial};
+use pkm::runtime::{kinematics, plan, singular};
 use std::collections::HashMap;
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
@@ -20,8 +20,8 @@ pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 struct Setup {
     model: pkm::runtime::model::Model,
     outputs: Vec<pkm::runtime::newton::Output>,
-    forward: spatial::Plan,
-    inverse: spatial::Plan,
+    forward: plan::Plan,
+    inverse: plan::Plan,
 }
 
 fn setup_file(name: &str) -> Setup {
@@ -410,7 +410,7 @@ fn guide_through_factor_vanishes_where_the_guide_is_normal_to_cb() {
     let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
     let factor = |crank: f64| {
-        let solved: Vec<_> = spatial::run_all(&model, &plan, &[crank])
+        let solved: Vec<_> = plan::run_all(&model, &plan, &[crank])
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .collect();
@@ -454,7 +454,7 @@ fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
     let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
     let factor = |s: f64| {
-        spatial::run_all(&model, &plan, &[s])
+        plan::run_all(&model, &plan, &[s])
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .map(|sol| {
@@ -498,7 +498,7 @@ fn beyond_given_factor_is_the_sine_at_the_rod_pin() {
 /// `want(input)` to 1e-12, its description containing `phrase`.
 fn check_step_factor(
     a: &pkm::dsl::Analysis,
-    is_step: fn(&spatial::Step) -> bool,
+    is_step: fn(&plan::Step) -> bool,
     inputs: &[f64],
     branches: usize,
     want: impl Fn(f64) -> f64,
@@ -509,7 +509,7 @@ fn check_step_factor(
     let k = plan.steps.iter().position(is_step).unwrap();
     for &q in inputs {
         let want = want(q);
-        let solved: Vec<_> = spatial::run_all(&model, &plan, &[q])
+        let solved: Vec<_> = plan::run_all(&model, &plan, &[q])
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .collect();
@@ -534,7 +534,7 @@ fn check_step_factor(
 fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
     let tangent = pkm::dsl::analyze_source(common::TANGENT_MECHANISM).unwrap();
     let (yoke, _) = common::example("scotch_yoke");
-    let is_step = |s: &spatial::Step| matches!(s, spatial::Step::SlideToLine { .. });
+    let is_step = |s: &plan::Step| matches!(s, plan::Step::SlideToLine { .. });
     let inputs = [1.2, 0.5, -2.0, 1e-3, -1e-5];
     check_step_factor(
         &tangent,
@@ -570,7 +570,7 @@ fn beyond_given_slide_factor_by_hand() {
     let a = pkm::dsl::analyze_source(text).unwrap();
     check_step_factor(
         &a,
-        |s| matches!(s, spatial::Step::Beyond { .. }),
+        |s| matches!(s, plan::Step::Beyond { .. }),
         &[0.0, 0.1, -0.2, 0.27],
         2,
         |v| (50.0f64 * 50.0 - (180.0 * f64::sin(v)).powi(2)).sqrt() / 50.0,
@@ -592,7 +592,7 @@ fn cone_factor_is_the_sine_of_the_transmission_angle() {
     let [a1, a2, a3, a4] = [30.0f64, 70.0, 60.0, 80.0].map(f64::to_radians);
     check_step_factor(
         &a,
-        |s| matches!(s, spatial::Step::Cone { .. }),
+        |s| matches!(s, plan::Step::Cone { .. }),
         &[-2.5, -1.0, 0.0, 0.7, 2.0, 3.1],
         2,
         |theta| {
@@ -620,7 +620,7 @@ fn two_turns_factor_is_the_sine_between_coupler_and_rocker_axis() {
     let (crank, l, d) = (40.0f64, 160.0f64, 100.0f64);
     check_step_factor(
         &a,
-        |s| matches!(s, spatial::Step::TwoTurns { .. }),
+        |s| matches!(s, plan::Step::TwoTurns { .. }),
         &[-2.5, -1.0, 0.0, 0.7, 2.0, 3.1],
         4,
         |theta| {

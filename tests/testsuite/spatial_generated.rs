@@ -5,9 +5,9 @@
 
 use crate::common;
 
+use pkm::runtime::plan::{self, Solution};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::solution::{Branch, SolveError};
-use pkm::runtime::spatial::{self, Solution};
 
 pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
@@ -54,12 +54,12 @@ macro_rules! check {
         for _ in 0..200 {
             let q = ranges.map(|(lo, hi)| lo + (hi - lo) * (rng.symmetric() + 1.0) / 2.0);
             let generated = $ty::fk(&p, &q);
-            n_fk += compare(&q_only(&generated, |s| s.q), &spatial::run_all(&model, &fk_plan, &q));
+            n_fk += compare(&q_only(&generated, |s| s.q), &plan::run_all(&model, &fk_plan, &q));
             for s in generated.iter().filter_map(|b| b.result.as_ref().ok()) {
                 let pose = s.outputs;
                 n_ik += compare(
                     &q_only(&$ty::ik(&p, &pose), |s| s.q),
-                    &spatial::run_all(&model, &ik_plan, &pose),
+                    &plan::run_all(&model, &ik_plan, &pose),
                 );
             }
         }
@@ -167,14 +167,14 @@ macro_rules! with_spheres {
         for k in 0..720 {
             let q = [-3.2 + k as f64 * 0.01];
             let generated = $ty::fk(&p, &q);
-            let interpreted = spatial::run_all(&model, &fk_plan, &q);
+            let interpreted = plan::run_all(&model, &fk_plan, &q);
             assert_eq!(generated.len(), interpreted.len());
             for (g, (signs, i)) in generated.iter().zip(&interpreted) {
                 assert_eq!(&g.signs[..], &signs[..]);
                 n_fk += same(&g.result, i);
                 if let Ok(f) = &g.result {
                     let generated = $ty::ik(&p, &f.outputs);
-                    let interpreted = spatial::run_all(&model, &ik_plan, &f.outputs);
+                    let interpreted = plan::run_all(&model, &ik_plan, &f.outputs);
                     for (g, (_, i)) in generated.iter().zip(&interpreted) {
                         n_ik += same(&g.result, i);
                     }
@@ -219,7 +219,7 @@ macro_rules! balls_of_ik {
         for _ in 0..$n {
             let g = $pose(&mut rng);
             let generated = $ty::ik(&Default::default(), &g);
-            let interpreted = spatial::run_all(&model, &plan, &g);
+            let interpreted = plan::run_all(&model, &plan, &g);
             assert_eq!(generated.len(), interpreted.len());
             for (g, (_, i)) in generated.iter().zip(&interpreted) {
                 match (&g.result, i) {

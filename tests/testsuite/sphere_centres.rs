@@ -10,9 +10,9 @@
 use crate::common;
 
 use pkm::runtime::frame::Frame;
+use pkm::runtime::plan::{Constraint, Radius, Step};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::solution::PointRef;
-use pkm::runtime::spatial::{Constraint, Radius, Step};
 use pkm::runtime::steps::search::Search;
 use pkm::runtime::steps::{self, Geometry, Given, Solved};
 use std::borrow::Cow;

@@ -12,8 +12,8 @@ use crate::common;
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::nalgebra::{Matrix6, Vector6};
+use pkm::runtime::plan;
 use pkm::runtime::primitives::Sign;
-use pkm::runtime::spatial;
 use pkm::runtime::stiffness::{PlatformStiffness, Stiffness, StiffnessError};
 use pkm::runtime::wrench::{self, WrenchAnalysis};
 use std::collections::HashMap;
@@ -45,7 +45,7 @@ fn interpreted(
     let outputs = pkm::dsl::numeric::newton_outputs(a, &model, values).unwrap();
     let (link, local) = outputs.iter().find_map(|o| o.point()).unwrap();
     let limbs = pkm::dsl::numeric::limb_properties(a, values).unwrap();
-    spatial::run_all(&model, &plan, given)
+    plan::run_all(&model, &plan, given)
         .into_iter()
         .map(|(signs, solution)| {
             let result = solution.map_err(|e| format!("position: {e}")).and_then(|s| {
@@ -53,7 +53,7 @@ fn interpreted(
                 let declared = pkm::dsl::limb_properties::in_analysis_order(&limbs, &analysis.limbs).unwrap();
                 let properties: Vec<_> = declared.iter().map(|d| d.properties()).collect();
                 let k = pkm::runtime::stiffness::stiffness(&analysis, &properties).map_err(|e| e.to_string())?;
-                Ok((analysis, k, spatial::at(&s.poses[link], local)))
+                Ok((analysis, k, plan::at(&s.poses[link], local)))
             });
             (signs, result)
         })

@@ -16,7 +16,7 @@ use pkm::runtime::kinematics;
 use pkm::runtime::model::JointType;
 use pkm::runtime::nalgebra::{Rotation3, Vector3};
 use pkm::runtime::newton::{self, NewtonOptions};
-use pkm::runtime::spatial;
+use pkm::runtime::plan;
 use std::collections::HashMap;
 
 pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
@@ -159,7 +159,7 @@ fn translational_upu_legs_by_hand() {
 
 /// Generated = interpreted, and every interpreted branch against Newton's
 /// inverse solution started from its model values (S joints' rotation
-/// vectors, [`spatial::Solution::model_values`]) 1e-3 away: revolutes and
+/// vectors, [`plan::Solution::model_values`]) 1e-3 away: revolutes and
 /// slides, and every joint's point, agree to 1e-9.
 fn against_newton<const N: usize>(
     file: &str,
@@ -179,7 +179,7 @@ fn against_newton<const N: usize>(
     let mut rng = SplitMix::new(23);
     let (mut compared, mut worst_gen) = (0, 0.0f64);
     for given in poses {
-        let interpreted = spatial::run_all(&model, &plan, given);
+        let interpreted = plan::run_all(&model, &plan, given);
         let gen = generated(given);
         assert_eq!(gen.len(), interpreted.len());
         for ((_, s), g) in interpreted.iter().zip(&gen) {
@@ -246,7 +246,7 @@ fn plans_use_the_plane_step() {
             .steps
             .iter()
             .filter_map(|s| match s {
-                spatial::Step::PlaneThrough { branch, .. } => Some(*branch),
+                plan::Step::PlaneThrough { branch, .. } => Some(*branch),
                 _ => None,
             })
             .collect();
@@ -271,10 +271,10 @@ fn plane_factor_is_the_sine_between_leg_and_first_axis() {
     for _ in 0..200 {
         let g = common::poses::ups(&mut rng);
         let (p, r) = (Vector3::new(g[0], g[1], g[2]), rotation(g[3], g[4], g[5]));
-        for (_, s) in spatial::run_all(&model, &plan, &g) {
+        for (_, s) in plan::run_all(&model, &plan, &g) {
             let s = s.unwrap();
             for f in singular::spatial_factors(&model, &plan, &s.poses) {
-                if !matches!(plan.steps[f.step], spatial::Step::PlaneThrough { .. }) {
+                if !matches!(plan.steps[f.step], plan::Step::PlaneThrough { .. }) {
                     continue;
                 }
                 let name = &model.joints[f.joint].name;

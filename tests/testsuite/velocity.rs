@@ -366,9 +366,9 @@ fn rsur() {
 /// The interpreted solution of `plan` at crank angle `q` on the branch `signs`.
 fn spatial_solution(
     model: &pkm::runtime::model::Model,
-    plan: &pkm::runtime::spatial::Plan,
+    plan: &pkm::runtime::plan::Plan,
     q: f64,
     signs: &[pkm::runtime::primitives::Sign],
-) -> pkm::runtime::spatial::Solution {
-    pkm::runtime::spatial::run(model, plan, &[q], signs).unwrap()
+) -> pkm::runtime::plan::Solution {
+    pkm::runtime::plan::run(model, plan, &[q], signs).unwrap()
 }

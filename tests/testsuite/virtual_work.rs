@@ -8,8 +8,8 @@ use crate::common;
 use pkm::runtime::mass_properties::{Carrier, Loading};
 use pkm::runtime::model::Model;
 use pkm::runtime::nalgebra;
+use pkm::runtime::plan::Plan;
 use pkm::runtime::primitives::Sign;
-use pkm::runtime::spatial::Plan;
 use pkm::runtime::virtual_work::actuator_forces;
 
 /// A mechanism text compiled at the parameters `params` (the others as

@@ -15,7 +15,7 @@ use crate::common;
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::model::{JointType, Model, Place};
 use pkm::runtime::nalgebra::{DMatrix, Isometry3, Matrix6, Rotation3, Vector3, Vector6};
-use pkm::runtime::spatial::{self, Solution};
+use pkm::runtime::plan::{self, Solution};
 use pkm::runtime::stiffness::{self, LimbProperties, Section};
 use pkm::runtime::wrench::{self, RowKind, WrenchAnalysis};
 
@@ -137,7 +137,7 @@ fn configurations(name: &str, pose: fn(&mut SplitMix) -> Vec<f64>, n: usize) -> 
         tries += 1;
         assert!(tries < 10 * n, "{name}: too few poses solve");
         let given = pose(&mut rng);
-        let mut solved: Vec<Solution> = spatial::run_all(&model, &plan, &given)
+        let mut solved: Vec<Solution> = plan::run_all(&model, &plan, &given)
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .collect();
@@ -500,7 +500,7 @@ fn rps_in_the_base_plane_is_an_actuation_singularity() {
     let plan = pkm::dsl::planner::inverse_plan(&a).unwrap();
     let p = platform(&model);
     let solve = |z: f64| {
-        spatial::run_all(&model, &plan, &[z, 0.0, 0.0])
+        plan::run_all(&model, &plan, &[z, 0.0, 0.0])
             .into_iter()
             .filter_map(|(_, r)| r.ok())
             .find(|s| {

@@ -19,7 +19,7 @@ use std::io::{BufRead, Write};
 struct Setup {
     l: super::solve::Loaded,
     loading: pkm_runtime::mass_properties::Loading,
-    plan: pkm_runtime::spatial::Plan,
+    plan: pkm_runtime::plan::Plan,
     inputs: Vec<usize>,
     skcs: Vec<pkm_runtime::newton_euler::SkcParts>,
     unit: &'static str,
@@ -113,7 +113,7 @@ impl Setup {
         let model = &self.l.model;
         let names: Vec<&str> = self.inputs.iter().map(|&j| model.joints[j].name.as_str()).collect();
         let joint_name = |j: usize| model.joints[j].name.clone();
-        pkm_runtime::spatial::run_all(model, &self.plan, &given[0])
+        pkm_runtime::plan::run_all(model, &self.plan, &given[0])
             .into_iter()
             .map(|(signs, solution)| {
                 // As `pkm fk` numbers and writes them.

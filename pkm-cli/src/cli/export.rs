@@ -27,9 +27,9 @@ use pkm_runtime::mass_properties::{arm_side, bar_pose, Body, Carrier, Loading};
 use pkm_runtime::model::{Joint, JointType, Model, Place};
 use pkm_runtime::nalgebra::{Isometry3, Matrix3, Vector3};
 use pkm_runtime::newton::Output;
+use pkm_runtime::plan::{Plan, Solution};
 use pkm_runtime::primitives::Sign;
 use pkm_runtime::solution::SolveError;
-use pkm_runtime::spatial::{Plan, Solution};
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 
@@ -1137,7 +1137,7 @@ fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Reference, Failure>
         Way::Forward(plan) => {
             let inputs = plan.input_joints(model);
             let (given, inputs_from) = given_inputs(r, model, &inputs, &names, &study, o)?;
-            let runs = pkm_runtime::spatial::run_all(model, &plan, &given);
+            let runs = pkm_runtime::plan::run_all(model, &plan, &given);
             let at = format!("inputs ({}) from {inputs_from}", nums_comma(&given));
             let (branch, signs, solution, branch_from) = assembled(runs, wanted, &at, "--q")?;
             let mut how = Map::new();
@@ -1292,7 +1292,7 @@ fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: 
     }
     let scale = pkm_runtime::kinematics::model_scale(model);
     let sigma = |pose: &[f64], b: usize| -> Option<f64> {
-        let s = pkm_runtime::spatial::run(model, plan, pose, &signs_of(b, plan.branches)).ok()?;
+        let s = pkm_runtime::plan::run(model, plan, pose, &signs_of(b, plan.branches)).ok()?;
         let loops = pkm_runtime::velocity::loops(model, &s.model_values(model)).ok()?;
         Some(loops.passive_sigma(scale))
     };
@@ -1377,7 +1377,7 @@ fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: 
         .join(", ");
     let at = format!("pose ({pose_text}) from {pose_from}");
     let pose_from = pose_from.as_str();
-    let runs = pkm_runtime::spatial::run_all(model, plan, &pose);
+    let runs = pkm_runtime::plan::run_all(model, plan, &pose);
     // At the home pose without a branch asked for: the best-conditioned one.
     let wanted = wanted.or(preferred.map(|b| (b, "the best conditioned at the pose")));
     let (branch, signs, solution, branch_from) = assembled(runs, wanted, &at, "--pose")?;

@@ -9,9 +9,9 @@ use super::table::{self, Branch, Cell, Column};
 use pkm_dsl::{Analysis, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
+use pkm_runtime::plan::{Plan, Pose3};
 use pkm_runtime::primitives::Sign;
 use pkm_runtime::solution::SolveError;
-use pkm_runtime::spatial::{Plan, Pose3};
 use serde_json::{json, Map, Value};
 use std::collections::HashMap;
 
@@ -218,12 +218,12 @@ struct Configuration {
 impl Configuration {
     /// The world position of `local`, a point of `link`.
     fn point(&self, link: usize, local: [f64; 3]) -> [f64; 3] {
-        pkm_runtime::spatial::at(&self.poses[link], local)
+        pkm_runtime::plan::at(&self.poses[link], local)
     }
 
     /// The angle `link` has turned about world axis `k` (planar: about z).
     fn angle(&self, link: usize, k: [f64; 3]) -> f64 {
-        pkm_runtime::spatial::angle_about(&self.poses[link], k)
+        pkm_runtime::plan::angle_about(&self.poses[link], k)
     }
 
     fn joint_point(&self, model: &Model, j: usize) -> [f64; 3] {
@@ -236,7 +236,7 @@ type Run = (Vec<Sign>, Result<Configuration, SolveError>);
 
 /// Every branch of `plan` at the values `given`, with its link poses.
 fn run_all(plan: &Plan, model: &Model, given: &[f64]) -> Vec<Run> {
-    pkm_runtime::spatial::run_all(model, plan, given)
+    pkm_runtime::plan::run_all(model, plan, given)
         .into_iter()
         .map(|(signs, r)| {
             let c = r.map(|s| Configuration {
@@ -292,7 +292,7 @@ fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
             }
             Output::Point { link, local } => c.point(link, local)[..dim].to_vec(),
             Output::Parts { link, local, parts } => {
-                let frame = pkm_runtime::spatial::frame_of(&c.poses[link]);
+                let frame = pkm_runtime::plan::frame_of(&c.poses[link]);
                 let six = pkm_runtime::steps::place::pose_values(&frame, local);
                 parts.given().map(|i| six[i]).collect()
             }

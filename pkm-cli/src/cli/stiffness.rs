@@ -19,8 +19,8 @@ use pkm_dsl::limb_properties::ResolvedLimb;
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::nalgebra::Vector3;
 use pkm_runtime::newton::Output;
+use pkm_runtime::plan::{Plan, Solution};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::spatial::{Plan, Solution};
 use pkm_runtime::stiffness::PlatformStiffness;
 use pkm_runtime::wrench::RowKind;
 use serde_json::{json, Value};
@@ -137,7 +137,7 @@ impl<'r> Stiffness<'r> {
     /// none; a limb the `limbs` block does not give fails the command.
     fn compute(&self, solution: &Solution) -> Result<Result<Computed, String>, Failure> {
         let model = &self.l.model;
-        let point = pkm_runtime::spatial::at(&solution.poses[self.link], self.local);
+        let point = pkm_runtime::plan::at(&solution.poses[self.link], self.local);
         let analysis = match pkm_runtime::wrench::analyse(model, solution, self.link) {
             Ok(w) => w,
             Err(e) => return Ok(Err(e.to_string())),
@@ -178,7 +178,7 @@ impl<'r> Stiffness<'r> {
         let mut branches = Vec::new();
         let mut configurations: Vec<Configuration> = Vec::new();
         let mut firsts: Vec<Solution> = Vec::new();
-        for (signs, solution) in pkm_runtime::spatial::run_all(model, &self.plan, ordered) {
+        for (signs, solution) in pkm_runtime::plan::run_all(model, &self.plan, ordered) {
             let number = table::number_of(&signs);
             let solved = match solution {
                 Err(e) => Err(e.to_string()),
@@ -565,13 +565,13 @@ fn same_assembly(model: &Model, link: usize, a: &Solution, b: &Solution, toleran
     if (pa.translation.vector - pb.translation.vector).norm() > tolerance || turned > SAME_ASSEMBLY {
         return false;
     }
-    let line = |pose: &pkm_runtime::spatial::Pose3, v: [f64; 3]| (pose.rotation * Vector3::from(v)).normalize();
+    let line = |pose: &pkm_runtime::plan::Pose3, v: [f64; 3]| (pose.rotation * Vector3::from(v)).normalize();
     let parallel = |u: Vector3<f64>, v: Vector3<f64>| u.cross(&v).norm() <= SAME_ASSEMBLY;
     let places = model.joints.iter().all(|j| {
         (0..2).all(|s| {
             let (l, place) = (j.links[s], &j.places[s]);
             let (ta, tb) = (&a.poses[l], &b.poses[l]);
-            let at = |pose| pkm_runtime::spatial::at(pose, place.at());
+            let at = |pose| pkm_runtime::plan::at(pose, place.at());
             near(at(ta), at(tb))
                 && match *place {
                     Place::Point { .. } => true,
@@ -586,8 +586,8 @@ fn same_assembly(model: &Model, link: usize, a: &Solution, b: &Solution, toleran
     });
     let points = model.points.iter().all(|p| {
         near(
-            pkm_runtime::spatial::at(&a.poses[p.link], p.at),
-            pkm_runtime::spatial::at(&b.poses[p.link], p.at),
+            pkm_runtime::plan::at(&a.poses[p.link], p.at),
+            pkm_runtime::plan::at(&b.poses[p.link], p.at),
         )
     });
     places && points

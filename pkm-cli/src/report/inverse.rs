@@ -935,7 +935,7 @@ fn branches_table(page: &mut Page, h: &Held) -> Result<(), ReportError> {
             .collect::<String>(),
         html_escape(&h.point_name)
     );
-    for (b, (sg, result)) in pkm_runtime::spatial::run_all(model, h.plan, &h.pose)
+    for (b, (sg, result)) in pkm_runtime::plan::run_all(model, h.plan, &h.pose)
         .into_iter()
         .enumerate()
     {

@@ -5,9 +5,9 @@
 use super::{invalid, ReportError};
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::{self, Output};
+pub(super) use pkm_runtime::plan::Plan;
+use pkm_runtime::plan::Pose3;
 use pkm_runtime::primitives::Sign;
-pub(super) use pkm_runtime::spatial::Plan;
-use pkm_runtime::spatial::Pose3;
 use std::collections::HashMap;
 
 /// A `.pkm` file ready to solve: its analysis, numeric model, outputs and plans.
@@ -201,25 +201,25 @@ pub(super) fn pose_outputs(model: &Model, poses: &[Pose3], outputs: &[Output]) -
     for o in outputs {
         match *o {
             Output::Pose { link, local, about } => {
-                let p = pkm_runtime::spatial::at(&poses[link], local);
+                let p = pkm_runtime::plan::at(&poses[link], local);
                 v.extend_from_slice(if model.planar { &p[..2] } else { &p[..] });
                 if let Some(k) = about {
-                    v.push(pkm_runtime::spatial::angle_about(&poses[link], k));
+                    v.push(pkm_runtime::plan::angle_about(&poses[link], k));
                 }
             }
             Output::Point { link, local } => {
-                let p = pkm_runtime::spatial::at(&poses[link], local);
+                let p = pkm_runtime::plan::at(&poses[link], local);
                 v.extend_from_slice(if model.planar { &p[..2] } else { &p[..] });
             }
             Output::Parts { link, local, parts } => {
-                let frame = pkm_runtime::spatial::frame_of(&poses[link]);
+                let frame = pkm_runtime::plan::frame_of(&poses[link]);
                 let six = pkm_runtime::steps::place::pose_values(&frame, local);
                 v.extend(parts.given().map(|i| six[i]));
             }
             Output::Joint(j) => {
                 let joint = &model.joints[j];
                 let g = pkm_runtime::steps::JointGeometry::new(joint.kind, joint.links, joint.places);
-                let frame = |l: usize| pkm_runtime::spatial::frame_of(&poses[l]);
+                let frame = |l: usize| pkm_runtime::plan::frame_of(&poses[l]);
                 v.push(g.value_between(&frame(joint.links[0]), &frame(joint.links[1])));
             }
         }

@@ -7,7 +7,7 @@ use super::loaded::{output_columns, pose_outputs, signs};
 use super::{invalid, ReportError, Sampling};
 use crate::drawing;
 use pkm_runtime::newton;
-use pkm_runtime::spatial::Pose3;
+use pkm_runtime::plan::Pose3;
 use pkm_runtime::velocity;
 use std::fmt::Write as _;
 

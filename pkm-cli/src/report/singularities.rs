@@ -8,7 +8,7 @@ use super::loaded::{Loaded, Plan};
 use super::workspace::{largest_pair, plane_name, AXES};
 use super::{ReportError, Sampling};
 use pkm_runtime::newton;
-use pkm_runtime::spatial::Pose3;
+use pkm_runtime::plan::Pose3;
 use pkm_runtime::workspace::Grid;
 use pkm_runtime::{singular, velocity};
 use std::fmt::Write as _;

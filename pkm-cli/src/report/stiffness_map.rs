@@ -57,14 +57,14 @@ impl Map<'_> {
     /// where the pose is not reached or the configuration is singular.
     fn node(&self, pose: &[f64], signs: &[Sign]) -> Result<Node, String> {
         let model = &self.l.model;
-        let solution = pkm_runtime::spatial::run(model, self.plan, pose, signs).map_err(|e| e.to_string())?;
+        let solution = pkm_runtime::plan::run(model, self.plan, pose, signs).map_err(|e| e.to_string())?;
         let analysis = pkm_runtime::wrench::analyse(model, &solution, self.link).map_err(|e| e.to_string())?;
         let properties: Vec<LimbProperties> = pkm_dsl::limb_properties::in_analysis_order(self.limbs, &analysis.limbs)
             .map_err(|_| "a limb has no entry in the `limbs` block".to_string())?
             .into_iter()
             .map(ResolvedLimb::properties)
             .collect();
-        let point = pkm_runtime::spatial::at(&solution.poses[self.link], self.local);
+        let point = pkm_runtime::plan::at(&solution.poses[self.link], self.local);
         let k = PlatformStiffness::new(analysis, &properties, point).map_err(|e| e.to_string())?;
         let along_z = k.directional().map_err(|e| e.to_string())?[2];
         let translational = k.k().fixed_view::<3, 3>(0, 0).into_owned();

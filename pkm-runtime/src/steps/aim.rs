@@ -5,11 +5,11 @@
 use super::search::{reversed, Search};
 use super::{pa_plane, Found, Geometry, JointValue, Motion, Move, RESIDUAL_ROWS};
 use crate::frame::Frame;
+use crate::plan::{v3, Anchor, ByMiss, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, scale, sub, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, ByMiss, Step};
 
 /// The value of the joint that brings `point` of the new link onto the
 /// anchored position `target`.
@@ -30,7 +30,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, point: PointRef, target: &Anchor) ->
 }
 
 /// The closure rows of the joint the aim `by.aim` left open
-/// ([`crate::spatial::Plan::by_miss`]) without the aimed link's pose: the
+/// ([`crate::plan::Plan::by_miss`]) without the aimed link's pose: the
 /// joint's [`super::JointGeometry::closure_residual`] with that link at the aim's
 /// zero (its axis rows are the same: the turn keeps the joint's axis), its
 /// centres' rows the [`miss`] (or, after a parallelogram plane, the

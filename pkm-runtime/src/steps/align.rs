@@ -6,11 +6,11 @@ use super::search::{reversed, Search};
 use super::{Found, JointValue, Move};
 use crate::frame::Frame;
 use crate::model::JointType;
+use crate::plan::v3;
+use crate::plan::{Direction, Hop, Step};
 use crate::scalar::{cross, dot, reject, scale, sub, unit, Failure, Scalar};
 use crate::singular::{joint_point, sine, Condition, Configuration, Factor};
 use crate::solution::SolveError;
-use crate::spatial::v3;
-use crate::spatial::{Direction, Hop, Step};
 use nalgebra::Vector3;
 
 /// The angle of the revolute that makes `group` (a direction of the new

@@ -31,10 +31,10 @@
 use super::search::Search;
 use super::{JointValue, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Constraint, Step};
 use crate::scalar::Scalar;
 use crate::singular::{crossing, joint_point, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Constraint, Step};
 
 /// The value of the revolute (or slide) that puts `point` (on the link
 /// across the given joint `given` from the new link, carried at input

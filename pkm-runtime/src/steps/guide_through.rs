@@ -22,11 +22,11 @@
 use super::search::{reversed, Search};
 use super::{Found, Motion, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Anchor, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, sub, Failure, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, Step};
 
 /// The angle of the revolute that puts the line `point` (on the link across
 /// prismatic `slide` from the new link) travels on through the anchored

@@ -46,10 +46,10 @@ pub mod two_turns;
 
 use crate::frame::Frame;
 use crate::model::{JointType, Place};
+use crate::plan::{Anchor, Check, Direction, Hop, Plan, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{constant, cross, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::solution::{step_error, PointRef, SolveError};
-use crate::spatial::{Anchor, Check, Direction, Hop, Plan, Step};
 use std::borrow::Cow;
 
 fn degenerate(what: &'static str) -> GeomError<f64> {
@@ -458,7 +458,7 @@ pub struct Given<'a, T: Scalar> {
     pub values: &'a [T],
     /// The ± choices, one per branching step.
     pub signs: &'a [T::Choice],
-    /// The name of the loop step `k` closes ([`crate::spatial::Step::loop_joints`]), for errors.
+    /// The name of the loop step `k` closes ([`crate::plan::Step::loop_joints`]), for errors.
     pub name: &'a dyn Fn(usize) -> Cow<'static, str>,
     /// Where this plan's steps start among the sites a kernel is called
     /// from (step `k`'s site is `sites + k`): the code generator names the
@@ -524,7 +524,7 @@ pub fn execute<T: Scalar>(
     state: &mut Solved<T>,
     given: &Given<'_, T>,
 ) -> Result<(), SolveError> {
-    use crate::spatial::Constraint;
+    use crate::plan::Constraint;
     in_reach(k, step, geometry, given)?;
     let (joint, from, to) = match *step {
         Step::Place {
@@ -766,7 +766,7 @@ impl<T: Scalar> Geometry<T> {
 /// Runs every step of `plan` from the base (link 0 at the identity) for
 /// `n_links` links; unverified (see [`check_residual`]).
 pub fn run<T: Scalar>(
-    plan: &crate::spatial::Plan,
+    plan: &crate::plan::Plan,
     geometry: &Geometry<T>,
     n_links: usize,
     given: &Given<'_, T>,
@@ -830,7 +830,7 @@ pub fn value<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> 
 /// beyond a quarter turn, where `v` fades towards the half turn, `n` is
 /// the column of `(R + Rᵀ)/2 − cos θ·I = (1 − cos θ)·n·nᵀ` with the largest
 /// diagonal, normalised, signed along `v`. For every [`Scalar`]: generated
-/// solutions give the same numbers as [`crate::spatial::Solution::model_values`].
+/// solutions give the same numbers as [`crate::plan::Solution::model_values`].
 pub fn ball_rotation<T: Scalar>(geometry: &Geometry<T>, state: &Solved<T>, j: usize) -> ([T; 3], T) {
     let [u, w] = geometry.joints[j].links;
     rotation_vector(state.poses[u].inverse().then(&state.poses[w]).r)
@@ -994,7 +994,7 @@ fn constraints(
     point: PointRef,
     x: nalgebra::Vector3<f64>,
     rods: bool,
-) -> Vec<(crate::spatial::Constraint, bool)> {
+) -> Vec<(crate::plan::Constraint, bool)> {
     let mut out = Vec::new();
     let circle = s.kind(j) != JointType::P;
     // The motion's axis (circle) or direction (line) in `to`'s frame.
@@ -1114,10 +1114,10 @@ fn locus_factor(
     from: usize,
     to: usize,
     point: PointRef,
-    constraint: &crate::spatial::Constraint,
+    constraint: &crate::plan::Constraint,
 ) -> crate::singular::Factor {
+    use crate::plan::Constraint;
     use crate::singular::{crossing, joint_point, Factor, LinkPoint};
-    use crate::spatial::Constraint;
     let (p, t) = at.path(joint, from, to, point);
     let (n, condition, other) = match constraint {
         Constraint::Sphere { centre, .. } => on_sphere::normal(at, p, centre),

@@ -27,11 +27,11 @@
 use super::search::Search;
 use super::{place_axis, Found, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Direction, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{constant, norm, reject, sub, unit, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::SolveError;
-use crate::spatial::{v3, Direction, Step};
 use nalgebra::Vector3;
 
 /// The angle of revolute `mv.joint` that turns the axis of revolute

@@ -5,13 +5,13 @@
 
 use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
+use crate::plan::v3;
+use crate::plan::{Constraint, Hop};
 use crate::primitives::Error as GeomError;
 use crate::scalar::Failure;
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::v3;
-use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link at the

@@ -5,14 +5,14 @@
 use super::search::{reversed, Reach, Search};
 use super::{Found, Motion, Move};
 use crate::model::JointType;
+use crate::plan::v3;
+use crate::plan::{Anchor, Direction};
+use crate::plan::{Constraint, Hop};
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::Failure;
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::v3;
-use crate::spatial::{Anchor, Direction};
-use crate::spatial::{Constraint, Hop};
 use nalgebra::Vector3;
 
 /// The value of the joint that puts `point` of the new link on the plane

@@ -5,11 +5,11 @@
 
 use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
+use crate::plan::v3;
+use crate::plan::{Constraint, Hop};
 use crate::scalar::{cross, dot, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::v3;
-use crate::spatial::{Constraint, Hop};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link (carried

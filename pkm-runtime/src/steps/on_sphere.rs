@@ -8,12 +8,12 @@
 use super::search::{reversed, Reach, Search};
 use super::{Found, Motion, Move};
 use crate::model::Place;
+use crate::plan::v3;
+use crate::plan::{Anchor, Constraint, Radius};
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::{norm, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::v3;
-use crate::spatial::{Anchor, Constraint, Radius};
 use nalgebra::Vector3;
 
 /// The value of the joint that puts `point` of the new link at the

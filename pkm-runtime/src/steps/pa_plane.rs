@@ -19,13 +19,13 @@ use super::search::{reversed, Search};
 use super::{Found, Geometry, Motion, Move};
 use crate::frame::Frame;
 use crate::model::JointType;
+use crate::plan::v3;
+use crate::plan::{Anchor, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{constant, cross, dot, scale, sub, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::PointRef;
 use crate::solution::SolveError;
-use crate::spatial::v3;
-use crate::spatial::{Anchor, Step};
 
 /// The angle of the revolute that puts parallelogram `pa`'s plane (its
 /// hinge on the new link) through the anchored point `target`; `branch`

@@ -47,10 +47,10 @@ use super::search::{reversed, Search};
 use super::{Geometry, Given};
 use crate::frame::Frame;
 use crate::model::JointType;
+use crate::plan::{Anchor, Direction, Hop, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{add, constant, cross, dot, norm, scale, sub, Failure, Scalar};
 use crate::solution::{step_error, PointRef, SolveError};
-use crate::spatial::{Anchor, Direction, Hop, Step};
 use nalgebra::Vector3;
 
 /// One limb's hold on the link: `point` of the link on the plane with

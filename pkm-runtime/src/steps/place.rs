@@ -5,9 +5,9 @@
 
 use super::{Geometry, Given};
 use crate::frame::Frame;
+use crate::plan::Turn;
 use crate::scalar::{constant, sub, unit, Scalar};
 use crate::solution::PointRef;
-use crate::spatial::Turn;
 
 /// The pose of `link` whose `point` is at the given values from `input`
 /// (x, y, and z unless `planar`), turned as `turn` says: by the next value

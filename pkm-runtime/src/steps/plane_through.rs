@@ -33,11 +33,11 @@
 use super::search::{reversed, Search};
 use super::{place_axis, Found, Motion, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Anchor, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{cross, dot, scale, sub, unit, Failure, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, Step};
 
 /// The angle of the revolute that turns the plane of revolute `across` (on
 /// the new link) and prismatic `slide` (beyond it) through the anchored

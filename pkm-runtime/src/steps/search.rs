@@ -8,11 +8,11 @@
 
 use super::Geometry;
 use crate::model::{JointType, Model, Place};
+use crate::plan::{self, Hop, Plan, Step};
 use crate::solution::PointRef;
-use crate::spatial::{self, Hop, Plan, Step};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-use crate::spatial::v3;
+use crate::plan::v3;
 
 /// What the planner knows about the nominal model while it searches a plan.
 pub struct Search<'a> {
@@ -44,7 +44,7 @@ pub(crate) struct Reach {
     pub(crate) x: Vector3<f64>,
 }
 
-pub(crate) fn reversed(hops: &[Hop]) -> spatial::Hops {
+pub(crate) fn reversed(hops: &[Hop]) -> plan::Hops {
     hops.iter()
         .rev()
         .map(|h| Hop {
@@ -125,7 +125,7 @@ impl<'a> Search<'a> {
 
     pub(crate) fn zero(&self, j: usize, from: usize) -> Isometry3<f64> {
         let forward = self.model.joints[j].links[0] == from;
-        spatial::pose_of(&self.geometry.joints[j].zero[usize::from(!forward)])
+        plan::pose_of(&self.geometry.joints[j].zero[usize::from(!forward)])
     }
 
     pub(crate) fn hop(&self, j: usize, from: usize) -> Hop {
@@ -228,7 +228,7 @@ impl<'a> Search<'a> {
     /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
     pub(crate) fn rotation(&self, hops: &[Hop]) -> UnitQuaternion<f64> {
         let (frame, _) = self.geometry.across(crate::frame::Frame::identity(), 0, hops);
-        spatial::pose_of(&frame).rotation
+        plan::pose_of(&frame).rotation
     }
 
     /// Candidate joints: one known link, a new link, value not given.

@@ -27,11 +27,11 @@
 use super::search::{reversed, Search};
 use super::{Found, Motion, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Anchor, Hops, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{dot, reject, sub, Failure, Scalar};
 use crate::singular::{joint_point, sine, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, Hops, Step};
 
 /// Which of the point and the line the new link carries.
 #[derive(Debug, Clone, PartialEq)]

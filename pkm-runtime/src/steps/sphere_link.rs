@@ -24,10 +24,10 @@ use super::search::{reversed, Reach, Search};
 use super::{Found, Geometry, JointValue, Move};
 use crate::frame::Frame;
 use crate::model::JointType;
+use crate::plan::{v3, Anchor, Constraint, Radius, Step};
 use crate::primitives::Error as GeomError;
 use crate::scalar::{add, cross, dot, norm, sub, unit, Scalar};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, Constraint, Radius, Step};
 
 /// How near (in `1 + cos`, the cosine between the drawn and the found
 /// S–S line) the link may come to pointing against its drawn direction

@@ -12,7 +12,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, input: usize) -> Found<T> {
 /// The planner's match: a joint whose value is given, between a known link
 /// and a new one, carries the new link across.
 pub(crate) fn find(s: &mut super::search::Search<'_>) -> bool {
-    use crate::spatial::Step;
+    use crate::plan::Step;
     for (j, joint) in s.model.joints.iter().enumerate() {
         let (Some(input), false) = (s.given[j], s.used[j]) else {
             continue;

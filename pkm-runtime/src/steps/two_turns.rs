@@ -34,11 +34,11 @@
 use super::search::{reversed, Search};
 use super::{place_axis, Found, Move};
 use crate::model::JointType;
+use crate::plan::{v3, Anchor, Step};
 use crate::primitives::{Error as GeomError, TANGENCY_TOL};
 use crate::scalar::{add, cross, dot, norm, scale, sub, unit, Failure, Scalar};
 use crate::singular::{crossing, joint_point, Condition, Configuration, Factor};
 use crate::solution::{PointRef, SolveError};
-use crate::spatial::{v3, Anchor, Step};
 
 /// The angle of revolute `mv.joint` that lets revolute `across` (on the
 /// new link) carry `point` of the link beyond it onto the anchored
