@@ -608,14 +608,19 @@ impl<'g> Emit<'g> {
         };
         let mut lets = TokenStream::new();
         // Locals named after what they are, a number added only where two
-        // share a name; `params` is the argument.
+        // share a name; `params` is the argument. A name that starts with a
+        // capital (a parameter `RB`) keeps its number: bare, it could be a
+        // constant or a unit struct of the caller's module, which a `let`
+        // would take as a pattern to match.
         let mut taken: std::collections::HashSet<String> = ["params".to_string()].into();
         for &s in &order {
             if self.g.constant(s).is_some() || scope.uses.get(&s).copied().unwrap_or(0) < 2 {
                 continue;
             }
             let v = match self.label(s, LABEL_DEPTH).map(|l| ident_text(&l)) {
-                Some(l) if taken.insert(l.clone()) => format_ident!("{}", l),
+                Some(l) if !l.starts_with(|c: char| c.is_ascii_uppercase()) && taken.insert(l.clone()) => {
+                    format_ident!("{}", l)
+                }
                 _ => self.name(s),
             };
             let e = self.compute(s, &|o| self.prepared_expr(o, &scope));

@@ -36,6 +36,16 @@ pkm::mechanism!(
     file = "../../../../examples/mechanisms/spr_3.pkm"
 );
 
+// Hygiene: constants of the caller's module named like the mechanism's
+// parameters (spr_3's `RB`, `RA`; the crank's `L`) are not taken for the
+// generated code's locals, nor its locals for them.
+#[allow(dead_code)]
+const RB: f64 = 100.0;
+#[allow(dead_code)]
+const RA: f64 = 80.0;
+#[allow(dead_code)]
+const L: f64 = 1.0;
+
 fn main() {
     assert_eq!(FourBar::DOF + MechanismA::DOF, 4);
     assert_eq!(CrankParams::default(), CrankParams { L: 50.0, rod: 150.0 });
