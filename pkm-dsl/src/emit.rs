@@ -214,7 +214,7 @@ impl<'g> Emit<'g> {
     /// The guards of `guards` a function computing `roots` must check: all
     /// but those of the steps in `waivable` (each with the values it solves)
     /// whose values `roots` do not read. Such a step (an aim a miss stands
-    /// for, [`pkm_runtime::plan::Plan::by_miss`]) is not computed, and
+    /// for, [`pkm_runtime::spatial::Plan::by_miss`]) is not computed, and
     /// its guards only ask that its turn be defined.
     pub fn needed_guards(&self, roots: &[Sym], guards: &[Sym], waivable: &[(usize, Vec<Sym>)]) -> Vec<Sym> {
         let (order, _) = self.reach(roots);
@@ -565,7 +565,7 @@ impl<'g> Emit<'g> {
         let (lets, values) = self.prepare();
         let fields = self.fields.borrow();
         let inits = fields.iter().zip(values).map(|(f, v)| {
-            if v.to_string() == f.to_string() {
+            if *f == v.to_string() {
                 quote! { #f }
             } else {
                 quote! { #f: #v }
@@ -607,22 +607,13 @@ impl<'g> Emit<'g> {
             bound: RefCell::default(),
         };
         let mut lets = TokenStream::new();
-        // Locals named after what they are, a number added only where two
-        // share a name; `params` is the argument. A name that starts with a
-        // capital (a parameter `RB`) keeps its number: bare, it could be a
-        // constant or a unit struct of the caller's module, which a `let`
-        // would take as a pattern to match.
-        let mut taken: std::collections::HashSet<String> = ["params".to_string()].into();
         for &s in &order {
             if self.g.constant(s).is_some() || scope.uses.get(&s).copied().unwrap_or(0) < 2 {
                 continue;
             }
-            let v = match self.label(s, LABEL_DEPTH).map(|l| ident_text(&l)) {
-                Some(l) if !l.starts_with(|c: char| c.is_ascii_uppercase()) && taken.insert(l.clone()) => {
-                    format_ident!("{}", l)
-                }
-                _ => self.name(s),
-            };
+            // Numbered as in the solvers: a bare name could be a constant
+            // of the caller's (`const RB: f64` beside a parameter `RB`).
+            let v = self.name(s);
             let e = self.compute(s, &|o| self.prepared_expr(o, &scope));
             lets.extend(quote! { let #v = #e; });
             scope.bound.borrow_mut().insert(s, quote! { #v });
@@ -683,14 +674,17 @@ mod tests {
             fields.to_string().replace(' ', ""),
             "l2:f64,l2_sq:f64,half_inv_abs_l3:f64,twice_l2:f64,l3_minus_l2:f64,k5:f64,l2_sq_2:f64,"
         );
-        // Each slot is a `let` of its own name (the name a second node
-        // takes has its number), and the value its field's.
+        // Each slot is a `let` of its own name and its node's number (l2
+        // is node 0, l3 node 1, the constants 0.5 and 2 nodes 3 and 6),
+        // and its value its field's.
         assert_eq!(
             prepare.to_string().replace(' ', ""),
-            "letl2=params.l2;letl3=params.l3;letl2_sq=(l2*l2);lethalf_inv_abs_l3=(0.5f64/l3.abs());\
-             lettwice_l2=(2f64*l2);letl3_minus_l2=(l3-l2);letv9=::pkm::runtime::scalar::angle(l2,l3);\
+            "letl2_0=params.l2;letl3_1=params.l3;letl2_sq_2=(l2_0*l2_0);\
+             lethalf_inv_abs_l3_5=(0.5f64/l3_1.abs());lettwice_l2_7=(2f64*l2_0);\
+             letl3_minus_l2_8=(l3_1-l2_0);letv9=::pkm::runtime::scalar::angle(l2_0,l3_1);\
              letl2_sq_10=params.l2_sq;\
-             P{l2,l2_sq,half_inv_abs_l3,twice_l2,l3_minus_l2,k5:v9,l2_sq_2:l2_sq_10}"
+             P{l2:l2_0,l2_sq:l2_sq_2,half_inv_abs_l3:half_inv_abs_l3_5,twice_l2:twice_l2_7,\
+             l3_minus_l2:l3_minus_l2_8,k5:v9,l2_sq_2:l2_sq_10}"
         );
     }
 
