@@ -21,6 +21,7 @@ pub mod real;
 pub mod reference;
 pub mod scalar;
 pub mod singular;
+pub mod skc_reactions;
 pub mod solution;
 pub mod spatial;
 pub mod steps;
