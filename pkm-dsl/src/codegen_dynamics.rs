@@ -25,7 +25,11 @@ use crate::trace::Sym;
 use pkm_runtime::frame::Frame;
 use pkm_runtime::model::{JointType, Place};
 use pkm_runtime::scalar::{cross, unit, Scalar};
-use pkm_runtime::steps::{Geometry, JointGeometry, JointValue};
+use pkm_runtime::skc_reactions::{
+    self, Assembly, Carried, CentroidMotion, Demands, Layout, Load, MovingBody, PassiveRow,
+};
+use pkm_runtime::steps::{Geometry, JointValue};
+use pkm_runtime::velocity::{unit_twists, Screw};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
@@ -84,6 +88,8 @@ pub(super) struct Traced {
     terms: Vec<Sym>,
     /// Numbers per wrench: 3 planar, 6 spatial.
     d: usize,
+    /// Where a wrench turns from forces to moments ([`Layout::moments_from`]).
+    moments_from: usize,
     skcs: Vec<Skc>,
     /// The SKC and the column where each joint's reaction starts.
     place: Vec<(usize, usize)>,
@@ -124,30 +130,10 @@ enum Spin {
     Load(String, [Term; 3], [Term; 3], [Term; 3], [Term; 3]),
 }
 
-/// The line an S–S link turns freely about, in its frame: the first ball's
-/// centre and the unit direction to the second's, as
-/// `pkm_runtime::mass_properties::idle_spin_line` takes it from the model.
+/// The line an S–S link turns freely about, in its frame
+/// ([`skc_reactions::idle_spin_line`], as the runtime takes it).
 fn idle_spin_line(g: &Geometry<Sym>, link: usize) -> Option<([Sym; 3], [Sym; 3])> {
-    let mut centres = Vec::new();
-    for jg in g.joints.iter().filter(|j| j.links.contains(&link)) {
-        if jg.kind != JointType::S || jg.links[0] == jg.links[1] {
-            return None;
-        }
-        centres.push(jg.places[usize::from(jg.links[1] == link)].at());
-    }
-    let [a, b] = centres[..] else { return None };
-    let d: [Sym; 3] = std::array::from_fn(|i| b[i] - a[i]);
-    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    Some((a, d.map(|x| x / n)))
-}
-
-/// An inertia without its moment about the unit `axis`: `I − (âᵀIâ) ââᵀ`
-/// (`pkm_runtime::mass_properties::without_axial`).
-fn without_axial(inertia: &[[Sym; 3]; 3], axis: &[Sym; 3]) -> [[Sym; 3]; 3] {
-    let dot = |a: &[Sym; 3], b: &[Sym; 3]| (0..3).fold(Sym::c(0.0), |s, i| s + a[i] * b[i]);
-    let ia: [Sym; 3] = std::array::from_fn(|i| dot(&inertia[i], axis));
-    let along = dot(axis, &ia);
-    std::array::from_fn(|i| std::array::from_fn(|j| inertia[i][j] - axis[i] * axis[j] * along))
+    skc_reactions::idle_spin_line(g.joints.iter().map(|j| (j.kind, j.links, j.places)), link)
 }
 
 impl Terms {
@@ -221,14 +207,14 @@ fn along_accelerations(x: &[Sym]) -> Vec<Sym> {
     crate::trace::derivative(x, &Sym::accel)
 }
 
-/// What link `pose`'s joints must supply for a body of mass `m`, centroid
-/// `c` and inertia `inertia` (link axes): its inertial wrench less gravity
-/// `g`, about the base origin, as (force, moment).
-fn body_demand(pose: &Frame<Sym>, m: Sym, c: [Sym; 3], inertia: &[[Sym; 3]; 3], g: [Sym; 3]) -> ([Sym; 3], [Sym; 3]) {
+/// How a body at `pose` with its centroid at `c` (its frame) moves: its
+/// angular velocity and acceleration and its centroid's acceleration, the
+/// exact time derivatives of the pose through the trace (`[ω]× = Ṙ Rᵀ`;
+/// α = ∂ω/∂q·q̇ + ∂ω/∂q̇·q̈, the latter ω with q̈ for q̇).
+fn traced_motion(pose: &Frame<Sym>, c: [Sym; 3]) -> CentroidMotion<Sym> {
     let r = pose.r;
     let rd = unflat(&rate(&flat(&r)));
     let w = angular(&r, &rd);
-    // α = ∂ω/∂q·q̇ + ∂ω/∂q̇·q̈, the latter ω with q̈ for q̇.
     let dw = rate(&w);
     let w_acc = angular(&r, &unflat(&along_accelerations(&flat(&r))));
     let alpha: [Sym; 3] = std::array::from_fn(|i| dw[i] + w_acc[i]);
@@ -236,18 +222,8 @@ fn body_demand(pose: &Frame<Sym>, m: Sym, c: [Sym; 3], inertia: &[[Sym; 3]; 3], 
     let v = rate(&centroid);
     let curvature = rate(&v);
     let along = along_accelerations(&centroid);
-    let a: [Sym; 3] = std::array::from_fn(|i| curvature[i] + along[i]);
-    // Euler's equations in the link's axes.
-    let (wb, ab) = (pose.rotate_back(w), pose.rotate_back(alpha));
-    let times = |v: [Sym; 3]| -> [Sym; 3] {
-        std::array::from_fn(|i| (0..3).map(|k| inertia[i][k] * v[k]).fold(Sym::c(0.0), |s, x| s + x))
-    };
-    let (iab, iwb) = (times(ab), times(wb));
-    let gyro = cross(wb, iwb);
-    let moment = pose.rotate(std::array::from_fn(|i| iab[i] + gyro[i]));
-    let f: [Sym; 3] = std::array::from_fn(|i| m * (a[i] - g[i]));
-    let about_origin = cross(centroid, f);
-    (f, std::array::from_fn(|i| moment[i] + about_origin[i]))
+    let a_c: [Sym; 3] = std::array::from_fn(|i| curvature[i] + along[i]);
+    CentroidMotion { w, alpha, a_c }
 }
 
 /// The inertia tensor of a declared inertia, in kg·L².
@@ -277,131 +253,18 @@ fn moments_of(i: &Inertia) -> Vec<Sym> {
     }
 }
 
-/// Joint `jg`'s unit twists (second link relative to the first) as
-/// (ω, velocity of the point at the origin), world axes, its first link at
-/// `pu` and its value `value`: as `pkm_runtime::velocity::joint_twists`.
-pub(super) fn joint_twists(
-    jg: &JointGeometry<Sym>,
-    value: Option<JointValue<Sym>>,
-    pu: &Frame<Sym>,
-) -> Vec<([Sym; 3], [Sym; 3])> {
-    let z = Sym::c(0.0);
-    let zero = [z; 3];
-    let column = |f: &Frame<Sym>, i: usize| [f.r[0][i], f.r[1][i], f.r[2][i]];
-    match jg.kind {
-        JointType::R => {
-            let w = pu.rotate(column(&jg.frames[0], 2));
-            let p = pu.apply(jg.frames[0].t);
-            vec![(w, cross(p, w))]
-        }
-        JointType::P => {
-            let (guide, sign) = match jg.places[0] {
-                Place::Line { along, .. } => (along, 1.0),
-                _ => (
-                    match jg.places[1] {
-                        Place::Line { along, .. } => along,
-                        other => pkm_runtime::steps::place_axis(&other),
-                    },
-                    -1.0,
-                ),
-            };
-            // Both links keep one orientation, so u's axes serve for a guide on v too.
-            let d = pu.rotate(unit(guide)).map(|x| x * Sym::c(sign));
-            vec![(zero, d)]
-        }
-        JointType::Pa => {
-            let (c, s) = match value {
-                Some(JointValue::Turn(c, s, _)) => (c, s),
-                Some(JointValue::Slide(t)) => (t.cos(), t.sin()),
-                None => (Sym::c(1.0), z),
-            };
-            // d/dθ of the arm turned by θ about the hinge's z: ẑ × Rz(θ)·a.
-            let rate = |f: &Frame<Sym>, arm: [Sym; 3]| {
-                let local = f.rotate_back(arm);
-                let turned = [c * local[0] - s * local[1], s * local[0] + c * local[1], local[2]];
-                f.rotate([-turned[1], turned[0], z])
-            };
-            let (fu, fv) = (&jg.frames[0], &jg.frames[1]);
-            let v = match (jg.places[0], jg.places[1]) {
-                (Place::Arm { arm, .. }, _) => rate(fu, arm),
-                (_, Place::Arm { arm, .. }) => fu.rotate(fv.rotate_back(rate(fv, arm))).map(|x| -x),
-                _ => zero,
-            };
-            vec![(zero, pu.rotate(v))]
-        }
-        JointType::S => {
-            let c = pu.apply(jg.places[0].at());
-            (0..3)
-                .map(|i| {
-                    let e: [Sym; 3] = std::array::from_fn(|k| Sym::c(if k == i { 1.0 } else { 0.0 }));
-                    (e, cross(c, e))
-                })
-                .collect()
-        }
-    }
-}
-
-/// The mechanism's size as `pkm_runtime::kinematics::model_scale` takes
-/// it: the largest distance of a joint's place or a named point from its
-/// link's origin, 1 if there is none.
-pub(super) fn size(g: &Geometry<Sym>) -> Sym {
-    let norm = |p: [Sym; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-    let all = g
-        .joints
-        .iter()
-        .flat_map(|j| j.places.iter().map(|p| norm(p.at())))
-        .chain(g.named.iter().map(|p| norm(*p)));
-    let l = all.fold(Sym::c(0.0), |a, x| Sym::if_less(a, x, x, a));
-    Sym::if_less(Sym::c(0.0), l, l, Sym::c(1.0))
-}
-
-/// How the trace writes wrenches: d numbers, (fx, fy, mz) planar or
-/// (f, m) spatial, moments over the size in the equations.
-struct Layout {
-    planar: bool,
-    d: usize,
-    size: Sym,
-}
-
-impl Layout {
-    fn numbers(&self, f: [Sym; 3], mo: [Sym; 3]) -> Vec<Sym> {
-        if self.planar {
-            vec![f[0], f[1], mo[2]]
-        } else {
-            f.iter().chain(&mo).copied().collect()
-        }
-    }
-
-    /// What component `c` is divided by in the equations: the size for a moment.
-    fn unit(&self, c: usize) -> Sym {
-        if c >= moments_from(self.d) {
-            self.size
-        } else {
-            Sym::c(1.0)
-        }
-    }
-}
-
-/// Where a wrench of `d` numbers turns from forces to moments.
-fn moments_from(d: usize) -> usize {
-    if d == 3 {
-        2
-    } else {
-        3
-    }
-}
-
-/// What each link's joints must supply (its bodies' inertial wrenches less
-/// gravity, less the loads on it, about the base origin), and the bodies
-/// whose mass properties the parameters give (to check at run time).
+/// What each link's joints must supply ([`skc_reactions::demands`]: its
+/// bodies' inertial wrenches less gravity, less the loads on it, about the
+/// base origin), and the bodies whose mass properties the parameters give
+/// and those on S–S links (to check at run time).
 fn demands(
     a: &Analysis,
     g: &Geometry<Sym>,
     b: &Branch,
-    w: &Layout,
+    w: &Layout<Sym>,
     twists: &[Vec<Vec<Sym>>],
     terms: &mut Terms,
-) -> Result<Demands, String> {
+) -> Result<Demands<Sym>, String> {
     let m = &a.mechanism;
     let ml = &a.mass_and_loads;
     let units = ml.units.ok_or("dynamics needs the file's units")?;
@@ -413,14 +276,14 @@ fn demands(
         None => ml.gravity.map(Sym::c),
     }
     .map(|x| x * per_metre);
-    let mut demand: Vec<Vec<Sym>> = vec![vec![Sym::c(0.0); w.d]; m.links.len()];
+    let lines: Vec<Option<([Sym; 3], [Sym; 3])>> = (0..m.links.len()).map(|l| idle_spin_line(g, l)).collect();
+    let mut bodies = Vec::new();
     for body in &ml.masses {
         let mass = sym(&body.mass_expr);
-        let mut inertia = inertia_of(&body.inertia, kg);
         let name = &m.links[body.link].name;
-        // An S–S link's idle spin does no work: its moment about its line
-        // dropped, as `Loading::idle_spins_dropped` drops it.
-        if let Some((point, axis)) = idle_spin_line(g, body.link) {
+        // An S–S link's idle spin does no work: its body is checked at run
+        // time, its moment about the line dropped in the demand.
+        if let Some((point, axis)) = lines[body.link] {
             let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
             let declared = inertia_of(&body.inertia, Sym::c(1.0));
             let row_major = std::array::from_fn(|k| terms.of(declared[k / 3][k % 3]));
@@ -432,15 +295,19 @@ fn demands(
                 row_major,
             );
             terms.spins.push(check);
-            inertia = without_axial(&inertia, &axis);
         }
-        let (f, mo) = body_demand(&b.poses[body.link], mass * kg, sym3(&body.centroid), &inertia, gravity);
-        for (x, y) in demand[body.link].iter_mut().zip(w.numbers(f, mo)) {
-            *x = *x + y;
-        }
+        let pose = b.poses[body.link];
+        let centroid = sym3(&body.centroid);
+        bodies.push(MovingBody {
+            on: Carried::Link(body.link),
+            pose,
+            motion: traced_motion(&pose, centroid),
+            mass: mass * kg,
+            centroid,
+            inertia: inertia_of(&body.inertia, kg),
+        });
         terms.check_body(m.links[body.link].name.clone(), mass, &body.inertia);
     }
-    let mut bar_work = vec![Sym::c(0.0); m.joints.len()];
     for bar in &ml.bars {
         let j = bar.joint;
         let jg = &g.joints[j];
@@ -464,35 +331,30 @@ fn demands(
         };
         let pose = b.poses[carrier].then(&turn);
         let mass = sym(&bar.mass_expr);
-        let inertia = inertia_of(&bar.inertia, kg);
-        let (f, mo) = body_demand(&pose, mass * kg, sym3(&bar.centroid), &inertia, gravity);
-        let wrench = w.numbers(f, mo);
-        // The bar passes its demand to the joint's first link, and does
-        // work along its turn relative to it (`newton_euler::bar_demand`).
-        let first = jg.links[0];
+        let centroid = sym3(&bar.centroid);
+        // Its unit twist relative to the carrier: the turn about the hinge axis.
         let omega = b.poses[carrier].rotate(axis);
-        let own = w.numbers(cross(pose.t, omega), omega);
-        let relative: Vec<Sym> = if carrier == first {
-            own
-        } else {
-            own.iter().zip(&twists[j][0]).map(|(x, y)| *x + *y).collect()
+        let xi = Screw {
+            w: omega,
+            v: cross(pose.t, omega),
         };
-        let power = relative
-            .iter()
-            .zip(&wrench)
-            .fold(Sym::c(0.0), |acc, (x, y)| acc + *x * *y);
-        bar_work[j] = bar_work[j] + power;
-        for (x, y) in demand[first].iter_mut().zip(wrench) {
-            *x = *x + y;
-        }
+        bodies.push(MovingBody {
+            on: Carried::Bar { joint: j, carrier, xi },
+            pose,
+            motion: traced_motion(&pose, centroid),
+            mass: mass * kg,
+            centroid,
+            inertia: inertia_of(&bar.inertia, kg),
+        });
         terms.check_body(format!("{}'s bar", m.joints[j].name), mass, &bar.inertia);
     }
+    let mut loads = Vec::new();
     for load in &ml.loads {
         let at = match load.at {
             Some(point) => g.local(point, load.link),
             None => [Sym::c(0.0); 3],
         };
-        if let Some((point, axis)) = idle_spin_line(g, load.link) {
+        if let Some((point, axis)) = lines[load.link] {
             let all = |x: [Sym; 3], t: &mut Terms| x.map(|s| t.of(s));
             let check = Spin::Load(
                 m.links[load.link].name.clone(),
@@ -503,152 +365,103 @@ fn demands(
             );
             terms.spins.push(check);
         }
-        let p = b.poses[load.link].apply(at);
-        let f = sym3(&load.force).map(|x| x * per_metre);
-        let mo = sym3(&load.moment).map(|x| x * per_metre);
-        let about = cross(p, f);
-        let wrench = w.numbers(f, std::array::from_fn(|i| mo[i] + about[i]));
-        for (x, y) in demand[load.link].iter_mut().zip(wrench) {
-            *x = *x - y;
-        }
+        loads.push(Load {
+            link: load.link,
+            at: b.poses[load.link].apply(at),
+            force: sym3(&load.force).map(|x| x * per_metre),
+            moment: sym3(&load.moment).map(|x| x * per_metre),
+        });
     }
-    Ok(Demands { demand, bar_work })
+    let first: Vec<usize> = g.joints.iter().map(|j| j.links[0]).collect();
+    Ok(skc_reactions::demands(
+        w,
+        m.links.len(),
+        &first,
+        &lines,
+        twists,
+        &bodies,
+        &loads,
+        gravity,
+    ))
 }
 
-/// What the joints must supply: per link, and per parallelogram the work
-/// of its bars along their turn with the first link held.
-struct Demands {
-    demand: Vec<Vec<Sym>>,
-    bar_work: Vec<Sym>,
-}
-
-/// How joint `j` of `g` acts on link `l`: +1 on its second link (the
-/// reaction is what the first exerts on it), −1 on its first.
-fn acting_on(g: &Geometry<Sym>, j: usize, l: usize) -> Option<f64> {
-    let links = g.joints[j].links;
-    if links[1] == l {
-        Some(1.0)
-    } else if links[0] == l {
-        Some(-1.0)
-    } else {
-        None
-    }
-}
-
-/// What one SKC's system is traced from.
-struct SkcInputs<'a> {
-    g: &'a Geometry<Sym>,
-    w: &'a Layout,
-    actuated: &'a [bool],
-    demand: &'a [Vec<Sym>],
-    twists: &'a [Vec<Vec<Sym>>],
-    bar_work: &'a [Sym],
-    place: &'a [(usize, usize)],
-}
-
-/// SKC `k`'s reaction system: its links' balances (the reactions of its
-/// own joints unknown, of later SKCs' known), then a row per unit twist of
-/// each passive joint (a reaction does no work along its joint's motion).
+/// SKC `k`'s reaction system ([`Assembly::system`]) as terms, its
+/// reduction to its cut joints where it has one.
 fn skc_system(
     k: usize,
     skc: &pkm_runtime::newton_euler::SkcParts,
-    x: &SkcInputs,
+    x: &Assembly<'_, Sym>,
     terms: &mut Terms,
 ) -> Result<Skc, String> {
-    let (d, w) = (x.w.d, x.w);
-    let n = skc.joints.len() * d;
-    let (mut entries, mut rhs, mut known) = (Vec::new(), Vec::new(), Vec::new());
-    for (r, &l) in skc.links.iter().enumerate() {
-        for (c, need) in x.demand[l].iter().enumerate() {
-            rhs.push(terms.of(*need / w.unit(c)));
-        }
-        for (j, &(owner, at)) in x.place.iter().enumerate() {
-            let Some(sign) = acting_on(x.g, j, l) else { continue };
-            for c in 0..d {
-                if owner == k {
-                    entries.push((r * d + c, at + c, Term::Const(sign)));
-                } else if owner > k {
-                    known.push((r * d + c, j, c, sign));
-                }
-            }
-        }
-    }
-    let mut row = skc.links.len() * d;
-    let mut actuated = Vec::new();
-    let mut passive: Vec<(usize, Vec<Sym>, Term)> = Vec::new();
-    for (i, &j) in skc.joints.iter().enumerate() {
-        let turns = matches!(x.g.joints[j].kind, JointType::R | JointType::S);
-        for xi in &x.twists[j] {
-            let coefficients = xi.iter().enumerate().map(|(c, v)| (i * d + c, *v * w.unit(c)));
-            if x.actuated[j] {
-                actuated.push(coefficients.map(|(c, s)| (c, terms.of(s))).collect());
-            } else {
-                // A turn's row has lever arms (lengths) against forces, a
-                // slide's unit direction: both in units of the size.
-                let scale = if turns { Sym::c(1.0) / w.size } else { Sym::c(1.0) };
-                let scaled: Vec<Sym> = coefficients.map(|(_, s)| s * scale).collect();
-                for (c, s) in scaled.iter().enumerate() {
-                    entries.push((row, i * d + c, terms.of(*s)));
-                }
-                // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
-                let right = terms.of(-x.bar_work[j] * scale);
-                rhs.push(right);
-                passive.push((i, scaled, right));
-                row += 1;
-            }
-        }
-    }
-    if row.max(n) > MAX_SKC_UNKNOWNS {
+    let s = x.system(k, skc);
+    if s.rows.max(s.unknowns) > MAX_SKC_UNKNOWNS {
         return Err(format!(
-            "SKC {} has a reaction system of {row} × {n}; the generated inverse dynamics solves at most {MAX_SKC_UNKNOWNS} × {MAX_SKC_UNKNOWNS}",
-            k + 1
+            "SKC {} has a reaction system of {} × {}; the generated inverse dynamics solves at most {MAX_SKC_UNKNOWNS} × {MAX_SKC_UNKNOWNS}",
+            k + 1,
+            s.rows,
+            s.unknowns
         ));
     }
-    let reduction = reduce(skc, x.g, d, &passive, terms);
+    // The terms in the system's order: the links' right-hand sides, then
+    // joint by joint its twists' coefficients (and a passive row's
+    // right-hand side).
+    let link_rows = skc.links.len() * x.layout.d();
+    let (mut active, mut passive) = (s.actuated.iter(), s.passive.iter());
+    let mut actuated = Vec::new();
+    let mut rows = Vec::new();
+    let mut rhs: Vec<Term> = s.rhs[..link_rows].iter().map(|v| terms.of(*v)).collect();
+    for &j in &skc.joints {
+        for _ in &x.twists[j] {
+            if x.actuated[j] {
+                let row = active.next().expect("an actuated row per twist");
+                actuated.push(row.iter().map(|&(c, v)| (c, terms.of(v))).collect());
+            } else {
+                let row = passive.next().expect("a passive row per twist");
+                let coefficients: Vec<Term> = row.coefficients.iter().map(|v| terms.of(*v)).collect();
+                let right = terms.of(row.rhs);
+                rhs.push(right);
+                rows.push((row.at, coefficients, right));
+            }
+        }
+    }
+    let entries = s.entries.iter().map(|&(r, c, v)| (r, c, terms.of(v))).collect();
+    let reduction = reduce(skc, x, &s.passive, &rows, terms);
     Ok(Skc {
         joints: skc.joints.clone(),
         undetermined: skc.undetermined,
-        rows: row,
+        rows: s.rows,
         entries,
         rhs,
-        known,
+        known: s.known,
         actuated,
         reduction,
     })
 }
 
 /// The reduction of an SKC's system to its cut joints ([`Reduction`]):
-/// the runtime's spanning tree ([`pkm_runtime::force_system::tree`], which
-/// the runtime's Newton–Euler reads too), with `G`'s entries as terms.
-/// `None` where the tree does not reach every link or the passive rows
-/// outnumber the cut joints' unknowns.
+/// the runtime's spanning tree ([`Assembly::tree`], which the runtime's
+/// Newton–Euler reads too), with `G`'s entries as terms; `rows` are the
+/// passive rows as terms. `None` where the tree does not reach every link
+/// or the passive rows outnumber the cut joints' unknowns.
 fn reduce(
     skc: &pkm_runtime::newton_euler::SkcParts,
-    g: &Geometry<Sym>,
-    d: usize,
-    passive: &[(usize, Vec<Sym>, Term)],
+    x: &Assembly<'_, Sym>,
+    passive: &[PassiveRow<Sym>],
+    rows: &[(usize, Vec<Term>, Term)],
     terms: &mut Terms,
 ) -> Option<Reduction> {
-    let n_links = skc.links.len();
-    // Node of a link: its row block, or n_links for any link outside the SKC.
-    let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(n_links);
-    let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| g.joints[j].links.map(node)).collect();
-    let tree = pkm_runtime::force_system::tree(&ends, n_links, d, passive.len())?;
-    let rows: Vec<usize> = passive.iter().map(|(i, _, _)| *i).collect();
-    let entries = tree
-        .g_entries(&rows, d)
-        .map(|(r, column, c, factor)| (r, column, terms.of(passive[r].1[c] * Sym::c(factor))))
-        .collect();
-    let passive = passive
-        .iter()
-        .map(|(i, p, right)| (*i, p.iter().map(|x| terms.of(*x)).collect(), *right))
+    let tree = x.tree(skc, passive.len())?;
+    let at: Vec<usize> = passive.iter().map(|p| p.at).collect();
+    let g = tree
+        .g_entries(&at, x.layout.d())
+        .map(|(r, column, c, factor)| (r, column, terms.of(passive[r].coefficients[c] * Sym::c(factor))))
         .collect();
     Some(Reduction {
         tree: tree.tree,
         coef: tree.coef,
         cuts: tree.cuts,
-        passive,
-        g: entries,
+        passive: rows.to_vec(),
+        g,
     })
 }
 
@@ -668,10 +481,9 @@ pub(super) fn trace(
         .metres();
     let w = Layout {
         planar: m.planar,
-        d: if m.planar { 3 } else { 6 },
-        size: size(g),
+        size: g.scale(),
     };
-    let d = w.d;
+    let d = w.d();
     let mut terms = Terms::default();
     let size = terms.of(w.size);
     // Every joint's unit twists, as power coefficients against (f, m).
@@ -680,37 +492,31 @@ pub(super) fn trace(
         .iter()
         .enumerate()
         .map(|(j, jg)| {
-            joint_twists(jg, b.states[j], &b.poses[jg.links[0]])
-                .into_iter()
-                .map(|(omega, v)| w.numbers(v, omega))
+            unit_twists(jg, b.states[j], &b.poses[jg.links[0]])
+                .iter()
+                .map(|t| w.coefficients(t))
                 .collect()
         })
         .collect();
-    let Demands { demand, bar_work } = demands(a, g, b, &w, &twists, &mut terms)?;
+    let demands = demands(a, g, b, &w, &twists, &mut terms)?;
     let parts = crate::numeric::skc_parts(a);
-    let mut place = vec![(usize::MAX, 0); m.joints.len()];
-    for (k, skc) in parts.iter().enumerate() {
-        for (i, &j) in skc.joints.iter().enumerate() {
-            place[j] = (k, i * d);
-        }
-    }
-    if place.iter().any(|p| p.0 == usize::MAX) {
-        return Err("a joint is in no SKC".into());
-    }
+    let place = skc_reactions::places(&parts, m.joints.len(), d).ok_or("a joint is in no SKC")?;
+    let links: Vec<[usize; 2]> = g.joints.iter().map(|j| j.links).collect();
+    let kinds: Vec<JointType> = g.joints.iter().map(|j| j.kind).collect();
     let actuated: Vec<bool> = m.joints.iter().map(|j| j.actuated).collect();
-    let inputs = SkcInputs {
-        g,
-        w: &w,
+    let assembly = Assembly {
+        layout: &w,
+        links: &links,
+        kinds: &kinds,
         actuated: &actuated,
-        demand: &demand,
         twists: &twists,
-        bar_work: &bar_work,
+        demands: &demands,
         place: &place,
     };
     let skcs = parts
         .iter()
         .enumerate()
-        .map(|(k, skc)| skc_system(k, skc, &inputs, &mut terms))
+        .map(|(k, skc)| skc_system(k, skc, &assembly, &mut terms))
         .collect::<Result<Vec<_>, _>>()?;
     let points = (0..m.joints.len())
         .map(|j| {
@@ -734,16 +540,17 @@ pub(super) fn trace(
             (
                 j,
                 twists[j][0].iter().map(|x| terms.of(*x)).collect(),
-                terms.of(bar_work[j]),
+                terms.of(demands.bar_work[j]),
             )
         })
         .collect();
     let balances = (1..m.links.len())
-        .map(|l| Balance {
-            need: (0..d).map(|c| terms.of(demand[l][c] / w.unit(c))).collect(),
-            on: (0..m.joints.len())
-                .filter_map(|j| acting_on(g, j, l).map(|s| (j, s)))
-                .collect(),
+        .map(|l| {
+            let (need, on) = assembly.balance(l);
+            Balance {
+                need: need.into_iter().map(|x| terms.of(x)).collect(),
+                on,
+            }
         })
         .collect();
     Ok(Traced {
@@ -751,6 +558,7 @@ pub(super) fn trace(
         bodies: terms.bodies,
         spins: terms.spins,
         d,
+        moments_from: w.moments_from(),
         skcs,
         place,
         points,
@@ -909,7 +717,7 @@ fn x_of(k: usize) -> proc_macro2::Ident {
 
 /// Component `c` of a solution `x` in N (or N·L: a moment was solved over the size).
 fn in_units(t: &Traced, x: TokenStream, c: usize) -> TokenStream {
-    if c >= moments_from(t.d) {
+    if c >= t.moments_from {
         quote! { #x * size }
     } else {
         x

@@ -12,7 +12,6 @@
 //! configuration (the twists and points) is traced, so the generated code
 //! does not interpret the plan.
 
-use super::dynamics::{joint_twists, size};
 use super::{sym, Branch, Direction};
 use crate::analysis::Analysis;
 use crate::emit::Emit;
@@ -20,6 +19,7 @@ use crate::limb_properties::{LegStiffness, Limb};
 use crate::trace::Sym;
 use pkm_runtime::solution::PointRef;
 use pkm_runtime::steps::Geometry;
+use pkm_runtime::velocity::unit_twists;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
@@ -96,7 +96,7 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
         let mut variables = Vec::new();
         for &j in &path {
             let jg = &g.joints[j];
-            for (k, (w, v)) in joint_twists(jg, b.states[j], &b.poses[jg.links[0]])
+            for (k, xi) in unit_twists(jg, b.states[j], &b.poses[jg.links[0]])
                 .into_iter()
                 .enumerate()
             {
@@ -104,7 +104,7 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
                     joint: j,
                     variable: k,
                     actuated: m.joints[j].actuated,
-                    twist: w.iter().chain(&v).copied().collect(),
+                    twist: xi.w.iter().chain(&xi.v).copied().collect(),
                 });
             }
         }
@@ -120,7 +120,7 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
     Ok(Traced {
         limbs,
         properties,
-        size: size(g),
+        size: g.scale(),
         point: b.poses[platform].apply(g.local(point, platform)),
     })
 }

@@ -517,10 +517,11 @@ pub fn reduced_min_norm(
 /// The residual of one link's balance relative to its largest term: the
 /// terms of each component (the demand's, negated, and the reactions'),
 /// summed; 0 for a link with no terms.
-pub fn relative_residual<const K: usize>(components: &[[f64; K]]) -> f64 {
+pub fn relative_residual<C: AsRef<[f64]>>(components: &[C]) -> f64 {
     let mut largest = 0.0f64;
     let mut worst = 0.0f64;
     for terms in components {
+        let terms = terms.as_ref();
         let sum: f64 = terms.iter().sum();
         worst = worst.max(sum.abs());
         largest = terms.iter().fold(largest, |a, t| a.max(t.abs()));
@@ -744,7 +745,7 @@ mod tests {
     fn residuals_relative_to_the_largest_term() {
         assert_eq!(relative_residual(&[[1.0, -1.0], [2.0, -2.0]]), 0.0);
         assert_eq!(relative_residual(&[[4.0, -3.0]]), 0.25);
-        assert_eq!(relative_residual::<2>(&[]), 0.0);
+        assert_eq!(relative_residual::<[f64; 2]>(&[]), 0.0);
         assert!(relative_residual(&[[f64::NAN, 1.0]]).is_nan());
     }
 }

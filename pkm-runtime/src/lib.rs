@@ -22,6 +22,7 @@ pub mod real;
 pub mod reference;
 pub mod scalar;
 pub mod singular;
+pub mod skc_reactions;
 pub mod solution;
 pub mod steps;
 pub mod stiffness;

@@ -142,17 +142,10 @@ impl Loading {
 /// ball's centre and the unit direction to the second's, in the link's
 /// frame; `None` for any other link (or two centres at one point).
 pub fn idle_spin_line(model: &Model, link: usize) -> Option<(Vector3<f64>, Vector3<f64>)> {
-    let mut centres = Vec::new();
-    for j in model.joints.iter().filter(|j| j.links.contains(&link)) {
-        if j.kind != JointType::S || j.links[0] == j.links[1] {
-            return None;
-        }
-        let side = usize::from(j.links[1] == link);
-        centres.push(Vector3::from(j.places[side].at()));
-    }
-    let [a, b] = centres[..] else { return None };
-    let d = b - a;
-    (d.norm() > 0.0).then(|| (a, d.normalize()))
+    let joints = model.joints.iter().map(|j| (j.kind, j.links, j.places));
+    let (a, d) = crate::skc_reactions::idle_spin_line(joints, link)?;
+    let d = Vector3::from(d);
+    d.iter().all(|x| x.is_finite()).then(|| (Vector3::from(a), d))
 }
 
 /// Why a body on a link that turns freely about the line through `point`
@@ -208,7 +201,9 @@ pub fn idle_spin_load_problem(
 /// (for an inertia symmetric about the axis, the moment about every
 /// normal to it, the axial one zero).
 pub fn without_axial(inertia: &Matrix3<f64>, axis: &Vector3<f64>) -> Matrix3<f64> {
-    inertia - axis * axis.transpose() * axis.dot(&(inertia * axis))
+    let rows = core::array::from_fn(|i| core::array::from_fn(|j| inertia[(i, j)]));
+    let dropped = crate::skc_reactions::without_axial(&rows, &[axis.x, axis.y, axis.z]);
+    Matrix3::from_fn(|i, j| dropped[i][j])
 }
 
 /// The inertia tensor in the link's axes from its moments as declared:

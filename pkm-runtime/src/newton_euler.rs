@@ -35,8 +35,9 @@
 
 use crate::force_system::{min_norm, near_change_point, Decomposition};
 use crate::mass_properties::{Carrier, Loading};
-use crate::model::Model;
-use crate::velocity::{self, BarTurn, Twist, VelocityError};
+use crate::model::{JointType, Model};
+use crate::skc_reactions::{self, Assembly, Carried, CentroidMotion, Layout, Load, MovingBody, PassiveRow};
+use crate::velocity::{self, Screw, Twist, VelocityError};
 use nalgebra::{DMatrix, DVector, Point3, Vector3};
 use std::fmt;
 
@@ -218,38 +219,10 @@ impl From<VelocityError> for DynamicsError {
     }
 }
 
-/// A wrench about the base origin as d numbers: (fx, fy, mz) planar,
-/// (fx, fy, fz, mx, my, mz) spatial.
-fn wrench(planar: bool, f: Vector3<f64>, m: Vector3<f64>) -> Vec<f64> {
-    if planar {
-        vec![f.x, f.y, m.z]
-    } else {
-        vec![f.x, f.y, f.z, m.x, m.y, m.z]
-    }
-}
-
-/// Where a wrench of `d` numbers ([`wrench`]) turns from forces to
-/// moments: (fx, fy | mz) planar, (f | m) spatial.
-fn moments_from(d: usize) -> usize {
-    if d == 3 {
-        2
-    } else {
-        3
-    }
-}
-
-/// A twist's power coefficients against such a wrench: (vx, vy, ωz) or (v, ω).
-fn coefficients(planar: bool, t: &Twist) -> Vec<f64> {
-    if planar {
-        vec![t.v.x, t.v.y, t.w.z]
-    } else {
-        vec![t.v.x, t.v.y, t.v.z, t.w.x, t.w.y, t.w.z]
-    }
-}
-
 /// Every joint's reaction and the actuators' forces at joint values
 /// `values` with the inputs' rates and accelerations, SKC by SKC in
-/// reverse order (`skcs` in the position solution's order).
+/// reverse order (`skcs` in the position solution's order). The demands
+/// and each SKC's system are [`crate::skc_reactions`]'s, at `f64`.
 pub fn inverse_dynamics(
     model: &Model,
     loading: &Loading,
@@ -258,116 +231,123 @@ pub fn inverse_dynamics(
     input_rates: &[f64],
     input_accels: &[f64],
 ) -> Result<Reactions, DynamicsError> {
-    let planar = model.planar;
-    let d = if planar { 3 } else { 6 };
     check_parts(model, skcs)?;
     let size = crate::kinematics::model_scale(model);
     closes(model, values, size)?;
-    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`).
-    let loading = &*loading
-        .idle_spins_dropped(model)
-        .map_err(|(link, problem)| DynamicsError::MassProperties {
-            body: model.links[link].clone().into(),
-            problem,
-        })?;
+    let layout = Layout {
+        planar: model.planar,
+        size,
+    };
+    let d = layout.d();
+    // An S–S link's idle spin does no work (see `Loading::idle_spins_dropped`):
+    // its bodies and loads are checked here, its moment dropped in the demand.
+    let lines: Vec<Option<([f64; 3], [f64; 3])>> = (0..model.links.len())
+        .map(|l| crate::mass_properties::idle_spin_line(model, l).map(|(p, a)| (p.into(), a.into())))
+        .collect();
+    idle_spins_checked(model, loading, &lines, size)?;
     let loops = velocity::loops(model, values)?;
     let motion = velocity::accelerations_on(&loops, model, values, input_rates, input_accels)?;
-    // Moments and moment rows in units of the mechanism's size.
-    let unit = |i: usize| if i >= moments_from(d) { size } else { 1.0 };
     let poses = &loops.poses;
-    // What each link's joints must supply: its inertial wrench less gravity
-    // and the loads (Euler's equations in the link's own axes).
-    let mut demand: Vec<Vec<f64>> = vec![vec![0.0; d]; model.links.len()];
-    // Per parallelogram, its bars' demand along their motion with its first
-    // link held: Σ D_i·ξ'_i (see `bar_demand`).
-    let mut bar_work = vec![0.0; model.joints.len()];
+    let twists: Vec<Vec<Vec<f64>>> = loops
+        .twists
+        .iter()
+        .map(|ts| ts.iter().map(|t| layout.coefficients(&screw(t))).collect())
+        .collect();
+    let mut bodies = Vec::with_capacity(loading.bodies.len());
     for b in &loading.bodies {
         let m = velocity::body_motion(model, &loops, &motion, values, &b.carrier)?;
-        let (t, dt) = (&m.twist, &m.rate);
         let c = (m.pose * Point3::from(b.centroid)).coords;
-        let a = dt.v + dt.w.cross(&c) + t.w.cross(&t.at(&c));
-        let rot = m.pose.rotation;
-        let (w_body, dw_body) = (rot.inverse() * t.w, rot.inverse() * dt.w);
-        let m_c = rot * (b.inertia * dw_body + w_body.cross(&(b.inertia * w_body)));
-        let f = b.mass * (a - loading.gravity);
-        let w = wrench(planar, f, m_c + c.cross(&f));
-        let link = match (b.carrier, m.bar) {
-            (Carrier::Bar { joint, .. }, Some(bar)) => {
-                let (first, power) = bar_demand(model, &loops, joint, &bar, &w);
-                bar_work[joint] += power;
-                first
-            }
-            (Carrier::Link(l), _) => l,
+        let on = match (b.carrier, m.bar) {
+            (Carrier::Bar { joint, .. }, Some(bar)) => Carried::Bar {
+                joint,
+                carrier: bar.carrier,
+                xi: screw(&bar.xi),
+            },
+            (Carrier::Link(l), _) => Carried::Link(l),
             (Carrier::Bar { joint, .. }, None) => return Err(VelocityError::NotABar { joint }.into()),
         };
-        demand[link].iter_mut().zip(w).for_each(|(x, y)| *x += y);
+        bodies.push(MovingBody {
+            on,
+            pose: crate::spatial::frame_of(&m.pose),
+            motion: CentroidMotion {
+                w: m.twist.w.into(),
+                alpha: m.rate.w.into(),
+                a_c: velocity::point_acceleration(&m.twist, &m.rate, &c).into(),
+            },
+            mass: b.mass,
+            centroid: b.centroid.into(),
+            inertia: core::array::from_fn(|i| core::array::from_fn(|j| b.inertia[(i, j)])),
+        });
     }
-    for l in &loading.loads {
-        let p = (poses[l.link] * Point3::from(l.at)).coords;
-        let w = wrench(planar, l.force, l.moment + p.cross(&l.force));
-        demand[l.link].iter_mut().zip(w).for_each(|(x, y)| *x -= y);
-    }
-    let mut reaction: Vec<Option<Vec<f64>>> = vec![None; model.joints.len()];
+    let loads: Vec<Load<f64>> = loading
+        .loads
+        .iter()
+        .map(|l| Load {
+            link: l.link,
+            at: (poses[l.link] * Point3::from(l.at)).coords.into(),
+            force: l.force.into(),
+            moment: l.moment.into(),
+        })
+        .collect();
+    let links: Vec<[usize; 2]> = model.joints.iter().map(|j| j.links).collect();
+    let first: Vec<usize> = links.iter().map(|l| l[0]).collect();
+    let demands = skc_reactions::demands(
+        &layout,
+        model.links.len(),
+        &first,
+        &lines,
+        &twists,
+        &bodies,
+        &loads,
+        loading.gravity.into(),
+    );
+    let place = skc_reactions::places(skcs, model.joints.len(), d)
+        .ok_or_else(|| DynamicsError::BadParts("a joint is in no SKC".into()))?;
+    let kinds: Vec<JointType> = model.joints.iter().map(|j| j.kind).collect();
+    let actuated: Vec<bool> = model.joints.iter().map(|j| j.actuated).collect();
+    let assembly = Assembly {
+        layout: &layout,
+        links: &links,
+        kinds: &kinds,
+        actuated: &actuated,
+        twists: &twists,
+        demands: &demands,
+        place: &place,
+    };
+    // Each SKC's reactions as solved: moments over the size.
+    let mut solution: Vec<Vec<f64>> = vec![Vec::new(); skcs.len()];
     let mut undetermined = vec![0; skcs.len()];
     let mut conditioning = vec![1.0; skcs.len()];
     let moving = input_rates.iter().chain(input_accels).any(|&v| v != 0.0);
     for (k, skc) in skcs.iter().enumerate().rev() {
-        let n = skc.joints.len() * d;
-        let passive = passive_rows(model, &loops, skc, size);
+        let system = assembly.system(k, skc);
+        let n = system.unknowns;
         // The kinematic conditioning, where the SKC reduces to its cut joints.
-        let kinematic = kinematic_conditioning(model, skc, &passive, d);
+        let kinematic = kinematic_conditioning(&assembly, skc, &system.passive);
         if let Some(c) = kinematic {
             near_change_point(c, moving, k, &skc.joints)?;
         }
-        let rows = skc.links.len() * d + passive.len();
-        let mut a = DMatrix::zeros(rows, n);
-        let mut rhs = DVector::zeros(rows);
-        for (r, &l) in skc.links.iter().enumerate() {
-            for c in 0..d {
-                rhs[r * d + c] = demand[l][c] / unit(c);
-            }
-            for (j, joint) in model.joints.iter().enumerate() {
-                let Some(sign) = acting_on(joint, l) else { continue };
-                match (skc.joints.iter().position(|&x| x == j), &reaction[j]) {
-                    (Some(i), _) => {
-                        for c in 0..d {
-                            a[(r * d + c, i * d + c)] = sign;
-                        }
-                    }
-                    (None, Some(w)) => {
-                        for c in 0..d {
-                            rhs[r * d + c] -= sign * w[c] / unit(c);
-                        }
-                    }
-                    // No joint of an earlier SKC touches this SKC's links.
-                    (None, None) => {}
-                }
-            }
+        // Square, zero rows (or columns) added, so that the decomposition
+        // holds the whole null space (the thin one has only min(rows, n)
+        // rows of Vᵀ).
+        let size_n = system.rows.max(n);
+        let mut a = DMatrix::zeros(size_n, size_n);
+        for &(r, c, v) in &system.entries {
+            a[(r, c)] = v;
         }
-        for (p, row) in passive.iter().enumerate() {
-            let at = skc.links.len() * d + p;
-            for c in 0..d {
-                a[(at, row.at * d + c)] = row.coefficients[c];
-            }
-            // ξ·W = 0, or a parallelogram's −Σ D_i·ξ'_i with massive bars.
-            rhs[at] = -bar_work[row.joint] * row.scale;
+        let mut rhs = DVector::zeros(size_n);
+        for (r, v) in system.rhs.iter().enumerate() {
+            rhs[r] = *v;
         }
-        // Zero rows (or columns) up to a square matrix, so that the
-        // decomposition holds the whole null space (the thin one has only
-        // min(rows, n) rows of Vᵀ).
-        let size_n = rows.max(n);
-        let a = a.resize(size_n, size_n, 0.0);
-        let rhs = rhs.resize_vertically(size_n, 0.0);
+        for &(r, j, c, sign) in &system.known {
+            let (owner, at) = place[j];
+            rhs[r] -= sign * solution[owner][at + c];
+        }
         // Each actuator twist's power coefficients against the unknowns.
-        let mut actuated = Vec::new();
-        for (i, &j) in skc.joints.iter().enumerate().filter(|(_, &j)| model.joints[j].actuated) {
-            for t in &loops.twists[j] {
-                let xi = coefficients(planar, t);
-                let mut row = vec![0.0; size_n];
-                for c in 0..d {
-                    row[i * d + c] = xi[c] * unit(c);
-                }
-                actuated.extend(row);
+        let mut actuated = vec![0.0; system.actuated.len() * size_n];
+        for (i, row) in system.actuated.iter().enumerate() {
+            for &(c, v) in row {
+                actuated[i * size_n + c] = v;
             }
         }
         let svd = a.clone().svd(true, true);
@@ -401,35 +381,32 @@ pub fn inverse_dynamics(
             }
         };
         undetermined[k] = solved.undetermined;
-        for (i, &j) in skc.joints.iter().enumerate() {
-            reaction[j] = Some((0..d).map(|c| x[i * d + c] * unit(c)).collect());
-        }
+        solution[k] = x;
     }
-    let reaction: Vec<Vec<f64>> = reaction
-        .into_iter()
-        .map(|w| w.unwrap_or_else(|| vec![0.0; d]))
+    let reaction: Vec<Vec<f64>> = place
+        .iter()
+        .map(|&(k, at)| (0..d).map(|c| solution[k][at + c] * layout.unit(c)).collect())
         .collect();
     if reaction.iter().flatten().any(|x| !x.is_finite()) {
         return Err(DynamicsError::NotFinite);
     }
-    let balance = balance(model, &demand, &reaction, d, size);
+    let balance = balance(&assembly, model.links.len(), &solution);
     // Verified: every link balances under the reactions found.
     if balance.is_nan() || balance > UNBALANCED {
         return Err(DynamicsError::Unbalanced { balance });
     }
     let mut actuators = Vec::new();
     for j in model.inputs() {
-        for t in &loops.twists[j] {
-            let xi = coefficients(planar, t);
+        for xi in &twists[j] {
             // An actuated parallelogram also drives its bars.
             let own: f64 = (0..d).map(|c| xi[c] * reaction[j][c]).sum();
-            actuators.push(loading.to_newtons(own + bar_work[j]));
+            actuators.push(loading.to_newtons(own + demands.bar_work[j]));
         }
     }
     let joints = (0..model.joints.len())
         .map(|j| {
             let w = &reaction[j];
-            let (f, m_o) = if planar {
+            let (f, m_o) = if layout.planar {
                 (Vector3::new(w[0], w[1], 0.0), Vector3::new(0.0, 0.0, w[2]))
             } else {
                 (Vector3::new(w[0], w[1], w[2]), Vector3::new(w[3], w[4], w[5]))
@@ -454,44 +431,48 @@ pub fn inverse_dynamics(
     })
 }
 
-/// One row of an SKC's reaction system for a unit twist of a passive
-/// joint: the reaction does no work along it (`ξ·W = 0`).
-struct PassiveRow {
-    /// The joint's position in the SKC.
-    at: usize,
-    /// The joint.
-    joint: usize,
-    /// The twist's power coefficients against the joint's reaction, moments
-    /// over the size, and the row over the size for a turn (lever arms
-    /// against forces) or as it is for a slide (a unit direction; a
-    /// parallelogram's, per radian of its arm, is left in lengths).
-    coefficients: Vec<f64>,
-    /// What the row was divided by: 1/size for a turn, else 1.
-    scale: f64,
+/// A twist as the generic dynamics takes it.
+fn screw(t: &Twist) -> Screw<f64> {
+    Screw {
+        w: t.w.into(),
+        v: t.v.into(),
+    }
 }
 
-/// SKC `skc`'s passive rows, a row per unit twist of each passive joint.
-fn passive_rows(model: &Model, loops: &velocity::Loops, skc: &SkcParts, size: f64) -> Vec<PassiveRow> {
-    let planar = model.planar;
-    let d = if planar { 3 } else { 6 };
-    let unit = |i: usize| if i >= moments_from(d) { size } else { 1.0 };
-    let mut rows = Vec::new();
-    for (at, &joint) in skc.joints.iter().enumerate() {
-        if model.joints[joint].actuated {
-            continue;
-        }
-        for t in &loops.twists[joint] {
-            let scale = if t.w.norm() > 0.0 { 1.0 / size } else { 1.0 };
-            let xi = coefficients(planar, t);
-            rows.push(PassiveRow {
-                at,
-                joint,
-                coefficients: (0..d).map(|c| xi[c] * unit(c) * scale).collect(),
-                scale,
-            });
+/// The bodies and loads on S–S links (`lines`, per link) checked against
+/// their idle spin: a body not symmetric about the line, or a load with a
+/// moment about it, is an error naming the link
+/// ([`crate::mass_properties::idle_spin_problem`] and
+/// [`crate::mass_properties::idle_spin_load_problem`], which generated
+/// code calls too).
+fn idle_spins_checked(
+    model: &Model,
+    loading: &Loading,
+    lines: &[Option<([f64; 3], [f64; 3])>],
+    size: f64,
+) -> Result<(), DynamicsError> {
+    let problem = |link: usize, problem: String| DynamicsError::MassProperties {
+        body: model.links[link].clone().into(),
+        problem,
+    };
+    for b in &loading.bodies {
+        let Carrier::Link(l) = b.carrier else { continue };
+        let Some((point, axis)) = lines[l] else { continue };
+        let (point, axis) = (Vector3::from(point), Vector3::from(axis));
+        if let Some(p) = crate::mass_properties::idle_spin_problem(&b.centroid, &b.inertia, &point, &axis, size) {
+            return Err(problem(l, p));
         }
     }
-    rows
+    for load in &loading.loads {
+        let Some((point, axis)) = lines[load.link] else {
+            continue;
+        };
+        let (point, axis) = (Vector3::from(point), Vector3::from(axis));
+        if let Some(p) = crate::mass_properties::idle_spin_load_problem(&load.at, &load.moment, &point, &axis, size) {
+            return Err(problem(load.link, p));
+        }
+    }
+    Ok(())
 }
 
 /// SKC `skc`'s kinematic conditioning: σ_r/σ_1 of its passive rows acting
@@ -501,10 +482,9 @@ fn passive_rows(model: &Model, loops: &velocity::Loops, skc: &SkcParts, size: f6
 /// determined SKC whose bound from an LU is above the least,
 /// that bound: [`crate::force_system::conditioning_bound`]); `None` where
 /// it does not reduce.
-fn kinematic_conditioning(model: &Model, skc: &SkcParts, passive: &[PassiveRow], d: usize) -> Option<f64> {
-    let node = |l: usize| skc.links.iter().position(|&x| x == l).unwrap_or(skc.links.len());
-    let ends: Vec<[usize; 2]> = skc.joints.iter().map(|&j| model.joints[j].links.map(node)).collect();
-    let tree = crate::force_system::tree(&ends, skc.links.len(), d, passive.len())?;
+fn kinematic_conditioning(assembly: &Assembly<'_, f64>, skc: &SkcParts, passive: &[PassiveRow<f64>]) -> Option<f64> {
+    let d = assembly.layout.d();
+    let tree = assembly.tree(skc, passive.len())?;
     let m = tree.unknowns(d);
     let at: Vec<usize> = passive.iter().map(|r| r.at).collect();
     let mut g = DMatrix::zeros(m, m);
@@ -526,52 +506,6 @@ fn kinematic_conditioning(model: &Model, skc: &SkcParts, passive: &[PassiveRow],
         s.as_slice(),
         m.saturating_sub(skc.undetermined),
     ))
-}
-
-/// A parallelogram bar's demand `w` (its inertial wrench less gravity,
-/// about the base origin) folded into its joint: the link it passes to,
-/// and its power along the bar's twist relative to that link per unit
-/// rate of the parallelogram.
-///
-/// The bars are not links. Bar i takes `H_i` from the arm-carrying link at
-/// its hinge and `K_i` from the other link at its far hinge, with
-/// `H_i + K_i = D_i`; each hinge is a frictionless revolute, so `H_i`
-/// does no work along the bar's turn relative to the arm-carrying link and
-/// `K_i` none along its turn relative to the other link. The joint's
-/// reaction `W` is what the parallelogram exerts on its second link (`−K`
-/// or `−H` summed over the bars, whichever side that link is): the first
-/// link receives `−W − Σ D_i`, and the virtual power with the first link
-/// held gives the joint's row `W·ξ = −Σ D_i·ξ'_i`, with `ξ` the second
-/// link's unit twist relative to the first and `ξ'_i` bar i's (`ξ_b`, the
-/// turn about its hinge, with the arm on the first link; `ξ + ξ_b` with
-/// the arm on the second).
-fn bar_demand(model: &Model, loops: &velocity::Loops, joint: usize, bar: &BarTurn, w: &[f64]) -> (usize, f64) {
-    let planar = model.planar;
-    let first = model.joints[joint].links[0];
-    let relative = if bar.carrier == first {
-        bar.xi
-    } else {
-        let xi = loops.twists[joint][0];
-        Twist {
-            w: bar.xi.w + xi.w,
-            v: bar.xi.v + xi.v,
-        }
-    };
-    let power = coefficients(planar, &relative).iter().zip(w).map(|(x, y)| x * y).sum();
-    (first, power)
-}
-
-/// How joint `joint`'s reaction acts on link `l`: +1 on its second link
-/// (the reaction is what the first exerts on it), −1 on its first, `None`
-/// on any other.
-fn acting_on(joint: &crate::model::Joint, l: usize) -> Option<f64> {
-    if joint.links[1] == l {
-        Some(1.0)
-    } else if joint.links[0] == l {
-        Some(-1.0)
-    } else {
-        None
-    }
 }
 
 /// Whether `values` close every loop, to [`crate::consistency::VERIFY_TOL`]
@@ -630,28 +564,24 @@ fn check_parts(model: &Model, skcs: &[SkcParts]) -> Result<(), DynamicsError> {
 }
 
 /// The largest residual of a link's balance relative to its largest term
-/// (forces; moments over the mechanism's size).
-fn balance(model: &Model, demand: &[Vec<f64>], reaction: &[Vec<f64>], d: usize, size: f64) -> f64 {
-    let scaled = |c: usize, x: f64| if c >= moments_from(d) { x / size } else { x };
+/// (forces; moments over the mechanism's size), each SKC's reactions
+/// `solution` as solved: what generated code checks, link by link.
+fn balance(assembly: &Assembly<'_, f64>, n_links: usize, solution: &[Vec<f64>]) -> f64 {
     let mut worst = 0.0f64;
-    for (l, need) in demand.iter().enumerate().skip(1) {
-        let mut sum = need.iter().enumerate().map(|(c, x)| -scaled(c, *x)).collect::<Vec<_>>();
-        let mut largest = need
+    for l in 1..n_links {
+        let (need, on) = assembly.balance(l);
+        let components: Vec<Vec<f64>> = need
             .iter()
             .enumerate()
-            .fold(0.0f64, |a, (c, x)| a.max(scaled(c, *x).abs()));
-        for (j, joint) in model.joints.iter().enumerate() {
-            let Some(sign) = acting_on(joint, l) else { continue };
-            for c in 0..d {
-                let term = sign * scaled(c, reaction[j][c]);
-                sum[c] += term;
-                largest = largest.max(term.abs());
-            }
-        }
-        let r = sum.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        if largest > 0.0 {
-            worst = worst.max(r / largest);
-        }
+            .map(|(c, x)| {
+                let reactions = on.iter().map(|&(j, sign)| {
+                    let (k, at) = assembly.place[j];
+                    sign * solution[k][at + c]
+                });
+                std::iter::once(-x).chain(reactions).collect()
+            })
+            .collect();
+        worst = worst.max(crate::force_system::relative_residual(&components));
     }
     worst
 }

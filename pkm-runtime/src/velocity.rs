@@ -18,9 +18,12 @@
 //! An S joint's three rates are its angular velocity about the world x, y, z
 //! axes (not the derivative of its rotation vector).
 
+use crate::frame::Frame;
 use crate::kinematics::{link_poses, spanning_tree, ModelError};
 use crate::model::{canonical_frame, JointType, Model, Place};
 use crate::newton::Output;
+use crate::scalar::{cross, unit, Scalar};
+use crate::steps::{place_axis, JointGeometry, JointValue};
 use nalgebra::{DMatrix, DVector, Dyn, Isometry3, Vector3, SVD};
 use std::fmt;
 
@@ -77,83 +80,108 @@ impl Twist {
     }
 }
 
-/// A twist given in the frame `f` (a rotation about and a velocity of the
-/// point at f's origin), in world axes.
-fn transported(f: &Isometry3<f64>, w: Vector3<f64>, v_at_origin: Vector3<f64>) -> Twist {
-    let w = f.rotation * w;
-    let o = f.translation.vector;
-    Twist {
-        w,
-        v: f.rotation * v_at_origin - w.cross(&o),
+/// A twist over any [`Scalar`]: the angular velocity `w` and the velocity
+/// `v` of the body point at the world origin, world axes, as arrays. The
+/// generic dynamics ([`crate::skc_reactions`]) and the code generator's
+/// traces compute with it; [`Twist`] is its `f64` form on nalgebra's vectors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Screw<T> {
+    /// Angular velocity.
+    pub w: [T; 3],
+    /// Velocity of the body point at the world origin.
+    pub v: [T; 3],
+}
+
+impl From<Screw<f64>> for Twist {
+    fn from(s: Screw<f64>) -> Twist {
+        Twist {
+            w: Vector3::from(s.w),
+            v: Vector3::from(s.v),
+        }
     }
 }
 
-/// The twist of joint `j`'s second link relative to its first, per unit rate
-/// of each of its variables, at its values, in world axes given the first
-/// link's pose `tu`.
-pub fn joint_twists(model: &Model, j: usize, values: &[f64], tu: &Isometry3<f64>) -> Vec<Twist> {
-    let joint = &model.joints[j];
-    let places = &joint.places;
-    let frame = |p: &Place| canonical_frame(p.at(), p.axis());
-    let in_u = match joint.kind {
-        // Rotation about the hinge's z axis on u.
-        JointType::R => vec![transported(&frame(&places[0]), Vector3::z(), Vector3::zeros())],
+/// The unit twists of joint `jg`'s second link relative to its first, per
+/// unit rate of each of its variables, world axes, its first link at `pu`
+/// and its value `value` (a parallelogram's turn; `None` reads as 0): a
+/// turn about the hinge's z axis (R), the guide's unit direction (P, its
+/// sign from the side that holds the guide), the other hinge point's rate
+/// on its circle (Pa, `d/dθ` of the arm turned by θ), and the three world
+/// axes through the ball's centre (S: an S joint's rates are its angular
+/// velocity). Written once over [`Scalar`]: [`joint_twists`] evaluates it
+/// at `f64`, the code generator traces it.
+pub fn unit_twists<T: Scalar>(jg: &JointGeometry<T>, value: Option<JointValue<T>>, pu: &Frame<T>) -> Vec<Screw<T>> {
+    let z = T::c(0.0);
+    let zero = [z; 3];
+    let column = |f: &Frame<T>, i: usize| [f.r[0][i], f.r[1][i], f.r[2][i]];
+    match jg.kind {
+        JointType::R => {
+            let w = pu.rotate(column(&jg.frames[0], 2));
+            let p = pu.apply(jg.frames[0].t);
+            vec![Screw { w, v: cross(p, w) }]
+        }
         JointType::P => {
-            let (guide, sign) = match places[0] {
+            let (guide, sign) = match jg.places[0] {
                 Place::Line { along, .. } => (along, 1.0),
                 _ => (
-                    match places[1] {
+                    match jg.places[1] {
                         Place::Line { along, .. } => along,
-                        other => other.axis(),
+                        other => place_axis(&other),
                     },
                     -1.0,
                 ),
             };
             // Both links keep one orientation, so u's axes serve for a guide on v too.
-            let d = Vector3::from(guide).normalize() * sign;
-            vec![Twist {
-                w: Vector3::zeros(),
-                v: d,
-            }]
+            let d = pu.rotate(unit(guide)).map(|x| x * T::c(sign));
+            vec![Screw { w: zero, v: d }]
         }
         JointType::Pa => {
-            // The other hinge point moves on a circle: d/dθ of the turned arm.
-            let (fu, fv) = (frame(&places[0]), frame(&places[1]));
-            let rate = |f: &Isometry3<f64>, arm: [f64; 3]| {
-                let local = f.rotation.inverse() * Vector3::from(arm);
-                let turned = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), values[0]) * local;
-                f.rotation * Vector3::z().cross(&turned)
+            let (c, s) = match value {
+                Some(JointValue::Turn(c, s, _)) => (c, s),
+                Some(JointValue::Slide(t)) => (t.cos(), t.sin()),
+                None => (T::c(1.0), z),
             };
-            let v = match (places[0], places[1]) {
-                (Place::Arm { arm, .. }, _) => rate(&fu, arm),
+            // d/dθ of the arm turned by θ about the hinge's z: ẑ × Rz(θ)·a.
+            let rate = |f: &Frame<T>, arm: [T; 3]| {
+                let local = f.rotate_back(arm);
+                let turned = [c * local[0] - s * local[1], s * local[0] + c * local[1], local[2]];
+                f.rotate([-turned[1], turned[0], z])
+            };
+            let (fu, fv) = (&jg.frames[0], &jg.frames[1]);
+            let v = match (jg.places[0], jg.places[1]) {
+                (Place::Arm { arm, .. }, _) => rate(fu, arm),
                 // The arm on v: T_v = T_u·F_u·Trans(−R(θ)a)·F_v⁻¹ in v's (parallel) axes.
-                (_, Place::Arm { arm, .. }) => -(fu.rotation * (fv.rotation.inverse() * rate(&fv, arm))),
-                _ => Vector3::zeros(),
+                (_, Place::Arm { arm, .. }) => fu.rotate(fv.rotate_back(rate(fv, arm))).map(|x| -x),
+                _ => zero,
             };
-            vec![Twist { w: Vector3::zeros(), v }]
+            vec![Screw {
+                w: zero,
+                v: pu.rotate(v),
+            }]
         }
         JointType::S => {
-            let c = Vector3::from(places[0].at());
+            // The centre on u stays still: about axis i in world axes through it.
+            let c = pu.apply(jg.places[0].at());
             (0..3)
                 .map(|i| {
-                    let w = Vector3::ith(i, 1.0);
-                    // The centre on u stays still: about axis i in world axes through it.
-                    Twist {
-                        w: tu.rotation.inverse() * w,
-                        v: -(tu.rotation.inverse() * w).cross(&c),
-                    }
+                    let e: [T; 3] = core::array::from_fn(|k| T::c(if k == i { 1.0 } else { 0.0 }));
+                    Screw { w: e, v: cross(c, e) }
                 })
                 .collect()
         }
-    };
-    in_u.iter()
-        .map(|t| {
-            let w = tu.rotation * t.w;
-            Twist {
-                w,
-                v: tu.rotation * t.v - w.cross(&tu.translation.vector),
-            }
-        })
+    }
+}
+
+/// The twist of joint `j`'s second link relative to its first, per unit rate
+/// of each of its variables, at its values, in world axes given the first
+/// link's pose `tu`: [`unit_twists`] at `f64`.
+pub fn joint_twists(model: &Model, j: usize, values: &[f64], tu: &Isometry3<f64>) -> Vec<Twist> {
+    let joint = &model.joints[j];
+    let jg = JointGeometry::new(joint.kind, joint.links, joint.places);
+    let value = (joint.kind == JointType::Pa).then(|| JointValue::given(JointType::Pa, values[0]));
+    unit_twists(&jg, value, &crate::spatial::frame_of(tu))
+        .into_iter()
+        .map(Twist::from)
         .collect()
 }
 
