@@ -214,7 +214,7 @@ impl<'g> Emit<'g> {
     /// The guards of `guards` a function computing `roots` must check: all
     /// but those of the steps in `waivable` (each with the values it solves)
     /// whose values `roots` do not read. Such a step (an aim a miss stands
-    /// for, [`pkm_runtime::spatial::Plan::by_miss`]) is not computed, and
+    /// for, [`pkm_runtime::plan::Plan::by_miss`]) is not computed, and
     /// its guards only ask that its turn be defined.
     pub fn needed_guards(&self, roots: &[Sym], guards: &[Sym], waivable: &[(usize, Vec<Sym>)]) -> Vec<Sym> {
         let (order, _) = self.reach(roots);

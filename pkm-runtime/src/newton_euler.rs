@@ -268,7 +268,7 @@ pub fn inverse_dynamics(
         };
         bodies.push(MovingBody {
             on,
-            pose: crate::spatial::frame_of(&m.pose),
+            pose: crate::plan::frame_of(&m.pose),
             motion: CentroidMotion {
                 w: m.twist.w.into(),
                 alpha: m.rate.w.into(),

@@ -179,7 +179,7 @@ pub fn joint_twists(model: &Model, j: usize, values: &[f64], tu: &Isometry3<f64>
     let joint = &model.joints[j];
     let jg = JointGeometry::new(joint.kind, joint.links, joint.places);
     let value = (joint.kind == JointType::Pa).then(|| JointValue::given(JointType::Pa, values[0]));
-    unit_twists(&jg, value, &crate::spatial::frame_of(tu))
+    unit_twists(&jg, value, &crate::plan::frame_of(tu))
         .into_iter()
         .map(Twist::from)
         .collect()
