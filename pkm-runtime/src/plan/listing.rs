@@ -321,44 +321,6 @@ impl Listing<'_> {
             ),
         }
     }
-
-    /// The link a step places.
-    fn placed(s: &Step) -> usize {
-        match *s {
-            Step::Place { link, .. } | Step::Parasitic { link, .. } => link,
-            Step::Transfer { to, .. }
-            | Step::Aim { to, .. }
-            | Step::Locus { to, .. }
-            | Step::Align { to, .. }
-            | Step::PaPlane { to, .. }
-            | Step::Guide { to, .. }
-            | Step::Cone { to, .. }
-            | Step::Beyond { to, .. }
-            | Step::SlideToLine { to, .. }
-            | Step::Rod { to, .. }
-            | Step::PlaneThrough { to, .. }
-            | Step::TwoTurns { to, .. } => to,
-        }
-    }
-
-    /// The known link a step starts from, if it turns or slides a joint.
-    fn from(s: &Step) -> Option<usize> {
-        match *s {
-            Step::Place { .. } | Step::Parasitic { .. } => None,
-            Step::Transfer { from, .. }
-            | Step::Aim { from, .. }
-            | Step::Locus { from, .. }
-            | Step::Align { from, .. }
-            | Step::PaPlane { from, .. }
-            | Step::Guide { from, .. }
-            | Step::Cone { from, .. }
-            | Step::Beyond { from, .. }
-            | Step::SlideToLine { from, .. }
-            | Step::Rod { from, .. }
-            | Step::PlaneThrough { from, .. }
-            | Step::TwoTurns { from, .. } => Some(from),
-        }
-    }
 }
 
 /// The step's variant name.
@@ -418,8 +380,8 @@ impl fmt::Display for Listing<'_> {
             if let Some(j) = s.joint() {
                 write!(f, "{} ", self.joint(j))?;
             }
-            write!(f, "places {}", self.link(Self::placed(s)))?;
-            if let Some(from) = Self::from(s) {
+            write!(f, "places {}", self.link(s.solves().1))?;
+            if let (Some((_, from)), _) = s.solves() {
                 write!(f, " from {}", self.link(from))?;
             }
             write!(f, ": {}", self.condition(s))?;

@@ -641,20 +641,27 @@ impl Step {
 
     /// The joint this step solves (and so closes), if any.
     pub fn joint(&self) -> Option<usize> {
-        match self {
-            Step::Place { .. } | Step::Parasitic { .. } => None,
-            Step::Transfer { joint, .. }
-            | Step::Aim { joint, .. }
-            | Step::Locus { joint, .. }
-            | Step::Align { joint, .. }
-            | Step::PaPlane { joint, .. }
-            | Step::Guide { joint, .. }
-            | Step::Beyond { joint, .. }
-            | Step::SlideToLine { joint, .. }
-            | Step::Cone { joint, .. }
-            | Step::Rod { joint, .. }
-            | Step::PlaneThrough { joint, .. }
-            | Step::TwoTurns { joint, .. } => Some(*joint),
+        self.solves().0.map(|(joint, _)| joint)
+    }
+
+    /// What the step solves: the joint it turns or slides with the known
+    /// link it starts from (`None` for a step that places a link from the
+    /// given values alone, `Place` and `Parasitic`), and the link it places.
+    pub fn solves(&self) -> (Option<(usize, usize)>, usize) {
+        match *self {
+            Step::Place { link, .. } | Step::Parasitic { link, .. } => (None, link),
+            Step::Transfer { joint, from, to, .. }
+            | Step::Aim { joint, from, to, .. }
+            | Step::Locus { joint, from, to, .. }
+            | Step::Align { joint, from, to, .. }
+            | Step::PaPlane { joint, from, to, .. }
+            | Step::Guide { joint, from, to, .. }
+            | Step::Beyond { joint, from, to, .. }
+            | Step::SlideToLine { joint, from, to, .. }
+            | Step::Cone { joint, from, to, .. }
+            | Step::Rod { joint, from, to, .. }
+            | Step::PlaneThrough { joint, from, to, .. }
+            | Step::TwoTurns { joint, from, to, .. } => (Some((joint, from)), to),
         }
     }
 }

@@ -526,51 +526,42 @@ pub fn execute<T: Scalar>(
 ) -> Result<(), SolveError> {
     use crate::plan::Constraint;
     in_reach(k, step, geometry, given)?;
-    let (joint, from, to) = match *step {
-        Step::Place {
-            link,
-            point,
-            input,
-            planar,
-            turn,
-        } => {
-            state.poses[link] = place::execute(link, point, input, planar, turn, geometry, given);
-            return Ok(());
-        }
-        Step::Parasitic {
-            link,
-            point,
-            input,
-            parts,
-            ref limbs,
-            branch,
-        } => {
-            state.poses[link] = parasitic::execute(
-                k,
+    // A step that places its link from the given values alone.
+    let (Some((joint, from)), to) = step.solves() else {
+        match *step {
+            Step::Place {
+                link,
+                point,
+                input,
+                planar,
+                turn,
+            } => {
+                state.poses[link] = place::execute(link, point, input, planar, turn, geometry, given);
+            }
+            Step::Parasitic {
                 link,
                 point,
                 input,
                 parts,
-                limbs,
+                ref limbs,
                 branch,
-                geometry,
-                &state.poses,
-                given,
-            )?;
-            return Ok(());
+            } => {
+                state.poses[link] = parasitic::execute(
+                    k,
+                    link,
+                    point,
+                    input,
+                    parts,
+                    limbs,
+                    branch,
+                    geometry,
+                    &state.poses,
+                    given,
+                )?;
+            }
+            _ => {}
         }
-        Step::Transfer { joint, from, to, .. }
-        | Step::Aim { joint, from, to, .. }
-        | Step::Align { joint, from, to, .. }
-        | Step::PaPlane { joint, from, to, .. }
-        | Step::Guide { joint, from, to, .. }
-        | Step::Beyond { joint, from, to, .. }
-        | Step::SlideToLine { joint, from, to, .. }
-        | Step::Cone { joint, from, to, .. }
-        | Step::Rod { joint, from, to, .. }
-        | Step::PlaneThrough { joint, from, to, .. }
-        | Step::TwoTurns { joint, from, to, .. }
-        | Step::Locus { joint, from, to, .. } => (joint, from, to),
+        return Ok(());
     };
     let mv = Move {
         k,
