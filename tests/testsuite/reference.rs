@@ -3,7 +3,6 @@
 //! every point, and equal to a hand derivation of the four-bar in the same
 //! precision.
 
-use crate::common;
 use crate::work_precision;
 
 use pkm::runtime::real::Real;
