@@ -3,7 +3,7 @@
 //! seed000_b, of the generated code, the plan interpreter, and Newton at
 //! tolerances 1e-6 … 1e-14.
 //!
-//! The reference and the points are those of `tests/reference.rs`
+//! The reference and the points are those of `tests/testsuite/reference.rs`
 //! (`tests/common/work_precision.rs`): 8 points per mechanism inside its
 //! workspace, each solved on one branch. The error of a method is its worst
 //! over the points of the joint values (angles in radians modulo 2π,
@@ -19,6 +19,15 @@
 mod common;
 #[path = "../tests/common/work_precision.rs"]
 mod work_precision;
+
+/// The mechanisms `work_precision` solves (the test suite declares them in
+/// its own `mechanisms` module).
+mod mechanisms {
+    pkm::mechanism!(pub FourBar, file = "examples/mechanisms/four_bar.pkm");
+    pkm::mechanism!(pub SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+    pkm::mechanism!(pub SeedA, file = "examples/mechanisms/seed000_a.pkm");
+    pkm::mechanism!(pub SeedB, file = "examples/mechanisms/seed000_b.pkm");
+}
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};

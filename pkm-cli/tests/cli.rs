@@ -207,7 +207,7 @@ fn plain_rrr() -> String {
 
 /// `pkm fk` of a κ = 1 file that asks for `fk_numeric`: the Stephenson III
 /// at crank angle 1 has two assemblies (Newton's from 10⁴ starts, see
-/// tests/fk_numeric.rs), each with the virtual variable's value, and each
+/// tests/testsuite/fk_numeric.rs), each with the virtual variable's value, and each
 /// keeps the crank at 1 and the binary links' lengths (by hand: 50√2, 200).
 #[test]
 fn fk_numeric_lists_every_assembly() {
@@ -2171,7 +2171,7 @@ fn dynamics_table_and_csv() {
 
 /// Issue 29, items 3 and 7, the issue's commands: `pkm fk four_bar.pkm
 /// --q=1e11` lists both assemblies (R4 = 1.74949…, −2.42859…, by hand at
-/// the input reduced in 400 digits: tests/limits.rs), neither tangent nor
+/// the input reduced in 400 digits: tests/testsuite/limits.rs), neither tangent nor
 /// a double root; a slide of 1e308 is out of reach, not NaN; seed 000 A at
 /// Table 1's inputs lists eight assemblies, the R5–parallelogram leg in
 /// both postures.

@@ -1,4 +1,4 @@
-//! The held-out poses of the root package's `tests/consistency.rs`, through
+//! The held-out poses of the root package's `tests/testsuite/consistency.rs`, through
 //! the command line: no wrong answer marked ok by `pkm ik` either. Its
 //! independent check is the same: the Newton reference's model must close
 //! at the printed joint values and reproduce the given pose to 1e-9 of the

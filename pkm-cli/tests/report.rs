@@ -241,7 +241,7 @@ fn mechanism_a_from_its_study_block() {
     // The output columns are named, with units; the class is named.
     assert!(html.contains("<th>alpha (rad)</th>") && html.contains("<th>x (mm)</th>"));
     assert!(!html.contains("None"));
-    // The f33 condition by name (tests/singularities.rs places it).
+    // The f33 condition by name (tests/testsuite/singularities.rs places it).
     assert!(html.contains("the path of R6 (D) moved by R4 (C1, o) touches the sphere about Pa (B3)"));
     // The velocity CSV holds the whole 0–5 s trajectory: 501 rows and a header.
     let csv = std::fs::read_to_string(out.join("velocity.csv")).unwrap();

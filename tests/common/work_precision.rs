@@ -1,4 +1,4 @@
-//! The work-precision cases shared by `tests/reference.rs` and
+//! The work-precision cases shared by `tests/testsuite/reference.rs` and
 //! `benches/work_precision.rs`: four mechanisms, the inputs at which each is
 //! solved (inside its workspace), the branch, and the 70-digit reference
 //! solution of fk and ik there.
@@ -6,9 +6,14 @@
 //! The generated code is called in one small function per mechanism
 //! ([`four_bar`], [`slider_crank`], [`seed000_a`], [`seed000_b`]), so that a
 //! change of its API touches those four functions only.
+//!
+//! The four mechanisms are the including crate's `mechanisms` module's
+//! (the test suite's `tests/testsuite/mechanisms.rs`, the benchmark's own).
 #![allow(dead_code)]
 
 use std::collections::HashMap;
+
+use crate::mechanisms::{FourBar, SeedA, SeedAPrepared, SeedB, SeedBPrepared, SliderCrank};
 
 use pkm::runtime::model::Model;
 use pkm::runtime::newton::{self, NewtonOptions, NewtonSolution, Output};
@@ -16,11 +21,6 @@ use pkm::runtime::plan;
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::reference::{self, f256, Reference};
 use pkm::runtime::solution::signs_of;
-
-pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
-pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 /// The generated solvers of one mechanism on the reference's branch: each
 /// writes the joint values (and for fk the outputs) into the buffers and

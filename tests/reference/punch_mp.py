@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Seed 003's punch beside its change points, to 16 digits: the reference
-that tests/seed003_dynamics.rs holds pkm's inverse dynamics to.
+that tests/testsuite/seed003_dynamics.rs holds pkm's inverse dynamics to.
 
 Written by hand from the paper's geometry (Table 1, as
 examples/mechanisms/seed003_punch.pkm declares it, with the file's
@@ -31,7 +31,7 @@ and with its signs:
   (G = a û ∓ h û⊥, û = D/|D|, û⊥ = û turned +90°);
 - F (slider 6 on the x axis, |GF| = l5): x_F = x_G ± √(l5² − y_G²).
 
-tests/seed003_dynamics.rs checks these against the points `pkm` solves.
+tests/testsuite/seed003_dynamics.rs checks these against the points `pkm` solves.
 With l5 = l7 and |HG| = l7, l5² − y_G² = x_G², so F's roots are H itself
 and 2 x_G: they cross where x_G = 0 (on G's − branch), the change points φ*
 where F passes through H, found here to the working precision. F's + root

@@ -7,12 +7,9 @@
 //! Seed 000 A's point G is also checked against its closed form (derived by
 //! hand in benches/handwritten.rs).
 
+use crate::mechanisms::{FiveBarPa, FourBarOver, SeedA, SeedB};
 use pkm::runtime::solution::{signs_of, SolveError};
 use std::f64::consts::PI;
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
 
 /// How the lanes the scalar solver refused failed: (guard or kernel,
 /// verification, not finite).
@@ -295,9 +292,6 @@ fn lengths_are_checked() {
         "bad input: fk_batch: given[0] has 2 values, ok has 5",
     );
 }
-
-// A four-bar whose plan pins a point (the fixture says how).
-pkm::mechanism!(FourBarOver, file = "tests/fixtures/four_bar_over.pkm");
 
 /// A pinned point is verified lane by lane: consistent outputs (from fk)
 /// solve as `ik_branch` does, and the same with y moved by 1 are refused

@@ -7,16 +7,13 @@
 //! the given outputs to 1e-9 of the mechanism's extent.
 
 use crate::common;
+use crate::mechanisms::{
+    FiveBarPa, FiveBarPaParams, FourBarOver, FourBarOverParams, SeedA, SeedAParams, SeedB, SeedBParams,
+};
 
 use pkm::runtime::consistency::Contradicted;
 use pkm::runtime::solution::SolveError;
 use std::f64::consts::PI;
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
-// A four-bar whose plan pins a point (the fixture says how).
-pkm::mechanism!(FourBarOver, file = "tests/fixtures/four_bar_over.pkm");
 
 /// The case: y is fixed at −300 for mechanism A (its platform's POC
 /// set has no translation along y); y = −250 must be refused on every

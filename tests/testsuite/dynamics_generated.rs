@@ -5,20 +5,16 @@
 //! agree to 1e-9 of the largest.
 
 use crate::common;
+use crate::mechanisms::{
+    FiveBarPaDynamics, FiveBarPaDynamicsParams, Punch, Rssr, Rsur, SeedA, SeedB, SliderCrankDynamics,
+    SliderCrankDynamicsParams,
+};
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton_euler::{inverse_dynamics, DynamicsError, JointReaction, Reactions};
 use pkm::runtime::primitives::Sign::{self, Minus, Plus};
 use std::collections::HashMap;
 use std::f64::consts::PI;
-
-pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
-pkm::mechanism!(SliderCrank, file = "tests/fixtures/slider_crank_dynamics.pkm");
-pkm::mechanism!(FiveBarPa, file = "tests/fixtures/five_bar_pa_dynamics.pkm");
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
-pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 /// The runtime's pieces for one example file.
 struct Runtime {
@@ -88,7 +84,7 @@ fn punch_branch(r: &Runtime, phi: f64) -> (Vec<f64>, [Sign; 3]) {
 /// 0.5 rad/s², on the paper's branch (signs − − and the F other than H):
 /// generated and runtime agree to 1e-9, their kinematic conditioning too;
 /// next to a change point both refuse (fewer than six digits there:
-/// tests/seed003_dynamics.rs holds both to a 60-digit reference).
+/// tests/testsuite/seed003_dynamics.rs holds both to a 60-digit reference).
 #[test]
 fn punch_over_a_turn() {
     let r = runtime("seed003_punch");
@@ -138,7 +134,7 @@ type Generated = dyn Fn(
 
 /// Next to the punch's change point near 154.5189° both report the same
 /// kinematic conditioning (the reduced system's σ_r/σ_1) and refuse at the
-/// same angles, at rest as in motion (tests/seed003_dynamics.rs finds the
+/// same angles, at rest as in motion (tests/testsuite/seed003_dynamics.rs finds the
 /// angle where the refusal begins by bisection).
 #[test]
 fn punch_change_point() {
@@ -367,7 +363,7 @@ fn slider_crank_with_parameters() {
         &[(-PI, PI)],
         300,
         &|v, q, signs, rates, accels| {
-            let p = SliderCrankParams {
+            let p = SliderCrankDynamicsParams {
                 mu: v["mu"],
                 k: v["k"],
                 gx: v["gx"],
@@ -377,7 +373,7 @@ fn slider_crank_with_parameters() {
                 mz: v["mz"],
                 ..Default::default()
             };
-            let d = SliderCrank::inverse_dynamics(&p, &[q[0]], [signs[0]], &[rates[0]], &[accels[0]])?;
+            let d = SliderCrankDynamics::inverse_dynamics(&p, &[q[0]], [signs[0]], &[rates[0]], &[accels[0]])?;
             Ok((d.actuators.to_vec(), d.joints.to_vec()))
         },
     );
@@ -391,7 +387,7 @@ fn five_bar_pa_with_parameters() {
         &ranges,
         300,
         &|v, q, signs, rates, accels| {
-            let p = FiveBarPaParams {
+            let p = FiveBarPaDynamicsParams {
                 mu: v["mu"],
                 k: v["k"],
                 gx: v["gx"],
@@ -407,7 +403,7 @@ fn five_bar_pa_with_parameters() {
             };
             let signs: [Sign; 3] = signs.try_into().expect("three choices");
             let at = |x: &[f64]| [x[0], x[1], x[2]];
-            let d = FiveBarPa::inverse_dynamics(&p, &at(q), signs, &at(rates), &at(accels))?;
+            let d = FiveBarPaDynamics::inverse_dynamics(&p, &at(q), signs, &at(rates), &at(accels))?;
             Ok((d.actuators.to_vec(), d.joints.to_vec()))
         },
     );
@@ -418,31 +414,32 @@ fn five_bar_pa_with_parameters() {
 /// the mechanism cannot reach.
 #[test]
 fn bad_parameters_and_unreachable_positions() {
-    let negative = SliderCrankParams {
+    let negative = SliderCrankDynamicsParams {
         mu: -1.0,
         ..Default::default()
     };
-    let e = SliderCrank::inverse_dynamics(&negative, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
+    let e = SliderCrankDynamics::inverse_dynamics(&negative, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
     assert!(
         matches!(&e, DynamicsError::MassProperties { body, problem } if body == "crank" && problem.contains("mass")),
         "{e:?}"
     );
-    let flat = SliderCrankParams {
+    let flat = SliderCrankDynamicsParams {
         k: -1.0,
         ..Default::default()
     };
-    let e = SliderCrank::inverse_dynamics(&flat, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
+    let e = SliderCrankDynamics::inverse_dynamics(&flat, &[0.3], [Plus], &[1.0], &[0.0]).unwrap_err();
     assert!(
         matches!(&e, DynamicsError::MassProperties { body, .. } if body == "crank"),
         "{e:?}"
     );
-    let short = SliderCrankParams {
+    let short = SliderCrankDynamicsParams {
         l: 20.0,
         e: 40.0,
         ..Default::default()
     };
-    let e = SliderCrank::inverse_dynamics(&short, &[-1.5], [Plus], &[1.0], &[0.0]).unwrap_err();
+    let e = SliderCrankDynamics::inverse_dynamics(&short, &[-1.5], [Plus], &[1.0], &[0.0]).unwrap_err();
     assert!(matches!(e, DynamicsError::Position(_)), "{e:?}");
-    let e = SliderCrank::inverse_dynamics(&Default::default(), &[0.3], [Plus], &[f64::NAN], &[0.0]).unwrap_err();
+    let e =
+        SliderCrankDynamics::inverse_dynamics(&Default::default(), &[0.3], [Plus], &[f64::NAN], &[0.0]).unwrap_err();
     assert_eq!(e, DynamicsError::NotFinite);
 }

@@ -2,21 +2,12 @@
 //! must agree), branch by branch, at many inputs.
 
 use crate::common;
+use crate::mechanisms::{
+    CouplerDriven, Cylinder, FiveBar, FourBar, Inverted, Punch, PunchParams, Shaper, SliderCrank, Spherical, Watt, Yoke,
+};
 
 use pkm::runtime::plan;
 use pkm::runtime::solution::signs_of;
-
-pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
-pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
-pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
-pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
-pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
-pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
-pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
-pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
-pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
-pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch.pkm");
-pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn interpreter(file: &str) -> (pkm::runtime::model::Model, plan::Plan) {
     let (a, model) = common::example(file);

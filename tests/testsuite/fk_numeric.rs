@@ -6,6 +6,7 @@
 //! rounding (`kinematics::loop_residual`, no step of the plan involved).
 
 use crate::common;
+use crate::mechanisms::{PunchOriginal, Stephenson3, ThreeRpr, ThreeRrr, ThreeRrrSix};
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::fk_numeric::{self, RootKind};
@@ -155,11 +156,6 @@ fn planar_3rpr() {
     assert!(total >= n, "{total} assemblies at {n} inputs");
 }
 
-pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
-pkm::mechanism!(ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
-pkm::mechanism!(Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
-pkm::mechanism!(PunchOriginal, file = "examples/mechanisms/seed003_punch_original.pkm");
-
 /// Generated = interpreted: the residual at random inputs, virtual values
 /// and branches (equal to 1e-12 of the size, or both undefined), and the
 /// assemblies `fk_numeric` finds (the same, in the same order, points to
@@ -298,6 +294,9 @@ fn planar_round_trips(
 #[test]
 fn planar_3rrr_round_trips() {
     let params = Default::default();
+    // The forward solution prepared once at the parameters (what
+    // `ThreeRrr::fk_numeric` prepares on every call).
+    let forward = ThreeRrr::prepare_fk_numeric(&params);
     let index = |name: &str| ThreeRrr::JOINTS.iter().position(|j| *j == name).unwrap();
     let point = |name: &str| ThreeRrr::POINTS.iter().position(|p| *p == name).unwrap();
     let (o, r9) = (point("o"), point("R9"));
@@ -313,7 +312,7 @@ fn planar_3rrr_round_trips() {
                 .collect()
         },
         |q| {
-            let found = ThreeRrr::fk_numeric(&params, &[q[0], q[1], q[2]]);
+            let found = forward.fk_numeric(&[q[0], q[1], q[2]]);
             found
                 .iter()
                 .map(|f| (f.q.to_vec(), f.points[o], f.points[r9]))
@@ -335,6 +334,9 @@ fn planar_3rrr_round_trips() {
 #[test]
 fn planar_3rpr_round_trips() {
     let params = Default::default();
+    // The forward solution prepared once at the parameters (what
+    // `ThreeRpr::fk_numeric` prepares on every call).
+    let forward = ThreeRpr::prepare_fk_numeric(&params);
     let index = |name: &str| ThreeRpr::JOINTS.iter().position(|j| *j == name).unwrap();
     let point = |name: &str| ThreeRpr::POINTS.iter().position(|p| *p == name).unwrap();
     let (o, r6) = (point("o"), point("R6"));
@@ -351,7 +353,7 @@ fn planar_3rpr_round_trips() {
                 .collect()
         },
         |q| {
-            let found = ThreeRpr::fk_numeric(&params, &[q[0], q[1], q[2]]);
+            let found = forward.fk_numeric(&[q[0], q[1], q[2]]);
             found
                 .iter()
                 .map(|f| (f.q.to_vec(), f.points[o], f.points[r6]))
@@ -367,8 +369,6 @@ fn planar_3rpr_round_trips() {
         "{worst_fk_ik:e} {worst_ik_fk:e}"
     );
 }
-
-pkm::mechanism!(ThreeRrrSix, file = "tests/fixtures/planar_3rrr_six.pkm");
 
 /// A mechanism of `tests/fixtures/` by its file stem: its analysis and its
 /// model at the nominal parameters.

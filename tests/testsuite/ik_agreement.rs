@@ -4,6 +4,10 @@
 //! generated fk reaches from random inputs.
 
 use crate::common;
+use crate::mechanisms::{
+    AgileEye, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FourBar, Inverted, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB,
+    Shaper, SliderCrank, Spherical, Watt, Yoke,
+};
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;
@@ -11,25 +15,6 @@ use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
 use std::collections::HashMap;
 use std::f64::consts::PI;
-
-pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
-pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
-pkm::mechanism!(Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
-pkm::mechanism!(Shaper, file = "examples/mechanisms/crank_shaper.pkm");
-pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
-pkm::mechanism!(Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
-pkm::mechanism!(CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
-pkm::mechanism!(Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
-pkm::mechanism!(AgileEye, file = "tests/fixtures/agile_eye_ik.pkm");
-pkm::mechanism!(FiveBar, file = "examples/mechanisms/five_bar.pkm");
-pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
-pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
-pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
-pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 macro_rules! check {
     ($ty:ident, $file:expr, $ranges:expr) => {{

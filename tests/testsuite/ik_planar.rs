@@ -3,16 +3,11 @@
 //! closed-form fk exists) and against the closed-form fk (round trips).
 
 use crate::common;
+use crate::mechanisms::{FourBar, ThreeRpr, ThreeRrr};
 
 use pkm::runtime::kinematics;
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan::{self, Plan};
-
-pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
-pkm::mechanism!(ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
-pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
-pkm::mechanism!(SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
-pkm::mechanism!(Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
 fn load(file: &str) -> (pkm::runtime::model::Model, Plan) {
     let (a, model) = common::example(file);

@@ -4,6 +4,7 @@
 //! the stack (these tests run on the test harness's 2 MiB threads).
 
 use crate::common;
+use crate::mechanisms::{Cylinder, FourBar};
 
 use pkm::dsl::limits::{
     MAX_EXPR_OPERATIONS, MAX_FILE_BYTES, MAX_JOINTS, MAX_NESTING, MAX_PARAMETERS, MAX_PLACEMENTS, MAX_RELATIONS,
@@ -345,9 +346,6 @@ fn overrides_recompute_what_reads_them() {
     let span = d.0[0].span.unwrap();
     assert_eq!(&DERIVED[span.start..span.end], "h = sqrt(l2^2 - l1^2)");
 }
-
-pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
-pkm::mechanism!(Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
 
 /// Every branch of `file`'s forward plan at `q`, by the interpreter.
 fn interpreted(file: &str, q: &[f64]) -> Vec<Result<pkm::runtime::plan::Solution, pkm::runtime::solution::SolveError>> {

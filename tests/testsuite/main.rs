@@ -7,6 +7,7 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod mechanisms;
 #[path = "../common/work_precision.rs"]
 mod work_precision;
 

@@ -3,7 +3,7 @@
 //! x = (x1 + x2)/2 and z = l1 ± sqrt(l2² − ((x2 − x1)/2)²) (the paper's own
 //! formulas, exact to an ulp here), and the closed form must keep that.
 
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
+use crate::mechanisms::{SeedA, SeedAParams, SeedASolution};
 
 fn point(s: &SeedASolution, name: &str) -> [f64; 3] {
     s.points[SeedA::POINTS.iter().position(|p| *p == name).unwrap()]

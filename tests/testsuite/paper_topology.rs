@@ -4,6 +4,7 @@
 //! 3-RRR, 3-RPS, 3-SPR, whose ξ, Δ and κ follow from Σf and the loop type).
 
 use crate::common;
+use crate::mechanisms::{PunchOriginal, SeedA};
 
 use pkm::dsl::{analyze_source, Analysis};
 
@@ -190,19 +191,17 @@ fn seed003_skcs_are_the_papers_loops() {
 }
 
 // The generated type carries the same numbers.
-pkm::mechanism!(MechanismA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(Punch, file = "examples/mechanisms/seed003_punch_original.pkm");
 
 #[test]
 fn generated_consts() {
-    assert_eq!((MechanismA::DOF, MechanismA::KAPPA, MechanismA::SKC_COUNT), (3, 0, 2));
-    assert_eq!((MechanismA::XI, MechanismA::DELTA), (&[3usize, 5][..], &[0i32, 0][..]));
-    assert_eq!(MechanismA::REPORT.decoupling[0], ("x", &["P1", "P2"][..]));
-    assert_eq!(MechanismA::REPORT.to_string(), analysis("seed000_a").report());
+    assert_eq!((SeedA::DOF, SeedA::KAPPA, SeedA::SKC_COUNT), (3, 0, 2));
+    assert_eq!((SeedA::XI, SeedA::DELTA), (&[3usize, 5][..], &[0i32, 0][..]));
+    assert_eq!(SeedA::REPORT.decoupling[0], ("x", &["P1", "P2"][..]));
+    assert_eq!(SeedA::REPORT.to_string(), analysis("seed000_a").report());
     // κ = 1 with only `ik` requested compiles.
-    assert_eq!((Punch::KAPPA, Punch::DELTA), (1, &[0, 1, -1][..]));
-    assert_eq!(Punch::REPORT.skcs[1].socs, &[1, 2]);
-    assert_eq!(Punch::PLATFORM_POC, None);
+    assert_eq!((PunchOriginal::KAPPA, PunchOriginal::DELTA), (1, &[0, 1, -1][..]));
+    assert_eq!(PunchOriginal::REPORT.skcs[1].socs, &[1, 2]);
+    assert_eq!(PunchOriginal::PLATFORM_POC, None);
 }
 
 /// The counts of a mechanism with U joints as the POC literature writes

@@ -6,12 +6,10 @@
 //! and tilt) and against Newton's inverse solution.
 
 use crate::common;
+use crate::mechanisms::{Prs, RpsTilt};
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::plan;
-
-pkm::mechanism!(RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
-pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
 
 const A: f64 = 200.0;
 const B: f64 = 100.0;

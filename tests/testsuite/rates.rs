@@ -4,9 +4,8 @@
 //! generated position solver, and the runtime's velocity model (the loop
 //! equations differentiated through link twists, `Name::jacobian`).
 
+use crate::mechanisms::SeedA;
 use pkm::runtime::solution::signs_of;
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 
 /// Central differences of `f` at `x`, step `h` in each given value.
 fn differences<const N: usize, const R: usize>(

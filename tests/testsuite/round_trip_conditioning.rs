@@ -12,13 +12,12 @@
 //! the round trip multiplies fk's last-bit rounding of z by that factor.
 
 use crate::common;
+use crate::mechanisms::{SeedB, SeedBSolution};
 
 use common::max_error;
 use pkm::runtime::newton::{self, NewtonOptions, Output};
 use pkm::runtime::reference::{self, f256, to_f64};
 use std::collections::HashMap;
-
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 /// The round trips' scale for SeedB's lengths.
 const SCALE: f64 = 300.0;

@@ -263,4 +263,4 @@ fn mechanism_b_equations_15_to_17() {
     }
 }
 
-// Round trips at 10⁵ configurations: tests/round_trips.rs (generated code).
+// Round trips at 10⁵ configurations: tests/testsuite/round_trips.rs (generated code).

@@ -12,6 +12,8 @@
 //! file subtracts m (l/2)² for the centroidal values.
 
 use crate::common;
+// `Punch` here is the test's own model and plan; the generated solver is `PunchGenerated`.
+use crate::mechanisms::{Punch as PunchGenerated, PunchDynamics, PunchPrepared};
 
 use pkm::runtime::mass_properties::Loading;
 use pkm::runtime::model::Model;
@@ -281,8 +283,6 @@ fn values_that_do_not_close_are_refused() {
     );
 }
 
-pkm::mechanism!(PunchGenerated, file = "examples/mechanisms/seed003_punch.pkm");
-
 /// One row of `tests/fixtures/seed003_change_points.csv`
 /// (`tests/reference/punch_mp.py`, 60-digit kinematics and Newton–Euler
 /// written from the paper's geometry): a state beside a change point on
@@ -405,12 +405,12 @@ fn accels_of(row: &Exact) -> [f64; 1] {
 /// `inverse_dynamics`, at one row's state.
 fn both_paths(
     p: &Punch,
-    generated: &PunchGeneratedPrepared,
+    generated: &PunchPrepared,
     row: &Exact,
 ) -> (
     Result<pkm::runtime::plan::Solution, pkm::runtime::solution::SolveError>,
     Result<Reactions, DynamicsError>,
-    Result<PunchGeneratedDynamics, DynamicsError>,
+    Result<PunchDynamics, DynamicsError>,
 ) {
     let (rates, accels) = (rates_of(row), accels_of(row));
     let position = pkm::runtime::plan::run_all(&p.model, &p.plan, &[row.q])

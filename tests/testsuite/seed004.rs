@@ -12,13 +12,11 @@
 //! labelled numeric.
 
 use crate::common;
+use crate::mechanisms::{Rps, Spr};
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan;
-
-pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
-pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
 
 /// Base radius (mm).
 const RB: f64 = 100.0;

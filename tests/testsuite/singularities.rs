@@ -9,13 +9,12 @@
 //! not placed.
 
 use crate::common;
+use crate::mechanisms::{SeedA, SeedB, SeedBSolution};
 
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::velocity::{self, Singularity};
 use pkm::runtime::{kinematics, plan, singular};
 use std::collections::HashMap;
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 
 struct Setup {
     model: pkm::runtime::model::Model,
@@ -192,8 +191,6 @@ fn output_singularity_on_f33() {
 // Mechanism B, §2.3.2. With x1, x2 fixed (x_E depends on them alone), x3 is
 // moved until a condition holds, by bisection on one fk branch; there the
 // measure vanishes and 2 mm of x3 away it does not.
-
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 fn setup_b() -> Setup {
     setup_file("seed000_b")

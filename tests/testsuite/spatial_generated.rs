@@ -4,18 +4,13 @@
 //! at the poses fk finds; the balls' rotations of the S-joint mechanisms.
 
 use crate::common;
+use crate::mechanisms::{
+    FiveBarPa, Rps, Rssp, RsspSolution, Rssr, RssrSolution, Rsur, RsurSolution, SeedA, SeedAU, SeedB, Spr, Ups, Upu,
+};
 
 use pkm::runtime::plan::{self, Solution};
 use pkm::runtime::primitives::Sign;
 use pkm::runtime::solution::{Branch, SolveError};
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
-pkm::mechanism!(SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
-pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
-pkm::mechanism!(FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
-pkm::mechanism!(Rssr, file = "examples/mechanisms/rssr.pkm");
-pkm::mechanism!(Rssp, file = "examples/mechanisms/rssp.pkm");
-pkm::mechanism!(Rsur, file = "examples/mechanisms/rsur.pkm");
 
 type Interpreted = Vec<(Vec<Sign>, Result<Solution, SolveError>)>;
 
@@ -199,11 +194,6 @@ fn rssp_generated_equals_interpreted() {
 fn rsur_generated_equals_interpreted() {
     with_spheres!(Rsur, RsurSolution, "rsur");
 }
-
-pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
-pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
-pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
-pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
 
 /// Issue 29, item 4: a ball's value in generated `q` was NaN. The inverse
 /// solutions of seed 004's 3-RPS and 3-SPR, the Stewart platform and the

@@ -9,6 +9,9 @@
 //! helper checked against `K δ = W`; bad input typed.
 
 use crate::common;
+use crate::mechanisms::{
+    Prs, PrsParams, Rps, RpsParameters, RpsParametersParams, RpsParams, Spr, SprParams, Ups, UpsParams, Upu, UpuParams,
+};
 
 use pkm::dsl::screw::SplitMix;
 use pkm::runtime::nalgebra::{Matrix6, Vector6};
@@ -17,13 +20,6 @@ use pkm::runtime::primitives::Sign;
 use pkm::runtime::stiffness::{PlatformStiffness, Stiffness, StiffnessError};
 use pkm::runtime::wrench::{self, WrenchAnalysis};
 use std::collections::HashMap;
-
-pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
-pkm::mechanism!(Spr, file = "examples/mechanisms/spr_3.pkm");
-pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
-pkm::mechanism!(Prs, file = "examples/mechanisms/prs_3.pkm");
-pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
-pkm::mechanism!(RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.pkm");
 
 /// The seed's load, F = (10, −15, 20) N and T = (−20, 10, 15) N·m = (−2, 1,
 /// 1.5)·10⁴ N·mm, about the reference point.

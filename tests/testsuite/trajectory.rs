@@ -6,11 +6,10 @@
 //! their size, and the path has no jump.
 
 use crate::common;
+use crate::mechanisms::SeedA;
 
 use pkm::runtime::{kinematics, velocity};
 use std::f64::consts::PI;
-
-pkm::mechanism!(SeedA, file = "examples/mechanisms/seed000_a.pkm");
 
 const START: [f64; 3] = [-131.07, 181.55, -57.74];
 const AMPLITUDE: [f64; 3] = [20.0, -10.0, 20.0];

@@ -9,6 +9,7 @@
 //! Newton's inverse solution.
 
 use crate::common;
+use crate::mechanisms::{Ups, Upu};
 
 use common::max_error;
 use pkm::dsl::screw::SplitMix;
@@ -18,9 +19,6 @@ use pkm::runtime::nalgebra::{Rotation3, Vector3};
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan;
 use std::collections::HashMap;
-
-pkm::mechanism!(Ups, file = "examples/mechanisms/ups_6.pkm");
-pkm::mechanism!(Upu, file = "examples/mechanisms/upu_3.pkm");
 
 /// ups_6's base and platform joints: leg i from the base circle (radius
 /// 200) at α_i to the platform circle (radius 100) at β_i, degrees.
@@ -61,6 +59,22 @@ fn leg_direction(a: Vector3<f64>, ta: f64, tb: f64) -> Vector3<f64> {
     a * tb.cos() + b.cross(&a) * tb.sin()
 }
 
+/// One leg of a UPS or UPU platform, its names looked up once: the slide's
+/// and the base U's two joint values, the base U's centre and the leg's
+/// far end (the S centre, or the platform U's) among the points, its base
+/// joint `a` and platform joint `b` (at the platform's home pose), and its
+/// base U's first axis.
+struct Leg {
+    slide: usize,
+    ua: usize,
+    ub: usize,
+    u_point: usize,
+    end_point: usize,
+    a: Vector3<f64>,
+    b: Vector3<f64>,
+    axis: Vector3<f64>,
+}
+
 fn index(names: &[&str], name: &str) -> usize {
     names
         .iter()
@@ -77,6 +91,28 @@ fn stewart_legs_by_hand() {
     let mut rng = SplitMix::new(17);
     let (mut solved, mut worst_length, mut worst_line) = (0usize, 0.0f64, 0.0f64);
     let params = Default::default();
+    // Each leg's joints and points by name, its base and platform joints and
+    // its U's first axis, found once (the same for every pose).
+    let legs: Vec<_> = UPS_LEGS
+        .iter()
+        .enumerate()
+        .map(|(i, &(alpha, beta))| {
+            let n = i + 1;
+            let q = |name: String| index(&Ups::JOINTS, &name);
+            let at = |name: String| index(&Ups::POINTS, &name);
+            let t = alpha.to_radians();
+            Leg {
+                slide: q(format!("P{n}")),
+                ua: q(format!("U{n}.a")),
+                ub: q(format!("U{n}.b")),
+                u_point: at(format!("U{n}.a")),
+                end_point: at(format!("S{n}")),
+                a: on_circle(200.0, alpha),
+                b: on_circle(100.0, beta),
+                axis: Vector3::new(-t.sin(), t.cos(), 0.0),
+            }
+        })
+        .collect();
     for _ in 0..100_000 {
         let g = common::poses::ups(&mut rng);
         let (p, r) = (Vector3::new(g[0], g[1], g[2]), rotation(g[3], g[4], g[5]));
@@ -87,22 +123,20 @@ fn stewart_legs_by_hand() {
             let s = branch.result.as_ref().unwrap_or_else(|e| panic!("at {g:?}: {e}"));
             solved += 1;
             let mut sense = 0u32;
-            for (i, &(alpha, beta)) in UPS_LEGS.iter().enumerate() {
-                let n = i + 1;
-                let (ai, bi) = (on_circle(200.0, alpha), on_circle(100.0, beta));
-                let ball = p + r * bi;
+            for (i, leg) in legs.iter().enumerate() {
+                let ai = leg.a;
+                let ball = p + r * leg.b;
                 let length = (ball - ai).norm();
-                let q = |name: String| s.q[index(&Ups::JOINTS, &name)];
-                let slide = q(format!("P{n}"));
+                let slide = s.q[leg.slide];
                 worst_length = worst_length.max((slide.abs() - length).abs() / length);
                 sense |= u32::from(slide < 0.0) << i;
                 // The U's centre and the ball where the solution puts them.
-                let at = |name: String| Vector3::from(s.points[index(&Ups::POINTS, &name)]);
-                let (u, sc) = (at(format!("U{n}.a")), at(format!("S{n}")));
+                let (u, sc) = (
+                    Vector3::from(s.points[leg.u_point]),
+                    Vector3::from(s.points[leg.end_point]),
+                );
                 worst_line = worst_line.max((u - ai).norm() / 200.0).max((sc - ball).norm() / 200.0);
-                let t = alpha.to_radians();
-                let axis = Vector3::new(-t.sin(), t.cos(), 0.0);
-                let d = leg_direction(axis, q(format!("U{n}.a")), q(format!("U{n}.b")));
+                let d = leg_direction(leg.axis, s.q[leg.ua], s.q[leg.ub]);
                 worst_line = worst_line.max((ai + d * slide - ball).norm() / 200.0);
             }
             senses.push(sense);
@@ -125,6 +159,25 @@ fn translational_upu_legs_by_hand() {
     let mut rng = SplitMix::new(19);
     let (mut solved, mut worst) = (0usize, 0.0f64);
     let params = Default::default();
+    let legs: Vec<_> = (0..3)
+        .map(|i| {
+            let n = i + 1;
+            let deg = 120.0 * i as f64;
+            let q = |name: String| index(&Upu::JOINTS, &name);
+            let at = |name: String| index(&Upu::POINTS, &name);
+            let t = deg.to_radians();
+            Leg {
+                slide: q(format!("P{n}")),
+                ua: q(format!("U{n}1.a")),
+                ub: q(format!("U{n}1.b")),
+                u_point: at(format!("U{n}1.a")),
+                end_point: at(format!("U{n}2.b")),
+                a: on_circle(200.0, deg),
+                b: on_circle(100.0, deg),
+                axis: Vector3::new(-t.sin(), t.cos(), 0.0),
+            }
+        })
+        .collect();
     for _ in 0..100_000 {
         let g = common::poses::upu(&mut rng);
         let p = Vector3::new(g[0], g[1], g[2]);
@@ -133,22 +186,18 @@ fn translational_upu_legs_by_hand() {
         for branch in &branches {
             let s = branch.result.as_ref().unwrap_or_else(|e| panic!("at {g:?}: {e}"));
             solved += 1;
-            for i in 0..3 {
-                let n = i + 1;
-                let deg = 120.0 * i as f64;
-                let (ai, bi) = (on_circle(200.0, deg), on_circle(100.0, deg));
-                let top = p + bi;
+            for leg in &legs {
+                let ai = leg.a;
+                let top = p + leg.b;
                 let length = (top - ai).norm();
-                let q = |name: String| s.q[index(&Upu::JOINTS, &name)];
-                let slide = q(format!("P{n}"));
-                let mut e = vec![(slide.abs() - length).abs() / length];
-                let at = |name: String| Vector3::from(s.points[index(&Upu::POINTS, &name)]);
-                e.push((at(format!("U{n}1.a")) - ai).norm() / 200.0);
-                e.push((at(format!("U{n}2.b")) - top).norm() / 200.0);
-                let t = deg.to_radians();
-                let axis = Vector3::new(-t.sin(), t.cos(), 0.0);
-                let d = leg_direction(axis, q(format!("U{n}1.a")), q(format!("U{n}1.b")));
-                e.push((ai + d * slide - top).norm() / 200.0);
+                let slide = s.q[leg.slide];
+                let d = leg_direction(leg.axis, s.q[leg.ua], s.q[leg.ub]);
+                let e = [
+                    (slide.abs() - length).abs() / length,
+                    (Vector3::from(s.points[leg.u_point]) - ai).norm() / 200.0,
+                    (Vector3::from(s.points[leg.end_point]) - top).norm() / 200.0,
+                    (ai + d * slide - top).norm() / 200.0,
+                ];
                 worst = e.into_iter().fold(worst, f64::max);
             }
         }

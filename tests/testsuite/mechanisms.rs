@@ -1,0 +1,57 @@
+//! Every mechanism the suite's tests call generated code of, declared once
+//! (`pkm::mechanism!` expands to a few thousand lines each: declared in
+//! every module that uses it, the suite compiled each of them up to seven
+//! times). Each is declared from its file as it stands, so its
+//! capabilities are the file's own; the test modules import the types they
+//! use (`use crate::mechanisms::{SeedA, SeedAParams}`). A mechanism given
+//! only inline, next to the test that explains it, stays there
+//! (`consistency::FoldingFourBar`).
+
+// Planar one-loop examples.
+pkm::mechanism!(pub FourBar, file = "examples/mechanisms/four_bar.pkm");
+pkm::mechanism!(pub SliderCrank, file = "examples/mechanisms/slider_crank.pkm");
+pkm::mechanism!(pub Inverted, file = "examples/mechanisms/inverted_slider_crank.pkm");
+pkm::mechanism!(pub Shaper, file = "examples/mechanisms/crank_shaper.pkm");
+pkm::mechanism!(pub Cylinder, file = "examples/mechanisms/cylinder_rocker.pkm");
+pkm::mechanism!(pub Yoke, file = "examples/mechanisms/scotch_yoke.pkm");
+pkm::mechanism!(pub CouplerDriven, file = "examples/mechanisms/four_bar_coupler_driven.pkm");
+pkm::mechanism!(pub Spherical, file = "examples/mechanisms/spherical_four_bar.pkm");
+pkm::mechanism!(pub FiveBar, file = "examples/mechanisms/five_bar.pkm");
+pkm::mechanism!(pub Watt, file = "examples/mechanisms/watt_six_bar.pkm");
+
+// Planar parallel mechanisms and the κ = 1 examples (`fk_numeric`).
+pkm::mechanism!(pub ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
+pkm::mechanism!(pub ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
+pkm::mechanism!(pub Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
+
+// Seed 000 (2T1R mechanisms A and B) and the five-bar 2T1R.
+pkm::mechanism!(pub SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(pub SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
+pkm::mechanism!(pub SeedB, file = "examples/mechanisms/seed000_b.pkm");
+pkm::mechanism!(pub FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");
+
+// Seed 003: the punching eight-bar as declared for pkm and as in the paper.
+pkm::mechanism!(pub Punch, file = "examples/mechanisms/seed003_punch.pkm");
+pkm::mechanism!(pub PunchOriginal, file = "examples/mechanisms/seed003_punch_original.pkm");
+
+// Spatial four-bars.
+pkm::mechanism!(pub Rssr, file = "examples/mechanisms/rssr.pkm");
+pkm::mechanism!(pub Rssp, file = "examples/mechanisms/rssp.pkm");
+pkm::mechanism!(pub Rsur, file = "examples/mechanisms/rsur.pkm");
+
+// Spatial parallel mechanisms: seed 004's 3-RPS and 3-SPR, and the others.
+pkm::mechanism!(pub Rps, file = "examples/mechanisms/rps_3.pkm");
+pkm::mechanism!(pub Spr, file = "examples/mechanisms/spr_3.pkm");
+pkm::mechanism!(pub RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
+pkm::mechanism!(pub Prs, file = "examples/mechanisms/prs_3.pkm");
+pkm::mechanism!(pub Ups, file = "examples/mechanisms/ups_6.pkm");
+pkm::mechanism!(pub Upu, file = "examples/mechanisms/upu_3.pkm");
+
+// Fixtures (tests/fixtures/: each file says what it adds to its example).
+// A four-bar whose plan pins a point (the fixture says how).
+pkm::mechanism!(pub FourBarOver, file = "tests/fixtures/four_bar_over.pkm");
+pkm::mechanism!(pub SliderCrankDynamics, file = "tests/fixtures/slider_crank_dynamics.pkm");
+pkm::mechanism!(pub FiveBarPaDynamics, file = "tests/fixtures/five_bar_pa_dynamics.pkm");
+pkm::mechanism!(pub AgileEye, file = "tests/fixtures/agile_eye_ik.pkm");
+pkm::mechanism!(pub ThreeRrrSix, file = "tests/fixtures/planar_3rrr_six.pkm");
+pkm::mechanism!(pub RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.pkm");
