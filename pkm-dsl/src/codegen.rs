@@ -340,12 +340,12 @@ fn topology_items(input: &MacroInput, a: &Analysis, include: Option<&str>) -> To
     let delta = t.delta();
     let socs = t.socs.iter().map(|s| {
         let (notation, dof, act, xi, delta) = (&s.notation, s.dof, s.actuators, s.xi, s.delta);
-        quote! { ::pkm::runtime::SocReport { notation: #notation, dof: #dof, actuators: #act, xi: #xi, delta: #delta } }
+        quote! { ::pkm::runtime::__private::SocReport { notation: #notation, dof: #dof, actuators: #act, xi: #xi, delta: #delta } }
     });
     let skcs = t.skcs.iter().map(|s| {
         let idx: Vec<usize> = s.socs.clone().collect();
         let k = s.kappa;
-        quote! { ::pkm::runtime::SkcReport { socs: &[#(#idx),*], kappa: #k } }
+        quote! { ::pkm::runtime::__private::SkcReport { socs: &[#(#idx),*], kappa: #k } }
     });
     let actuators: Vec<&str> = m
         .joints
@@ -417,7 +417,7 @@ fn topology_items(input: &MacroInput, a: &Analysis, include: Option<&str>) -> To
             /// The platform's POC set, if there is a platform.
             pub const PLATFORM_POC: ::core::option::Option<&'static str> = #platform_poc;
             /// The whole topology report.
-            pub const REPORT: ::pkm::runtime::TopologyReport = ::pkm::runtime::TopologyReport {
+            pub const REPORT: ::pkm::runtime::__private::TopologyReport = ::pkm::runtime::__private::TopologyReport {
                 name: #name,
                 title: #title,
                 dof: #dof,

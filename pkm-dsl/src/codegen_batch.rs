@@ -144,7 +144,7 @@ fn lanes_fn(
         let rows = residual.iter().map(|r| quote! { lane_ok &= (#r).abs() <= tol; });
         quote! {
             let extent = #extent;
-            let tol = ::pkm::runtime::consistency::VERIFY_TOL * extent;
+            let tol = ::pkm::runtime::__private::consistency::VERIFY_TOL * extent;
             #(#rows)*
         }
     } else {
@@ -214,7 +214,7 @@ impl LaneSig<'_> {
         } = self;
         let (n_given, n_out) = (given.len(), out.len());
         let name = f.to_string();
-        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let sign = quote! { ::pkm::runtime::__private::primitives::Sign };
         let [generics, turbofish, assert, const_p, p_arg] = self.generics();
         quote! {
         #[doc = #doc]
@@ -224,9 +224,9 @@ impl LaneSig<'_> {
             signs: [#sign; #n_choices],
             out: [&mut [f64]; #n_out],
             ok: &mut [bool],
-        ) -> ::core::result::Result<(), ::pkm::runtime::solution::SolveError> {
+        ) -> ::core::result::Result<(), ::pkm::runtime::__private::solution::SolveError> {
             #assert
-            ::pkm::runtime::batch::check_lanes(
+            ::pkm::runtime::__private::batch::check_lanes(
                 #name,
                 ok.len(),
                 &given.map(|g| g.len()),
@@ -240,7 +240,7 @@ impl LaneSig<'_> {
                 out: [&'a mut [f64]; #n_out],
                 ok: &'a mut [bool],
             }
-            impl<#const_p> ::pkm::runtime::batch::Loop for Lanes<'_, #p_arg> {
+            impl<#const_p> ::pkm::runtime::__private::batch::Loop for Lanes<'_, #p_arg> {
                 #[inline(always)]
                 fn run(self) {
                     let [#(#given),*] = self.given;
@@ -248,7 +248,7 @@ impl LaneSig<'_> {
                     self.solver.#f_lanes #turbofish(self.signs, #(#given,)* #(#out,)* self.ok);
                 }
             }
-            ::pkm::runtime::batch::wide(Lanes #turbofish { solver: self, signs, given, out, ok });
+            ::pkm::runtime::__private::batch::wide(Lanes #turbofish { solver: self, signs, given, out, ok });
             ::core::result::Result::Ok(())
         }
         }
@@ -261,7 +261,7 @@ impl LaneSig<'_> {
         } = self;
         let n_given = self.given.len();
         let n_out = out.len();
-        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let sign = quote! { ::pkm::runtime::__private::primitives::Sign };
         let finite = (0..n_given).map(|k| quote! { & given[#k].is_finite() });
         let [generics, ..] = self.generics();
         quote! {
@@ -292,7 +292,7 @@ impl LaneSig<'_> {
             ..
         } = self;
         let out_index: Vec<usize> = (0..out.len()).collect();
-        let sign = quote! { ::pkm::runtime::primitives::Sign };
+        let sign = quote! { ::pkm::runtime::__private::primitives::Sign };
         let [generics, turbofish, ..] = self.generics();
         // The loop's parts: slice x cut into `x_0` … (`part` lanes each).
         let part_of = |x: &str, w: usize| format_ident!("{x}_{w}");

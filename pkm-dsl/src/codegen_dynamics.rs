@@ -588,7 +588,7 @@ pub(super) fn functions(
     let (values, rest) = exprs.split_at(n_terms);
     let check = check_of(rest);
     let (n_given, n_choices) = (d.plan.n_inputs, d.plan.branches);
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let body_checks = t.bodies.iter().map(|(name, mass, moments)| {
         let (mass, moments) = (term(mass), moments.iter().map(term));
         quote! {
@@ -727,7 +727,7 @@ fn in_units(t: &Traced, x: TokenStream, c: usize) -> TokenStream {
 /// SKC `k`'s matrix and right-hand side filled in, decomposed and solved
 /// on the stack: `let xk = …;`.
 fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let n = s.rows.max(s.joints.len() * t.d);
     let x = x_of(k);
     let entries = s.entries.iter().filter(|e| !is_zero(&e.2)).map(|(r, c, v)| {
@@ -829,7 +829,7 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
 /// SKC) or the minimum-norm solve of the reduction; `break 'solve x` with
 /// the reactions, or on to the whole system near a change point.
 fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let d = t.d;
     let n = s.joints.len() * d;
     let m = r.cuts.len() * d;
@@ -978,7 +978,7 @@ fn balance_check(t: &Traced, b: &Balance) -> TokenStream {
         quote! { [#need, #(#reactions),*] }
     });
     quote! {
-        balance = balance.max(::pkm::runtime::force_system::relative_residual(&[#(#components),*]));
+        balance = balance.max(::pkm::runtime::__private::force_system::relative_residual(&[#(#components),*]));
     }
 }
 
@@ -1010,7 +1010,7 @@ fn reaction(t: &Traced, j: usize) -> TokenStream {
                 m[1] - (p[2] * f[0] - p[0] * f[2]),
                 m[2] - (p[0] * f[1] - p[1] * f[0]),
             ];
-            ::pkm::runtime::newton_euler::JointReaction {
+            ::pkm::runtime::__private::newton_euler::JointReaction {
                 force: [f[0] * #metres, f[1] * #metres, f[2] * #metres],
                 moment: [at[0] * #metres, at[1] * #metres, at[2] * #metres],
             }
@@ -1051,7 +1051,7 @@ fn actuator(t: &Traced, j: usize, xi: &[Term], bars: &Term) -> TokenStream {
 
 /// `NameDynamics`, what `inverse_dynamics` returns, and `Name::inverse_dynamics`.
 pub(super) fn items(ident: &proc_macro2::Ident, vis: &syn::Visibility, d: &Direction, t: &Traced) -> TokenStream {
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let result = format_ident!("{}Dynamics", ident);
     let params_ty = format_ident!("{}Params", ident);
     let (n_act, n_joints, n_skcs) = (t.actuators.len(), t.points.len(), t.skcs.len());

@@ -69,7 +69,7 @@ impl Signature {
             dim,
             ..
         } = self;
-        let rt = quote! { ::pkm::runtime };
+        let rt = quote! { ::pkm::runtime::__private };
         quote! {
             #[doc = #doc]
             pub fn #name(
@@ -94,7 +94,7 @@ impl Signature {
 /// declared outputs in numbers), the velocity analysis's data.
 fn model_fns(a: &Analysis, s: &Signature) -> TokenStream {
     let m = &a.mechanism;
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let params_ty = &s.params_ty;
     let joints = m.joints.iter().enumerate().map(|(j, joint)| {
         let kind = joint_type(joint.kind);
@@ -179,7 +179,7 @@ fn jacobian_fn(s: &Signature) -> TokenStream {
     let Signature {
         params_ty, n_joints, ..
     } = s;
-    let v = quote! { ::pkm::runtime::velocity };
+    let v = quote! { ::pkm::runtime::__private::velocity };
     quote! {
         /// The forward velocity map (outputs per input rate) and the
         /// inverse one (inputs per output rate) at the joint values `q`,
@@ -199,7 +199,7 @@ fn velocity_fns(s: &Signature) -> TokenStream {
         n_outputs,
         ..
     } = s;
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let v = quote! { #rt::velocity };
     let point_velocities = s.points_fn(
         " The velocity of every point (order `POINTS`) for velocities at `q`.",
@@ -244,7 +244,7 @@ fn acceleration_fns(s: &Signature) -> TokenStream {
         n_inputs,
         ..
     } = s;
-    let v = quote! { ::pkm::runtime::velocity };
+    let v = quote! { ::pkm::runtime::__private::velocity };
     let point_accelerations = s.points_fn(
         " The acceleration of every point (order `POINTS`) for accelerations at `q`.",
         &quote! { point_accelerations },
@@ -278,7 +278,7 @@ pub(crate) fn xyz(v: &Vec3) -> TokenStream {
 }
 
 pub(crate) fn place(p: &JointPlace) -> TokenStream {
-    let m = quote! { ::pkm::runtime::model::Place };
+    let m = quote! { ::pkm::runtime::__private::model::Place };
     match p {
         JointPlace::Point(at, Some(axis)) => {
             let (at, axis) = (xyz(at), xyz(axis));
@@ -307,5 +307,5 @@ fn joint_type(kind: crate::mechanism::JointKind) -> TokenStream {
         pkm_runtime::model::JointType::S => quote! { S },
         pkm_runtime::model::JointType::R => quote! { R },
     };
-    quote! { ::pkm::runtime::model::JointType::#t }
+    quote! { ::pkm::runtime::__private::model::JointType::#t }
 }

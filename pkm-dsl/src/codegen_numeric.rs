@@ -36,7 +36,7 @@ pub(crate) fn generate(
     });
     let b = traced?;
     let emit = Emit::new(&graph, loop_names(a, plan));
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     // The residual's symbol: a check's row, or the value computed for an
     // input the plan is not given (less that input, written out below).
     let (residual, input) = match vp.compatibility {
@@ -211,8 +211,8 @@ pub(crate) fn generate(
             }
 
             /// Every real assembly at the inputs `q`: the roots of the
-            /// compatibility residual on every branch
-            /// ([`pkm::runtime::fk_numeric::solve_with`]), each solved and
+            /// compatibility residual on every branch (the runtime's
+            /// virtual-variable root driver), each solved and
             /// verified, an assembly two branches share once.
             pub fn fk_numeric(&self, q: &[f64; #n_inputs]) -> ::std::vec::Vec<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
                 let given = |v: f64| -> [f64; #n_given] { ::core::array::from_fn(|i| if i < #n_inputs { q[i] } else { v }) };

@@ -113,7 +113,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
     };
     let m = &a.mechanism;
     let (n_branches, inputs) = (plan.branches, &plan.inputs);
-    let rt = quote! { ::pkm::runtime::solution };
+    let rt = quote! { ::pkm::runtime::__private::solution };
     let params_ty = format_ident!("{}Params", ident);
     let sol_ty = format_ident!("{}Solution", ident);
     let (f_all, f_branch, f_follow, what) = match direction {
@@ -166,7 +166,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
     let given = quote! {
         params: &#params_ty,
         q: &[f64; #n_values],
-        signs: [::pkm::runtime::primitives::Sign; #n_branches],
+        signs: [::pkm::runtime::__private::primitives::Sign; #n_branches],
     };
     let branch_fns = quote! {
         #[doc = #branch_doc]
@@ -188,7 +188,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
             pub fn #f_all(params: &#params_ty, q: &[f64; #n_values]) -> [#rt::Branch<#sol_ty, #n_branches>; #n_solutions] {
                 let prepared = Self::prepare(params);
                 let mut all = [#(#branches),*];
-                ::pkm::runtime::consistency::mark_double_roots(&mut all, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]);
+                ::pkm::runtime::__private::consistency::mark_double_roots(&mut all, &Self::REVOLUTE, |s: &#sol_ty| &s.q[..]);
                 all
             }
 

@@ -488,17 +488,17 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         emit,
         d,
         what,
-        rt: quote! { ::pkm::runtime::solution },
+        rt: quote! { ::pkm::runtime::__private::solution },
         f_branch: format_ident!("{}_branch", name),
         f_unverified: format_ident!("{}_unverified", name),
         f_inconsistent: format_ident!("{}_inconsistent", name),
         n_result: d.given.result.len(),
         n_rows: d.given.residual.len(),
         verified: !d.rows.is_empty(),
-        given_sig: quote! { given: &[f64; #n_given], signs: [::pkm::runtime::primitives::Sign; #n_choices] },
+        given_sig: quote! { given: &[f64; #n_given], signs: [::pkm::runtime::__private::primitives::Sign; #n_choices] },
         finite: quote! {
             if !given.iter().all(|v| v.is_finite()) {
-                return ::core::result::Result::Err(::pkm::runtime::solution::SolveError::BadInput {
+                return ::core::result::Result::Err(::pkm::runtime::__private::solution::SolveError::BadInput {
                     what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
                 });
             }
@@ -586,7 +586,7 @@ impl Parts<'_> {
         quote! {
             let extent = #extent;
             let rows = #rows;
-            if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
+            if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::__private::consistency::beyond(&rows, extent) {
                 #exit
             }
         }
@@ -639,7 +639,7 @@ impl Parts<'_> {
                 #[inline]
                 pub fn #f_branch(&self, #given_sig) -> ::core::result::Result<[f64; #n_result], #rt::SolveError> {
                     let (result, rows, extent) = self.#f_unverified(given, signs)?;
-                    if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::consistency::beyond(&rows, extent) {
+                    if let ::core::option::Option::Some((row, gap)) = ::pkm::runtime::__private::consistency::beyond(&rows, extent) {
                         return ::core::result::Result::Err(self.#f_inconsistent(given, signs, row, gap, extent));
                     }
                     ::core::result::Result::Ok(result)
@@ -662,11 +662,11 @@ impl Parts<'_> {
                     const OWNER: [&str; #n_rows] = [#(#row_owners),*];
                     const ANGULAR: [bool; #n_given] = [#(#angular),*];
                     let owner = ::std::borrow::Cow::Borrowed(OWNER[row]);
-                    let e = ::pkm::runtime::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
+                    let e = ::pkm::runtime::__private::consistency::inconsistent(owner, gap, given, &ANGULAR, extent, |g| {
                         let g: &[f64; #n_given] = g.try_into().ok()?;
                         self.#f_unverified(g, signs).ok().map(|r| r.1.to_vec())
                     });
-                    ::pkm::runtime::consistency::name_given(e, &#given_names)
+                    ::pkm::runtime::__private::consistency::name_given(e, &#given_names)
                 }
             }
         }
@@ -781,7 +781,7 @@ impl Parts<'_> {
         } else {
             (
                 quote! { let mut keys = [[0.0f64; #n_key]; #n_solutions]; },
-                quote! { ::pkm::runtime::consistency::mark_double_roots_by(&mut all, &keys); },
+                quote! { ::pkm::runtime::__private::consistency::mark_double_roots_by(&mut all, &keys); },
             )
         };
         let all_doc = format!(
@@ -846,7 +846,7 @@ fn derivative_fns(
     let (Some(rates), Some(jacobian)) = (&d.rates, &d.jacobian) else {
         return TokenStream::new();
     };
-    let rt = quote! { ::pkm::runtime::solution };
+    let rt = quote! { ::pkm::runtime::__private::solution };
     let (n_given, n_result) = (d.plan.n_inputs, d.given.result.len());
     let tail = |roots: &mut Vec<Sym>| {
         roots.extend(&d.given.residual);

@@ -157,7 +157,7 @@ pub(super) fn functions(
     finite: &TokenStream,
     check_of: &dyn Fn(&[TokenStream]) -> TokenStream,
 ) -> TokenStream {
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let roots = t.roots();
     let n_roots = roots.len();
     let mut all = roots.clone();
@@ -287,7 +287,7 @@ pub(super) fn functions(
 
 /// `Name::stiffness`, which prepares and calls the prepared solver's.
 pub(super) fn items(ident: &proc_macro2::Ident, d: &Direction) -> TokenStream {
-    let rt = quote! { ::pkm::runtime };
+    let rt = quote! { ::pkm::runtime::__private };
     let params_ty = format_ident!("{}Params", ident);
     let (n_given, n_choices) = (d.plan.n_inputs, d.plan.branches);
     let doc = format!(" The platform's static stiffness for one branch ([`{ident}Prepared::stiffness`]).");

@@ -326,7 +326,7 @@ impl<'g> Emit<'g> {
             }
             Node::Atan2(a, b) => {
                 let (a, b) = (e(*a), e(*b));
-                quote! { ::pkm::runtime::scalar::angle(#a, #b) }
+                quote! { ::pkm::runtime::__private::scalar::angle(#a, #b) }
             }
             Node::IfLess(a, b, c, d) => {
                 let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
@@ -334,7 +334,7 @@ impl<'g> Emit<'g> {
             }
             Node::Extent(values) => {
                 let values = values.iter().map(|v| e(*v));
-                quote! { ::pkm::runtime::consistency::extent(&[[#(#values),*]]) }
+                quote! { ::pkm::runtime::__private::consistency::extent(&[[#(#values),*]]) }
             }
             Node::Raw(text) => text.parse().unwrap_or_else(|_| quote! { ::core::f64::NAN }),
             Node::Chosen(_, _, v) => e(*v),
@@ -342,8 +342,8 @@ impl<'g> Emit<'g> {
                 let (p, m) = (e(*p), e(*m));
                 quote! {
                     match signs[#k] {
-                        ::pkm::runtime::primitives::Sign::Plus => #p,
-                        ::pkm::runtime::primitives::Sign::Minus => #m,
+                        ::pkm::runtime::__private::primitives::Sign::Plus => #p,
+                        ::pkm::runtime::__private::primitives::Sign::Minus => #m,
                     }
                 }
             }
@@ -392,7 +392,7 @@ impl<'g> Emit<'g> {
             let node = self.node(s);
             if let Node::Guard(_, _, failure, [step, site]) = node {
                 let cond = self.compute(s, &|o| self.expr(o, scope));
-                let geom = quote! { ::pkm::runtime::primitives::Error };
+                let geom = quote! { ::pkm::runtime::__private::primitives::Error };
                 let error = match failure {
                     Failure::Degenerate(what) => quote! { #geom::Degenerate { what: #what } },
                     Failure::Unreachable(constraint, by) => {
@@ -401,12 +401,12 @@ impl<'g> Emit<'g> {
                     }
                     Failure::Distance(d, dmax, dmin) => {
                         let (d, dmax, dmin) = (self.expr(*d, scope), self.expr(*dmax, scope), self.expr(*dmin, scope));
-                        quote! { ::pkm::runtime::scalar::unreachable_distance(#d, #dmax, #dmin) }
+                        quote! { ::pkm::runtime::__private::scalar::unreachable_distance(#d, #dmax, #dmin) }
                     }
                 };
                 let name = &self.sites[*site];
                 let err = fail(quote! {
-                    ::pkm::runtime::solution::step_error(#step, ::std::borrow::Cow::Borrowed(#name), #error)
+                    ::pkm::runtime::__private::solution::step_error(#step, ::std::borrow::Cow::Borrowed(#name), #error)
                 });
                 out.extend(quote! { if #cond { #err } });
                 scope.bound.borrow_mut().insert(s, quote! { () });
@@ -546,7 +546,7 @@ impl<'g> Emit<'g> {
                 .iter()
                 .map(|b| quote! { all[#b].result = ::core::result::Result::Err(e.clone()); });
             quote! {
-                let r: ::core::result::Result<(), ::pkm::runtime::solution::SolveError> = #label: {
+                let r: ::core::result::Result<(), ::pkm::runtime::__private::solution::SolveError> = #label: {
                     #lets
                     #inner
                     ::core::result::Result::Ok(())
@@ -681,7 +681,7 @@ mod tests {
             prepare.to_string().replace(' ', ""),
             "letl2_0=params.l2;letl3_1=params.l3;letl2_sq_2=(l2_0*l2_0);\
              lethalf_inv_abs_l3_5=(0.5f64/l3_1.abs());lettwice_l2_7=(2f64*l2_0);\
-             letl3_minus_l2_8=(l3_1-l2_0);letv9=::pkm::runtime::scalar::angle(l2_0,l3_1);\
+             letl3_minus_l2_8=(l3_1-l2_0);letv9=::pkm::runtime::__private::scalar::angle(l2_0,l3_1);\
              letl2_sq_10=params.l2_sq;\
              P{l2:l2_0,l2_sq:l2_sq_2,half_inv_abs_l3:half_inv_abs_l3_5,twice_l2:twice_l2_7,\
              l3_minus_l2:l3_minus_l2_8,k5:v9,l2_sq_2:l2_sq_10}"

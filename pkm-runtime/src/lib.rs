@@ -1,8 +1,13 @@
 //! # pkm-runtime
 //!
 //! The small runtime of pkm: shared types that generated code refers to.
+//! What generated code may name is listed in one module, [`__private`]
+//! (`contract.rs`).
 #![deny(missing_docs)]
 
+#[doc(hidden)]
+#[path = "contract.rs"]
+pub mod __private;
 pub mod batch;
 pub mod consistency;
 pub mod fk_numeric;

@@ -13,6 +13,7 @@ mod work_precision;
 
 mod batch;
 mod consistency;
+mod contract;
 mod docs;
 mod dynamics_agreement;
 mod dynamics_generated;
