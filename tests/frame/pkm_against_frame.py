@@ -5,7 +5,8 @@ frame_stiffness.py (PyNite), for the 3-RPS and the 3-SPR of seed 004 at
 docs/seed004.md's three poses: issue 14's independent structural check.
 
 For each mechanism and pose it runs `pkm stiffness FILE --pose … --json`
-(target/release/pkm; `cargo build --release -p pkm-cli` first), takes the
+($PKM, else target/release/pkm; `cargo build --release -p pkm-cli` first;
+CI passes the debug binary `cargo test` built), takes the
 assembly the seed draws (the legs on the platform's own side: the shortest
 legs), writes the joints' centres and axes, the legs' E, A, I and pkm's K as
 a frame_stiffness.py configuration (schema pkm-frame-stiffness/1) with K
@@ -16,13 +17,14 @@ Exit status 1 on any failure.
 
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-PKM = ROOT / "target" / "release" / "pkm"
+PKM = Path(os.environ.get("PKM") or ROOT / "target" / "release" / "pkm")
 FRAME = ROOT / "tests" / "frame" / "frame_stiffness.py"
 # docs/seed004.md's poses: (name, Z_A mm, α°, β°).
 POSES = [("I", 75.0, 0.0, 0.0), ("II", 75.0, 10.0, 0.0), ("III", 80.0, 5.0, 10.0)]
@@ -89,7 +91,7 @@ def frame_config(name, branch):
 
 def main():
     if not PKM.exists():
-        raise SystemExit(f"{PKM} is missing: run `cargo build --release -p pkm-cli` first")
+        raise SystemExit(f"{PKM} is missing: run `cargo build --release -p pkm-cli` first, or set PKM")
     failures = 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
