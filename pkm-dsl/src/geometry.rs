@@ -1,5 +1,5 @@
 //! Dimensions and geometry: parameters with nominal values, and every joint
-//! placed in the frames of its two links (see `docs/solver-design.md`).
+//! placed in the frames of its two links (see `docs/language.md`).
 //! Checked here: names, tuple sizes, that each joint is placed on both its
 //! links in the form its type needs, and that the declared ∥ / ⊥ / ≡
 //! relations hold between axes placed on a common link.

@@ -89,11 +89,13 @@ fn check_block(block: &Block) -> Option<String> {
     }
 }
 
-/// README.md and every Markdown file in docs/, so new docs are covered.
+/// README.md and every Markdown file in docs/ and docs/history/, so new
+/// docs are covered.
 fn markdown_files() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("docs"))
-        .expect("docs/ exists")
+    let mut files: Vec<PathBuf> = ["docs", "docs/history"]
+        .iter()
+        .flat_map(|dir| std::fs::read_dir(root.join(dir)).expect("docs/ and docs/history/ exist"))
         .map(|e| e.expect("a readable directory entry").path())
         .filter(|p| p.extension().is_some_and(|x| x == "md"))
         .collect();
