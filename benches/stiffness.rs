@@ -44,9 +44,7 @@ fn bench(c: &mut Criterion) {
     interpreted(&given);
 
     let mut group = c.benchmark_group("rps_3/stiffness");
-    group.bench_function("generated", |b| {
-        b.iter(|| prepared.stiffness(black_box(&given), signs))
-    });
+    group.bench_function("generated", |b| b.iter(|| prepared.stiffness(black_box(&given), signs)));
     group.bench_function("interpreted", |b| b.iter(|| interpreted(black_box(&given))));
     group.finish();
 }

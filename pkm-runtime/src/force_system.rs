@@ -478,10 +478,12 @@ pub fn reduced_min_norm<const N: usize, const M: usize, const K: usize>(
     // z0 = x0 + C y_p.
     *x = c(&y);
     x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
-    Ok(shortest(x, &mut null[..k_null], actuated, size, skc)?.then_some(Solved {
-        conditioning,
-        undetermined: k_null,
-    }))
+    Ok(
+        shortest(x, &mut null[..k_null], actuated, size, skc)?.then_some(Solved {
+            conditioning,
+            undetermined: k_null,
+        }),
+    )
 }
 
 /// The shortest of the solutions `x + Σ a_i n_i` of an SKC's system, `x`
@@ -752,7 +754,10 @@ mod tests {
             assert!((a - b).abs() < 1e-15, "{x:?}");
         }
         assert_eq!(solved.undetermined, 1);
-        assert!(reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
+        assert!(
+            reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[1.0, 0.0, 0.0], 1.0, &mut x)
+                .is_err()
+        );
     }
 
     /// One passive row (3, 4) of two unknowns: by hand, |R| = 5, Q's first
@@ -764,9 +769,15 @@ mod tests {
         let (q, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
         assert!((r[(0, 0)].abs() - 5.0).abs() < 1e-15, "{r}");
         let s = q[0][0].signum();
-        assert!((q[0][0] - 0.6 * s).abs() < 1e-15 && (q[0][1] - 0.8 * s).abs() < 1e-15, "{q:?}");
+        assert!(
+            (q[0][0] - 0.6 * s).abs() < 1e-15 && (q[0][1] - 0.8 * s).abs() < 1e-15,
+            "{q:?}"
+        );
         let t = q[1][1].signum();
-        assert!((q[1][0] + 0.8 * t).abs() < 1e-15 && (q[1][1] - 0.6 * t).abs() < 1e-15, "{q:?}");
+        assert!(
+            (q[1][0] + 0.8 * t).abs() < 1e-15 && (q[1][1] - 0.6 * t).abs() < 1e-15,
+            "{q:?}"
+        );
         let mut x = [0.0; 2];
         let solved =
             reduced_min_norm_qr::<2, 2, 1, 1>(&q, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)

@@ -79,7 +79,11 @@ fn generated_inverse_dynamics_allocates_nothing() {
     assert!(inputs.len() >= 360, "{} of 720 solved", inputs.len());
     let n = allocations_in(|| {
         for (phi, signs) in &inputs {
-            black_box(punch.inverse_dynamics(black_box(&[*phi]), *signs, &[1.0], &[0.0]).is_ok());
+            black_box(
+                punch
+                    .inverse_dynamics(black_box(&[*phi]), *signs, &[1.0], &[0.0])
+                    .is_ok(),
+            );
         }
     });
     assert_eq!(n, 0, "the punch's inverse dynamics allocated {n} times");
@@ -88,12 +92,18 @@ fn generated_inverse_dynamics_allocates_nothing() {
     let signs: [Sign; 3] = [Minus, Plus, Plus];
     let inputs: Vec<[f64; 3]> = (0..200)
         .map(|k| [-106.09 + 0.01 * k as f64, 181.67, -70.29])
-        .filter(|q| a.inverse_dynamics(q, signs, &[1.0, -0.5, 0.25], &[-2.0, 0.75, 1.5]).is_ok())
+        .filter(|q| {
+            a.inverse_dynamics(q, signs, &[1.0, -0.5, 0.25], &[-2.0, 0.75, 1.5])
+                .is_ok()
+        })
         .collect();
     assert_eq!(inputs.len(), 200);
     let n = allocations_in(|| {
         for q in &inputs {
-            black_box(a.inverse_dynamics(black_box(q), signs, &[1.0, -0.5, 0.25], &[-2.0, 0.75, 1.5]).is_ok());
+            black_box(
+                a.inverse_dynamics(black_box(q), signs, &[1.0, -0.5, 0.25], &[-2.0, 0.75, 1.5])
+                    .is_ok(),
+            );
         }
     });
     assert_eq!(n, 0, "seed000_a's inverse dynamics allocated {n} times");
@@ -120,7 +130,12 @@ fn generated_stiffness_allocates_nothing() {
         .map(|g| {
             Rps::ik(&RpsParams::default(), g)
                 .iter()
-                .filter_map(|b| b.result.as_ref().ok().map(|s| (s.q[1].abs() + s.q[4].abs() + s.q[7].abs(), b.signs)))
+                .filter_map(|b| {
+                    b.result
+                        .as_ref()
+                        .ok()
+                        .map(|s| (s.q[1].abs() + s.q[4].abs() + s.q[7].abs(), b.signs))
+                })
                 .min_by(|a, b| a.0.total_cmp(&b.0))
                 .map(|(_, signs)| signs)
                 .expect("an assembly")
