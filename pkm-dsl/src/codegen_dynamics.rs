@@ -12,7 +12,7 @@
 //! kinematic conditioning, which refuses an answer next to a change point
 //! that would keep fewer than six digits
 //! ([`pkm_runtime::force_system::near_change_point`]); then a determined
-//! system is solved by LU, an overconstrained one by the minimum-norm
+//! system by its reduced matrix's inverse, an overconstrained one by the minimum-norm
 //! solve of its reduction, and the whole system's singular value
 //! decomposition ([`pkm_runtime::force_system::min_norm`]) is the way out
 //! where neither serves. Every link's balance is verified.
@@ -825,7 +825,7 @@ fn solve_skc(t: &Traced, k: usize, s: &Skc) -> TokenStream {
 }
 
 /// SKC `k`'s reduced solve ([`Reduction`]): `x0` from the link rows'
-/// right-hand sides in `b`, `q` and `G`, then `y` by LU (a determined
+/// right-hand sides in `b`, `q` and `G`, then `y` by `G⁻¹ q` (a determined
 /// SKC) or the minimum-norm solve of the reduction; `break 'solve x` with
 /// the reactions, or on to the whole system near a change point.
 fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
@@ -878,61 +878,56 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
     };
     if s.undetermined == 0 && r.passive.len() == m {
         // x = x0 + C y.
-        let add = (0..s.joints.len()).flat_map(|i| {
-            (0..d).filter_map(move |c| {
-                let at = i * d + c;
-                let parts: Vec<TokenStream> = r.coef[i]
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, v)| **v != 0.0)
-                    .map(|(kk, v)| {
-                        signed(*v, {
-                            let col = kk * d + c;
-                            quote! { y[#col] }
-                        })
-                    })
-                    .collect();
-                (!parts.is_empty()).then(|| quote! { x[#at] += #(#parts)+*; })
-            })
-        });
+        let add = c_times(s, r, d, quote! { += });
         quote! {
             #prelude
-            let lu = g.full_piv_lu();
-            // The bound from the LU where it is above the least, else σ_m/σ_1.
-            let bound = lu.try_inverse().map_or(0.0, |inverse| {
+            // The bound from the inverse where it is above the least, else σ_m/σ_1.
+            let inverse = g.try_inverse();
+            let bound = inverse.as_ref().map_or(0.0, |inverse| {
                 #rt::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
             });
-            let kinematic = if bound >= #rt::force_system::LEAST_IN_MOTION {
-                bound
-            } else {
+            let kinematic = #rt::force_system::determined_conditioning(bound, || {
                 #rt::force_system::conditioning_of(g.singular_values().as_slice(), #m)
-            };
+            });
             conditioning[#k] = kinematic;
             #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
-            let factor = lu.u();
-            let pivots: [f64; #m] = ::core::array::from_fn(|i| factor[(i, i)]);
-            if #rt::force_system::pivot_ratio(&pivots) > #rt::force_system::LU_TRUSTED {
-                if let ::core::option::Option::Some(y) = lu.solve(&q) {
-                    let _ = &actuated;
-                    let mut x = x0;
-                    #(#add)*
-                    break 'solve x;
-                }
+            if let (true, ::core::option::Option::Some(inverse)) = (bound > #rt::force_system::LU_TRUSTED, inverse) {
+                let y = inverse * q;
+                let _ = &actuated;
+                let mut x = x0;
+                #(#add)*
+                break 'solve x;
             }
         }
     } else {
-        // C in x's space: block-diagonal in the components.
-        let mut c = vec![0.0f64; n * m];
-        for (i, row) in r.coef.iter().enumerate() {
-            for (kk, v) in row.iter().enumerate() {
-                for cc in 0..d {
-                    c[(i * d + cc) * m + kk * d + cc] = *v;
-                }
-            }
-        }
-        let c = c.iter().map(|v| lit(*v));
+        // C y, written out: C is block-diagonal in the components.
+        let set = c_times(s, r, d, quote! { = });
         let undetermined = s.undetermined;
         let rank = m.saturating_sub(undetermined);
+        let null = undetermined.min(m);
+        let passive = r.passive.len();
+        if passive > 0 && passive == rank {
+            // The passive rows independent (as the topology has them): the
+            // row space of G by Householder, its null space with it.
+            return quote! {
+                #prelude
+                let rows: [[f64; #m]; #passive] = ::core::array::from_fn(|i| ::core::array::from_fn(|j| g[(i, j)]));
+                let (basis, r) = #rt::force_system::row_space::<#m, #passive>(&rows);
+                let kinematic = #rt::force_system::conditioning_of(r.singular_values().as_slice(), #rank);
+                conditioning[#k] = kinematic;
+                #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
+                let c = |y: &[f64; #m]| -> [f64; #n] {
+                    let mut x = [0.0f64; #n];
+                    #(#set)*
+                    x
+                };
+                let mut x = [0.0f64; #n];
+                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm_qr::<#n, #m, #passive, #null>(&basis, &r, kinematic, &q.into(), &x0, c, #k, &actuated, size, &mut x)? {
+                    undetermined[#k] = solved.undetermined;
+                    break 'solve x;
+                }
+            };
+        }
         quote! {
             #prelude
             let svd = g.svd(true, true);
@@ -947,16 +942,45 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
                     v_t: v_t.as_slice(),
                     matrix: g.as_slice(),
                 };
-                const C: [f64; #n * #m] = [#(#c),*];
-                let reduced = #rt::force_system::Reduced { n: #n, m: #m, c: &C, x0: &x0 };
+                let c = |y: &[f64; #m]| -> [f64; #n] {
+                    let mut x = [0.0f64; #n];
+                    #(#set)*
+                    x
+                };
                 let mut x = [0.0f64; #n];
-                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm(&decomposition, q.as_slice(), &reduced, #k, #undetermined, &actuated, size, &mut x)? {
+                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm::<#n, #m, #null>(&decomposition, &q.into(), &x0, c, #k, #undetermined, &actuated, size, &mut x)? {
                     undetermined[#k] = solved.undetermined;
                     break 'solve x;
                 }
             }
         }
     }
+}
+
+/// `x[i] op (C y)[i]` for each reaction component `i` that a cut joint's
+/// reaction reaches: `C` is ±1 per joint and cut joint, the same for each
+/// of the `d` components.
+fn c_times(s: &Skc, r: &Reduction, d: usize, op: TokenStream) -> Vec<TokenStream> {
+    (0..s.joints.len())
+        .flat_map(|i| {
+            let op = op.clone();
+            (0..d).filter_map(move |c| {
+                let at = i * d + c;
+                let parts: Vec<TokenStream> = r.coef[i]
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0.0)
+                    .map(|(kk, v)| {
+                        signed(*v, {
+                            let col = kk * d + c;
+                            quote! { y[#col] }
+                        })
+                    })
+                    .collect();
+                (!parts.is_empty()).then(|| quote! { x[#at] #op #(#parts)+*; })
+            })
+        })
+        .collect()
 }
 
 /// One link's balance: the demand against its joints' reactions, folded

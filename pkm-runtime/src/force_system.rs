@@ -10,6 +10,7 @@
 //! where the matrix lives (heap or stack).
 
 use crate::newton_euler::{DynamicsError, FORCE_SINGULAR};
+use nalgebra::SMatrix;
 
 /// The relative accuracy an answer of inverse dynamics keeps: 6 significant
 /// digits of each force and moment against the largest of its kind.
@@ -29,6 +30,7 @@ pub const LEAST_AT_REST: f64 = 1.5e-5;
 
 /// The least kinematic conditioning that keeps [`ACCURACY`]: in motion (a
 /// rate or an acceleration of an input not zero) or at rest.
+#[inline]
 pub fn least_conditioning(moving: bool) -> f64 {
     if moving {
         LEAST_IN_MOTION
@@ -40,6 +42,7 @@ pub fn least_conditioning(moving: bool) -> f64 {
 /// [`DynamicsError::NearChangePoint`] where SKC `skc` (joints `joints`)
 /// has a kinematic conditioning below the least that keeps six digits
 /// ([`least_conditioning`]); a conditioning that is not a number counts as 0.
+#[inline]
 pub fn near_change_point(conditioning: f64, moving: bool, skc: usize, joints: &[usize]) -> Result<(), DynamicsError> {
     let least = least_conditioning(moving);
     if conditioning >= least {
@@ -85,6 +88,18 @@ const REFINEMENTS: usize = 4;
 /// digits the matrix allows. `x` and `b` have `d.n` entries.
 pub fn pseudo_solve(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64]) {
     let n = d.n;
+    if n <= MAX_UNKNOWNS {
+        let (mut r, mut dx) = ([0.0f64; MAX_UNKNOWNS], [0.0f64; MAX_UNKNOWNS]);
+        pseudo_solve_in(d, b, tol, x, &mut r[..n], &mut dx[..n]);
+    } else {
+        let (mut r, mut dx) = (vec![0.0; n], vec![0.0; n]);
+        pseudo_solve_in(d, b, tol, x, &mut r, &mut dx);
+    }
+}
+
+/// [`pseudo_solve`] with its scratch given: `r` and `dx`, `d.n` entries each.
+fn pseudo_solve_in(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64], r: &mut [f64], dx: &mut [f64]) {
+    let n = d.n;
     let apply = |b: &[f64], x: &mut [f64]| {
         x[..n].iter_mut().for_each(|v| *v = 0.0);
         for (i, &sv) in d.singular_values.iter().enumerate() {
@@ -101,15 +116,6 @@ pub fn pseudo_solve(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64]) {
     if d.matrix.len() != n * n {
         return;
     }
-    let mut stack = [0.0f64; 2 * MAX_UNKNOWNS];
-    let mut heap = Vec::new();
-    let scratch: &mut [f64] = if n <= MAX_UNKNOWNS {
-        &mut stack[..2 * n]
-    } else {
-        heap.resize(2 * n, 0.0);
-        &mut heap
-    };
-    let (r, dx) = scratch.split_at_mut(n);
     let residual = |x: &[f64], r: &mut [f64]| {
         r.copy_from_slice(&b[..n]);
         for (c, &xc) in x[..n].iter().enumerate() {
@@ -134,29 +140,27 @@ pub fn pseudo_solve(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64]) {
     }
 }
 
-/// Above this ratio of a full-pivoting LU's smallest to largest pivot, a
-/// determined SKC's system is far from a change point and its LU solution
-/// stands (the ratio, an estimate of σ_n/σ_1, is its conditioning); at or
-/// below it the system is decomposed by SVD for the exact conditioning and
-/// the minimum-norm solve. The SVD costs about ten LUs at these sizes.
+/// Above this bound of the conditioning of a determined SKC's reduced
+/// system `G` ([`conditioning_bound`], from its inverse), the system is far
+/// from a change point and the solution `G⁻¹ q` stands; at or below it
+/// (or without an inverse) the whole system is decomposed by SVD for the
+/// exact conditioning and the minimum-norm solve. The same bound gates the
+/// minimum-norm solve of an overconstrained SKC's reduction
+/// ([`reduced_min_norm`]) on its σ_r/σ_1.
 pub const LU_TRUSTED: f64 = 1e-6;
 
-/// The ratio of the smallest to the largest magnitude of a triangular
-/// factor's diagonal (0 if it is all zero or not finite).
-pub fn pivot_ratio(diagonal: &[f64]) -> f64 {
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for d in diagonal {
-        let d = d.abs();
-        if d.is_nan() {
-            return 0.0;
-        }
-        lo = lo.min(d);
-        hi = hi.max(d);
-    }
-    if hi > 0.0 && hi.is_finite() {
-        lo / hi
+/// The kinematic conditioning of a determined SKC from `bound`, the
+/// [`conditioning_bound`] of its `G` (rows unit, [`unit_rows`]; 0 without
+/// an inverse): the bound where it is [`LEAST_IN_MOTION`] or more (six
+/// digits kept however it moves), else `exact()`, σ_m/σ_1 from `G`'s
+/// singular values, which only then are computed. The runtime's
+/// Newton–Euler and the generated inverse dynamics both report this.
+#[inline]
+pub fn determined_conditioning(bound: f64, exact: impl FnOnce() -> f64) -> f64 {
+    if bound >= LEAST_IN_MOTION {
+        bound
     } else {
-        0.0
+        exact()
     }
 }
 
@@ -171,6 +175,7 @@ pub struct Solved {
 
 /// σ_r/σ_1 of the singular values `s` (any order), r the rank expected
 /// (1 if it is 0 or every value is 0): the conditioning of the determined part.
+#[inline]
 pub fn conditioning_of(s: &[f64], rank_expected: usize) -> f64 {
     let r = rank_expected.min(s.len());
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
@@ -246,10 +251,7 @@ pub fn min_norm(
     })
 }
 
-/// The most null directions [`reduced_min_norm`] handles on the stack.
-pub const MAX_NULL: usize = 12;
-
-/// The most unknowns [`reduced_min_norm`] handles on the stack.
+/// The most unknowns [`pseudo_solve`] refines on the stack.
 pub const MAX_UNKNOWNS: usize = 127;
 
 /// How an SKC's reactions reduce to its cut joints' ([`tree`]).
@@ -360,10 +362,11 @@ pub fn tree(ends: &[[usize; 2]], links: usize, d: usize, passive: usize) -> Opti
 
 /// `1/(‖G‖_F ‖G⁻¹‖_F)` of a square `G` and its inverse (any layout): a
 /// lower bound of σ_m/σ_1 within a factor m (`σ_1 ≤ ‖G‖_F ≤ √m σ_1`, and
-/// likewise for `G⁻¹`), found from an LU where the exact one needs an SVD.
+/// likewise for `G⁻¹`), found from the inverse where the exact one needs an SVD.
 /// A determined SKC whose bound is [`LEAST_IN_MOTION`] or more keeps six
 /// digits however it moves: its kinematic conditioning is reported as this
 /// bound, in both paths; below it, as σ_m/σ_1.
+#[inline]
 pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
     let frobenius = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
     let bound = 1.0 / (frobenius(g) * frobenius(inverse));
@@ -380,6 +383,7 @@ pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
 /// is that of the rows as directions, whatever the units of each passive
 /// joint's twist (a parallelogram's is per radian of its arm, in lengths),
 /// and the solutions of `g y = rhs` do not change.
+#[inline]
 pub fn unit_rows(g: &mut [f64], m: usize, rhs: &mut [f64]) {
     for r in 0..m {
         let norm = (0..m).map(|c| g[c * m + r] * g[c * m + r]).sum::<f64>().sqrt();
@@ -417,106 +421,193 @@ impl Tree {
     }
 }
 
-/// An SKC's reactions reduced to its cut joints' (the spanning tree of its
-/// links carries the rest): every solution of its links' balances is
-/// `x = x0 + C y`, with `C` (`n × m`, row-major) fixed by the topology and
-/// `x0` by the demands, and the passive joints' rows are `G y = q`.
-#[derive(Debug, Clone, Copy)]
-pub struct Reduced<'a> {
-    /// Unknowns of the whole system.
-    pub n: usize,
-    /// The cut joints' unknowns.
-    pub m: usize,
-    /// `C`, row-major.
-    pub c: &'a [f64],
-    /// `x0`.
-    pub x0: &'a [f64],
-}
-
-/// The minimum-norm solution `x` of an SKC's system from its reduction
-/// `r` and the SVD `g` of `G` (`m × m`, rows past the passive ones zero):
-/// the same `x` as [`min_norm`] on the whole system, at the size of its
-/// loops. `None` where `G`'s conditioning is `LU_TRUSTED` or below (near a
-/// change point, where the caller decomposes the whole system for the
-/// exact conditioning) or its null space is too large for the stack.
+/// The minimum-norm solution `x` (`N` reaction components) of an SKC's
+/// system from its reduction to its cut joints' reactions (the spanning
+/// tree of its links carries the rest): every solution of its links'
+/// balances is `x = x0 + C y`, `C` (`N × M`) fixed by the topology (given
+/// as the product `c(y)`, which the generated code writes out sparse) and
+/// `x0` by the demands, and the passive joints' rows are `G y = q`, `g`
+/// the SVD of `G` (`M × M`, rows past the passive ones zero). The same `x`
+/// as [`min_norm`] on the whole system, at the size of its loops, on the
+/// stack: `K` is the most null directions of `G` it keeps (the SKC's
+/// undetermined components: where the conditioning passed
+/// [`near_change_point`], `G` has no more). `None` where `G`'s conditioning
+/// is `LU_TRUSTED` or below (near a change point, where the caller
+/// decomposes the whole system for the exact conditioning) or its null
+/// space is larger than `K`.
 #[allow(clippy::too_many_arguments)]
-pub fn reduced_min_norm(
+pub fn reduced_min_norm<const N: usize, const M: usize, const K: usize>(
     g: &Decomposition,
-    q: &[f64],
-    r: &Reduced,
+    q: &[f64; M],
+    x0: &[f64; N],
+    c: impl Fn(&[f64; M]) -> [f64; N],
     skc: usize,
     undetermined: usize,
     actuated: &[f64],
     size: f64,
-    x: &mut [f64],
+    x: &mut [f64; N],
 ) -> Result<Option<Solved>, DynamicsError> {
-    let (n, m) = (r.n, r.m);
-    if n > MAX_UNKNOWNS || g.n != m {
+    if g.n != M {
         return Ok(None);
     }
     let s = g.singular_values;
     let smax = s.iter().fold(0.0f64, |a, &v| a.max(v));
-    let conditioning = conditioning_of(s, m.saturating_sub(undetermined));
+    let conditioning = conditioning_of(s, M.saturating_sub(undetermined));
     if conditioning.is_nan() || conditioning <= LU_TRUSTED {
         return Ok(None);
     }
-    let tol = smax * 1e-12 * m as f64;
+    let tol = smax * 1e-12 * M as f64;
     // y_p, the minimum-norm solution of G y = q, and G's null directions.
-    let mut y = [0.0f64; MAX_UNKNOWNS];
-    pseudo_solve(g, q, tol, &mut y);
-    let mut null = [[0.0f64; MAX_UNKNOWNS]; MAX_NULL];
+    let mut y = [0.0f64; M];
+    let (mut r, mut dy) = ([0.0f64; M], [0.0f64; M]);
+    pseudo_solve_in(g, q, tol, &mut y, &mut r, &mut dy);
+    let mut null = [[0.0f64; N]; K];
     let mut k_null = 0;
     for (i, &sv) in s.iter().enumerate() {
-        let v_row = |c: usize| g.v_t[c * m + i];
         if sv > tol {
             continue;
-        } else {
-            if k_null == MAX_NULL {
-                return Ok(None);
-            }
-            // The direction in x: C v.
-            for (row, out) in null[k_null][..n].iter_mut().enumerate() {
-                *out = (0..m).map(|c| r.c[row * m + c] * v_row(c)).sum();
-            }
-            k_null += 1;
         }
+        if k_null == K {
+            return Ok(None);
+        }
+        // The direction in x: C v.
+        let v: [f64; M] = std::array::from_fn(|c| g.v_t[c * M + i]);
+        null[k_null] = c(&v);
+        k_null += 1;
     }
     // z0 = x0 + C y_p.
-    for (row, xr) in x[..n].iter_mut().enumerate() {
-        *xr = r.x0[row] + (0..m).map(|c| r.c[row * m + c] * y[c]).sum::<f64>();
-    }
-    // Orthonormal null directions (Gram–Schmidt): then x − Σ (x·b̂) b̂ is
-    // the shortest solution, and an actuator must not read any b̂.
-    for i in 0..k_null {
+    *x = c(&y);
+    x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
+    Ok(
+        shortest(x, &mut null[..k_null], actuated, size, skc)?.then_some(Solved {
+            conditioning,
+            undetermined: k_null,
+        }),
+    )
+}
+
+/// The shortest of the solutions `x + Σ a_i n_i` of an SKC's system, `x`
+/// one of them and `null` the null directions of its matrix in `x`'s
+/// space, orthonormalised here (Gram–Schmidt): `x − Σ (x·b̂) b̂`. `false`
+/// where a direction vanishes (the caller decomposes the whole system);
+/// [`DynamicsError::Undetermined`] where an actuator (a row of `actuated`,
+/// its power coefficients) reads one.
+fn shortest<const N: usize>(
+    x: &mut [f64; N],
+    null: &mut [[f64; N]],
+    actuated: &[f64],
+    size: f64,
+    skc: usize,
+) -> Result<bool, DynamicsError> {
+    for i in 0..null.len() {
         let (done, rest) = null.split_at_mut(i);
-        let b = &mut rest[0][..n];
+        let b = &mut rest[0];
         for prior in done.iter() {
-            let dot: f64 = b.iter().zip(&prior[..n]).map(|(p, q)| p * q).sum();
-            b.iter_mut().zip(&prior[..n]).for_each(|(p, q)| *p -= dot * q);
+            let dot: f64 = b.iter().zip(prior).map(|(p, q)| p * q).sum();
+            b.iter_mut().zip(prior).for_each(|(p, q)| *p -= dot * q);
         }
         let norm = b.iter().map(|p| p * p).sum::<f64>().sqrt();
         if norm.is_nan() || norm <= 0.0 {
-            return Ok(None);
+            return Ok(false);
         }
         b.iter_mut().for_each(|p| *p /= norm);
-        let along: f64 = x[..n].iter().zip(b.iter()).map(|(p, q)| p * q).sum();
-        x[..n].iter_mut().zip(b.iter()).for_each(|(p, q)| *p -= along * q);
-        for a in actuated.chunks_exact(n) {
+        let along: f64 = x.iter().zip(b.iter()).map(|(p, q)| p * q).sum();
+        x.iter_mut().zip(b.iter()).for_each(|(p, q)| *p -= along * q);
+        for a in actuated.chunks_exact(N) {
             let moved: f64 = a.iter().zip(b.iter()).map(|(p, q)| p * q).sum();
             if moved.abs() > 1e-9 * size {
                 return Err(DynamicsError::Undetermined { skc });
             }
         }
     }
-    Ok(Some(Solved {
+    Ok(true)
+}
+
+/// The rows of an SKC's reduced matrix `G` that are not zero, its `P`
+/// passive rows (`M` numbers each, `P ≤ M`), as `G_pᵀ = Q R` by Householder
+/// reflections: `Q` (`M × M`, orthogonal, by columns), whose first `P`
+/// columns span the rows and whose others span `G`'s null space, and `R`
+/// (`P × P`, upper triangular), whose singular values are `G`'s nonzero
+/// ones. A zero column leaves its reflection out (and `R` singular).
+pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> ([[f64; M]; M], SMatrix<f64, P, P>) {
+    let mut a = *rows;
+    let mut axes = [[0.0f64; M]; P];
+    let mut used = [false; P];
+    for k in 0..P {
+        let norm = a[k][k..].iter().map(|v| v * v).sum::<f64>().sqrt();
+        let alpha = if a[k][k] > 0.0 { -norm } else { norm };
+        let v = &mut axes[k];
+        v[k..].copy_from_slice(&a[k][k..]);
+        v[k] -= alpha;
+        let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
+        if vv.is_nan() || vv <= 0.0 {
+            continue;
+        }
+        used[k] = true;
+        // a_j ← a_j − 2 v (v·a_j)/(v·v) for the columns from k on.
+        for column in a[k..].iter_mut() {
+            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
+            (k..M).for_each(|i| column[i] -= f * v[i]);
+        }
+    }
+    let r = SMatrix::<f64, P, P>::from_fn(|i, j| if i <= j { a[j][i] } else { 0.0 });
+    // Q = H_0 H_1 ⋯ H_{P−1}: each column of the identity reflected, last reflection first.
+    let mut q = [[0.0f64; M]; M];
+    for (j, column) in q.iter_mut().enumerate() {
+        column[j] = 1.0;
+        for k in (0..P).rev().filter(|&k| used[k]) {
+            let v = &axes[k];
+            let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
+            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
+            (k..M).for_each(|i| column[i] -= f * v[i]);
+        }
+    }
+    (q, r)
+}
+
+/// [`reduced_min_norm`] where `G`'s `P` passive rows have full rank (the
+/// SKC leaves `M − P = K` components undetermined), from their
+/// [`row_space`] `(q, r)` and the kinematic conditioning σ_P/σ_1 of `r`:
+/// `y_p = Q₁ R⁻ᵀ q` (`Q₁` the first `P` columns), the null directions `C`
+/// times `Q`'s others. The same `x` and checks as [`reduced_min_norm`],
+/// without a decomposition of the whole `G`. `None` where the conditioning
+/// is `LU_TRUSTED` or below.
+#[allow(clippy::too_many_arguments)]
+pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const K: usize>(
+    basis: &[[f64; M]; M],
+    r: &SMatrix<f64, P, P>,
+    conditioning: f64,
+    q: &[f64; M],
+    x0: &[f64; N],
+    c: impl Fn(&[f64; M]) -> [f64; N],
+    skc: usize,
+    actuated: &[f64],
+    size: f64,
+    x: &mut [f64; N],
+) -> Result<Option<Solved>, DynamicsError> {
+    if P + K != M || conditioning.is_nan() || conditioning <= LU_TRUSTED {
+        return Ok(None);
+    }
+    // Rᵀ z = q_p, forward.
+    let mut z = [0.0f64; P];
+    for i in 0..P {
+        let known: f64 = (0..i).map(|k| r[(k, i)] * z[k]).sum();
+        z[i] = (q[i] - known) / r[(i, i)];
+    }
+    let y: [f64; M] = std::array::from_fn(|row| (0..P).map(|i| basis[i][row] * z[i]).sum());
+    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis[P + i]));
+    *x = c(&y);
+    x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
+    Ok(shortest(x, &mut null, actuated, size, skc)?.then_some(Solved {
         conditioning,
-        undetermined: k_null,
+        undetermined: K,
     }))
 }
 
 /// The residual of one link's balance relative to its largest term: the
 /// terms of each component (the demand's, negated, and the reactions'),
 /// summed; 0 for a link with no terms.
+#[inline]
 pub fn relative_residual<C: AsRef<[f64]>>(components: &[C]) -> f64 {
     let mut largest = 0.0f64;
     let mut worst = 0.0f64;
@@ -639,14 +730,10 @@ mod tests {
             v_t: v_t.as_slice(),
             matrix: g.as_slice(),
         };
-        let r = Reduced {
-            n: 3,
-            m: 1,
-            c: &[-1.0, 1.0, 1.0],
-            x0: &[1.0, 2.0, 0.0],
-        };
+        let c = |y: &[f64; 1]| [-y[0], y[0], y[0]];
+        let x0 = [1.0, 2.0, 0.0];
         let mut x = [0.0; 3];
-        let solved = reduced_min_norm(&d, &[0.0], &r, 0, 1, &[], 1.0, &mut x)
+        let solved = reduced_min_norm::<3, 1, 1>(&d, &[0.0], &x0, c, 0, 1, &[], 1.0, &mut x)
             .unwrap()
             .unwrap();
         let y = -1.0 / 3.0;
@@ -655,8 +742,49 @@ mod tests {
         }
         assert_eq!(solved.undetermined, 1);
         // An actuator reading x1 + x2 is blind to y; one reading x1 is not.
-        assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 1.0, 0.0], 1.0, &mut x).is_ok());
-        assert!(reduced_min_norm(&d, &[0.0], &r, 0, 1, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
+        assert!(reduced_min_norm::<3, 1, 1>(&d, &[0.0], &x0, c, 0, 1, &[1.0, 1.0, 0.0], 1.0, &mut x).is_ok());
+        assert!(reduced_min_norm::<3, 1, 1>(&d, &[0.0], &x0, c, 0, 1, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
+        // The same from the row space of G's passive rows (none).
+        let (basis, r) = row_space::<1, 0>(&[]);
+        let mut x = [0.0; 3];
+        let solved = reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[], 1.0, &mut x)
+            .unwrap()
+            .unwrap();
+        for (a, b) in x.iter().zip([1.0 - y, 2.0 + y, y]) {
+            assert!((a - b).abs() < 1e-15, "{x:?}");
+        }
+        assert_eq!(solved.undetermined, 1);
+        assert!(
+            reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[1.0, 0.0, 0.0], 1.0, &mut x)
+                .is_err()
+        );
+    }
+
+    /// One passive row (3, 4) of two unknowns: by hand, |R| = 5, Q's first
+    /// column ±(0.6, 0.8), its second ±(−0.8, 0.6) (the row's null space).
+    /// With a second unknown in x = y (C = I) and y's right-hand side 10:
+    /// the shortest y on 3a + 4b = 10 is (1.2, 1.6).
+    #[test]
+    fn a_row_space_by_householder() {
+        let (q, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
+        assert!((r[(0, 0)].abs() - 5.0).abs() < 1e-15, "{r}");
+        let s = q[0][0].signum();
+        assert!(
+            (q[0][0] - 0.6 * s).abs() < 1e-15 && (q[0][1] - 0.8 * s).abs() < 1e-15,
+            "{q:?}"
+        );
+        let t = q[1][1].signum();
+        assert!(
+            (q[1][0] + 0.8 * t).abs() < 1e-15 && (q[1][1] - 0.6 * t).abs() < 1e-15,
+            "{q:?}"
+        );
+        let mut x = [0.0; 2];
+        let solved =
+            reduced_min_norm_qr::<2, 2, 1, 1>(&q, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)
+                .unwrap()
+                .unwrap();
+        assert!((x[0] - 1.2).abs() < 1e-14 && (x[1] - 1.6).abs() < 1e-14, "{x:?}");
+        assert_eq!(solved.undetermined, 1);
     }
 
     /// The least conditionings are the error model's: ε/c³ = 1e-6 in
@@ -731,14 +859,6 @@ mod tests {
         let bound = conditioning_bound(&[2.0, 0.0, 0.0, 1.0], &[0.5, 0.0, 0.0, 1.0]);
         assert!((bound - 0.4).abs() < 1e-15, "{bound}");
         assert_eq!(conditioning_bound(&[1.0], &[f64::INFINITY]), 0.0);
-    }
-
-    #[test]
-    fn pivot_ratios() {
-        assert_eq!(pivot_ratio(&[2.0, -0.5, 1.0]), 0.25);
-        assert_eq!(pivot_ratio(&[0.0, 0.0]), 0.0);
-        assert_eq!(pivot_ratio(&[1.0, f64::NAN]), 0.0);
-        assert_eq!(pivot_ratio(&[]), 0.0);
     }
 
     #[test]

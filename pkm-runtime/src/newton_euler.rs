@@ -479,7 +479,7 @@ fn idle_spins_checked(
 /// on its cut joints' reactions (`G`, [`crate::force_system::tree`]: the
 /// transpose of its passive velocity equations), each row scaled to unit
 /// length, r their rank less what statics leaves undetermined (for a
-/// determined SKC whose bound from an LU is above the least,
+/// determined SKC whose bound from its inverse is above the least,
 /// that bound: [`crate::force_system::conditioning_bound`]); `None` where
 /// it does not reduce.
 fn kinematic_conditioning(assembly: &Assembly<'_, f64>, skc: &SkcParts, passive: &[PassiveRow<f64>]) -> Option<f64> {
@@ -492,14 +492,14 @@ fn kinematic_conditioning(assembly: &Assembly<'_, f64>, skc: &SkcParts, passive:
         g[(row, column)] = factor * passive[row].coefficients[c];
     }
     crate::force_system::unit_rows(g.as_mut_slice(), m, &mut []);
-    // A determined SKC far from a change point: the bound from an LU serves.
+    // A determined SKC far from a change point: the bound from its inverse serves.
     if skc.undetermined == 0 && passive.len() == m {
-        if let Some(inverse) = g.clone().full_piv_lu().try_inverse() {
-            let bound = crate::force_system::conditioning_bound(g.as_slice(), inverse.as_slice());
-            if bound >= crate::force_system::LEAST_IN_MOTION {
-                return Some(bound);
-            }
-        }
+        let bound = g.clone().try_inverse().map_or(0.0, |inverse| {
+            crate::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
+        });
+        return Some(crate::force_system::determined_conditioning(bound, || {
+            crate::force_system::conditioning_of(g.singular_values().as_slice(), m)
+        }));
     }
     let s = g.singular_values();
     Some(crate::force_system::conditioning_of(

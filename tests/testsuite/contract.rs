@@ -162,8 +162,14 @@ fn generated_code_names_only_the_contract() {
         outside.is_empty(),
         "generated code names outside the contract: {outside:?}"
     );
-    // And the contract lists nothing generated code does not name.
-    let unused: Vec<&String> = contract
+    // And the contract lists nothing generated code does not name, but for
+    // the paths no example or fixture reaches yet, listed here with why:
+    // generated code for them is never compiled by a test.
+    const NOT_REACHED: &[(&str, &str)] = &[(
+        "force_system::reduced_min_norm",
+        "the SVD solve of an overconstrained SKC whose passive rows are dependent or absent",
+    )];
+    let unused: Vec<&str> = contract
         .iter()
         .filter(|e| {
             !paths.iter().any(|p| {
@@ -171,9 +177,11 @@ fn generated_code_names_only_the_contract() {
                 below == e.as_str() || below.starts_with(&format!("{e}::"))
             })
         })
+        .map(String::as_str)
         .collect();
-    assert!(
-        unused.is_empty(),
-        "the contract lists what no generated code names: {unused:?}"
+    let expected: Vec<&str> = NOT_REACHED.iter().map(|(e, _)| *e).collect();
+    assert_eq!(
+        unused, expected,
+        "the contract entries no generated code names (left) are not the known unreached ones (right)"
     );
 }

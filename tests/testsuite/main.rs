@@ -11,6 +11,7 @@ mod mechanisms;
 #[path = "../common/work_precision.rs"]
 mod work_precision;
 
+mod allocations;
 mod batch;
 mod consistency;
 mod contract;
