@@ -2,15 +2,16 @@
 //! the macro, the command line, the report and the tests alike:
 //!
 //! 1. parse (pest) → 2. model → 3. geometry → 4. topology
-//!    ([`crate::analyze_source`], an [`Analysis`]) → 5. plans (the order in
+//!    ([`crate::topology::analysis::analyze_source`], an [`Analysis`]) → 5. plans (the order in
 //!    which a κ = 0 mechanism's joints are solved, [`Compiled::forward`],
 //!    [`Compiled::inverse`], planned on first use) → 6. code
 //!    ([`crate::expand`], from a [`Compiled`]).
 //!
 //! A plan is the same for planar and spatial mechanisms
-//! ([`pkm_runtime::plan::Plan`], made by [`crate::planner`]).
+//! ([`pkm_runtime::plan::Plan`], made by [`crate::plan::planner`]).
 
-use crate::{Analysis, Diagnostics};
+use crate::diagnostics::Diagnostics;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::plan::Plan;
 use std::cell::OnceCell;
 
@@ -40,7 +41,7 @@ pub struct Compiled {
 /// ```
 pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
     Ok(Compiled {
-        analysis: crate::analyze_source(source)?,
+        analysis: crate::topology::analysis::analyze_source(source)?,
         forward: OnceCell::new(),
         inverse: OnceCell::new(),
     })
@@ -50,7 +51,7 @@ impl Compiled {
     /// The forward plan (inputs to every joint), planned on first use.
     pub fn forward(&self) -> Result<&Plan, Diagnostics> {
         self.forward
-            .get_or_init(|| crate::planner::forward_plan(&self.analysis))
+            .get_or_init(|| crate::plan::planner::forward_plan(&self.analysis))
             .as_ref()
             .map_err(Clone::clone)
     }
@@ -58,7 +59,7 @@ impl Compiled {
     /// The inverse plan (declared outputs to every joint), planned on first use.
     pub fn inverse(&self) -> Result<&Plan, Diagnostics> {
         self.inverse
-            .get_or_init(|| crate::planner::inverse_plan(&self.analysis))
+            .get_or_init(|| crate::plan::planner::inverse_plan(&self.analysis))
             .as_ref()
             .map_err(Clone::clone)
     }

@@ -4,10 +4,10 @@
 //! links in the form its type needs, and that the declared ∥ / ⊥ / ≡
 //! relations hold between axes placed on a common link.
 
-use crate::ast::{AxisRef, LinkGeometry, MechanismAst, Place, Placement, RelationKind, Tuple};
+use crate::syntax::ast::{AxisRef, LinkGeometry, MechanismAst, Place, Placement, RelationKind, Tuple};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::{Definition, Expr};
-use crate::mechanism::{suggest, DirectionItem, JointKind, Mechanism};
+use crate::syntax::expr::{Definition, Expr};
+use crate::semantics::mechanism::{suggest, DirectionItem, JointKind, Mechanism};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -213,7 +213,7 @@ pub fn build(ast: &MechanismAst, mech: &Mechanism) -> Result<Geometry, Diagnosti
         .outputs
         .iter()
         .map(|o| match &o.what {
-            crate::ast::OutputWhat::Pose { about: Some(a), .. } => coordinates.axis(a, &mut errors),
+            crate::syntax::ast::OutputWhat::Pose { about: Some(a), .. } => coordinates.axis(a, &mut errors),
             _ => None,
         })
         .collect();
@@ -279,7 +279,7 @@ fn parameters(ast: &MechanismAst, errors: &mut Vec<Diagnostic>) -> (Vec<Paramete
             expr,
         })
         .collect();
-    let (values, value_errors) = crate::expr::resolve(&definitions, &HashMap::new());
+    let (values, value_errors) = crate::syntax::expr::resolve(&definitions, &HashMap::new());
     errors.extend(value_errors);
     let parameters: Vec<Parameter> = ast
         .parameters
@@ -538,7 +538,7 @@ fn resolve_outputs(
             seen.push(n.text.clone());
         }
         let kind = match &decl.what {
-            crate::ast::OutputWhat::Joint(j) => {
+            crate::syntax::ast::OutputWhat::Joint(j) => {
                 let Some(index) = mech.joint_index(&j.text) else {
                     let d = match mech.universal(&j.text) {
                         Some(_) => Diagnostic::new(j.span, format!("U joint `{}` has two values", j.text))
@@ -555,7 +555,7 @@ fn resolve_outputs(
                 }
                 OutputKind::Joint(index)
             }
-            crate::ast::OutputWhat::Pose {
+            crate::syntax::ast::OutputWhat::Pose {
                 link,
                 at,
                 about: about_ast,
@@ -573,7 +573,7 @@ fn resolve_outputs(
                     parts: given,
                 }
             }
-            crate::ast::OutputWhat::Pose {
+            crate::syntax::ast::OutputWhat::Pose {
                 link,
                 at,
                 about: about_ast,
@@ -607,7 +607,7 @@ fn resolve_outputs(
                     about: about.clone().map(Box::new),
                 }
             }
-            crate::ast::OutputWhat::Point { link, at } => {
+            crate::syntax::ast::OutputWhat::Point { link, at } => {
                 let (wanted, what) = if mech.planar {
                     (2, "a planar point has two values: x and y")
                 } else {
@@ -636,8 +636,8 @@ fn resolve_outputs(
 /// `about`.
 fn pose_parts(
     mech: &Mechanism,
-    decl: &crate::ast::OutputDecl,
-    parts: &[crate::ast::Name],
+    decl: &crate::syntax::ast::OutputDecl,
+    parts: &[crate::syntax::ast::Name],
     about: bool,
     errors: &mut Vec<Diagnostic>,
 ) -> Option<pkm_runtime::steps::place::PoseParts> {
@@ -692,8 +692,8 @@ pub(crate) fn link_point(
     mech: &Mechanism,
     places: &[[Option<JointPlace>; 2]],
     points: &[NamedPoint],
-    link: &crate::ast::Name,
-    at: &crate::ast::Name,
+    link: &crate::syntax::ast::Name,
+    at: &crate::syntax::ast::Name,
     errors: &mut Vec<Diagnostic>,
 ) -> Option<(usize, pkm_runtime::solution::PointRef)> {
     use pkm_runtime::solution::PointRef;
@@ -937,14 +937,14 @@ fn check_concurrent(
     values: &HashMap<String, f64>,
     errors: &mut Vec<Diagnostic>,
 ) {
-    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
+    let groups = crate::semantics::mechanism::concurrent_groups(&mech.joints, &mech.relations);
     let n_groups = groups.iter().flatten().max().map_or(0, |g| g + 1);
     let name = |j: usize| mech.joints[j].name.as_str();
     for g in 0..n_groups {
         let members: Vec<usize> = (0..mech.joints.len()).filter(|&j| groups[j] == Some(g)).collect();
         // Where the group is written: the first `∧` naming the joint, or any.
         let span_of = |j: usize| {
-            let of = |pick: &dyn Fn(&crate::mechanism::Relation) -> bool| {
+            let of = |pick: &dyn Fn(&crate::semantics::mechanism::Relation) -> bool| {
                 mech.relations
                     .iter()
                     .filter(|r| r.kind == RelationKind::Concurrent)
@@ -1082,7 +1082,7 @@ fn length(x: f64) -> String {
 mod tests {
     fn check(source: &str, expected: &[&str]) {
         let result = crate::parse(source).map_err(crate::Diagnostics::from).and_then(|ast| {
-            let m = crate::mechanism::build(&ast)?;
+            let m = crate::semantics::mechanism::build(&ast)?;
             super::build(&ast, &m)
         });
         let messages: Vec<String> = match result {

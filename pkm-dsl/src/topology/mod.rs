@@ -11,11 +11,19 @@
 //!   with the POC set of SOC_j's own joints, at other generic configurations.
 //!
 //! A disagreement is reported as an analysis error.
+//!
+//! The topology stage: it imports only `syntax` and `semantics`. Its
+//! screw-system algebra (`screw`) and the analysis that joins model,
+//! geometry and topology (`analysis`, [`analysis::analyze_source`]) are its
+//! children.
+
+pub mod analysis;
+pub mod screw;
 
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::limits::MAX_ORDERING_WORK;
-use crate::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
-use crate::screw::{self, Instance, VelocitySystem};
+use crate::semantics::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
+use screw::{Instance, VelocitySystem};
 use nalgebra::{DMatrix, Vector3};
 use std::collections::HashMap;
 use std::fmt;
@@ -527,12 +535,12 @@ fn relation_symbol(ctx: &Context, a: usize, b: usize) -> &'static str {
         return "∥";
     }
     let perp = mech.relations.iter().any(|r| {
-        r.kind == crate::ast::RelationKind::Perpendicular && {
+        r.kind == crate::syntax::ast::RelationKind::Perpendicular && {
             let (x, y) = (ctx.classes.class_of(r.a), ctx.classes.class_of(r.b));
             (x == ca && y == cb) || (x == cb && y == ca)
         }
     });
-    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
+    let groups = crate::semantics::mechanism::concurrent_groups(&mech.joints, &mech.relations);
     if perp {
         "⊥"
     } else if groups[a].is_some() && groups[a] == groups[b] {
@@ -1323,7 +1331,7 @@ mod tests {
 
     /// (F, ξ, Δ, κ, platform POC) of a mechanism text, against a hand count.
     fn check(source: &str, dof: usize, xi: &[usize], delta: &[i32], kappa: usize, poc: Option<&str>) {
-        let a = crate::analyze_source(source).unwrap_or_else(|e| panic!("{}", e.render(source, "t")));
+        let a = crate::topology::analysis::analyze_source(source).unwrap_or_else(|e| panic!("{}", e.render(source, "t")));
         let t = &a.topology;
         assert_eq!(
             (t.dof, t.xi(), t.delta(), t.kappa),
@@ -1347,7 +1355,7 @@ mod tests {
             None,
         );
         // The report says what it left out of Σf.
-        let report = crate::analyze_source("mechanism rssr { base R1* - S1 - S2 - R2 base; }")
+        let report = crate::topology::analysis::analyze_source("mechanism rssr { base R1* - S1 - S2 - R2 base; }")
             .unwrap()
             .report();
         assert!(report.contains("Σf = 7 (8 less 1 local idle DOF)"), "{report}");
@@ -1387,7 +1395,7 @@ mod tests {
             "base R6* - R2 - R3 - R4 - R5 - R1 base;",
         ] {
             let e =
-                crate::analyze_source(&format!("mechanism m {{ {chain} R6 ⊥ R1; R6 ⊥ R2; R6 ⊥ R3; }}")).unwrap_err();
+                crate::topology::analysis::analyze_source(&format!("mechanism m {{ {chain} R6 ⊥ R1; R6 ⊥ R2; R6 ⊥ R3; }}")).unwrap_err();
             assert_eq!(
                 e.0[0].message, "the mechanism has 0 DOF but 1 actuated joint",
                 "{chain}"

@@ -2,7 +2,7 @@
 //! axis relations, built from the syntax tree with every check that needs no
 //! geometry. All errors are collected, not just the first.
 
-use crate::ast::{DirectionRef, MechanismAst, Name, RelationKind};
+use crate::syntax::ast::{DirectionRef, MechanismAst, Name, RelationKind};
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
 use crate::limits::MAX_RELATIONS;
 use std::collections::{HashMap, HashSet};
@@ -1481,7 +1481,7 @@ fn check_relations(joints: &[Joint], relations: &[Relation], errors: &mut Diagno
 mod tests {
     /// The messages of every error the text produces, in order.
     fn check(source: &str, expected: &[&str]) {
-        let messages: Vec<String> = match crate::analyze_source(source) {
+        let messages: Vec<String> = match crate::topology::analysis::analyze_source(source) {
             Ok(_) => Vec::new(),
             Err(d) => d.0.into_iter().map(|e| e.message).collect(),
         };
@@ -1756,7 +1756,7 @@ mod tests {
         let m = super::build(&ast).unwrap();
         let j = |n: &str| super::DirectionItem::Joint(m.joint_index(n).unwrap());
         let has = |kind, a, b| m.relations.iter().any(|r| r.kind == kind && r.a == a && r.b == b);
-        use crate::ast::RelationKind::{Parallel, Perpendicular};
+        use crate::syntax::ast::RelationKind::{Parallel, Perpendicular};
         assert!(has(Parallel, j("R1"), j("U1.a")));
         assert!(has(Perpendicular, j("U1.b"), j("P1")));
         assert!(has(Perpendicular, j("U1.a"), j("U1.b")));

@@ -19,11 +19,11 @@
 //! assert_eq!(d.gravity, [0.0, -9.81, 0.0]);
 //! ```
 
-use crate::ast::Name;
+use crate::syntax::ast::Name;
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::Expr;
-use crate::geometry::Geometry;
-use crate::mechanism::{suggest, Mechanism};
+use crate::syntax::expr::Expr;
+use crate::semantics::geometry::Geometry;
+use crate::semantics::mechanism::{suggest, Mechanism};
 pub use crate::syntax::masses::{LoadDecl, MassDecl, UnitsDecl, Value};
 use pkm_runtime::solution::PointRef;
 use std::collections::HashMap;
@@ -455,7 +455,7 @@ fn parallelogram(mech: &Mechanism, j: &Name, errors: &mut Diagnostics) -> Option
         errors.push(e);
         return None;
     };
-    if mech.joints[i].kind != crate::mechanism::JointKind::Pa {
+    if mech.joints[i].kind != crate::semantics::mechanism::JointKind::Pa {
         errors.push(
             Diagnostic::new(j.span, format!("`{}` is not a parallelogram", j.text))
                 .label(format!("its type is {}", mech.joints[i].kind.symbol()))
@@ -658,7 +658,7 @@ fn loads(
             Some(p) => {
                 let mut found = Vec::new();
                 let point =
-                    crate::geometry::link_point(mech, &geometry.places, &geometry.points, &d.link, p, &mut found);
+                    crate::semantics::geometry::link_point(mech, &geometry.places, &geometry.points, &d.link, p, &mut found);
                 errors.0.extend(found);
                 match point {
                     Some((_, point)) => Some(point),
@@ -735,7 +735,7 @@ mod tests {
 
     /// The messages of every error the text produces, in order.
     fn check(source: &str, expected: &[&str]) {
-        let messages: Vec<String> = match crate::analyze_source(source) {
+        let messages: Vec<String> = match crate::topology::analysis::analyze_source(source) {
             Ok(_) => Vec::new(),
             Err(d) => d.0.into_iter().map(|e| e.message).collect(),
         };
@@ -743,7 +743,7 @@ mod tests {
     }
 
     fn resolved(source: &str) -> MassAndLoads {
-        crate::analyze_source(source).expect("no error").mass_and_loads
+        crate::topology::analysis::analyze_source(source).expect("no error").mass_and_loads
     }
 
     const UNITS: &str = "units { length = mm; mass = kg; }";
@@ -951,7 +951,7 @@ mod tests {
 
     #[test]
     fn a_parallelograms_bars_carry_mass() {
-        let a = crate::analyze_source(&with_pa(
+        let a = crate::topology::analysis::analyze_source(&with_pa(
             "masses { Pa bar at (-20, 0, 0) { mass = 0.1 * 2; centroid = (0, 0, m / 2); inertia = (1500, 1500, 10); }
                       Pa bar at (20, 0, 0) { mass = 0.2; centroid = (0, 0, m / 2); } }",
         ))
