@@ -6,7 +6,7 @@
 //! tested on plain strings and [`proc_macro2::TokenStream`]s.
 //!
 //! One folder per stage, each importing only the stages before it
-: [`syntax`] → [`semantics`] →
+//! (checked by the test `stage_order` below): [`syntax`] → [`semantics`] →
 //! [`topology`] → [`lowering`] → [`plan`] → `codegen`. [`diagnostics`] and
 //! [`limits`] serve every stage; [`compile()`] is the front door.
 #![deny(missing_docs)]
@@ -38,3 +38,5 @@ pub use codegen::{check_capabilities, expand};
 // (`codegen_dynamics.rs`, `codegen_stiffness.rs`) still name.
 use codegen::{emit, trace};
 
+#[cfg(test)]
+mod stage_order;
