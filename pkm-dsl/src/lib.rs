@@ -14,26 +14,26 @@
 pub mod diagnostics;
 pub mod limits;
 
-pub mod syntax;
-pub mod semantics;
-pub mod topology;
+mod codegen;
 pub mod lowering;
 pub mod plan;
-mod codegen;
+pub mod semantics;
+pub mod syntax;
+pub mod topology;
 
 pub mod compile;
 
 // The paths callers (the CLI, the tests, the benches) name today.
-pub use diagnostics::{Diagnostic, Diagnostics, Span};
-pub use syntax::parser::parse;
-pub use syntax::{ast, expr};
-pub use semantics::{geometry, limb_properties, mass_and_loads, mechanism, study};
-pub use topology::{analysis, screw};
 pub use analysis::{analyze_source, Analysis};
+pub use codegen::{check_capabilities, expand};
+pub use compile::{compile, Compiled};
+pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use lowering::{numeric, params};
 pub use plan::{planner, planner_numeric};
-pub use compile::{compile, Compiled};
-pub use codegen::{check_capabilities, expand};
+pub use semantics::{geometry, limb_properties, mass_and_loads, mechanism, study};
+pub use syntax::parser::parse;
+pub use syntax::{ast, expr};
+pub use topology::{analysis, screw};
 // The pre-stage paths the code generator's dynamics and stiffness files
 // (`codegen_dynamics.rs`, `codegen_stiffness.rs`) still name.
 use codegen::{emit, trace};

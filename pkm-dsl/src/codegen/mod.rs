@@ -9,9 +9,9 @@ mod solution;
 mod solver;
 pub(crate) mod trace;
 
-use crate::topology::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::semantics::mechanism::Capability;
+use crate::topology::analysis::Analysis;
 use proc_macro2::{Span as PmSpan, TokenStream};
 use quote::{format_ident, quote};
 use syn::parse::{Parse, ParseStream};
@@ -317,7 +317,11 @@ fn stiffness_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Di
     }
 }
 
-fn generate(input: &MacroInput, compiled: &crate::compile::Compiled, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
+fn generate(
+    input: &MacroInput,
+    compiled: &crate::compile::Compiled,
+    include: Option<&str>,
+) -> Result<TokenStream, Diagnostics> {
     let a = &compiled.analysis;
     let topology = topology_items(input, a, include);
     let params = parameter_struct(input, a);

@@ -2,10 +2,10 @@
 //! the numeric model and the outputs written out as expressions in the
 //! parameters, handed to the runtime's differentiated loop equations.
 
-use crate::topology::analysis::Analysis;
 use crate::semantics::geometry::OutputKind;
 use crate::semantics::geometry::{JointPlace, Vec3};
 use crate::semantics::mechanism::Capability;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::solution::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

@@ -10,9 +10,9 @@
 //! (`pkm::runtime::fk_numeric::solve_with`) on them.
 
 use super::{branch, geometry, loop_names, xyz};
-use crate::topology::analysis::Analysis;
 use crate::codegen::emit::Emit;
 use crate::codegen::trace::{record, Choice};
+use crate::topology::analysis::Analysis;
 use pkm_runtime::fk_numeric::{Compatibility, VirtualPlan};
 use pkm_runtime::steps::RESIDUAL_ROWS;
 use proc_macro2::TokenStream;

@@ -53,10 +53,16 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         .flat_map(|o| {
             let n = o.names.len();
             (0..n).map(move |i| match &o.kind {
-                crate::semantics::geometry::OutputKind::Pose { about, .. } => i == 3 || (m.planar && i == 2 && about.is_none()),
+                crate::semantics::geometry::OutputKind::Pose { about, .. } => {
+                    i == 3 || (m.planar && i == 2 && about.is_none())
+                }
                 crate::semantics::geometry::OutputKind::Point { .. } => false,
-                crate::semantics::geometry::OutputKind::Parts { parts, .. } => parts.given().nth(i).is_some_and(|p| p >= 3),
-                crate::semantics::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::semantics::mechanism::JointKind::P,
+                crate::semantics::geometry::OutputKind::Parts { parts, .. } => {
+                    parts.given().nth(i).is_some_and(|p| p >= 3)
+                }
+                crate::semantics::geometry::OutputKind::Joint(j) => {
+                    m.joints[*j].kind != crate::semantics::mechanism::JointKind::P
+                }
             })
         })
         .collect();

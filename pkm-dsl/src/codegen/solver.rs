@@ -4,12 +4,12 @@
 //! the parameters alone; `fk_branch`, `fk` (every branch, sharing what the
 //! branches share), `fk_solution` and their `ik` twins compute the rest.
 
-use crate::topology::analysis::Analysis;
 use crate::codegen::emit::Emit;
-use crate::syntax::expr::Expr;
+use crate::codegen::trace::{record, Choice, Sym};
 use crate::semantics::geometry::{OutputKind, Vec3};
 use crate::semantics::mechanism::JointKind;
-use crate::codegen::trace::{record, Choice, Sym};
+use crate::syntax::expr::Expr;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::JointType;
 use pkm_runtime::plan::Plan;
 use pkm_runtime::primitives::Sign;
@@ -365,7 +365,9 @@ pub fn generate(
             let (rates, jacobian) = if wanted {
                 let rates = crate::codegen::trace::derivative(&given.result, &Sym::rate);
                 let jacobian = (0..plan.n_inputs)
-                    .map(|k| crate::codegen::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
+                    .map(|k| {
+                        crate::codegen::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 }))
+                    })
                     .collect();
                 (Some(rates), Some(jacobian))
             } else {

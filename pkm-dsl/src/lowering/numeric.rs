@@ -2,10 +2,10 @@
 //! the numeric model the interpreter and Newton's method run on ([`model`]),
 //! and the declared outputs for Newton's inverse solution ([`newton_outputs`]).
 
-use crate::topology::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::semantics::limb_properties::{LegStiffness, LimbValue, ResolvedLimb, KEYS};
 use crate::semantics::mechanism::JointKind;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint};
 use std::collections::HashMap;
 

@@ -10,9 +10,9 @@
 //! `pkm_runtime::steps`; `steps::FIND_ORDER` is the order they are tried
 //! in. No mechanism is named here.
 
-use crate::topology::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::semantics::geometry::OutputKind;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::Model;
 use pkm_runtime::plan::{self, Plan, Step, Turn};
 use pkm_runtime::solution::PointRef;

@@ -23,8 +23,8 @@
 //! residual is its computed value less its given one
 //! ([`Compatibility::Input`]).
 
-use crate::topology::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::topology::analysis::Analysis;
 use crate::topology::screw::SplitMix;
 use pkm_runtime::fk_numeric::{self, Compatibility, VirtualPlan};
 use pkm_runtime::model::{JointType, Model};

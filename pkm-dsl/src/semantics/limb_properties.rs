@@ -35,10 +35,10 @@
 //! assert_eq!(limbs[2].actuator, Some(2.0e5));
 //! ```
 
-use crate::syntax::ast::Name;
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
 use crate::semantics::geometry::Geometry;
 use crate::semantics::mechanism::{suggest, JointKind, Mechanism};
+use crate::syntax::ast::Name;
 pub use crate::syntax::limbs::{LimbDecl, LimbValue};
 use std::collections::HashMap;
 
@@ -449,8 +449,8 @@ fn actuator_is_a_slide(mech: &Mechanism, i: usize, actuated: &[usize], at: Span,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::syntax::expr::Expr;
     use crate::lowering::numeric::limb_properties;
+    use crate::syntax::expr::Expr;
     use crate::topology::analysis::Analysis;
 
     /// A 3-RPS topology with units and two parameters; `limbs` is line 7.
@@ -643,7 +643,9 @@ units { length = mm; mass = kg; } limbs { R1 { axial = 1; bending = 2; } } }",
                 (7, 45, "unknown limb property `e`"),
             ],
         );
-        let notes = crate::topology::analysis::analyze_source(&source).unwrap_err().0[2].notes.clone();
+        let notes = crate::topology::analysis::analyze_source(&source).unwrap_err().0[2]
+            .notes
+            .clone();
         assert!(notes.contains(&"did you mean `E`?".to_string()), "{notes:?}");
     }
 

@@ -32,7 +32,10 @@ impl Analysis {
     /// joint (the link without the guide line), otherwise its first link.
     pub fn point_link(&self, joint: usize) -> usize {
         let links = self.mechanism.joints[joint].links;
-        let guide_first = matches!(self.place(joint, links[0]), crate::semantics::geometry::JointPlace::Line(..));
+        let guide_first = matches!(
+            self.place(joint, links[0]),
+            crate::semantics::geometry::JointPlace::Line(..)
+        );
         links[usize::from(guide_first)]
     }
 
