@@ -8,18 +8,29 @@
 //!    ([`crate::expand`], from a [`Compiled`]).
 //!
 //! A plan is the same for planar and spatial mechanisms
-//! ([`pkm_runtime::plan::Plan`], made by [`crate::plan::planner`]).
+//! ([`pkm_runtime::plan::Plan`], made by [`crate::plan::planner`]). The
+//! numeric model and the declared outputs at the file's own parameter
+//! values ([`Compiled::model`], [`Compiled::outputs`], made by
+//! [`crate::lowering::numeric`]) are cached the same way; at other values
+//! [`Compiled::model_at`] and [`Compiled::outputs_at`] make them afresh.
 
 use crate::diagnostics::Diagnostics;
+use crate::lowering::numeric;
 use crate::topology::analysis::Analysis;
+use pkm_runtime::model::Model;
+use pkm_runtime::newton::Output;
 use pkm_runtime::plan::Plan;
 use std::cell::OnceCell;
+use std::collections::HashMap;
 
-/// A description compiled: its analysis, and its plans on first use.
+/// A description compiled: its analysis, and on first use its numeric
+/// model, declared outputs and plans.
 #[derive(Debug)]
 pub struct Compiled {
     /// Parse, model, geometry and topology.
     pub analysis: Analysis,
+    model: OnceCell<Result<Model, Diagnostics>>,
+    outputs: OnceCell<Result<Vec<Output>, Diagnostics>>,
     forward: OnceCell<Result<Plan, Diagnostics>>,
     inverse: OnceCell<Result<Plan, Diagnostics>>,
 }
@@ -42,12 +53,49 @@ pub struct Compiled {
 pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
     Ok(Compiled {
         analysis: crate::topology::analysis::analyze_source(source)?,
+        model: OnceCell::new(),
+        outputs: OnceCell::new(),
         forward: OnceCell::new(),
         inverse: OnceCell::new(),
     })
 }
 
 impl Compiled {
+    /// The numeric model at the file's parameter values, made on first use
+    /// (an error where the geometry is incomplete).
+    pub fn model(&self) -> Result<&Model, Diagnostics> {
+        self.model
+            .get_or_init(|| numeric::model(&self.analysis, &HashMap::new()))
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// The numeric model with some parameters given other values (the
+    /// command line's `--param`); the file's own when `values` is empty.
+    pub fn model_at(&self, values: &HashMap<String, f64>) -> Result<Model, Diagnostics> {
+        if values.is_empty() {
+            return self.model().cloned();
+        }
+        numeric::model(&self.analysis, values)
+    }
+
+    /// The declared outputs at the file's parameter values, made on first use.
+    pub fn outputs(&self) -> Result<&[Output], Diagnostics> {
+        self.outputs
+            .get_or_init(|| numeric::newton_outputs(&self.analysis, self.model()?, &HashMap::new()))
+            .as_ref()
+            .map(Vec::as_slice)
+            .map_err(Clone::clone)
+    }
+
+    /// The declared outputs on `model`, made at `values` by [`Self::model_at`].
+    pub fn outputs_at(&self, model: &Model, values: &HashMap<String, f64>) -> Result<Vec<Output>, Diagnostics> {
+        if values.is_empty() {
+            return self.outputs().map(<[Output]>::to_vec);
+        }
+        numeric::newton_outputs(&self.analysis, model, values)
+    }
+
     /// The forward plan (inputs to every joint), planned on first use.
     pub fn forward(&self) -> Result<&Plan, Diagnostics> {
         self.forward
