@@ -67,8 +67,8 @@ fn code_only(src: &str) -> String {
         let rest = &src[i..];
         if rest.starts_with("//") {
             i += rest.find('\n').unwrap_or(rest.len());
-        } else if rest.starts_with("r#\"") {
-            i += 3 + rest[3..].find("\"#").unwrap() + 2;
+        } else if let Some(raw) = rest.strip_prefix("r#\"") {
+            i += 3 + raw.find("\"#").unwrap() + 2;
         } else if rest.starts_with('"') {
             let mut j = 1;
             while b[i + j] != b'"' {

@@ -95,7 +95,10 @@ fn without_statement(text: &str, keyword: &str) -> String {
 pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
     let (text, path) = example_text(stem);
     let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
-    let model = c.model().cloned().unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
+    let model = c
+        .model()
+        .cloned()
+        .unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
     (c.analysis, model)
 }
 

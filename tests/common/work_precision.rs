@@ -11,7 +11,6 @@
 //! (the test suite's `tests/testsuite/mechanisms.rs`, the benchmark's own).
 #![allow(dead_code)]
 
-
 use crate::mechanisms::{FourBar, SeedA, SeedAPrepared, SeedB, SeedBPrepared, SliderCrank};
 
 use pkm::runtime::model::Model;
