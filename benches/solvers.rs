@@ -7,7 +7,6 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use pkm::runtime::newton::{self, NewtonOptions};
 use pkm::runtime::plan;
 use pkm::runtime::solution::signs_of;
-use std::collections::HashMap;
 use std::hint::black_box;
 
 pkm::mechanism!(FourBar, file = "examples/mechanisms/four_bar.pkm");
@@ -21,14 +20,10 @@ pkm::mechanism!(SeedB, file = "examples/mechanisms/seed000_b.pkm");
 
 /// The plan interpreter of one direction.
 fn interpreter(
-    a: &pkm::dsl::Analysis,
+    c: &pkm::dsl::Compiled,
     inverse: bool,
 ) -> impl Fn(&pkm::runtime::model::Model, &[f64], &[pkm::runtime::primitives::Sign]) {
-    let p = if inverse {
-        pkm::dsl::planner::inverse_plan(a).unwrap()
-    } else {
-        pkm::dsl::planner::forward_plan(a).unwrap()
-    };
+    let p = if inverse { c.inverse() } else { c.forward() }.unwrap().clone();
     move |model, given, signs| {
         black_box(plan::run(model, &p, given, signs).unwrap());
     }
@@ -42,8 +37,8 @@ const NEWTON: NewtonOptions = NewtonOptions {
 macro_rules! bench_fk {
     ($c:expr, $ty:ident, $file:expr, $q:expr, $signs:expr) => {{
         let path = format!("{}/examples/mechanisms/{}.pkm", env!("CARGO_MANIFEST_DIR"), $file);
-        let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
+        let a = pkm::dsl::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let model = a.model().unwrap().clone();
         let params = Default::default();
         let q = $q;
         let signs = signs_of($signs);
@@ -73,7 +68,7 @@ macro_rules! bench_ik {
         let params = Default::default();
         let signs = signs_of($signs);
         let run = interpreter(&a, true);
-        let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
+        let outputs = a.outputs().unwrap().to_vec();
         let mut group = $c.benchmark_group(concat!($file, "/ik"));
         group.bench_function("generated_branch", |b| {
             b.iter(|| $ty::ik_branch(black_box(&params), black_box(&x), signs))

@@ -2,23 +2,35 @@
 //! the macro, the command line, the report and the tests alike:
 //!
 //! 1. parse (pest) → 2. model → 3. geometry → 4. topology
-//!    ([`crate::analyze_source`], an [`Analysis`]) → 5. plans (the order in
+//!    ([`crate::topology::analysis::analyze_source`], an [`Analysis`]) → 5. plans (the order in
 //!    which a κ = 0 mechanism's joints are solved, [`Compiled::forward`],
 //!    [`Compiled::inverse`], planned on first use) → 6. code
 //!    ([`crate::expand`], from a [`Compiled`]).
 //!
 //! A plan is the same for planar and spatial mechanisms
-//! ([`pkm_runtime::plan::Plan`], made by [`crate::planner`]).
+//! ([`pkm_runtime::plan::Plan`], made by [`crate::plan::planner`]). The
+//! numeric model and the declared outputs at the file's own parameter
+//! values ([`Compiled::model`], [`Compiled::outputs`], made by
+//! [`crate::lowering::numeric`]) are cached the same way; at other values
+//! [`Compiled::model_at`] and [`Compiled::outputs_at`] make them afresh.
 
-use crate::{Analysis, Diagnostics};
+use crate::diagnostics::Diagnostics;
+use crate::lowering::numeric;
+use crate::topology::analysis::Analysis;
+use pkm_runtime::model::Model;
+use pkm_runtime::newton::Output;
 use pkm_runtime::plan::Plan;
 use std::cell::OnceCell;
+use std::collections::HashMap;
 
-/// A description compiled: its analysis, and its plans on first use.
+/// A description compiled: its analysis, and on first use its numeric
+/// model, declared outputs and plans.
 #[derive(Debug)]
 pub struct Compiled {
     /// Parse, model, geometry and topology.
     pub analysis: Analysis,
+    model: OnceCell<Result<Model, Diagnostics>>,
+    outputs: OnceCell<Result<Vec<Output>, Diagnostics>>,
     forward: OnceCell<Result<Plan, Diagnostics>>,
     inverse: OnceCell<Result<Plan, Diagnostics>>,
 }
@@ -40,17 +52,54 @@ pub struct Compiled {
 /// ```
 pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
     Ok(Compiled {
-        analysis: crate::analyze_source(source)?,
+        analysis: crate::topology::analysis::analyze_source(source)?,
+        model: OnceCell::new(),
+        outputs: OnceCell::new(),
         forward: OnceCell::new(),
         inverse: OnceCell::new(),
     })
 }
 
 impl Compiled {
+    /// The numeric model at the file's parameter values, made on first use
+    /// (an error where the geometry is incomplete).
+    pub fn model(&self) -> Result<&Model, Diagnostics> {
+        self.model
+            .get_or_init(|| numeric::model(&self.analysis, &HashMap::new()))
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// The numeric model with some parameters given other values (the
+    /// command line's `--param`); the file's own when `values` is empty.
+    pub fn model_at(&self, values: &HashMap<String, f64>) -> Result<Model, Diagnostics> {
+        if values.is_empty() {
+            return self.model().cloned();
+        }
+        numeric::model(&self.analysis, values)
+    }
+
+    /// The declared outputs at the file's parameter values, made on first use.
+    pub fn outputs(&self) -> Result<&[Output], Diagnostics> {
+        self.outputs
+            .get_or_init(|| numeric::newton_outputs(&self.analysis, self.model()?, &HashMap::new()))
+            .as_ref()
+            .map(Vec::as_slice)
+            .map_err(Clone::clone)
+    }
+
+    /// The declared outputs on `model`, made at `values` by [`Self::model_at`].
+    pub fn outputs_at(&self, model: &Model, values: &HashMap<String, f64>) -> Result<Vec<Output>, Diagnostics> {
+        if values.is_empty() {
+            return self.outputs().map(<[Output]>::to_vec);
+        }
+        numeric::newton_outputs(&self.analysis, model, values)
+    }
+
     /// The forward plan (inputs to every joint), planned on first use.
     pub fn forward(&self) -> Result<&Plan, Diagnostics> {
         self.forward
-            .get_or_init(|| crate::planner::forward_plan(&self.analysis))
+            .get_or_init(|| crate::plan::planner::forward_plan(&self.analysis))
             .as_ref()
             .map_err(Clone::clone)
     }
@@ -58,7 +107,7 @@ impl Compiled {
     /// The inverse plan (declared outputs to every joint), planned on first use.
     pub fn inverse(&self) -> Result<&Plan, Diagnostics> {
         self.inverse
-            .get_or_init(|| crate::planner::inverse_plan(&self.analysis))
+            .get_or_init(|| crate::plan::planner::inverse_plan(&self.analysis))
             .as_ref()
             .map_err(Clone::clone)
     }

@@ -94,10 +94,12 @@ fn without_statement(text: &str, keyword: &str) -> String {
 /// analysis and its model at the nominal parameters.
 pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
     let (text, path) = example_text(stem);
-    let a = pkm::dsl::analyze_source(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
-    let model = pkm::dsl::numeric::model(&a, &Default::default())
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
+    let model = c
+        .model()
+        .cloned()
         .unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
-    (a, model)
+    (c.analysis, model)
 }
 
 /// The largest difference of `a` from `b`: angles (where `angle` says so)

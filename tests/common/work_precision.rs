@@ -11,8 +11,6 @@
 //! (the test suite's `tests/testsuite/mechanisms.rs`, the benchmark's own).
 #![allow(dead_code)]
 
-use std::collections::HashMap;
-
 use crate::mechanisms::{FourBar, SeedA, SeedAPrepared, SeedB, SeedBPrepared, SliderCrank};
 
 use pkm::runtime::model::Model;
@@ -238,13 +236,10 @@ fn nearby(given: &[f64], solve: impl Fn(&[f64]) -> Option<Vec<f64>>) -> Vec<f64>
 /// the 70-digit Newton from there.
 pub fn case(name: &'static str, generated: Generated) -> Case {
     let path = format!("{}/examples/mechanisms/{name}.pkm", env!("CARGO_MANIFEST_DIR"));
-    let a = pkm::dsl::analyze_source(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
-    let outputs = pkm::dsl::numeric::newton_outputs(&a, &model, &HashMap::new()).unwrap();
-    let (f, i) = (
-        pkm::dsl::planner::forward_plan(&a).unwrap(),
-        pkm::dsl::planner::inverse_plan(&a).unwrap(),
-    );
+    let c = pkm::dsl::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let model = c.model().unwrap().clone();
+    let outputs = c.outputs().unwrap().to_vec();
+    let (f, i) = (c.forward().unwrap().clone(), c.inverse().unwrap().clone());
     let branches = [f.branches, i.branches];
     let interpreter = [Interpreter(f), Interpreter(i)];
     let scale = pkm::runtime::kinematics::model_scale(&model);

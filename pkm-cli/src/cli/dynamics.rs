@@ -28,14 +28,14 @@ struct Setup {
 impl Setup {
     fn new(r: &Request) -> Result<Setup, Failure> {
         let l = load(r)?;
-        let a = &l.analysis;
+        let a = &l.compiled.analysis;
         let Some(units) = a.mass_and_loads.units else {
             return Err(Failure::input(
                 "dynamics needs the file's units and masses: `units { length = mm; mass = kg; }` and a `masses` block giving every moving link a mass or declaring it massless",
             ));
         };
         let loading = pkm_dsl::numeric::loading(a, &l.model, &l.values).map_err(|d| r.parse_failure(d))?;
-        let plan = pkm_dsl::planner::forward_plan(a).map_err(|d| r.parse_failure(d))?;
+        let plan = l.compiled.forward().cloned().map_err(|d| r.parse_failure(d))?;
         let inputs = plan.input_joints(&l.model);
         let skcs = pkm_dsl::numeric::skc_parts(a);
         let unit = units.length.symbol();

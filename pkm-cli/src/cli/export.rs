@@ -1074,7 +1074,7 @@ enum Way {
 /// `--branch`, else the study's, else the first that assembles (at the
 /// home pose: the best conditioned).
 fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Reference, Failure> {
-    let (a, model) = (&l.analysis, &l.model);
+    let (a, model) = (&l.compiled.analysis, &l.model);
     let ast = pkm_dsl::parse(r.source).map_err(|d| r.parse_failure(d.into()))?;
     let names: Vec<String> = model
         .joints
@@ -1091,10 +1091,10 @@ fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Reference, Failure>
     };
     let numeric = a.topology.kappa == 1 && a.mechanism.wants(Capability::FkNumeric);
     let way = if !o.pose.is_empty() {
-        Way::Inverse(pkm_dsl::planner::inverse_plan(a).map_err(|d| r.parse_failure(d))?)
+        Way::Inverse(l.compiled.inverse().cloned().map_err(|d| r.parse_failure(d))?)
     } else if a.topology.kappa == 0 {
-        Way::Forward(pkm_dsl::planner::forward_plan(a).map_err(|d| r.parse_failure(d))?)
-    } else if numeric && (!o.q.is_empty() || study.start.is_some() || pkm_dsl::planner::inverse_plan(a).is_err()) {
+        Way::Forward(l.compiled.forward().cloned().map_err(|d| r.parse_failure(d))?)
+    } else if numeric && (!o.q.is_empty() || study.start.is_some() || l.compiled.inverse().is_err()) {
         Way::Numeric(Box::new(
             pkm_dsl::planner_numeric::forward_numeric_plan(a).map_err(|d| r.parse_failure(d))?,
         ))
@@ -1110,7 +1110,7 @@ fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Reference, Failure>
             }
         )));
     } else {
-        match pkm_dsl::planner::inverse_plan(a) {
+        match l.compiled.inverse().cloned() {
             Ok(plan) => Way::Inverse(plan),
             Err(d) => {
                 let why = d.0.first().map(|x| x.message.clone()).unwrap_or_default();
@@ -1391,6 +1391,7 @@ fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: 
         .collect();
     how.insert("pose".into(), Value::Object(by_name));
     let length = l
+        .compiled
         .analysis
         .mass_and_loads
         .units
@@ -1419,7 +1420,7 @@ fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: 
 /// pose or point output, or a pose part z), if one is.
 fn height_output(l: &Loaded) -> Option<usize> {
     let mut at = 0;
-    for (declared, o) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+    for (declared, o) in l.compiled.analysis.geometry.outputs.iter().zip(&l.outputs) {
         let z = match *o {
             Output::Pose { .. } | Output::Point { .. } if !l.model.planar => Some(2),
             Output::Parts { parts, .. } => parts.given().position(|p| p == 2),
@@ -1493,7 +1494,7 @@ fn assembled(
 /// `pkm export --mjcf`: the MJCF text of the mechanism at its reference configuration.
 pub fn mjcf(r: &Request, o: &Options) -> Result<Exported, Failure> {
     let l = load(r)?;
-    let a = &l.analysis;
+    let a = &l.compiled.analysis;
     let model = &l.model;
     let Some(units) = a.mass_and_loads.units else {
         return Err(Failure::input(

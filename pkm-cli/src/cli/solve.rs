@@ -6,7 +6,7 @@
 
 use super::failure::{Failure, Kind};
 use super::table::{self, Branch, Cell, Column};
-use pkm_dsl::{Analysis, Diagnostics};
+use pkm_dsl::{Analysis, Compiled, Diagnostics};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::Output;
 use pkm_runtime::plan::{Plan, Pose3};
@@ -51,10 +51,11 @@ impl Request<'_> {
     }
 }
 
-/// A mechanism ready to solve: its analysis, its model at the given
-/// parameters and its declared outputs at those parameters.
+/// A mechanism ready to solve: compiled (its analysis, and its plans on
+/// first use), its model at the given parameters and its declared outputs
+/// at those parameters.
 pub(super) struct Loaded {
-    pub(super) analysis: Analysis,
+    pub(super) compiled: Compiled,
     pub(super) model: Model,
     pub(super) outputs: Vec<Output>,
     /// The parameters the command line overrides.
@@ -62,17 +63,18 @@ pub(super) struct Loaded {
 }
 
 pub(super) fn load(r: &Request) -> Result<Loaded, Failure> {
-    let analysis = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?.analysis;
-    let nominal = pkm_dsl::numeric::model(&analysis, &HashMap::new()).map_err(|d| r.parse_failure(d))?;
-    let values = pkm_dsl::params::overrides(&analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
-    check_lengths(&analysis, &nominal, &values)?;
-    let model = pkm_dsl::numeric::model(&analysis, &values).map_err(|d| r.parse_failure(d))?;
+    let compiled = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?;
+    let analysis = &compiled.analysis;
+    let nominal = compiled.model().map_err(|d| r.parse_failure(d))?;
+    let values = pkm_dsl::params::overrides(analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
+    check_lengths(analysis, nominal, &values)?;
+    let model = compiled.model_at(&values).map_err(|d| r.parse_failure(d))?;
     if let Some(why) = non_finite_place(&model) {
         return Err(Failure::input(format!("at the given parameters {why}")));
     }
-    let outputs = pkm_dsl::numeric::newton_outputs(&analysis, &model, &values).map_err(|d| r.parse_failure(d))?;
+    let outputs = compiled.outputs_at(&model, &values).map_err(|d| r.parse_failure(d))?;
     Ok(Loaded {
-        analysis,
+        compiled,
         model,
         outputs,
         values,
@@ -263,7 +265,7 @@ fn kind_of(e: &SolveError) -> Kind {
 /// (a pose's angle, a revolute joint's value).
 pub(super) fn output_names(l: &Loaded) -> Vec<(String, bool)> {
     let mut names = Vec::new();
-    for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+    for (o, spec) in l.compiled.analysis.geometry.outputs.iter().zip(&l.outputs) {
         let n = o.names.len();
         for (i, name) in o.names.iter().enumerate() {
             let angle = match *spec {
@@ -283,7 +285,7 @@ pub(super) fn output_names(l: &Loaded) -> Vec<(String, bool)> {
 fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
     let dim = if l.model.planar { 2 } else { 3 };
     let mut values = Vec::new();
-    for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+    for (o, spec) in l.compiled.analysis.geometry.outputs.iter().zip(&l.outputs) {
         let these: Vec<f64> = match *spec {
             Output::Pose { link, local, about } => {
                 let mut v = c.point(link, local)[..dim].to_vec();
@@ -521,6 +523,7 @@ impl Units {
     pub(super) fn of(r: &Request, l: &Loaded) -> Units {
         Units {
             length: l
+                .compiled
                 .analysis
                 .mass_and_loads
                 .units
@@ -629,14 +632,18 @@ impl<'r> Forward<'r> {
     /// Loads and plans the file of `r`.
     pub fn new(r: &'r Request<'r>) -> Result<Forward<'r>, Failure> {
         let l = load(r)?;
-        let numeric =
-            l.analysis.topology.kappa != 0 && l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric);
+        let numeric = l.compiled.analysis.topology.kappa != 0
+            && l.compiled
+                .analysis
+                .mechanism
+                .wants(pkm_dsl::mechanism::Capability::FkNumeric);
         let (way, inputs) = if numeric {
-            let vp = pkm_dsl::planner_numeric::forward_numeric_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+            let vp =
+                pkm_dsl::planner_numeric::forward_numeric_plan(&l.compiled.analysis).map_err(|d| r.parse_failure(d))?;
             let inputs = vp.plan.inputs[..vp.plan.inputs.len() - 1].to_vec();
             (Way::Numeric(Box::new(vp)), inputs)
         } else {
-            let plan = pkm_dsl::planner::forward_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+            let plan = l.compiled.forward().cloned().map_err(|d| r.parse_failure(d))?;
             let inputs = plan.input_joints(&l.model);
             (Way::Plan(plan), inputs)
         };
@@ -796,7 +803,7 @@ impl<'r> Inverse<'r> {
     /// Loads and plans the file of `r`.
     pub fn new(r: &'r Request<'r>) -> Result<Inverse<'r>, Failure> {
         let l = load(r)?;
-        let plan = pkm_dsl::planner::inverse_plan(&l.analysis).map_err(|d| r.parse_failure(d))?;
+        let plan = l.compiled.inverse().cloned().map_err(|d| r.parse_failure(d))?;
         Ok(Inverse { r, l, plan })
     }
 

@@ -93,7 +93,7 @@ impl<'r> Stiffness<'r> {
     /// checks `wrench` (none, or six finite values).
     pub fn new(r: &'r Request<'r>, wrench: &[f64]) -> Result<Stiffness<'r>, Failure> {
         let l = load(r)?;
-        let a = &l.analysis;
+        let a = &l.compiled.analysis;
         if a.mass_and_loads.units.is_none() {
             return Err(Failure::input(
                 "stiffness needs the file's units and limbs: `units { length = mm; mass = kg; }` and a `limbs` block giving every limb's E, A, I (or its springs)",
@@ -119,7 +119,7 @@ impl<'r> Stiffness<'r> {
                 "stiffness needs the platform's pose or a point of it among the outputs",
             ));
         };
-        let plan = pkm_dsl::planner::inverse_plan(a).map_err(|d| r.parse_failure(d))?;
+        let plan = l.compiled.inverse().cloned().map_err(|d| r.parse_failure(d))?;
         let units = Units::of(r, &l);
         Ok(Stiffness {
             r,

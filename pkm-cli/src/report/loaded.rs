@@ -36,9 +36,10 @@ pub(super) fn load(
     params: &[(String, f64)],
 ) -> Result<(pkm_dsl::analysis::Analysis, Option<Loaded>), ReportError> {
     let render = |d: pkm_dsl::Diagnostics| ReportError::source(d, text, file);
-    let a = pkm_dsl::compile(text).map_err(render)?.analysis;
+    let compiled = pkm_dsl::compile(text).map_err(render)?;
+    let a = &compiled.analysis;
     // Only the overrides: the others, derived ones included, are resolved from them.
-    let values = pkm_dsl::params::overrides(&a, params).map_err(|e| {
+    let values = pkm_dsl::params::overrides(a, params).map_err(|e| {
         invalid(match e {
             pkm_dsl::params::ParamError::Unknown { name, known, .. } => {
                 format!(
@@ -53,22 +54,22 @@ pub(super) fn load(
         })
     })?;
     if !a.geometry.complete {
-        return Ok((a, None));
+        return Ok((compiled.analysis, None));
     }
-    let model = pkm_dsl::numeric::model(&a, &values).map_err(render)?;
-    let outputs = pkm_dsl::numeric::newton_outputs(&a, &model, &values).map_err(render)?;
+    let model = compiled.model_at(&values).map_err(render)?;
+    let outputs = compiled.outputs_at(&model, &values).map_err(render)?;
     // Every parameter's value, for the study block's expressions.
-    let values = pkm_dsl::numeric::parameter_values(&a, &values).map_err(render)?;
-    let forward = pkm_dsl::planner::forward_plan(&a).map_err(|d| headline(&d));
+    let values = pkm_dsl::numeric::parameter_values(a, &values).map_err(render)?;
+    let forward = compiled.forward().cloned().map_err(|d| headline(&d));
     let inverse = if a.geometry.outputs.is_empty() {
         Err("the file declares no outputs".to_string())
     } else {
-        pkm_dsl::planner::inverse_plan(&a).map_err(|d| headline(&d))
+        compiled.inverse().cloned().map_err(|d| headline(&d))
     };
     Ok((
         a.clone(),
         Some(Loaded {
-            analysis: a,
+            analysis: compiled.analysis,
             model,
             outputs,
             forward,

@@ -1,5 +1,5 @@
 //! The `limbs` block as written, built from its parse ([`build_limbs`]);
-//! `crate::limb_properties` checks it against the mechanism.
+//! `crate::semantics::limb_properties` checks it against the mechanism.
 
 use super::ast::Name;
 use super::expr::Expr;

@@ -1,6 +1,6 @@
 //! The `units`, `masses`, `gravity` and `loads` blocks as written, built
 //! from their parse ([`build_units`], [`build_masses`], [`build_gravity`],
-//! [`build_loads`]); `crate::mass_and_loads` checks them against the
+//! [`build_loads`]); `crate::semantics::mass_and_loads` checks them against the
 //! mechanism.
 
 use super::ast::{Name, Tuple};

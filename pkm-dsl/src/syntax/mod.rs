@@ -1,8 +1,8 @@
 //! The syntax stage: the pest grammar (`grammar.pest`), the parser and the
 //! syntax tree of a mechanism file as written, expressions included. It
 //! imports nothing of the later stages; the semantic modules
-//! (`crate::mechanism`, `crate::mass_and_loads`, `crate::limb_properties`,
-//! `crate::study`) check what it builds.
+//! (`crate::semantics::mechanism`, `crate::semantics::mass_and_loads`, `crate::semantics::limb_properties`,
+//! `crate::semantics::study`) check what it builds.
 
 pub mod ast;
 pub mod expr;

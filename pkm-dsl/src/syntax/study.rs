@@ -1,5 +1,5 @@
 //! The `study` block as written, built from its parse ([`build`]);
-//! `crate::study` checks and evaluates it.
+//! `crate::semantics::study` checks and evaluates it.
 
 use super::ast::Name;
 use super::expr::Expr;

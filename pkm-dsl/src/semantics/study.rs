@@ -12,7 +12,7 @@
 //! ```
 
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::Expr;
+use crate::syntax::expr::Expr;
 pub use crate::syntax::study::{Motion, Study, StudyItem};
 use std::collections::HashMap;
 

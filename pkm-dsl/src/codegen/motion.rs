@@ -2,10 +2,10 @@
 //! the numeric model and the outputs written out as expressions in the
 //! parameters, handed to the runtime's differentiated loop equations.
 
-use crate::analysis::Analysis;
-use crate::geometry::OutputKind;
-use crate::geometry::{JointPlace, Vec3};
-use crate::mechanism::Capability;
+use crate::semantics::geometry::OutputKind;
+use crate::semantics::geometry::{JointPlace, Vec3};
+use crate::semantics::mechanism::Capability;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::solution::PointRef;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -18,7 +18,7 @@ pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream,
         return Ok(TokenStream::new());
     }
     // The numeric model must exist (every joint type has one).
-    crate::numeric::model(a, &std::collections::HashMap::new())?;
+    crate::lowering::numeric::model(a, &std::collections::HashMap::new())?;
     let s = Signature::of(a, ident);
     let model = model_fns(a, &s);
     let jacobian = m.wants(Capability::Jacobian).then(|| jacobian_fn(&s));
@@ -300,8 +300,8 @@ pub(crate) fn place(p: &JointPlace) -> TokenStream {
 }
 
 /// The runtime's joint type of a joint kind, as tokens.
-fn joint_type(kind: crate::mechanism::JointKind) -> TokenStream {
-    let t = match crate::codegen_solver::joint_type(kind) {
+fn joint_type(kind: crate::semantics::mechanism::JointKind) -> TokenStream {
+    let t = match crate::codegen::solver::joint_type(kind) {
         pkm_runtime::model::JointType::P => quote! { P },
         pkm_runtime::model::JointType::Pa => quote! { Pa },
         pkm_runtime::model::JointType::S => quote! { S },

@@ -19,73 +19,19 @@
 //! assert_eq!(d.gravity, [0.0, -9.81, 0.0]);
 //! ```
 
-use crate::ast::Name;
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::expr::Expr;
-use crate::geometry::Geometry;
-use crate::mechanism::{suggest, Mechanism};
+use crate::semantics::geometry::Geometry;
+use crate::semantics::mechanism::{suggest, Mechanism};
+use crate::syntax::ast::Name;
+use crate::syntax::expr::Expr;
 pub use crate::syntax::masses::{LoadDecl, MassDecl, UnitsDecl, Value};
 use pkm_runtime::solution::PointRef;
 use std::collections::HashMap;
 
-/// A length unit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LengthUnit {
-    /// Metre.
-    M,
-    /// Centimetre.
-    Cm,
-    /// Millimetre.
-    Mm,
-}
+mod units;
 
-impl LengthUnit {
-    /// The unit in metres.
-    pub fn metres(self) -> f64 {
-        match self {
-            LengthUnit::M => 1.0,
-            LengthUnit::Cm => 1e-2,
-            LengthUnit::Mm => 1e-3,
-        }
-    }
-
-    /// The unit's symbol, as the file writes it.
-    pub fn symbol(self) -> &'static str {
-        match self {
-            LengthUnit::M => "m",
-            LengthUnit::Cm => "cm",
-            LengthUnit::Mm => "mm",
-        }
-    }
-}
-
-/// A mass unit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MassUnit {
-    /// Kilogram.
-    Kg,
-    /// Gram.
-    G,
-}
-
-impl MassUnit {
-    /// The unit in kilograms.
-    pub fn kilograms(self) -> f64 {
-        match self {
-            MassUnit::Kg => 1.0,
-            MassUnit::G => 1e-3,
-        }
-    }
-}
-
-/// The file's units.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Units {
-    /// Lengths (geometry, centroids, load points) and the solutions' lengths.
-    pub length: LengthUnit,
-    /// Masses; inertias are in mass unit · length unit².
-    pub mass: MassUnit,
-}
+use units::*;
+pub use units::{LengthUnit, MassUnit, Units};
 
 /// An inertia tensor about the centroid, in the link's frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -315,80 +261,6 @@ pub fn resolve(d: Declared, mech: &Mechanism, geometry: &Geometry) -> Result<Mas
     errors.into_result(out)
 }
 
-/// The one `units` block, checked.
-fn units(blocks: &[UnitsDecl], errors: &mut Diagnostics) -> Option<Units> {
-    if let Some(second) = blocks.get(1) {
-        errors.push(
-            Diagnostic::new(second.span, "a mechanism has one `units` block")
-                .label("a second one")
-                .also(blocks[0].span, "the first"),
-        );
-    }
-    let block = blocks.first()?;
-    let (mut length, mut mass) = (None, None);
-    for (key, unit) in &block.items {
-        let (slot, parsed) = match key.text.as_str() {
-            "length" => (
-                &mut length,
-                match unit.text.as_str() {
-                    "m" => Some(UnitKind::Length(LengthUnit::M)),
-                    "cm" => Some(UnitKind::Length(LengthUnit::Cm)),
-                    "mm" => Some(UnitKind::Length(LengthUnit::Mm)),
-                    _ => None,
-                },
-            ),
-            "mass" => (
-                &mut mass,
-                match unit.text.as_str() {
-                    "kg" => Some(UnitKind::Mass(MassUnit::Kg)),
-                    "g" => Some(UnitKind::Mass(MassUnit::G)),
-                    _ => None,
-                },
-            ),
-            _ => {
-                errors.push(
-                    Diagnostic::new(key.span, format!("unknown unit `{}`", key.text))
-                        .label("not a quantity")
-                        .note("the units are `length` (m, cm, mm) and `mass` (kg, g); time is in s"),
-                );
-                continue;
-            }
-        };
-        let Some(parsed) = parsed else {
-            let choices = if key.text == "length" { "m, cm or mm" } else { "kg or g" };
-            errors.push(
-                Diagnostic::new(unit.span, format!("`{}` is not a unit of {}", unit.text, key.text)).label(choices),
-            );
-            continue;
-        };
-        if slot.replace((parsed, key.span)).is_some() {
-            errors.push(Diagnostic::new(key.span, format!("`{}` is given twice", key.text)).label("again"));
-        }
-    }
-    // A key written with a wrong unit is reported above, not as missing.
-    let written = |k: &str| block.items.iter().any(|(key, _)| key.text == k);
-    let missing: Vec<&str> = ["length", "mass"].into_iter().filter(|k| !written(k)).collect();
-    if !missing.is_empty() {
-        errors.push(
-            Diagnostic::new(block.span, format!("`units` needs `{}`", missing.join("` and `")))
-                .label("incomplete")
-                .note("for example `units { length = mm; mass = kg; }`"),
-        );
-        return None;
-    }
-    match (length, mass) {
-        (Some((UnitKind::Length(length), _)), Some((UnitKind::Mass(mass), _))) => Some(Units { length, mass }),
-        _ => None,
-    }
-}
-
-/// A parsed unit, of either quantity.
-#[derive(Debug, Clone, Copy)]
-enum UnitKind {
-    Length(LengthUnit),
-    Mass(MassUnit),
-}
-
 /// The moving link `l` names, recorded as given (the base, an unknown link
 /// and a second entry for one link are errors).
 fn moving_link(
@@ -455,7 +327,7 @@ fn parallelogram(mech: &Mechanism, j: &Name, errors: &mut Diagnostics) -> Option
         errors.push(e);
         return None;
     };
-    if mech.joints[i].kind != crate::mechanism::JointKind::Pa {
+    if mech.joints[i].kind != crate::semantics::mechanism::JointKind::Pa {
         errors.push(
             Diagnostic::new(j.span, format!("`{}` is not a parallelogram", j.text))
                 .label(format!("its type is {}", mech.joints[i].kind.symbol()))
@@ -657,8 +529,14 @@ fn loads(
         let at = match &d.at {
             Some(p) => {
                 let mut found = Vec::new();
-                let point =
-                    crate::geometry::link_point(mech, &geometry.places, &geometry.points, &d.link, p, &mut found);
+                let point = crate::semantics::geometry::link_point(
+                    mech,
+                    &geometry.places,
+                    &geometry.points,
+                    &d.link,
+                    p,
+                    &mut found,
+                );
                 errors.0.extend(found);
                 match point {
                     Some((_, point)) => Some(point),
@@ -735,7 +613,7 @@ mod tests {
 
     /// The messages of every error the text produces, in order.
     fn check(source: &str, expected: &[&str]) {
-        let messages: Vec<String> = match crate::analyze_source(source) {
+        let messages: Vec<String> = match crate::topology::analysis::analyze_source(source) {
             Ok(_) => Vec::new(),
             Err(d) => d.0.into_iter().map(|e| e.message).collect(),
         };
@@ -743,7 +621,9 @@ mod tests {
     }
 
     fn resolved(source: &str) -> MassAndLoads {
-        crate::analyze_source(source).expect("no error").mass_and_loads
+        crate::topology::analysis::analyze_source(source)
+            .expect("no error")
+            .mass_and_loads
     }
 
     const UNITS: &str = "units { length = mm; mass = kg; }";
@@ -951,7 +831,7 @@ mod tests {
 
     #[test]
     fn a_parallelograms_bars_carry_mass() {
-        let a = crate::analyze_source(&with_pa(
+        let a = crate::topology::analysis::analyze_source(&with_pa(
             "masses { Pa bar at (-20, 0, 0) { mass = 0.1 * 2; centroid = (0, 0, m / 2); inertia = (1500, 1500, 10); }
                       Pa bar at (20, 0, 0) { mass = 0.2; centroid = (0, 0, m / 2); } }",
         ))

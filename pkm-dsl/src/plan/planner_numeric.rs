@@ -1,7 +1,7 @@
 //! The forward plan of a κ = 1 mechanism with one virtual variable
 //! (capability `fk_numeric`, [`pkm_runtime::fk_numeric`]): one joint of the
 //! coupled SKC's SOCs is given as if it were an input, the closed-form
-//! planner ([`crate::planner`]) solves the rest, and the one check the plan
+//! planner ([`crate::plan::planner`]) solves the rest, and the one check the plan
 //! cannot make hold by construction is the compatibility residual.
 //!
 //! The candidates are the joints of the coupled SKC's SOCs that
@@ -23,9 +23,9 @@
 //! residual is its computed value less its given one
 //! ([`Compatibility::Input`]).
 
-use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::screw::SplitMix;
+use crate::topology::analysis::Analysis;
+use crate::topology::screw::SplitMix;
 use pkm_runtime::fk_numeric::{self, Compatibility, VirtualPlan};
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::plan::{Check, Plan, Step};
@@ -83,7 +83,7 @@ pub fn forward_numeric_plan(a: &Analysis) -> Result<VirtualPlan, Diagnostics> {
     let t = &a.topology;
     let refuse = |msg: String| -> Diagnostics { refusal(a, msg) };
     let coupled: Vec<_> = t.skcs.iter().filter(|s| s.kappa > 0).collect();
-    let model = crate::numeric::model(a, &HashMap::new())?;
+    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
     let skc = coupled[0];
     let mut socs: Vec<usize> = skc.socs.clone().collect();
     socs.sort_by_key(|&j| t.socs[j].delta <= 0);
@@ -146,7 +146,7 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize, dropped: Option<usize>) -
     }
     given[v] = Some(n);
     inputs.push(v);
-    let mut plan: Plan = crate::planner::solve(a, model, given, vec![], &[], n + 1, inputs, "forward")
+    let mut plan: Plan = crate::plan::planner::solve(a, model, given, vec![], &[], n + 1, inputs, "forward")
         .map_err(|_| "no closed-form plan")?;
     // Every link is read (the residual is checked on the whole solution).
     plan.check_by_miss(model, &vec![true; model.links.len()]);

@@ -1,9 +1,9 @@
 //! The solution type and the solvers on the mechanism's own type
 //! (`Name::fk`, `fk_branch`, `fk_follow` and their `ik` twins): each
-//! prepares the solver at the given parameters ([`crate::codegen_solver`])
+//! prepares the solver at the given parameters ([`crate::codegen::solver`])
 //! and calls it.
 
-use crate::analysis::Analysis;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::plan::Plan;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -29,12 +29,12 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
     let revolute: Vec<bool> = m
         .joints
         .iter()
-        .map(|j| j.kind != crate::mechanism::JointKind::P)
+        .map(|j| j.kind != crate::semantics::mechanism::JointKind::P)
         .collect();
     let ball_names: Vec<&str> = m
         .joints
         .iter()
-        .filter(|j| j.kind == crate::mechanism::JointKind::S)
+        .filter(|j| j.kind == crate::semantics::mechanism::JointKind::S)
         .map(|j| j.name.as_str())
         .collect();
     let n_balls = ball_names.len();
@@ -53,10 +53,16 @@ pub fn solution_items(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visib
         .flat_map(|o| {
             let n = o.names.len();
             (0..n).map(move |i| match &o.kind {
-                crate::geometry::OutputKind::Pose { about, .. } => i == 3 || (m.planar && i == 2 && about.is_none()),
-                crate::geometry::OutputKind::Point { .. } => false,
-                crate::geometry::OutputKind::Parts { parts, .. } => parts.given().nth(i).is_some_and(|p| p >= 3),
-                crate::geometry::OutputKind::Joint(j) => m.joints[*j].kind != crate::mechanism::JointKind::P,
+                crate::semantics::geometry::OutputKind::Pose { about, .. } => {
+                    i == 3 || (m.planar && i == 2 && about.is_none())
+                }
+                crate::semantics::geometry::OutputKind::Point { .. } => false,
+                crate::semantics::geometry::OutputKind::Parts { parts, .. } => {
+                    parts.given().nth(i).is_some_and(|p| p >= 3)
+                }
+                crate::semantics::geometry::OutputKind::Joint(j) => {
+                    m.joints[*j].kind != crate::semantics::mechanism::JointKind::P
+                }
             })
         })
         .collect();
@@ -131,7 +137,7 @@ pub fn generate(a: &Analysis, plan: &Plan, ident: &proc_macro2::Ident, direction
         ),
     };
     let n_solutions = 1usize << n_branches;
-    let conventions = crate::codegen_solver::conventions_doc(a, plan);
+    let conventions = crate::codegen::solver::conventions_doc(a, plan);
 
     let value_names: Vec<String> = match direction {
         Direction::Forward => inputs.iter().map(|&j| m.joints[j].name.clone()).collect(),

@@ -3,9 +3,15 @@
 //! requested capabilities need, and emit the type. Nothing is generated for
 //! a capability that was not requested.
 
-use crate::analysis::Analysis;
+pub(crate) mod emit;
+mod motion;
+mod solution;
+mod solver;
+pub(crate) mod trace;
+
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::mechanism::Capability;
+use crate::semantics::mechanism::Capability;
+use crate::topology::analysis::Analysis;
 use proc_macro2::{Span as PmSpan, TokenStream};
 use quote::{format_ident, quote};
 use syn::parse::{Parse, ParseStream};
@@ -100,7 +106,7 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
         }
     };
     // The pipeline (parse, model, geometry, topology, plans): `crate::compile`.
-    let compiled = crate::compile(&text).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
+    let compiled = crate::compile::compile(&text).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
     let checks = check_capabilities(&compiled.analysis);
     if !checks.is_empty() {
         return Err(to_syn(&checks, &text, &file_name, lit.span()));
@@ -146,8 +152,8 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
             dynamics_needs(a, *span, &mut errors);
         }
         if *cap == Capability::FkNumeric {
-            let planned = crate::planner_numeric::coupling(a).and_then(|()| match a.geometry.complete {
-                true => crate::planner_numeric::forward_numeric_plan(a).map(|_| ()),
+            let planned = crate::plan::planner_numeric::coupling(a).and_then(|()| match a.geometry.complete {
+                true => crate::plan::planner_numeric::forward_numeric_plan(a).map(|_| ()),
                 false => Ok(()),
             });
             if let Err(d) = planned {
@@ -196,7 +202,7 @@ fn dynamics_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Dia
             .label("no `units`"),
         );
     }
-    let missing = crate::numeric::links_without_mass(a);
+    let missing = crate::lowering::numeric::links_without_mass(a);
     if !missing.is_empty() {
         errors.push(
             Diagnostic::new(
@@ -230,7 +236,7 @@ fn stiffness_reference_needs(a: &Analysis, span: crate::diagnostics::Span, error
         );
         return;
     };
-    let Ok(model) = crate::numeric::model(a, &Default::default()) else {
+    let Ok(model) = crate::lowering::numeric::model(a, &Default::default()) else {
         return;
     };
     if let Err(e) = pkm_runtime::wrench::limbs(&model, link) {
@@ -311,12 +317,16 @@ fn stiffness_needs(a: &Analysis, span: crate::diagnostics::Span, errors: &mut Di
     }
 }
 
-fn generate(input: &MacroInput, compiled: &crate::Compiled, include: Option<&str>) -> Result<TokenStream, Diagnostics> {
+fn generate(
+    input: &MacroInput,
+    compiled: &crate::compile::Compiled,
+    include: Option<&str>,
+) -> Result<TokenStream, Diagnostics> {
     let a = &compiled.analysis;
     let topology = topology_items(input, a, include);
     let params = parameter_struct(input, a);
     let mut solvers = solver_items(input, compiled)?;
-    solvers.push(crate::codegen_motion::generate(a, &input.ident)?);
+    solvers.push(crate::codegen::motion::generate(a, &input.ident)?);
     Ok(quote! {
         #topology
         #params
@@ -461,13 +471,13 @@ fn source_const(rel: &str) -> TokenStream {
 
 /// The solvers, when asked for and the geometry is there: the solution
 /// types, the prepared solvers, and the functions of each direction.
-fn solver_items(input: &MacroInput, compiled: &crate::Compiled) -> Result<Vec<TokenStream>, Diagnostics> {
+fn solver_items(input: &MacroInput, compiled: &crate::compile::Compiled) -> Result<Vec<TokenStream>, Diagnostics> {
     let a = &compiled.analysis;
     let m = &a.mechanism;
     let MacroInput { vis, ident, .. } = input;
     let mut solvers = Vec::new();
     if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
-        use crate::codegen_solution::Direction;
+        use crate::codegen::solution::Direction;
         let fk = if m.wants(Capability::Fk) {
             Some(compiled.forward()?)
         } else {
@@ -493,8 +503,8 @@ fn solver_items(input: &MacroInput, compiled: &crate::Compiled) -> Result<Vec<To
                 .into());
             }
         }
-        solvers.push(crate::codegen_solution::solution_items(a, ident, vis));
-        let prepared = crate::codegen_solver::generate(a, ident, vis, fk, ik).map_err(|e| {
+        solvers.push(crate::codegen::solution::solution_items(a, ident, vis));
+        let prepared = crate::codegen::solver::generate(a, ident, vis, fk, ik).map_err(|e| {
             Diagnostic::new(
                 m.name_span(),
                 format!("internal error: the solver's steps failed on symbols: {e}"),
@@ -503,12 +513,12 @@ fn solver_items(input: &MacroInput, compiled: &crate::Compiled) -> Result<Vec<To
         solvers.push(prepared);
         for (plan, direction) in [(fk, Direction::Forward), (ik, Direction::Inverse)] {
             let Some(plan) = plan else { continue };
-            solvers.push(crate::codegen_solution::generate(a, plan, ident, direction));
+            solvers.push(crate::codegen::solution::generate(a, plan, ident, direction));
         }
     }
     if a.geometry.complete && m.wants(Capability::FkNumeric) && a.topology.kappa == 1 {
-        let vp = crate::planner_numeric::forward_numeric_plan(a)?;
-        let items = crate::codegen_solver::numeric::generate(a, ident, vis, &vp).map_err(|e| {
+        let vp = crate::plan::planner_numeric::forward_numeric_plan(a)?;
+        let items = crate::codegen::solver::numeric::generate(a, ident, vis, &vp).map_err(|e| {
             Diagnostic::new(
                 m.name_span(),
                 format!("internal error: the virtual plan's steps failed on symbols: {e}"),
@@ -541,10 +551,10 @@ fn parameter_struct(input: &MacroInput, a: &Analysis) -> TokenStream {
     // constant, so that user crates stay quiet.
     let value = |v: f64| {
         if v < 0.0 {
-            let l = crate::emit::lit(-v);
+            let l = crate::codegen::emit::lit(-v);
             quote! { -#l }
         } else {
-            crate::emit::lit(v)
+            crate::codegen::emit::lit(v)
         }
     };
     let defaults = params.iter().map(|p| {
@@ -584,7 +594,7 @@ mod tests {
     /// The messages `check_capabilities` gives for a four-bar's capability list.
     fn check(capabilities: &str, want: &[&str]) {
         let text = format!("mechanism m {{ capabilities {capabilities}; planar; base R1* ∥ R2 ∥ R3 ∥ R4 base; }}");
-        let a = crate::analyze_source(&text).unwrap();
+        let a = crate::topology::analysis::analyze_source(&text).unwrap();
         let got: Vec<String> = super::check_capabilities(&a)
             .0
             .iter()
@@ -604,7 +614,7 @@ mod tests {
 
     /// What `check_capabilities` says of a whole text: line, column and message of each error.
     fn check_text(text: &str, want: &[(usize, usize, &str)]) {
-        let a = crate::analyze_source(text).unwrap();
+        let a = crate::topology::analysis::analyze_source(text).unwrap();
         let got: Vec<(usize, usize, String)> = super::check_capabilities(&a)
             .0
             .into_iter()

@@ -2,10 +2,10 @@
 //! the numeric model the interpreter and Newton's method run on ([`model`]),
 //! and the declared outputs for Newton's inverse solution ([`newton_outputs`]).
 
-use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::limb_properties::{LegStiffness, LimbValue, ResolvedLimb, KEYS};
-use crate::mechanism::JointKind;
+use crate::semantics::limb_properties::{LegStiffness, LimbValue, ResolvedLimb, KEYS};
+use crate::semantics::mechanism::JointKind;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::{Joint, JointType, Model, NamedPoint};
 use std::collections::HashMap;
 
@@ -16,7 +16,7 @@ pub fn newton_outputs(
     model: &Model,
     values: &HashMap<String, f64>,
 ) -> Result<Vec<pkm_runtime::newton::Output>, Diagnostics> {
-    use crate::geometry::OutputKind;
+    use crate::semantics::geometry::OutputKind;
     use pkm_runtime::newton::Output;
     // Derived parameters follow the overrides, as in `model`.
     let all = parameter_values(a, values)?;
@@ -33,7 +33,7 @@ pub fn newton_outputs(
                     link: *link,
                     local: local(*point, *link)?,
                     about: match about {
-                        Some(k) => Some(crate::geometry::eval_vec3(k, &all)),
+                        Some(k) => Some(crate::semantics::geometry::eval_vec3(k, &all)),
                         None if a.mechanism.planar => Some([0.0, 0.0, 1.0]),
                         None => None,
                     },
@@ -65,16 +65,16 @@ pub fn parameter_values(a: &Analysis, values: &HashMap<String, f64>) -> Result<H
     if let Some(k) = values.keys().find(|k| !g.parameters.iter().any(|p| &p.name == *k)) {
         return Err(Diagnostic::global(format!("unknown parameter `{k}`")).into());
     }
-    let definitions: Vec<crate::expr::Definition> = g
+    let definitions: Vec<crate::syntax::expr::Definition> = g
         .parameters
         .iter()
-        .map(|p| crate::expr::Definition {
+        .map(|p| crate::syntax::expr::Definition {
             name: &p.name,
             span: p.span,
             expr: &p.expr,
         })
         .collect();
-    let (params, errors) = crate::expr::resolve(&definitions, values);
+    let (params, errors) = crate::syntax::expr::resolve(&definitions, values);
     Diagnostics(errors).into_result(params)
 }
 
@@ -91,7 +91,7 @@ pub fn model(a: &Analysis, values: &HashMap<String, f64>) -> Result<Model, Diagn
         );
     }
     let params = parameter_values(a, values)?;
-    let eval = |v: &crate::geometry::Vec3| crate::geometry::eval_vec3(v, &params);
+    let eval = |v: &crate::semantics::geometry::Vec3| crate::semantics::geometry::eval_vec3(v, &params);
     let mut joints = Vec::new();
     for (j, joint) in m.joints.iter().enumerate() {
         let kind = match joint.kind {
@@ -159,7 +159,7 @@ pub fn loading(
     model: &Model,
     values: &HashMap<String, f64>,
 ) -> Result<pkm_runtime::mass_properties::Loading, Diagnostics> {
-    use crate::mass_and_loads::Inertia;
+    use crate::semantics::mass_and_loads::Inertia;
     use nalgebra::Vector3;
     use pkm_runtime::mass_properties::{Body, Carrier, Loading, PointLoad};
     let d = &a.mass_and_loads;
@@ -184,8 +184,8 @@ pub fn loading(
         .into());
     }
     let all = parameter_values(a, values)?;
-    let eval = |e: &crate::expr::Expr| e.eval(&all);
-    let vec3 = |v: &[crate::expr::Expr; 3]| Vector3::new(eval(&v[0]), eval(&v[1]), eval(&v[2]));
+    let eval = |e: &crate::syntax::expr::Expr| e.eval(&all);
+    let vec3 = |v: &[crate::syntax::expr::Expr; 3]| Vector3::new(eval(&v[0]), eval(&v[1]), eval(&v[2]));
     let not_finite = |what: String| {
         Diagnostics::from(Diagnostic::new(
             span,
@@ -201,8 +201,8 @@ pub fn loading(
     // Every body, a link's or a parallelogram bar's, in the runtime's units.
     let body = |carrier: Carrier,
                 who: String,
-                mass: &crate::expr::Expr,
-                centroid: &[crate::expr::Expr; 3],
+                mass: &crate::syntax::expr::Expr,
+                centroid: &[crate::syntax::expr::Expr; 3],
                 inertia: &Inertia|
      -> Result<Body, Diagnostics> {
         let mass = eval(mass);
@@ -215,10 +215,10 @@ pub fn loading(
             Inertia::Principal(e) => e.iter().map(eval).collect(),
             Inertia::Full(e) => e.iter().map(eval).collect(),
         };
-        if let Some(problem) = crate::mass_and_loads::inertia_problem(&moments) {
+        if let Some(problem) = crate::semantics::mass_and_loads::inertia_problem(&moments) {
             return Err(Diagnostic::new(span, format!("{who}: {problem} at these parameters")).into());
         }
-        let inertia = crate::mass_and_loads::inertia_tensor(&moments);
+        let inertia = crate::semantics::mass_and_loads::inertia_tensor(&moments);
         let centroid = vec3(centroid);
         if centroid.iter().any(|x| !x.is_finite()) {
             return Err(not_finite(format!("the centroid of {who}")));

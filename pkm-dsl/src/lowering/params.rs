@@ -2,7 +2,7 @@
 //! report's `--param name=value`): checked once, here, before any model is
 //! built, so that every caller refuses the same inputs with the same reasons.
 
-use crate::Analysis;
+use crate::topology::analysis::Analysis;
 use std::collections::HashMap;
 
 /// Why a list of parameter overrides is refused.
@@ -105,7 +105,7 @@ mod tests {
 
     /// The overrides of `given` on `text`: their values sorted by name, or the error's text.
     fn check(text: &str, given: &[(&str, f64)], expect: Result<&[(&str, f64)], &str>) {
-        let a = crate::analyze_source(text).unwrap();
+        let a = crate::topology::analysis::analyze_source(text).unwrap();
         let given: Vec<(String, f64)> = given.iter().map(|(k, v)| (k.to_string(), *v)).collect();
         let got = overrides(&a, &given).map(|m| {
             let mut v: Vec<(String, f64)> = m.into_iter().collect();

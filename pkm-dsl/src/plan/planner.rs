@@ -10,9 +10,9 @@
 //! `pkm_runtime::steps`; `steps::FIND_ORDER` is the order they are tried
 //! in. No mechanism is named here.
 
-use crate::analysis::Analysis;
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::geometry::OutputKind;
+use crate::semantics::geometry::OutputKind;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::Model;
 use pkm_runtime::plan::{self, Plan, Step, Turn};
 use pkm_runtime::solution::PointRef;
@@ -102,7 +102,7 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         }
         return Err(d.into());
     }
-    let model = crate::numeric::model(a, &HashMap::new())?;
+    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
     let inputs = model.inputs();
     let mut given = vec![None; model.joints.len()];
     for (i, &j) in inputs.iter().enumerate() {
@@ -133,7 +133,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                 .into(),
         );
     }
-    let model = crate::numeric::model(a, &HashMap::new())?;
+    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
     let nominal = a.geometry.nominal();
     let mut given = vec![None; model.joints.len()];
     let mut start = Vec::new();
@@ -144,7 +144,7 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         match &o.kind {
             OutputKind::Pose { link, point, about } => {
                 let turn = match about {
-                    Some(k) => Turn::About(crate::geometry::eval_vec3(k, &nominal)),
+                    Some(k) => Turn::About(crate::semantics::geometry::eval_vec3(k, &nominal)),
                     None if planar => Turn::About([0.0, 0.0, 1.0]),
                     None => Turn::Fixed,
                 };

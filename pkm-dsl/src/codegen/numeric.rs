@@ -1,5 +1,5 @@
 //! Generated forward solution of a κ = 1 mechanism by one virtual variable
-//! (capability `fk_numeric`, [`crate::planner_numeric`]): the virtual
+//! (capability `fk_numeric`, [`crate::plan::planner_numeric`]): the virtual
 //! plan's steps traced on symbols like every other solver's and written
 //! out as straight-line Rust, in a prepared type of their own
 //! (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`):
@@ -10,9 +10,9 @@
 //! (`pkm::runtime::fk_numeric::solve_with`) on them.
 
 use super::{branch, geometry, loop_names, xyz};
-use crate::analysis::Analysis;
-use crate::emit::Emit;
-use crate::trace::{record, Choice};
+use crate::codegen::emit::Emit;
+use crate::codegen::trace::{record, Choice};
+use crate::topology::analysis::Analysis;
 use pkm_runtime::fk_numeric::{Compatibility, VirtualPlan};
 use pkm_runtime::steps::RESIDUAL_ROWS;
 use proc_macro2::TokenStream;
@@ -56,7 +56,7 @@ pub(crate) fn generate(
         .filter(|&i| emit.constant(b.residual[i]) != Some(0.0))
         .map(|i| b.residual[i])
         .collect();
-    let guards = |roots: &[crate::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
+    let guards = |roots: &[crate::codegen::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
     let (residual_lets, residual_expr) = emit.straight(&[residual], &guards(&[residual]));
     let residual_expr = match input {
         Some(i) => of_input(&residual_expr[0], i),
@@ -79,7 +79,7 @@ pub(crate) fn generate(
     let n_given = plan.n_inputs;
     let n_inputs = n_given - 1;
     let n_choices = plan.branches;
-    let model = crate::numeric::model(a, &Default::default()).map_err(|d| format!("{d:?}"))?;
+    let model = crate::lowering::numeric::model(a, &Default::default()).map_err(|d| format!("{d:?}"))?;
     let zero = pkm_runtime::fk_numeric::zero_of(&model);
     let scale = pkm_runtime::kinematics::model_scale(&model);
     let [lo, hi] = vp.range;

@@ -1,8 +1,8 @@
 //! What the static stiffness model reads besides the geometry: each limb's
 //! leg properties, declared per `branch` in a `limbs { … }` block
 //! (`crate::syntax::limbs`), checked against the mechanism when the file is
-//! analysed ([`check`], kept as expressions in [`crate::Analysis::limbs`])
-//! and evaluated at a parameter set ([`crate::numeric::limb_properties`]).
+//! analysed ([`check`], kept as expressions in [`crate::topology::analysis::Analysis::limbs`])
+//! and evaluated at a parameter set ([`crate::lowering::numeric::limb_properties`]).
 //!
 //! A limb is a branch of the file that is one serial leg from the base to
 //! the platform. Its leg is given either by its material and section,
@@ -35,10 +35,10 @@
 //! assert_eq!(limbs[2].actuator, Some(2.0e5));
 //! ```
 
-use crate::ast::Name;
 use crate::diagnostics::{Diagnostic, Diagnostics, Span};
-use crate::geometry::Geometry;
-use crate::mechanism::{suggest, JointKind, Mechanism};
+use crate::semantics::geometry::Geometry;
+use crate::semantics::mechanism::{suggest, JointKind, Mechanism};
+use crate::syntax::ast::Name;
 pub use crate::syntax::limbs::{LimbDecl, LimbValue};
 use std::collections::HashMap;
 
@@ -449,9 +449,9 @@ fn actuator_is_a_slide(mech: &Mechanism, i: usize, actuated: &[usize], at: Span,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expr::Expr;
-    use crate::numeric::limb_properties;
-    use crate::Analysis;
+    use crate::lowering::numeric::limb_properties;
+    use crate::syntax::expr::Expr;
+    use crate::topology::analysis::Analysis;
 
     /// A 3-RPS topology with units and two parameters; `limbs` is line 7.
     fn rps(limbs: &str) -> String {
@@ -469,7 +469,7 @@ mod tests {
 
     /// Every error the text produces, in order: line, column and message.
     fn check(source: &str, expected: &[(usize, usize, &str)]) {
-        let got: Vec<(usize, usize, String)> = match crate::analyze_source(source) {
+        let got: Vec<(usize, usize, String)> = match crate::topology::analysis::analyze_source(source) {
             Ok(_) => Vec::new(),
             Err(d) => d.0.into_iter().map(|e| at(source, e)).collect(),
         };
@@ -483,7 +483,7 @@ mod tests {
     }
 
     fn analysis(source: &str) -> Analysis {
-        crate::analyze_source(source).expect("no error")
+        crate::topology::analysis::analyze_source(source).expect("no error")
     }
 
     /// The errors of [`limb_properties`] at parameter overrides, as [`check`] gives them.
@@ -643,7 +643,9 @@ units { length = mm; mass = kg; } limbs { R1 { axial = 1; bending = 2; } } }",
                 (7, 45, "unknown limb property `e`"),
             ],
         );
-        let notes = crate::analyze_source(&source).unwrap_err().0[2].notes.clone();
+        let notes = crate::topology::analysis::analyze_source(&source).unwrap_err().0[2]
+            .notes
+            .clone();
         assert!(notes.contains(&"did you mean `E`?".to_string()), "{notes:?}");
     }
 

@@ -7,7 +7,7 @@
 //! (one node per distinct expression), and each node knows whether it
 //! depends on the solver's given values or on the parameters alone: the
 //! latter are computed once, when the solver is prepared. The emitter
-//! ([`crate::emit`]) writes the recorded graph out as straight-line Rust.
+//! ([`crate::codegen::emit`]) writes the recorded graph out as straight-line Rust.
 
 use pkm_runtime::primitives::{Error as GeomError, Sign};
 use pkm_runtime::scalar::Scalar;

@@ -1,15 +1,15 @@
 //! The prepared solver: the plan's steps (`pkm_runtime::steps`) run on
-//! symbols ([`crate::trace`]) and written out as straight-line Rust
-//! ([`crate::emit`]). `Name::prepare(&params)` computes once what depends on
+//! symbols ([`crate::codegen::trace`]) and written out as straight-line Rust
+//! ([`crate::codegen::emit`]). `Name::prepare(&params)` computes once what depends on
 //! the parameters alone; `fk_branch`, `fk` (every branch, sharing what the
 //! branches share), `fk_solution` and their `ik` twins compute the rest.
 
-use crate::analysis::Analysis;
-use crate::emit::Emit;
-use crate::expr::Expr;
-use crate::geometry::{OutputKind, Vec3};
-use crate::mechanism::JointKind;
-use crate::trace::{record, Choice, Sym};
+use crate::codegen::emit::Emit;
+use crate::codegen::trace::{record, Choice, Sym};
+use crate::semantics::geometry::{OutputKind, Vec3};
+use crate::semantics::mechanism::JointKind;
+use crate::syntax::expr::Expr;
+use crate::topology::analysis::Analysis;
 use pkm_runtime::model::JointType;
 use pkm_runtime::plan::Plan;
 use pkm_runtime::primitives::Sign;
@@ -19,13 +19,13 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 // A child module: it reads this one's traced branches.
-#[path = "codegen_batch.rs"]
+#[path = "batch.rs"]
 mod batch;
-#[path = "codegen_dynamics.rs"]
+#[path = "dynamics.rs"]
 mod dynamics;
-#[path = "codegen_numeric.rs"]
+#[path = "numeric.rs"]
 pub(crate) mod numeric;
-#[path = "codegen_stiffness.rs"]
+#[path = "stiffness.rs"]
 mod stiffness;
 
 /// A parameter expression as a symbol: arithmetic traced, anything else
@@ -138,7 +138,7 @@ fn branch(
         name: &name,
         sites,
     };
-    crate::trace::take_guards();
+    crate::codegen::trace::take_guards();
     let state = steps::run(plan, g, m.links.len(), &given).map_err(|e| e.to_string())?;
     // Names for the generated code's variables.
     for (l, pose) in state.poses.iter().enumerate() {
@@ -232,7 +232,7 @@ fn branch(
         }
     }
     let choices = steps::choice_values(plan, &state);
-    let guards = crate::trace::take_guards();
+    let guards = crate::codegen::trace::take_guards();
     let checks = plan.checks(m.joints.len());
     // The largest coordinate of the origins of the links the results need, at least 1.
     let origins: Vec<[Sym; 3]> = state.poses.iter().map(|p| p.t).collect();
@@ -357,15 +357,17 @@ pub fn generate(
                 })
                 .collect::<Result<_, _>>()?;
             // Rates and Jacobians only where the description asks for them.
-            use crate::mechanism::Capability;
+            use crate::semantics::mechanism::Capability;
             let m = &a.mechanism;
             let wanted = [Capability::Jacobian, Capability::Velocity, Capability::Acceleration]
                 .iter()
                 .any(|c| m.wants(*c));
             let (rates, jacobian) = if wanted {
-                let rates = crate::trace::derivative(&given.result, &Sym::rate);
+                let rates = crate::codegen::trace::derivative(&given.result, &Sym::rate);
                 let jacobian = (0..plan.n_inputs)
-                    .map(|k| crate::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 })))
+                    .map(|k| {
+                        crate::codegen::trace::derivative(&given.result, &|i| Sym::c(if i == k { 1.0 } else { 0.0 }))
+                    })
                     .collect();
                 (Some(rates), Some(jacobian))
             } else {
@@ -376,8 +378,8 @@ pub fn generate(
             // differentiated along the accelerations.
             let accelerations = match &rates {
                 Some(rates) if m.wants(Capability::Acceleration) => {
-                    let curvature = crate::trace::derivative(rates, &Sym::rate);
-                    let along = crate::trace::derivative(&given.result, &Sym::accel);
+                    let curvature = crate::codegen::trace::derivative(rates, &Sym::rate);
+                    let along = crate::codegen::trace::derivative(&given.result, &Sym::accel);
                     Some(curvature.iter().zip(&along).map(|(&c, &a)| c + a).collect())
                 }
                 _ => None,
@@ -423,7 +425,7 @@ pub fn generate(
             fns.push(stiffness::items(ident, d));
         }
         // The slice solvers only where the description asks for sweeps.
-        if a.mechanism.wants(crate::mechanism::Capability::Workspace) {
+        if a.mechanism.wants(crate::semantics::mechanism::Capability::Workspace) {
             fns.push(batch::generate(ident, &emit, d));
         }
     }
@@ -480,7 +482,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
     } else {
         quote! { #ident::OUTPUTS }
     };
-    let angular: Vec<bool> = match crate::numeric::model(a, &Default::default()) {
+    let angular: Vec<bool> = match crate::lowering::numeric::model(a, &Default::default()) {
         Ok(model) => d.plan.angular_inputs(&model),
         Err(_) => vec![false; n_given],
     };
@@ -677,7 +679,7 @@ impl Parts<'_> {
         &self,
         f_solution: &proc_macro2::Ident,
         sol_ty: &proc_macro2::Ident,
-        m: &crate::mechanism::Mechanism,
+        m: &crate::semantics::mechanism::Mechanism,
     ) -> TokenStream {
         let Parts {
             emit,

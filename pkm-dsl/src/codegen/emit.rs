@@ -1,4 +1,4 @@
-//! Writes a recorded graph ([`crate::trace`]) out as straight-line Rust.
+//! Writes a recorded graph ([`crate::codegen::trace`]) out as straight-line Rust.
 //!
 //! A node that depends on the parameters alone becomes a slot of the
 //! prepared solver, computed once by `prepare`; a node that depends on the
@@ -6,13 +6,13 @@
 //! written inline where it is used once; a guard becomes an early return
 //! with the step's typed error. Constants are literals.
 
-use crate::trace::{operands, Failure, Graph, Node, Sym};
+use crate::codegen::trace::{operands, Failure, Graph, Node, Sym};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::cell::RefCell;
 use std::collections::HashMap as StdHashMap;
 
-type HashMap<K, V> = StdHashMap<K, V, std::hash::BuildHasherDefault<crate::trace::FastHash>>;
+type HashMap<K, V> = StdHashMap<K, V, std::hash::BuildHasherDefault<crate::codegen::trace::FastHash>>;
 
 /// The emitter of one graph: the prepared slots it has handed out so far.
 pub struct Emit<'g> {
@@ -640,7 +640,7 @@ mod tests {
     /// name, and a number added where two nodes share a name.
     #[test]
     fn prepared_fields_are_named_after_what_they_are() {
-        use crate::trace::{record, Sym};
+        use crate::codegen::trace::{record, Sym};
         use pkm_runtime::scalar::Scalar;
         let (slots, g) = record(|| {
             let (l2, l3) = (Sym::param("l2"), Sym::param("l3"));

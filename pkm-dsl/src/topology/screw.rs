@@ -8,7 +8,7 @@
 //! velocity of the body point at the origin.
 
 use crate::diagnostics::Diagnostic;
-use crate::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
+use crate::semantics::mechanism::{DirectionClasses, DirectionItem, JointKind, Mechanism};
 use nalgebra::{DMatrix, Vector3, Vector6};
 
 /// Singular values below this fraction of the largest count as zero.
@@ -76,7 +76,7 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
     // Perpendicular constraints between classes.
     let mut perp: Vec<Perp> = Vec::new();
     for r in &mech.relations {
-        if r.kind == crate::ast::RelationKind::Perpendicular {
+        if r.kind == crate::syntax::ast::RelationKind::Perpendicular {
             if let (Some(a), Some(b)) = (classes.class_of(r.a), classes.class_of(r.b)) {
                 perp.push((a, b, r.span));
             }
@@ -130,7 +130,7 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
         i
     }
     for r in &mech.relations {
-        if let (crate::ast::RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) =
+        if let (crate::syntax::ast::RelationKind::Coaxial, DirectionItem::Joint(a), DirectionItem::Joint(b)) =
             (r.kind, r.a, r.b)
         {
             let (ra, rb) = (root(&coaxial_root, a), root(&coaxial_root, b));
@@ -146,7 +146,7 @@ pub fn realize(mech: &Mechanism, classes: &DirectionClasses, seed: u64) -> Resul
     let mut points: Vec<Vector3<f64>> = (0..n).map(|j| raw_points[root(&coaxial_root, j)]).collect();
     // Concurrent axes (and those coaxial with them) pass through their
     // group's centre: the centre is the point on each axis.
-    let groups = crate::mechanism::concurrent_groups(&mech.joints, &mech.relations);
+    let groups = crate::semantics::mechanism::concurrent_groups(&mech.joints, &mech.relations);
     let centres: Vec<Vector3<f64>> = (0..groups.iter().flatten().max().map_or(0, |g| g + 1))
         .map(|_| rng.vector())
         .collect();
@@ -608,7 +608,7 @@ mod tests {
     /// (joint names, expected kernel dimension of the whole system, expected loop rank).
     fn check_kernel(source: &str, subsets: &[(&[&str], usize, usize)]) {
         let ast = crate::parse(source).unwrap();
-        let mech = crate::mechanism::build(&ast).unwrap();
+        let mech = crate::semantics::mechanism::build(&ast).unwrap();
         let classes = DirectionClasses::new(&mech.joints, &mech.relations);
         let inst = realize(&mech, &classes, 11).unwrap();
         for (names, nullity, loop_rank) in subsets {

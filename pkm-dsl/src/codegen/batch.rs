@@ -1,7 +1,7 @@
 //! Batch solvers over structure-of-arrays slices: `fk_batch`, `ik_batch`
 //! (the lean result of `fk_branch`, `ik_branch`) and `fk_point_batch`,
 //! `ik_point_batch` (one point of the solution), written from the same
-//! recorded graph as the one-branch solvers ([`crate::emit::Emit::lanes`]).
+//! recorded graph as the one-branch solvers ([`crate::codegen::emit::Emit::lanes`]).
 //!
 //! Each lane is the branch's straight-line body without a return: a guard
 //! clears the lane's flag, the open joints' verification clears it too (the
@@ -13,8 +13,8 @@
 //! are calls, and a body with them runs lane after lane.
 
 use super::{Branch, Direction};
-use crate::emit::Emit;
-use crate::trace::Sym;
+use crate::codegen::emit::Emit;
+use crate::codegen::trace::Sym;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 

@@ -2,7 +2,7 @@
 //! (`analyze_source`), and the topology report `pkm analyze` prints and the
 //! generated type's `REPORT` holds.
 
-use crate::mechanism::Mechanism;
+use crate::semantics::mechanism::Mechanism;
 use crate::topology::{delta_unicode, Topology};
 use std::fmt::Write;
 
@@ -14,12 +14,12 @@ pub struct Analysis {
     /// The topology.
     pub topology: Topology,
     /// Parameters and geometry.
-    pub geometry: crate::geometry::Geometry,
+    pub geometry: crate::semantics::geometry::Geometry,
     /// Units, mass properties, gravity and loads.
-    pub mass_and_loads: crate::mass_and_loads::MassAndLoads,
+    pub mass_and_loads: crate::semantics::mass_and_loads::MassAndLoads,
     /// The declared limbs' properties for the stiffness model, checked, in
     /// branch order (only the branches given in `limbs { … }`).
-    pub limbs: Vec<crate::limb_properties::Limb>,
+    pub limbs: Vec<crate::semantics::limb_properties::Limb>,
 }
 
 impl Analysis {
@@ -32,12 +32,15 @@ impl Analysis {
     /// joint (the link without the guide line), otherwise its first link.
     pub fn point_link(&self, joint: usize) -> usize {
         let links = self.mechanism.joints[joint].links;
-        let guide_first = matches!(self.place(joint, links[0]), crate::geometry::JointPlace::Line(..));
+        let guide_first = matches!(
+            self.place(joint, links[0]),
+            crate::semantics::geometry::JointPlace::Line(..)
+        );
         links[usize::from(guide_first)]
     }
 
     /// Where joint `joint` sits on `link` (one of its two links), in a complete geometry.
-    pub fn place(&self, joint: usize, link: usize) -> &crate::geometry::JointPlace {
+    pub fn place(&self, joint: usize, link: usize) -> &crate::semantics::geometry::JointPlace {
         let side = self.mechanism.joints[joint]
             .links
             .iter()
@@ -192,21 +195,21 @@ impl Analysis {
 /// assert_eq!(a.topology.dof, 2);
 /// ```
 pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
-    let ast = crate::parse(source)?;
-    let mechanism = crate::mechanism::build(&ast)?;
-    let geometry = crate::geometry::build(&ast, &mechanism);
+    let ast = crate::syntax::parser::parse(source)?;
+    let mechanism = crate::semantics::mechanism::build(&ast)?;
+    let geometry = crate::semantics::geometry::build(&ast, &mechanism);
     let topology = crate::topology::analyze(&mechanism);
     // Mass properties, loads and limb properties read the geometry's
     // parameters and points; their errors are reported together.
     let geometry = geometry.and_then(|g| {
-        let declared = crate::mass_and_loads::Declared {
+        let declared = crate::semantics::mass_and_loads::Declared {
             units: &ast.units,
             masses: &ast.masses,
             gravity: &ast.gravity,
             loads: &ast.loads,
         };
-        let masses = crate::mass_and_loads::resolve(declared, &mechanism, &g);
-        let limbs = crate::limb_properties::check(&ast.limbs, !ast.units.is_empty(), &mechanism, &g);
+        let masses = crate::semantics::mass_and_loads::resolve(declared, &mechanism, &g);
+        let limbs = crate::semantics::limb_properties::check(&ast.limbs, !ast.units.is_empty(), &mechanism, &g);
         match (masses, limbs) {
             (Ok(d), Ok(l)) => Ok((g, d, l)),
             (Err(mut e), Err(f)) => {
