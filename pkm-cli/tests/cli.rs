@@ -1794,12 +1794,12 @@ fn every_branch_is_listed_by_number() {
 /// Issue 29, item 8: `pkm analyze` passed files the macro refuses (a
 /// `dynamics` without units or masses, a `stiffness` without limbs, `fk`
 /// on κ ≠ 0). It now reports what `pkm::mechanism!` reports: for every
-/// compile-fail case of tests/ui with its mechanism inline, the errors
-/// trybuild recorded from the compiler (tests/ui/*.stderr), each message
+/// compile-fail case of pkm-macros/tests/ui with its mechanism inline, the errors
+/// trybuild recorded from the compiler (pkm-macros/tests/ui/*.stderr), each message
 /// at the same line and column, exit code 1.
 #[test]
 fn analyze_refuses_what_the_macro_refuses() {
-    let ui = common::root().join("tests/ui");
+    let ui = common::root().join("pkm-macros/tests/ui");
     let mut cases = 0;
     let mut names: Vec<_> = std::fs::read_dir(&ui).unwrap().map(|e| e.unwrap().path()).collect();
     names.sort();

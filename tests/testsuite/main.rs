@@ -43,7 +43,6 @@ mod spatial_generated;
 mod sphere_centres;
 mod stiffness_generated;
 mod trajectory;
-mod ui;
 mod upx_legs;
 mod velocity;
 mod virtual_work;

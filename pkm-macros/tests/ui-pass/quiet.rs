@@ -10,7 +10,7 @@ pkm::mechanism!(pub FourBar, "mechanism four_bar {
 pkm::mechanism!(
     /// Seed 000's mechanism A.
     pub(crate) MechanismA,
-    // trybuild compiles this from target/tests/trybuild/pkm, so the path
+    // trybuild compiles this from target/tests/trybuild/pkm-macros, so the path
     // (relative to that Cargo.toml) climbs back to the repository.
     file = "../../../../examples/mechanisms/seed000_a.pkm"
 );
