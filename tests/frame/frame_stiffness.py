@@ -48,9 +48,7 @@ The JSON input is described in tests/frame/README.md.
 import argparse
 import json
 import math
-import os
 import re
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -60,30 +58,23 @@ PYNITE = "PyNiteFEA==3.2.0"
 NUMPY = "numpy==2.4.6"
 
 
-def bootstrap():
-    """Re-runs this script in target/frame-venv unless the pinned PyNite imports here."""
+def imports():
+    """Whether the pinned PyNite (and NumPy) import here."""
     try:
         from importlib.metadata import version
 
         import numpy  # noqa: F401
         import Pynite  # noqa: F401
 
-        if version("PyNiteFEA") == PYNITE.split("==")[1]:
-            return
+        return version("PyNiteFEA") == PYNITE.split("==")[1]
     except ImportError:
-        pass
-    venv = ROOT / "target" / "frame-venv"
-    python = venv / "bin" / "python"
-    if os.environ.get("PKM_FRAME_VENV_TRIED"):
-        sys.exit(f"{PYNITE} does not import even in the venv {venv}")
-    if not python.exists():
-        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-    subprocess.run([str(python), "-m", "pip", "install", "-q", PYNITE, NUMPY], check=True)
-    os.environ["PKM_FRAME_VENV_TRIED"] = "1"
-    os.execv(str(python), [str(python), __file__, *sys.argv[1:]])
+        return False
 
 
-bootstrap()
+sys.path.insert(0, str(ROOT / "tests"))
+from check_venv import enter  # noqa: E402
+
+enter("frame-venv", [PYNITE, NUMPY], imports)
 
 import numpy as np  # noqa: E402
 from Pynite import FEModel3D  # noqa: E402

@@ -73,27 +73,21 @@ ROOT = Path(__file__).resolve().parents[2]
 MUJOCO = "mujoco==4.0.0"
 
 
-def bootstrap():
-    """Re-runs this script in a venv holding MuJoCo unless it imports here."""
+def imports():
+    """Whether MuJoCo and NumPy import here."""
     try:
         import mujoco  # noqa: F401
         import numpy  # noqa: F401
 
-        return
+        return True
     except ImportError:
-        pass
-    venv = ROOT / "target" / "mujoco-venv"
-    python = venv / "bin" / "python"
-    if os.environ.get("PKM_MUJOCO_VENV_TRIED"):
-        sys.exit("mujoco does not import even in the venv " + str(venv))
-    if not python.exists():
-        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-    subprocess.run([str(python), "-m", "pip", "install", "-q", MUJOCO, "numpy"], check=True)
-    os.environ["PKM_MUJOCO_VENV_TRIED"] = "1"
-    os.execv(str(python), [str(python), str(Path(__file__).resolve()), *sys.argv[1:]])
+        return False
 
 
-bootstrap()
+sys.path.insert(0, str(ROOT / "tests"))
+from check_venv import enter  # noqa: E402
+
+enter("mujoco-venv", [MUJOCO, "numpy"], imports)
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402

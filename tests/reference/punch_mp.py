@@ -57,9 +57,7 @@ Without mpmath importable, it makes a venv under target/ and installs it there.
 """
 
 import csv
-import os
 import re
-import subprocess
 import sys
 from pathlib import Path
 
@@ -68,26 +66,20 @@ FIXTURE = ROOT / "tests" / "fixtures" / "seed003_change_points.csv"
 MPMATH = "mpmath==1.3.0"
 
 
-def bootstrap():
-    """Re-runs this script in a venv holding mpmath unless it imports here."""
+def imports():
+    """Whether mpmath imports here."""
     try:
         import mpmath  # noqa: F401
 
-        return
+        return True
     except ImportError:
-        pass
-    venv = ROOT / "target" / "reference-venv"
-    python = venv / "bin" / "python"
-    if os.environ.get("PKM_REFERENCE_VENV_TRIED"):
-        sys.exit("mpmath does not import even in the venv " + str(venv))
-    if not python.exists():
-        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-    subprocess.run([str(python), "-m", "pip", "install", "-q", MPMATH], check=True)
-    os.environ["PKM_REFERENCE_VENV_TRIED"] = "1"
-    os.execv(str(python), [str(python), __file__, *sys.argv[1:]])
+        return False
 
 
-bootstrap()
+sys.path.insert(0, str(ROOT / "tests"))
+from check_venv import enter  # noqa: E402
+
+enter("reference-venv", [MPMATH], imports)
 
 from mpmath import mp, mpf  # noqa: E402
 
