@@ -147,20 +147,10 @@ pub(crate) fn generate(
         }
         _ => quote! {},
     };
-    let finite = quote! {
-        if !given.iter().all(|v| v.is_finite()) {
-            return ::core::result::Result::Err(#rt::solution::SolveError::BadInput {
-                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-            });
-        }
-    };
+    let finite = super::given_is_finite();
+    let prepared_struct = super::prepared_struct(&doc, vis, &prepared, &fields);
     Ok(quote! {
-        #[doc = #doc]
-        #[derive(Debug, Clone, Copy, PartialEq)]
-        #[allow(non_snake_case)]
-        #vis struct #prepared {
-            #fields
-        }
+        #prepared_struct
 
         #[automatically_derived]
         impl #ident {

@@ -436,13 +436,9 @@ pub fn generate(
         " `{}` prepared at its parameters ([`{ident}::prepare`]): what depends on the dimensions alone, computed once.",
         a.mechanism.name
     );
+    let prepared_struct = prepared_struct(&doc, vis, &prepared, &fields);
     Ok(quote! {
-        #[doc = #doc]
-        #[derive(Debug, Clone, Copy, PartialEq)]
-        #[allow(non_snake_case)]
-        #vis struct #prepared {
-            #fields
-        }
+        #prepared_struct
 
         #[automatically_derived]
         impl #ident {
@@ -456,6 +452,36 @@ pub fn generate(
 
         #(#fns)*
     })
+}
+
+/// The prepared struct of a solver (`NamePrepared`, `NameFkNumeric`): the
+/// named slots `Emit::prepared` computed from the dimensions alone.
+fn prepared_struct(
+    doc: &str,
+    vis: &syn::Visibility,
+    prepared: &proc_macro2::Ident,
+    fields: &TokenStream,
+) -> TokenStream {
+    quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(non_snake_case)]
+        #vis struct #prepared {
+            #fields
+        }
+    }
+}
+
+/// The first check of every generated function that takes `given`: a value
+/// that is not finite is refused before any arithmetic.
+fn given_is_finite() -> TokenStream {
+    quote! {
+        if !given.iter().all(|v| v.is_finite()) {
+            return ::core::result::Result::Err(::pkm::runtime::__private::solution::SolveError::BadInput {
+                what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
+            });
+        }
+    }
 }
 
 /// The prepared functions of one direction: one branch (lean and with the
@@ -498,13 +524,7 @@ fn direction(a: &Analysis, ident: &proc_macro2::Ident, emit: &Emit, d: &Directio
         n_rows: d.given.residual.len(),
         verified: !d.rows.is_empty(),
         given_sig: quote! { given: &[f64; #n_given], signs: [::pkm::runtime::__private::primitives::Sign; #n_choices] },
-        finite: quote! {
-            if !given.iter().all(|v| v.is_finite()) {
-                return ::core::result::Result::Err(::pkm::runtime::__private::solution::SolveError::BadInput {
-                    what: ::std::borrow::Cow::Borrowed("a given value is not finite"),
-                });
-            }
-        },
+        finite: given_is_finite(),
     };
     let lean = parts.lean(&row_owners, &angular, &given_names);
     let solution = parts.solution(
