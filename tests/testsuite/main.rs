@@ -2,8 +2,7 @@
 //! `tests/testsuite/main.rs` pattern: one module per subject, linked once
 //! (`cargo test --test testsuite MODULE::` runs one of them). The helpers
 //! in `tests/common/` are shared with pkm-cli's tests and the benches,
-//! which include them by `#[path]` as well. The generated-code snapshots
-//! (`tests/snapshots.rs`) are their own binary for now.
+//! which include them by `#[path]` as well.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -39,6 +38,7 @@ mod seed000_kinematics;
 mod seed003_dynamics;
 mod seed004;
 mod singularities;
+mod snapshots;
 mod spatial_generated;
 mod sphere_centres;
 mod stiffness_generated;
