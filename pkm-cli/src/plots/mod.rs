@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// The font the PNGs draw text with (DejaVu Sans, in `assets/fonts`), so no
 /// system font library is needed.
-const FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// Above this many points a scatter draws occupied cells instead of points.
 pub const DENSE: usize = 5_000;
