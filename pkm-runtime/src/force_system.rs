@@ -10,7 +10,8 @@
 //! where the matrix lives (heap or stack).
 
 use crate::newton_euler::{DynamicsError, FORCE_SINGULAR};
-use nalgebra::SMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OMatrix, SMatrix};
 
 /// The relative accuracy an answer of inverse dynamics keeps: 6 significant
 /// digits of each force and moment against the largest of its kind.
@@ -149,14 +150,17 @@ fn pseudo_solve_in(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64], r: &mu
 /// ([`reduced_min_norm`]) on its σ_r/σ_1.
 pub const LU_TRUSTED: f64 = 1e-6;
 
-/// The kinematic conditioning of a determined SKC from `bound`, the
-/// [`conditioning_bound`] of its `G` (rows unit, [`unit_rows`]; 0 without
-/// an inverse): the bound where it is [`LEAST_IN_MOTION`] or more (six
-/// digits kept however it moves), else `exact()`, σ_m/σ_1 from `G`'s
+/// The kinematic conditioning of an SKC whose passive rows are
+/// independent, from `bound`, a lower bound of their σ_r/σ_1 (rows unit,
+/// [`unit_rows`]; 0 where there is none): for a determined SKC the
+/// [`conditioning_bound`] of its square `G`, for an overconstrained one
+/// the [`triangular_bound`] of its rows' `R` ([`row_space`]). The bound
+/// where it is [`LEAST_IN_MOTION`] or more (six digits kept however it
+/// moves, no refusal either way), else `exact()`, σ_r/σ_1 from the
 /// singular values, which only then are computed. The runtime's
 /// Newton–Euler and the generated inverse dynamics both report this.
 #[inline]
-pub fn determined_conditioning(bound: f64, exact: impl FnOnce() -> f64) -> f64 {
+pub fn conditioning_from_bound(bound: f64, exact: impl FnOnce() -> f64) -> f64 {
     if bound >= LEAST_IN_MOTION {
         bound
     } else {
@@ -375,6 +379,22 @@ pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The [`conditioning_bound`] of an upper triangular `R` (what lies below
+/// its diagonal is not read), its inverse by back substitution; 0 where a
+/// diagonal entry is 0. `R` of a QR of an SKC's independent passive rows
+/// (`G_pᵀ = Q R`, [`row_space`]) has the rows' singular values, so this is
+/// a lower bound of their σ_P/σ_1 within a factor P, without them.
+pub fn triangular_bound<D: Dim>(r: &OMatrix<f64, D, D>) -> f64
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    let (rows, columns) = r.shape_generic();
+    let upper = r.upper_triangle();
+    upper
+        .solve_upper_triangular(&OMatrix::<f64, D, D>::identity_generic(rows, columns))
+        .map_or(0.0, |inverse| conditioning_bound(upper.as_slice(), inverse.as_slice()))
 }
 
 /// Scales each row of the `m × m` matrix `g` (column-major, as nalgebra
@@ -859,6 +879,21 @@ mod tests {
         let bound = conditioning_bound(&[2.0, 0.0, 0.0, 1.0], &[0.5, 0.0, 0.0, 1.0]);
         assert!((bound - 0.4).abs() < 1e-15, "{bound}");
         assert_eq!(conditioning_bound(&[1.0], &[f64::INFINITY]), 0.0);
+    }
+
+    /// R = [[1, 1], [0, 1]]: ‖R‖_F = √3, R⁻¹ = [[1, −1], [0, 1]], ‖R⁻¹‖_F
+    /// = √3, the bound 1/3, below σ_2/σ_1 = (3 − √5)/2 (σ_1σ_2 = 1, σ_1² +
+    /// σ_2² = 3); what lies below the diagonal is not read; a zero on the
+    /// diagonal gives 0.
+    #[test]
+    fn a_bound_from_a_triangular_factor() {
+        let r = nalgebra::Matrix2::new(1.0, 1.0, 7.0, 1.0);
+        let bound = triangular_bound(&r);
+        assert!((bound - 1.0 / 3.0).abs() < 1e-15, "{bound}");
+        assert!(bound <= (3.0 - 5f64.sqrt()) / 2.0);
+        assert_eq!(triangular_bound(&nalgebra::Matrix2::new(1.0, 1.0, 0.0, 0.0)), 0.0);
+        let dynamic = nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 0.0, 1.0]);
+        assert!((triangular_bound(&dynamic) - 1.0 / 3.0).abs() < 1e-15);
     }
 
     #[test]
