@@ -545,44 +545,68 @@ fn shortest<const N: usize>(
 
 /// The rows of an SKC's reduced matrix `G` that are not zero, its `P`
 /// passive rows (`M` numbers each, `P ≤ M`), as `G_pᵀ = Q R` by Householder
-/// reflections: `Q` (`M × M`, orthogonal, by columns), whose first `P`
-/// columns span the rows and whose others span `G`'s null space, and `R`
-/// (`P × P`, upper triangular), whose singular values are `G`'s nonzero
-/// ones. A zero column leaves its reflection out (and `R` singular).
-pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> ([[f64; M]; M], SMatrix<f64, P, P>) {
+/// reflections: `Q` (`M × M`, orthogonal, [`Reflections`]), whose first
+/// `P` columns span the rows and whose others span `G`'s null space, and
+/// `R` (`P × P`, upper triangular), whose singular values are `G`'s
+/// nonzero ones. A zero column leaves its reflection out (and `R` singular).
+pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> (Reflections<M, P>, SMatrix<f64, P, P>) {
     let mut a = *rows;
-    let mut axes = [[0.0f64; M]; P];
-    let mut used = [false; P];
+    let mut q = Reflections {
+        axes: [[0.0f64; M]; P],
+        scales: [0.0f64; P],
+    };
     for k in 0..P {
         let norm = a[k][k..].iter().map(|v| v * v).sum::<f64>().sqrt();
         let alpha = if a[k][k] > 0.0 { -norm } else { norm };
-        let v = &mut axes[k];
+        let v = &mut q.axes[k];
         v[k..].copy_from_slice(&a[k][k..]);
         v[k] -= alpha;
         let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
         if vv.is_nan() || vv <= 0.0 {
             continue;
         }
-        used[k] = true;
+        let scale = 2.0 / vv;
+        q.scales[k] = scale;
         // a_j ← a_j − 2 v (v·a_j)/(v·v) for the columns from k on.
         for column in a[k..].iter_mut() {
-            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
+            let f = scale * (k..M).map(|i| v[i] * column[i]).sum::<f64>();
             (k..M).for_each(|i| column[i] -= f * v[i]);
         }
     }
     let r = SMatrix::<f64, P, P>::from_fn(|i, j| if i <= j { a[j][i] } else { 0.0 });
-    // Q = H_0 H_1 ⋯ H_{P−1}: each column of the identity reflected, last reflection first.
-    let mut q = [[0.0f64; M]; M];
-    for (j, column) in q.iter_mut().enumerate() {
-        column[j] = 1.0;
-        for k in (0..P).rev().filter(|&k| used[k]) {
-            let v = &axes[k];
-            let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
-            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
-            (k..M).for_each(|i| column[i] -= f * v[i]);
+    (q, r)
+}
+
+/// `Q = H_0 H_1 ⋯ H_{P−1}` of [`row_space`], kept as its reflections:
+/// `Q x` costs `P` of them, where forming `Q` costs `M`.
+#[derive(Debug, Clone, Copy)]
+pub struct Reflections<const M: usize, const P: usize> {
+    /// Per reflection `k`, its axis `v` (zero before `k`).
+    axes: [[f64; M]; P],
+    /// Per reflection, `2/(v·v)`; 0 for one left out.
+    scales: [f64; P],
+}
+
+impl<const M: usize, const P: usize> Reflections<M, P> {
+    /// `x ← Q x`: the last reflection first.
+    pub fn apply(&self, x: &mut [f64; M]) {
+        for k in (0..P).rev() {
+            let (v, scale) = (&self.axes[k], self.scales[k]);
+            if scale == 0.0 {
+                continue;
+            }
+            let f = scale * (k..M).map(|i| v[i] * x[i]).sum::<f64>();
+            (k..M).for_each(|i| x[i] -= f * v[i]);
         }
     }
-    (q, r)
+
+    /// Column `j` of `Q`.
+    pub fn column(&self, j: usize) -> [f64; M] {
+        let mut e = [0.0f64; M];
+        e[j] = 1.0;
+        self.apply(&mut e);
+        e
+    }
 }
 
 /// [`reduced_min_norm`] where `G`'s `P` passive rows have full rank (the
@@ -594,7 +618,7 @@ pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> ([[f64
 /// is `LU_TRUSTED` or below.
 #[allow(clippy::too_many_arguments)]
 pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const K: usize>(
-    basis: &[[f64; M]; M],
+    basis: &Reflections<M, P>,
     r: &SMatrix<f64, P, P>,
     conditioning: f64,
     q: &[f64; M],
@@ -614,8 +638,11 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
         let known: f64 = (0..i).map(|k| r[(k, i)] * z[k]).sum();
         z[i] = (q[i] - known) / r[(i, i)];
     }
-    let y: [f64; M] = std::array::from_fn(|row| (0..P).map(|i| basis[i][row] * z[i]).sum());
-    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis[P + i]));
+    // y = Q₁ z = Q (z, 0).
+    let mut y = [0.0f64; M];
+    y[..P].copy_from_slice(&z);
+    basis.apply(&mut y);
+    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis.column(P + i)));
     *x = c(&y);
     x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
     Ok(shortest(x, &mut null, actuated, size, skc)?.then_some(Solved {
@@ -786,7 +813,8 @@ mod tests {
     /// the shortest y on 3a + 4b = 10 is (1.2, 1.6).
     #[test]
     fn a_row_space_by_householder() {
-        let (q, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
+        let (reflections, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
+        let q = [reflections.column(0), reflections.column(1)];
         assert!((r[(0, 0)].abs() - 5.0).abs() < 1e-15, "{r}");
         let s = q[0][0].signum();
         assert!(
@@ -800,7 +828,7 @@ mod tests {
         );
         let mut x = [0.0; 2];
         let solved =
-            reduced_min_norm_qr::<2, 2, 1, 1>(&q, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)
+            reduced_min_norm_qr::<2, 2, 1, 1>(&reflections, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)
                 .unwrap()
                 .unwrap();
         assert!((x[0] - 1.2).abs() < 1e-14 && (x[1] - 1.6).abs() < 1e-14, "{x:?}");
