@@ -372,8 +372,14 @@ pub fn tree(ends: &[[usize; 2]], links: usize, d: usize, passive: usize) -> Opti
 /// bound, in both paths; below it, as σ_m/σ_1.
 #[inline]
 pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
-    let frobenius = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let bound = 1.0 / (frobenius(g) * frobenius(inverse));
+    let squares = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>();
+    bound_of_squares(squares(g), squares(inverse))
+}
+
+/// `1/(‖A‖_F ‖A⁻¹‖_F)` from the two sums of squares; 0 where it is not finite.
+#[inline]
+fn bound_of_squares(a: f64, inverse: f64) -> f64 {
+    let bound = 1.0 / (a.sqrt() * inverse.sqrt());
     if bound.is_finite() {
         bound
     } else {
@@ -386,15 +392,30 @@ pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
 /// diagonal entry is 0. `R` of a QR of an SKC's independent passive rows
 /// (`G_pᵀ = Q R`, [`row_space`]) has the rows' singular values, so this is
 /// a lower bound of their σ_P/σ_1 within a factor P, without them.
+#[inline]
 pub fn triangular_bound<D: Dim>(r: &OMatrix<f64, D, D>) -> f64
 where
     DefaultAllocator: Allocator<D, D>,
 {
     let (rows, columns) = r.shape_generic();
-    let upper = r.upper_triangle();
-    upper
-        .solve_upper_triangular(&OMatrix::<f64, D, D>::identity_generic(rows, columns))
-        .map_or(0.0, |inverse| conditioning_bound(upper.as_slice(), inverse.as_slice()))
+    let p = r.nrows();
+    // Column j of R⁻¹ solves R z = e_j: z is 0 below j, and from j up
+    // z_i = (δ_ij − Σ_{k>i} r_ik z_k) / r_ii.
+    let mut inverse = OMatrix::<f64, D, D>::zeros_generic(rows, columns);
+    let (mut squares, mut inverse_squares) = (0.0f64, 0.0f64);
+    for j in 0..p {
+        for i in (0..=j).rev() {
+            squares += r[(i, j)] * r[(i, j)];
+            let mut z = if i == j { 1.0 } else { 0.0 };
+            for k in i + 1..=j {
+                z -= r[(i, k)] * inverse[(k, j)];
+            }
+            let z = z / r[(i, i)];
+            inverse[(i, j)] = z;
+            inverse_squares += z * z;
+        }
+    }
+    bound_of_squares(squares, inverse_squares)
 }
 
 /// Scales each row of the `m × m` matrix `g` (column-major, as nalgebra
@@ -658,14 +679,16 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
 pub fn relative_residual<C: AsRef<[f64]>>(components: &[C]) -> f64 {
     let mut largest = 0.0f64;
     let mut worst = 0.0f64;
+    // No term is NaN past the sum's check: plain comparisons serve as max.
+    let larger = |a: f64, b: f64| if b > a { b } else { a };
     for terms in components {
         let terms = terms.as_ref();
         let sum: f64 = terms.iter().sum();
-        worst = worst.max(sum.abs());
-        largest = terms.iter().fold(largest, |a, t| a.max(t.abs()));
         if sum.is_nan() {
             return f64::NAN;
         }
+        worst = larger(worst, sum.abs());
+        largest = terms.iter().fold(largest, |a, t| larger(a, t.abs()));
     }
     if largest > 0.0 {
         worst / largest
