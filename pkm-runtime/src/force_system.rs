@@ -850,10 +850,20 @@ mod tests {
             "{q:?}"
         );
         let mut x = [0.0; 2];
-        let solved =
-            reduced_min_norm_qr::<2, 2, 1, 1>(&reflections, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)
-                .unwrap()
-                .unwrap();
+        let solved = reduced_min_norm_qr::<2, 2, 1, 1>(
+            &reflections,
+            &r,
+            1.0,
+            &[10.0, 0.0],
+            &[0.0; 2],
+            |y| *y,
+            0,
+            &[],
+            1.0,
+            &mut x,
+        )
+        .unwrap()
+        .unwrap();
         assert!((x[0] - 1.2).abs() < 1e-14 && (x[1] - 1.6).abs() < 1e-14, "{x:?}");
         assert_eq!(solved.undetermined, 1);
     }

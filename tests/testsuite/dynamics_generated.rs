@@ -231,7 +231,10 @@ fn seed000_along_the_papers_inputs() {
                     generated(&q, &signs, &v, &acc).unwrap_or_else(|e| panic!("{stem} t = {t}: generated {e}"));
                 worst = worst.max(difference(&actuators, &joints, &reference, size));
                 for (a, b) in conditioning.iter().zip(&reference.conditioning) {
-                    assert!((a - b).abs() < 1e-9 * b, "{stem} t = {t}: conditioning {a:e} against {b:e}");
+                    assert!(
+                        (a - b).abs() < 1e-9 * b,
+                        "{stem} t = {t}: conditioning {a:e} against {b:e}"
+                    );
                 }
                 compared += 1;
             }

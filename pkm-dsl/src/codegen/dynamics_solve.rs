@@ -553,9 +553,11 @@ pub(in crate::codegen) fn items(
             /// Per SKC (position solution's order), its kinematic
             /// conditioning, near 0 at a change point: σ_r/σ_1 of its
             /// passive rows on its cut joints' reactions (the transpose of
-            /// its passive velocity equations; for a determined SKC where
-            /// the lower bound 1/(‖G‖_F ‖G⁻¹‖_F) is 6.06e-4 or more, that
-            /// bound), as the runtime's Newton–Euler reports it; below
+            /// its passive velocity equations; where a lower bound of it,
+            /// 1/(‖G‖_F ‖G⁻¹‖_F) for a determined SKC or 1/(‖R‖_F ‖R⁻¹‖_F)
+            /// of its independent passive rows' triangular factor for an
+            /// overconstrained one, is 6.06e-4 or more, that bound), as
+            /// the runtime's Newton–Euler reports it; below
             /// 6.06e-4 in motion (1.5e-5 at rest) the answer is
             /// `DynamicsError::NearChangePoint` instead.
             pub conditioning: [f64; #n_skcs],
