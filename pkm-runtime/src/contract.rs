@@ -45,8 +45,8 @@ pub mod batch {
 /// The force-system solve that generated inverse dynamics ends in.
 pub mod force_system {
     pub use crate::force_system::{
-        conditioning_bound, conditioning_of, determined_conditioning, min_norm, near_change_point, reduced_min_norm,
-        reduced_min_norm_qr, relative_residual, row_space, unit_rows, Decomposition, LU_TRUSTED,
+        conditioning_bound, conditioning_from_bound, conditioning_of, min_norm, near_change_point, reduced_min_norm,
+        reduced_min_norm_qr, relative_residual, row_space, triangular_bound, unit_rows, Decomposition, LU_TRUSTED,
     };
 }
 

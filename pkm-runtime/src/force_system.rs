@@ -10,7 +10,8 @@
 //! where the matrix lives (heap or stack).
 
 use crate::newton_euler::{DynamicsError, FORCE_SINGULAR};
-use nalgebra::SMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OMatrix, SMatrix};
 
 /// The relative accuracy an answer of inverse dynamics keeps: 6 significant
 /// digits of each force and moment against the largest of its kind.
@@ -149,14 +150,17 @@ fn pseudo_solve_in(d: &Decomposition, b: &[f64], tol: f64, x: &mut [f64], r: &mu
 /// ([`reduced_min_norm`]) on its σ_r/σ_1.
 pub const LU_TRUSTED: f64 = 1e-6;
 
-/// The kinematic conditioning of a determined SKC from `bound`, the
-/// [`conditioning_bound`] of its `G` (rows unit, [`unit_rows`]; 0 without
-/// an inverse): the bound where it is [`LEAST_IN_MOTION`] or more (six
-/// digits kept however it moves), else `exact()`, σ_m/σ_1 from `G`'s
+/// The kinematic conditioning of an SKC whose passive rows are
+/// independent, from `bound`, a lower bound of their σ_r/σ_1 (rows unit,
+/// [`unit_rows`]; 0 where there is none): for a determined SKC the
+/// [`conditioning_bound`] of its square `G`, for an overconstrained one
+/// the [`triangular_bound`] of its rows' `R` ([`row_space`]). The bound
+/// where it is [`LEAST_IN_MOTION`] or more (six digits kept however it
+/// moves, no refusal either way), else `exact()`, σ_r/σ_1 from the
 /// singular values, which only then are computed. The runtime's
 /// Newton–Euler and the generated inverse dynamics both report this.
 #[inline]
-pub fn determined_conditioning(bound: f64, exact: impl FnOnce() -> f64) -> f64 {
+pub fn conditioning_from_bound(bound: f64, exact: impl FnOnce() -> f64) -> f64 {
     if bound >= LEAST_IN_MOTION {
         bound
     } else {
@@ -368,13 +372,50 @@ pub fn tree(ends: &[[usize; 2]], links: usize, d: usize, passive: usize) -> Opti
 /// bound, in both paths; below it, as σ_m/σ_1.
 #[inline]
 pub fn conditioning_bound(g: &[f64], inverse: &[f64]) -> f64 {
-    let frobenius = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let bound = 1.0 / (frobenius(g) * frobenius(inverse));
+    let squares = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>();
+    bound_of_squares(squares(g), squares(inverse))
+}
+
+/// `1/(‖A‖_F ‖A⁻¹‖_F)` from the two sums of squares; 0 where it is not finite.
+#[inline]
+fn bound_of_squares(a: f64, inverse: f64) -> f64 {
+    let bound = 1.0 / (a.sqrt() * inverse.sqrt());
     if bound.is_finite() {
         bound
     } else {
         0.0
     }
+}
+
+/// The [`conditioning_bound`] of an upper triangular `R` (what lies below
+/// its diagonal is not read), its inverse by back substitution; 0 where a
+/// diagonal entry is 0. `R` of a QR of an SKC's independent passive rows
+/// (`G_pᵀ = Q R`, [`row_space`]) has the rows' singular values, so this is
+/// a lower bound of their σ_P/σ_1 within a factor P, without them.
+#[inline]
+pub fn triangular_bound<D: Dim>(r: &OMatrix<f64, D, D>) -> f64
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    let (rows, columns) = r.shape_generic();
+    let p = r.nrows();
+    // Column j of R⁻¹ solves R z = e_j: z is 0 below j, and from j up
+    // z_i = (δ_ij − Σ_{k>i} r_ik z_k) / r_ii.
+    let mut inverse = OMatrix::<f64, D, D>::zeros_generic(rows, columns);
+    let (mut squares, mut inverse_squares) = (0.0f64, 0.0f64);
+    for j in 0..p {
+        for i in (0..=j).rev() {
+            squares += r[(i, j)] * r[(i, j)];
+            let mut z = if i == j { 1.0 } else { 0.0 };
+            for k in i + 1..=j {
+                z -= r[(i, k)] * inverse[(k, j)];
+            }
+            let z = z / r[(i, i)];
+            inverse[(i, j)] = z;
+            inverse_squares += z * z;
+        }
+    }
+    bound_of_squares(squares, inverse_squares)
 }
 
 /// Scales each row of the `m × m` matrix `g` (column-major, as nalgebra
@@ -525,44 +566,68 @@ fn shortest<const N: usize>(
 
 /// The rows of an SKC's reduced matrix `G` that are not zero, its `P`
 /// passive rows (`M` numbers each, `P ≤ M`), as `G_pᵀ = Q R` by Householder
-/// reflections: `Q` (`M × M`, orthogonal, by columns), whose first `P`
-/// columns span the rows and whose others span `G`'s null space, and `R`
-/// (`P × P`, upper triangular), whose singular values are `G`'s nonzero
-/// ones. A zero column leaves its reflection out (and `R` singular).
-pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> ([[f64; M]; M], SMatrix<f64, P, P>) {
+/// reflections: `Q` (`M × M`, orthogonal, [`Reflections`]), whose first
+/// `P` columns span the rows and whose others span `G`'s null space, and
+/// `R` (`P × P`, upper triangular), whose singular values are `G`'s
+/// nonzero ones. A zero column leaves its reflection out (and `R` singular).
+pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> (Reflections<M, P>, SMatrix<f64, P, P>) {
     let mut a = *rows;
-    let mut axes = [[0.0f64; M]; P];
-    let mut used = [false; P];
+    let mut q = Reflections {
+        axes: [[0.0f64; M]; P],
+        scales: [0.0f64; P],
+    };
     for k in 0..P {
         let norm = a[k][k..].iter().map(|v| v * v).sum::<f64>().sqrt();
         let alpha = if a[k][k] > 0.0 { -norm } else { norm };
-        let v = &mut axes[k];
+        let v = &mut q.axes[k];
         v[k..].copy_from_slice(&a[k][k..]);
         v[k] -= alpha;
         let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
         if vv.is_nan() || vv <= 0.0 {
             continue;
         }
-        used[k] = true;
+        let scale = 2.0 / vv;
+        q.scales[k] = scale;
         // a_j ← a_j − 2 v (v·a_j)/(v·v) for the columns from k on.
         for column in a[k..].iter_mut() {
-            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
+            let f = scale * (k..M).map(|i| v[i] * column[i]).sum::<f64>();
             (k..M).for_each(|i| column[i] -= f * v[i]);
         }
     }
     let r = SMatrix::<f64, P, P>::from_fn(|i, j| if i <= j { a[j][i] } else { 0.0 });
-    // Q = H_0 H_1 ⋯ H_{P−1}: each column of the identity reflected, last reflection first.
-    let mut q = [[0.0f64; M]; M];
-    for (j, column) in q.iter_mut().enumerate() {
-        column[j] = 1.0;
-        for k in (0..P).rev().filter(|&k| used[k]) {
-            let v = &axes[k];
-            let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
-            let f = 2.0 * (k..M).map(|i| v[i] * column[i]).sum::<f64>() / vv;
-            (k..M).for_each(|i| column[i] -= f * v[i]);
+    (q, r)
+}
+
+/// `Q = H_0 H_1 ⋯ H_{P−1}` of [`row_space`], kept as its reflections:
+/// `Q x` costs `P` of them, where forming `Q` costs `M`.
+#[derive(Debug, Clone, Copy)]
+pub struct Reflections<const M: usize, const P: usize> {
+    /// Per reflection `k`, its axis `v` (zero before `k`).
+    axes: [[f64; M]; P],
+    /// Per reflection, `2/(v·v)`; 0 for one left out.
+    scales: [f64; P],
+}
+
+impl<const M: usize, const P: usize> Reflections<M, P> {
+    /// `x ← Q x`: the last reflection first.
+    pub fn apply(&self, x: &mut [f64; M]) {
+        for k in (0..P).rev() {
+            let (v, scale) = (&self.axes[k], self.scales[k]);
+            if scale == 0.0 {
+                continue;
+            }
+            let f = scale * (k..M).map(|i| v[i] * x[i]).sum::<f64>();
+            (k..M).for_each(|i| x[i] -= f * v[i]);
         }
     }
-    (q, r)
+
+    /// Column `j` of `Q`.
+    pub fn column(&self, j: usize) -> [f64; M] {
+        let mut e = [0.0f64; M];
+        e[j] = 1.0;
+        self.apply(&mut e);
+        e
+    }
 }
 
 /// [`reduced_min_norm`] where `G`'s `P` passive rows have full rank (the
@@ -574,7 +639,7 @@ pub fn row_space<const M: usize, const P: usize>(rows: &[[f64; M]; P]) -> ([[f64
 /// is `LU_TRUSTED` or below.
 #[allow(clippy::too_many_arguments)]
 pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const K: usize>(
-    basis: &[[f64; M]; M],
+    basis: &Reflections<M, P>,
     r: &SMatrix<f64, P, P>,
     conditioning: f64,
     q: &[f64; M],
@@ -594,8 +659,11 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
         let known: f64 = (0..i).map(|k| r[(k, i)] * z[k]).sum();
         z[i] = (q[i] - known) / r[(i, i)];
     }
-    let y: [f64; M] = std::array::from_fn(|row| (0..P).map(|i| basis[i][row] * z[i]).sum());
-    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis[P + i]));
+    // y = Q₁ z = Q (z, 0).
+    let mut y = [0.0f64; M];
+    y[..P].copy_from_slice(&z);
+    basis.apply(&mut y);
+    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis.column(P + i)));
     *x = c(&y);
     x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
     Ok(shortest(x, &mut null, actuated, size, skc)?.then_some(Solved {
@@ -611,14 +679,16 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
 pub fn relative_residual<C: AsRef<[f64]>>(components: &[C]) -> f64 {
     let mut largest = 0.0f64;
     let mut worst = 0.0f64;
+    // No term is NaN past the sum's check: plain comparisons serve as max.
+    let larger = |a: f64, b: f64| if b > a { b } else { a };
     for terms in components {
         let terms = terms.as_ref();
         let sum: f64 = terms.iter().sum();
-        worst = worst.max(sum.abs());
-        largest = terms.iter().fold(largest, |a, t| a.max(t.abs()));
         if sum.is_nan() {
             return f64::NAN;
         }
+        worst = larger(worst, sum.abs());
+        largest = terms.iter().fold(largest, |a, t| larger(a, t.abs()));
     }
     if largest > 0.0 {
         worst / largest
@@ -766,7 +836,8 @@ mod tests {
     /// the shortest y on 3a + 4b = 10 is (1.2, 1.6).
     #[test]
     fn a_row_space_by_householder() {
-        let (q, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
+        let (reflections, r) = row_space::<2, 1>(&[[3.0, 4.0]]);
+        let q = [reflections.column(0), reflections.column(1)];
         assert!((r[(0, 0)].abs() - 5.0).abs() < 1e-15, "{r}");
         let s = q[0][0].signum();
         assert!(
@@ -779,10 +850,20 @@ mod tests {
             "{q:?}"
         );
         let mut x = [0.0; 2];
-        let solved =
-            reduced_min_norm_qr::<2, 2, 1, 1>(&q, &r, 1.0, &[10.0, 0.0], &[0.0; 2], |y| *y, 0, &[], 1.0, &mut x)
-                .unwrap()
-                .unwrap();
+        let solved = reduced_min_norm_qr::<2, 2, 1, 1>(
+            &reflections,
+            &r,
+            1.0,
+            &[10.0, 0.0],
+            &[0.0; 2],
+            |y| *y,
+            0,
+            &[],
+            1.0,
+            &mut x,
+        )
+        .unwrap()
+        .unwrap();
         assert!((x[0] - 1.2).abs() < 1e-14 && (x[1] - 1.6).abs() < 1e-14, "{x:?}");
         assert_eq!(solved.undetermined, 1);
     }
@@ -859,6 +940,21 @@ mod tests {
         let bound = conditioning_bound(&[2.0, 0.0, 0.0, 1.0], &[0.5, 0.0, 0.0, 1.0]);
         assert!((bound - 0.4).abs() < 1e-15, "{bound}");
         assert_eq!(conditioning_bound(&[1.0], &[f64::INFINITY]), 0.0);
+    }
+
+    /// R = [[1, 1], [0, 1]]: ‖R‖_F = √3, R⁻¹ = [[1, −1], [0, 1]], ‖R⁻¹‖_F
+    /// = √3, the bound 1/3, below σ_2/σ_1 = (3 − √5)/2 (σ_1σ_2 = 1, σ_1² +
+    /// σ_2² = 3); what lies below the diagonal is not read; a zero on the
+    /// diagonal gives 0.
+    #[test]
+    fn a_bound_from_a_triangular_factor() {
+        let r = nalgebra::Matrix2::new(1.0, 1.0, 7.0, 1.0);
+        let bound = triangular_bound(&r);
+        assert!((bound - 1.0 / 3.0).abs() < 1e-15, "{bound}");
+        assert!(bound <= (3.0 - 5f64.sqrt()) / 2.0);
+        assert_eq!(triangular_bound(&nalgebra::Matrix2::new(1.0, 1.0, 0.0, 0.0)), 0.0);
+        let dynamic = nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 0.0, 1.0]);
+        assert!((triangular_bound(&dynamic) - 1.0 / 3.0).abs() < 1e-15);
     }
 
     #[test]

@@ -76,9 +76,9 @@ pub struct Reactions {
     pub undetermined: Vec<usize>,
     /// Per SKC, its kinematic conditioning: σ_r/σ_1 of its passive rows on
     /// its cut joints' reactions, r their rank (of its whole block where it
-    /// does not reduce to its cut joints; for a determined SKC far from a
-    /// change point, the lower bound
-    /// [`crate::force_system::conditioning_bound`]).
+    /// does not reduce to its cut joints; where its passive rows are
+    /// independent and it is far from a change point, a lower bound of it:
+    /// [`crate::force_system::conditioning_from_bound`]).
     pub conditioning: Vec<f64>,
     /// The largest residual of a link's balance, relative to its largest term.
     pub balance: f64,
@@ -478,10 +478,11 @@ fn idle_spins_checked(
 /// SKC `skc`'s kinematic conditioning: σ_r/σ_1 of its passive rows acting
 /// on its cut joints' reactions (`G`, [`crate::force_system::tree`]: the
 /// transpose of its passive velocity equations), each row scaled to unit
-/// length, r their rank less what statics leaves undetermined (for a
-/// determined SKC whose bound from its inverse is above the least,
-/// that bound: [`crate::force_system::conditioning_bound`]); `None` where
-/// it does not reduce.
+/// length, r their rank less what statics leaves undetermined (where the
+/// passive rows are independent and a lower bound is above the least, that
+/// bound: [`crate::force_system::conditioning_bound`] from `G`'s inverse
+/// for a determined SKC, [`crate::force_system::triangular_bound`] from
+/// the rows' QR for an overconstrained one); `None` where it does not reduce.
 fn kinematic_conditioning(assembly: &Assembly<'_, f64>, skc: &SkcParts, passive: &[PassiveRow<f64>]) -> Option<f64> {
     let d = assembly.layout.d();
     let tree = assembly.tree(skc, passive.len())?;
@@ -497,15 +498,20 @@ fn kinematic_conditioning(assembly: &Assembly<'_, f64>, skc: &SkcParts, passive:
         let bound = g.clone().try_inverse().map_or(0.0, |inverse| {
             crate::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
         });
-        return Some(crate::force_system::determined_conditioning(bound, || {
+        return Some(crate::force_system::conditioning_from_bound(bound, || {
             crate::force_system::conditioning_of(g.singular_values().as_slice(), m)
         }));
     }
-    let s = g.singular_values();
-    Some(crate::force_system::conditioning_of(
-        s.as_slice(),
-        m.saturating_sub(skc.undetermined),
-    ))
+    let rank = m.saturating_sub(skc.undetermined);
+    let exact = || crate::force_system::conditioning_of(g.singular_values().as_slice(), rank);
+    // Independent passive rows: the bound from the R of their QR serves likewise.
+    let p = passive.len();
+    if p > 0 && p == rank {
+        let r = g.rows(0, p).transpose().qr().r();
+        let bound = crate::force_system::triangular_bound(&r);
+        return Some(crate::force_system::conditioning_from_bound(bound, exact));
+    }
+    Some(exact())
 }
 
 /// Whether `values` close every loop, to [`crate::consistency::VERIFY_TOL`]

@@ -185,20 +185,21 @@ fn punch_change_point() {
 /// Seed 000's A and B with §3.4's masses, the parallelogram's bar (on the
 /// first link in A, the second in B) and the payload, along §3.1's inputs
 /// over 0–5 s on every branch that assembles: generated and runtime agree,
-/// and where B does not assemble both say so.
+/// their kinematic conditioning too (both SKCs overconstrained), and where
+/// B does not assemble both say so.
 #[test]
 fn seed000_along_the_papers_inputs() {
-    type Generated<'a> =
-        dyn Fn(&[f64; 3], &[Sign], &[f64; 3], &[f64; 3]) -> Result<(Vec<f64>, Vec<JointReaction>), DynamicsError> + 'a;
+    type Answer = (Vec<f64>, Vec<JointReaction>, Vec<f64>);
+    type Generated<'a> = dyn Fn(&[f64; 3], &[Sign], &[f64; 3], &[f64; 3]) -> Result<Answer, DynamicsError> + 'a;
     let a = SeedA::prepare(&Default::default());
     let b = SeedB::prepare(&Default::default());
     let seed_a: &Generated = &|q, s, v, acc| {
         let d = a.inverse_dynamics(q, s.try_into().expect("A's two choices"), v, acc)?;
-        Ok((d.actuators.to_vec(), d.joints.to_vec()))
+        Ok((d.actuators.to_vec(), d.joints.to_vec(), d.conditioning.to_vec()))
     };
     let seed_b: &Generated = &|q, s, v, acc| {
         let d = b.inverse_dynamics(q, s.try_into().expect("B's three choices"), v, acc)?;
-        Ok((d.actuators.to_vec(), d.joints.to_vec()))
+        Ok((d.actuators.to_vec(), d.joints.to_vec(), d.conditioning.to_vec()))
     };
     for (stem, generated) in [("seed000_a", seed_a), ("seed000_b", seed_b)] {
         let r = runtime(stem);
@@ -226,9 +227,15 @@ fn seed000_along_the_papers_inputs() {
                 };
                 let reference = inverse_dynamics(&r.model, &r.loading, &r.skcs, &values, &v, &acc)
                     .unwrap_or_else(|e| panic!("{stem} t = {t}: runtime {e}"));
-                let (actuators, joints) =
+                let (actuators, joints, conditioning) =
                     generated(&q, &signs, &v, &acc).unwrap_or_else(|e| panic!("{stem} t = {t}: generated {e}"));
                 worst = worst.max(difference(&actuators, &joints, &reference, size));
+                for (a, b) in conditioning.iter().zip(&reference.conditioning) {
+                    assert!(
+                        (a - b).abs() < 1e-9 * b,
+                        "{stem} t = {t}: conditioning {a:e} against {b:e}"
+                    );
+                }
                 compared += 1;
             }
         }

@@ -8,8 +8,10 @@
 //! and the joints' unit twists follow, and each SKC's reaction equations
 //! are written out as entries of a fixed-size matrix. At run time the
 //! SKCs are solved in reverse order on the stack, each reduced to its cut
-//! joints' reactions: the reduced matrix's singular values give the
-//! kinematic conditioning, which refuses an answer next to a change point
+//! joints' reactions: a lower bound from the reduced matrix's inverse (or
+//! its passive rows' triangular factor's), or nearer a change point its
+//! singular values, give the kinematic conditioning, which refuses an
+//! answer next to a change point
 //! that would keep fewer than six digits
 //! ([`pkm_runtime::force_system::near_change_point`]); then a determined
 //! system by its reduced matrix's inverse, an overconstrained one by the minimum-norm

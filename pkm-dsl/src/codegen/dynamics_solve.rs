@@ -335,7 +335,7 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
             let bound = inverse.as_ref().map_or(0.0, |inverse| {
                 #rt::force_system::conditioning_bound(g.as_slice(), inverse.as_slice())
             });
-            let kinematic = #rt::force_system::determined_conditioning(bound, || {
+            let kinematic = #rt::force_system::conditioning_from_bound(bound, || {
                 #rt::force_system::conditioning_of(g.singular_values().as_slice(), #m)
             });
             conditioning[#k] = kinematic;
@@ -362,7 +362,11 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
                 #prelude
                 let rows: [[f64; #m]; #passive] = ::core::array::from_fn(|i| ::core::array::from_fn(|j| g[(i, j)]));
                 let (basis, r) = #rt::force_system::row_space::<#m, #passive>(&rows);
-                let kinematic = #rt::force_system::conditioning_of(r.singular_values().as_slice(), #rank);
+                // The bound from R's inverse where it is above the least, else σ_P/σ_1.
+                let bound = #rt::force_system::triangular_bound(&r);
+                let kinematic = #rt::force_system::conditioning_from_bound(bound, || {
+                    #rt::force_system::conditioning_of(r.singular_values().as_slice(), #rank)
+                });
                 conditioning[#k] = kinematic;
                 #rt::force_system::near_change_point(kinematic, moving, #k, &[#(#joints),*])?;
                 let c = |y: &[f64; #m]| -> [f64; #n] {
@@ -549,9 +553,11 @@ pub(in crate::codegen) fn items(
             /// Per SKC (position solution's order), its kinematic
             /// conditioning, near 0 at a change point: σ_r/σ_1 of its
             /// passive rows on its cut joints' reactions (the transpose of
-            /// its passive velocity equations; for a determined SKC where
-            /// the lower bound 1/(‖G‖_F ‖G⁻¹‖_F) is 6.06e-4 or more, that
-            /// bound), as the runtime's Newton–Euler reports it; below
+            /// its passive velocity equations; where a lower bound of it,
+            /// 1/(‖G‖_F ‖G⁻¹‖_F) for a determined SKC or 1/(‖R‖_F ‖R⁻¹‖_F)
+            /// of its independent passive rows' triangular factor for an
+            /// overconstrained one, is 6.06e-4 or more, that bound), as
+            /// the runtime's Newton–Euler reports it; below
             /// 6.06e-4 in motion (1.5e-5 at rest) the answer is
             /// `DynamicsError::NearChangePoint` instead.
             pub conditioning: [f64; #n_skcs],
