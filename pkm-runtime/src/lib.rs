@@ -9,6 +9,7 @@
 #[path = "contract.rs"]
 pub mod __private;
 pub mod batch;
+pub mod bounded;
 pub mod consistency;
 pub mod fk_numeric;
 pub mod force_system;

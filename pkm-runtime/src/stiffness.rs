@@ -47,7 +47,8 @@
 //! load needed with every other displacement held to zero, always at least
 //! as large.
 
-use crate::wrench::{RowKind, WrenchAnalysis};
+use crate::bounded::Bounded;
+use crate::wrench::{RowKind, WrenchAnalysis, MAX_ROWS};
 use nalgebra::{Matrix3, Matrix6, SymmetricEigen, Vector3, Vector6};
 use std::fmt;
 
@@ -209,7 +210,7 @@ impl std::error::Error for StiffnessError {}
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stiffness {
     /// The spring constant of each row of `J` (`K_p`'s diagonal).
-    pub springs: Vec<f64>,
+    pub springs: Bounded<f64, MAX_ROWS>,
     /// `K = Jᵀ K_p J` at the base origin: `(δp, δθ) ↦ (f, m)`.
     pub k: Matrix6<f64>,
     /// The model's size (scales translations for the singularity test).
@@ -231,6 +232,7 @@ fn skew(p: &Vector3<f64>) -> Matrix3<f64> {
 
 /// The stiffness from the wrench analysis and the limbs' properties (one
 /// for every limb, or one per limb in [`WrenchAnalysis::limbs`] order).
+/// Allocates nothing but an error's text.
 pub fn stiffness(analysis: &WrenchAnalysis, limbs: &[LimbProperties]) -> Result<Stiffness, StiffnessError> {
     let n = analysis.limbs.len();
     if limbs.len() != 1 && limbs.len() != n {
@@ -264,30 +266,29 @@ pub fn stiffness(analysis: &WrenchAnalysis, limbs: &[LimbProperties]) -> Result<
             positive(l, "the actuator stiffness", k)?;
         }
     }
-    let springs: Vec<f64> = analysis
-        .rows
-        .iter()
-        .map(|row| -> Result<f64, StiffnessError> {
-            let p = props(row.limb);
-            let len = analysis.limbs[row.limb].length().unwrap_or(f64::NAN);
-            let (axial, bending, couple) = match p.section {
-                Section::Beam { e, area, inertia } => {
-                    (e * area / len, 3.0 * e * inertia / len.powi(3), Some(e * inertia / len))
-                }
-                Section::Springs { axial, bending, couple } => (axial, bending, couple),
-            };
-            Ok(match row.kind {
-                RowKind::Actuation { .. } => {
-                    let actuator = p.actuator.map_or(0.0, |k| row.transmission * row.transmission / k);
-                    1.0 / (1.0 / axial + actuator)
-                }
-                RowKind::ConstraintForce => bending,
-                RowKind::ConstraintCouple => couple.ok_or(StiffnessError::NoCoupleStiffness { limb: row.limb })?,
-            })
-        })
-        .collect::<Result<_, _>>()?;
+    let mut springs = Bounded::<f64, MAX_ROWS>::new();
+    for row in analysis.rows.iter() {
+        let p = props(row.limb);
+        let len = analysis.limbs[row.limb].length().unwrap_or(f64::NAN);
+        let (axial, bending, couple) = match p.section {
+            Section::Beam { e, area, inertia } => {
+                (e * area / len, 3.0 * e * inertia / len.powi(3), Some(e * inertia / len))
+            }
+            Section::Springs { axial, bending, couple } => (axial, bending, couple),
+        };
+        let spring = match row.kind {
+            RowKind::Actuation { .. } => {
+                let actuator = p.actuator.map_or(0.0, |k| row.transmission * row.transmission / k);
+                1.0 / (1.0 / axial + actuator)
+            }
+            RowKind::ConstraintForce => bending,
+            RowKind::ConstraintCouple => couple.ok_or(StiffnessError::NoCoupleStiffness { limb: row.limb })?,
+        };
+        // As many as the rows, which the analysis holds: never full.
+        let _ = springs.push(spring);
+    }
     let mut k = Matrix6::zeros();
-    for (row, &kr) in analysis.rows.iter().zip(&springs) {
+    for (row, &kr) in analysis.rows.iter().zip(springs.iter()) {
         let w = Vector6::from_row_slice(&row.wrench.row());
         k += w * w.transpose() * kr;
     }

@@ -59,18 +59,30 @@
 //! other joints' twists has no actuation wrench (the actuator cannot move its
 //! limb): an actuation singularity of that limb.
 
+use crate::bounded::{Bounded, Full};
 use crate::kinematics::{joint_point, model_scale};
 use crate::model::{JointType, Model};
 use crate::velocity::{joint_twists, Twist};
-use nalgebra::{DMatrix, Isometry3, Vector3, Vector6};
+use nalgebra::{DMatrix, Isometry3, Matrix6, SMatrix, Vector3, Vector6};
 use std::fmt;
 
 /// Relative singular value below which a direction counts as lost (limb
 /// twist matrices with unit columns, and the scaled `J`).
 pub const RANK_TOL: f64 = 1e-9;
 
+/// The most limbs a wrench analysis takes.
+pub const MAX_LIMBS: usize = 8;
+/// The most joints on one limb.
+pub const MAX_LIMB_JOINTS: usize = 8;
+/// The most joint variables on one limb (an S joint has three).
+pub const MAX_LIMB_VARIABLES: usize = 12;
+/// The most rows of `J`: a limb's wrenches are at most six (its
+/// constraint wrenches span `6 − rank` of its twists, and each actuation
+/// wrench needs an actuated twist independent of the others).
+pub const MAX_ROWS: usize = 6 * MAX_LIMBS;
+
 /// A wrench: a force and its moment about the base origin, base axes.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Wrench {
     /// The force.
     pub f: Vector3<f64>,
@@ -133,11 +145,22 @@ pub struct Row {
     pub transmission: f64,
 }
 
+impl Default for Row {
+    fn default() -> Self {
+        Row {
+            wrench: Wrench::default(),
+            kind: RowKind::ConstraintForce,
+            limb: 0,
+            transmission: 0.0,
+        }
+    }
+}
+
 /// A limb: a serial path of joints from the base to the platform.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Limb {
     /// Its joints, from the base to the platform.
-    pub joints: Vec<usize>,
+    pub joints: Bounded<usize, MAX_LIMB_JOINTS>,
     /// The world position of its distal joint's point (the joint on the
     /// platform: an S joint's centre, a U's centre).
     pub distal: Vector3<f64>,
@@ -155,14 +178,14 @@ impl Limb {
     }
 }
 
-/// The wrench analysis at one configuration.
+/// The wrench analysis at one configuration (held inline: no heap).
 #[derive(Debug, Clone, PartialEq)]
 pub struct WrenchAnalysis {
     /// The limbs, ordered by their base joint's declaration order.
-    pub limbs: Vec<Limb>,
+    pub limbs: Bounded<Limb, MAX_LIMBS>,
     /// The rows of `J`: every actuation wrench (limb by limb, joints in limb
     /// order), then every constraint wrench (limb by limb, couples first).
-    pub rows: Vec<Row>,
+    pub rows: Bounded<Row, MAX_ROWS>,
     /// The number of actuation rows (the first ones).
     pub actuation: usize,
     /// The size scale `s` the rank tests use (mm for a model in mm).
@@ -263,6 +286,13 @@ fn bad(what: String) -> WrenchError {
     WrenchError::BadInput { what }
 }
 
+/// `x` appended to `list`, or a [`WrenchError::BadInput`] saying that there
+/// are more `what` than it holds.
+fn put<T: Copy + Default, const N: usize>(list: &mut Bounded<T, N>, x: T, what: &str) -> Result<(), WrenchError> {
+    list.push(x)
+        .map_err(|Full { capacity }| bad(format!("more than {capacity} {what}")))
+}
+
 /// The limbs of `model` from the base (link 0) to `platform`: for each joint
 /// on the base, in declaration order, the path that follows it through
 /// links with exactly two joints until the platform. Every joint must be on
@@ -349,18 +379,38 @@ pub fn limbs(model: &Model, platform: usize) -> Result<Vec<Vec<usize>>, WrenchEr
     Ok(out)
 }
 
+/// A 6×6 matrix with the singular values and right singular vectors of
+/// the n×6 matrix whose rows are `row(0..n)`: those rows with zero rows
+/// added for n ≤ 6; else the `R` of its QR, folded in six rows at a time
+/// (`AᵀA = RᵀR`). On the stack.
+fn six_by_six(n: usize, row: impl Fn(usize) -> Vector6<f64>) -> Matrix6<f64> {
+    let mut acc = Matrix6::from_fn(|r, c| if r < n { row(r)[c] } else { 0.0 });
+    let mut next = 6;
+    while next < n {
+        let stacked = SMatrix::<f64, 12, 6>::from_fn(|r, c| match r {
+            0..6 => acc[(r, c)],
+            _ if next + r - 6 < n => row(next + r - 6)[c],
+            _ => 0.0,
+        });
+        acc = stacked.qr().r();
+        next += 6;
+    }
+    acc
+}
+
 /// An orthonormal basis of the vectors `x` with `rows · x = 0` (6 columns),
 /// by SVD: the right singular vectors whose singular value is at most
 /// [`RANK_TOL`] times the largest (every one if all are zero).
-fn null_space(rows: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
-    let m = DMatrix::from_fn(rows.len().max(6), 6, |r, c| rows.get(r).map_or(0.0, |x| x[c]));
-    let svd = m.svd(false, true);
+fn null_space(rows: &[Vector6<f64>]) -> Bounded<Vector6<f64>, 6> {
+    let svd = six_by_six(rows.len(), |r| rows[r]).svd(false, true);
     let vt = svd.v_t.expect("v_t requested");
     let smax = svd.singular_values.max();
-    (0..6)
-        .filter(|&i| svd.singular_values[i] <= RANK_TOL * smax)
-        .map(|i| Vector6::from_fn(|c, _| vt[(i, c)]))
-        .collect()
+    let mut out = Bounded::new();
+    for i in (0..6).filter(|&i| svd.singular_values[i] <= RANK_TOL * smax) {
+        // Six at most: never full.
+        let _ = out.push(Vector6::from_fn(|c, _| vt[(i, c)]));
+    }
+    out
 }
 
 /// `x` without its components along the orthonormal `basis`.
@@ -371,17 +421,14 @@ fn reject(x: &Vector6<f64>, basis: &[Vector6<f64>]) -> Vector6<f64> {
 /// A canonical orthonormal basis of the span of the orthonormal `space`:
 /// greedily the longest projection of the unit vectors `axes` onto what is
 /// orthogonal to the vectors already chosen.
-fn canonical(space: &[Vector6<f64>], axes: &[usize]) -> Vec<Vector6<f64>> {
-    let mut chosen: Vec<Vector6<f64>> = Vec::new();
+fn canonical(space: &[Vector6<f64>], axes: [usize; 3]) -> Bounded<Vector6<f64>, 6> {
+    let mut chosen: Bounded<Vector6<f64>, 6> = Bounded::new();
     for _ in 0..space.len() {
-        let projections: Vec<Vector6<f64>> = axes
-            .iter()
-            .map(|&a| {
-                let e = Vector6::ith(a, 1.0);
-                let p = space.iter().fold(Vector6::zeros(), |acc, q| acc + q * q.dot(&e));
-                reject(&p, &chosen)
-            })
-            .collect();
+        let projections = axes.map(|a| {
+            let e = Vector6::ith(a, 1.0);
+            let p = space.iter().fold(Vector6::zeros(), |acc, q| acc + q * q.dot(&e));
+            reject(&p, &chosen)
+        });
         // The first of the longest, ties (to 1e-9) to the earlier axis, so
         // that rounding does not reorder equal projections.
         let longest = projections.iter().map(|p| p.norm()).fold(0.0, f64::max);
@@ -392,35 +439,43 @@ fn canonical(space: &[Vector6<f64>], axes: &[usize]) -> Vec<Vector6<f64>> {
         if best.norm() <= RANK_TOL {
             break;
         }
-        chosen.push(best.normalize());
+        // At most `space.len()` ≤ 6: never full.
+        let _ = chosen.push(best.normalize());
     }
     chosen
 }
 
 /// The constraint space `c` (orthonormal) split into a canonical basis of
 /// its couples, then one of the rest (see the module's header).
-fn constraint_basis(c: &[Vector6<f64>]) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
-    if c.is_empty() {
-        return (Vec::new(), Vec::new());
+fn constraint_basis(c: &[Vector6<f64>]) -> (Bounded<Vector6<f64>, 6>, Bounded<Vector6<f64>, 6>) {
+    let (mut couples, mut forces) = (Bounded::<Vector6<f64>, 6>::new(), Bounded::<Vector6<f64>, 6>::new());
+    // The force parts as rows of a c-column matrix (at least 3 × c): its
+    // null space gives the couples. One arm per size, on the stack.
+    macro_rules! split {
+        ($($k:literal $r:literal),*) => {
+            match c.len() {
+                $($k => {
+                    let f = SMatrix::<f64, $r, $k>::from_fn(|r, k| if r < 3 { c[k][r] } else { 0.0 });
+                    let svd = f.svd(false, true);
+                    let vt = svd.v_t.expect("v_t requested");
+                    for i in 0..$k {
+                        let combo = (0..$k).fold(Vector6::zeros(), |acc, k| acc + c[k] * vt[(i, k)]);
+                        // The basis is orthonormal, so the singular values
+                        // are at most 1. At most six: never full.
+                        let _ = if svd.singular_values[i] <= RANK_TOL {
+                            couples.push(combo)
+                        } else {
+                            forces.push(combo)
+                        };
+                    }
+                })*
+                // No constraint (or, impossibly, more than six).
+                _ => {}
+            }
+        };
     }
-    // The force parts as rows of a c-column matrix: its null space gives the couples.
-    let force_rows: Vec<Vector6<f64>> = (0..3)
-        .map(|i| Vector6::from_fn(|k, _| if k < c.len() { c[k][i] } else { 0.0 }))
-        .collect();
-    let f = DMatrix::from_fn(c.len().max(3), c.len(), |r, k| force_rows.get(r).map_or(0.0, |x| x[k]));
-    let svd = f.svd(false, true);
-    let vt = svd.v_t.expect("v_t requested");
-    let (mut couples, mut forces) = (Vec::new(), Vec::new());
-    for i in 0..c.len() {
-        let combo = (0..c.len()).fold(Vector6::zeros(), |acc, k| acc + c[k] * vt[(i, k)]);
-        // The basis is orthonormal, so the singular values are at most 1.
-        if svd.singular_values[i] <= RANK_TOL {
-            couples.push(combo);
-        } else {
-            forces.push(combo);
-        }
-    }
-    (canonical(&couples, &[3, 4, 5]), canonical(&forces, &[0, 1, 2]))
+    split!(1 3, 2 3, 3 3, 4 4, 5 5, 6 6);
+    (canonical(&couples, [3, 4, 5]), canonical(&forces, [0, 1, 2]))
 }
 
 /// A wrench from its dimensionless coordinates `ŵ = (f, m_p/s)` at `p`,
@@ -492,26 +547,34 @@ pub fn analyse_poses(
     let mut inputs = Vec::with_capacity(paths.len());
     for path in &paths {
         let last = *path.last().expect("a limb has a joint");
-        let centres = centre_joints(model, path)
-            .map(|j| Vector3::from(joint_point(model, poses, j)))
-            .collect();
-        let mut variables = Vec::new();
+        let joints = Bounded::from_slice(path)
+            .map_err(|Full { capacity }| bad(format!("a limb has more than {capacity} joints")))?;
+        let mut centres = Bounded::new();
+        for j in centre_joints(model, path) {
+            put(
+                &mut centres,
+                Vector3::from(joint_point(model, poses, j)),
+                "joints on a limb",
+            )?;
+        }
+        let mut variables = Bounded::new();
         for &j in path {
             let tu = &poses[model.joints[j].links[0]];
             for (k, twist) in joint_twists(model, j, &values[j..=j], tu).into_iter().enumerate() {
                 if !(twist.w.iter().chain(twist.v.iter()).all(|x| x.is_finite())) {
                     return Err(bad(format!("joint {}'s twist is not finite", model.joints[j].name)));
                 }
-                variables.push(LimbVariable {
+                let variable = LimbVariable {
                     joint: j,
                     variable: k,
                     actuated: model.joints[j].actuated,
                     twist,
-                });
+                };
+                put(&mut variables, variable, "joint variables on a limb")?;
             }
         }
         inputs.push(LimbTwists {
-            joints: path.clone(),
+            joints,
             variables,
             distal: Vector3::from(joint_point(model, poses, last)),
             centres,
@@ -546,25 +609,41 @@ pub struct LimbVariable {
     pub twist: Twist,
 }
 
-/// A limb at a configuration, as [`analyse_twists`] reads it.
-#[derive(Debug, Clone, PartialEq)]
+impl Default for LimbVariable {
+    fn default() -> Self {
+        LimbVariable {
+            joint: 0,
+            variable: 0,
+            actuated: false,
+            twist: Twist {
+                w: Vector3::zeros(),
+                v: Vector3::zeros(),
+            },
+        }
+    }
+}
+
+/// A limb at a configuration, as [`analyse_twists`] reads it (inline: the
+/// generated `stiffness` builds these on the stack).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LimbTwists {
     /// Its joints, from the base to the platform.
-    pub joints: Vec<usize>,
+    pub joints: Bounded<usize, MAX_LIMB_JOINTS>,
     /// Every joint variable of the limb, joints in limb order.
-    pub variables: Vec<LimbVariable>,
+    pub variables: Bounded<LimbVariable, MAX_LIMB_VARIABLES>,
     /// The world position of the distal joint's point.
     pub distal: Vector3<f64>,
     /// The world positions of the limb's other R and S joints' points,
     /// from the distal end towards the base: the first one apart from
     /// `distal` is the leg's proximal centre ([`Limb::proximal`]).
-    pub centres: Vec<Vector3<f64>>,
+    pub centres: Bounded<Vector3<f64>, MAX_LIMB_JOINTS>,
 }
 
 /// The wrench analysis from the limbs' twists (the core of
 /// [`analyse_poses`], for a caller that has the twists already, as the
 /// generated `stiffness` has), `scale` the model's size
-/// ([`crate::kinematics::model_scale`]).
+/// ([`crate::kinematics::model_scale`]). Allocates nothing but an error's
+/// text.
 pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysis, WrenchError> {
     let s = scale;
     if !(s > 0.0 && s.is_finite()) {
@@ -576,9 +655,15 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
             what: "no joint on the base",
         });
     }
-    let mut limbs_out = Vec::with_capacity(inputs.len());
-    let mut actuation = Vec::new();
-    let mut constraints = Vec::new();
+    if inputs.len() > MAX_LIMBS {
+        return Err(bad(format!(
+            "{} limbs: a wrench analysis takes at most {MAX_LIMBS}",
+            inputs.len()
+        )));
+    }
+    let mut limbs_out = Bounded::new();
+    let mut actuation = Bounded::<Row, MAX_ROWS>::new();
+    let mut constraints = Bounded::<Row, MAX_ROWS>::new();
     for (li, limb) in inputs.iter().enumerate() {
         let p = limb.distal;
         if !p
@@ -590,7 +675,7 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
         }
         let proximal = limb.centres.iter().copied().find(|c| (c - p).norm() > RANK_TOL * s);
         // Every variable's twist, dimensionless at p, unit.
-        let mut hats: Vec<Vector6<f64>> = Vec::with_capacity(limb.variables.len());
+        let mut hats: Bounded<Vector6<f64>, MAX_LIMB_VARIABLES> = Bounded::new();
         for var in &limb.variables {
             let t = &var.twist;
             let vp = t.v + t.w.cross(&p);
@@ -602,14 +687,17 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
                     var.joint
                 )));
             }
-            hats.push(h / norm);
+            put(&mut hats, h / norm, "joint variables on a limb")?;
         }
         let c = null_space(&hats);
         for (col, var) in limb.variables.iter().enumerate() {
             if !var.actuated {
                 continue;
             }
-            let others: Vec<Vector6<f64>> = (0..hats.len()).filter(|&i| i != col).map(|i| hats[i]).collect();
+            let mut others: Bounded<Vector6<f64>, MAX_LIMB_VARIABLES> = Bounded::new();
+            for i in (0..hats.len()).filter(|&i| i != col) {
+                put(&mut others, hats[i], "joint variables on a limb")?;
+            }
             let candidates = null_space(&others);
             let best = candidates
                 .iter()
@@ -632,7 +720,7 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
                 w = -w;
             }
             let wrench = from_hat(&w, &p, s, couple);
-            actuation.push(Row {
+            let row = Row {
                 transmission: wrench.on(&var.twist),
                 wrench,
                 kind: RowKind::Actuation {
@@ -640,34 +728,35 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
                     variable: var.variable,
                 },
                 limb: li,
-            });
+            };
+            put(&mut actuation, row, "rows of J")?;
         }
         let (couples, forces) = constraint_basis(&c);
-        for w in couples {
-            constraints.push(Row {
-                wrench: from_hat(&w, &p, s, true),
-                kind: RowKind::ConstraintCouple,
+        let kinds = couples
+            .iter()
+            .map(|w| (w, RowKind::ConstraintCouple))
+            .chain(forces.iter().map(|w| (w, RowKind::ConstraintForce)));
+        for (w, kind) in kinds {
+            let row = Row {
+                wrench: from_hat(w, &p, s, kind == RowKind::ConstraintCouple),
+                kind,
                 limb: li,
                 transmission: 0.0,
-            });
+            };
+            put(&mut constraints, row, "rows of J")?;
         }
-        for w in forces {
-            constraints.push(Row {
-                wrench: from_hat(&w, &p, s, false),
-                kind: RowKind::ConstraintForce,
-                limb: li,
-                transmission: 0.0,
-            });
-        }
-        limbs_out.push(Limb {
-            joints: limb.joints.clone(),
+        let out = Limb {
+            joints: limb.joints,
             distal: p,
             proximal,
-        });
+        };
+        put(&mut limbs_out, out, "limbs")?;
     }
     let n_a = actuation.len();
     let mut rows = actuation;
-    rows.extend(constraints);
+    for &row in constraints.iter() {
+        put(&mut rows, row, "rows of J")?;
+    }
     let (rank, sigma) = scaled_rank(&rows, s);
     if rank < 6 {
         let (rank_c, sigma_c) = scaled_rank(&rows[n_a..], s);
@@ -696,20 +785,15 @@ fn scaled_rank(rows: &[Row], s: f64) -> (usize, f64) {
     if rows.is_empty() {
         return (0, 0.0);
     }
-    let m = DMatrix::from_fn(rows.len().max(6), 6, |r, c| {
-        rows.get(r).map_or(0.0, |row| {
-            let w = &row.wrench;
-            match (c < 3, w.is_couple()) {
-                (true, _) => w.f[c],
-                (false, true) => w.m[c - 3],
-                (false, false) => w.m[c - 3] / s,
-            }
-        })
+    let m = six_by_six(rows.len(), |r| {
+        let w = &rows[r].wrench;
+        let m = if w.is_couple() { w.m } else { w.m / s };
+        Vector6::new(w.f.x, w.f.y, w.f.z, m.x, m.y, m.z)
     });
     let sv = m.svd(false, false).singular_values;
     let smax = sv.max();
     let considered = rows.len().min(6);
-    let mut sorted: Vec<f64> = sv.iter().copied().collect();
+    let mut sorted: [f64; 6] = sv.into();
     sorted.sort_by(|a, b| b.total_cmp(a));
     let rank = sorted.iter().take(considered).filter(|&&x| x > RANK_TOL * smax).count();
     let sigma = if smax > 0.0 { sorted[considered - 1] / smax } else { 0.0 };
@@ -717,250 +801,4 @@ fn scaled_rank(rows: &[Row], s: f64) -> (usize, f64) {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
-    use super::*;
-    use crate::model::{Joint, Place};
-    use nalgebra::Translation3;
-
-    /// A 3-RPS at its home pose, its legs vertical: base revolute i at
-    /// (r cos θᵢ, r sin θᵢ, 0), θᵢ = 120°·i, axis tangent (−sin θᵢ, cos θᵢ, 0);
-    /// the leg's slide along z; the ball i at height h above it, on the
-    /// platform (at (0, 0, h)) at radius r. Links: base, then (Ai1, Ai2)
-    /// per leg, then the platform. Poses by hand.
-    pub(crate) fn home_rps(r: f64, h: f64) -> (Model, Vec<Isometry3<f64>>, Vec<f64>) {
-        let mut links = vec!["base".to_string()];
-        let mut joints = Vec::new();
-        let mut poses = vec![Isometry3::identity()];
-        let platform = 7;
-        for i in 0..3 {
-            let t = (120.0 * i as f64).to_radians();
-            let at = [r * t.cos(), r * t.sin(), 0.0];
-            let axis = [-t.sin(), t.cos(), 0.0];
-            let (a1, a2) = (1 + 2 * i, 2 + 2 * i);
-            links.push(format!("A{i}1"));
-            links.push(format!("A{i}2"));
-            poses.push(Isometry3::from_parts(Translation3::from(at), Default::default()));
-            poses.push(Isometry3::from_parts(
-                Translation3::new(at[0], at[1], h),
-                Default::default(),
-            ));
-            joints.push(Joint {
-                name: format!("R{i}"),
-                kind: JointType::R,
-                links: [0, a1],
-                places: [Place::Axis { at, axis }, Place::Axis { at: [0.0; 3], axis }],
-                actuated: false,
-            });
-            joints.push(Joint {
-                name: format!("P{i}"),
-                kind: JointType::P,
-                links: [a1, a2],
-                places: [
-                    Place::Line {
-                        through: [0.0; 3],
-                        along: [0.0, 0.0, 1.0],
-                    },
-                    Place::Point { at: [0.0; 3] },
-                ],
-                actuated: true,
-            });
-            joints.push(Joint {
-                name: format!("S{i}"),
-                kind: JointType::S,
-                links: [a2, platform],
-                places: [Place::Point { at: [0.0; 3] }, Place::Point { at }],
-                actuated: false,
-            });
-        }
-        links.push("platform".into());
-        poses.push(Isometry3::from_parts(
-            Translation3::new(0.0, 0.0, h),
-            Default::default(),
-        ));
-        let values = (0..9).map(|j| if j % 3 == 1 { h } else { 0.0 }).collect();
-        let model = Model {
-            name: "rps".into(),
-            planar: false,
-            links,
-            joints,
-            points: vec![],
-        };
-        (model, poses, values)
-    }
-
-    /// The 3-SPR at its home pose: as [`home_rps`] with each leg turned
-    /// over, the ball on the base at (r cos θᵢ, r sin θᵢ, 0), the slide
-    /// along z, the revolute (axis tangent) at height h on the platform.
-    fn home_spr(r: f64, h: f64) -> (Model, Vec<Isometry3<f64>>, Vec<f64>) {
-        let (mut model, poses, values) = home_rps(r, h);
-        for i in 0..3 {
-            let t = (120.0 * i as f64).to_radians();
-            let at = [r * t.cos(), r * t.sin(), 0.0];
-            let axis = [-t.sin(), t.cos(), 0.0];
-            let (a1, a2) = (1 + 2 * i, 2 + 2 * i);
-            model.joints[3 * i] = Joint {
-                name: format!("S{i}"),
-                kind: JointType::S,
-                links: [0, a1],
-                places: [Place::Point { at }, Place::Point { at: [0.0; 3] }],
-                actuated: false,
-            };
-            model.joints[3 * i + 2] = Joint {
-                name: format!("R{i}"),
-                kind: JointType::R,
-                links: [a2, 7],
-                places: [Place::Axis { at: [0.0; 3], axis }, Place::Axis { at, axis }],
-                actuated: false,
-            };
-        }
-        (model, poses, values)
-    }
-
-    /// The home 3-SPR by hand: leg i's actuation force is the same vertical
-    /// line as the 3-RPS's, through the revolute's point (r cos θ, r sin θ,
-    /// h); its constraint force runs along the revolute's axis u through
-    /// the ball on the base, moment (r cos θ, r sin θ, 0) × u = (0, 0, r):
-    /// a line that misses the limb's distal centre, found all the same.
-    #[test]
-    fn home_spr_rows_by_hand() {
-        let (r, h) = (100.0, 75.0);
-        let (model, poses, values) = home_spr(r, h);
-        let a = analyse_poses(&model, &poses, &values, 7).unwrap();
-        assert_eq!((a.actuation, a.rows.len()), (3, 6));
-        for i in 0..3 {
-            let t = (120.0 * i as f64).to_radians();
-            let (s, c) = t.sin_cos();
-            assert!(
-                close(&a.rows[i].wrench, [0.0, 0.0, 1.0], [r * s, -r * c, 0.0]),
-                "{:?}",
-                a.rows[i]
-            );
-            let sign = if s.abs() > c.abs() { -s.signum() } else { c.signum() };
-            let con = &a.rows[3 + i];
-            assert_eq!(con.kind, RowKind::ConstraintForce);
-            assert!(
-                close(&con.wrench, [-s * sign, c * sign, 0.0], [0.0, 0.0, r * sign]),
-                "{con:?}"
-            );
-            assert!((a.limbs[i].length().unwrap() - h).abs() < 1e-12);
-        }
-    }
-
-    fn close(a: &Wrench, f: [f64; 3], m: [f64; 3]) -> bool {
-        (a.f - Vector3::from(f)).norm() < 1e-12 && (a.m - Vector3::from(m)).norm() < 1e-10
-    }
-
-    /// The legs of the home 3-RPS by hand: leg i's actuation force is
-    /// (0, 0, 1) through its ball (r cos θ, r sin θ, h), moment
-    /// c × e_z = (r sin θ, −r cos θ, 0); its constraint force is the unit
-    /// tangent u = (−sin θ, cos θ, 0) through the ball, moment
-    /// c × u = (−h cos θ, −h sin θ, r).
-    #[test]
-    fn home_rps_rows_by_hand() {
-        let (r, h) = (100.0, 75.0);
-        let (model, poses, values) = home_rps(r, h);
-        let a = analyse_poses(&model, &poses, &values, 7).unwrap();
-        assert_eq!(a.limbs.len(), 3);
-        assert_eq!(a.actuation, 3);
-        assert_eq!(a.rows.len(), 6);
-        for i in 0..3 {
-            let t = (120.0 * i as f64).to_radians();
-            let (s, c) = t.sin_cos();
-            let act = &a.rows[i];
-            assert!(close(&act.wrench, [0.0, 0.0, 1.0], [r * s, -r * c, 0.0]), "{act:?}");
-            assert!((act.transmission - 1.0).abs() < 1e-12);
-            let con = &a.rows[3 + i];
-            assert_eq!(con.kind, RowKind::ConstraintForce);
-            assert_eq!(con.limb, i);
-            // The sign: the largest component of the chosen axis positive.
-            let sign = if s.abs() > c.abs() { -s.signum() } else { c.signum() };
-            assert!(
-                close(
-                    &con.wrench,
-                    [-s * sign, c * sign, 0.0],
-                    [-h * c * sign, -h * s * sign, r * sign]
-                ),
-                "{con:?}"
-            );
-            assert!((a.limbs[i].length().unwrap() - h).abs() < 1e-12);
-        }
-    }
-
-    /// One leg alone leaves the platform five freedoms: its one constraint
-    /// force spans 1 of the 6 − 1 = 5 needed directions.
-    #[test]
-    fn one_leg_is_a_constraint_singularity() {
-        let (mut model, mut poses, mut values) = home_rps(100.0, 75.0);
-        model.joints.truncate(3);
-        model.links = vec!["base".into(), "A1".into(), "A2".into(), "platform".into()];
-        model.joints[2].links = [2, 3];
-        poses = vec![poses[0], poses[1], poses[2], poses[7]];
-        values.truncate(3);
-        let e = analyse_poses(&model, &poses, &values, 3).unwrap_err();
-        assert!(
-            matches!(e, WrenchError::ConstraintSingularity { rank: 1, needed: 5, .. }),
-            "{e}"
-        );
-    }
-
-    /// Leg 0's slide turned to run along x, normal to its leg (vertical,
-    /// from a = (100, 0, 0) to c = (100, 0, 75)) in the leg's plane: the
-    /// revolute about y through a less the ball's rotation about y through
-    /// c is the translation (a − c) × e_y = 75·e_x, so the slide moves
-    /// within its other joints' twists and has no actuation wrench.
-    #[test]
-    fn slide_within_the_others_is_an_actuation_singularity() {
-        let (mut model, poses, values) = home_rps(100.0, 75.0);
-        model.joints[1].places[0] = Place::Line {
-            through: [0.0; 3],
-            along: [1.0, 0.0, 0.0],
-        };
-        let e = analyse_poses(&model, &poses, &values, 7).unwrap_err();
-        assert!(
-            matches!(e, WrenchError::ActuationSingularity { limb: Some(0), .. }),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn bad_input_is_typed() {
-        let (model, poses, mut values) = home_rps(100.0, 75.0);
-        assert!(matches!(
-            analyse_poses(&model, &poses, &values, 0),
-            Err(WrenchError::BadInput { .. })
-        ));
-        assert!(matches!(
-            analyse_poses(&model, &poses[..3], &values, 7),
-            Err(WrenchError::BadInput { .. })
-        ));
-        values[1] = f64::NAN;
-        assert!(matches!(
-            analyse_poses(&model, &poses, &values, 7),
-            Err(WrenchError::BadInput { .. })
-        ));
-        // A platform that some joint does not reach through a limb.
-        values[1] = 75.0;
-        assert!(matches!(
-            analyse_poses(&model, &poses, &values, 2),
-            Err(WrenchError::NotLimbs { .. })
-        ));
-    }
-
-    /// The null space of one S joint's three rotations about c: the three
-    /// forces through c, canonically along x, y, z.
-    #[test]
-    fn a_ball_joint_admits_the_forces_through_its_centre() {
-        let c = Vector3::new(3.0, -2.0, 5.0);
-        // Written at p = c, the rotations are (0, s e_i): the forces (e_i, 0).
-        let hats: Vec<Vector6<f64>> = (0..3).map(|i| Vector6::ith(3 + i, 1.0)).collect();
-        let n = null_space(&hats);
-        assert_eq!(n.len(), 3);
-        let (couples, forces) = constraint_basis(&n);
-        assert!(couples.is_empty());
-        for (i, w) in forces.iter().enumerate() {
-            let wr = from_hat(w, &c, 10.0, false);
-            let e = Vector3::ith(i, 1.0);
-            assert!(close(&wr, e.into(), c.cross(&e).into()), "{wr:?}");
-        }
-    }
-}
+pub(crate) mod tests;

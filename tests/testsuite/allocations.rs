@@ -1,6 +1,5 @@
 //! The generated inverse dynamics (seed 003's punch, seed 000's mechanism
-//! A) and (not yet: ignored) the generated stiffness (3-RPS) allocate
-//! nothing on the heap: a
+//! A) and the generated stiffness (3-RPS) allocate nothing on the heap: a
 //! counting global allocator, counting on the calling thread only (the
 //! other tests run in parallel threads of this binary), sees no allocation
 //! while each is called many times after one preparation.
@@ -110,13 +109,9 @@ fn generated_inverse_dynamics_allocates_nothing() {
 }
 
 /// The 3-RPS at poses around its home (H = 75 mm): every call ok, none
-/// allocating. Not yet: `PlatformStiffness` (what the generated
-/// `stiffness` returns) holds the wrench analysis's `Vec`s, and
-/// `wrench::analyse_twists` decomposes `DMatrix`es (docs/stiffness.md,
-/// "Not yet"); `cargo test --test testsuite -- --ignored allocations`
-/// counts them.
+/// allocating (the wrench analysis and what `stiffness` returns are held
+/// inline, its SVDs on stack matrices).
 #[test]
-#[ignore = "the generated stiffness still allocates (docs/stiffness.md, Not yet)"]
 fn generated_stiffness_allocates_nothing() {
     let p = Rps::prepare(&RpsParams::default());
     let poses: Vec<[f64; 3]> = (0..100)

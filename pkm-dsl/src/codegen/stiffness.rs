@@ -64,6 +64,13 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
         .ok_or("no output places a platform point")?;
     let model = crate::numeric::model(a, &Default::default()).map_err(|d| d.to_string())?;
     let paths = pkm_runtime::wrench::limbs(&model, platform).map_err(|e| e.to_string())?;
+    if paths.len() > pkm_runtime::wrench::MAX_LIMBS {
+        return Err(format!(
+            "{} limbs: the stiffness takes at most {}",
+            paths.len(),
+            pkm_runtime::wrench::MAX_LIMBS
+        ));
+    }
     let world = |j: usize| {
         let l = a.point_link(j);
         b.poses[l].apply(g.local(PointRef::Joint(j), l))
@@ -107,6 +114,24 @@ pub(super) fn trace(a: &Analysis, g: &Geometry<Sym>, b: &Branch) -> Result<Trace
                     twist: xi.w.iter().chain(&xi.v).copied().collect(),
                 });
             }
+        }
+        let names = || {
+            path.iter()
+                .map(|&j| m.joints[j].name.as_str())
+                .collect::<Vec<_>>()
+                .join("–")
+        };
+        if path.len() > pkm_runtime::wrench::MAX_LIMB_JOINTS
+            || variables.len() > pkm_runtime::wrench::MAX_LIMB_VARIABLES
+        {
+            return Err(format!(
+                "the limb {} has {} joints and {} joint variables: the stiffness takes at most {} and {}",
+                names(),
+                path.len(),
+                variables.len(),
+                pkm_runtime::wrench::MAX_LIMB_JOINTS,
+                pkm_runtime::wrench::MAX_LIMB_VARIABLES
+            ));
         }
         let last = *path.last().expect("a limb has a joint");
         let centres = pkm_runtime::wrench::centre_joints(&model, &path).map(world).collect();
@@ -192,12 +217,13 @@ pub(super) fn functions(
             let distal = v3(&l.distal);
             let centres = l.centres.iter().map(|c| v3(c));
             let joints = &l.joints;
+            // Inline lists (`From` an array: its size checked when compiled).
             quote! {
                 #rt::wrench::LimbTwists {
-                    joints: ::std::vec::Vec::from([#(#joints),*]),
-                    variables: ::std::vec::Vec::from([#(#variables),*]),
+                    joints: ::core::convert::From::from([#(#joints),*]),
+                    variables: ::core::convert::From::from([#(#variables),*]),
                     distal: #distal,
-                    centres: ::std::vec::Vec::from([#(#centres),*]),
+                    centres: ::core::convert::From::from([#(#centres),*]),
                 }
             }
         })
