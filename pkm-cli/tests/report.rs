@@ -372,6 +372,16 @@ fn options_out_of_range() {
         },
         "--param d: parameter d is given twice",
     );
+    // The command line's checks on the values given, with its words: a
+    // link length taken through zero (a1 = 120 by the file) is refused.
+    check(
+        "five_bar",
+        ReportOptions {
+            params: vec![("a1".into(), -5.0)],
+            ..o()
+        },
+        "parameter a1 = -5 must be positive: the distance R1–R2 on link left",
+    );
     // A 3-RPS's topology alone.
     let topology_only = "mechanism rps { capabilities ik;\n\
          branch A { base R1 ⊥ P1* - S1 platform; }\n\

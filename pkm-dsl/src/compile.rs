@@ -16,6 +16,7 @@
 
 use crate::diagnostics::Diagnostics;
 use crate::lowering::numeric;
+use crate::lowering::params::{self, ParamError};
 use crate::topology::analysis::Analysis;
 use pkm_runtime::model::Model;
 use pkm_runtime::newton::Output;
@@ -33,6 +34,29 @@ pub struct Compiled {
     outputs: OnceCell<Result<Vec<Output>, Diagnostics>>,
     forward: OnceCell<Result<Plan, Diagnostics>>,
     inverse: OnceCell<Result<Plan, Diagnostics>>,
+}
+
+/// A compiled description at given parameter values ([`Compiled::instance`]).
+#[derive(Debug, Clone)]
+pub struct Instance {
+    /// The numeric model at those values.
+    pub model: Model,
+    /// The declared outputs on that model.
+    pub outputs: Vec<Output>,
+    /// The overrides as given, by name (the parameters not given keep the
+    /// file's values; derived ones follow).
+    pub overrides: HashMap<String, f64>,
+}
+
+/// Why [`Compiled::instance`] refuses the values given.
+#[derive(Debug, Clone)]
+pub enum InstanceError {
+    /// The file's geometry does not build (at its own values or at the overrides').
+    Source(Diagnostics),
+    /// An override is unknown, not finite or given twice.
+    Param(ParamError),
+    /// The overrides take a length through zero or a place out of the numbers.
+    Dimension(String),
 }
 
 /// Compiles a description: every error in it, or its analysis with the
@@ -94,6 +118,29 @@ impl Compiled {
             return self.outputs().map(<[Output]>::to_vec);
         }
         numeric::newton_outputs(&self.analysis, model, values)
+    }
+
+    /// The model and the declared outputs at the command line's `--param`
+    /// overrides `given` (name, value), every check on them made: the
+    /// file's own model builds, each override names a declared parameter
+    /// once with a finite value ([`params::overrides`]), takes no length
+    /// through zero ([`params::check_lengths`]), and leaves every place a
+    /// number ([`params::non_finite_place`]). The command line and the
+    /// report both start from it.
+    pub fn instance(&self, given: &[(String, f64)]) -> Result<Instance, InstanceError> {
+        let nominal = self.model().map_err(InstanceError::Source)?;
+        let overrides = params::overrides(&self.analysis, given).map_err(InstanceError::Param)?;
+        params::check_lengths(&self.analysis, nominal, &overrides).map_err(InstanceError::Dimension)?;
+        let model = self.model_at(&overrides).map_err(InstanceError::Source)?;
+        if let Some(why) = params::non_finite_place(&model) {
+            return Err(InstanceError::Dimension(format!("at the given parameters {why}")));
+        }
+        let outputs = self.outputs_at(&model, &overrides).map_err(InstanceError::Source)?;
+        Ok(Instance {
+            model,
+            outputs,
+            overrides,
+        })
     }
 
     /// The forward plan (inputs to every joint), planned on first use.

@@ -26,7 +26,7 @@ pub mod compile;
 // The paths callers (the CLI, the tests, the benches) name today.
 pub use analysis::{analyze_source, Analysis};
 pub use codegen::{check_capabilities, expand};
-pub use compile::{compile, Compiled};
+pub use compile::{compile, Compiled, Instance, InstanceError};
 pub use diagnostics::{Diagnostic, Diagnostics, Span};
 pub use lowering::{numeric, params};
 pub use plan::{planner, planner_numeric};

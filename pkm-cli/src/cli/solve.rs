@@ -6,8 +6,8 @@
 
 use super::failure::{Failure, Kind};
 use super::table::{self, Branch, Cell, Column};
-use pkm_dsl::{Analysis, Compiled, Diagnostics};
-use pkm_runtime::model::{JointType, Model, Place};
+use pkm_dsl::{Compiled, Diagnostics, InstanceError};
+use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::Output;
 use pkm_runtime::plan::{Plan, Pose3};
 use pkm_runtime::primitives::Sign;
@@ -64,20 +64,16 @@ pub(super) struct Loaded {
 
 pub(super) fn load(r: &Request) -> Result<Loaded, Failure> {
     let compiled = pkm_dsl::compile(r.source).map_err(|d| r.parse_failure(d))?;
-    let analysis = &compiled.analysis;
-    let nominal = compiled.model().map_err(|d| r.parse_failure(d))?;
-    let values = pkm_dsl::params::overrides(analysis, r.params).map_err(|e| Failure::input(e.to_string()))?;
-    check_lengths(analysis, nominal, &values)?;
-    let model = compiled.model_at(&values).map_err(|d| r.parse_failure(d))?;
-    if let Some(why) = non_finite_place(&model) {
-        return Err(Failure::input(format!("at the given parameters {why}")));
-    }
-    let outputs = compiled.outputs_at(&model, &values).map_err(|d| r.parse_failure(d))?;
+    let instance = compiled.instance(r.params).map_err(|e| match e {
+        InstanceError::Source(d) => r.parse_failure(d),
+        InstanceError::Param(e) => Failure::input(e.to_string()),
+        InstanceError::Dimension(why) => Failure::input(why),
+    })?;
     Ok(Loaded {
         compiled,
-        model,
-        outputs,
-        values,
+        model: instance.model,
+        outputs: instance.outputs,
+        values: instance.overrides,
     })
 }
 
@@ -95,115 +91,6 @@ pub(super) fn finite(what: &str, v: f64) -> Result<(), Failure> {
     } else {
         Ok(())
     }
-}
-
-/// A joint place or named point that is not a number (a parameter
-/// expression such as `sqrt(a - 100)` out of its domain), if any.
-fn non_finite_place(model: &Model) -> Option<String> {
-    let bad = |v: [f64; 3]| v.iter().any(|x| !x.is_finite());
-    let joint = model.joints.iter().find_map(|j| {
-        (0..2).find_map(|s| {
-            let (at, axis) = (j.places[s].at(), j.places[s].axis());
-            (bad(at) || bad(axis)).then(|| {
-                format!(
-                    "joint {}'s place on link {} is not finite ({at:?} along {axis:?})",
-                    j.name, model.links[j.links[s]]
-                )
-            })
-        })
-    });
-    joint.or_else(|| {
-        let p = model.points.iter().find(|p| bad(p.at))?;
-        Some(format!("point {} is not finite ({:?})", p.name, p.at))
-    })
-}
-
-/// The points of `link` a parameter can set the distances between: its
-/// joints' places (not guide lines: any point of a line stands for it) and
-/// its named points, in a fixed order.
-fn link_points(model: &Model, link: usize) -> Vec<(&str, [f64; 3])> {
-    let joints = model.joints.iter().flat_map(|j| {
-        (0..2)
-            .filter(move |&s| j.links[s] == link && !matches!(j.places[s], Place::Line { .. }))
-            .map(move |s| (j.name.as_str(), j.places[s].at()))
-    });
-    let named = model
-        .points
-        .iter()
-        .filter(|p| p.link == link)
-        .map(|p| (p.name.as_str(), p.at));
-    joints.chain(named).collect()
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// Rejects an override that takes a length of the mechanism through zero.
-/// Each override is applied alone to the declared dimensions; a distance
-/// between two points of one link that becomes zero, or (on a moving link)
-/// turns to point the opposite way along the same line, went through zero
-/// on the way: `l2 = -5` for a link declared `l2` long. Base points are
-/// positions, which may change sides, so only their coincidence counts.
-fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -> Result<(), Failure> {
-    let declared = a.geometry.nominal();
-    let mut names: Vec<&String> = values.keys().collect();
-    names.sort();
-    for name in names {
-        let v = values[name];
-        // A model that does not build fails later with its own diagnostics.
-        let Ok(changed) = pkm_dsl::numeric::model(a, &HashMap::from([(name.clone(), v)])) else {
-            continue;
-        };
-        for (link, link_name) in nominal.links.iter().enumerate() {
-            let (before, after) = (link_points(nominal, link), link_points(&changed, link));
-            for i in 0..before.len() {
-                for k in i + 1..before.len().min(after.len()) {
-                    let (d0, d1) = (sub(before[k].1, before[i].1), sub(after[k].1, after[i].1));
-                    let (n0, n1) = (norm(d0), norm(d1));
-                    if n0 == 0.0 {
-                        continue;
-                    }
-                    let (p, q) = (before[i].0, before[k].0);
-                    let at_declared = format!("at the declared {name} = {}", declared[name]);
-                    if n1 <= 1e-9 * n0 {
-                        return Err(Failure::input(format!(
-                            "parameter {name} = {v} puts {p} and {q} of link {link_name} at one point \
-                             (they are {n0} apart {at_declared})"
-                        )));
-                    }
-                    if link != 0 && dot(d0, d1) < 0.0 && norm(cross(d0, d1)) <= 1e-9 * n0 * n1 {
-                        let rule = match declared[name] {
-                            d if d > 0.0 => "must be positive",
-                            d if d < 0.0 => "must be negative",
-                            _ => "is out of range",
-                        };
-                        return Err(Failure::input(format!(
-                            "parameter {name} = {v} {rule}: the distance {p}–{q} on link {link_name} \
-                             ({n0} {at_declared}) would pass through zero"
-                        )));
-                    }
-                }
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Whether a joint's value is an angle.

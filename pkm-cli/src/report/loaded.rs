@@ -39,7 +39,7 @@ pub(super) fn load(
     let compiled = pkm_dsl::compile(text).map_err(render)?;
     let a = &compiled.analysis;
     // Only the overrides: the others, derived ones included, are resolved from them.
-    let values = pkm_dsl::params::overrides(a, params).map_err(|e| {
+    let param = |e: pkm_dsl::params::ParamError| {
         invalid(match e {
             pkm_dsl::params::ParamError::Unknown { name, known, .. } => {
                 format!(
@@ -52,12 +52,20 @@ pub(super) fn load(
             }
             e => format!("{file}: --param {}: {e}", e.name()),
         })
-    })?;
+    };
     if !a.geometry.complete {
+        pkm_dsl::params::overrides(a, params).map_err(param)?;
         return Ok((compiled.analysis, None));
     }
-    let model = compiled.model_at(&values).map_err(render)?;
-    let outputs = compiled.outputs_at(&model, &values).map_err(render)?;
+    let pkm_dsl::Instance {
+        model,
+        outputs,
+        overrides: values,
+    } = compiled.instance(params).map_err(|e| match e {
+        pkm_dsl::InstanceError::Source(d) => render(d),
+        pkm_dsl::InstanceError::Param(e) => param(e),
+        pkm_dsl::InstanceError::Dimension(why) => invalid(format!("{file}: {why}")),
+    })?;
     // Every parameter's value, for the study block's expressions.
     let values = pkm_dsl::numeric::parameter_values(a, &values).map_err(render)?;
     let forward = compiled.forward().cloned().map_err(|d| headline(&d));

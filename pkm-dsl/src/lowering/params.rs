@@ -3,6 +3,8 @@
 //! built, so that every caller refuses the same inputs with the same reasons.
 
 use crate::topology::analysis::Analysis;
+use nalgebra::Vector3;
+use pkm_runtime::model::{Model, Place};
 use std::collections::HashMap;
 
 /// Why a list of parameter overrides is refused.
@@ -93,6 +95,98 @@ pub fn overrides(a: &Analysis, given: &[(String, f64)]) -> Result<HashMap<String
         }
     }
     Ok(values)
+}
+
+/// Rejects an override that takes a length of the mechanism through zero.
+/// Each override is applied alone to the declared dimensions (`nominal`,
+/// the model at the file's values); a distance between two points of one
+/// link that becomes zero, or (on a moving link) turns to point the
+/// opposite way along the same line, went through zero on the way:
+/// `l2 = -5` for a link declared `l2` long. Base points are positions,
+/// which may change sides, so only their coincidence counts. The reason,
+/// as the command line prints it.
+pub fn check_lengths(a: &Analysis, nominal: &Model, values: &HashMap<String, f64>) -> Result<(), String> {
+    let declared = a.geometry.nominal();
+    let mut names: Vec<&String> = values.keys().collect();
+    names.sort();
+    for name in names {
+        let v = values[name];
+        // A model that does not build fails later with its own diagnostics.
+        let Ok(changed) = crate::lowering::numeric::model(a, &HashMap::from([(name.clone(), v)])) else {
+            continue;
+        };
+        for (link, link_name) in nominal.links.iter().enumerate() {
+            let (before, after) = (link_points(nominal, link), link_points(&changed, link));
+            for i in 0..before.len() {
+                for k in i + 1..before.len().min(after.len()) {
+                    let d0 = Vector3::from(before[k].1) - Vector3::from(before[i].1);
+                    let d1 = Vector3::from(after[k].1) - Vector3::from(after[i].1);
+                    let (n0, n1) = (d0.norm(), d1.norm());
+                    if n0 == 0.0 {
+                        continue;
+                    }
+                    let (p, q) = (before[i].0, before[k].0);
+                    let at_declared = format!("at the declared {name} = {}", declared[name]);
+                    if n1 <= 1e-9 * n0 {
+                        return Err(format!(
+                            "parameter {name} = {v} puts {p} and {q} of link {link_name} at one point \
+                             (they are {n0} apart {at_declared})"
+                        ));
+                    }
+                    if link != 0 && d0.dot(&d1) < 0.0 && d0.cross(&d1).norm() <= 1e-9 * n0 * n1 {
+                        let rule = match declared[name] {
+                            d if d > 0.0 => "must be positive",
+                            d if d < 0.0 => "must be negative",
+                            _ => "is out of range",
+                        };
+                        return Err(format!(
+                            "parameter {name} = {v} {rule}: the distance {p}–{q} on link {link_name} \
+                             ({n0} {at_declared}) would pass through zero"
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The points of `link` a parameter can set the distances between: its
+/// joints' places (not guide lines: any point of a line stands for it) and
+/// its named points, in a fixed order.
+fn link_points(model: &Model, link: usize) -> Vec<(&str, [f64; 3])> {
+    let joints = model.joints.iter().flat_map(|j| {
+        (0..2)
+            .filter(move |&s| j.links[s] == link && !matches!(j.places[s], Place::Line { .. }))
+            .map(move |s| (j.name.as_str(), j.places[s].at()))
+    });
+    let named = model
+        .points
+        .iter()
+        .filter(|p| p.link == link)
+        .map(|p| (p.name.as_str(), p.at));
+    joints.chain(named).collect()
+}
+
+/// A joint place or named point of `model` that is not a number (a
+/// parameter expression such as `sqrt(a - 100)` out of its domain), if any.
+pub fn non_finite_place(model: &Model) -> Option<String> {
+    let bad = |v: [f64; 3]| v.iter().any(|x| !x.is_finite());
+    let joint = model.joints.iter().find_map(|j| {
+        (0..2).find_map(|s| {
+            let (at, axis) = (j.places[s].at(), j.places[s].axis());
+            (bad(at) || bad(axis)).then(|| {
+                format!(
+                    "joint {}'s place on link {} is not finite ({at:?} along {axis:?})",
+                    j.name, model.links[j.links[s]]
+                )
+            })
+        })
+    });
+    joint.or_else(|| {
+        let p = model.points.iter().find(|p| bad(p.at))?;
+        Some(format!("point {} is not finite ({:?})", p.name, p.at))
+    })
 }
 
 #[cfg(test)]
