@@ -114,19 +114,6 @@ impl Div for HyperDual {
     }
 }
 
-/// The real parts of a kernel's failure, for its error.
-fn real(f: Failure<HyperDual>) -> Failure<f64> {
-    match f {
-        Failure::Degenerate(what) => Failure::Degenerate(what),
-        Failure::Unreachable(what, by) => Failure::Unreachable(what, by.re),
-        Failure::Distance { d, dmax, dmin } => Failure::Distance {
-            d: d.re,
-            dmax: dmax.re,
-            dmin: dmin.re,
-        },
-    }
-}
-
 impl Scalar for HyperDual {
     type Choice = Sign;
 
@@ -178,7 +165,7 @@ impl Scalar for HyperDual {
         if a.re < b.re {
             Ok(())
         } else {
-            Err(real(failure).error())
+            Err(failure.map(|x| x.re).error())
         }
     }
     fn pick(choice: Sign, plus: Self, minus: Self) -> Self {

@@ -14,7 +14,7 @@
 //!   6 rows per cut joint.
 //!
 //! Poses, joint transforms and the residual are generic over the scalar
-//! ([`Real`]) through [`Kinematics`], so that the same code evaluates them in
+//! ([`Real`], a [`Scalar`](crate::scalar::Scalar) with values) through [`Kinematics`], so that the same code evaluates them in
 //! `f64` (for [`crate::newton`]) and in a higher precision (for a reference
 //! solution). A pose is a unit quaternion and a translation, composed as
 //! nalgebra composes an `Isometry3`, so the `f64` functions here return
@@ -26,7 +26,7 @@ use std::fmt;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
 use crate::model::{JointType, Model, Place};
-use crate::real::Real;
+use crate::scalar::{add, constant as lift, cross, dot, norm, scale, sub, unit as normalize, Real};
 
 /// Why a model and a joint-value vector do not give link poses.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,50 +144,12 @@ pub struct Pose<T> {
     pub translation: [T; 3],
 }
 
-fn cross<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot<T: Real>(a: [T; 3], b: [T; 3]) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm<T: Real>(a: [T; 3]) -> T {
-    dot(a, a).sqrt()
-}
-
-fn scale<T: Real>(a: [T; 3], k: T) -> [T; 3] {
-    [a[0] * k, a[1] * k, a[2] * k]
-}
-
-fn add<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn lift<T: Real>(a: [f64; 3]) -> [T; 3] {
-    a.map(T::from_f64)
-}
-
-/// `v / |v|`; not finite for a zero vector (the caller checks poses).
-fn normalize<T: Real>(v: [T; 3]) -> [T; 3] {
-    let n = norm(v);
-    [v[0] / n, v[1] / n, v[2] / n]
-}
-
 impl<T: Real> Pose<T> {
     /// The identity.
     pub fn identity() -> Self {
         Pose {
-            rotation: [T::one(), T::zero(), T::zero(), T::zero()],
-            translation: [T::zero(); 3],
+            rotation: [T::c(1.0), T::c(0.0), T::c(0.0), T::c(0.0)],
+            translation: [T::c(0.0); 3],
         }
     }
 
@@ -204,8 +166,8 @@ impl<T: Real> Pose<T> {
         let [w, x, y, z] = self.rotation;
         let q = [x, y, z];
         // v + w t + q × t with t = 2 q × v, as nalgebra turns a vector.
-        let t = scale(cross(q, v), T::from_f64(2.0));
-        add(add(scale(t, w), cross(q, t)), v)
+        let t = scale(T::c(2.0), cross(q, v));
+        add(add(scale(w, t), cross(q, t)), v)
     }
 
     /// `R p + translation`.
@@ -218,7 +180,7 @@ impl<T: Real> Pose<T> {
         let [w, x, y, z] = self.rotation;
         let conj = Pose {
             rotation: [w, -x, -y, -z],
-            translation: [T::zero(); 3],
+            translation: [T::c(0.0); 3],
         };
         let t = conj.rotate(self.translation);
         Pose {
@@ -244,16 +206,16 @@ impl<T: Real> Pose<T> {
 
     /// The rotation by the rotation vector `r` (angle `|r|` about `r`).
     pub fn rotation_vector(r: [T; 3]) -> Self {
-        let half = scale(r, T::from_f64(0.5));
+        let half = scale(T::c(0.5), r);
         let n2 = dot(half, half);
-        if n2 == T::zero() {
+        if n2 == T::c(0.0) {
             return Pose::identity();
         }
         let n = n2.sqrt();
         let k = n.sin() / n;
         Pose {
             rotation: [n.cos(), half[0] * k, half[1] * k, half[2] * k],
-            translation: [T::zero(); 3],
+            translation: [T::c(0.0); 3],
         }
     }
 
@@ -261,21 +223,21 @@ impl<T: Real> Pose<T> {
     pub fn scaled_axis(&self) -> [T; 3] {
         let [w, x, y, z] = self.rotation;
         // q and −q are the same rotation: take the one with w ≥ 0.
-        let v = if w >= T::zero() { [x, y, z] } else { [-x, -y, -z] };
+        let v = if w >= T::c(0.0) { [x, y, z] } else { [-x, -y, -z] };
         let n = norm(v);
-        if n <= T::zero() {
-            return [T::zero(); 3];
+        if n <= T::c(0.0) {
+            return [T::c(0.0); 3];
         }
-        scale(v, n.atan2(w.abs()) * T::from_f64(2.0) / n)
+        scale(n.atan2(w.abs()) * T::c(2.0) / n, v)
     }
 
     /// The unit quaternion of the rotation matrix with columns `x`, `y`, `z`.
     fn from_basis(x: [T; 3], y: [T; 3], z: [T; 3], at: [T; 3]) -> Self {
         let m = |i: usize, j: usize| [x, y, z][j][i];
-        let (one, two, quarter) = (T::one(), T::from_f64(2.0), T::from_f64(0.25));
+        let (one, two, quarter) = (T::c(1.0), T::c(2.0), T::c(0.25));
         let trace = m(0, 0) + m(1, 1) + m(2, 2);
         // The largest of w, x, y, z first (as nalgebra does), for accuracy.
-        let rotation = if trace > T::zero() {
+        let rotation = if trace > T::c(0.0) {
             let d = (trace + one).sqrt() * two;
             [
                 d * quarter,
@@ -351,13 +313,9 @@ pub fn frame<T: Real>(at: [f64; 3], axis: [f64; 3]) -> Pose<T> {
         return Pose::translation(lift(at));
     }
     let z = normalize(lift::<T>(axis));
-    let (o, i) = (T::zero(), T::one());
-    let e = if z[0].abs() < T::from_f64(0.9) {
-        [i, o, o]
-    } else {
-        [o, i, o]
-    };
-    let x = normalize(sub(e, scale(z, dot(z, e))));
+    let (o, i) = (T::c(0.0), T::c(1.0));
+    let e = if z[0].abs() < T::c(0.9) { [i, o, o] } else { [o, i, o] };
+    let x = normalize(sub(e, scale(dot(z, e), z)));
     let y = cross(z, x);
     Pose::from_basis(x, y, z, lift(at))
 }
@@ -374,8 +332,8 @@ pub fn joint_pose<T: Real>(kind: JointType, places: &[Place; 2], frames: &[Pose<
     let [fu, fv] = frames;
     match kind {
         JointType::R => {
-            let half = values[0] * T::from_f64(0.5);
-            let o = T::zero();
+            let half = values[0] * T::c(0.5);
+            let o = T::c(0.0);
             let rz = Pose {
                 rotation: [half.cos(), o, o, half.sin()],
                 translation: [o; 3],
@@ -404,7 +362,7 @@ pub fn joint_pose<T: Real>(kind: JointType, places: &[Place; 2], frames: &[Pose<
                     Place::Axis { at, axis } | Place::Arm { at, axis, .. } => (lift(at), normalize(lift(axis))),
                     Place::Point { at } => (lift(at), x),
                 };
-                Pose::translation(sub(add(q, scale(d, values[0])), lift(slider.at())))
+                Pose::translation(sub(add(q, scale(values[0], d)), lift(slider.at())))
             };
             if matches!(places[0], Place::Line { .. }) {
                 slide(&places[0], &places[1])
@@ -533,7 +491,7 @@ impl<'a, T: Real> Kinematics<'a, T> {
             let [w, x, y, z] = predicted.rotation;
             let inverse = Pose {
                 rotation: [w, -x, -y, -z],
-                translation: [T::zero(); 3],
+                translation: [T::c(0.0); 3],
             };
             let dr = poses[v].then(&inverse).scaled_axis();
             r.extend(dp.into_iter().chain(dr));

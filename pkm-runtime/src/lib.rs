@@ -23,7 +23,6 @@ pub mod newton;
 pub mod newton_euler;
 pub mod plan;
 pub mod primitives;
-pub mod real;
 #[cfg(feature = "high-precision")]
 pub mod reference;
 pub mod scalar;

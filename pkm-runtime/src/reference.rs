@@ -14,22 +14,17 @@
 use crate::kinematics::{model_scale, Kinematics, ModelError, Pose};
 use crate::model::{JointType, Model};
 use crate::newton::{ik_problem, split_entries, NewtonError, Output};
-use crate::real::Real;
+use crate::primitives::{Error as GeomError, Sign};
+use crate::scalar::{Failure, Real, Scalar};
 
 /// The octuple-precision scalar, re-exported so that benches and tests name this version.
 pub use ::f256::f256;
 
-impl Real for f256 {
-    fn from_f64(x: f64) -> Self {
+impl Scalar for f256 {
+    type Choice = Sign;
+
+    fn c(x: f64) -> Self {
         f256::from(x)
-    }
-
-    fn zero() -> Self {
-        f256::ZERO
-    }
-
-    fn one() -> Self {
-        f256::ONE
     }
 
     fn sqrt(self) -> Self {
@@ -68,6 +63,35 @@ impl Real for f256 {
         }
     }
 
+    fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
+        if a < b {
+            then
+        } else {
+            otherwise
+        }
+    }
+
+    fn require(a: Self, b: Self, failure: Failure<Self>, _site: [usize; 2]) -> Result<(), GeomError<f64>> {
+        if a < b {
+            Ok(())
+        } else {
+            Err(failure.map(to_f64).error())
+        }
+    }
+
+    fn pick(choice: Sign, plus: Self, minus: Self) -> Self {
+        match choice {
+            Sign::Plus => plus,
+            Sign::Minus => minus,
+        }
+    }
+
+    fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
+        k.map_or(Sign::Plus, |k| signs[k])
+    }
+}
+
+impl Real for f256 {
     fn is_finite(self) -> bool {
         f256::is_finite(self)
     }
@@ -258,12 +282,12 @@ pub fn output_values<T: Real>(model: &Model, outputs: &[Output], values: &[T]) -
         match *o {
             Output::Joint(j) => out.push(values[k.offsets[j]]),
             Output::Parts { link, local, parts } => {
-                let p = poses[link].transform_point(local.map(T::from_f64));
+                let p = poses[link].transform_point(local.map(T::c));
                 // R = R_z·R_y·R_x from q = (w, x, y, z): r₂₁ = 2(yz + wx),
                 // r₂₂ = 1 − 2(x² + y²), −r₂₀ = 2(wy − xz), r₁₀ = 2(xy + wz),
                 // r₀₀ = 1 − 2(y² + z²), √(r₀₀² + r₁₀²) = √(1 − r₂₀²).
                 let [w, x, y, z] = poses[link].rotation;
-                let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
+                let (one, two) = (T::c(1.0), T::c(2.0));
                 let sy = two * (w * y - x * z);
                 let six = [
                     p[0],
@@ -276,16 +300,16 @@ pub fn output_values<T: Real>(model: &Model, outputs: &[Output], values: &[T]) -
                 out.extend(parts.given().map(|i| six[i]));
             }
             Output::Point { link, local } | Output::Pose { link, local, .. } => {
-                let p = poses[link].transform_point(local.map(T::from_f64));
+                let p = poses[link].transform_point(local.map(T::c));
                 out.extend_from_slice(&p[..n]);
                 if let Output::Pose { about: Some(axis), .. } = *o {
                     // q = (cos α/2, sin α/2 · â) for a turn by α about â.
                     let [w, x, y, z] = poses[link].rotation;
-                    let a = axis.map(T::from_f64);
+                    let a = axis.map(T::c);
                     let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
                     let s = (x * a[0] + y * a[1] + z * a[2]) / norm;
-                    let (s, w) = if w < T::zero() { (-s, -w) } else { (s, w) };
-                    out.push(s.atan2(w) * T::from_f64(2.0));
+                    let (s, w) = if w < T::c(0.0) { (-s, -w) } else { (s, w) };
+                    out.push(s.atan2(w) * T::c(2.0));
                 }
             }
         }
@@ -398,9 +422,9 @@ mod tests {
     fn f256_carries_more_than_forty_digits() {
         // sin²(1) + cos²(1) = 1 and √2·√2 = 2 to within 1e-68.
         let one = f256::ONE;
-        let (s, c) = (Real::sin(one), Real::cos(one));
+        let (s, c) = (Scalar::sin(one), Scalar::cos(one));
         assert!(to_f64((s * s + c * c - one).abs()) < 1e-68);
-        let r2 = Real::sqrt(f256::from(2.0));
+        let r2 = Scalar::sqrt(f256::from(2.0));
         assert!(to_f64((r2 * r2 - f256::from(2.0)).abs()) < 1e-68);
     }
 
@@ -420,11 +444,11 @@ mod tests {
             (-1.0, 0.0, -2.0),
             (0.0, -1.0, 4.0),
         ] {
-            let got = Real::atan2(f256::from(y), f256::from(x));
+            let got = Scalar::atan2(f256::from(y), f256::from(x));
             let d = to_f64((got - quarter * f256::from(k)).abs());
             assert!(d < 1e-68, "atan2({y}, {x}) is off by {d:e}");
         }
-        let got = to_f64(Real::atan2(f256::from(0.3), f256::from(0.7)));
+        let got = to_f64(Scalar::atan2(f256::from(0.3), f256::from(0.7)));
         assert!((got - 0.3f64.atan2(0.7)).abs() < 1e-16);
     }
 

@@ -118,6 +118,37 @@ impl Scalar for f64 {
     }
 }
 
+/// A [`Scalar`] that holds a value and is ordered: `f64` and the 70-digit
+/// `f256` of `reference.rs` (feature `high-precision`), not the code
+/// generator's symbols. What computes with
+/// values that it compares (the model's link poses and loop residual,
+/// [`crate::kinematics`], and the reference Newton iteration) is written
+/// over it; its arithmetic and functions are [`Scalar`]'s, so that the
+/// two are one set of operations.
+///
+/// Comparisons (`PartialOrd`) choose a branch or classify a case, never
+/// compute a value.
+///
+/// ```
+/// use pkm_runtime::scalar::{Real, Scalar};
+///
+/// fn hyp<T: Real>(a: T, b: T) -> T {
+///     if a == T::c(0.0) { b.abs() } else { (a * a + b * b).sqrt() }
+/// }
+/// assert_eq!(hyp(3.0_f64, 4.0), 5.0);
+/// ```
+pub trait Real: Scalar + PartialOrd {
+    /// Neither infinite nor NaN (for a dual number: every part).
+    fn is_finite(self) -> bool;
+}
+
+impl Real for f64 {
+    #[inline]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
 /// The angle of `(x, y)` in (−π, π]: `atan2(y, x)`, but π where `y` is a
 /// negative zero and `x < 0` (where atan2 gives −π). Folding a sum with an
 /// exact zero may turn +0 into −0, so the code generator and the
@@ -156,6 +187,21 @@ pub enum Failure<T> {
         /// The smallest distance.
         dmin: T,
     },
+}
+
+impl<T: Copy> Failure<T> {
+    /// The same failure with its values mapped by `f` (to `f64`, to report).
+    pub fn map(self, f: impl Fn(T) -> f64) -> Failure<f64> {
+        match self {
+            Failure::Degenerate(what) => Failure::Degenerate(what),
+            Failure::Unreachable(constraint, by) => Failure::Unreachable(constraint, f(by)),
+            Failure::Distance { d, dmax, dmin } => Failure::Distance {
+                d: f(d),
+                dmax: f(dmax),
+                dmin: f(dmin),
+            },
+        }
+    }
 }
 
 impl Failure<f64> {
@@ -250,4 +296,28 @@ pub fn reject<T: Scalar>(a: [T; 3], k: [T; 3]) -> [T; 3] {
 #[inline]
 pub fn constant<T: Scalar>(a: [f64; 3]) -> [T; 3] {
     a.map(T::c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Real, Scalar};
+
+    fn generic_ops<T: Real>(x: T) -> [T; 2] {
+        [x.sqrt(), (-x).abs()]
+    }
+
+    /// `f64`'s `Scalar` and `Real` are its own functions (atan2 but for
+    /// its −π, `angle`).
+    #[test]
+    fn f64_impl_matches_inherent_methods() {
+        assert_eq!(generic_ops(4.0_f64), [2.0, 4.0]);
+        assert_eq!(<f64 as Scalar>::c(0.0), 0.0);
+        assert_eq!(<f64 as Scalar>::c(1.0), 1.0);
+        assert_eq!(Scalar::atan2(1.0_f64, 1.0), core::f64::consts::FRAC_PI_4);
+        assert_eq!(Scalar::sin(0.0_f64), 0.0);
+        assert_eq!(Scalar::cos(0.0_f64), 1.0);
+        assert!(!Real::is_finite(f64::NAN));
+        assert!(!Real::is_finite(f64::INFINITY));
+        assert!(Real::is_finite(1.0_f64));
+    }
 }

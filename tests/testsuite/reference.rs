@@ -5,8 +5,8 @@
 
 use crate::work_precision;
 
-use pkm::runtime::real::Real;
 use pkm::runtime::reference::{f256, max_error, to_f64, STEP_TOLERANCE};
+use pkm::runtime::scalar::Scalar;
 use work_precision::{cases, Case};
 
 /// Every reference closes its loops to 1e-38 (position rows relative to the
@@ -57,21 +57,21 @@ fn four_bar_reference_matches_the_circle_intersection() {
     let psi_index = 3;
     for p in &case.points {
         let theta = f(p.inputs[0]);
-        let (bx, by) = (l1 * Real::cos(theta), l1 * Real::sin(theta));
+        let (bx, by) = (l1 * Scalar::cos(theta), l1 * Scalar::sin(theta));
         let (dx, dy) = (l4 - bx, -by);
-        let dist = Real::sqrt(dx * dx + dy * dy);
+        let dist = Scalar::sqrt(dx * dx + dy * dy);
         // The chord's foot at a from B along B→D, half-chord h.
         let a = (l2 * l2 - l3 * l3 + dist * dist) / (two * dist);
-        let h = Real::sqrt(l2 * l2 - a * a);
+        let h = Scalar::sqrt(l2 * l2 - a * a);
         let (ex, ey) = (dx / dist, dy / dist);
         let psi = |h: f256| {
             let (cx, cy) = (bx + a * ex - h * ey, by + a * ey + h * ex);
-            Real::atan2(cy, cx - l4)
+            Scalar::atan2(cy, cx - l4)
         };
         let reference = p.fk.values[psi_index];
         let error = [psi(h), psi(-h)]
             .iter()
-            .map(|&s| to_f64(Real::abs(s - reference)))
+            .map(|&s| to_f64(Scalar::abs(s - reference)))
             .fold(f64::INFINITY, f64::min);
         assert!(error < 1e-60, "θ = {}: ψ off by {error:e}", p.inputs[0]);
     }
