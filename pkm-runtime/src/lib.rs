@@ -31,6 +31,7 @@ pub mod skc_reactions;
 pub mod solution;
 pub mod steps;
 pub mod stiffness;
+pub mod subproblems;
 pub mod topology_report;
 pub mod velocity;
 pub mod virtual_work;

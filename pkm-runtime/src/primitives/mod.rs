@@ -3,16 +3,9 @@
 //! tolerance that tells a tangency from a miss ([`TANGENCY_TOL`]).
 //!
 //! The kernels themselves are written once, generic over
-//! [`crate::scalar::Scalar`], in the step files of [`crate::steps`]: a turn
-//! onto a direction ([`crate::steps::aim::turn_onto`], Paden–Kahan
-//! subproblem 1), `a·cosθ + b·sinθ = c` ([`crate::steps::on_plane::trig_turns`]),
-//! a slide onto a plane ([`crate::steps::on_plane::line_plane`]), a circle or
-//! a line meeting a sphere ([`crate::steps::on_sphere::circle_distance`],
-//! [`crate::steps::on_sphere::line_distance`], with Kahan's triangle area
-//! [`crate::steps::on_sphere::kahan_sine`]), a line meeting a circle
-//! ([`crate::steps::on_cylinder::line_circle`]) and a turning line through
-//! a point ([`crate::steps::guide_through::through`]); a point carried
-//! across a joint at its given value ([`crate::steps::beyond_given::carried`]).
+//! [`crate::scalar::Scalar`], in [`crate::subproblems`] (one file each,
+//! with its equation and its tests); a point carried across a joint at its
+//! given value stays with its step ([`crate::steps::beyond_given::carried`]).
 //!
 //! Generated code names `::pkm::runtime::primitives::Sign` and
 //! `::pkm::runtime::primitives::Error`, so the module keeps its path.
@@ -20,9 +13,9 @@
 /// Relative tolerance for tangency (double roots) and for data consistency.
 ///
 /// When a kernel's existence condition has the form `x ≤ y` (`|c| ≤
-/// √(a² + b²)` in [`crate::steps::on_plane::trig_turns`], the distance of a
+/// √(a² + b²)` in [`crate::subproblems::trig::trig_turns`], the distance of a
 /// sphere's centre from a line `≤` its radius in
-/// [`crate::steps::on_sphere::line_distance`]), an excess `x − y` of at most
+/// [`crate::subproblems::line_sphere::line_distance`]), an excess `x − y` of at most
 /// `TANGENCY_TOL · scale` — `scale` being the largest length (or coefficient
 /// magnitude) of that condition, documented per kernel — is treated as
 /// rounding: the kernel returns the double root. A larger excess is an
@@ -74,7 +67,7 @@ impl Sign {
 ///
 /// ```
 /// use pkm_runtime::primitives::Error;
-/// use pkm_runtime::steps::on_sphere::line_distance;
+/// use pkm_runtime::subproblems::line_sphere::line_distance;
 ///
 /// // The x axis and the sphere of radius 1 about (0, 3, 0): out of reach by 2.
 /// match line_distance([0.0; 3], [1.0, 0.0, 0.0], [0.0, 3.0, 0.0], 1.0, [0, 0]) {

@@ -1,6 +1,6 @@
 //! A revolute's angle that turns a direction of the new link parallel to a
 //! known direction (the same sense): Paden–Kahan subproblem 1 on
-//! directions, [`super::aim::turn_onto`].
+//! directions, [`crate::subproblems::rotate_onto::turn_onto`].
 
 use super::search::{reversed, Search};
 use super::{Found, JointValue, Move};
@@ -8,9 +8,10 @@ use crate::frame::Frame;
 use crate::model::JointType;
 use crate::plan::v3;
 use crate::plan::{Direction, Hop, Step};
-use crate::scalar::{cross, dot, reject, scale, sub, unit, Failure, Scalar};
+use crate::scalar::{dot, reject, scale, sub, unit, Failure, Scalar};
 use crate::singular::{joint_point, sine, Condition, Configuration, Factor};
 use crate::solution::SolveError;
+use crate::subproblems::triad::triad;
 use nalgebra::Vector3;
 
 /// The angle of the revolute that makes `group` (a direction of the new
@@ -43,7 +44,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Directio
     .map_err(|e| mv.fail(e))?;
     T::require(T::c(1e-24) * dot(w, w), dot(w_perp, w_perp), on_axis(), site).map_err(|e| mv.fail(e))?;
     // The turn from the group's direction at 0 onto the target's.
-    let [c, s] = super::turn_terms(axis, reject(zero.rotate(d_local), axis), w_perp);
+    let [c, s] = crate::subproblems::rotate_onto::turn_terms(axis, reject(zero.rotate(d_local), axis), w_perp);
     let h = (c * c + s * s).sqrt();
     let value = JointValue::Turn(c / h, s / h, Some(s.atan2(c)));
     let r = triad([axis, unit(w_perp)], [k_local, unit(d_perp)]);
@@ -56,23 +57,6 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, group: &Direction, target: &Directio
         t: sub(centre, turned.rotate(place(mv.to))),
     };
     Ok((mv.joint, mv.to, pose, value))
-}
-
-/// The rotation that carries the orthonormal pair `local` onto the
-/// orthonormal pair `world` (the TRIAD method): `[a, b, a × b]` in the world
-/// times the transpose of the same in the link.
-///
-/// ```
-/// use pkm_runtime::steps::align::triad;
-///
-/// // x, y onto y, −x: a quarter turn about z.
-/// let r = triad([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
-/// assert_eq!(r, [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
-/// ```
-pub fn triad<T: Scalar>(world: [[T; 3]; 2], local: [[T; 3]; 2]) -> [[T; 3]; 3] {
-    let w = [world[0], world[1], cross(world[0], world[1])];
-    let l = [local[0], local[1], cross(local[0], local[1])];
-    std::array::from_fn(|i| std::array::from_fn(|j| w[0][i] * l[0][j] + w[1][i] * l[1][j] + w[2][i] * l[2][j]))
 }
 
 /// The planner's match: a revolute whose axis is not parallel to a group
@@ -208,45 +192,5 @@ pub(crate) fn factor(
             joint_point(target.joint, target_link),
         ],
         value: sine(v3(k_axis), v3(d)).min(sine(v3(k_axis), v3(w))),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scalar::{add, norm};
-
-    /// Rodrigues' rotation about unit `k` by `theta`, by rows, written out.
-    fn rodrigues(k: [f64; 3], theta: f64) -> [[f64; 3]; 3] {
-        let (s, c) = theta.sin_cos();
-        let e = |i: usize| std::array::from_fn::<f64, 3, _>(|j| f64::from(u8::from(i == j)));
-        let col = |v: [f64; 3]| add(add(scale(c, v), scale(s, cross(k, v))), scale(dot(k, v) * (1.0 - c), k));
-        let cols = [col(e(0)), col(e(1)), col(e(2))];
-        std::array::from_fn(|i| std::array::from_fn(|j| cols[j][i]))
-    }
-
-    /// The frame from two directions is the rotation that made them: a
-    /// slanted turn carries an orthonormal pair of the link into the world.
-    #[test]
-    fn triad_recovers_the_rotation_that_carried_the_pair() {
-        let pairs = [
-            ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-            (unit([1.0, 2.0, 2.0]), unit([2.0, -1.0, 0.0])),
-            (unit([0.0, -3.0, 4.0]), [1.0, 0.0, 0.0]),
-        ];
-        for (k, theta) in [
-            ([0.0, 0.0, 1.0], 0.3),
-            (unit([1.0, -2.0, 0.5]), 2.9),
-            (unit([3.0, 1.0, 1.0]), -1.7),
-        ] {
-            let r = rodrigues(k, theta);
-            let turned = Frame { r, ..Frame::identity() };
-            for (a, b) in pairs {
-                let got = triad([turned.rotate(a), turned.rotate(b)], [a, b]);
-                for i in 0..3 {
-                    assert!(norm(sub(got[i], r[i])) < 1e-15, "{got:?} vs {r:?}");
-                }
-            }
-        }
     }
 }

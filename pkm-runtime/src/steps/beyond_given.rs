@@ -14,7 +14,7 @@
 //!
 //! and it moves on the circle the revolute turns `y` on: the circle meets
 //! the cylinder ([`super::on_cylinder::meet`], circle–circle by
-//! [`super::on_sphere::circle_distance`]), two roots. For the cylinder's
+//! [`crate::subproblems::circle_distance::circle_distance`]), two roots. For the cylinder's
 //! barrel, its guide through its pivot C along x and the rod's point c
 //! behind its pin B sliding on it, `y = B = C + (c + s)·x`: the barrel
 //! turns about C until B is on the circle about the rocker's pivot, the

@@ -49,7 +49,7 @@ use crate::frame::Frame;
 use crate::model::JointType;
 use crate::plan::{Check, Plan, Step};
 use crate::primitives::Error as GeomError;
-use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
+use crate::scalar::{dot, norm, scale, sub, Scalar};
 use crate::solution::{step_error, PointRef, SolveError};
 use std::borrow::Cow;
 
@@ -348,12 +348,6 @@ pub(crate) fn as_value<T: Scalar>(kind: JointType, r: [T; 2]) -> JointValue<T> {
         JointType::P => JointValue::Slide(r[0]),
         _ => JointValue::Turn(r[0], r[1], None),
     }
-}
-
-/// `k · (v × u)` and `v · u`: the sine and cosine (times the lengths) of
-/// the turn about unit `k` from `v` to `u`, both normal to `k`.
-pub(crate) fn turn_terms<T: Scalar>(k: [T; 3], v: [T; 3], u: [T; 3]) -> [T; 2] {
-    [dot(v, u), dot(k, cross(v, u))]
 }
 
 /// Runs every step of `plan` from the base (link 0 at the identity) for

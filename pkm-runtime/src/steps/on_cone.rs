@@ -19,7 +19,7 @@
 //!
 //! the circle the tip of `u` runs on against the sphere of radius
 //! `|u − w| = 2 sin(α/2)` (the chord of the angle, measured on the link
-//! beyond) about the tip of `w`, [`super::on_sphere::circle_distance`] on
+//! beyond) about the tip of `w`, [`crate::subproblems::circle_distance::circle_distance`] on
 //! unit directions. Two roots, one double where the three axes lie in one
 //! plane (the dyad folded: tangency, reported as such), none where the
 //! cones do not meet; `w` along `k` is degenerate (every θ or none).
@@ -69,7 +69,7 @@ pub fn execute<T: Scalar>(
 /// direction `u0` to the angle α from the unit direction `w` where
 /// `chord = |u − w| = 2 sin(α/2)`: the module's `a·cosθ + b·sinθ = c`,
 /// solved as the circle–sphere distance on the directions' tips
-/// ([`super::on_sphere::circle_distance`] with the centre at the origin;
+/// ([`crate::subproblems::circle_distance::circle_distance`] with the centre at the origin;
 /// `length` is `|u0⊥|`, the sine of the angle between `u0` and the axis,
 /// from the link's own geometry). `Plus` is the root counter-clockwise
 /// (about the axis) of `w⊥`'s direction.
@@ -100,7 +100,7 @@ pub fn cone<T: Scalar>(
     choice: T::Choice,
     site: [usize; 2],
 ) -> Result<[T; 2], GeomError<f64>> {
-    super::on_sphere::circle_distance(constant([0.0; 3]), axis, u0, length, w, chord, choice, site)
+    crate::subproblems::circle_distance::circle_distance(constant([0.0; 3]), axis, u0, length, w, chord, choice, site)
 }
 
 /// The planner's match: a revolute `j` turning the new link `to` about its

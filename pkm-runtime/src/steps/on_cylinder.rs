@@ -7,11 +7,10 @@ use super::search::{Reach, Search};
 use super::{Found, Motion, Move};
 use crate::plan::v3;
 use crate::plan::{Constraint, Hop};
-use crate::primitives::Error as GeomError;
-use crate::scalar::Failure;
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::subproblems::line_sphere::line_circle;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link at the
@@ -62,7 +61,7 @@ pub fn meet<T: Scalar>(
             // The line's point in the circle's plane: the distance is planar.
             let x0 = add(centre, r);
             let q = add(line_point, scale(dot(line_axis, sub(x0, line_point)), line_axis));
-            super::on_sphere::circle_distance(centre, axis, r, length, q, radius, choice, mv.site())
+            crate::subproblems::circle_distance::circle_distance(centre, axis, r, length, q, radius, choice, mv.site())
                 .map_err(|e| mv.fail(e))
         }
         Motion::Line { start, along } => {
@@ -72,42 +71,6 @@ pub fn meet<T: Scalar>(
             line_circle(s0, d, line_point, radius, choice, mv.site()).map_err(|e| mv.fail(e))
         }
     }
-}
-
-/// The slide `[t, 0]` along `along` (not unit: the slide's direction with
-/// its component along the cylinder's axis removed) from `start` that puts
-/// the point at distance `d` from `q`, all in the plane normal to the
-/// cylinder's axis: [`super::on_sphere::line_distance`] along the unit
-/// direction, divided by `|along|`; `choice` picks the root.
-///
-/// # Errors
-/// [`GeomError::Degenerate`] when the slide is parallel to the cylinder's
-/// axis (`|along| ≤ 1e-12`).
-///
-/// ```
-/// use pkm_runtime::primitives::Sign;
-/// use pkm_runtime::steps::on_cylinder::line_circle;
-///
-/// // Along x at half speed (|along| = 0.5): the circle of radius 5 about (0, 3) at x = ±4.
-/// let (o, x, q) = ([0.0; 3], [0.5, 0.0, 0.0], [0.0, 3.0, 0.0]);
-/// assert_eq!(line_circle(o, x, q, 5.0, Sign::Plus, [0, 0]).unwrap(), [8.0, 0.0]);
-/// assert!(line_circle(o, [0.0; 3], q, 5.0, Sign::Plus, [0, 0]).is_err());
-/// ```
-#[inline]
-pub fn line_circle<T: Scalar>(
-    start: [T; 3],
-    along: [T; 3],
-    q: [T; 3],
-    d: T,
-    choice: T::Choice,
-    site: [usize; 2],
-) -> Result<[T; 2], GeomError<f64>> {
-    let n = norm(along);
-    let parallel = Failure::Degenerate("the slide is parallel to the cylinder's axis");
-    T::require(T::c(1e-12), n, parallel, site)?;
-    let u = [along[0] / n, along[1] / n, along[2] / n];
-    let [plus, minus] = super::on_sphere::line_distance(start, u, q, d, site)?;
-    Ok([T::pick(choice, plus, minus) / n, T::c(0.0)])
 }
 
 /// The planner's match for a cylinder: revolute `q`, met on the link the

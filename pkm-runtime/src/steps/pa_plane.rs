@@ -43,7 +43,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, pa: usize, target: &Anchor, branch: 
 
 /// The turn about unit `k` that puts the plane through `hinge` with normal
 /// `n` (at angle 0) through `target`: `(n⊥·u) cosθ + ((k × n⊥)·u) sinθ =
-/// −(n∥·u)` with `u = target − hinge`, [`super::on_plane::trig_turns`].
+/// −(n∥·u)` with `u = target − hinge`, [`crate::subproblems::trig::trig_turns`].
 /// `Plus` is the root nearer 0 (the larger cosine; the first where the two
 /// are equal), `Minus` the other: for `n ⊥ k` the plane half-turned, the
 /// other posture of the parallelogram's leg (the module's).
@@ -76,7 +76,7 @@ pub fn pa_plane<T: Scalar>(
     let a = dot(n_perp, u);
     let b = dot(cross(k, n_perp), u);
     let c = -dot(n_par, u);
-    let [p, m] = super::on_plane::trig_turns(a, b, c, site, None)?;
+    let [p, m] = crate::subproblems::trig::trig_turns(a, b, c, site, None)?;
     // The root with the larger cosine, then the other.
     let nearer = |x: T, y: T| T::if_less(p[0], m[0], y, x);
     let farther = |x: T, y: T| T::if_less(p[0], m[0], x, y);
@@ -324,7 +324,7 @@ mod tests {
             let (k, a) = (unit(k), unit(a));
             let plane = pa_plane(k, a, c, q, crate::primitives::Sign::Plus, [0, 0]).unwrap();
             let (a1, arm1) = (turn(k, plane, a), turn(k, plane, arm));
-            let swing = crate::steps::aim::turn_onto(a1, arm1, sub(q, c), [0, 0]).unwrap();
+            let swing = crate::subproblems::rotate_onto::turn_onto(a1, arm1, sub(q, c), [0, 0]).unwrap();
             let d = sub(add(c, turn(a1, swing, arm1)), q);
             // The point lands towards the target: along d = Q − c only.
             let (r, dq) = (norm(arm), sub(q, c));

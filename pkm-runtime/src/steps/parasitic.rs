@@ -18,7 +18,7 @@
 //! free coordinates. A vector `w` normal to `M`'s columns (`wᵀM = 0`: the
 //! two components swapped and one negated for one column, the cross
 //! product of two) leaves `(w·a)·cosθ + (w·b)·sinθ = w·r`, the
-//! circle-meets-plane kernel ([`super::on_plane::trig_turn`], two roots);
+//! circle-meets-plane kernel ([`crate::subproblems::trig::trig_turn`], two roots);
 //! then `u` from `M·u = r − a·cosθ − b·sinθ`, by the same cross products
 //! (`u₀ = ((q × M₁)·w)/|w|²`, `u₁ = ((M₀ × q)·w)/|w|²`). Without a free
 //! angle `M·u = r` is square and solved by Cramer's rule. At most one free
@@ -287,7 +287,7 @@ pub fn free_parts<T: Scalar>(
             };
             let size = cols.iter().fold(T::c(1.0), |acc, c| acc * norm(*c));
             T::require(T::c(1e-12) * size, norm(w), degenerate, site)?;
-            let [c, s] = super::on_plane::trig_turn(dot(w, a), dot(w, b), dot(w, r), choice, site, None)?;
+            let [c, s] = crate::subproblems::trig::trig_turn(dot(w, a), dot(w, b), dot(w, r), choice, site, None)?;
             let q = [0, 1, 2].map(|i| r[i] - a[i] * c - b[i] * s);
             let ww = dot(w, w);
             let u: Vec<T> = match cols.len() {

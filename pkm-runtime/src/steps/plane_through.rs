@@ -18,7 +18,7 @@
 //!
 //! `a·cosθ + b·sinθ = e − (u·k₀)(u·w)`, `a = k₀⊥·w`, `b = (u × k₀)·w`,
 //!
-//! [`super::on_plane::trig_turn`]: `θ = atan2(b, a) ± acos(…/√(a² + b²))`,
+//! [`crate::subproblems::trig::trig_turn`]: `θ = atan2(b, a) ± acos(…/√(a² + b²))`,
 //! two roots, one double where the plane only touches `t`'s circle about
 //! `u` (tangency, reported as such), none beyond. Where the plane passes
 //! through `c` (`e = 0`, decided by the planner on the geometry: a U-P leg
@@ -77,7 +77,7 @@ pub fn execute<T: Scalar>(
 /// The turn `[cos θ, sin θ]` about the unit `axis` through `centre` that
 /// carries the plane `k0·(X − centre) = e` (`k0` unit) through `t`: the
 /// module's `a·cosθ + b·sinθ = e − (u·k₀)(u·w)`, solved by
-/// [`super::on_plane::trig_turn`]. `Plus` is `atan2(b, a) + acos(…)`.
+/// [`crate::subproblems::trig::trig_turn`]. `Plus` is `atan2(b, a) + acos(…)`.
 ///
 /// # Errors
 /// [`GeomError::Unreachable`] by `|e − (u·k₀)(u·w)| − √(a² + b²)` when no
@@ -111,7 +111,7 @@ pub fn plane<T: Scalar>(
     let c = e - along * dot(axis, w);
     let h = (a * a + b * b).sqrt();
     let far = Failure::Unreachable("|plane offset| <= distance(axis, point)", c.abs() - h);
-    super::on_plane::trig_turn(a, b, c, choice, site, Some(far))
+    crate::subproblems::trig::trig_turn(a, b, c, choice, site, Some(far))
 }
 
 /// The planner's match: a revolute `j` turning the new link `to`, a

@@ -24,7 +24,7 @@
 //! and so `q` turned back, in the plane of the two axes; tangency, within
 //! [`TANGENCY_TOL`]), none where it is negative beyond it. Then `θ₁` turns
 //! `z` onto `q` about `k₁` and `θ₂` turns `p` onto `z` about `k₂`, both
-//! Paden–Kahan subproblem 1 ([`super::aim::turn_onto`]). The step places
+//! Paden–Kahan subproblem 1 ([`crate::subproblems::rotate_onto::turn_onto`]). The step places
 //! the new link at `θ₁` ([`first_turn`]); the planner then finds the link
 //! beyond by an aim, the same subproblem 1 as `θ₂` from the placed link
 //! (one link per step), and the aim's miss checks the open joint at `t`.
@@ -155,7 +155,7 @@ pub fn first_turn<T: Scalar>(
     site: [usize; 2],
 ) -> Result<[T; 2], GeomError<f64>> {
     let z = meet(k, cos12, p, length, q, choice, site)?;
-    super::aim::turn_onto(k[0], z, q, site)
+    crate::subproblems::rotate_onto::turn_onto(k[0], z, q, site)
 }
 
 /// Both turns `[[cos θ₁, sin θ₁], [cos θ₂, sin θ₂]]` of
@@ -175,8 +175,8 @@ pub fn turns<T: Scalar>(
 ) -> Result<[[T; 2]; 2], GeomError<f64>> {
     let z = meet(k, cos12, p, length, q, choice, site)?;
     Ok([
-        super::aim::turn_onto(k[0], z, q, site)?,
-        super::aim::turn_onto(k[1], p, z, site)?,
+        crate::subproblems::rotate_onto::turn_onto(k[0], z, q, site)?,
+        crate::subproblems::rotate_onto::turn_onto(k[1], p, z, site)?,
     ])
 }
 
