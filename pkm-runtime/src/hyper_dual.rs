@@ -169,13 +169,10 @@ impl Scalar for HyperDual {
         }
     }
     fn pick(choice: Sign, plus: Self, minus: Self) -> Self {
-        match choice {
-            Sign::Plus => plus,
-            Sign::Minus => minus,
-        }
+        choice.pick(plus, minus)
     }
     fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
-        k.map_or(Sign::Plus, |k| signs[k])
+        Sign::nth(signs, k)
     }
 }
 

@@ -80,14 +80,11 @@ impl Scalar for f256 {
     }
 
     fn pick(choice: Sign, plus: Self, minus: Self) -> Self {
-        match choice {
-            Sign::Plus => plus,
-            Sign::Minus => minus,
-        }
+        choice.pick(plus, minus)
     }
 
     fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
-        k.map_or(Sign::Plus, |k| signs[k])
+        Sign::nth(signs, k)
     }
 }
 

@@ -107,14 +107,11 @@ impl Scalar for f64 {
     }
     #[inline]
     fn pick(choice: Sign, plus: Self, minus: Self) -> Self {
-        match choice {
-            Sign::Plus => plus,
-            Sign::Minus => minus,
-        }
+        choice.pick(plus, minus)
     }
     #[inline]
     fn choice(signs: &[Sign], k: Option<usize>) -> Sign {
-        k.map_or(Sign::Plus, |k| signs[k])
+        Sign::nth(signs, k)
     }
 }
 

@@ -47,6 +47,24 @@ pub enum Sign {
 }
 
 impl Sign {
+    /// `plus` or `minus`, the root this sign names: [`crate::scalar::Scalar::pick`]
+    /// of every scalar that holds a value.
+    #[inline]
+    pub fn pick<T>(self, plus: T, minus: T) -> T {
+        match self {
+            Sign::Plus => plus,
+            Sign::Minus => minus,
+        }
+    }
+
+    /// Choice `k` of `signs`, `Plus` where the step has none (`k` is
+    /// `None`): [`crate::scalar::Scalar::choice`] of every scalar that
+    /// holds a value.
+    #[inline]
+    pub fn nth(signs: &[Sign], k: Option<usize>) -> Sign {
+        k.map_or(Sign::Plus, |k| signs[k])
+    }
+
     /// The position of this root in a `[plus, minus]` pair: `Plus` → 0, `Minus` → 1.
     ///
     /// ```
