@@ -5,3 +5,6 @@
 
 pub mod planner;
 pub mod planner_numeric;
+
+#[cfg(test)]
+mod tests;
