@@ -98,7 +98,7 @@ fn inverted_slider_crank() {
     check("inverted_slider_crank", &[(-PI, PI)], 200);
 }
 
-/// The RPR dyad's other forms (`guide_through`): the rocker's guide off
+/// The RPR dyad's other forms (`guide`): the rocker's guide off
 /// its pivot by 15, and the guide on the block with the rocker's slider
 /// point off the pivot, each checked against Newton as the examples are.
 #[test]
@@ -296,7 +296,7 @@ fn driven_slider_crank(chain: &str) -> String {
     )
 }
 
-/// `beyond_given`'s other loci and slides, each against Newton and by
+/// `beyond`'s other loci and slides, each against Newton and by
 /// hand. A slider-crank driven at the crank–rod joint R2 (v: the rod's turn
 /// from the crank's line): crank and rod turn as one body until the rod's
 /// pin R3 is on the guide (a slider's plane), |R1R3|² = r² + l² + 2rl·cos v,

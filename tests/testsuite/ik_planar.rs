@@ -57,7 +57,7 @@ fn three_rrr_inverse_against_newton_forward() {
 }
 
 /// The 3-RPR's inverse (each leg's guide through the platform's pin,
-/// `guide_through`): by hand, leg i's slide is ±|A_i − (p + R(φ)·b_i)|
+/// `guide`): by hand, leg i's slide is ±|A_i − (p + R(φ)·b_i)|
 /// (A_i at radius 250 and b_i at 60, at 210°, 330° and 90°), on each of
 /// the 2³ branches; generated = interpreted; and Newton's forward solution
 /// from the slides gives the pose back. Not at the home pose (0, 0, 0):

@@ -388,7 +388,7 @@ fn combined_singularities_only_on_the_five_bars_reach() {
     }
 }
 
-/// The RPR dyad's factor (`guide_through`): the inverted slider-crank with
+/// The RPR dyad's factor (`guide`): the inverted slider-crank with
 /// the rocker's guide 70 = d − r off its pivot C (R3). At crank angle 0
 /// the pin B (R2) is |CB| = 70 from C: the line through B at distance 70
 /// from C is normal to CB, the two roots meet, and the forward plan's
@@ -438,7 +438,7 @@ fn guide_through_factor_vanishes_where_the_guide_is_normal_to_cb() {
     }
 }
 
-/// The factor of a point beyond a given slide (`beyond_given`), on the
+/// The factor of a point beyond a given slide (`beyond`), on the
 /// cylinder rocker: the path of the rod pin R2 about R3 against the normal
 /// of the circle about R1 (R2 − R1) is the sine of the triangle's angle at
 /// R2. At s = 0, |R2R3| = 200, a = 150, |R1R3| = √(300² + 80²): by hand
@@ -544,7 +544,7 @@ fn slide_to_line_factor_is_the_sine_between_slide_and_line() {
     check_step_factor(&yoke, is_step, &inputs, 1, |_| 1.0, "slides along the line");
 }
 
-/// `beyond_given` with a slide: a slider-crank (r = 50, l = 180) driven at
+/// `beyond` with a slide: a slider-crank (r = 50, l = 180) driven at
 /// the rod–slider joint R3, the slider sliding the rod (turned −v) until
 /// the crank pin R2 = (s − l·cos v, l·sin v) is on the circle |R2| = r. The
 /// factor is the cosine between the slide (x) and the circle's normal R2:
@@ -575,7 +575,7 @@ fn beyond_given_slide_factor_by_hand() {
     );
 }
 
-/// The factor of a cone (`on_cone`), on the spherical four-bar's forward
+/// The factor of a cone (`cone`), on the spherical four-bar's forward
 /// plan: the path of the coupler's R3 axis about R2 against the normal of
 /// the cone about R4, `|det[u2, u3, a4]|/(sin α2 sin α3)`, is the sine of
 /// the spherical triangle R2–R3–R4's angle γ at R3 (the transmission

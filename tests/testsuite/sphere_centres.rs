@@ -1,6 +1,6 @@
 //! The sphere a rigid link keeps about its known spherical (or universal)
 //! centre, met by a point of the new link that reaches the link without
-//! moving (sphere_link's generalised match): the R-S-U-R four-bar's rocker
+//! moving (rod's generalised match): the R-S-U-R four-bar's rocker
 //! from its crank (the U centre at l from the S centre) and its crank from
 //! its rocker (the S centre at l from the U centre), against the RSSR-style
 //! closed form by hand. The steps the planner finds (the sphere, then the

@@ -387,7 +387,7 @@ pub enum Step {
     /// link `from`) and `other` (whose centre `target` anchors), placed
     /// between the two known centres; its spin about the line between them
     /// is idle, and is fixed by the convention of
-    /// [`crate::steps::sphere_link::carry_line`] (the smallest turn from
+    /// [`crate::steps::rod::carry_line`] (the smallest turn from
     /// the world's axes that carries the link's drawn S–S line onto the
     /// centres' line).
     Rod {

@@ -5,7 +5,7 @@
 //! The kernels themselves are written once, generic over
 //! [`crate::scalar::Scalar`], in [`crate::subproblems`] (one file each,
 //! with its equation and its tests); a point carried across a joint at its
-//! given value stays with its step ([`crate::steps::beyond_given::carried`]).
+//! given value stays with its step ([`crate::steps::beyond::carried`]).
 //!
 //! Generated code names `::pkm::runtime::primitives::Sign` and
 //! `::pkm::runtime::primitives::Error`, so the module keeps its path.

@@ -2,25 +2,28 @@
 //! are the plan interpreter (the oracle), traced by the code generator they
 //! are the generated straight-line solvers.
 //!
-//! One file per step kind holds what it does (`execute`), its closed-form
-//! kernels, its structural match (`find`: when the planner may use it) and
-//! its derivative factor (`factor`, for [`crate::singular`]): [`place`],
-//! [`transfer`], [`aim`], [`align`], [`pa_plane`], [`guide_through`], [`beyond_given`],
-//! [`slide_to_line`], [`on_cone`], [`sphere_link`] (a link with a spherical joint: the
-//! sphere about its centre, an S–S link's placing), [`plane_through`] (a U's first
-//! half in a leg with both ends known), [`two_turns`] (two revolutes whose axes meet
-//! carrying a point to a known one: IK-Geo's subproblem 2, a U's first half before a
-//! link that reaches a known point), [`parasitic`] (a pose given in part, from limbs
-//! that hold a point on a plane either way round: the planner's start, not
-//! in `FIND_ORDER`), and the four loci a
-//! point can be held to, [`on_sphere`], [`on_plane`], [`on_cylinder`],
-//! [`on_slider_plane`] (each with its `find` and its surface's `normal`;
-//! the locus step's own match and factor are here). Every kernel is written
+//! One file per step kind, named as its [`crate::plan::Step`] variant,
+//! holds what it does (`execute`: it finds its problem in the geometry and
+//! hands it to a kernel of [`crate::subproblems`]), its structural match
+//! (`find`: when the planner may use it) and its derivative factor
+//! (`factor`, for [`crate::singular`]): [`place`], [`transfer`], [`aim`],
+//! [`align`], [`pa_plane`], [`guide`], [`beyond`], [`slide_to_line`],
+//! [`cone`], [`rod`] (a link with a spherical joint: the sphere about its
+//! centre, an S–S link's placing), [`plane_through`] (a U's first half in a
+//! leg with both ends known), [`two_turns`] (two revolutes whose axes meet
+//! carrying a point to a known one: IK-Geo's subproblem 2, a U's first half
+//! before a link that reaches a known point), [`parasitic`] (a pose given
+//! in part, from limbs that hold a point on a plane either way round: the
+//! planner's start, not in `FIND_ORDER`), and [`locus`], one file per
+//! surface a point can be held to (`Constraint::{Sphere, Plane, Cylinder,
+//! Slider}`: [`locus::sphere`], [`locus::plane`], [`locus::cylinder`],
+//! [`locus::slider`], each with its `find` and its surface's `normal`; the
+//! locus step's own match and factor are here). Every kernel is written
 //! for every [`Scalar`], so generated code writes it out, and its
-//! derivatives with it. `FIND_ORDER` lists the kinds in the order the planner tries
-//! them ([`search`]: what it knows while it searches); [`execute`] and
-//! `factor` have one arm per kind. Adding a step kind touches its file and
-//! those lists.
+//! derivatives with it. `FIND_ORDER` lists the kinds in the order the
+//! planner tries them ([`search`]: what it knows while it searches);
+//! [`execute`] and `factor` have one arm per kind. Adding a step kind
+//! touches its file and those lists.
 //!
 //! Geometry that depends on the parameters alone ([`Geometry`]: each joint's
 //! places, frames and zero transforms; `geometry.rs`) is prepared once, not
@@ -28,20 +31,17 @@
 
 pub mod aim;
 pub mod align;
-pub mod beyond_given;
-pub mod guide_through;
-pub mod on_cone;
-pub mod on_cylinder;
-pub mod on_plane;
-pub mod on_slider_plane;
-pub mod on_sphere;
+pub mod beyond;
+pub mod cone;
+pub mod guide;
+pub mod locus;
 pub mod pa_plane;
 pub mod parasitic;
 pub mod place;
 pub mod plane_through;
+pub mod rod;
 pub mod search;
 pub mod slide_to_line;
-pub mod sphere_link;
 pub mod transfer;
 pub mod two_turns;
 
@@ -202,7 +202,7 @@ pub fn execute<T: Scalar>(
             target,
             branch,
             ..
-        } => guide_through::execute(&mv, *slide, *point, target, *branch)?,
+        } => guide::execute(&mv, *slide, *point, target, *branch)?,
         Step::Beyond {
             given: q,
             input,
@@ -210,12 +210,12 @@ pub fn execute<T: Scalar>(
             constraint,
             branch,
             ..
-        } => beyond_given::execute(&mv, *q, *input, *point, constraint, *branch)?,
+        } => beyond::execute(&mv, *q, *input, *point, constraint, *branch)?,
         Step::SlideToLine { slide, point, meet, .. } => slide_to_line::execute(&mv, *slide, *point, meet)?,
         Step::Cone {
             across, target, branch, ..
-        } => on_cone::execute(&mv, *across, target, *branch)?,
-        Step::Rod { other, target, .. } => sphere_link::execute(&mv, *other, target)?,
+        } => cone::execute(&mv, *across, target, *branch)?,
+        Step::Rod { other, target, .. } => rod::execute(&mv, *other, target)?,
         Step::PlaneThrough {
             across,
             slide,
@@ -237,13 +237,13 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => match constraint {
-            Constraint::Sphere { centre, radius } => on_sphere::execute(&mv, *point, centre, *radius, *branch)?,
-            Constraint::Plane { normal, anchor } => on_plane::execute(&mv, *point, normal, anchor, *branch)?,
+            Constraint::Sphere { centre, radius } => locus::sphere::execute(&mv, *point, centre, *radius, *branch)?,
+            Constraint::Plane { normal, anchor } => locus::plane::execute(&mv, *point, normal, anchor, *branch)?,
             Constraint::Cylinder { hops, joint: h, link } => {
-                on_cylinder::execute(&mv, *point, hops, *h, *link, *branch)?
+                locus::cylinder::execute(&mv, *point, hops, *h, *link, *branch)?
             }
             Constraint::Slider { hops, joint: h, link } => {
-                on_slider_plane::execute(&mv, *point, hops, *h, *link, *branch)?
+                locus::slider::execute(&mv, *point, hops, *h, *link, *branch)?
             }
         },
     };
@@ -499,7 +499,7 @@ pub fn check_residual<T: Scalar>(
 /// kept at its angle from a known axis through one centre (a spherical RRR
 /// dyad), a link with a spherical joint (an S–S link placed between its
 /// two known centres, or the sphere about a known centre that a point of
-/// the link keeps met by a point of the new link, [`sphere_link::find`]),
+/// the link keeps met by a point of the new link, [`rod::find`]),
 /// a revolute turning the plane a revolute and a slide beyond it sweep
 /// through a known point (a U's first half in a U-P-S or U-P-U leg,
 /// [`plane_through::find`]), and last two revolutes whose axes meet
@@ -514,11 +514,11 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 13] = [
     pa_plane::find,
     |s| find_locus(s, false),
     |s| find_locus(s, true),
-    guide_through::find,
-    beyond_given::find,
+    guide::find,
+    beyond::find,
     slide_to_line::find,
-    on_cone::find,
-    sphere_link::find,
+    cone::find,
+    rod::find,
     plane_through::find,
     two_turns::find,
 ];
@@ -531,7 +531,7 @@ fn find_locus(s: &mut search::Search<'_>, want_branch: bool) -> bool {
 }
 
 /// [`find_locus`] among the loci of `rods` (the spheres about a link's
-/// known spherical centre, [`sphere_link::find_sphere`]) or of the other
+/// known spherical centre, [`rod::find_sphere`]) or of the other
 /// joints.
 pub(crate) fn find_locus_by(s: &mut search::Search<'_>, want_branch: bool, rods: bool) -> bool {
     // Slides first: a slide's value is found along its line directly
@@ -573,7 +573,7 @@ pub(crate) fn find_locus_by(s: &mut search::Search<'_>, want_branch: bool, rods:
 /// (a parallelogram's sphere, a revolute's cylinder, a slide's plane), in
 /// the order of those joints, then the reach's plane. The order decides
 /// the plans. With `rods`, only the spheres links with a known spherical
-/// centre hold it on ([`sphere_link::find_sphere`]).
+/// centre hold it on ([`rod::find_sphere`]).
 fn constraints(
     s: &search::Search<'_>,
     j: usize,
@@ -598,17 +598,17 @@ fn constraints(
                 continue;
             }
             let found = match joint.kind {
-                _ if rods => sphere_link::find_sphere(s, j, &r, q),
-                JointType::Pa => on_sphere::find(s, j, &r, q),
-                JointType::R if circle => on_cylinder::find(s, &r, q, k, rot, turning),
-                JointType::R => on_cylinder::find_slide(s, to, &r, q, k, rot),
-                JointType::P => on_slider_plane::find(s, &r, q, k, rot, turning),
+                _ if rods => rod::find_sphere(s, j, &r, q),
+                JointType::Pa => locus::sphere::find(s, j, &r, q),
+                JointType::R if circle => locus::cylinder::find(s, &r, q, k, rot, turning),
+                JointType::R => locus::cylinder::find_slide(s, to, &r, q, k, rot),
+                JointType::P => locus::slider::find(s, &r, q, k, rot, turning),
                 JointType::S => None,
             };
             out.extend(found.map(|c| (c, true)));
         }
         if !rods {
-            out.extend(on_plane::find(s, j, point, &r, k, circle));
+            out.extend(locus::plane::find(s, j, point, &r, k, circle));
         }
     }
     out
@@ -651,8 +651,8 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             slide,
             target,
             ..
-        } => guide_through::factor(at, k, *joint, *from, *to, *slide, target),
-        Step::Beyond { .. } => return beyond_given::factor(at, k, step),
+        } => guide::factor(at, k, *joint, *from, *to, *slide, target),
+        Step::Beyond { .. } => return beyond::factor(at, k, step),
         Step::SlideToLine { .. } => return slide_to_line::factor(at, k, step),
         Step::Cone {
             joint,
@@ -661,7 +661,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             across,
             target,
             ..
-        } => on_cone::factor(at, k, *joint, *from, *to, *across, target),
+        } => cone::factor(at, k, *joint, *from, *to, *across, target),
         // Placing an S–S link between known centres solves no equation.
         Step::Rod { .. } => return None,
         Step::PlaneThrough {
@@ -707,10 +707,10 @@ fn locus_factor(
     use crate::singular::{crossing, joint_point, Factor, LinkPoint};
     let (p, t) = at.path(joint, from, to, point);
     let (n, condition, other) = match constraint {
-        Constraint::Sphere { centre, .. } => on_sphere::normal(at, p, centre),
-        Constraint::Plane { normal, anchor } => on_plane::normal(at, normal, anchor),
-        Constraint::Cylinder { joint: h, link, .. } => on_cylinder::normal(at, p, *h, *link),
-        Constraint::Slider { joint: h, link, .. } => on_slider_plane::normal(at, joint, from, *h, *link),
+        Constraint::Sphere { centre, .. } => locus::sphere::normal(at, p, centre),
+        Constraint::Plane { normal, anchor } => locus::plane::normal(at, normal, anchor),
+        Constraint::Cylinder { joint: h, link, .. } => locus::cylinder::normal(at, p, *h, *link),
+        Constraint::Slider { joint: h, link, .. } => locus::slider::normal(at, joint, from, *h, *link),
     };
     Factor {
         step: k,

@@ -10,7 +10,7 @@
 //!
 //! Both turns keep distances from `c`, so `|p| = |q|` is needed (another
 //! step holds it: `t` on the sphere of radius `|p|` about `c`,
-//! [`super::sphere_link`]); this step does not impose it, the joint at `t`
+//! [`super::rod`]); this step does not impose it, the joint at `t`
 //! stays open and its closure checks it. The point between the two turns,
 //! `z = R(k₂, θ₂)·p = R(k₁, −θ₁)·q`, lies on the cone of `p` about `k₂`
 //! (`k₂·z = k₂·p`) and on the cone of `q` about `k₁` (`k₁·z = k₁·q`), at

@@ -5,7 +5,7 @@
 //! known revolute; across the given joint `q` the link beyond it carries
 //! the point `x` (a joint's place there), which the rest of the mechanism
 //! holds at a fixed distance from the axis of a known revolute parallel to
-//! the turning axis ([`super::on_cylinder`]'s constraint).
+//! the turning axis ([`super::locus::cylinder`]'s constraint).
 //!
 //! With `T_q(v)`, the pose of `q`'s second link in its first's at the
 //! given value `v`, the point in the frame of `to` is
@@ -13,7 +13,7 @@
 //! `y = T_q(v)·x` (`to` is `q`'s first link), `y = T_q(v)⁻¹·x` otherwise,
 //!
 //! and it moves on the circle the revolute turns `y` on: the circle meets
-//! the cylinder ([`super::on_cylinder::meet`], circle–circle by
+//! the cylinder ([`super::locus::cylinder::meet`], circle–circle by
 //! [`crate::subproblems::circle_distance::circle_distance`]), two roots. For the cylinder's
 //! barrel, its guide through its pivot C along x and the rod's point c
 //! behind its pin B sliding on it, `y = B = C + (c + s)·x`: the barrel
@@ -21,10 +21,10 @@
 //! triangle of the RRR dyad with side `|CB| = c + s`.
 //!
 //! The same carried point `y` meets the other loci a dyad's point meets:
-//! turned, the plane a known slider sweeps ([`super::on_slider_plane`], a
+//! turned, the plane a known slider sweeps ([`super::locus::slider`], a
 //! slider-crank driven at the crank–rod joint: the rod's slider pin on the
 //! guide); slid, in a planar mechanism, a cylinder
-//! ([`super::on_cylinder::meet`]'s line–circle: a slider-crank driven at
+//! ([`super::locus::cylinder::meet`]'s line–circle: a slider-crank driven at
 //! the rod–slider joint, the rod then translating with the slider; a Scotch
 //! yoke driven at the block's slide in the slot). Two roots each.
 
@@ -56,10 +56,10 @@ pub fn execute<T: Scalar>(
     let m = mv.joint().motion(&mv.state.poses[mv.from], mv.forward(), y);
     let r = match constraint {
         Constraint::Cylinder { hops, joint: h, link } => {
-            super::on_cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?
+            super::locus::cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?
         }
         Constraint::Slider { hops, joint: h, link } => {
-            super::on_slider_plane::meet(mv, m, x, hops, *h, *link, Some(branch))?
+            super::locus::slider::meet(mv, m, x, hops, *h, *link, Some(branch))?
         }
         _ => {
             return Err(mv.fail(super::degenerate(
@@ -76,7 +76,7 @@ pub fn execute<T: Scalar>(
 ///
 /// ```
 /// use pkm_runtime::model::{JointType, Place};
-/// use pkm_runtime::steps::{beyond_given::carried, JointGeometry};
+/// use pkm_runtime::steps::{beyond::carried, JointGeometry};
 ///
 /// // A guide along x through the origin; the slider point sits 2 behind its link's origin.
 /// let guide = Place::Line { through: [0.0; 3], along: [1.0, 0.0, 0.0] };
@@ -100,7 +100,7 @@ pub fn carried<T: Scalar>(q: &super::JointGeometry<T>, first: bool, x: [T; 3], v
 /// link whose revolute about `k` turns on a known link (a cylinder) or
 /// whose slide normal to `k` runs on a known link (a slider's plane). In a
 /// planar mechanism `j` may be a slide too, `k` then the plane's normal,
-/// against a cylinder. Tried after `guide_through`, so it only plans what
+/// against a cylinder. Tried after `guide`, so it only plans what
 /// nothing before it did.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     for (j, from, to) in s.candidates() {
@@ -139,8 +139,8 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                             return None;
                         }
                         match jc.kind {
-                            JointType::R => super::on_cylinder::find(s, &r, c, k_beyond, rot, turning),
-                            JointType::P if !slide => super::on_slider_plane::find(s, &r, c, k_beyond, rot, turning),
+                            JointType::R => super::locus::cylinder::find(s, &r, c, k_beyond, rot, turning),
+                            JointType::P if !slide => super::locus::slider::find(s, &r, c, k_beyond, rot, turning),
                             _ => None,
                         }
                     });
@@ -191,8 +191,8 @@ pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor
         super::Motion::Line { along, .. } => v3(along) * at.scale,
     };
     let (n, condition, other) = match *constraint {
-        Constraint::Cylinder { joint: h, link, .. } => super::on_cylinder::normal(at, p, h, link),
-        Constraint::Slider { joint: h, link, .. } => super::on_slider_plane::normal(at, joint, from, h, link),
+        Constraint::Cylinder { joint: h, link, .. } => super::locus::cylinder::normal(at, p, h, link),
+        Constraint::Slider { joint: h, link, .. } => super::locus::slider::normal(at, joint, from, h, link),
         _ => return None,
     };
     Some(Factor {

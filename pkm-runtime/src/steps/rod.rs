@@ -4,7 +4,7 @@
 //! centre: an S–S link, a rod, the coupler of an RSSR four-bar; on a
 //! revolute's axis: an R–S leg of a 3-PRS, a U–S coupler) lies on the
 //! sphere about it ([`find_sphere`]; the circle or line meeting the sphere
-//! is [`super::on_sphere`]'s). A link ending in spherical joints at both
+//! is [`super::locus::sphere`]'s). A link ending in spherical joints at both
 //! ends, both centres known, is placed between them ([`execute`]).
 //!
 //! Such an S–S link has an idle spin about its S–S line: no joint value or
@@ -78,7 +78,7 @@ pub fn execute<T: Scalar>(mv: &Move<'_, T>, other: usize, target: &Anchor) -> Re
 /// is zero.
 ///
 /// ```
-/// use pkm_runtime::steps::sphere_link::carry_line;
+/// use pkm_runtime::steps::rod::carry_line;
 ///
 /// // x onto y: a quarter turn about z.
 /// let r = carry_line([2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0, 0]).unwrap();

@@ -66,7 +66,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         for (q, joint) in s.model.joints.iter().enumerate() {
             // A given slide is no unknown of this dyad: the point would be
             // known along the line, and the step would leave it out. With
-            // the slide given its two links are one body: `beyond_given`.
+            // the slide given its two links are one body: `beyond`.
             if q == j || joint.kind != JointType::P || !joint.links.contains(&to) || s.used[q] || s.given[q].is_some() {
                 continue;
             }

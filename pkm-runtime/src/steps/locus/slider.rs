@@ -1,15 +1,15 @@
 //! A point of the new link held on the plane a known slider sweeps with the
 //! motion's axis (its guide and the turning axis span it): a circle meeting
-//! a plane ([`super::on_plane`]). `Plus` is the point farther along the
+//! a plane ([`crate::steps::locus::plane`]). `Plus` is the point farther along the
 //! guide (a slider-crank's open assembly).
 
-use super::search::{Reach, Search};
-use super::{Found, Motion, Move};
 use crate::plan::v3;
 use crate::plan::{Constraint, Hop};
 use crate::scalar::{cross, dot, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::steps::search::{Reach, Search};
+use crate::steps::{Found, Motion, Move};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The value of the joint that puts `point` of the new link (carried
@@ -44,14 +44,14 @@ pub fn meet<T: Scalar>(
     let (Motion::Circle { axis, .. }, Motion::Line { start, along }) =
         (m, jh.motion(&mv.state.poses[link], jh.links[0] == link, y))
     else {
-        return Err(mv.fail(super::degenerate(
+        return Err(mv.fail(crate::steps::degenerate(
             "a slider constraint needs a turning joint and a slide",
         )));
     };
     // Normal `along × axis`: then `Plus` is the root farther along the
-    // guide (see `on_plane::to_plane`: its + root lies along axis × n).
+    // guide (see `locus::plane::to_plane`: its + root lies along axis × n).
     let n = cross(along, axis);
-    super::on_plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))
+    super::plane::to_plane(mv, m, n, dot(n, start), mv.choice(branch))
 }
 
 /// The planner's match for a slider plane: prismatic `q`, met on the link
@@ -81,7 +81,7 @@ pub(crate) fn find(
 
 /// The normal of the plane prismatic `h` (guide on `link`) sweeps with the
 /// axis of `joint` (turning from `from`): `axis × guide`, for the locus's
-/// factor ([`super::locus_factor`]).
+/// factor ([`crate::steps::locus_factor`]).
 pub(crate) fn normal(
     at: &Configuration,
     joint: usize,
@@ -91,7 +91,7 @@ pub(crate) fn normal(
 ) -> (Vector3<f64>, Condition, LinkPoint) {
     let jh = &at.g.joints[h];
     let side = usize::from(jh.links[0] != link);
-    let along = v3(at.frames[link].rotate(super::place_axis(&jh.places[side])));
+    let along = v3(at.frames[link].rotate(crate::steps::place_axis(&jh.places[side])));
     let j = &at.g.joints[joint];
     let axis = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
         Motion::Circle { axis, .. } => v3(axis),

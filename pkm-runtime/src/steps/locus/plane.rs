@@ -2,8 +2,6 @@
 //! direction is that of a known point. On a circle: `a·cosθ + b·sinθ = c`;
 //! on a line: one division.
 
-use super::search::{reversed, Reach, Search};
-use super::{Found, Motion, Move};
 use crate::model::JointType;
 use crate::plan::v3;
 use crate::plan::{Anchor, Direction};
@@ -11,6 +9,8 @@ use crate::plan::{Constraint, Hop};
 use crate::scalar::{cross, dot, norm, scale, sub, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::steps::search::{reversed, Reach, Search};
+use crate::steps::{Found, Motion, Move};
 use crate::subproblems::{line_plane::line_plane, trig::trig_turn};
 use nalgebra::Vector3;
 
@@ -139,7 +139,7 @@ pub(crate) fn find(
 }
 
 /// The plane's normal (`normal` seen from its link), for the locus's
-/// factor ([`super::locus_factor`]).
+/// factor ([`crate::steps::locus_factor`]).
 pub(crate) fn normal(at: &Configuration, normal: &Direction, anchor: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
     let n = at.g.direction(at.frames[normal.link], normal.link, normal);
     (v3(n), Condition::TouchesPlane, at.anchored(anchor).1)

@@ -1,18 +1,18 @@
 //! A point of the new link held on a sphere: at a parallelogram's arm length
 //! from a known point, or at an S–S link's length from its other centre
-//! ([`Radius`]; that sphere's match is [`super::sphere_link::find_sphere`]). The joint moves the point on a circle (R, Pa) or a
+//! ([`Radius`]; that sphere's match is [`crate::steps::rod::find_sphere`]). The joint moves the point on a circle (R, Pa) or a
 //! line (P): a circle meeting a sphere (`a·cosθ + b·sinθ = c`, the constant
 //! term formed stably near concentric circles) or a line meeting a sphere
 //! (the foot of the perpendicular ± the half-chord).
 
-use super::search::{reversed, Reach, Search};
-use super::{Found, Motion, Move};
 use crate::model::Place;
 use crate::plan::v3;
 use crate::plan::{Anchor, Constraint, Radius};
 use crate::scalar::{norm, Scalar};
 use crate::singular::{Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::steps::search::{reversed, Reach, Search};
+use crate::steps::{Found, Motion, Move};
 use crate::subproblems::{circle_distance::circle_distance, line_sphere::line_distance};
 use nalgebra::Vector3;
 
@@ -30,7 +30,7 @@ pub fn execute<T: Scalar>(
     let q = mv.geometry.anchor(&mv.state.poses, centre);
     let radius = match radius {
         Radius::Arm(pa) => arm_length(&mv.geometry.joints[pa].places),
-        Radius::Rod { link, point, joint } => super::sphere_link::length(mv.geometry, link, point, joint),
+        Radius::Rod { link, point, joint } => crate::steps::rod::length(mv.geometry, link, point, joint),
     };
     Ok(mv.found(to_distance(mv, m, q, radius, mv.choice(branch))?))
 }
@@ -92,7 +92,7 @@ pub(crate) fn find(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Option<Cons
 }
 
 /// The sphere's normal at the moving point `p` (from the anchored
-/// `centre`), for the locus's factor ([`super::locus_factor`]).
+/// `centre`), for the locus's factor ([`crate::steps::locus_factor`]).
 pub(crate) fn normal(at: &Configuration, p: Vector3<f64>, centre: &Anchor) -> (Vector3<f64>, Condition, LinkPoint) {
     let (c, point) = at.anchored(centre);
     (p - c, Condition::TouchesSphere, point)

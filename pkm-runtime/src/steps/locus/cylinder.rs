@@ -3,13 +3,13 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection.
 
-use super::search::{Reach, Search};
-use super::{Found, Motion, Move};
 use crate::plan::v3;
 use crate::plan::{Constraint, Hop};
 use crate::scalar::{add, dot, norm, reject, scale, sub, unit, Scalar};
 use crate::singular::{joint_point, Condition, Configuration, LinkPoint};
 use crate::solution::{PointRef, SolveError};
+use crate::steps::search::{Reach, Search};
+use crate::steps::{Found, Motion, Move};
 use crate::subproblems::line_sphere::line_circle;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -45,11 +45,11 @@ pub fn meet<T: Scalar>(
     let jh = &g.joints[h];
     let known_side = usize::from(jh.links[0] != link);
     let line_point = poses[link].apply(jh.places[known_side].at());
-    let line_axis = unit(poses[link].rotate(super::place_axis(&jh.places[known_side])));
+    let line_axis = unit(poses[link].rotate(crate::steps::place_axis(&jh.places[known_side])));
     // The point across the hops, and its distance from h's axis there.
     let y = g.carry(x, hops);
     let place = jh.places[1 - known_side];
-    let radius = norm(reject(sub(y, place.at()), unit(super::place_axis(&place))));
+    let radius = norm(reject(sub(y, place.at()), unit(crate::steps::place_axis(&place))));
     let choice = mv.choice(branch);
     match m {
         Motion::Circle {
@@ -125,7 +125,7 @@ pub(crate) fn find_slide(
 
 /// The cylinder's normal at the moving point `p`: `p`'s offset from the
 /// axis of revolute `h` on `link`, for the locus's factor
-/// ([`super::locus_factor`]).
+/// ([`crate::steps::locus_factor`]).
 pub(crate) fn normal(
     at: &Configuration,
     p: Vector3<f64>,
@@ -135,7 +135,7 @@ pub(crate) fn normal(
     let jh = &at.g.joints[h];
     let side = usize::from(jh.links[0] != link);
     let c = v3(at.frames[link].apply(jh.places[side].at()));
-    let w = v3(at.frames[link].rotate(super::place_axis(&jh.places[side]))).normalize();
+    let w = v3(at.frames[link].rotate(crate::steps::place_axis(&jh.places[side]))).normalize();
     let d = p - c;
     (d - w * w.dot(&d), Condition::TouchesCylinder, joint_point(h, link))
 }

@@ -82,7 +82,7 @@ pub fn execute<T: Scalar>(
 ///
 /// ```
 /// use pkm_runtime::primitives::Sign;
-/// use pkm_runtime::steps::on_cone::cone;
+/// use pkm_runtime::steps::cone::cone;
 ///
 /// // x turned about z to 60° from y: sin θ = cos 60°, θ = 90° ± 60°, Plus 150°.
 /// let (z, x, y) = ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
