@@ -410,9 +410,8 @@ fn six_by_six(n: usize, row: impl Fn(usize) -> Vector6<f64>) -> Matrix6<f64> {
 /// largest.
 fn null_space(rows: &[Vector6<f64>]) -> Bounded<Vector6<f64>, 6> {
     if !rows.is_empty() && rows.len() <= MAX_LIMB_VARIABLES {
-        let qr = PivotedQr::<MAX_LIMB_VARIABLES>::new(rows.len(), |j| rows[j].into());
-        let (lo, hi) = qr.norm_bounds();
-        if let Some(r) = qr.rank(RANK_TOL * lo, RANK_TOL * hi) {
+        let (qr, rank) = PivotedQr::<MAX_LIMB_VARIABLES>::relative(rows.len(), |j| rows[j].into());
+        if let Some(r) = rank {
             let mut out = Bounded::new();
             for j in r..6 {
                 // Six at most: never full.
@@ -704,7 +703,8 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
         )));
     }
     let mut limbs_out = Bounded::new();
-    let mut actuation = Bounded::<Row, MAX_ROWS>::new();
+    // The actuation rows, then (appended at the end) the constraint rows.
+    let mut rows = Bounded::<Row, MAX_ROWS>::new();
     let mut constraints = Bounded::<Row, MAX_ROWS>::new();
     for (li, limb) in inputs.iter().enumerate() {
         let p = limb.distal;
@@ -749,7 +749,7 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
                 },
                 limb: li,
             };
-            put(&mut actuation, row, "rows of J")?;
+            put(&mut rows, row, "rows of J")?;
         }
         let (couples, forces) = constraint_basis(&c);
         let kinds = couples
@@ -772,8 +772,7 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
         };
         put(&mut limbs_out, out, "limbs")?;
     }
-    let n_a = actuation.len();
-    let mut rows = actuation;
+    let n_a = rows.len();
     for &row in constraints.iter() {
         put(&mut rows, row, "rows of J")?;
     }
@@ -822,9 +821,14 @@ fn certified_full_rank(rows: &[Row], s: f64) -> bool {
     if rows.len() < 6 || rows.len() > MAX_ROWS {
         return false;
     }
-    let qr = PivotedQr::<MAX_ROWS>::new(rows.len(), |r| scaled_row(&rows[r], s).into());
-    let (lo, hi) = qr.norm_bounds();
-    qr.rank(RANK_TOL * lo, RANK_TOL * hi) == Some(6)
+    let column = |r: usize| scaled_row(&rows[r], s).into();
+    // Most mechanisms have at most 12 rows: a smaller array to clear.
+    let rank = if rows.len() <= 12 {
+        PivotedQr::<12>::relative(rows.len(), column).1
+    } else {
+        PivotedQr::<MAX_ROWS>::relative(rows.len(), column).1
+    };
+    rank == Some(6)
 }
 
 /// The actuation wrench of variable `col` of a limb whose unit twists
@@ -834,9 +838,14 @@ fn certified_full_rank(rows: &[Row], s: f64) -> bool {
 /// none, the σ of [`WrenchError::ActuationSingularity`]. Certified by
 /// [`certified_actuation`] where it can, else by SVD.
 fn actuation_wrench(hats: &[Vector6<f64>], col: usize, c: &[Vector6<f64>]) -> Result<Vector6<f64>, f64> {
-    if let Some(w) = certified_actuation(hats, col, c.len()) {
-        return Ok(w);
-    }
+    certified_actuation(hats, col, c.len()).map_or_else(|| svd_actuation(hats, col, c), Ok)
+}
+
+/// [`actuation_wrench`] by SVD: the reciprocal wrenches of the other
+/// twists ([`svd_null_space`]), the longest of their parts orthogonal to
+/// `c`; none where they are no more than `c` or that part's product with
+/// the actuated twist is at most [`RANK_TOL`].
+fn svd_actuation(hats: &[Vector6<f64>], col: usize, c: &[Vector6<f64>]) -> Result<Vector6<f64>, f64> {
     let mut others: Bounded<Vector6<f64>, MAX_LIMB_VARIABLES> = Bounded::new();
     for i in (0..hats.len()).filter(|&i| i != col) {
         // One fewer than the limb's variables: never full.
@@ -871,14 +880,15 @@ fn certified_actuation(hats: &[Vector6<f64>], col: usize, nullity: usize) -> Opt
     if n > MAX_LIMB_VARIABLES {
         return None;
     }
-    let qr = PivotedQr::<MAX_LIMB_VARIABLES>::new(n, |j| hats[if j < col { j } else { j + 1 }].into());
-    let (lo, hi) = qr.norm_bounds();
-    let r = qr.rank(RANK_TOL * lo, RANK_TOL * hi)?;
+    let (qr, rank) = PivotedQr::<MAX_LIMB_VARIABLES>::relative(n, |j| hats[if j < col { j } else { j + 1 }].into());
+    let r = rank?;
     if r + 1 + nullity != 6 {
         return None;
     }
     let mut y = qr.qt(hats[col].into());
-    y[..r].fill(0.0);
+    for e in y.iter_mut().take(r) {
+        *e = 0.0;
+    }
     let rho = y.iter().map(|e| e * e).sum::<f64>().sqrt();
     if !(rho > 2.0 * RANK_TOL) {
         return None;

@@ -30,88 +30,99 @@ pub(crate) struct PivotedQr<const N: usize> {
     /// column `j` in its first `j + 1` entries; below row `steps`, the
     /// remaining block `R₂₂`.
     a: [[f64; 6]; N],
-    n: usize,
     /// The unit Householder vectors (`H_k = I − 2 v_k v_kᵀ`, zero above `k`).
     v: [[f64; 6]; 6],
     steps: usize,
+    /// `‖R₂₂‖_F²` below row and right of column `k`, for `k ≤ steps`.
+    trailing: [f64; 7],
 }
 
 fn dot(a: &[f64; 6], b: &[f64; 6], from: usize) -> f64 {
-    (from..6).map(|i| a[i] * b[i]).sum()
+    let mut s = 0.0;
+    for i in from..6 {
+        s += a[i] * b[i];
+    }
+    s
 }
 
 impl<const N: usize> PivotedQr<N> {
     /// The factorisation of the columns `cols(0..n)` (n ≤ N).
+    #[inline]
     pub(crate) fn new(n: usize, cols: impl Fn(usize) -> [f64; 6]) -> Self {
-        debug_assert!(n <= N);
+        let n = n.min(N);
         let mut a = [[0.0; 6]; N];
         for (j, col) in a.iter_mut().enumerate().take(n) {
             *col = cols(j);
         }
-        let mut qr = PivotedQr {
-            a,
-            n,
-            v: [[0.0; 6]; 6],
-            steps: 0,
-        };
+        let mut v = [[0.0; 6]; 6];
+        let mut trailing = [0.0; 7];
+        let mut norms = [0.0; N];
+        let mut steps = 0;
         for k in 0..n.min(6) {
             // The column with the longest remaining part first.
-            let (mut best, mut best_norm) = (k, -1.0);
+            let (mut best, mut best_norm, mut total) = (k, -1.0, 0.0);
             for j in k..n {
-                let norm = dot(&qr.a[j], &qr.a[j], k);
+                let norm = dot(&a[j], &a[j], k);
+                norms[j] = norm;
+                total += norm;
                 if norm > best_norm {
                     (best, best_norm) = (j, norm);
                 }
             }
+            trailing[k] = total;
             if !(best_norm > 0.0) {
                 // Nothing remains (or it is not finite): R₂₂ is what is left.
                 break;
             }
-            qr.a.swap(k, best);
-            let x = qr.a[k];
-            let norm = best_norm.sqrt();
-            let alpha = if x[k] >= 0.0 { -norm } else { norm };
-            let mut v = [0.0; 6];
-            v[k..].copy_from_slice(&x[k..]);
-            v[k] -= alpha;
-            let vn = dot(&v, &v, k).sqrt();
-            for e in &mut v[k..] {
-                *e /= vn;
-            }
-            for j in k + 1..n {
-                let d = 2.0 * dot(&v, &qr.a[j], k);
-                for (e, vi) in qr.a[j][k..].iter_mut().zip(&v[k..]) {
-                    *e -= d * vi;
+            if best != k {
+                // Element by element: a slice copy of a run-time length
+                // would call memcpy.
+                for i in 0..6 {
+                    let t = a[k][i];
+                    a[k][i] = a[best][i];
+                    a[best][i] = t;
                 }
             }
-            qr.a[k][k] = alpha;
-            for e in &mut qr.a[k][k + 1..] {
+            let norm = best_norm.sqrt();
+            let alpha = if a[k][k] >= 0.0 { -norm } else { norm };
+            let mut h = [0.0; 6];
+            for i in k..6 {
+                h[i] = a[k][i];
+            }
+            h[k] -= alpha;
+            // |h|² = 2 norm (norm + |x_k|).
+            let scale = 1.0 / (2.0 * norm * (norm + a[k][k].abs())).sqrt();
+            for e in h.iter_mut().skip(k) {
+                *e *= scale;
+            }
+            for col in a[k + 1..n].iter_mut() {
+                let d = 2.0 * dot(&h, col, k);
+                for i in k..6 {
+                    col[i] -= d * h[i];
+                }
+            }
+            a[k][k] = alpha;
+            for e in a[k].iter_mut().skip(k + 1) {
                 *e = 0.0;
             }
-            qr.v[k] = v;
-            qr.steps = k + 1;
+            v[k] = h;
+            steps = k + 1;
         }
-        qr
+        // The next step's pivot search summed the others; after the last
+        // step nothing remains (no row below the sixth, or no column).
+        if steps == n.min(6) {
+            trailing[steps] = 0.0;
+        }
+        PivotedQr { a, v, steps, trailing }
     }
 
     /// The largest column norm, `|R₀₀|` (a lower bound of σ_max), and the
     /// Frobenius norm `‖A‖_F` (an upper bound).
     pub(crate) fn norm_bounds(&self) -> (f64, f64) {
-        let first = if self.steps > 0 { self.a[0][0].abs() } else { 0.0 };
-        let frobenius = self.a[..self.n].iter().map(|c| dot(c, c, 0)).sum::<f64>().sqrt();
-        (first, frobenius)
-    }
-
-    /// `‖R₂₂‖_F` below row and right of column `r`.
-    fn trailing(&self, r: usize) -> f64 {
-        if r >= 6 {
-            return 0.0;
+        if self.steps == 0 {
+            return (0.0, self.trailing[0].sqrt());
         }
-        self.a[r.min(self.n)..self.n]
-            .iter()
-            .map(|c| dot(c, c, r))
-            .sum::<f64>()
-            .sqrt()
+        (self.a[0][0].abs(), self.trailing[0].sqrt())
     }
 
     /// `1/‖R₁₁⁻¹‖_F` for the leading r×r block (a lower bound of its least
@@ -121,12 +132,16 @@ impl<const N: usize> PivotedQr<N> {
         // Column c of R₁₁⁻¹ by back substitution.
         for c in 0..r {
             let mut x = [0.0; 6];
-            for i in (0..=c).rev() {
-                let rhs = if i == c { 1.0 } else { 0.0 };
-                let s: f64 = (i + 1..=c).map(|j| self.a[j][i] * x[j]).sum();
-                x[i] = (rhs - s) / self.a[i][i];
+            x[c] = 1.0 / self.a[c][c];
+            sum += x[c] * x[c];
+            for i in (0..c).rev() {
+                let mut s = 0.0;
+                for j in i + 1..=c {
+                    s += self.a[j][i] * x[j];
+                }
+                x[i] = -s / self.a[i][i];
+                sum += x[i] * x[i];
             }
-            sum += x[..=c].iter().map(|e| e * e).sum::<f64>();
         }
         let bound = 1.0 / sum.sqrt();
         if bound.is_finite() {
@@ -139,13 +154,27 @@ impl<const N: usize> PivotedQr<N> {
     /// The rank an SVD would give counting a singular value as zero at or
     /// below θ, for any θ in `[lo, hi]`, where the certificate holds (see
     /// the module's header); `None` where it does not.
+    #[inline]
     pub(crate) fn rank(&self, lo: f64, hi: f64) -> Option<usize> {
-        let r = (0..=self.steps).find(|&r| self.trailing(r) <= lo / MARGIN)?;
+        let small = lo / MARGIN;
+        let r = (0..=self.steps).find(|&r| self.trailing[r] <= small * small)?;
         if r == 0 {
             return Some(0);
         }
         let least = self.least_bound(r);
-        (least > MARGIN * hi && self.trailing(r) <= AGREE * least).then_some(r)
+        let t = self.trailing[r].sqrt();
+        (least > MARGIN * hi && t <= AGREE * least).then_some(r)
+    }
+
+    /// The factorisation of `cols(0..n)` and its rank under the rule "at
+    /// most [`RANK_TOL`](super::RANK_TOL) times the largest singular
+    /// value", where certified.
+    #[inline]
+    pub(crate) fn relative(n: usize, cols: impl Fn(usize) -> [f64; 6]) -> (Self, Option<usize>) {
+        let qr = Self::new(n, cols);
+        let (lo, hi) = qr.norm_bounds();
+        let rank = qr.rank(super::RANK_TOL * lo, super::RANK_TOL * hi);
+        (qr, rank)
     }
 
     /// `Q x`.
