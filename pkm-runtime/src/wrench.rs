@@ -22,7 +22,8 @@
 //!   origin, `δθ` the small rotation) is `f·δp + m·δθ`.
 //!
 //! # Canonical basis
-//! The null spaces are found by SVD of the limb's twists, each written at
+//! The null spaces are those of the SVD of the limb's twists (decided by a
+//! pivoted QR where it certifies the SVD's rank, [`qr`]), each written at
 //! the limb's distal joint centre `p` (the point of its joint on the
 //! platform) and made dimensionless: `t̂ = (v + ω × p, s·ω)` normalised, `s`
 //! the model's size ([`crate::kinematics::model_scale`]); a wrench in the
@@ -890,7 +891,7 @@ fn certified_actuation(hats: &[Vector6<f64>], col: usize, nullity: usize) -> Opt
         *e = 0.0;
     }
     let rho = y.iter().map(|e| e * e).sum::<f64>().sqrt();
-    if !(rho > 2.0 * RANK_TOL) {
+    if rho.is_nan() || rho <= 2.0 * RANK_TOL {
         return None;
     }
     Some(Vector6::from(qr.q(y)) / rho)

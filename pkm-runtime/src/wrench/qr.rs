@@ -70,24 +70,18 @@ impl<const N: usize> PivotedQr<N> {
                 }
             }
             trailing[k] = total;
-            if !(best_norm > 0.0) {
+            if best_norm.is_nan() || best_norm <= 0.0 {
                 // Nothing remains (or it is not finite): R₂₂ is what is left.
                 break;
             }
-            if best != k {
-                // Element by element: a slice copy of a run-time length
-                // would call memcpy.
-                for i in 0..6 {
-                    let t = a[k][i];
-                    a[k][i] = a[best][i];
-                    a[best][i] = t;
-                }
-            }
+            a.swap(k, best);
             let norm = best_norm.sqrt();
             let alpha = if a[k][k] >= 0.0 { -norm } else { norm };
             let mut h = [0.0; 6];
-            for i in k..6 {
-                h[i] = a[k][i];
+            // Element by element: a slice copy of a run-time length would
+            // call memcpy.
+            for (hi, ai) in h.iter_mut().zip(&a[k]).skip(k) {
+                *hi = *ai;
             }
             h[k] -= alpha;
             // |h|² = 2 norm (norm + |x_k|).
@@ -136,8 +130,8 @@ impl<const N: usize> PivotedQr<N> {
             sum += x[c] * x[c];
             for i in (0..c).rev() {
                 let mut s = 0.0;
-                for j in i + 1..=c {
-                    s += self.a[j][i] * x[j];
+                for (j, xj) in x.iter().enumerate().take(c + 1).skip(i + 1) {
+                    s += self.a[j][i] * xj;
                 }
                 x[i] = -s / self.a[i][i];
                 sum += x[i] * x[i];
@@ -181,8 +175,8 @@ impl<const N: usize> PivotedQr<N> {
     pub(crate) fn q(&self, mut x: [f64; 6]) -> [f64; 6] {
         for k in (0..self.steps).rev() {
             let d = 2.0 * dot(&self.v[k], &x, k);
-            for i in k..6 {
-                x[i] -= d * self.v[k][i];
+            for (xi, vi) in x.iter_mut().zip(&self.v[k]).skip(k) {
+                *xi -= d * vi;
             }
         }
         x
@@ -192,8 +186,8 @@ impl<const N: usize> PivotedQr<N> {
     pub(crate) fn qt(&self, mut x: [f64; 6]) -> [f64; 6] {
         for k in 0..self.steps {
             let d = 2.0 * dot(&self.v[k], &x, k);
-            for i in k..6 {
-                x[i] -= d * self.v[k][i];
+            for (xi, vi) in x.iter_mut().zip(&self.v[k]).skip(k) {
+                *xi -= d * vi;
             }
         }
         x
