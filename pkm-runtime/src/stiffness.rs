@@ -316,6 +316,9 @@ impl Stiffness {
                 what: "the stiffness matrix",
             });
         }
+        if certified_definite(&ks) {
+            return Ok(());
+        }
         let ev = SymmetricEigen::new(ks).eigenvalues;
         let (lo, hi) = (ev.min(), ev.max());
         let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
@@ -447,6 +450,21 @@ impl PlatformStiffness {
     pub fn directional(&self) -> Result<[f64; 6], StiffnessError> {
         self.stiffness.directional(self.point)
     }
+}
+
+/// Whether the symmetric `ks`'s λ_min/λ_max is certainly above
+/// [`K_SINGULAR`] (with a factor [`MARGIN`](crate::wrench::qr::MARGIN) to
+/// spare), by its Cholesky factor `L`: `λ_min = 1/‖L⁻¹‖₂² ≥ 1/‖L⁻¹‖_F²`
+/// and `λ_max ≤ trace`. Where it is not, [`Stiffness::check`] takes the
+/// eigenvalues.
+fn certified_definite(ks: &Matrix6<f64>) -> bool {
+    let Some(chol) = ks.cholesky() else {
+        return false;
+    };
+    let Some(inv) = chol.l().solve_lower_triangular(&Matrix6::identity()) else {
+        return false;
+    };
+    1.0 / inv.norm_squared() > crate::wrench::qr::MARGIN * K_SINGULAR * ks.trace()
 }
 
 fn finite_point(p: [f64; 3]) -> Result<(), StiffnessError> {

@@ -22,7 +22,8 @@
 //!   origin, `δθ` the small rotation) is `f·δp + m·δθ`.
 //!
 //! # Canonical basis
-//! The null spaces are found by SVD of the limb's twists, each written at
+//! The null spaces are those of the SVD of the limb's twists (decided by a
+//! pivoted QR where it certifies the SVD's rank, [`qr`]), each written at
 //! the limb's distal joint centre `p` (the point of its joint on the
 //! platform) and made dimensionless: `t̂ = (v + ω × p, s·ω)` normalised, `s`
 //! the model's size ([`crate::kinematics::model_scale`]); a wrench in the
@@ -64,6 +65,7 @@ use crate::kinematics::{joint_point, model_scale};
 use crate::model::{JointType, Model};
 use crate::velocity::{joint_twists, Twist};
 use nalgebra::{DMatrix, Isometry3, Matrix6, SMatrix, Vector3, Vector6};
+use qr::PivotedQr;
 use std::fmt;
 
 /// Relative singular value below which a direction counts as lost (limb
@@ -190,11 +192,15 @@ pub struct WrenchAnalysis {
     pub actuation: usize,
     /// The size scale `s` the rank tests use (mm for a model in mm).
     pub scale: f64,
-    /// σ_min/σ_max of the scaled `J` (see the module's header).
-    pub sigma: f64,
 }
 
 impl WrenchAnalysis {
+    /// σ_min/σ_max of the scaled `J` (see the module's header), by its SVD
+    /// when asked (the analysis itself certifies `J`'s rank by a QR).
+    pub fn sigma(&self) -> f64 {
+        scaled_rank(&self.rows, self.scale).1
+    }
+
     /// `J`: one row `[f, m]` per wrench (m×6).
     pub fn jacobian(&self) -> DMatrix<f64> {
         DMatrix::from_fn(self.rows.len(), 6, |r, c| self.rows[r].wrench.row()[c])
@@ -398,10 +404,30 @@ fn six_by_six(n: usize, row: impl Fn(usize) -> Vector6<f64>) -> Matrix6<f64> {
     acc
 }
 
+/// An orthonormal basis of the vectors `x` with `rows · x = 0` (6 columns):
+/// `Q`'s last columns from a pivoted QR where its rank is certified
+/// ([`qr`]), else [`svd_null_space`]'s. Either is the space of the right
+/// singular vectors whose singular value is at most [`RANK_TOL`] times the
+/// largest.
+fn null_space(rows: &[Vector6<f64>]) -> Bounded<Vector6<f64>, 6> {
+    if !rows.is_empty() && rows.len() <= MAX_LIMB_VARIABLES {
+        let (qr, rank) = PivotedQr::<MAX_LIMB_VARIABLES>::relative(rows.len(), |j| rows[j].into());
+        if let Some(r) = rank {
+            let mut out = Bounded::new();
+            for j in r..6 {
+                // Six at most: never full.
+                let _ = out.push(Vector6::from(qr.column(j)));
+            }
+            return out;
+        }
+    }
+    svd_null_space(rows)
+}
+
 /// An orthonormal basis of the vectors `x` with `rows · x = 0` (6 columns),
 /// by SVD: the right singular vectors whose singular value is at most
 /// [`RANK_TOL`] times the largest (every one if all are zero).
-fn null_space(rows: &[Vector6<f64>]) -> Bounded<Vector6<f64>, 6> {
+fn svd_null_space(rows: &[Vector6<f64>]) -> Bounded<Vector6<f64>, 6> {
     let svd = six_by_six(rows.len(), |r| rows[r]).svd(false, true);
     let vt = svd.v_t.expect("v_t requested");
     let smax = svd.singular_values.max();
@@ -449,7 +475,23 @@ fn canonical(space: &[Vector6<f64>], axes: [usize; 3]) -> Bounded<Vector6<f64>, 
 /// its couples, then one of the rest (see the module's header).
 fn constraint_basis(c: &[Vector6<f64>]) -> (Bounded<Vector6<f64>, 6>, Bounded<Vector6<f64>, 6>) {
     let (mut couples, mut forces) = (Bounded::<Vector6<f64>, 6>::new(), Bounded::<Vector6<f64>, 6>::new());
-    // The force parts as rows of a c-column matrix (at least 3 × c): its
+    let k = c.len();
+    // Where a pivoted QR of the force parts' three rows (k-vectors)
+    // certifies their rank r: Q's first r columns combine c into the
+    // forces, its others into the couples.
+    if (1..=6).contains(&k) {
+        let qr = PivotedQr::<3>::new(3, |i| std::array::from_fn(|kk| if kk < k { c[kk][i] } else { 0.0 }));
+        if let Some(r) = qr.rank(RANK_TOL, RANK_TOL) {
+            for j in 0..k {
+                let q = qr.column(j);
+                let combo = (0..k).fold(Vector6::zeros(), |acc, kk| acc + c[kk] * q[kk]);
+                // At most six: never full.
+                let _ = if j < r { forces.push(combo) } else { couples.push(combo) };
+            }
+            return (canonical(&couples, [3, 4, 5]), canonical(&forces, [0, 1, 2]));
+        }
+    }
+    // Else by SVD. The force parts as rows of a c-column matrix (at least 3 × c): its
     // null space gives the couples. One arm per size, on the stack.
     macro_rules! split {
         ($($k:literal $r:literal),*) => {
@@ -662,7 +704,8 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
         )));
     }
     let mut limbs_out = Bounded::new();
-    let mut actuation = Bounded::<Row, MAX_ROWS>::new();
+    // The actuation rows, then (appended at the end) the constraint rows.
+    let mut rows = Bounded::<Row, MAX_ROWS>::new();
     let mut constraints = Bounded::<Row, MAX_ROWS>::new();
     for (li, limb) in inputs.iter().enumerate() {
         let p = limb.distal;
@@ -694,31 +737,9 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
             if !var.actuated {
                 continue;
             }
-            let mut others: Bounded<Vector6<f64>, MAX_LIMB_VARIABLES> = Bounded::new();
-            for i in (0..hats.len()).filter(|&i| i != col) {
-                put(&mut others, hats[i], "joint variables on a limb")?;
-            }
-            let candidates = null_space(&others);
-            let best = candidates
-                .iter()
-                .map(|n| reject(n, &c))
-                .fold(
-                    Vector6::zeros(),
-                    |b: Vector6<f64>, r| if r.norm() > b.norm() { r } else { b },
-                );
-            let sigma = if best.norm() > RANK_TOL {
-                best.normalize().dot(&hats[col]).abs()
-            } else {
-                0.0
-            };
-            if candidates.len() <= c.len() || sigma <= RANK_TOL {
-                return Err(WrenchError::ActuationSingularity { limb: Some(li), sigma });
-            }
-            let mut w = best.normalize();
+            let w = actuation_wrench(&hats, col, &c)
+                .map_err(|sigma| WrenchError::ActuationSingularity { limb: Some(li), sigma })?;
             let couple = Vector3::new(w[0], w[1], w[2]).norm() <= RANK_TOL;
-            if w.dot(&hats[col]) < 0.0 {
-                w = -w;
-            }
             let wrench = from_hat(&w, &p, s, couple);
             let row = Row {
                 transmission: wrench.on(&var.twist),
@@ -729,7 +750,7 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
                 },
                 limb: li,
             };
-            put(&mut actuation, row, "rows of J")?;
+            put(&mut rows, row, "rows of J")?;
         }
         let (couples, forces) = constraint_basis(&c);
         let kinds = couples
@@ -752,31 +773,128 @@ pub fn analyse_twists(inputs: &[LimbTwists], scale: f64) -> Result<WrenchAnalysi
         };
         put(&mut limbs_out, out, "limbs")?;
     }
-    let n_a = actuation.len();
-    let mut rows = actuation;
+    let n_a = rows.len();
     for &row in constraints.iter() {
         put(&mut rows, row, "rows of J")?;
     }
-    let (rank, sigma) = scaled_rank(&rows, s);
-    if rank < 6 {
-        let (rank_c, sigma_c) = scaled_rank(&rows[n_a..], s);
-        let needed = 6usize.saturating_sub(n_a);
-        if rank_c < needed {
-            return Err(WrenchError::ConstraintSingularity {
-                rank: rank_c,
-                needed,
-                sigma: sigma_c,
-            });
-        }
-        return Err(WrenchError::ActuationSingularity { limb: None, sigma });
-    }
+    full_rank(&rows, n_a, s)?;
     Ok(WrenchAnalysis {
         limbs: limbs_out,
         rows,
         actuation: n_a,
         scale: s,
-        sigma,
     })
+}
+
+/// That `J` (`rows`, the first `n_a` the actuation wrenches) has rank 6,
+/// certified by a QR ([`certified_full_rank`]) or found by the SVD; else
+/// the singularity, by the SVD's ranks.
+fn full_rank(rows: &[Row], n_a: usize, s: f64) -> Result<(), WrenchError> {
+    if certified_full_rank(rows, s) {
+        return Ok(());
+    }
+    let (rank, sigma) = scaled_rank(rows, s);
+    if rank >= 6 {
+        return Ok(());
+    }
+    let (rank_c, sigma_c) = scaled_rank(&rows[n_a..], s);
+    let needed = 6usize.saturating_sub(n_a);
+    if rank_c < needed {
+        return Err(WrenchError::ConstraintSingularity {
+            rank: rank_c,
+            needed,
+            sigma: sigma_c,
+        });
+    }
+    Err(WrenchError::ActuationSingularity { limb: None, sigma })
+}
+
+/// Row `r` scaled to `(f, m/s)` (a force) or `(0, m)` (a couple).
+fn scaled_row(row: &Row, s: f64) -> Vector6<f64> {
+    let w = &row.wrench;
+    let m = if w.is_couple() { w.m } else { w.m / s };
+    Vector6::new(w.f.x, w.f.y, w.f.z, m.x, m.y, m.z)
+}
+
+/// Whether a pivoted QR of the scaled rows certifies rank 6 (what
+/// [`scaled_rank`]'s SVD would find; see [`qr`]).
+fn certified_full_rank(rows: &[Row], s: f64) -> bool {
+    if rows.len() < 6 || rows.len() > MAX_ROWS {
+        return false;
+    }
+    let column = |r: usize| scaled_row(&rows[r], s).into();
+    // Most mechanisms have at most 12 rows: a smaller array to clear.
+    let rank = if rows.len() <= 12 {
+        PivotedQr::<12>::relative(rows.len(), column).1
+    } else {
+        PivotedQr::<MAX_ROWS>::relative(rows.len(), column).1
+    };
+    rank == Some(6)
+}
+
+/// The actuation wrench of variable `col` of a limb whose unit twists
+/// (dimensionless, at its distal centre) are `hats` and whose constraint
+/// space is `c`: the unit `ŵ` reciprocal to the other twists and orthogonal
+/// to `c`, its product with its own twist positive; or, where there is
+/// none, the σ of [`WrenchError::ActuationSingularity`]. Certified by
+/// [`certified_actuation`] where it can, else by SVD.
+fn actuation_wrench(hats: &[Vector6<f64>], col: usize, c: &[Vector6<f64>]) -> Result<Vector6<f64>, f64> {
+    certified_actuation(hats, col, c.len()).map_or_else(|| svd_actuation(hats, col, c), Ok)
+}
+
+/// [`actuation_wrench`] by SVD: the reciprocal wrenches of the other
+/// twists ([`svd_null_space`]), the longest of their parts orthogonal to
+/// `c`; none where they are no more than `c` or that part's product with
+/// the actuated twist is at most [`RANK_TOL`].
+fn svd_actuation(hats: &[Vector6<f64>], col: usize, c: &[Vector6<f64>]) -> Result<Vector6<f64>, f64> {
+    let mut others: Bounded<Vector6<f64>, MAX_LIMB_VARIABLES> = Bounded::new();
+    for i in (0..hats.len()).filter(|&i| i != col) {
+        // One fewer than the limb's variables: never full.
+        let _ = others.push(hats[i]);
+    }
+    let candidates = svd_null_space(&others);
+    let best = candidates.iter().map(|n| reject(n, c)).fold(
+        Vector6::zeros(),
+        |b: Vector6<f64>, r| if r.norm() > b.norm() { r } else { b },
+    );
+    let sigma = if best.norm() > RANK_TOL {
+        best.normalize().dot(&hats[col]).abs()
+    } else {
+        0.0
+    };
+    if candidates.len() <= c.len() || sigma <= RANK_TOL {
+        return Err(sigma);
+    }
+    let w = best.normalize();
+    Ok(if w.dot(&hats[col]) < 0.0 { -w } else { w })
+}
+
+/// The actuation wrench where a pivoted QR of the other twists certifies
+/// their rank as one less than the limb's (`6 − nullity`): the reciprocal
+/// wrenches of the others are `c` and one more direction, the part of the
+/// actuated twist `h` orthogonal to the others' span, `u = (I − Q₁Q₁ᵀ) h`
+/// normalised (its product with `h` is `|u|`, the SVD path's σ). `None`
+/// where the rank is not certified or `|u|` is within a factor 2 of
+/// [`RANK_TOL`].
+fn certified_actuation(hats: &[Vector6<f64>], col: usize, nullity: usize) -> Option<Vector6<f64>> {
+    let n = hats.len().checked_sub(1)?;
+    if n > MAX_LIMB_VARIABLES {
+        return None;
+    }
+    let (qr, rank) = PivotedQr::<MAX_LIMB_VARIABLES>::relative(n, |j| hats[if j < col { j } else { j + 1 }].into());
+    let r = rank?;
+    if r + 1 + nullity != 6 {
+        return None;
+    }
+    let mut y = qr.qt(hats[col].into());
+    for e in y.iter_mut().take(r) {
+        *e = 0.0;
+    }
+    let rho = y.iter().map(|e| e * e).sum::<f64>().sqrt();
+    if rho.is_nan() || rho <= 2.0 * RANK_TOL {
+        return None;
+    }
+    Some(Vector6::from(qr.q(y)) / rho)
 }
 
 /// The rank of rows scaled to `(f, m/s)` (forces) or `(0, m)` (couples) and
@@ -785,11 +903,7 @@ fn scaled_rank(rows: &[Row], s: f64) -> (usize, f64) {
     if rows.is_empty() {
         return (0, 0.0);
     }
-    let m = six_by_six(rows.len(), |r| {
-        let w = &rows[r].wrench;
-        let m = if w.is_couple() { w.m } else { w.m / s };
-        Vector6::new(w.f.x, w.f.y, w.f.z, m.x, m.y, m.z)
-    });
+    let m = six_by_six(rows.len(), |r| scaled_row(&rows[r], s));
     let sv = m.svd(false, false).singular_values;
     let smax = sv.max();
     let considered = rows.len().min(6);
@@ -799,6 +913,8 @@ fn scaled_rank(rows: &[Row], s: f64) -> (usize, f64) {
     let sigma = if smax > 0.0 { sorted[considered - 1] / smax } else { 0.0 };
     (rank, sigma)
 }
+
+pub(crate) mod qr;
 
 #[cfg(test)]
 pub(crate) mod tests;

@@ -315,7 +315,7 @@ impl<'r> Stiffness<'r> {
                 text += &format!(
                     "K about {} [N/{u}, N, N·{u}/rad; rows and columns x, y, z, rx, ry, rz], conditioning {}:\n",
                     self.reference_name(),
-                    Cell::Num(k.k.wrenches.sigma).short()
+                    Cell::Num(k.k.wrenches.sigma()).short()
                 );
                 let m = k.k.k();
                 let cells: Vec<Vec<String>> = (0..6)
@@ -394,7 +394,7 @@ impl<'r> Stiffness<'r> {
                             })
                             .collect();
                         row.push(Cell::Int(at.configurations[c].branches[0] as i64));
-                        row.push(Cell::Num(k.k.wrenches.sigma));
+                        row.push(Cell::Num(k.k.wrenches.sigma()));
                         row.extend(self.limbs.iter().map(|l| {
                             let analysed = k.names.iter().position(|n| *n == l.name);
                             let length = analysed.and_then(|i| k.k.wrenches.limbs[i].length());
@@ -495,7 +495,7 @@ impl<'r> Stiffness<'r> {
                         "rx": d[3], "ry": d[4], "rz": d[5],
                     },
                     "deflection": deflection,
-                    "conditioning": analysis.sigma,
+                    "conditioning": analysis.sigma(),
                 })
             })
             .collect();

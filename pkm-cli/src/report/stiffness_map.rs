@@ -73,7 +73,7 @@ impl Map<'_> {
             along_z,
             least,
             legs: k.wrenches.limbs.iter().map(|l| l.length().unwrap_or(0.0)).sum(),
-            sigma: k.wrenches.sigma,
+            sigma: k.wrenches.sigma(),
         })
     }
 

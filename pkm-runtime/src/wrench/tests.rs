@@ -245,3 +245,77 @@ fn a_ball_joint_admits_the_forces_through_its_centre() {
         assert!(close(&wr, e.into(), c.cross(&e).into()), "{wr:?}");
     }
 }
+
+/// The orthogonal projector onto the span of the orthonormal `basis`.
+fn projector(basis: &[Vector6<f64>]) -> Matrix6<f64> {
+    basis.iter().map(|b| b * b.transpose()).sum()
+}
+
+/// Unit twists of a random limb: `rank` random independent directions and
+/// `n − rank` random combinations of them, shuffled by `seed`.
+fn random_limb(n: usize, rank: usize, rnd: &mut impl FnMut() -> f64) -> Vec<Vector6<f64>> {
+    let base: Vec<Vector6<f64>> = (0..rank).map(|_| Vector6::from_fn(|_, _| rnd())).collect();
+    (0..n)
+        .map(|i| {
+            let v = if i < rank {
+                base[i]
+            } else {
+                base.iter().fold(Vector6::zeros(), |acc, b| acc + b * rnd())
+            };
+            v.normalize()
+        })
+        .collect()
+}
+
+/// The QR path (certified) and the SVD path give the same null spaces and
+/// actuation wrenches on random limbs of every size and rank; near the
+/// threshold (the actuated twist within ε of the others' span, ε from
+/// 1e-13 to 1e-5) the certified path either declines or agrees with the
+/// SVD (to ε_mach/ε, as well as either is determined there), and never
+/// answers where the SVD refuses.
+#[test]
+fn certified_and_svd_paths_agree() {
+    let mut seed = 11u64;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let mut certified = 0;
+    for n in 1..=MAX_LIMB_VARIABLES {
+        for rank in 1..=n.min(6) {
+            for _ in 0..20 {
+                let hats = random_limb(n, rank, &mut rnd);
+                let (fast, svd) = (null_space(&hats), svd_null_space(&hats));
+                assert_eq!(fast.len(), svd.len(), "n {n} rank {rank}");
+                assert!((projector(&fast) - projector(&svd)).norm() < 1e-12, "n {n} rank {rank}");
+                for col in 0..n {
+                    let exact = svd_actuation(&hats, col, &svd);
+                    if let Some(w) = certified_actuation(&hats, col, fast.len()) {
+                        certified += 1;
+                        let e = exact.expect("the SVD finds the actuation wrench the QR certifies");
+                        assert!((w - e).norm() < 1e-12, "n {n} rank {rank} col {col}");
+                    }
+                }
+            }
+        }
+    }
+    assert!(certified > 300, "{certified}");
+    for _ in 0..50 {
+        let others = random_limb(4, 4, &mut rnd);
+        let inside = others.iter().fold(Vector6::zeros(), |acc, o| acc + o * rnd());
+        let away = Vector6::from_fn(|_, _| rnd());
+        for k in 0..=32 {
+            let eps = 1e-13 * 10f64.powf(k as f64 / 4.0);
+            let mut hats = others.clone();
+            hats.push((inside.normalize() + away * eps).normalize());
+            let c = svd_null_space(&hats);
+            let exact = svd_actuation(&hats, 4, &c);
+            if let Some(w) = certified_actuation(&hats, 4, null_space(&hats).len()) {
+                let e = exact.unwrap_or_else(|s| panic!("ε {eps:e}: certified where the SVD refuses (σ {s:e})"));
+                // Either is the answer to about ε_mach/ε (the actuated
+                // twist's distance from the others' span).
+                assert!((w - e).norm() < 1e-14 / eps, "ε {eps:e}: {:e}", (w - e).norm());
+            }
+        }
+    }
+}
