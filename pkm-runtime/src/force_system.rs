@@ -628,15 +628,44 @@ impl<const M: usize, const P: usize> Reflections<M, P> {
         self.apply(&mut e);
         e
     }
+
+    /// `x ← Q x` and each of `more` likewise, the same numbers as [`apply`]
+    /// on each: the vectors go through each reflection together, so that
+    /// their dot products are independent chains, not one after another.
+    ///
+    /// [`apply`]: Self::apply
+    pub fn apply_together<const V: usize>(&self, x: &mut [f64; M], more: &mut [[f64; M]; V]) {
+        for k in (0..P).rev() {
+            let (v, scale) = (&self.axes[k], self.scales[k]);
+            if scale == 0.0 {
+                continue;
+            }
+            let (mut f, mut g) = (0.0f64, [0.0f64; V]);
+            for i in k..M {
+                f += v[i] * x[i];
+                g.iter_mut().zip(more.iter()).for_each(|(g, y)| *g += v[i] * y[i]);
+            }
+            let f = scale * f;
+            g.iter_mut().for_each(|g| *g *= scale);
+            for i in k..M {
+                x[i] -= f * v[i];
+                g.iter().zip(more.iter_mut()).for_each(|(g, y)| y[i] -= g * v[i]);
+            }
+        }
+    }
 }
 
 /// [`reduced_min_norm`] where `G`'s `P` passive rows have full rank (the
 /// SKC leaves `M − P = K` components undetermined), from their
 /// [`row_space`] `(q, r)` and the kinematic conditioning σ_P/σ_1 of `r`:
-/// `y_p = Q₁ R⁻ᵀ q` (`Q₁` the first `P` columns), the null directions `C`
-/// times `Q`'s others. The same `x` and checks as [`reduced_min_norm`],
-/// without a decomposition of the whole `G`. `None` where the conditioning
-/// is `LU_TRUSTED` or below.
+/// `y_p = Q₁ R⁻ᵀ q` (`Q₁` the first `P` columns), the null directions
+/// `C` times `Q`'s others. The same `x` and checks as [`reduced_min_norm`],
+/// without a decomposition of the whole `G`, and without leaving `y`'s
+/// space until the end: `ct` is `Cᵀ` and `gram` is `CᵀC` (both fixed by
+/// the topology, written out sparse by the generated code), so that the
+/// null directions are orthonormalised in `x`'s metric on `M` numbers
+/// ([`shortest_in_loops`]) and `x = x0 + C y` is formed once. `None` where
+/// the conditioning is `LU_TRUSTED` or below.
 #[allow(clippy::too_many_arguments)]
 pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const K: usize>(
     basis: &Reflections<M, P>,
@@ -645,6 +674,8 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
     q: &[f64; M],
     x0: &[f64; N],
     c: impl Fn(&[f64; M]) -> [f64; N],
+    ct: impl Fn(&[f64; N]) -> [f64; M],
+    gram: impl Fn(&[f64; M]) -> [f64; M],
     skc: usize,
     actuated: &[f64],
     size: f64,
@@ -659,17 +690,77 @@ pub fn reduced_min_norm_qr<const N: usize, const M: usize, const P: usize, const
         let known: f64 = (0..i).map(|k| r[(k, i)] * z[k]).sum();
         z[i] = (q[i] - known) / r[(i, i)];
     }
-    // y = Q₁ z = Q (z, 0).
+    // y = Q₁ z = Q (z, 0), and the null directions Q e_{P+i}, together.
     let mut y = [0.0f64; M];
     y[..P].copy_from_slice(&z);
-    basis.apply(&mut y);
-    let mut null: [[f64; N]; K] = std::array::from_fn(|i| c(&basis.column(P + i)));
+    let mut null: [[f64; M]; K] = std::array::from_fn(|i| {
+        let mut e = [0.0f64; M];
+        e[P + i] = 1.0;
+        e
+    });
+    basis.apply_together(&mut y, &mut null);
+    if !shortest_in_loops(&mut y, x0, null, &ct, &gram, actuated, size, skc)? {
+        return Ok(None);
+    }
     *x = c(&y);
     x.iter_mut().zip(x0).for_each(|(x, x0)| *x += x0);
-    Ok(shortest(x, &mut null, actuated, size, skc)?.then_some(Solved {
+    Ok(Some(Solved {
         conditioning,
         undetermined: K,
     }))
+}
+
+/// [`shortest`] of the solutions `x0 + C (y + Σ a_i u_i)`, in `y`'s space:
+/// the null directions `C u_i` are orthonormalised (Gram–Schmidt) in the
+/// inner product `⟨u, v⟩ = (C u)·(C v) = uᵀ (CᵀC) v` (`gram` is `CᵀC`),
+/// `x`'s component along each is read as `Cᵀ(x0 + C y)·u`, and an
+/// actuator's (a row `a` of `actuated`) as `(Cᵀ a)·u` (`ct` is `Cᵀ`): the
+/// same numbers as on `x`'s `N`, on `M`. `y` comes back the shortest's;
+/// `false` where a direction vanishes, [`DynamicsError::Undetermined`]
+/// where an actuator reads one, in the same order as [`shortest`].
+#[allow(clippy::too_many_arguments)]
+fn shortest_in_loops<const N: usize, const M: usize, const K: usize>(
+    y: &mut [f64; M],
+    x0: &[f64; N],
+    mut null: [[f64; M]; K],
+    ct: &impl Fn(&[f64; N]) -> [f64; M],
+    gram: &impl Fn(&[f64; M]) -> [f64; M],
+    actuated: &[f64],
+    size: f64,
+    skc: usize,
+) -> Result<bool, DynamicsError> {
+    let dot = |a: &[f64; M], b: &[f64; M]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+    // Cᵀ x with x = x0 + C y, kept as y moves.
+    let mut along_x = ct(x0);
+    along_x.iter_mut().zip(gram(y)).for_each(|(g, w)| *g += w);
+    // CᵀC of each direction done.
+    let mut weighted = [[0.0f64; M]; K];
+    for i in 0..K {
+        let (done, rest) = null.split_at_mut(i);
+        let b = &mut rest[0];
+        for (prior, w) in done.iter().zip(&weighted) {
+            let along = dot(b, w);
+            b.iter_mut().zip(prior).for_each(|(p, q)| *p -= along * q);
+        }
+        let mut w = gram(b);
+        let norm = dot(b, &w).sqrt();
+        if norm.is_nan() || norm <= 0.0 {
+            return Ok(false);
+        }
+        b.iter_mut().for_each(|p| *p /= norm);
+        w.iter_mut().for_each(|p| *p /= norm);
+        let along = dot(&along_x, b);
+        y.iter_mut().zip(b.iter()).for_each(|(p, q)| *p -= along * q);
+        along_x.iter_mut().zip(&w).for_each(|(p, q)| *p -= along * q);
+        for a in actuated.chunks_exact(N) {
+            let a: &[f64; N] = a.try_into().expect("N numbers a row");
+            if dot(&ct(a), b).abs() > 1e-9 * size {
+                return Err(DynamicsError::Undetermined { skc });
+            }
+        }
+        weighted[i] = w;
+    }
+    Ok(true)
 }
 
 /// The residual of one link's balance relative to its largest term: the
@@ -814,10 +905,12 @@ mod tests {
         // An actuator reading x1 + x2 is blind to y; one reading x1 is not.
         assert!(reduced_min_norm::<3, 1, 1>(&d, &[0.0], &x0, c, 0, 1, &[1.0, 1.0, 0.0], 1.0, &mut x).is_ok());
         assert!(reduced_min_norm::<3, 1, 1>(&d, &[0.0], &x0, c, 0, 1, &[1.0, 0.0, 0.0], 1.0, &mut x).is_err());
-        // The same from the row space of G's passive rows (none).
+        // The same from the row space of G's passive rows (none): Cᵀ and CᵀC by hand.
+        let ct = |x: &[f64; 3]| [x[1] + x[2] - x[0]];
+        let gram = |y: &[f64; 1]| [3.0 * y[0]];
         let (basis, r) = row_space::<1, 0>(&[]);
         let mut x = [0.0; 3];
-        let solved = reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[], 1.0, &mut x)
+        let solved = reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, ct, gram, 0, &[], 1.0, &mut x)
             .unwrap()
             .unwrap();
         for (a, b) in x.iter().zip([1.0 - y, 2.0 + y, y]) {
@@ -825,7 +918,7 @@ mod tests {
         }
         assert_eq!(solved.undetermined, 1);
         assert!(
-            reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, 0, &[1.0, 0.0, 0.0], 1.0, &mut x)
+            reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, ct, gram, 0, &[1.0, 0.0, 0.0], 1.0, &mut x)
                 .is_err()
         );
     }
@@ -856,6 +949,8 @@ mod tests {
             1.0,
             &[10.0, 0.0],
             &[0.0; 2],
+            |y| *y,
+            |x| *x,
             |y| *y,
             0,
             &[],

@@ -193,33 +193,22 @@ fn unflat(v: &[Sym]) -> [[Sym; 3]; 3] {
     [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]]
 }
 
-/// The time derivative along the given values' rates.
-fn rate(x: &[Sym]) -> Vec<Sym> {
-    crate::trace::derivative(x, &Sym::rate)
-}
-
-/// The derivative along the given values' accelerations (the part of a
-/// second derivative linear in them).
-fn along_accelerations(x: &[Sym]) -> Vec<Sym> {
-    crate::trace::derivative(x, &Sym::accel)
-}
-
 /// How a body at `pose` with its centroid at `c` (its frame) moves: its
 /// angular velocity and acceleration and its centroid's acceleration, the
-/// exact time derivatives of the pose through the trace (`[ω]× = Ṙ Rᵀ`;
-/// α = ∂ω/∂q·q̇ + ∂ω/∂q̇·q̈, the latter ω with q̈ for q̇).
+/// exact time derivatives of the pose through the trace, first and second
+/// in one pass ([`crate::trace::second_derivatives`]): `[ω]× = Ṙ Rᵀ`, and
+/// α read from its derivative `R̈ Rᵀ + Ṙ Ṙᵀ` as ω is from `Ṙ Rᵀ`.
 fn traced_motion(pose: &Frame<Sym>, c: [Sym; 3]) -> CentroidMotion<Sym> {
     let r = pose.r;
-    let rd = unflat(&rate(&flat(&r)));
-    let w = angular(&r, &rd);
-    let dw = rate(&w);
-    let w_acc = angular(&r, &unflat(&along_accelerations(&flat(&r))));
-    let alpha: [Sym; 3] = std::array::from_fn(|i| dw[i] + w_acc[i]);
     let centroid = pose.apply(c);
-    let v = rate(&centroid);
-    let curvature = rate(&v);
-    let along = along_accelerations(&centroid);
-    let a_c: [Sym; 3] = std::array::from_fn(|i| curvature[i] + along[i]);
+    let mut roots = flat(&r);
+    roots.extend(centroid);
+    let (first, second) = crate::trace::second_derivatives(&roots, &Sym::rate, &Sym::accel);
+    let (rd, rdd) = (unflat(&first[..9]), unflat(&second[..9]));
+    let w = angular(&r, &rd);
+    let (along, turning) = (angular(&r, &rdd), angular(&rd, &rd));
+    let alpha: [Sym; 3] = std::array::from_fn(|i| along[i] + turning[i]);
+    let a_c: [Sym; 3] = std::array::from_fn(|i| second[9 + i]);
     CentroidMotion { w, alpha, a_c }
 }
 

@@ -358,6 +358,7 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
         if passive > 0 && passive == rank {
             // The passive rows independent (as the topology has them): the
             // row space of G by Householder, its null space with it.
+            let (transposed, gram) = (c_transposed(s, r, d), c_gram(r, d));
             return quote! {
                 #prelude
                 let rows: [[f64; #m]; #passive] = ::core::array::from_fn(|i| ::core::array::from_fn(|j| g[(i, j)]));
@@ -374,8 +375,19 @@ fn reduced_solve(t: &Traced, k: usize, s: &Skc, r: &Reduction) -> TokenStream {
                     #(#set)*
                     x
                 };
+                // Cᵀ and CᵀC: the null directions are made orthonormal in y's space.
+                let ct = |x: &[f64; #n]| -> [f64; #m] {
+                    let mut y = [0.0f64; #m];
+                    #(#transposed)*
+                    y
+                };
+                let gram = |v: &[f64; #m]| -> [f64; #m] {
+                    let mut y = [0.0f64; #m];
+                    #(#gram)*
+                    y
+                };
                 let mut x = [0.0f64; #n];
-                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm_qr::<#n, #m, #passive, #null>(&basis, &r, kinematic, &q.into(), &x0, c, #k, &actuated, size, &mut x)? {
+                if let ::core::option::Option::Some(solved) = #rt::force_system::reduced_min_norm_qr::<#n, #m, #passive, #null>(&basis, &r, kinematic, &q.into(), &x0, c, ct, gram, #k, &actuated, size, &mut x)? {
                     undetermined[#k] = solved.undetermined;
                     break 'solve x;
                 }
@@ -432,6 +444,52 @@ fn c_times(s: &Skc, r: &Reduction, d: usize, op: TokenStream) -> Vec<TokenStream
                     .collect();
                 (!parts.is_empty()).then(|| quote! { x[#at] #op #(#parts)+*; })
             })
+        })
+        .collect()
+}
+
+/// `y[j] = (Cᵀ x)[j]` for each of the cut joints' components `j` (`C` as
+/// in [`c_times`]).
+fn c_transposed(s: &Skc, r: &Reduction, d: usize) -> Vec<TokenStream> {
+    let cuts = r.cuts.len();
+    (0..cuts * d)
+        .filter_map(|col| {
+            let (kk, c) = (col / d, col % d);
+            let parts: Vec<TokenStream> = (0..s.joints.len())
+                .filter(|&i| r.coef[i][kk] != 0.0)
+                .map(|i| {
+                    let at = i * d + c;
+                    signed(r.coef[i][kk], quote! { x[#at] })
+                })
+                .collect();
+            (!parts.is_empty()).then(|| quote! { y[#col] = #(#parts)+*; })
+        })
+        .collect()
+}
+
+/// `y[j] = (CᵀC v)[j]`: `CᵀC` is `W ⊗ I_d` with `W` the cut joints'
+/// integer Gram matrix, `W[k][l] = Σ_i C[i][k] C[i][l]` over the joints.
+fn c_gram(r: &Reduction, d: usize) -> Vec<TokenStream> {
+    let cuts = r.cuts.len();
+    let w = |k: usize, l: usize| r.coef.iter().map(|row| row[k] * row[l]).sum::<f64>();
+    (0..cuts * d)
+        .filter_map(|col| {
+            let (k, c) = (col / d, col % d);
+            let parts: Vec<TokenStream> = (0..cuts)
+                .filter(|&l| w(k, l) != 0.0)
+                .map(|l| {
+                    let at = l * d + c;
+                    match w(k, l) {
+                        1.0 => quote! { v[#at] },
+                        -1.0 => quote! { -v[#at] },
+                        f => {
+                            let f = lit(f);
+                            quote! { #f * v[#at] }
+                        }
+                    }
+                })
+                .collect();
+            (!parts.is_empty()).then(|| quote! { y[#col] = #(#parts)+*; })
         })
         .collect()
 }
