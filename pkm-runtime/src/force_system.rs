@@ -917,10 +917,21 @@ mod tests {
             assert!((a - b).abs() < 1e-15, "{x:?}");
         }
         assert_eq!(solved.undetermined, 1);
-        assert!(
-            reduced_min_norm_qr::<3, 1, 0, 1>(&basis, &r, 1.0, &[0.0], &x0, c, ct, gram, 0, &[1.0, 0.0, 0.0], 1.0, &mut x)
-                .is_err()
-        );
+        assert!(reduced_min_norm_qr::<3, 1, 0, 1>(
+            &basis,
+            &r,
+            1.0,
+            &[0.0],
+            &x0,
+            c,
+            ct,
+            gram,
+            0,
+            &[1.0, 0.0, 0.0],
+            1.0,
+            &mut x
+        )
+        .is_err());
     }
 
     /// One passive row (3, 4) of two unknowns: by hand, |R| = 5, Q's first

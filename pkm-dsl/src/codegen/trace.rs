@@ -679,7 +679,13 @@ pub fn second_derivatives(
     }
     roots
         .iter()
-        .map(|r| if seen[r.0 as usize] { d[r.0 as usize] } else { (zero, zero) })
+        .map(|r| {
+            if seen[r.0 as usize] {
+                d[r.0 as usize]
+            } else {
+                (zero, zero)
+            }
+        })
         .unzip()
 }
 
@@ -746,7 +752,10 @@ mod tests {
         let curvature = (x_of(t + h) - 2.0 * x_of(t) + x_of(t - h)) / (h * h);
         assert!((first - by_differences).abs() < 1e-7, "{first} {by_differences}");
         assert!((second - curvature).abs() < 1e-5, "{second} {curvature}");
-        assert!((second - twice).abs() < 1e-13 * twice.abs().max(1.0), "{second} {twice}");
+        assert!(
+            (second - twice).abs() < 1e-13 * twice.abs().max(1.0),
+            "{second} {twice}"
+        );
     }
 
     /// What the trace knows is never negative folds its tests against 0
