@@ -524,12 +524,9 @@ impl Scalar for Sym {
     }
 }
 
-/// The derivative of `roots` along the given values' rates (`rate(k)` for
-/// given value k), by the chain rule through the recorded operations in
-/// their order: forward-mode differentiation of the straight-line solver,
-/// itself straight-line.
-pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
-    let n = with(|g| g.nodes.len());
+/// Which of the first `n` recorded operations `roots` depend on (live
+/// ones only): what a derivative has to differentiate.
+fn reachable(roots: &[Sym], n: usize) -> Vec<bool> {
     let mut seen = vec![false; n];
     let mut stack = roots.to_vec();
     while let Some(s) = stack.pop() {
@@ -540,6 +537,16 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
         seen[i] = true;
         stack.extend(operands(&with(|g| g.nodes[i].clone())));
     }
+    seen
+}
+
+/// The derivative of `roots` along the given values' rates (`rate(k)` for
+/// given value k), by the chain rule through the recorded operations in
+/// their order: forward-mode differentiation of the straight-line solver,
+/// itself straight-line.
+pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
+    let n = with(|g| g.nodes.len());
+    let seen = reachable(roots, n);
     let zero = Sym::c(0.0);
     let mut d: Vec<Sym> = vec![zero; n];
     for i in (0..n).filter(|&i| seen[i]) {
@@ -591,16 +598,7 @@ pub fn second_derivatives(
     accel: &dyn Fn(usize) -> Sym,
 ) -> (Vec<Sym>, Vec<Sym>) {
     let n = with(|g| g.nodes.len());
-    let mut seen = vec![false; n];
-    let mut stack = roots.to_vec();
-    while let Some(s) = stack.pop() {
-        let i = s.0 as usize;
-        if seen[i] || !with(|g| g.live[i]) {
-            continue;
-        }
-        seen[i] = true;
-        stack.extend(operands(&with(|g| g.nodes[i].clone())));
-    }
+    let seen = reachable(roots, n);
     let zero = Sym::c(0.0);
     let two = Sym::c(2.0);
     let mut d: Vec<(Sym, Sym)> = vec![(zero, zero); n];
