@@ -611,14 +611,7 @@ pub struct Reflections<const M: usize, const P: usize> {
 impl<const M: usize, const P: usize> Reflections<M, P> {
     /// `x ← Q x`: the last reflection first.
     pub fn apply(&self, x: &mut [f64; M]) {
-        for k in (0..P).rev() {
-            let (v, scale) = (&self.axes[k], self.scales[k]);
-            if scale == 0.0 {
-                continue;
-            }
-            let f = scale * (k..M).map(|i| v[i] * x[i]).sum::<f64>();
-            (k..M).for_each(|i| x[i] -= f * v[i]);
-        }
+        self.apply_together::<0>(x, &mut []);
     }
 
     /// Column `j` of `Q`.
@@ -629,8 +622,8 @@ impl<const M: usize, const P: usize> Reflections<M, P> {
         e
     }
 
-    /// `x ← Q x` and each of `more` likewise, the same numbers as [`apply`]
-    /// on each: the vectors go through each reflection together, so that
+    /// `x ← Q x` and each of `more` likewise ([`apply`] is this with no
+    /// `more`): the vectors go through each reflection together, so that
     /// their dot products are independent chains, not one after another.
     ///
     /// [`apply`]: Self::apply
