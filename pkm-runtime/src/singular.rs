@@ -42,6 +42,9 @@ pub enum Condition {
     TouchesCylinder,
     /// … touches the plane in which joint `points[2]` slides.
     TouchesSliderPlane,
+    /// … touches the circle about the pin `points[2]` of a link a point
+    /// output pins there.
+    TouchesCircle,
     /// `points[1]` lies on the axis of the step's joint `points[0]`.
     OnAxis,
     /// The axis of `points[1]` (or of the target `points[2]`) is parallel to
@@ -96,6 +99,7 @@ impl Factor {
             Condition::TouchesPlane => moved(format!("the plane through {c}")),
             Condition::TouchesCylinder => moved(format!("the cylinder about {c}'s axis")),
             Condition::TouchesSliderPlane => moved(format!("the plane {c} slides in")),
+            Condition::TouchesCircle => moved(format!("the circle about the pin {c}")),
             Condition::OnAxis => format!("{b} lies on the axis of {j}"),
             Condition::AxisParallel => format!("the axis of {b} or {c} is parallel to {j}'s"),
             Condition::PlaneTouches => format!("the plane of {b} turned by {j} only touches {c}"),

@@ -157,30 +157,55 @@ fn scotch_yoke() {
     check("scotch_yoke", &[(-PI, PI)], 200);
 }
 
-/// By hand: the slot (along y through the yoke's origin, at x = s) passes
-/// the crank pin (r cos θ, r sin θ): s = r cos θ, and the block sits r sin θ
-/// up the slot. One assembly.
-#[test]
-fn scotch_yoke_by_hand() {
-    let (model, solve) = load("scotch_yoke");
+/// A one-assembly mechanism driven by one angle, by hand: at crank angles
+/// θ round the turn, the forward plan finds one assembly, and each joint
+/// of `want` has the value its formula gives (to 1e-12 of `size`).
+fn one_assembly_by_hand(file: &str, size: f64, want: &[(&str, fn(f64) -> f64)]) {
+    let (model, solve) = load(file);
     let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
-    let (p1, p2, r) = (at("P1"), at("P2"), 60.0f64);
     for theta in [0.0, 0.3, 1.0, PI / 2.0, 2.5, -0.7, -PI / 2.0, PI] {
         let solved = solve(&model, &[theta]);
-        assert_eq!(solved.len(), 1, "θ = {theta}");
+        assert_eq!(solved.len(), 1, "{file}, θ = {theta}");
         let q = &solved[0].1;
-        assert!(
-            (q[p2] - r * theta.cos()).abs() <= 1e-12 * r,
-            "θ = {theta}: s {} vs {}",
-            q[p2],
-            r * theta.cos()
-        );
-        assert!(
-            (q[p1] - r * theta.sin()).abs() <= 1e-12 * r,
-            "θ = {theta}: slot {}",
-            q[p1]
-        );
+        for (joint, value) in want {
+            let (got, by_hand) = (q[at(joint)], value(theta));
+            assert!(
+                (got - by_hand).abs() <= 1e-12 * size,
+                "{file}, θ = {theta}: {joint} {got} vs {by_hand}"
+            );
+        }
     }
+}
+
+/// By hand: the slot (along y through the yoke's origin, at x = s) passes
+/// the crank pin (r cos θ, r sin θ), r = 60: s = r cos θ, and the block
+/// sits r sin θ up the slot. One assembly.
+#[test]
+fn scotch_yoke_by_hand() {
+    one_assembly_by_hand(
+        "scotch_yoke",
+        60.0,
+        &[("P2", |t| 60.0 * t.cos()), ("P1", |t| 60.0 * t.sin())],
+    );
+}
+
+#[test]
+fn trammel() {
+    check("trammel", &[(-PI, PI)], 200);
+}
+
+/// By hand: the elliptical trammel driven at R1, between block1 (sliding
+/// along x) and the bar (length l = 200): block1 keeps the base's
+/// orientation, so the bar stands at θ, and its pin R2 is on block2's
+/// guide, the y axis, where s + l cos θ = 0: s = −l cos θ, and block2 sits
+/// l sin θ up its guide (`beyond`, a slide onto a slider's line). One assembly.
+#[test]
+fn trammel_by_hand() {
+    one_assembly_by_hand(
+        "trammel",
+        200.0,
+        &[("P1", |t| -200.0 * t.cos()), ("P2", |t| 200.0 * t.sin())],
+    );
 }
 
 /// The RPP dyad's other placements (`slide_to_line`, the line on the new
@@ -906,7 +931,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
 }
 
 /// The forward plans' inputs of the examples and the ranges drawn.
-const FORWARD: [(&str, &[(f64, f64)]); 18] = [
+const FORWARD: [(&str, &[(f64, f64)]); 22] = [
     ("four_bar", &[(-PI, PI)]),
     ("slider_crank", &[(-PI, PI)]),
     ("inverted_slider_crank", &[(-PI, PI)]),
@@ -916,6 +941,10 @@ const FORWARD: [(&str, &[(f64, f64)]); 18] = [
     ("four_bar_coupler_driven", &[(-PI, PI)]),
     ("spherical_four_bar", &[(-PI, PI)]),
     ("five_bar", &[(1.2, 2.8), (0.3, 1.9)]),
+    ("five_bar_tool", &[(1.2, 2.8), (0.3, 1.9)]),
+    ("five_bar_slide", &[(-150.0, 150.0), (-PI, PI)]),
+    ("rrrrp_tool", &[(-PI, PI), (-150.0, 250.0)]),
+    ("trammel", &[(-PI, PI)]),
     ("watt_six_bar", &[(-PI, PI)]),
     ("seed003_punch", &[(-PI, PI)]),
     ("seed000_a", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]),

@@ -5,8 +5,8 @@
 
 use crate::common;
 use crate::mechanisms::{
-    AgileEye, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FourBar, Inverted, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB,
-    Shaper, SliderCrank, Spherical, Watt, Yoke,
+    AgileEye, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool,
+    Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -80,6 +80,10 @@ fn planar() {
     check!(Yoke, "scotch_yoke", [(-PI, PI)]);
     check!(CouplerDriven, "four_bar_coupler_driven", [(-PI, PI)]);
     check!(FiveBar, "five_bar", [(1.2, 2.8), (0.3, 1.9)]);
+    check!(FiveBarTool, "five_bar_tool", [(1.2, 2.8), (0.3, 1.9)]);
+    check!(FiveBarSlide, "five_bar_slide", [(-150.0, 150.0), (-PI, PI)]);
+    check!(RrrrpTool, "rrrrp_tool", [(-PI, PI), (-150.0, 250.0)]);
+    check!(Trammel, "trammel", [(-PI, PI)]);
     check!(Watt, "watt_six_bar", [(-PI, PI)]);
 }
 

@@ -138,3 +138,76 @@ fn output_names() {
     assert_eq!(ThreeRrr::OUTPUTS, ["x", "y", "phi"]);
     assert_eq!(ThreeRrr::OUTPUT_ANGLES, [false, false, true]);
 }
+
+/// Two circles' crossings, by hand: centres `c1`, `c2`, radii `r1`, `r2`;
+/// none where they miss.
+fn crossings(c1: [f64; 2], r1: f64, c2: [f64; 2], r2: f64) -> Vec<[f64; 2]> {
+    let (dx, dy) = (c2[0] - c1[0], c2[1] - c1[1]);
+    let d = dx.hypot(dy);
+    let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+    let h2 = r1 * r1 - a * a;
+    if h2 < 0.0 {
+        return vec![];
+    }
+    let h = h2.sqrt();
+    let (ux, uy) = (dx / d, dy / d);
+    let m = [c1[0] + a * ux, c1[1] + a * uy];
+    vec![[m[0] - h * uy, m[1] + h * ux], [m[0] + h * uy, m[1] - h * ux]]
+}
+
+/// The five-bar with its tool point E off the joints (`five_bar_tool.pkm`:
+/// E = (80, 30) on right_distal, whose R4 is at its origin and R3 at
+/// (b2, 0)), by hand: R4 is where the circle about E of radius |E R4| =
+/// √7300 crosses the circle of radius a2 about R5; right_distal's x axis
+/// is E − R4 turned back by atan2(30, 80), R3 = R4 + b2·x; R2 is where
+/// the circle of radius a1 about R1 crosses that of radius b1 about R3.
+/// Every assembly by hand is one ok branch of the plan, and no branch is
+/// ok beyond them.
+#[test]
+fn five_bar_tool_point_by_hand() {
+    let (model, plan) = load("five_bar_tool");
+    // Two ± choices: four branches.
+    assert_eq!(plan.branches, 2);
+    let joint = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
+    let (r2, r3, r4) = (joint("R2"), joint("R3"), joint("R4"));
+    let (r1_at, r5_at, e) = ([-50.0, 0.0], [50.0, 0.0], [80.0f64, 30.0f64]);
+    let (a1, b1, a2, b2) = (120.0, 160.0, 120.0, 160.0);
+    let back = e[1].atan2(e[0]);
+    let mut compared = 0;
+    for pose in [[40.0, 140.0], [80.0, 22.0], [-20.0, 180.0], [0.0, 120.0], [60.0, 60.0]] {
+        let mut by_hand = Vec::new();
+        for p4 in crossings(pose, e[0].hypot(e[1]), r5_at, a2) {
+            let (dx, dy) = (pose[0] - p4[0], pose[1] - p4[1]);
+            let n = dx.hypot(dy);
+            let (c, s) = (back.cos(), back.sin());
+            let x = [(c * dx + s * dy) / n, (-s * dx + c * dy) / n];
+            let p3 = [p4[0] + b2 * x[0], p4[1] + b2 * x[1]];
+            for p2 in crossings(r1_at, a1, p3, b1) {
+                by_hand.push([p2, p3, p4]);
+            }
+        }
+        let all = plan::run_all(&model, &plan, &pose);
+        let solved: Vec<[[f64; 2]; 3]> = all
+            .iter()
+            .filter_map(|(_, r)| r.as_ref().ok())
+            .map(|s| {
+                [r2, r3, r4].map(|j| {
+                    let p = kinematics::joint_point(&model, &s.poses, j);
+                    [p[0], p[1]]
+                })
+            })
+            .collect();
+        assert_eq!(solved.len(), by_hand.len(), "at {pose:?}: {all:?}");
+        let far = |a: &[[f64; 2]; 3], b: &[[f64; 2]; 3]| {
+            (0..3)
+                .map(|i| (a[i][0] - b[i][0]).hypot(a[i][1] - b[i][1]))
+                .fold(0.0, f64::max)
+        };
+        for h in &by_hand {
+            let d = solved.iter().map(|s| far(s, h)).fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-9, "at {pose:?}: {h:?} is {d:e} from every branch");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 12, "only {compared} assemblies compared");
+}

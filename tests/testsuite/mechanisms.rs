@@ -19,6 +19,15 @@ pkm::mechanism!(pub Spherical, file = "examples/mechanisms/spherical_four_bar.pk
 pkm::mechanism!(pub FiveBar, file = "examples/mechanisms/five_bar.pkm");
 pkm::mechanism!(pub Watt, file = "examples/mechanisms/watt_six_bar.pkm");
 
+// Planar two-DOF loops whose tool point is on a link, off its joints (the
+// inverse turns that link about the point: `steps::locus::pin`).
+pkm::mechanism!(pub FiveBarTool, file = "examples/mechanisms/five_bar_tool.pkm");
+pkm::mechanism!(pub FiveBarSlide, file = "examples/mechanisms/five_bar_slide.pkm");
+pkm::mechanism!(pub RrrrpTool, file = "examples/mechanisms/rrrrp_tool.pkm");
+// Driven at a joint between two moving links, solved by sliding the two as
+// one body onto a guide (`steps::beyond`).
+pkm::mechanism!(pub Trammel, file = "examples/mechanisms/trammel.pkm");
+
 // Planar parallel mechanisms and the κ = 1 examples (`fk_numeric`).
 pkm::mechanism!(pub ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(pub ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");

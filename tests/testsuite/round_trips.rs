@@ -12,8 +12,8 @@
 
 use crate::common;
 use crate::mechanisms::{
-    CouplerDriven, Cylinder, FiveBar, FiveBarPa, FourBar, Inverted, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper,
-    SliderCrank, Spherical, Watt, Yoke,
+    CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool, Rssp, Rssr,
+    Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -218,6 +218,33 @@ fn spherical_four_bar() {
 #[test]
 fn five_bar() {
     round_trips!(FiveBar, [(-PI, PI), (-PI, PI)], 160.0, never);
+}
+
+/// The tool point E off R3: ik turns right_distal about E
+/// (`steps::locus::pin`), four branches.
+#[test]
+fn five_bar_tool() {
+    round_trips!(FiveBarTool, [(-PI, PI), (-PI, PI)], 160.0, never);
+}
+
+/// A slide and a crank drive it; the tool point is on the coupler next to the crank.
+#[test]
+fn five_bar_slide() {
+    round_trips!(FiveBarSlide, [(-150.0, 150.0), (-PI, PI)], 150.0, never);
+}
+
+/// Crank and slide driven, the tool point on the coupler.
+#[test]
+fn rrrrp_tool() {
+    round_trips!(RrrrpTool, [(-PI, PI), (-150.0, 250.0)], 150.0, never);
+}
+
+/// Driven at the block–bar joint: fk slides block1 and the bar as one body
+/// until R2 is on block2's guide (one root); ik, given block1's slide,
+/// two (the bar above or below the x axis).
+#[test]
+fn trammel() {
+    round_trips!(Trammel, [(-PI, PI)], 200.0, never);
 }
 
 #[test]

@@ -74,7 +74,7 @@ pub(crate) fn solve(
                 m.name_span(),
                 format!(
                     "no closed-form {what} plan: links {} are not reached by the step catalogue \
-                     (aim, align, parallelogram plane, circle or line against sphere, plane or cylinder, \
+                     (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, \
                      guide through a point, point beyond a given joint, slide onto a line, axes through one \
                      centre, a link between known spherical centres, a plane through a point, two turns \
                      about meeting axes)",

@@ -17,7 +17,7 @@
 //! done ([`Plan::checks`]).
 
 use super::{Anchor, Check, Constraint, Direction, Plan, Radius, Step, Turn};
-use crate::model::Model;
+use crate::model::{JointType, Model};
 use crate::solution::PointRef;
 use crate::steps::place::PoseParts;
 use crate::steps::slide_to_line::Meet;
@@ -52,6 +52,14 @@ impl Listing<'_> {
 
     fn link(&self, l: usize) -> &str {
         self.model.links.get(l).map_or("?", String::as_str)
+    }
+
+    /// The link across joint `given` from `to` (`usize::MAX` where there is no such joint).
+    fn across(&self, given: usize, to: usize) -> usize {
+        self.model
+            .joints
+            .get(given)
+            .map_or(usize::MAX, |j| if j.links[0] == to { j.links[1] } else { j.links[0] })
     }
 
     fn point(&self, p: PointRef) -> &str {
@@ -164,6 +172,12 @@ impl Listing<'_> {
                 self.link(*link),
                 self.carried(to, hops)
             ),
+            Constraint::Pin { hops, link, pin } => format!(
+                "the circle about {}'s pin {}{}",
+                self.link(*link),
+                self.point(*pin),
+                self.carried(to, hops)
+            ),
         }
     }
 
@@ -272,6 +286,26 @@ impl Listing<'_> {
                 self.direction(target)
             ),
             Step::Beyond {
+                joint,
+                given,
+                input,
+                point,
+                constraint: Constraint::Slider { hops, joint: h, link },
+                to,
+                ..
+            } if self.model.joints.get(*joint).is_some_and(|j| j.kind == JointType::P) => {
+                // A slide meets the slider's line, not the plane it sweeps.
+                let beyond = self.across(*given, *to);
+                format!(
+                    "{} carried across {} at given {input}, on the line slider {} runs on {}{}",
+                    self.point(*point),
+                    self.joint(*given),
+                    self.joint(*h),
+                    self.link(*link),
+                    self.carried(beyond, hops)
+                )
+            }
+            Step::Beyond {
                 given,
                 input,
                 point,
@@ -280,13 +314,7 @@ impl Listing<'_> {
                 ..
             } => {
                 // The constraint's hops start from the link across `given`.
-                let beyond = self.model.joints.get(*given).map_or(usize::MAX, |j| {
-                    if j.links[0] == *to {
-                        j.links[1]
-                    } else {
-                        j.links[0]
-                    }
-                });
+                let beyond = self.across(*given, *to);
                 format!(
                     "{} carried across {} at given {input}, on {}",
                     self.point(*point),

@@ -159,6 +159,18 @@ pub enum Constraint {
         /// The known link.
         link: usize,
     },
+    /// At a fixed distance from the pin of `link`, a link a planar point
+    /// output pins at its point `pin` (its angle unknown): the distance
+    /// the point, carried across `hops` to `link`, keeps from the pin there
+    /// ([`crate::steps::locus::pin`]).
+    Pin {
+        /// From the new link to the pinned link.
+        hops: Hops,
+        /// The pinned link.
+        link: usize,
+        /// Its pin: the output's point.
+        pin: PointRef,
+    },
 }
 
 /// How a placed link is turned.
@@ -347,8 +359,9 @@ pub enum Step {
     },
     /// A revolute's (or, in a planar mechanism, a slide's) value that puts
     /// `point`, on the link across the joint `given` (whose value is input
-    /// `input`) from `to`, on `constraint` (a cylinder, or for a turn a
-    /// slider's plane): with the value given the two links move as one body.
+    /// `input`) from `to`, on `constraint` (a cylinder; for a turn a
+    /// slider's plane, for a slide a slider's line): with the value given
+    /// the two links move as one body.
     Beyond {
         /// The revolute or prismatic.
         joint: usize,
@@ -364,8 +377,9 @@ pub enum Step {
         point: PointRef,
         /// Where it must be (hops from the link across `given`).
         constraint: Constraint,
-        /// This step's index in the sign vector (it always branches).
-        branch: usize,
+        /// This step's index in the sign vector (`None`: one root, a slide
+        /// onto a slider's line).
+        branch: Option<usize>,
     },
     /// A prismatic's slide that brings a point and the line of prismatic
     /// `slide` together (`meet`: which of the two the new link carries).
@@ -509,7 +523,9 @@ impl Step {
                     || match constraint {
                         Constraint::Sphere { centre, .. } => centre.link == link,
                         Constraint::Plane { normal, anchor } => normal.link == link || anchor.link == link,
-                        Constraint::Cylinder { link: l, .. } | Constraint::Slider { link: l, .. } => *l == link,
+                        Constraint::Cylinder { link: l, .. }
+                        | Constraint::Slider { link: l, .. }
+                        | Constraint::Pin { link: l, .. } => *l == link,
                     }
             }
             Step::SlideToLine { from, meet, .. } => {
@@ -618,6 +634,7 @@ impl Step {
                     hops(h).into_iter().for_each(&mut add);
                     add(*joint);
                 }
+                Constraint::Pin { hops: h, .. } => hops(h).into_iter().for_each(&mut add),
             },
         }
         out
@@ -626,9 +643,11 @@ impl Step {
     /// The step's index in the sign vector, where it chooses a root.
     pub fn branch(&self) -> Option<usize> {
         match self {
-            Step::Locus { branch, .. } | Step::Parasitic { branch, .. } | Step::PlaneThrough { branch, .. } => *branch,
+            Step::Locus { branch, .. }
+            | Step::Parasitic { branch, .. }
+            | Step::PlaneThrough { branch, .. }
+            | Step::Beyond { branch, .. } => *branch,
             Step::Guide { branch, .. }
-            | Step::Beyond { branch, .. }
             | Step::Cone { branch, .. }
             | Step::TwoTurns { branch, .. }
             | Step::PaPlane { branch, .. } => Some(*branch),

@@ -154,7 +154,15 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
     let mut candidates = s.candidates();
     candidates.sort_by_cached_key(|&(j, from, to)| (!s.at_start[from], !s.carries_coaxial(j, to)));
     for (j, from, to) in candidates {
-        for (point, x) in s.points_of(to, j) {
+        let mut points = s.points_of(to, j);
+        // A link pinned off its joints: its pin, aimed back onto itself
+        // (not by the joint whose axis holds it: every turn would do).
+        if let (Some(pin), Some(x)) = (super::locus::pin::pin_of(s, to), s.pins[to]) {
+            if !s.on_axis(j, to, x) && !points.iter().any(|&(_, y)| s.pinned_at(to, y)) {
+                points.push((pin, x));
+            }
+        }
+        for (point, x) in points {
             // A known link, or a pinned one at its pin (the new link's own pin too).
             let found = s
                 .fixed_reach(to, x, &[j])

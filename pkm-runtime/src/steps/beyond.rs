@@ -26,14 +26,19 @@
 //! guide); slid, in a planar mechanism, a cylinder
 //! ([`super::locus::cylinder::meet`]'s line–circle: a slider-crank driven at
 //! the rod–slider joint, the rod then translating with the slider; a Scotch
-//! yoke driven at the block's slide in the slot). Two roots each.
+//! yoke driven at the block's slide in the slot). Two roots each. Slid
+//! against a slider's guide on a known link, it meets a line (an
+//! elliptical trammel driven at the joint between a block and the bar: the
+//! block slides, the bar turned on it at the given angle, until the bar's
+//! other pin is on the other block's guide): one root,
+//! [`super::slide_to_line::onto_line`].
 
 use super::search::Search;
-use super::{JointValue, Move};
+use super::{JointValue, Motion, Move};
 use crate::model::JointType;
 use crate::plan::{v3, Constraint, Step};
-use crate::scalar::Scalar;
-use crate::singular::{crossing, joint_point, Configuration, Factor, LinkPoint};
+use crate::scalar::{sub, Scalar};
+use crate::singular::{crossing, joint_point, sine, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 
 /// The value of the revolute (or slide) that puts `point` (on the link
@@ -46,7 +51,7 @@ pub fn execute<T: Scalar>(
     input: usize,
     point: PointRef,
     constraint: &Constraint,
-    branch: usize,
+    branch: Option<usize>,
 ) -> Result<super::Found<T>, SolveError> {
     let g = mv.geometry;
     let q = &g.joints[given];
@@ -54,14 +59,25 @@ pub fn execute<T: Scalar>(
     let x = g.local(point, beyond);
     let y = carried(q, q.links[0] == mv.to, x, mv.given.values[input]);
     let m = mv.joint().motion(&mv.state.poses[mv.from], mv.forward(), y);
-    let r = match constraint {
-        Constraint::Cylinder { hops, joint: h, link } => {
-            super::locus::cylinder::meet(mv, m, x, hops, *h, *link, Some(branch))?
+    let r = match (constraint, m) {
+        (Constraint::Cylinder { hops, joint: h, link }, _) => {
+            super::locus::cylinder::meet(mv, m, x, hops, *h, *link, branch)?
         }
-        Constraint::Slider { hops, joint: h, link } => {
-            super::locus::slider::meet(mv, m, x, hops, *h, *link, Some(branch))?
+        // Slid onto the line the slider's point runs on along its guide.
+        (Constraint::Slider { hops, joint: h, link }, Motion::Line { start, along }) => {
+            let jh = &g.joints[*h];
+            let Motion::Line { start: fixed, along: u } =
+                jh.motion(&mv.state.poses[*link], jh.links[0] == *link, g.carry(x, hops))
+            else {
+                return Err(mv.fail(super::degenerate("a slide onto a slider's line needs its guide")));
+            };
+            let s = super::slide_to_line::onto_line(sub(fixed, start), along, u, mv.site()).map_err(|e| mv.fail(e))?;
+            [s, T::c(0.0)]
         }
-        _ => {
+        (Constraint::Slider { hops, joint: h, link }, _) => {
+            super::locus::slider::meet(mv, m, x, hops, *h, *link, branch)?
+        }
+        (Constraint::Sphere { .. } | Constraint::Plane { .. } | Constraint::Pin { .. }, _) => {
             return Err(mv.fail(super::degenerate(
                 "a point beyond a given joint needs a cylinder or a slider",
             )))
@@ -100,8 +116,9 @@ pub fn carried<T: Scalar>(q: &super::JointGeometry<T>, first: bool, x: [T; 3], v
 /// link whose revolute about `k` turns on a known link (a cylinder) or
 /// whose slide normal to `k` runs on a known link (a slider's plane). In a
 /// planar mechanism `j` may be a slide too, `k` then the plane's normal,
-/// against a cylinder. Tried after `guide`, so it only plans what
-/// nothing before it did.
+/// against a cylinder, or against a slider's line: a slide `c` on a known
+/// link, its guide not along `j` (one root). Tried after `guide`, so it
+/// only plans what nothing before it did.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     for (j, from, to) in s.candidates() {
         let slide = s.kind(j) == JointType::P && s.model.planar;
@@ -139,13 +156,21 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                             return None;
                         }
                         match jc.kind {
-                            JointType::R => super::locus::cylinder::find(s, &r, c, k_beyond, rot, turning),
-                            JointType::P if !slide => super::locus::slider::find(s, &r, c, k_beyond, rot, turning),
+                            JointType::R => {
+                                super::locus::cylinder::find(s, &r, c, k_beyond, rot, turning).map(|c| (c, true))
+                            }
+                            JointType::P if !slide => {
+                                super::locus::slider::find(s, &r, c, k_beyond, rot, turning).map(|c| (c, true))
+                            }
+                            JointType::P => onto_guide(s, j, to, &r, c).map(|c| (c, false)),
                             _ => None,
                         }
                     });
-                    let Some(constraint) = found else { continue };
-                    s.branches += 1;
+                    let Some((constraint, two)) = found else { continue };
+                    let branch = two.then(|| {
+                        s.branches += 1;
+                        s.branches - 1
+                    });
                     let step = Step::Beyond {
                         joint: j,
                         from,
@@ -154,7 +179,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                         input,
                         point,
                         constraint,
-                        branch: s.branches - 1,
+                        branch,
                     };
                     s.push(step, to, j);
                     return true;
@@ -163,6 +188,23 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
     }
     false
+}
+
+/// The match of a slide `j` (moving `to`) against slide `c`'s line: `c`
+/// on the reach `r`'s link, its other link known and, where both guides
+/// are on one known link, its guide not along `j`'s, so the two lines meet
+/// once (elsewhere the step refuses a slide along the line when it runs).
+fn onto_guide(s: &Search<'_>, j: usize, to: usize, r: &super::search::Reach, c: usize) -> Option<Constraint> {
+    let next = s.other(c, r.link);
+    let from = s.other(j, to);
+    if !s.known[next] || (next == from && Search::parallel(s.axis(c, next), s.axis(j, from))) {
+        return None;
+    }
+    Some(Constraint::Slider {
+        hops: r.hops.clone().into(),
+        joint: c,
+        link: next,
+    })
 }
 
 /// The step's factor: as a locus's ([`super::locus_factor`]), the cosine
@@ -190,6 +232,27 @@ pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor
         super::Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
         super::Motion::Line { along, .. } => v3(along) * at.scale,
     };
+    if let (Constraint::Slider { joint: h, link, .. }, super::Motion::Line { along, .. }) =
+        (constraint, j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]))
+    {
+        // Slid onto a line: the sine between the slide and the guide (as
+        // `slide_to_line`'s factor), zero where the slide runs along it.
+        let jh = &at.g.joints[*h];
+        let Motion::Line { along: u, .. } = jh.motion(&at.frames[*link], jh.links[0] == *link, [0.0; 3]) else {
+            return None;
+        };
+        return Some(Factor {
+            step: k,
+            joint,
+            condition: Condition::SlideAlongLine,
+            points: [
+                joint_point(joint, from),
+                LinkPoint { link: beyond, point },
+                joint_point(*h, *link),
+            ],
+            value: sine(v3(along), v3(u)),
+        });
+    }
     let (n, condition, other) = match *constraint {
         Constraint::Cylinder { joint: h, link, .. } => super::locus::cylinder::normal(at, p, h, link),
         Constraint::Slider { joint: h, link, .. } => super::locus::slider::normal(at, joint, from, h, link),

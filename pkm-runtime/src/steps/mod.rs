@@ -16,8 +16,8 @@
 //! in part, from limbs that hold a point on a plane either way round: the
 //! planner's start, not in `FIND_ORDER`), and [`locus`], one file per
 //! surface a point can be held to (`Constraint::{Sphere, Plane, Cylinder,
-//! Slider}`: [`locus::sphere`], [`locus::plane`], [`locus::cylinder`],
-//! [`locus::slider`], each with its `find` and its surface's `normal`; the
+//! Slider, Pin}`: [`locus::sphere`], [`locus::plane`], [`locus::cylinder`],
+//! [`locus::slider`], [`locus::pin`], each with its `find` and its surface's `normal`; the
 //! locus step's own match and factor are here). Every kernel is written
 //! for every [`Scalar`], so generated code writes it out, and its
 //! derivatives with it. `FIND_ORDER` lists the kinds in the order the
@@ -245,6 +245,7 @@ pub fn execute<T: Scalar>(
             Constraint::Slider { hops, joint: h, link } => {
                 locus::slider::execute(&mv, *point, hops, *h, *link, *branch)?
             }
+            Constraint::Pin { hops, link, pin } => locus::pin::execute(&mv, *point, hops, *link, *pin, *branch)?,
         },
     };
     state.poses[to] = pose;
@@ -609,6 +610,7 @@ fn constraints(
         }
         if !rods {
             out.extend(locus::plane::find(s, j, point, &r, k, circle));
+            out.extend(locus::pin::find(s, to, &r, k, rot, turning, circle).map(|c| (c, true)));
         }
     }
     out
@@ -711,6 +713,7 @@ fn locus_factor(
         Constraint::Plane { normal, anchor } => locus::plane::normal(at, normal, anchor),
         Constraint::Cylinder { joint: h, link, .. } => locus::cylinder::normal(at, p, *h, *link),
         Constraint::Slider { joint: h, link, .. } => locus::slider::normal(at, joint, from, *h, *link),
+        Constraint::Pin { link, pin, .. } => locus::pin::normal(at, p, *link, *pin),
     };
     Factor {
         step: k,

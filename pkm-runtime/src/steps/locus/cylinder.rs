@@ -50,6 +50,22 @@ pub fn meet<T: Scalar>(
     let y = g.carry(x, hops);
     let place = jh.places[1 - known_side];
     let radius = norm(reject(sub(y, place.at()), unit(crate::steps::place_axis(&place))));
+    about(mv, m, line_point, line_axis, radius, branch)
+}
+
+/// The value that puts the point moving as `m` at `radius` from the line
+/// through `line_point` along the unit `line_axis` (world), parallel to a
+/// circle's axis or normal to a slide: circle–circle or planar
+/// line–circle; `branch` picks the root. The cylinder about a revolute,
+/// or about a pinned link's pin ([`super::pin`]).
+pub(crate) fn about<T: Scalar>(
+    mv: &Move<'_, T>,
+    m: Motion<T>,
+    line_point: [T; 3],
+    line_axis: [T; 3],
+    radius: T,
+    branch: Option<usize>,
+) -> Result<[T; 2], SolveError> {
     let choice = mv.choice(branch);
     match m {
         Motion::Circle {
