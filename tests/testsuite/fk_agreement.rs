@@ -157,10 +157,13 @@ fn scotch_yoke() {
     check("scotch_yoke", &[(-PI, PI)], 200);
 }
 
+/// A joint's value by hand as a function of the driving angle.
+type ByHand = fn(f64) -> f64;
+
 /// A one-assembly mechanism driven by one angle, by hand: at crank angles
 /// θ round the turn, the forward plan finds one assembly, and each joint
 /// of `want` has the value its formula gives (to 1e-12 of `size`).
-fn one_assembly_by_hand(file: &str, size: f64, want: &[(&str, fn(f64) -> f64)]) {
+fn one_assembly_by_hand(file: &str, size: f64, want: &[(&str, ByHand)]) {
     let (model, solve) = load(file);
     let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
     for theta in [0.0, 0.3, 1.0, PI / 2.0, 2.5, -0.7, -PI / 2.0, PI] {
