@@ -211,6 +211,40 @@ fn trammel_by_hand() {
     );
 }
 
+#[test]
+fn inverted_slider_crank_block_driven() {
+    check("inverted_slider_crank_block_driven", &[(-PI, PI)], 200);
+}
+
+/// By hand: the inverted slider-crank driven at R2 (crank–block, value θ),
+/// r = 50, d = 120. The rocker keeps the block's orientation, ψ = θ₁ + θ,
+/// and its line through R3 = (d, 0) passes the crank pin r(cos θ₁, sin θ₁):
+/// `r sin(θ₁ − ψ) + d sin ψ = 0`, so `sin(θ₁ + θ) = (r/d) sin θ`, two
+/// crank angles, `θ₁ = asin((r/d) sin θ) − θ` and `π − asin(…) − θ`
+/// (`guide`, the line carried across the given R2).
+#[test]
+fn inverted_slider_crank_block_driven_by_hand() {
+    let (model, solve) = load("inverted_slider_crank_block_driven");
+    let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
+    let (r1, r3) = (at("R1"), at("R3"));
+    let wrap = |a: f64| (a + PI).rem_euclid(2.0 * PI) - PI;
+    for theta in [0.0, 0.3, 1.0, PI / 2.0, 2.5, -0.7, -PI / 2.0, 3.0] {
+        let s = (50.0 / 120.0 * f64::sin(theta)).asin();
+        let mut want = [wrap(s - theta), wrap(PI - s - theta)];
+        want.sort_by(f64::total_cmp);
+        let solved = solve(&model, &[theta]);
+        let mut got: Vec<f64> = solved.iter().map(|(_, q, _)| wrap(q[r1])).collect();
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "θ = {theta}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(wrap(g - w).abs() < 1e-12, "θ = {theta}: θ₁ {g} vs {w}");
+        }
+        for (_, q, _) in &solved {
+            assert!(wrap(q[r3] - q[r1] - theta).abs() < 1e-12, "θ = {theta}: ψ ≠ θ₁ + θ");
+        }
+    }
+}
+
 /// The RPP dyad's other placements (`slide_to_line`, the line on the new
 /// link): the slot on the block (the yoke's slider point 20 off its
 /// origin), and the yoke's slot tilted 30° with the base's guide at 10°;
@@ -934,7 +968,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
 }
 
 /// The forward plans' inputs of the examples and the ranges drawn.
-const FORWARD: [(&str, &[(f64, f64)]); 22] = [
+const FORWARD: [(&str, &[(f64, f64)]); 23] = [
     ("four_bar", &[(-PI, PI)]),
     ("slider_crank", &[(-PI, PI)]),
     ("inverted_slider_crank", &[(-PI, PI)]),
@@ -948,6 +982,7 @@ const FORWARD: [(&str, &[(f64, f64)]); 22] = [
     ("five_bar_slide", &[(-150.0, 150.0), (-PI, PI)]),
     ("rrrrp_tool", &[(-PI, PI), (-150.0, 250.0)]),
     ("trammel", &[(-PI, PI)]),
+    ("inverted_slider_crank_block_driven", &[(-PI, PI)]),
     ("watt_six_bar", &[(-PI, PI)]),
     ("seed003_punch", &[(-PI, PI)]),
     ("seed000_a", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]),

@@ -5,8 +5,8 @@
 
 use crate::common;
 use crate::mechanisms::{
-    AgileEye, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool,
-    Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    AgileEye, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted,
+    RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -84,6 +84,7 @@ fn planar() {
     check!(FiveBarSlide, "five_bar_slide", [(-150.0, 150.0), (-PI, PI)]);
     check!(RrrrpTool, "rrrrp_tool", [(-PI, PI), (-150.0, 250.0)]);
     check!(Trammel, "trammel", [(-PI, PI)]);
+    check!(BlockDriven, "inverted_slider_crank_block_driven", [(-PI, PI)]);
     check!(Watt, "watt_six_bar", [(-PI, PI)]);
 }
 

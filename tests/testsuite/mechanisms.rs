@@ -27,6 +27,10 @@ pkm::mechanism!(pub RrrrpTool, file = "examples/mechanisms/rrrrp_tool.pkm");
 // Driven at a joint between two moving links, solved by sliding the two as
 // one body onto a guide (`steps::beyond`).
 pkm::mechanism!(pub Trammel, file = "examples/mechanisms/trammel.pkm");
+// Driven at a joint between two moving links, solved by turning the two as
+// one body until a line carried across the given joint passes a known point
+// (`steps::guide`).
+pkm::mechanism!(pub BlockDriven, file = "examples/mechanisms/inverted_slider_crank_block_driven.pkm");
 
 // Planar parallel mechanisms and the κ = 1 examples (`fk_numeric`).
 pkm::mechanism!(pub ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");

@@ -12,8 +12,8 @@
 
 use crate::common;
 use crate::mechanisms::{
-    CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool, Rssp, Rssr,
-    Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool,
+    Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -245,6 +245,13 @@ fn rrrrp_tool() {
 #[test]
 fn trammel() {
     round_trips!(Trammel, [(-PI, PI)], 200.0, never);
+}
+
+/// Driven at the crank–block joint: fk turns crank and block as one body
+/// until the block's line passes the rocker's pivot (two roots).
+#[test]
+fn inverted_slider_crank_block_driven() {
+    round_trips!(BlockDriven, [(-PI, PI)], 120.0, never);
 }
 
 #[test]

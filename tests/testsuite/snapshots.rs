@@ -77,6 +77,7 @@ plan_snapshots! {
     five_bar_slide,
     rrrrp_tool,
     trammel,
+    inverted_slider_crank_block_driven,
     watt_six_bar,
     planar_3rrr,
     seed003_punch_original,

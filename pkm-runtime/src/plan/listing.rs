@@ -255,6 +255,18 @@ impl Listing<'_> {
                 format!("the plane of {} through {}", self.joint(*pa), self.anchor(target))
             }
             Step::Guide {
+                carried: Some((given, input)),
+                slide,
+                point,
+                target,
+                ..
+            } => format!(
+                "the line of {} carried across {} at given {input} through {}",
+                self.joint(*slide),
+                self.joint(*given),
+                self.point_at(*point, target)
+            ),
+            Step::Guide {
                 slide, point, target, ..
             }
             | Step::SlideToLine {
@@ -574,6 +586,7 @@ forward plan: given R1; 1 ± choice, 2 branches
                     joint: 1,
                     from: 1,
                     to: 2,
+                    carried: None,
                     slide: 2,
                     point: PointRef::Joint(3),
                     target: ball.clone(),

@@ -321,8 +321,9 @@ pub enum Step {
         branch: usize,
     },
     /// A revolute's angle that puts the line `point` travels on, seen from
-    /// `to` (`point` is on the link across prismatic `slide` from `to`),
-    /// through the anchored position (the same point, known).
+    /// `to` (`point` is on the link across prismatic `slide` from `to`, or
+    /// from the link `carried` makes one body with `to`), through the
+    /// anchored position (the same point, known).
     Guide {
         /// The revolute.
         joint: usize,
@@ -330,7 +331,11 @@ pub enum Step {
         from: usize,
         /// New link.
         to: usize,
-        /// The prismatic joint of `to` whose slide the line is.
+        /// A revolute of `to` whose value is given, `(joint, input)`: the
+        /// slide is on the link across it, carried at that value (`None`:
+        /// the slide is `to`'s own).
+        carried: Option<(usize, usize)>,
+        /// The prismatic joint whose slide the line is.
         slide: usize,
         /// The point on the link beyond the slide.
         point: PointRef,
@@ -567,7 +572,12 @@ impl Step {
                 add(*pa);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
-            Step::Guide { slide, target, .. } => {
+            Step::Guide {
+                slide, target, carried, ..
+            } => {
+                if let Some((given, _)) = carried {
+                    add(*given);
+                }
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }

@@ -18,9 +18,15 @@
 //! double where B is at distance |e| from the axis (the guide normal to CB:
 //! tangency, reported as such), none nearer; B on the axis is degenerate.
 //! With `e = 0` the two roots are the line's two senses, half a turn apart.
+//!
+//! The slide may be on a link across a revolute of the new link whose value
+//! is given (parallel to the turning axis): the two are one body, the line
+//! carried across at that value (an inverted slider-crank driven at the
+//! crank–block joint: crank and block turn about the crank's pivot until
+//! the block's line passes the rocker's pivot).
 
 use super::search::{reversed, Search};
-use super::{Found, Motion, Move};
+use super::{Found, JointValue, Motion, Move};
 use crate::model::JointType;
 use crate::plan::{v3, Anchor, Step};
 use crate::scalar::Scalar;
@@ -33,6 +39,7 @@ use crate::subproblems::line_through::through;
 /// position `target`, `branch` choosing the root.
 pub fn execute<T: Scalar>(
     mv: &Move<'_, T>,
+    carried: Option<(usize, usize)>,
     slide: usize,
     point: PointRef,
     target: &Anchor,
@@ -41,10 +48,20 @@ pub fn execute<T: Scalar>(
     let (axis, zero) = mv.turning("a guide through a point needs a revolute")?;
     let j = mv.joint();
     let centre = zero.apply(j.places[usize::from(j.links[0] != mv.to)].at());
+    // The link the slide is on, and its pose with the new link at value 0.
+    let (near, near_pose) = match carried {
+        None => (mv.to, zero),
+        Some((given, input)) => {
+            let g = &mv.geometry.joints[given];
+            let first = g.links[0] == mv.to;
+            let value = JointValue::given(g.kind, mv.given.values[input]);
+            (g.links[usize::from(first)], g.transfer(&zero, first, value))
+        }
+    };
     let q = &mv.geometry.joints[slide];
-    let beyond = if q.links[0] == mv.to { q.links[1] } else { q.links[0] };
+    let beyond = if q.links[0] == near { q.links[1] } else { q.links[0] };
     let x = mv.geometry.local(point, beyond);
-    let Motion::Line { start, along } = q.motion(&zero, q.links[0] == mv.to, x) else {
+    let Motion::Line { start, along } = q.motion(&near_pose, q.links[0] == near, x) else {
         return Err(mv.fail(super::degenerate("a guide through a point needs a slide")));
     };
     let b = mv.geometry.anchor(&mv.state.poses, target);
@@ -53,31 +70,46 @@ pub fn execute<T: Scalar>(
 }
 
 /// The planner's match: a revolute `j` turning the new link `to` about `k`,
-/// a prismatic `q` of `to` whose slide is normal to `k`, and beyond it a
-/// link whose joint's place reaches a known link through revolutes on
-/// their axes (parallel to `k`: the point stays in the plane the line
-/// sweeps): that place, known, must lie on the line. Two roots.
+/// a prismatic `q` of `to` whose slide is normal to `k` (or of the link
+/// across a given revolute of `to` parallel to `k`, the two one body),
+/// and beyond it a link whose joint's place reaches a known link through
+/// revolutes on their axes (parallel to `k`: the point stays in the plane
+/// the line sweeps): that place, known, must lie on the line. Two roots.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     for (j, from, to) in s.candidates() {
         if s.kind(j) != JointType::R {
             continue;
         }
         let k = s.axis(j, to);
+        // The links the slide may be on: `to`, and those across its given
+        // revolutes about `k` (with `k` in their frames).
+        let mut near = vec![(to, None, k)];
+        for (g, jg) in s.model.joints.iter().enumerate() {
+            let Some(input) = s.given[g] else { continue };
+            let carries = g != j && jg.kind == JointType::R && jg.links.contains(&to) && !s.used[g];
+            if carries && Search::parallel(s.axis(g, to), k) && !s.known[s.other(g, to)] {
+                let k_mid = s.rotation(&[s.hop(g, to)]).inverse() * k;
+                near.push((s.other(g, to), Some((g, input)), k_mid));
+            }
+        }
         for (q, joint) in s.model.joints.iter().enumerate() {
             // A given slide is no unknown of this dyad: the point would be
             // known along the line, and the step would leave it out. With
             // the slide given its two links are one body: `beyond`.
-            if q == j || joint.kind != JointType::P || !joint.links.contains(&to) || s.used[q] || s.given[q].is_some() {
+            if q == j || joint.kind != JointType::P || s.used[q] || s.given[q].is_some() {
                 continue;
             }
-            if !Search::normal(s.axis(q, to), k) {
+            let Some(&(on, carried, k_on)) = near.iter().find(|(l, ..)| joint.links.contains(l)) else {
+                continue;
+            };
+            if !Search::normal(s.axis(q, on), k_on) {
                 continue;
             }
-            let beyond = s.other(q, to);
-            if s.known[beyond] {
+            let beyond = s.other(q, on);
+            if s.known[beyond] || beyond == to {
                 continue;
             }
-            let (k_beyond, places) = s.across(q, to, j, k);
+            let (k_beyond, places) = s.across(q, on, j, k_on);
             for (point, x) in places {
                 let reach = s
                     .fixed_reach(beyond, x, &[j, q])
@@ -89,6 +121,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                     joint: j,
                     from,
                     to,
+                    carried,
                     slide: q,
                     point,
                     target: Anchor {
@@ -109,17 +142,24 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
 /// The step's factor: the derivative of `n(θ)·w − e`, `(k × n)·w`, over
 /// `|w|`: the cosine between the guide and the turning centre's offset to
 /// the point, zero where they are normal (tangency, the two roots meet).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn factor(
     at: &Configuration,
     k: usize,
     joint: usize,
     from: usize,
     to: usize,
+    carried: Option<(usize, usize)>,
     slide: usize,
     target: &Anchor,
 ) -> Factor {
     let j = &at.g.joints[joint];
     let centre = v3(at.frames[from].apply(j.places[usize::from(j.links[0] != from)].at()));
+    // The slide's link on the new link's side: `to`, or the one carried with it.
+    let to = carried.map_or(to, |(given, _)| {
+        let g = &at.g.joints[given];
+        g.links[usize::from(g.links[0] == to)]
+    });
     let q = &at.g.joints[slide];
     let side = usize::from(q.links[0] != to);
     let guide = v3(at.frames[to].rotate(super::place_axis(&q.places[side])));

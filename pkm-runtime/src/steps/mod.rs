@@ -197,12 +197,13 @@ pub fn execute<T: Scalar>(
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
         Step::PaPlane { pa, target, branch, .. } => pa_plane::execute(&mv, *pa, target, *branch)?,
         Step::Guide {
+            carried,
             slide,
             point,
             target,
             branch,
             ..
-        } => guide::execute(&mv, *slide, *point, target, *branch)?,
+        } => guide::execute(&mv, *carried, *slide, *point, target, *branch)?,
         Step::Beyond {
             given: q,
             input,
@@ -650,10 +651,11 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             joint,
             from,
             to,
+            carried,
             slide,
             target,
             ..
-        } => guide::factor(at, k, *joint, *from, *to, *slide, target),
+        } => guide::factor(at, k, *joint, *from, *to, *carried, *slide, target),
         Step::Beyond { .. } => return beyond::factor(at, k, step),
         Step::SlideToLine { .. } => return slide_to_line::factor(at, k, step),
         Step::Cone {
