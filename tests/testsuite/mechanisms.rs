@@ -38,7 +38,13 @@ pkm::mechanism!(pub ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
 pkm::mechanism!(pub Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
 
 // Seed 000 (2T1R mechanisms A and B) and the five-bar 2T1R.
-pkm::mechanism!(pub SeedA, file = "examples/mechanisms/seed000_a.pkm");
+pkm::mechanism!(
+    /// Seed 000's mechanism A, declared over several lines as a user may:
+    /// clippy (`cargo clippy --all-targets` in CI) then sees its expansion
+    /// at the name's line, not across the invocation's.
+    pub SeedA,
+    file = "examples/mechanisms/seed000_a.pkm"
+);
 pkm::mechanism!(pub SeedAU, file = "examples/mechanisms/seed000_a_u.pkm");
 pkm::mechanism!(pub SeedB, file = "examples/mechanisms/seed000_b.pkm");
 pkm::mechanism!(pub FiveBarPa, file = "examples/mechanisms/five_bar_pa.pkm");

@@ -111,7 +111,31 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
     if !checks.is_empty() {
         return Err(to_syn(&checks, &text, &file_name, lit.span()));
     }
-    generate(&input, &compiled, include.as_deref()).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))
+    let out = generate(&input, &compiled, include.as_deref()).map_err(|d| to_syn(&d, &text, &file_name, lit.span()))?;
+    Ok(located_at(out, input.ident.span()))
+}
+
+/// Every token of the expansion located at `at` (the mechanism's name, on
+/// one line), resolved as before. Generated tokens are spanned at the call
+/// site, which for an invocation over several lines spans them all, so
+/// clippy would read a line break inside every generated `[a * b, …]`
+/// and refuse it as a missing comma (`possible_missing_comma`, denied by
+/// default).
+fn located_at(tokens: TokenStream, at: PmSpan) -> TokenStream {
+    tokens
+        .into_iter()
+        .map(|tt| match tt {
+            proc_macro2::TokenTree::Group(g) => {
+                let mut group = proc_macro2::Group::new(g.delimiter(), located_at(g.stream(), at));
+                group.set_span(g.span().located_at(at));
+                proc_macro2::TokenTree::Group(group)
+            }
+            mut tt => {
+                tt.set_span(tt.span().located_at(at));
+                tt
+            }
+        })
+        .collect()
 }
 
 fn to_syn(d: &Diagnostics, text: &str, file: &str, span: PmSpan) -> syn::Error {
