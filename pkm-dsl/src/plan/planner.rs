@@ -66,26 +66,61 @@ pub(crate) fn solve(
     }
     while !search.known().iter().all(|k| *k) {
         if !search.step() {
-            let left: Vec<&str> = (0..m.links.len())
-                .filter(|&l| !search.known()[l])
-                .map(|l| m.links[l].name.as_str())
-                .collect();
-            return Err(Diagnostic::new(
-                m.name_span(),
-                format!(
-                    "no closed-form {what} plan: links {} are not reached by the step catalogue \
-                     (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, \
-                     guide through a point, point beyond a given joint, slide onto a line, axes through one \
-                     centre, a link between known spherical centres, a plane through a point, two turns \
-                     about meeting axes)",
-                    left.join(", ")
-                ),
-            )
-            .label("in this mechanism")
-            .into());
+            return Err(stalled(a, &search, what).into());
         }
     }
     Ok(search.into_plan(n_inputs, inputs))
+}
+
+/// The refusal of a search that stalled: the links not reached, the last
+/// link a step placed, and each joint left open between a known and a new
+/// link, where the next step would have to start (a pinned link's pin too).
+fn stalled(a: &Analysis, search: &Search<'_>, what: &str) -> Diagnostic {
+    let m = &a.mechanism;
+    let known = search.known();
+    let name = |l: usize| m.links[l].name.as_str();
+    let left: Vec<&str> = (0..m.links.len()).filter(|&l| !known[l]).map(name).collect();
+    let stall = search.stall();
+    let mut d = Diagnostic::new(
+        m.name_span(),
+        format!(
+            "no closed-form {what} plan: links {} are not reached by the step catalogue \
+             (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, \
+             guide through a point, point beyond a given joint, slide onto a line, axes through one \
+             centre, a link between known spherical centres, a plane through a point, two turns \
+             about meeting axes)",
+            left.join(", ")
+        ),
+    )
+    .label("in this mechanism");
+    d = d.note(match stall.last {
+        Some(l) => format!("the last link a step placed is {}", name(l)),
+        None => "no step placed a link beyond those the start places (the base, the given inputs and outputs)".into(),
+    });
+    let open: Vec<String> = stall
+        .open
+        .iter()
+        .map(|&(j, from, to, given)| {
+            let given = if given { ", its value given" } else { "" };
+            format!("{} ({} known, {} not{given})", m.joints[j].name, name(from), name(to))
+        })
+        .collect();
+    if !open.is_empty() {
+        d = d.note(format!(
+            "left open between known and unreached links: {}; no step kind solves any of them from \
+             what is known",
+            open.join(", ")
+        ));
+    }
+    for (l, p) in stall.pinned {
+        d = d.note(format!(
+            "{} is pinned by a point output at ({}, {}) of its frame, its angle unknown",
+            name(l),
+            p[0],
+            p[1]
+        ));
+    }
+    d
 }
 
 /// The spatial forward-position plan.
@@ -214,6 +249,29 @@ mod tests {
             |w: Misses<'_>| -> Vec<(String, bool, bool)> { w.iter().map(|&(n, p, s)| (n.into(), p, s)).collect() };
         assert_eq!(names(c.forward().unwrap()), owned(want.0), "{file} forward");
         assert_eq!(names(c.inverse().unwrap()), owned(want.1), "{file} inverse");
+    }
+
+    /// A search that stalls says where: a four-bar searched with nothing
+    /// given and nothing placed but the base stalls at once; the refusal
+    /// names the links not reached, that no step placed one, and the two
+    /// joints left open at the base.
+    #[test]
+    fn a_stall_names_the_joints_left_open() {
+        let path = format!("{}/../examples/mechanisms/four_bar.pkm", env!("CARGO_MANIFEST_DIR"));
+        let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let model = c.model().unwrap();
+        let (n_joints, n_links) = (model.joints.len(), model.links.len());
+        let mut known = vec![false; n_links];
+        known[0] = true;
+        let mut search = super::Search::new(model, vec![None; n_joints], known, vec![None; n_links], vec![]);
+        assert!(!search.step());
+        let d = super::stalled(&c.analysis, &search, "forward");
+        let text = format!("{}\n{}", d.message, d.notes.join("\n"));
+        expect_test::expect![[r#"
+            no closed-form forward plan: links crank, coupler, rocker are not reached by the step catalogue (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, guide through a point, point beyond a given joint, slide onto a line, axes through one centre, a link between known spherical centres, a plane through a point, two turns about meeting axes)
+            no step placed a link beyond those the start places (the base, the given inputs and outputs)
+            left open between known and unreached links: R1 (base known, crank not), R4 (base known, rocker not); no step kind solves any of them from what is known"#]]
+        .assert_eq(&text);
     }
 
     #[test]

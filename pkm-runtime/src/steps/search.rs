@@ -35,6 +35,18 @@ pub struct Search<'a> {
     pub(crate) at_start: Vec<bool>,
 }
 
+/// Where a stalled search stands ([`Search::stall`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stall {
+    /// The link the last step placed (`None`: only the start placed links).
+    pub last: Option<usize>,
+    /// The joints between a known and a new link no step solved: `(joint,
+    /// known link, new link, whether an input gives its value)`.
+    pub open: Vec<(usize, usize, usize, bool)>,
+    /// The unknown links a point output pins, with the pin (in the link's frame).
+    pub pinned: Vec<(usize, [f64; 3])>,
+}
+
 /// One way out of a link along which a point stays put: the hops taken,
 /// the link reached and the point in its frame.
 #[derive(Clone)]
@@ -84,6 +96,35 @@ impl<'a> Search<'a> {
     /// Which links are known so far.
     pub fn known(&self) -> &[bool] {
         &self.known
+    }
+
+    /// Where a search that stalled stands: the link its last step placed
+    /// (`None`: no step placed one, only the start did), the joints left
+    /// open between a known and a new link (`(joint, known link, new
+    /// link, whether an input gives its value)`, in joint order), and the
+    /// links a point output pins, each with its pin's place (in its frame).
+    pub fn stall(&self) -> Stall {
+        let last = self.steps.iter().rev().find_map(|s| match s.solves() {
+            (Some(_), to) => Some(to),
+            (None, _) => None,
+        });
+        let open = self
+            .model
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(j, joint)| !self.used[*j] && self.known[joint.links[0]] != self.known[joint.links[1]])
+            .map(|(j, joint)| {
+                let [u, v] = joint.links;
+                let (from, to) = if self.known[u] { (u, v) } else { (v, u) };
+                (j, from, to, self.given[j].is_some())
+            })
+            .collect();
+        let pinned = (0..self.pins.len())
+            .filter(|&l| !self.known[l])
+            .filter_map(|l| self.pins[l].map(|p| (l, [p.x, p.y, p.z])))
+            .collect();
+        Stall { last, open, pinned }
     }
 
     /// Adds the next step: the first step kind of `steps::FIND_ORDER` that
