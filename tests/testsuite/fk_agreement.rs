@@ -245,6 +245,44 @@ fn inverted_slider_crank_block_driven_by_hand() {
     }
 }
 
+/// A crank with a driven slide on it (R-P*-P-R): with the slide P2 given
+/// (value s), crank and block are one body, turned about R1 until the
+/// block's line (P1, along the rocker's y through its pivot R3 = (d, 0))
+/// passes the pivot: the block keeps the crank's angle θ, so
+/// `(s cos θ − d) cos θ + s sin² θ = 0`, `cos θ = s/d`, θ = ±acos(s/d)
+/// (`guide`, the line carried across the given slide). Against Newton too.
+const CRANK_WITH_A_DRIVEN_SLIDE: &str = "mechanism rppr {
+    capabilities fk;
+    planar;
+    base R1 [crank] ⊥ P2* [block] ⊥ P1 [rocker] ⊥ R3 base;
+    parameters { d = 120; }
+    geometry {
+        base   { R1 = (0, 0); R3 = (d, 0); }
+        crank  { R1 = (0, 0); P2 = through (0, 0) along x; }
+        block  { P2 = (0, 0); P1 = (0, 0); }
+        rocker { P1 = through (0, 0) along y; R3 = (0, 0); }
+    }
+}";
+
+#[test]
+fn guide_carried_across_a_given_slide() {
+    let (model, solve) = load_text(CRANK_WITH_A_DRIVEN_SLIDE);
+    let r1 = model.joints.iter().position(|j| j.name == "R1").unwrap();
+    for s in [0.0, 30.0, 50.0, 100.0, -80.0, 119.0] {
+        let want = f64::acos(s / 120.0);
+        let mut got: Vec<f64> = solve(&model, &[s]).iter().map(|(_, q, _)| q[r1]).collect();
+        got.sort_by(f64::total_cmp);
+        assert_eq!(got.len(), 2, "s = {s}");
+        assert!(
+            (got[0] + want).abs() < 1e-12 && (got[1] - want).abs() < 1e-12,
+            "s = {s}: {got:?} vs ±{want}"
+        );
+    }
+    // Beyond d the line cannot reach the pivot.
+    assert!(solve(&model, &[130.0]).is_empty());
+    check_solver("rppr", &model, &solve, &[(-110.0, 110.0)], 100);
+}
+
 /// The RPP dyad's other placements (`slide_to_line`, the line on the new
 /// link): the slot on the block (the yoke's slider point 20 off its
 /// origin), and the yoke's slot tilted 30° with the base's guide at 10°;

@@ -331,9 +331,10 @@ pub enum Step {
         from: usize,
         /// New link.
         to: usize,
-        /// A revolute of `to` whose value is given, `(joint, input)`: the
-        /// slide is on the link across it, carried at that value (`None`:
-        /// the slide is `to`'s own).
+        /// A joint of `to` whose value is given, `(joint, input)` (a
+        /// revolute about the turning axis, or a slide): the slide is on
+        /// the link across it, carried at that value (`None`: the slide is
+        /// `to`'s own).
         carried: Option<(usize, usize)>,
         /// The prismatic joint whose slide the line is.
         slide: usize,

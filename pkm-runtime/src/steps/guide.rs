@@ -19,9 +19,9 @@
 //! tangency, reported as such), none nearer; B on the axis is degenerate.
 //! With `e = 0` the two roots are the line's two senses, half a turn apart.
 //!
-//! The slide may be on a link across a revolute of the new link whose value
-//! is given (parallel to the turning axis): the two are one body, the line
-//! carried across at that value (an inverted slider-crank driven at the
+//! The slide may be on a link across a joint of the new link whose value
+//! is given (a revolute parallel to the turning axis, or a slide): the two
+//! are one body, the line carried across at that value (an inverted slider-crank driven at the
 //! crank–block joint: crank and block turn about the crank's pivot until
 //! the block's line passes the rocker's pivot).
 
@@ -71,7 +71,8 @@ pub fn execute<T: Scalar>(
 
 /// The planner's match: a revolute `j` turning the new link `to` about `k`,
 /// a prismatic `q` of `to` whose slide is normal to `k` (or of the link
-/// across a given revolute of `to` parallel to `k`, the two one body),
+/// across a given revolute of `to` parallel to `k`, or a given slide, the
+/// two one body),
 /// and beyond it a link whose joint's place reaches a known link through
 /// revolutes on their axes (parallel to `k`: the point stays in the plane
 /// the line sweeps): that place, known, must lie on the line. Two roots.
@@ -86,8 +87,14 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         let mut near = vec![(to, None, k)];
         for (g, jg) in s.model.joints.iter().enumerate() {
             let Some(input) = s.given[g] else { continue };
-            let carries = g != j && jg.kind == JointType::R && jg.links.contains(&to) && !s.used[g];
-            if carries && Search::parallel(s.axis(g, to), k) && !s.known[s.other(g, to)] {
+            // A given revolute about `k`, or a given slide (either keeps `k`).
+            let keeps_k = match jg.kind {
+                JointType::R => Search::parallel(s.axis(g, to), k),
+                JointType::P => true,
+                _ => false,
+            };
+            let carries = g != j && jg.links.contains(&to) && !s.used[g];
+            if carries && keeps_k && !s.known[s.other(g, to)] {
                 let k_mid = s.rotation(&[s.hop(g, to)]).inverse() * k;
                 near.push((s.other(g, to), Some((g, input)), k_mid));
             }

@@ -112,6 +112,10 @@ fn in_reach<T: Scalar>(k: usize, step: &Step, geometry: &Geometry<T>, given: &Gi
         Step::Transfer { joint, input, .. }
         | Step::Beyond {
             given: joint, input, ..
+        }
+        | Step::Guide {
+            carried: Some((joint, input)),
+            ..
         } if geometry.joints[joint].kind == JointType::P => {
             vec![input]
         }
