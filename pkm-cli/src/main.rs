@@ -258,15 +258,61 @@ fn analyze(json: bool, file: &Path) -> ExitCode {
         return fail(json, &Failure::parse(&d, &text, &shown));
     }
     let a = &compiled.analysis;
+    let special = pkm_dsl::lowering::mobility::special_mobility(a);
     if json {
+        let mut value = to_json(a);
+        if let (Some(s), Some(map)) = (&special, value.as_object_mut()) {
+            map.insert(
+                "special_geometry".into(),
+                json!({
+                    "generic_dof": s.generic,
+                    "declared_dof": s.declared,
+                    "loop_rank": s.rank[0],
+                    "generic_loop_rank": s.rank[1],
+                    "followed": a.mechanism.joints[s.followed].name,
+                    "steps": s.steps,
+                    "finite": s.finite(),
+                }),
+            );
+        }
         // The analysis's JSON stays indented, as it always was.
         write_out(&format!(
             "{}\n",
-            serde_json::to_string_pretty(&to_json(a)).unwrap_or_default()
+            serde_json::to_string_pretty(&value).unwrap_or_default()
         ))
     } else {
-        write_out(&a.report())
+        let mut report = a.report();
+        if let Some(s) = &special {
+            report += &special_text(a, s);
+        }
+        write_out(&report)
     }
+}
+
+/// The report's paragraph on mobility from special geometry.
+fn special_text(a: &Analysis, s: &pkm_dsl::lowering::mobility::SpecialMobility) -> String {
+    use pkm_dsl::lowering::mobility::{FOLLOW_STEP, FOLLOW_STEPS};
+    let joint = &a.mechanism.joints[s.followed].name;
+    let [rank, generic_rank] = s.rank;
+    let followed = if s.finite() {
+        format!(
+            "the motion was followed through {FOLLOW_STEPS} steps of {FOLLOW_STEP} rad (or sizes) of {joint}, \
+             the rank staying {rank}: the declared mechanism moves with {} DOF, not F = {}, by its special \
+             geometry (its dimensions meet a condition the declared axis relations do not state)",
+            s.declared, s.generic
+        )
+    } else {
+        format!(
+            "the lower rank held for {} of {FOLLOW_STEPS} steps of {joint}: a shaky configuration, not a \
+             finite motion, so F = {} stands",
+            s.steps, s.generic
+        )
+    };
+    format!(
+        "\nspecial geometry: at an assembly of the declared dimensions the loops' rank is {rank}, where generic \
+         instances of the declared axis relations give {generic_rank}; {followed}. The plans and solvers use \
+         the topology's F; declaring such a mobility is not supported yet.\n"
+    )
 }
 
 /// What `pkm::mechanism!` refuses besides the analysis: a capability whose

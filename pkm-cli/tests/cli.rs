@@ -70,6 +70,49 @@ fn text_report() {
     assert!(text.contains("κ = 0"), "{text}");
 }
 
+/// Mobility from special geometry: the Bennett linkage
+/// (`tests/fixtures/bennett.pkm`: four revolutes on skew axes, lengths a,
+/// b, a, b, twists α, β, α, β) is F = 0 at generic instances of its
+/// (undeclared) axis relations, and by Bennett's theorem moves with one
+/// DOF exactly where a / sin α = b / sin β. `pkm analyze` finds the loops'
+/// rank 3 (not 4) at an assembly of the declared dimensions and follows
+/// the motion; with b off the condition (180 for 175.5) there is no
+/// assembly to move, and nothing is said.
+#[test]
+fn special_geometry_of_the_bennett_linkage() {
+    let file = "tests/fixtures/bennett.pkm";
+    let out = pkm(&["analyze", file]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("F = Σf − Σξ_L = 4 − 4 = 0"), "{text}");
+    assert!(
+        text.contains("the loops' rank is 3, where generic instances of the declared axis relations give 4"),
+        "{text}"
+    );
+    assert!(text.contains("moves with 1 DOF, not F = 0"), "{text}");
+    let v: Value = serde_json::from_slice(&pkm(&["analyze", file, "--json"]).stdout).unwrap();
+    let s = &v["special_geometry"];
+    assert_eq!(
+        (s["generic_dof"].as_u64(), s["declared_dof"].as_u64()),
+        (Some(0), Some(1)),
+        "{s}"
+    );
+    assert_eq!(
+        (s["loop_rank"].as_u64(), s["finite"].as_bool()),
+        (Some(3), Some(true)),
+        "{s}"
+    );
+    let text = std::fs::read_to_string(common::root().join(file)).unwrap();
+    let off = text.replace("b = a * sin(beta) / sin(alpha);", "b = 180;");
+    assert_ne!(off, text);
+    let path = scratch_file("not_bennett.pkm", &off);
+    let out = pkm(&["analyze", &path]);
+    assert!(out.status.success());
+    assert!(!String::from_utf8(out.stdout).unwrap().contains("special geometry"));
+    let v: Value = serde_json::from_slice(&pkm(&["analyze", &path, "--json"]).stdout).unwrap();
+    assert!(v.get("special_geometry").is_none(), "{v}");
+}
+
 /// A mechanism file written for one test (the examples have no errors).
 fn scratch_file(name: &str, text: &str) -> String {
     let dir = std::env::temp_dir().join(format!("pkm-cli-{}", std::process::id()));

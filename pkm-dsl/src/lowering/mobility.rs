@@ -1,0 +1,155 @@
+//! Mobility from special geometry. The topology counts F at generic
+//! instances of the declared axis relations; a mechanism whose dimensions
+//! satisfy a further condition (a Bennett linkage: a / sin α = b / sin β)
+//! moves where those instances do not. This compares the rank of the
+//! loop-closure equations at an assembly of the declared geometry with
+//! the generic one, and where it is lower follows the motion it allows
+//! for a finite distance: an instantaneous mobility alone (a shaky
+//! configuration) is not reported as one.
+
+use crate::topology::analysis::Analysis;
+use nalgebra::DMatrix;
+use pkm_runtime::model::{JointType, Model};
+use pkm_runtime::newton::{solve_fk, NewtonOptions};
+use std::collections::HashMap;
+
+/// Steps of the followed motion, and each step's size (rad, or sizes of
+/// the mechanism for a slide), along the lost rank's direction.
+pub const FOLLOW_STEPS: usize = 5;
+/// The size of each step.
+pub const FOLLOW_STEP: f64 = 0.05;
+/// A singular value below this fraction of the largest is a lost rank.
+pub const RANK_TOL: f64 = 1e-8;
+
+/// Where the declared geometry moves more than the topology says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecialMobility {
+    /// F of the topology, at generic instances of the declared relations.
+    pub generic: usize,
+    /// The mobility at the declared geometry: the joint rates less the
+    /// loops' rank at an assembly of it.
+    pub declared: usize,
+    /// The loops' rank there, and the rank F = `generic` would leave.
+    pub rank: [usize; 2],
+    /// The joint whose value was stepped to follow the motion.
+    pub followed: usize,
+    /// How many of [`FOLLOW_STEPS`] steps stayed assembled with the lower rank.
+    pub steps: usize,
+}
+
+impl SpecialMobility {
+    /// Whether the motion was followed through every step: a finite motion.
+    pub fn finite(&self) -> bool {
+        self.steps == FOLLOW_STEPS
+    }
+}
+
+/// The loops' rank at `values`, rates of lengths taken in sizes of the
+/// mechanism, their rows in sizes too (as the loop residual), and the
+/// right singular vectors of the rank lost.
+fn rank(model: &Model, values: &[f64], scale: f64) -> Option<(usize, Vec<Vec<f64>>)> {
+    let loops = pkm_runtime::velocity::loops(model, values).ok()?;
+    let mut a: DMatrix<f64> = loops.a.clone();
+    for (c, &p) in loops.prismatic.iter().enumerate() {
+        if p {
+            a.column_mut(c).scale_mut(scale);
+        }
+    }
+    for r in 0..loops.loop_rows {
+        if r % 6 >= 3 {
+            a.row_mut(r).scale_mut(1.0 / scale);
+        }
+    }
+    let n = a.ncols();
+    // Square, so that V holds a basis of the whole rate space.
+    let mut square = DMatrix::zeros(a.nrows().max(n), n);
+    square.view_mut((0, 0), (a.nrows(), n)).copy_from(&a);
+    let svd = square.svd(false, true);
+    let largest = svd.singular_values.max();
+    let v_t = svd.v_t?;
+    let lost: Vec<Vec<f64>> = (0..n)
+        .filter(|&k| svd.singular_values[k] <= RANK_TOL * largest.max(f64::MIN_POSITIVE))
+        .map(|k| v_t.row(k).iter().copied().collect())
+        .collect();
+    Some((n - lost.len(), lost))
+}
+
+/// The mechanism's mobility at its declared geometry where it exceeds the
+/// topology's F, checked along a finite motion; `None` where it does not,
+/// where the geometry is incomplete, or where no assembly of it is found
+/// (from the zero configuration and 40 deterministic starts).
+pub fn special_mobility(a: &Analysis) -> Option<SpecialMobility> {
+    if !a.geometry.complete {
+        return None;
+    }
+    let mut model = crate::lowering::numeric::model(a, &HashMap::new()).ok()?;
+    model.joints.iter_mut().for_each(|j| j.actuated = false);
+    let (offsets, n) = model.value_offsets();
+    let scale = pkm_runtime::kinematics::model_scale(&model);
+    let options = NewtonOptions::default();
+    let mut rng = crate::topology::screw::SplitMix::new(0x5eed_0b1e);
+    let mut next = || rng.symmetric();
+    let lengths: Vec<bool> = (0..n)
+        .map(|i| {
+            model
+                .joints
+                .iter()
+                .enumerate()
+                .any(|(j, joint)| joint.kind == JointType::P && offsets[j] == i)
+        })
+        .collect();
+    let assembly = (0..=40).find_map(|k| {
+        let guess: Vec<f64> = (0..n)
+            .map(|i| {
+                if k == 0 {
+                    0.0
+                } else if lengths[i] {
+                    scale * next()
+                } else {
+                    std::f64::consts::PI * next()
+                }
+            })
+            .collect();
+        solve_fk(&model, &[], &guess, &options).ok().map(|s| s.values)
+    })?;
+    let generic = a.topology.dof;
+    let (r, lost) = rank(&model, &assembly, scale)?;
+    let declared = n - r;
+    if declared <= generic {
+        return None;
+    }
+    // Follow the first lost direction: step the joint that moves most along it.
+    // The direction in rates (a slide's in lengths, not sizes).
+    let unit = |k: usize| if lengths[k] { scale } else { 1.0 };
+    let dir: Vec<f64> = lost[0].iter().enumerate().map(|(k, d)| d * unit(k)).collect();
+    let i = (0..n).max_by(|&x, &y| lost[0][x].abs().total_cmp(&lost[0][y].abs()))?;
+    let followed = (0..model.joints.len()).find(|&j| offsets[j] <= i && i < offsets[j] + model.joints[j].kind.dof())?;
+    if model.joints[followed].kind.dof() != 1 {
+        return None;
+    }
+    let mut stepped = model.clone();
+    stepped.joints[followed].actuated = true;
+    let h = FOLLOW_STEP * unit(i) * dir[i].signum();
+    let mut values = assembly;
+    let mut steps = 0;
+    for _ in 0..FOLLOW_STEPS {
+        let target = values[i] + h;
+        let guess: Vec<f64> = values.iter().zip(&dir).map(|(v, d)| v + h * d / dir[i]).collect();
+        let Ok(s) = solve_fk(&stepped, &[target], &guess, &options) else {
+            break;
+        };
+        match rank(&model, &s.values, scale) {
+            Some((r_here, _)) if n - r_here >= declared => {}
+            _ => break,
+        }
+        values = s.values;
+        steps += 1;
+    }
+    Some(SpecialMobility {
+        generic,
+        declared,
+        rank: [r, n - generic],
+        followed,
+        steps,
+    })
+}
