@@ -157,6 +157,28 @@ fn scotch_yoke() {
     check("scotch_yoke", &[(-PI, PI)], 200);
 }
 
+/// The assemblies `solve` finds at the driving value `input`: as many as
+/// `want` has, and joint `joint`'s value in each one of `want` (to 1e-12;
+/// angles as the solver gives them, in (−π, π]), every wanted value met.
+/// Returns them for further checks.
+fn roots_by_hand(model: &Model, solve: &Solver, joint: &str, input: f64, want: &[f64]) -> Vec<Vec<f64>> {
+    let j = model.joints.iter().position(|x| x.name == joint).unwrap();
+    let solved: Vec<Vec<f64>> = solve(model, &[input]).into_iter().map(|(_, q, _)| q).collect();
+    let got: Vec<f64> = solved.iter().map(|q| q[j]).collect();
+    assert_eq!(got.len(), want.len(), "at {input}: {joint} {got:?} vs {want:?}");
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    for w in want {
+        assert!(got.iter().any(|&g| near(g, *w)), "at {input}: {joint} {got:?}, no {w}");
+    }
+    for g in &got {
+        assert!(
+            want.iter().any(|&w| near(*g, w)),
+            "at {input}: {joint} {g} is none of {want:?}"
+        );
+    }
+    solved
+}
+
 /// A joint's value by hand as a function of the driving angle.
 type ByHand = fn(f64) -> f64;
 
@@ -227,19 +249,12 @@ fn inverted_slider_crank_block_driven_by_hand() {
     let (model, solve) = load("inverted_slider_crank_block_driven");
     let at = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
     let (r1, r3) = (at("R1"), at("R3"));
-    let wrap = |a: f64| (a + PI).rem_euclid(2.0 * PI) - PI;
+    // Into the solver's (−π, π]; the difference below modulo 2π.
+    let wrap = |a: f64| PI - (PI - a).rem_euclid(2.0 * PI);
     for theta in [0.0, 0.3, 1.0, PI / 2.0, 2.5, -0.7, -PI / 2.0, 3.0] {
         let s = (50.0 / 120.0 * f64::sin(theta)).asin();
-        let mut want = [wrap(s - theta), wrap(PI - s - theta)];
-        want.sort_by(f64::total_cmp);
-        let solved = solve(&model, &[theta]);
-        let mut got: Vec<f64> = solved.iter().map(|(_, q, _)| wrap(q[r1])).collect();
-        got.sort_by(f64::total_cmp);
-        assert_eq!(got.len(), 2, "θ = {theta}");
-        for (g, w) in got.iter().zip(want) {
-            assert!(wrap(g - w).abs() < 1e-12, "θ = {theta}: θ₁ {g} vs {w}");
-        }
-        for (_, q, _) in &solved {
+        let solved = roots_by_hand(&model, &solve, "R1", theta, &[wrap(s - theta), wrap(PI - s - theta)]);
+        for q in &solved {
             assert!(wrap(q[r3] - q[r1] - theta).abs() < 1e-12, "θ = {theta}: ψ ≠ θ₁ + θ");
         }
     }
@@ -267,16 +282,9 @@ const CRANK_WITH_A_DRIVEN_SLIDE: &str = "mechanism rppr {
 #[test]
 fn guide_carried_across_a_given_slide() {
     let (model, solve) = load_text(CRANK_WITH_A_DRIVEN_SLIDE);
-    let r1 = model.joints.iter().position(|j| j.name == "R1").unwrap();
     for s in [0.0, 30.0, 50.0, 100.0, -80.0, 119.0] {
         let want = f64::acos(s / 120.0);
-        let mut got: Vec<f64> = solve(&model, &[s]).iter().map(|(_, q, _)| q[r1]).collect();
-        got.sort_by(f64::total_cmp);
-        assert_eq!(got.len(), 2, "s = {s}");
-        assert!(
-            (got[0] + want).abs() < 1e-12 && (got[1] - want).abs() < 1e-12,
-            "s = {s}: {got:?} vs ±{want}"
-        );
+        roots_by_hand(&model, &solve, "R1", s, &[-want, want]);
     }
     // Beyond d the line cannot reach the pivot.
     assert!(solve(&model, &[130.0]).is_empty());
@@ -363,17 +371,11 @@ fn four_bar_coupler_driven() {
 #[test]
 fn four_bar_coupler_driven_by_hand() {
     let (model, solve) = load("four_bar_coupler_driven");
-    let r4 = model.joints.iter().position(|j| j.name == "R4").unwrap();
     let (l1, l2, l3, l4) = (100.0f64, 250.0f64, 200.0f64, 300.0f64);
     for phi in [0.0, 0.4, 1.5, PI / 2.0, 2.9, -1.0, -2.5] {
         let d2 = l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * phi.cos();
         let psi = ((d2 - l4 * l4 - l3 * l3) / (2.0 * l4 * l3)).acos();
-        let mut got: Vec<f64> = solve(&model, &[phi]).iter().map(|(_, q, _)| q[r4]).collect();
-        got.sort_by(f64::total_cmp);
-        assert_eq!(got.len(), 2, "φ = {phi}");
-        for (g, w) in got.iter().zip([-psi, psi]) {
-            assert!((g - w).abs() < 1e-12, "φ = {phi}: ψ {g} vs {w}");
-        }
+        roots_by_hand(&model, &solve, "R4", phi, &[-psi, psi]);
     }
 }
 
