@@ -23,6 +23,7 @@ pub mod newton;
 pub mod newton_euler;
 pub mod plan;
 pub mod primitives;
+pub mod random;
 #[cfg(feature = "high-precision")]
 pub mod reference;
 pub mod scalar;

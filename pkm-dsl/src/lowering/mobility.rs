@@ -87,7 +87,7 @@ pub fn special_mobility(a: &Analysis) -> Option<SpecialMobility> {
     let (offsets, n) = model.value_offsets();
     let scale = pkm_runtime::kinematics::model_scale(&model);
     let options = NewtonOptions::default();
-    let mut rng = crate::topology::screw::SplitMix::new(0x5eed_0b1e);
+    let mut rng = pkm_runtime::random::SplitMix::new(0x5eed_0b1e);
     let mut next = || rng.symmetric();
     let lengths: Vec<bool> = (0..n)
         .map(|i| {

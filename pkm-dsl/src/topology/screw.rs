@@ -14,35 +14,9 @@ use nalgebra::{DMatrix, Vector3, Vector6};
 /// Singular values below this fraction of the largest count as zero.
 pub const RANK_TOLERANCE: f64 = 1e-9;
 
-/// A deterministic generator (splitmix64), so every analysis is reproducible.
-#[derive(Debug, Clone)]
-pub struct SplitMix(u64);
-
-impl SplitMix {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Self {
-        SplitMix(seed)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1).
-    pub fn symmetric(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-
-    /// A random vector in the cube [-1, 1)³.
-    pub fn vector(&mut self) -> Vector3<f64> {
-        Vector3::new(self.symmetric(), self.symmetric(), self.symmetric())
-    }
-}
+/// The deterministic generator every analysis draws from (splitmix64), so
+/// that each is reproducible.
+pub use pkm_runtime::random::SplitMix;
 
 /// One generic instance of a mechanism.
 #[derive(Debug, Clone)]

@@ -742,13 +742,8 @@ mod tests {
     #[test]
     fn rotation_vector_of_known_rotations() {
         use std::f64::consts::{FRAC_PI_2, PI};
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::random::SplitMix::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.symmetric();
         let angles = [
             0.0,
             1e-300,

@@ -211,11 +211,8 @@ mod tests {
     /// whose least singular value is at the threshold.
     #[test]
     fn rank_and_spaces_against_the_svd() {
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::random::SplitMix::new(7);
+        let mut rnd = || rng.symmetric();
         for n in 1..=12usize {
             for rank in 0..=n.min(6) {
                 let b = DMatrix::from_fn(6, rank, |_, _| rnd());

@@ -275,11 +275,8 @@ fn random_limb(n: usize, rank: usize, rnd: &mut impl FnMut() -> f64) -> Vec<Vect
 /// answers where the SVD refuses.
 #[test]
 fn certified_and_svd_paths_agree() {
-    let mut seed = 11u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
+    let mut rng = crate::random::SplitMix::new(11);
+    let mut rnd = || rng.symmetric();
     let mut certified = 0;
     for n in 1..=MAX_LIMB_VARIABLES {
         for rank in 1..=n.min(6) {
