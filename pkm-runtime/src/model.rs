@@ -168,6 +168,15 @@ pub struct Model {
 }
 
 impl Joint {
+    /// The link at the other end from `link`.
+    pub fn other(&self, link: usize) -> usize {
+        if self.links[0] == link {
+            self.links[1]
+        } else {
+            self.links[0]
+        }
+    }
+
     /// Which side's place is the joint's point: the slider's for a P joint
     /// (the side without the guide line), otherwise its first link's.
     pub fn point_side(&self) -> usize {
@@ -185,6 +194,17 @@ impl Model {
             n += j.kind.dof();
         }
         (offsets, n)
+    }
+
+    /// Which entries of a joint-value vector are lengths: the values of the
+    /// P joints (the rest are angles).
+    pub fn length_values(&self) -> Vec<bool> {
+        let (offsets, n) = self.value_offsets();
+        let mut lengths = vec![false; n];
+        for (j, joint) in self.joints.iter().enumerate() {
+            lengths[offsets[j]] = joint.kind == JointType::P;
+        }
+        lengths
     }
 
     /// The actuated joints, in declaration order.

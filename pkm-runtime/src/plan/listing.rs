@@ -56,10 +56,7 @@ impl Listing<'_> {
 
     /// The link across joint `given` from `to` (`usize::MAX` where there is no such joint).
     fn across(&self, given: usize, to: usize) -> usize {
-        self.model
-            .joints
-            .get(given)
-            .map_or(usize::MAX, |j| if j.links[0] == to { j.links[1] } else { j.links[0] })
+        self.model.joints.get(given).map_or(usize::MAX, |j| j.other(to))
     }
 
     fn point(&self, p: PointRef) -> &str {

@@ -37,7 +37,7 @@ use super::search::Search;
 use super::{JointValue, Motion, Move};
 use crate::model::JointType;
 use crate::plan::{v3, Constraint, Step};
-use crate::scalar::{sub, Scalar};
+use crate::scalar::Scalar;
 use crate::singular::{crossing, joint_point, sine, Condition, Configuration, Factor, LinkPoint};
 use crate::solution::{PointRef, SolveError};
 
@@ -55,7 +55,7 @@ pub fn execute<T: Scalar>(
 ) -> Result<super::Found<T>, SolveError> {
     let g = mv.geometry;
     let q = &g.joints[given];
-    let beyond = if q.links[0] == mv.to { q.links[1] } else { q.links[0] };
+    let beyond = q.other(mv.to);
     let x = g.local(point, beyond);
     let y = carried(q, q.links[0] == mv.to, x, mv.given.values[input]);
     let m = mv.joint().motion(&mv.state.poses[mv.from], mv.forward(), y);
@@ -64,16 +64,10 @@ pub fn execute<T: Scalar>(
             super::locus::cylinder::meet(mv, m, x, hops, *h, *link, branch)?
         }
         // Slid onto the line the slider's point runs on along its guide.
-        (Constraint::Slider { hops, joint: h, link }, Motion::Line { start, along }) => {
-            let jh = &g.joints[*h];
-            let Motion::Line { start: fixed, along: u } =
-                jh.motion(&mv.state.poses[*link], jh.links[0] == *link, g.carry(x, hops))
-            else {
-                return Err(mv.fail(super::degenerate("a slide onto a slider's line needs its guide")));
-            };
-            let s = super::slide_to_line::onto_line(sub(fixed, start), along, u, mv.site()).map_err(|e| mv.fail(e))?;
-            [s, T::c(0.0)]
-        }
+        (Constraint::Slider { hops, joint: h, link }, Motion::Line { start, along }) => [
+            super::slide_to_line::onto_slider(mv, start, along, x, hops, *h, *link)?,
+            T::c(0.0),
+        ],
         (Constraint::Slider { hops, joint: h, link }, _) => {
             super::locus::slider::meet(mv, m, x, hops, *h, *link, branch)?
         }
@@ -225,16 +219,15 @@ pub(crate) fn factor(at: &Configuration, k: usize, step: &Step) -> Option<Factor
         return None;
     };
     let q = &at.g.joints[given];
-    let beyond = if q.links[0] == to { q.links[1] } else { q.links[0] };
+    let beyond = q.other(to);
     let p = v3(at.frames[beyond].apply(at.g.local(point, beyond)));
     let j = &at.g.joints[joint];
-    let path = match j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]) {
-        super::Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
-        super::Motion::Line { along, .. } => v3(along) * at.scale,
+    let motion = j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]);
+    let path = match motion {
+        Motion::Circle { centre, axis, .. } => v3(axis).cross(&(p - v3(centre))),
+        Motion::Line { along, .. } => v3(along) * at.scale,
     };
-    if let (Constraint::Slider { joint: h, link, .. }, super::Motion::Line { along, .. }) =
-        (constraint, j.motion(&at.frames[from], j.links[0] == from, [0.0; 3]))
-    {
+    if let (Constraint::Slider { joint: h, link, .. }, Motion::Line { along, .. }) = (constraint, motion) {
         // Slid onto a line: the sine between the slide and the guide (as
         // `slide_to_line`'s factor), zero where the slide runs along it.
         let jh = &at.g.joints[*h];

@@ -81,6 +81,15 @@ impl<T: Scalar> JointValue<T> {
 }
 
 impl<T: Scalar> JointGeometry<T> {
+    /// The link at the other end from `link`.
+    pub fn other(&self, link: usize) -> usize {
+        if self.links[0] == link {
+            self.links[1]
+        } else {
+            self.links[0]
+        }
+    }
+
     /// A joint from its type, links and places.
     pub fn new(kind: JointType, links: [usize; 2], places: [Place<T>; 2]) -> Self {
         let frames = places.map(|p| canonical_frame(p.at(), place_axis(&p)));

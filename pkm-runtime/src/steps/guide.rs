@@ -21,9 +21,10 @@
 //!
 //! The slide may be on a link across a joint of the new link whose value
 //! is given (a revolute parallel to the turning axis, or a slide): the two
-//! are one body, the line carried across at that value (an inverted slider-crank driven at the
-//! crank–block joint: crank and block turn about the crank's pivot until
-//! the block's line passes the rocker's pivot).
+//! are one body, the line carried across at that value (an inverted
+//! slider-crank driven at the crank–block joint: crank and block turn
+//! about the crank's pivot until the block's line passes the rocker's
+//! pivot).
 
 use super::search::{reversed, Search};
 use super::{Found, JointValue, Motion, Move};
@@ -53,13 +54,12 @@ pub fn execute<T: Scalar>(
         None => (mv.to, zero),
         Some((given, input)) => {
             let g = &mv.geometry.joints[given];
-            let first = g.links[0] == mv.to;
             let value = JointValue::given(g.kind, mv.given.values[input]);
-            (g.links[usize::from(first)], g.transfer(&zero, first, value))
+            (g.other(mv.to), g.transfer(&zero, g.links[0] == mv.to, value))
         }
     };
     let q = &mv.geometry.joints[slide];
-    let beyond = if q.links[0] == near { q.links[1] } else { q.links[0] };
+    let beyond = q.other(near);
     let x = mv.geometry.local(point, beyond);
     let Motion::Line { start, along } = q.motion(&near_pose, q.links[0] == near, x) else {
         return Err(mv.fail(super::degenerate("a guide through a point needs a slide")));
@@ -71,11 +71,11 @@ pub fn execute<T: Scalar>(
 
 /// The planner's match: a revolute `j` turning the new link `to` about `k`,
 /// a prismatic `q` of `to` whose slide is normal to `k` (or of the link
-/// across a given revolute of `to` parallel to `k`, or a given slide, the
-/// two one body),
-/// and beyond it a link whose joint's place reaches a known link through
-/// revolutes on their axes (parallel to `k`: the point stays in the plane
-/// the line sweeps): that place, known, must lie on the line. Two roots.
+/// across a given revolute of `to` parallel to `k`, or a given slide: the
+/// two are one body), and beyond it a link whose joint's place reaches a
+/// known link through revolutes on their axes (parallel to `k`: the point
+/// stays in the plane the line sweeps): that place, known, must lie on the
+/// line. Two roots.
 pub(crate) fn find(s: &mut Search<'_>) -> bool {
     for (j, from, to) in s.candidates() {
         if s.kind(j) != JointType::R {
@@ -83,7 +83,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         }
         let k = s.axis(j, to);
         // The links the slide may be on: `to`, and those across its given
-        // revolutes about `k` (with `k` in their frames).
+        // joints that keep `k` (with `k` in their frames).
         let mut near = vec![(to, None, k)];
         for (g, jg) in s.model.joints.iter().enumerate() {
             let Some(input) = s.given[g] else { continue };
@@ -163,10 +163,7 @@ pub(crate) fn factor(
     let j = &at.g.joints[joint];
     let centre = v3(at.frames[from].apply(j.places[usize::from(j.links[0] != from)].at()));
     // The slide's link on the new link's side: `to`, or the one carried with it.
-    let to = carried.map_or(to, |(given, _)| {
-        let g = &at.g.joints[given];
-        g.links[usize::from(g.links[0] == to)]
-    });
+    let to = carried.map_or(to, |(given, _)| at.g.joints[given].other(to));
     let q = &at.g.joints[slide];
     let side = usize::from(q.links[0] != to);
     let guide = v3(at.frames[to].rotate(super::place_axis(&q.places[side])));

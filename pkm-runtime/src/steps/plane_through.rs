@@ -63,7 +63,7 @@ pub fn execute<T: Scalar>(
     let mid = r.links[1 - r_side];
     let mid_zero = zero.then(&r.zero[r_side]);
     let q = &g.joints[slide];
-    let beyond = if q.links[0] == mid { q.links[1] } else { q.links[0] };
+    let beyond = q.other(mid);
     let x = g.local(point, beyond);
     let Motion::Line { start, .. } = q.motion(&mid_zero, q.links[0] == mid, x) else {
         return Err(mv.fail(super::degenerate("a plane through a point needs a slide")));
@@ -207,7 +207,7 @@ pub(crate) fn factor(
     let u = v3(at.frames[from].rotate(unit(place_axis(&j.places[j_side]))));
     let r = &at.g.joints[across];
     let n = v3(at.frames[to].rotate(unit(place_axis(&r.places[usize::from(r.links[0] != to)]))));
-    let mid = if r.links[0] == to { r.links[1] } else { r.links[0] };
+    let mid = r.other(to);
     let (t, point) = at.anchored(target);
     Factor {
         step: k,

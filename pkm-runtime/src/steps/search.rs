@@ -109,16 +109,8 @@ impl<'a> Search<'a> {
             (None, _) => None,
         });
         let open = self
-            .model
-            .joints
-            .iter()
-            .enumerate()
-            .filter(|(j, joint)| !self.used[*j] && self.known[joint.links[0]] != self.known[joint.links[1]])
-            .map(|(j, joint)| {
-                let [u, v] = joint.links;
-                let (from, to) = if self.known[u] { (u, v) } else { (v, u) };
-                (j, from, to, self.given[j].is_some())
-            })
+            .frontier()
+            .map(|(j, from, to)| (j, from, to, self.given[j].is_some()))
             .collect();
         let pinned = (0..self.pins.len())
             .filter(|&l| !self.known[l])
@@ -148,12 +140,7 @@ impl<'a> Search<'a> {
     }
 
     pub(crate) fn other(&self, j: usize, l: usize) -> usize {
-        let ls = self.model.joints[j].links;
-        if ls[0] == l {
-            ls[1]
-        } else {
-            ls[0]
-        }
+        self.model.joints[j].other(l)
     }
 
     pub(crate) fn side(&self, j: usize, l: usize) -> usize {
@@ -272,20 +259,21 @@ impl<'a> Search<'a> {
         plan::pose_of(&frame).rotation
     }
 
+    /// The joints no step has used between a known link and a new one, in
+    /// joint order: `(joint, known link, new link)`.
+    fn frontier(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+        self.model.joints.iter().enumerate().filter_map(|(j, joint)| {
+            let [u, v] = joint.links;
+            let open = !self.used[j] && self.known[u] != self.known[v];
+            open.then(|| if self.known[u] { (j, u, v) } else { (j, v, u) })
+        })
+    }
+
     /// Candidate joints: one known link, a new link, value not given.
     pub(crate) fn candidates(&self) -> Vec<(usize, usize, usize)> {
-        let mut out = Vec::new();
-        for (j, joint) in self.model.joints.iter().enumerate() {
-            if self.used[j] || self.given[j].is_some() || joint.kind == JointType::S {
-                continue;
-            }
-            let [u, v] = joint.links;
-            if self.known[u] != self.known[v] {
-                let (from, to) = if self.known[u] { (u, v) } else { (v, u) };
-                out.push((j, from, to));
-            }
-        }
-        out
+        self.frontier()
+            .filter(|&(j, ..)| self.given[j].is_none() && self.model.joints[j].kind != JointType::S)
+            .collect()
     }
 
     /// Points of `to` to consider: its joints' places.

@@ -62,12 +62,11 @@ pub fn execute<T: Scalar>(
     let g = mv.geometry;
     let q = &g.joints[slide];
     let not_a_slide = || mv.fail(super::degenerate("a slide onto a line needs two slides"));
-    // The moving start, the slide's direction, the fixed point and the line's direction.
-    let (start, along, fixed, u) = match meet {
+    let s = match meet {
         Meet::Through(target) => {
             // The new link at slide 0, the slide's direction, and the line
             // seen from the new link there.
-            let beyond = if q.links[0] == mv.to { q.links[1] } else { q.links[0] };
+            let beyond = q.other(mv.to);
             let j = mv.joint();
             let from = &mv.state.poses[mv.from];
             let Motion::Line { along, .. } = j.motion(from, mv.forward(), crate::scalar::constant([0.0; 3])) else {
@@ -77,22 +76,40 @@ pub fn execute<T: Scalar>(
             let Motion::Line { start, along: u } = q.motion(&zero, q.links[0] == mv.to, g.local(point, beyond)) else {
                 return Err(not_a_slide());
             };
-            (start, along, g.anchor(&mv.state.poses, target), u)
+            let fixed = g.anchor(&mv.state.poses, target);
+            onto_line(sub(fixed, start), along, u, mv.site()).map_err(|e| mv.fail(e))?
         }
         Meet::Onto { hops, link } => {
             let (x, Motion::Line { start, along }) = mv.motion(point) else {
                 return Err(not_a_slide());
             };
-            let y = g.carry(x, hops);
-            let Motion::Line { start: fixed, along: u } = q.motion(&mv.state.poses[*link], q.links[0] == *link, y)
-            else {
-                return Err(not_a_slide());
-            };
-            (start, along, fixed, u)
+            onto_slider(mv, start, along, x, hops, slide, *link)?
         }
     };
-    let s = onto_line(sub(fixed, start), along, u, mv.site()).map_err(|e| mv.fail(e))?;
     Ok(mv.found([s, T::c(0.0)]))
+}
+
+/// The slide that brings the point moving from `start` along `along` onto
+/// the line its carrier `x` (carried across `hops` to the link of
+/// prismatic `slide`) runs on as that slide moves it on the known `link`
+/// ([`onto_line`]; [`Meet::Onto`], and a point carried across a given
+/// joint, `beyond`).
+pub(crate) fn onto_slider<T: Scalar>(
+    mv: &Move<'_, T>,
+    start: [T; 3],
+    along: [T; 3],
+    x: [T; 3],
+    hops: &[crate::plan::Hop],
+    slide: usize,
+    link: usize,
+) -> Result<T, SolveError> {
+    let q = &mv.geometry.joints[slide];
+    let Motion::Line { start: fixed, along: u } =
+        q.motion(&mv.state.poses[link], q.links[0] == link, mv.geometry.carry(x, hops))
+    else {
+        return Err(mv.fail(super::degenerate("a slide onto a line needs two slides")));
+    };
+    onto_line(sub(fixed, start), along, u, mv.site()).map_err(|e| mv.fail(e))
 }
 
 /// The slide `s` along the unit `g` that makes `d − s·g` lie along the
