@@ -258,7 +258,10 @@ fn analyze(json: bool, file: &Path) -> ExitCode {
         return fail(json, &Failure::parse(&d, &text, &shown));
     }
     let a = &compiled.analysis;
-    let special = pkm_dsl::lowering::mobility::special_mobility(a);
+    let special = compiled
+        .model()
+        .ok()
+        .and_then(|model| pkm_dsl::lowering::mobility::special_mobility(a, model));
     if json {
         let mut value = to_json(a);
         if let (Some(s), Some(map)) = (&special, value.as_object_mut()) {

@@ -290,12 +290,11 @@ pub fn solve_fk(
     let scale = model_scale(model);
     // Finite-difference step of each unknown: P joints are lengths, the rest angles.
     let h = 6e-6;
-    let mut steps = vec![h; n];
-    for (j, joint) in model.joints.iter().enumerate() {
-        if joint.kind == JointType::P {
-            steps[offsets[j]] = h * scale;
-        }
-    }
+    let steps: Vec<f64> = model
+        .length_values()
+        .iter()
+        .map(|&l| if l { h * scale } else { h })
+        .collect();
     let problem = Problem { kinematics, scale };
     let finish = |values: Vec<f64>, residual: f64, iterations: usize| -> Result<NewtonSolution, NewtonError> {
         let poses = problem.kinematics.poses(&values)?;

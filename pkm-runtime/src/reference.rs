@@ -190,12 +190,11 @@ pub fn fk(model: &Model, inputs: &[f64], start: &[f64]) -> Result<Reference, New
     let scale_f64 = model_scale(model);
     let scale = f256::from(scale_f64);
     // Each unknown's unit: the scale for P joints (lengths), 1 for angles.
-    let mut unit = vec![f256::ONE; values.len()];
-    for (j, joint) in model.joints.iter().enumerate() {
-        if joint.kind == JointType::P {
-            unit[k.offsets[j]] = scale;
-        }
-    }
+    let unit: Vec<f256> = model
+        .length_values()
+        .iter()
+        .map(|&l| if l { scale } else { f256::ONE })
+        .collect();
     let unknowns: Vec<usize> = (0..values.len()).filter(|&i| solved[i]).collect();
     let h = f256::from(DIFF_STEP);
     let two = f256::from(2.0);

@@ -9,9 +9,8 @@
 
 use crate::topology::analysis::Analysis;
 use nalgebra::DMatrix;
-use pkm_runtime::model::{JointType, Model};
+use pkm_runtime::model::Model;
 use pkm_runtime::newton::{solve_fk, NewtonOptions};
-use std::collections::HashMap;
 
 /// Steps of the followed motion, and each step's size (rad, or sizes of
 /// the mechanism for a slide), along the lost rank's direction.
@@ -48,18 +47,7 @@ impl SpecialMobility {
 /// mechanism, their rows in sizes too (as the loop residual), and the
 /// right singular vectors of the rank lost.
 fn rank(model: &Model, values: &[f64], scale: f64) -> Option<(usize, Vec<Vec<f64>>)> {
-    let loops = pkm_runtime::velocity::loops(model, values).ok()?;
-    let mut a: DMatrix<f64> = loops.a.clone();
-    for (c, &p) in loops.prismatic.iter().enumerate() {
-        if p {
-            a.column_mut(c).scale_mut(scale);
-        }
-    }
-    for r in 0..loops.loop_rows {
-        if r % 6 >= 3 {
-            a.row_mut(r).scale_mut(1.0 / scale);
-        }
-    }
+    let a = pkm_runtime::velocity::loops(model, values).ok()?.scaled(scale);
     let n = a.ncols();
     // Square, so that V holds a basis of the whole rate space.
     let mut square = DMatrix::zeros(a.nrows().max(n), n);
@@ -74,30 +62,23 @@ fn rank(model: &Model, values: &[f64], scale: f64) -> Option<(usize, Vec<Vec<f64
     Some((n - lost.len(), lost))
 }
 
-/// The mechanism's mobility at its declared geometry where it exceeds the
-/// topology's F, checked along a finite motion; `None` where it does not,
-/// where the geometry is incomplete, or where no assembly of it is found
-/// (from the zero configuration and 40 deterministic starts).
-pub fn special_mobility(a: &Analysis) -> Option<SpecialMobility> {
+/// The mechanism's mobility at its declared geometry (`model`, the
+/// analysis's at the file's parameters) where it exceeds the topology's F,
+/// checked along a finite motion; `None` where it does not, where the
+/// geometry is incomplete, or where no assembly of it is found (from the
+/// zero configuration and 40 deterministic starts).
+pub fn special_mobility(a: &Analysis, model: &Model) -> Option<SpecialMobility> {
     if !a.geometry.complete {
         return None;
     }
-    let mut model = crate::lowering::numeric::model(a, &HashMap::new()).ok()?;
+    let mut model = model.clone();
     model.joints.iter_mut().for_each(|j| j.actuated = false);
     let (offsets, n) = model.value_offsets();
     let scale = pkm_runtime::kinematics::model_scale(&model);
     let options = NewtonOptions::default();
     let mut rng = pkm_runtime::random::SplitMix::new(0x5eed_0b1e);
     let mut next = || rng.symmetric();
-    let lengths: Vec<bool> = (0..n)
-        .map(|i| {
-            model
-                .joints
-                .iter()
-                .enumerate()
-                .any(|(j, joint)| joint.kind == JointType::P && offsets[j] == i)
-        })
-        .collect();
+    let lengths = model.length_values();
     let assembly = (0..=40).find_map(|k| {
         let guess: Vec<f64> = (0..n)
             .map(|i| {

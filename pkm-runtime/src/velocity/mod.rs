@@ -24,7 +24,7 @@
 //! outputs' rates, the Jacobians and the singularities in `jacobians.rs`.
 
 use crate::kinematics::{link_poses, spanning_tree, ModelError};
-use crate::model::{JointType, Model};
+use crate::model::Model;
 use nalgebra::{DMatrix, DVector, Dyn, Isometry3, Vector3, SVD};
 use std::fmt;
 
@@ -194,12 +194,8 @@ pub fn loops(model: &Model, values: &[f64]) -> Result<Loops, VelocityError> {
         actuated.extend(offsets[j]..offsets[j] + model.joints[j].kind.dof());
     }
     let passive = (0..n).filter(|i| !actuated.contains(i)).collect();
-    let mut prismatic = vec![false; n];
-    for (j, joint) in model.joints.iter().enumerate() {
-        prismatic[offsets[j]] = joint.kind == JointType::P;
-    }
     Ok(Loops {
-        prismatic,
+        prismatic: model.length_values(),
         poses,
         twists,
         paths,
@@ -241,6 +237,12 @@ impl Loops {
         let svd = self.scaled_columns(&self.passive, scale).svd(true, true);
         let sigma = relative_of(&svd.singular_values);
         (Some(svd), sigma)
+    }
+
+    /// `a` in the units of the loop residual: a length's rate per unit of
+    /// the size `scale` (like the angles' radians), position rows in sizes.
+    pub fn scaled(&self, scale: f64) -> DMatrix<f64> {
+        self.scaled_columns(&(0..self.a.ncols()).collect::<Vec<_>>(), scale)
     }
 
     fn scaled_columns(&self, cols: &[usize], scale: f64) -> DMatrix<f64> {
