@@ -570,7 +570,13 @@ fn to_json(a: &Analysis) -> Value {
         .branches
         .iter()
         .zip(&t.branch_poc)
-        .map(|(b, p)| json!({ "name": b.name, "poc": p.unicode(), "dim": p.dim }))
+        .zip(&t.branch_own_poc)
+        .map(|((b, p), own)| {
+            let own = own
+                .as_ref()
+                .map(|(j, q)| json!({ "joint": m.joints[*j].name, "poc": q.unicode(), "dim": q.dim }));
+            json!({ "name": b.name, "poc": p.unicode(), "dim": p.dim, "own": own })
+        })
         .collect();
     let decoupling: serde_json::Map<String, Value> = t
         .decoupling
@@ -590,6 +596,8 @@ fn to_json(a: &Analysis) -> Value {
         "platform_poc": a.platform_poc(),
         "platform_poc_ascii": t.platform_poc.as_ref().map(|p| p.ascii()),
         "base_point": t.base_point.map(|j| m.joints[j].name.clone()),
+        "output_link": m.platform.is_none().then(|| m.output_link.map(|(l, _)| m.links[l].name.clone())).flatten(),
+        "parasitic": t.decoupling.iter().filter(|d| d.parasitic).map(|d| d.output.clone()).collect::<Vec<_>>(),
         "socs": socs,
         "skcs": skcs,
         "joints": joints,

@@ -146,6 +146,82 @@ fn motion_decoupling_of_seed000() {
 }
 
 #[test]
+fn parasitic_motions_of_the_3_rps() {
+    // Lee & Shah (1988), Tsai (1999 §3.6): a 3-RPS platform has three
+    // independent motions, z and the tilts rx, ry; x, y and rz follow them
+    // (parasitic). The file declares `pose (z, rx, ry)`, and the POC set
+    // has dim 3: the other three are printed as parasitic, not as outputs.
+    let a = analysis("rps_3");
+    assert_eq!(a.topology.platform_poc.as_ref().map(|p| p.dim), Some(3));
+    let d = &a.topology.decoupling;
+    let independent: Vec<&str> = d.iter().filter(|d| !d.parasitic).map(|d| d.output.as_str()).collect();
+    let parasitic: Vec<&str> = d.iter().filter(|d| d.parasitic).map(|d| d.output.as_str()).collect();
+    assert_eq!((independent, parasitic), (vec!["z", "rx", "ry"], vec!["x", "y", "rz"]));
+    assert!(a
+        .report()
+        .contains("parasitic motions (the POC set has dim 3: they follow z, rx, ry"));
+    // Seed 000's A: as many outputs move as its POC set has dimensions, none parasitic.
+    assert!(analysis("seed000_a").topology.decoupling.iter().all(|d| !d.parasitic));
+}
+
+#[test]
+fn identical_branches_read_the_same() {
+    // The three R-P-S limbs of a 3-RPS are one limb turned 120°. Each
+    // alone moves its S centre in the plane normal to its R (the leg's
+    // plane): [t²(⊥R); r³], dim 5 (Σf of R, P, S). At o on S1 the other
+    // two limbs' rotations about their own centres add a derived
+    // translation at o, [t³; r³] with the same dim 5; the printout gives
+    // both, so that the three limbs read the same at their own centres.
+    let a = analysis("rps_3");
+    let t = &a.topology;
+    let at_o: Vec<String> = t.branch_poc.iter().map(|p| p.unicode()).collect();
+    assert_eq!(at_o, ["[t²(⊥R1); r³]", "[t³; r³]", "[t³; r³]"]);
+    let own: Vec<Option<(String, String)>> = t
+        .branch_own_poc
+        .iter()
+        .map(|o| {
+            o.as_ref()
+                .map(|(j, p)| (a.mechanism.joints[*j].name.clone(), p.unicode()))
+        })
+        .collect();
+    assert_eq!(
+        own,
+        [
+            None,
+            Some(("S2".to_string(), "[t²(⊥R2); r³]".to_string())),
+            Some(("S3".to_string(), "[t²(⊥R3); r³]".to_string()))
+        ]
+    );
+    assert!(t.branch_poc.iter().all(|p| p.dim == 5));
+    assert!(a.report().contains("[t²(⊥R2); r³] at its own S2"));
+    // Seed 000's branch II stays at o as the paper prints it (§1.2): at its
+    // own R6 it is the same set, so nothing more is printed.
+    assert_eq!(analysis("seed000_a").topology.branch_own_poc, [None, None]);
+}
+
+#[test]
+fn planar_output_link_poc() {
+    // A 5R five-bar without a platform, its output the point R3 of
+    // right_distal: that link's POC set at R3 is printed as the platform's
+    // would be. R3 moves over the plane (t² ∥ xoy) and the link turns
+    // about axes ∥ R4 (all parallel, along z); the motion has dim F = 2,
+    // the rotation a function of the translation.
+    let a = analysis("five_bar");
+    let t = &a.topology;
+    assert_eq!(
+        t.platform_poc.as_ref().map(|p| (p.unicode(), p.dim)),
+        Some(("[t²(∥◇xoy); r¹(∥R4)]".to_string(), 2))
+    );
+    assert_eq!(t.base_point.map(|j| a.mechanism.joints[j].name.as_str()), Some("R3"));
+    assert!(a
+        .report()
+        .contains("output link right_distal  M = [t²(∥◇xoy); r¹(∥R4)]  (dim 2, o on R3)"));
+    assert!(a.report().contains("only 2 of these 3 are independent"));
+    // A mechanism whose outputs are joint values has no output link.
+    assert!(analysis("four_bar").topology.platform_poc.is_none());
+}
+
+#[test]
 fn the_order_of_socs_matters() {
     // poc.md: for A, SOC₁ = P1R11R12R3R4R6·Pa·R5P3, SOC₂ = R13P2 gives Δ = (2, −2), κ = 2.
     let a = analysis("seed000_a");

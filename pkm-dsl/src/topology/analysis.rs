@@ -125,7 +125,14 @@ impl Analysis {
         }
         for (b, br) in m.branches.iter().enumerate() {
             if let Some(p) = t.branch_poc.get(b) {
-                let _ = writeln!(s, "  branch {:<5} M_b = {p}  (dim {})", br.name, p.dim);
+                let own = match t.branch_own_poc.get(b) {
+                    Some(Some((j, own))) => format!(
+                        "; {own} at its own {}, the rest derived at o by its rotations",
+                        m.joints[*j].name
+                    ),
+                    _ => String::new(),
+                };
+                let _ = writeln!(s, "  branch {:<5} M_b = {p}  (dim {}{own})", br.name, p.dim);
             }
         }
         if let Some(p) = &t.platform_poc {
@@ -133,7 +140,14 @@ impl Analysis {
                 .base_point
                 .map(|j| format!(", o on {}", m.joints[j].name))
                 .unwrap_or_default();
-            let _ = writeln!(s, "  platform     M_Pa = {p}  (dim {}{o})", p.dim);
+            match (m.platform, m.output_link) {
+                (None, Some((l, _))) => {
+                    let _ = writeln!(s, "  output link {}  M = {p}  (dim {}{o})", m.links[l].name, p.dim);
+                }
+                _ => {
+                    let _ = writeln!(s, "  platform     M_Pa = {p}  (dim {}{o})", p.dim);
+                }
+            }
         }
         let _ = writeln!(s, "\nordered single open chains");
         for (j, soc) in t.socs.iter().enumerate() {
@@ -170,8 +184,42 @@ impl Analysis {
                 s,
                 "\nmotion decoupling (outputs of the base point o and the platform's rotation)"
             );
-            for d in &t.decoupling {
+            for d in t.decoupling.iter().filter(|d| !d.parasitic) {
                 let _ = writeln!(s, "  {:<3} ← {}", d.output, self.names(&d.inputs).join(", "));
+            }
+            let parasitic: Vec<&crate::topology::Dependence> = t.decoupling.iter().filter(|d| d.parasitic).collect();
+            if !parasitic.is_empty() {
+                let independent: Vec<&str> = t
+                    .decoupling
+                    .iter()
+                    .filter(|d| !d.parasitic)
+                    .map(|d| d.output.as_str())
+                    .collect();
+                let _ = writeln!(
+                    s,
+                    "  parasitic motions (the POC set has dim {}: they follow {}, the outputs declared)",
+                    independent.len(),
+                    independent.join(", ")
+                );
+                for d in parasitic {
+                    let _ = writeln!(s, "  {:<3} ← {}", d.output, self.names(&d.inputs).join(", "));
+                }
+            } else if let Some(p) = t.platform_poc.as_ref().filter(|p| t.decoupling.len() > p.dim) {
+                let name = |l: usize| m.links[l].name.as_str();
+                let hint = match m.platform {
+                    Some(l) if !m.planar => format!(
+                        "; declare its independent outputs as `pose (…) of {}` to name them",
+                        name(l)
+                    ),
+                    _ => String::new(),
+                };
+                let _ = writeln!(
+                    s,
+                    "  (the POC set has dim {}: only {} of these {} are independent, the others follow them{hint})",
+                    p.dim,
+                    p.dim,
+                    t.decoupling.len(),
+                );
             }
         }
         let _ = writeln!(

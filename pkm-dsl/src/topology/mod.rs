@@ -201,6 +201,10 @@ pub struct Dependence {
     pub output: String,
     /// The actuated joints (indices) whose motion changes it.
     pub inputs: Vec<usize>,
+    /// A parasitic motion: the platform moves this way too, but only as
+    /// the declared outputs (`pose (z, rx, ry) of platform`) make it, which
+    /// span the POC set's dimension.
+    pub parasitic: bool,
 }
 
 /// The result of the topology analysis.
@@ -222,6 +226,11 @@ pub struct Topology {
     pub joint_poc: Vec<PocSet>,
     /// POC set of each branch's end (at the platform's base point).
     pub branch_poc: Vec<PocSet>,
+    /// Per branch, where its POC set at its own joint on the platform
+    /// differs from that at o (o off that joint: rotations about it add
+    /// translations at o that the branch alone derives): that joint and
+    /// the set there, so that identical branches read the same.
+    pub branch_own_poc: Vec<Option<(usize, PocSet)>>,
     /// POC set of the platform.
     pub platform_poc: Option<PocSet>,
     /// The joint on whose axis the platform's base point o lies.
@@ -301,6 +310,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         platform_poc,
         base_point,
         branch_poc,
+        branch_own_poc,
         decoupling,
     } = platform_characteristics(mech, &ctx);
     for skc in &mut skcs {
@@ -316,6 +326,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         kappa,
         joint_poc,
         branch_poc,
+        branch_own_poc,
         platform_poc,
         base_point,
         decoupling,

@@ -377,6 +377,8 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
     let platform = b.platform(ast);
     b.check_branches(&branches, platform);
     let base_point = b.base_point(ast, platform);
+    let platform_outputs = platform_outputs(ast, platform.map(|p| b.links[p].name.as_str()));
+    let output_link = if platform.is_some() { None } else { output_link(&b, ast) };
 
     let Builder {
         errors,
@@ -403,10 +405,46 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         branches,
         platform,
         base_point,
+        platform_outputs,
+        output_link,
         capabilities,
         relations,
         frame_declared,
         planes,
         universals,
+    })
+}
+
+/// The parts of the platform's pose declared as outputs (`pose (z, rx, ry)
+/// of platform at o`), in the order written.
+fn platform_outputs(ast: &MechanismAst, platform: Option<&str>) -> Vec<String> {
+    ast.outputs
+        .iter()
+        .filter_map(|o| match &o.what {
+            crate::syntax::ast::OutputWhat::Pose {
+                link,
+                parts: Some(parts),
+                ..
+            } if Some(link.text.as_str()) == platform => Some(parts.iter().map(|p| p.text.clone())),
+            _ => None,
+        })
+        .flatten()
+        .collect()
+}
+
+/// The link of the first pose or point output, and the joint it is taken
+/// at where that names one of the link's joints with a point (not a P).
+fn output_link(b: &Builder, ast: &MechanismAst) -> Option<(usize, Option<usize>)> {
+    use crate::syntax::ast::OutputWhat;
+    ast.outputs.iter().find_map(|o| {
+        let (OutputWhat::Pose { link, at, .. } | OutputWhat::Point { link, at }) = &o.what else {
+            return None;
+        };
+        let l = *b.link_by_name.get(&link.text).filter(|&&l| l != 0)?;
+        let joint =
+            b.joint_by_name.get(&at.text).copied().filter(|&j| {
+                b.joints[j].links.contains(&l) && !matches!(b.joints[j].kind, JointKind::P | JointKind::Pa)
+            });
+        Some((l, joint))
     })
 }

@@ -266,6 +266,14 @@ pub struct Mechanism {
     pub platform: Option<usize>,
     /// The joint on whose axis the platform's base point o lies, if chosen by the user.
     pub base_point: Option<usize>,
+    /// The parts of the platform's pose the file declares as outputs
+    /// (`pose (z, rx, ry) of platform`): the motions the user takes as
+    /// independent, the others of the platform's being parasitic.
+    pub platform_outputs: Vec<String>,
+    /// Without a platform, the link the first pose or point output is
+    /// on, with the joint it is taken at where that is one of the link's
+    /// joints (a point): the topology gives its POC set as the platform's.
+    pub output_link: Option<(usize, Option<usize>)>,
     /// Requested capabilities with where they are written.
     pub capabilities: Vec<(Capability, Span)>,
     /// Every relation, declared and implied.
