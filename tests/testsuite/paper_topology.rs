@@ -222,6 +222,34 @@ fn planar_output_link_poc() {
 }
 
 #[test]
+fn more_actuators_than_dof_points_at_the_branches() {
+    // Seed 000's A without R4 ∥ R6 (only R5 ∥ R6 kept): branch I turns
+    // about the plane of R3 and R4, branch II about R6, which generically
+    // lies outside that plane, so the platform keeps no rotation: F = 11 −
+    // 9 = 2 (by hand: ξ_L2 = 6 once the loop's rotations are independent)
+    // for three actuated slides. The refusal names the lost rotation and
+    // the branches' axes that need a relation.
+    let (text, path) = common::example_text("seed000_a");
+    let edited = text.replace("    R4 ∥ R5 ∥ R6;", "    R5 ∥ R6;");
+    assert_ne!(edited, text);
+    let e = analyze_source(&edited).expect_err("F = 2 with three actuators");
+    let d = &e.0[0];
+    assert_eq!(
+        d.message,
+        "the mechanism has 2 DOF but 3 actuated joints",
+        "{}",
+        e.render(&edited, &path)
+    );
+    let notes = d.notes.join("\n");
+    assert!(notes.contains("F = Σf − Σξ_L = 11 − 9 = 2"), "{notes}");
+    assert!(notes.contains("M_Pa = [t²(∥◇xoz); r⁰] (dim 2, o on R4)"), "{notes}");
+    assert!(
+        notes.contains("each branch has at least r¹ but together they keep r⁰: I r²(∥◇(R3,R4)), II r¹(∥R6)"),
+        "{notes}"
+    );
+}
+
+#[test]
 fn the_order_of_socs_matters() {
     // poc.md: for A, SOC₁ = P1R11R12R3R4R6·Pa·R5P3, SOC₂ = R13P2 gives Δ = (2, −2), κ = 2.
     let a = analysis("seed000_a");

@@ -112,6 +112,16 @@ fn stalled(a: &Analysis, search: &Search<'_>, what: &str) -> Diagnostic {
             open.join(", ")
         ));
     }
+    // One note per group: the same links seen from both their ends once.
+    let mut seen: Vec<Vec<usize>> = Vec::new();
+    for g in &stall.groups {
+        let mut links = g.links.clone();
+        links.sort_unstable();
+        if !seen.contains(&links) {
+            d = d.note(group_note(a, g));
+            seen.push(links);
+        }
+    }
     for (l, p) in stall.pinned {
         d = d.note(format!(
             "{} is pinned by a point output at ({}, {}) of its frame, its angle unknown",
@@ -121,6 +131,61 @@ fn stalled(a: &Analysis, search: &Search<'_>, what: &str) -> Diagnostic {
         ));
     }
     d
+}
+
+/// What the nearest group of unknown links beyond an open joint needs:
+/// which step kinds come closest, why none applies, and the declaration
+/// that would let one.
+fn group_note(a: &Analysis, g: &pkm_runtime::steps::search::Group) -> String {
+    use pkm_runtime::steps::search::Shape;
+    let m = &a.mechanism;
+    let link = |l: usize| m.links[l].name.as_str();
+    let joint = |j: usize| m.joints[j].name.as_str();
+    let joints: Vec<&str> = g.joints.iter().map(|&j| joint(j)).collect();
+    let links: Vec<&str> = g.links.iter().map(|&l| link(l)).collect();
+    let [from, to] = g.ends;
+    let head = format!(
+        "beyond {}: {} unknown link{} ({}) through {} from {} to {}",
+        joints[0],
+        links.len(),
+        if links.len() == 1 { "" } else { "s" },
+        links.join(", "),
+        joints.join(", "),
+        link(from),
+        link(to)
+    );
+    let why = match g.shape {
+        Shape::Chain => format!(
+            "more than two unknown links in a row: each step places one link from known ones (a dyad \
+             closes on two), and none of these is held by known links alone; a plan exists with one of \
+             them placed first, by an input on one of {} or a pose output on one of {}; a group of \
+             class III or higher with neither needs a virtual variable (κ > 0)",
+            joints.join(", "),
+            links.join(", ")
+        ),
+        Shape::Planar => "a planar dyad (its axes parallel): circle and line steps close such a dyad once the \
+             points they meet are known; here none was"
+            .to_string(),
+        Shape::Concurrent => "a spherical dyad (three axes through one point): the cone step closes it once the axis \
+             beyond is known; here it was not"
+            .to_string(),
+        Shape::Spherical(s) => format!(
+            "a dyad with the spherical joint {}: the sphere steps need the centre's other side known; here \
+             it was not",
+            joint(s)
+        ),
+        Shape::Spatial => {
+            let [j, q, h] = [joints[0], joints[1], joints[2]];
+            format!(
+                "a spatial dyad, its axes neither parallel nor through one point: the circle and line steps \
+                 need them parallel (a planar dyad), the cone step through one point, the sphere steps a \
+                 spherical joint at {q} or {h}; its closure is six equations in three unknowns, which no \
+                 step solves; a plan exists if the geometry has `{j} ∥ {q} ∥ {h}` or `{j} ∧ {q} ∧ {h}` \
+                 declared, or {q} or {h} is an S"
+            )
+        }
+    };
+    format!("{head}: {why}")
 }
 
 /// The spatial forward-position plan.
@@ -270,8 +335,37 @@ mod tests {
         expect_test::expect![[r#"
             no closed-form forward plan: links crank, coupler, rocker are not reached by the step catalogue (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, guide through a point, point beyond a given joint, slide onto a line, axes through one centre, a link between known spherical centres, a plane through a point, two turns about meeting axes)
             no step placed a link beyond those the start places (the base, the given inputs and outputs)
-            left open between known and unreached links: R1 (base known, crank not), R4 (base known, rocker not); no step kind solves any of them from what is known"#]]
+            left open between known and unreached links: R1 (base known, crank not), R4 (base known, rocker not); no step kind solves any of them from what is known
+            beyond R1: 3 unknown links (crank, coupler, rocker) through R1, R2, R3, R4 from base to base: more than two unknown links in a row: each step places one link from known ones (a dyad closes on two), and none of these is held by known links alone; a plan exists with one of them placed first, by an input on one of R1, R2, R3, R4 or a pose output on one of crank, coupler, rocker; a group of class III or higher with neither needs a virtual variable (κ > 0)"#]]
         .assert_eq(&text);
+    }
+
+    /// A Bennett linkage searched with R1 given: the catalogue closes its
+    /// spatial dyad l2, l3 (R2, R3, R4 on skew axes): R3's centre, on a
+    /// circle about R2, meets the plane normal to R4 it turns in; l3 aims
+    /// at it; R3's closure checks the rest (its distance from R4's axis and
+    /// its axis). What the topology's F = 0 refuses (mobility from special
+    /// geometry) the steps would solve.
+    #[test]
+    fn a_bennett_dyad_closes_by_circle_and_plane() {
+        let path = format!("{}/../tests/fixtures/bennett.pkm", env!("CARGO_MANIFEST_DIR"));
+        let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let model = c.model().unwrap();
+        let (n_joints, n_links) = (model.joints.len(), model.links.len());
+        let mut known = vec![false; n_links];
+        known[0] = true;
+        let mut given = vec![None; n_joints];
+        given[0] = Some(0);
+        let mut search = super::Search::new(model, given, known, vec![None; n_links], vec![]);
+        while search.step() {}
+        assert!(search.known().iter().all(|k| *k));
+        let steps: Vec<String> = search
+            .into_plan(1, vec![0])
+            .steps
+            .iter()
+            .map(|s| format!("{s:?}").split([' ', '{']).next().unwrap().to_string())
+            .collect();
+        assert_eq!(steps, ["Transfer", "Locus", "Aim"]);
     }
 
     #[test]

@@ -299,7 +299,13 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
     let total_rank = ctx.loop_rank(all);
     let dof = total_f - total_rank;
     let loops = n + 1 - mech.links.len();
-    check_actuator_count(mech, dof, total_f, total_rank)?;
+    check_actuator_count(mech, dof, total_f, total_rank).map_err(|mut d| {
+        if mech.actuator_count() > dof && !mech.branches.is_empty() {
+            let notes = &mut d.0[0].notes;
+            notes.extend(overconstrained_branches(mech, &ctx, dof));
+        }
+        d
+    })?;
     check_actuators_drive(mech, &ctx, dof)?;
     let order = soc_order(mech, &mut ctx, all, loops)?;
     let socs = ordered_socs(&mut ctx, order);
@@ -368,6 +374,80 @@ fn check_actuator_count(mech: &Mechanism, dof: usize, total_f: usize, total_rank
         return Err(d.into());
     }
     Ok(())
+}
+
+/// Where more joints are actuated than F: each branch's POC set at o and
+/// the platform's, and the branch with the most motion, where one has
+/// more than the others (a relation in it, or with another branch, left
+/// out: `∥`, `⊥`, `≡`, `∧`).
+fn overconstrained_branches(mech: &Mechanism, ctx: &Context, dof: usize) -> Vec<String> {
+    let p = platform_characteristics(mech, ctx);
+    let Some(platform) = p.platform_poc else {
+        return Vec::new();
+    };
+    let mut notes = vec![format!(
+        "the branches' POC sets at o meet in the platform's M_Pa = {platform} (dim {}, o on {}): F = {dof} \
+         leaves {} actuated joint{} nothing to drive",
+        platform.dim,
+        p.base_point.map_or("?", |j| mech.joints[j].name.as_str()),
+        mech.actuator_count() - dof,
+        if mech.actuator_count() - dof == 1 { "" } else { "s" }
+    )];
+    let listed: Vec<String> = mech
+        .branches
+        .iter()
+        .zip(&p.branch_poc)
+        .map(|(b, poc)| format!("{} {poc} (dim {})", b.name, poc.dim))
+        .collect();
+    notes.push(format!("branches: {}", listed.join(", ")));
+    // Motions each branch has that their intersection lost: the branches'
+    // axes (or guides) want a relation that makes them share those.
+    let lost = |part: &str, of: fn(&PocSet) -> (usize, Option<String>)| {
+        let least = p.branch_poc.iter().map(|poc| of(poc).0).min().unwrap_or(0);
+        (least > of(&platform).0).then(|| {
+            let each: Vec<String> = mech
+                .branches
+                .iter()
+                .zip(&p.branch_poc)
+                .map(|(b, poc)| {
+                    let (n, dir) = of(poc);
+                    format!(
+                        "{} {part}{}{}",
+                        b.name,
+                        sup(n),
+                        dir.map(|d| format!("({d})")).unwrap_or_default()
+                    )
+                })
+                .collect();
+            format!(
+                "each branch has at least {part}{} but together they keep {part}{}: {}; a relation between these \
+                 axes or guides (∥, ⊥, ≡, ∧) that would make them share the {} is missing",
+                sup(least),
+                sup(of(&platform).0),
+                each.join(", "),
+                if part == "r" { "rotations" } else { "translations" }
+            )
+        })
+    };
+    notes.extend(lost("r", |poc| (poc.r, poc.r_dir.clone())));
+    notes.extend(lost("t", |poc| (poc.t, poc.t_dir.clone())));
+    let most = p.branch_poc.iter().map(|poc| poc.dim).max().unwrap_or(0);
+    let largest: Vec<&str> = mech
+        .branches
+        .iter()
+        .zip(&p.branch_poc)
+        .filter(|(_, poc)| poc.dim == most)
+        .map(|(b, _)| b.name.as_str())
+        .collect();
+    if largest.len() < mech.branches.len() {
+        notes.push(format!(
+            "branch {} has the largest POC set: each dimension of a branch's motion beyond the platform's adds \
+             to Σξ_L and takes one from F; check it for a relation its axes should have (∥, ⊥, ≡, ∧), within it \
+             or with another branch",
+            largest.join(", ")
+        ));
+    }
+    notes
 }
 
 /// Locking the actuators must make the mechanism rigid at a generic configuration.

@@ -115,6 +115,9 @@ pub(super) fn motion_decoupling(
         let o = base_point.map_or_else(Vector3::zeros, |j| inst.points[j]);
         let (w, v) = screw::at_point(&twists, &o);
         let input = input_rows(mech, sys, kernel);
+        if input.is_empty() {
+            continue; // no motion (F = 0) or no input: nothing depends
+        }
         let Ok(pinv) = input.clone().pseudo_inverse(1e-12) else {
             continue;
         };

@@ -45,6 +45,41 @@ pub struct Stall {
     pub open: Vec<(usize, usize, usize, bool)>,
     /// The unknown links a point output pins, with the pin (in the link's frame).
     pub pinned: Vec<(usize, [f64; 3])>,
+    /// Per open joint, the nearest group of unknown links it opens, up to
+    /// a known link again: what a step would have to close.
+    pub groups: Vec<Group>,
+}
+
+/// The unknown links between an open joint and the nearest known link
+/// beyond them ([`Stall::groups`]): a dyad (two links, three joints) is
+/// what the circle, sphere, cone and line steps close; a longer chain (a
+/// group of class III or higher) is closed by no single step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// The joints in order, from the open one (known link → first unknown
+    /// link) to the one that reaches a known link again.
+    pub joints: Vec<usize>,
+    /// The unknown links in order.
+    pub links: Vec<usize>,
+    /// The known links at its two ends.
+    pub ends: [usize; 2],
+    /// How a dyad's three joints stand, at the nominal geometry.
+    pub shape: Shape,
+}
+
+/// How a group's joints stand ([`Group::shape`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shape {
+    /// A dyad of revolutes and slides whose axes are all parallel (a planar dyad).
+    Planar,
+    /// A dyad of three revolutes whose axes meet at one point (spherical).
+    Concurrent,
+    /// A dyad with a spherical joint or a U at this joint.
+    Spherical(usize),
+    /// A dyad whose joints are none of the above (a spatial dyad).
+    Spatial,
+    /// More than two unknown links in a row.
+    Chain,
 }
 
 /// One way out of a link along which a point stays put: the hops taken,
@@ -116,7 +151,104 @@ impl<'a> Search<'a> {
             .filter(|&l| !self.known[l])
             .filter_map(|l| self.pins[l].map(|p| (l, [p.x, p.y, p.z])))
             .collect();
-        Stall { last, open, pinned }
+        let groups = self
+            .frontier()
+            .filter_map(|(j, from, to)| self.group(j, from, to))
+            .collect();
+        Stall {
+            last,
+            open,
+            pinned,
+            groups,
+        }
+    }
+
+    /// The shortest chain of unknown links from `to` (entered from the
+    /// known `from` through open joint `j`) to a known link, through joints
+    /// no step used, and how its joints stand (for a dyad).
+    fn group(&self, j: usize, from: usize, to: usize) -> Option<Group> {
+        let n = self.model.links.len();
+        // Breadth first over unknown links: (joint in, previous link).
+        let mut came: Vec<Option<(usize, usize)>> = vec![None; n];
+        let mut queue = std::collections::VecDeque::from([to]);
+        came[to] = Some((j, from));
+        let mut end = None;
+        'search: while let Some(l) = queue.pop_front() {
+            for (q, joint) in self.model.joints.iter().enumerate() {
+                if q == j || self.used[q] || !joint.links.contains(&l) || came[l].is_some_and(|(i, _)| i == q) {
+                    continue;
+                }
+                let next = joint.other(l);
+                if self.known[next] {
+                    end = Some((q, l, next));
+                    break 'search;
+                }
+                if came[next].is_none() {
+                    came[next] = Some((q, l));
+                    queue.push_back(next);
+                }
+            }
+        }
+        let (last, mut l, known) = end?;
+        let (mut joints, mut links) = (vec![last], Vec::new());
+        while let Some((q, prev)) = came[l] {
+            links.push(l);
+            joints.push(q);
+            if q == j {
+                break;
+            }
+            l = prev;
+        }
+        joints.reverse();
+        links.reverse();
+        let shape = if links.len() == 2 {
+            self.dyad_shape([joints[0], joints[1], joints[2]], [links[0], links[1]])
+        } else {
+            Shape::Chain
+        };
+        Some(Group {
+            joints,
+            links,
+            ends: [from, known],
+            shape,
+        })
+    }
+
+    /// How the joints `[j, q, h]` of a dyad (links `[b, c]`: j and q on b,
+    /// q and h on c) stand at the nominal geometry.
+    fn dyad_shape(&self, [j, q, h]: [usize; 3], [b, c]: [usize; 2]) -> Shape {
+        if let Some(&s) = [j, q, h].iter().find(|&&k| self.kind(k) == JointType::S) {
+            return Shape::Spherical(s);
+        }
+        if Self::parallel(self.axis(j, b), self.axis(q, b)) && Self::parallel(self.axis(q, c), self.axis(h, c)) {
+            return Shape::Planar;
+        }
+        let revolutes = [j, q, h].iter().all(|&k| self.kind(k) == JointType::R);
+        // Where j's and q's axes meet on b, if they do, carried to c.
+        let meet = |a: (Vector3<f64>, Vector3<f64>), b: (Vector3<f64>, Vector3<f64>)| {
+            let (d1, d2) = (a.1.normalize(), b.1.normalize());
+            let w = a.0 - b.0;
+            let (c, e) = (d1.dot(&d2), 1.0 - d1.dot(&d2).powi(2));
+            (e > 1e-12).then(|| {
+                let t1 = (c * d2.dot(&w) - d1.dot(&w)) / e;
+                let p1 = a.0 + d1 * t1;
+                let t2 = d2.dot(&(p1 - b.0));
+                (p1, (p1 - (b.0 + d2 * t2)).norm())
+            })
+        };
+        let line = |k: usize, l: usize| (v3(self.place(k, l).at()), self.axis(k, l));
+        let concurrent = revolutes
+            && meet(line(j, b), line(q, b)).is_some_and(|(p, gap)| {
+                gap <= self.tol && {
+                    let on_c = self.zero(q, b).inverse_transform_point(&p.into()).coords;
+                    self.on_axis(h, c, on_c)
+                }
+            });
+        if concurrent {
+            Shape::Concurrent
+        } else {
+            Shape::Spatial
+        }
     }
 
     /// Adds the next step: the first step kind of `steps::FIND_ORDER` that
