@@ -314,7 +314,7 @@ fn special_text(a: &Analysis, s: &pkm_dsl::lowering::mobility::SpecialMobility) 
     format!(
         "\nspecial geometry: at an assembly of the declared dimensions the loops' rank is {rank}, where generic \
          instances of the declared axis relations give {generic_rank}; {followed}. The plans and solvers use \
-         the topology's F; declaring such a mobility is not supported yet.\n"
+         the topology's F; declare `mobility by geometry;` to count the topology at these dimensions.\n"
     )
 }
 
@@ -597,6 +597,7 @@ fn to_json(a: &Analysis) -> Value {
         "platform_poc_ascii": t.platform_poc.as_ref().map(|p| p.ascii()),
         "base_point": t.base_point.map(|j| m.joints[j].name.clone()),
         "output_link": m.platform.is_none().then(|| m.output_link.map(|(l, _)| m.links[l].name.clone())).flatten(),
+        "generic_dof": t.generic_dof,
         "parasitic": t.decoupling.iter().filter(|d| d.parasitic).map(|d| d.output.clone()).collect::<Vec<_>>(),
         "socs": socs,
         "skcs": skcs,

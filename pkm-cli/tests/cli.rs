@@ -113,6 +113,51 @@ fn special_geometry_of_the_bennett_linkage() {
     assert!(v.get("special_geometry").is_none(), "{v}");
 }
 
+/// `mobility by geometry;` accepts the Bennett linkage's mobility
+/// (`tests/fixtures/bennett_driven.pkm`, R1 driven): the topology is
+/// counted at its declared dimensions, ξ_L1 = 3 and F = 1 (generic: 0), and
+/// `pkm fk` solves it. At R1 = 0.3: R3 = π − 0.3 and R4 = R2 + π (Bennett:
+/// opposite joints turn alike; the frames' normals give the offsets; the
+/// full relation is checked in the testsuite, `fk_agreement::bennett_linkage`).
+#[test]
+fn mobility_by_geometry_of_the_bennett_linkage() {
+    let file = "tests/fixtures/bennett_driven.pkm";
+    let out = pkm(&["analyze", file]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("Σf = 4, I = 1, ξ_L1 = 3, Δ1 = 0"), "{text}");
+    assert!(text.contains("F = Σf − Σξ_L = 4 − 3 = 1"), "{text}");
+    assert!(
+        text.contains("mobility by geometry: counted at configurations of the declared dimensions, where generic instances of the declared relations give F = 0"),
+        "{text}"
+    );
+    let v: Value = serde_json::from_slice(&pkm(&["analyze", file, "--json"]).stdout).unwrap();
+    assert_eq!(
+        (v["dof"].as_u64(), v["generic_dof"].as_u64()),
+        (Some(1), Some(0)),
+        "{v}"
+    );
+    let out = pkm(&["fk", file, "--q", "0.3", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ok: Vec<&Value> = v["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["ok"] == true)
+        .collect();
+    assert_eq!(ok.len(), 1, "{v}");
+    let q: Vec<f64> = ok[0]["joints"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let pi = std::f64::consts::PI;
+    assert!((q[2] - (pi - 0.3)).abs() < 1e-12, "{q:?}");
+    assert!((q[3] - (q[1] + pi)).abs() < 1e-12, "{q:?}");
+}
+
 /// A mechanism file written for one test (the examples have no errors).
 fn scratch_file(name: &str, text: &str) -> String {
     let dir = std::env::temp_dir().join(format!("pkm-cli-{}", std::process::id()));

@@ -75,8 +75,13 @@ pub enum InstanceError {
 /// assert_eq!(c.forward().unwrap().choices(), 1);
 /// ```
 pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
+    let mut analysis = crate::topology::analysis::analyze_source(source)?;
+    if analysis.mechanism.mobility_by_geometry.is_some() {
+        // The topology of the declared dimensions, not of generic instances.
+        analysis.topology = crate::lowering::mobility::accept(&analysis)?;
+    }
     Ok(Compiled {
-        analysis: crate::topology::analysis::analyze_source(source)?,
+        analysis,
         model: OnceCell::new(),
         outputs: OnceCell::new(),
         forward: OnceCell::new(),

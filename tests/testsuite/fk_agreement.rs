@@ -29,6 +29,11 @@ fn load_text(text: &str) -> (Model, Solver) {
     let a = pkm::dsl::analyze_source(text).unwrap();
     let model = pkm::dsl::numeric::model(&a, &HashMap::new()).unwrap();
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    (model, solver(plan))
+}
+
+/// The closed-form forward solver of a plan, run by the interpreter.
+fn solver(plan: plan::Plan) -> Solver {
     let solve: Solver = Box::new(move |model, q| {
         plan::run_all(model, &plan, q)
             .into_iter()
@@ -41,7 +46,7 @@ fn load_text(text: &str) -> (Model, Solver) {
             })
             .collect()
     });
-    (model, solve)
+    solve
 }
 
 /// Uniform in [lo, hi) from the analysis's own deterministic generator.
@@ -1076,5 +1081,69 @@ fn every_inverse_assembly_is_listed() {
     for (file, draw, convention) in platforms {
         let (matched, _) = every_assembly(file, false, draw, 6, 40, convention);
         assert!(matched >= 60, "{file}: Newton converged only {matched} times");
+    }
+}
+
+/// The Bennett linkage (tests/fixtures/bennett_driven.pkm: a = 100, α =
+/// 0.5, β = 1, b = a sin β / sin α), its mobility accepted by `mobility by
+/// geometry`: F = 1 where generic instances give 0, R1 driven. Bennett's
+/// relation (Bennett 1914; Baker 1979, with Denavit–Hartenberg angles from
+/// the common normals): tan(θ₁/2)·tan(θ₂/2) = sin((β + α)/2) / sin((β − α)/2)
+/// at the joints between the links of twists β, α (R1) and α, β (R2).
+/// Here the base's x runs from R1 to R4, so the normal arriving at R1
+/// points along −x: θ₁ = R1 + π, θ₂ = R2; the opposite joints turn as
+/// θ₃ = θ₁ and θ₄ = θ₂ (R3 = π − R1 and R4 = R2 + π in these frames,
+/// where l2's and l3's normals leave R3 and R4 the other way). Every input
+/// has one assembly; the plan lists it and Newton agrees; the generated
+/// fk equals the interpreter and its ik finds the input again.
+#[test]
+fn bennett_linkage() {
+    let path = common::root().join("tests/fixtures/bennett_driven.pkm");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let c = pkm::dsl::compile(&text).unwrap();
+    let t = &c.analysis.topology;
+    assert_eq!((t.dof, t.generic_dof, t.xi()), (1, Some(0), vec![3]));
+    let model = c.model().unwrap().clone();
+    let solve = solver(c.forward().unwrap().clone());
+    check_solver("bennett_driven", &model, &solve, &[(-3.1, 3.1)], 200);
+    let (alpha, beta) = (0.5f64, 1.0f64);
+    let ratio = ((beta + alpha) / 2.0).sin() / ((beta - alpha) / 2.0).sin();
+    let wrap = |x: f64| x.sin().atan2(x.cos());
+    let generated = |q: f64| {
+        crate::mechanisms::BennettDriven::fk(&Default::default(), &[q])
+            .iter()
+            .filter_map(|b| b.result.as_ref().ok().cloned())
+            .collect::<Vec<_>>()
+    };
+    for r1 in [-3.0, -2.0, -1.0, -0.3, 0.0, 0.3, 1.0, 2.0, 3.0] {
+        let solved = solve(&model, &[r1]);
+        assert_eq!(solved.len(), 1, "R1 = {r1}");
+        let q = &solved[0].1;
+        let (t1, t2) = (r1 + PI, q[1]);
+        // Multiplied out (θ₁ = π at R1 = 0, where the tangent is infinite).
+        let miss = (t1 / 2.0).sin() * (t2 / 2.0).sin() - ratio * (t1 / 2.0).cos() * (t2 / 2.0).cos();
+        assert!(
+            miss.abs() <= 1e-12 * ratio,
+            "R1 = {r1}: Bennett's relation misses by {miss}"
+        );
+        assert!(wrap(q[2] - (PI - r1)).abs() <= 1e-12, "R1 = {r1}: R3 = {}", q[2]);
+        assert!(wrap(q[3] - (q[1] + PI)).abs() <= 1e-12, "R1 = {r1}: R4 = {}", q[3]);
+        // Generated code: the same assembly, and its ik (given ψ = R4)
+        // finds R1 again.
+        let g = generated(r1);
+        assert_eq!(g.len(), 1, "generated, R1 = {r1}");
+        for (a, b) in g[0].q.iter().zip(q) {
+            assert!(wrap(a - b).abs() <= 1e-12, "generated {:?} vs {q:?}", g[0].q);
+        }
+        let ik = crate::mechanisms::BennettDriven::ik(&Default::default(), &g[0].outputs);
+        let back: Vec<f64> = ik
+            .iter()
+            .filter_map(|b| b.result.as_ref().ok())
+            .map(|s| s.q[0])
+            .collect();
+        assert!(
+            back.iter().any(|b| wrap(b - r1).abs() <= 1e-9),
+            "R1 = {r1}: ik gives {back:?}"
+        );
     }
 }

@@ -7,10 +7,15 @@
 //! for a finite distance: an instantaneous mobility alone (a shaky
 //! configuration) is not reported as one.
 
+use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::semantics::mechanism::{DirectionClasses, DirectionItem, Mechanism};
 use crate::topology::analysis::Analysis;
-use nalgebra::DMatrix;
-use pkm_runtime::model::Model;
+use crate::topology::screw::Instance;
+use crate::topology::Topology;
+use nalgebra::{DMatrix, Vector3, Vector6};
+use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::{solve_fk, NewtonOptions};
+use std::collections::HashMap;
 
 /// Steps of the followed motion, and each step's size (rad, or sizes of
 /// the mechanism for a slide), along the lost rank's direction.
@@ -34,6 +39,8 @@ pub struct SpecialMobility {
     pub followed: usize,
     /// How many of [`FOLLOW_STEPS`] steps stayed assembled with the lower rank.
     pub steps: usize,
+    /// The joint values of the assembly and of each step followed from it.
+    pub configurations: Vec<Vec<f64>>,
 }
 
 impl SpecialMobility {
@@ -112,6 +119,7 @@ pub fn special_mobility(a: &Analysis, model: &Model) -> Option<SpecialMobility> 
     stepped.joints[followed].actuated = true;
     let h = FOLLOW_STEP * unit(i) * dir[i].signum();
     let mut values = assembly;
+    let mut configurations = vec![values.clone()];
     let mut steps = 0;
     for _ in 0..FOLLOW_STEPS {
         let target = values[i] + h;
@@ -124,6 +132,7 @@ pub fn special_mobility(a: &Analysis, model: &Model) -> Option<SpecialMobility> 
             _ => break,
         }
         values = s.values;
+        configurations.push(values.clone());
         steps += 1;
     }
     Some(SpecialMobility {
@@ -132,5 +141,128 @@ pub fn special_mobility(a: &Analysis, model: &Model) -> Option<SpecialMobility> 
         rank: [r, n - generic],
         followed,
         steps,
+        configurations,
     })
+}
+
+/// The topology counted at configurations of the declared geometry, for a
+/// mechanism that declares `mobility by geometry;`: the assembly and the
+/// motion followed from it ([`special_mobility`]), every other one for the
+/// ranks and the rest for the cross-check. F, ξ_L, Δ, κ and the POC sets
+/// are then those of the declared dimensions, and the actuators are
+/// counted against that F.
+///
+/// # Errors
+/// Where the geometry is incomplete or has no assembly, where it moves
+/// as generic instances of its relations do (nothing to accept), where
+/// the extra motion was not followed to the end (a shaky configuration),
+/// and for joints whose configuration is not modelled here (a
+/// parallelogram, a plane named in a relation).
+pub fn accept(a: &Analysis) -> Result<Topology, Diagnostics> {
+    let m = &a.mechanism;
+    let span = m.mobility_by_geometry.unwrap_or_else(|| m.name_span());
+    let refuse = |message: String, note: &str| -> Diagnostics {
+        Diagnostic::new(span, message)
+            .label("declared here")
+            .note(note.to_string())
+            .into()
+    };
+    let model = super::numeric::model(a, &HashMap::new())?;
+    let Some(special) = special_mobility(a, &model) else {
+        return Err(refuse(
+            format!(
+                "`mobility by geometry`: the declared geometry moves as generic instances of its relations do (F = {}), \
+                 or no assembly of it was found",
+                a.topology.dof
+            ),
+            "remove the statement: the topology's F already holds for these dimensions",
+        ));
+    };
+    if !special.finite() {
+        return Err(refuse(
+            format!(
+                "`mobility by geometry`: the loops lose rank at an assembly of the declared geometry, but the motion \
+                 stops after {} of {FOLLOW_STEPS} steps: a shaky configuration, not a mobility",
+                special.steps
+            ),
+            "the declared dimensions do not make the mechanism move more than F",
+        ));
+    }
+    let instances = special
+        .configurations
+        .iter()
+        .map(|values| instance(m, &model, values))
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(|e| refuse(format!("`mobility by geometry`: {e}"), "not supported yet"))?;
+    // The assembly and every other step for the ranks, the rest for the cross-check.
+    let (primary, check): (Vec<_>, Vec<_>) = instances.into_iter().enumerate().partition(|(k, _)| k % 2 == 0);
+    let mut t = crate::topology::analyze_at(
+        m,
+        primary.into_iter().map(|(_, i)| i).collect(),
+        check.into_iter().map(|(_, i)| i).collect(),
+    )?;
+    t.generic_dof = Some(a.topology.dof);
+    Ok(t)
+}
+
+/// The screw instance of the mechanism at joint values `values` of
+/// `model`: each joint's axis, point and twists in the base frame, and the
+/// direction of each item the relations name.
+fn instance(m: &Mechanism, model: &Model, values: &[f64]) -> Result<Instance, String> {
+    let poses = pkm_runtime::kinematics::link_poses(model, values).map_err(|e| e.to_string())?;
+    let v = |a: [f64; 3]| Vector3::new(a[0], a[1], a[2]);
+    let mut points = Vec::new();
+    let mut axes = Vec::new();
+    let mut twists = Vec::new();
+    for (j, joint) in model.joints.iter().enumerate() {
+        // The side that holds the joint's line (a guide, an axis), else the first.
+        let side = (0..2)
+            .find(|&s| matches!(joint.places[s], Place::Axis { .. } | Place::Line { .. }))
+            .unwrap_or(0);
+        let pose = poses[joint.links[side]];
+        let p = (pose * nalgebra::Point3::from(v(joint.places[side].at()))).coords;
+        let d = (pose.rotation * v(joint.places[side].axis())).normalize();
+        let about = |w: Vector3<f64>| Vector6::new(w.x, w.y, w.z, 0.0, 0.0, 0.0) + slide(p.cross(&w));
+        let t = match joint.kind {
+            JointType::R => vec![about(d)],
+            JointType::P => vec![slide(d)],
+            JointType::S => vec![about(Vector3::x()), about(Vector3::y()), about(Vector3::z())],
+            JointType::Pa => {
+                return Err(format!(
+                    "the parallelogram {} is not modelled at a configuration",
+                    m.joints[j].name
+                ))
+            }
+        };
+        points.push(p);
+        axes.push(d);
+        twists.push(t);
+    }
+    let classes = DirectionClasses::new(&m.joints, &m.relations);
+    let directions = classes
+        .items()
+        .iter()
+        .map(|item| match *item {
+            DirectionItem::Joint(j) => Ok(axes[j]),
+            DirectionItem::Frame(k) => Ok(Vector3::ith(k, 1.0)),
+            DirectionItem::USecond(j) => Err(format!(
+                "the U joint {} is not modelled at a configuration",
+                m.joints[j].name
+            )),
+            DirectionItem::PlaneNormal(_) => {
+                Err("a plane `◇(A, B)` in a relation is not modelled at a configuration".into())
+            }
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(Instance {
+        directions,
+        points,
+        twists,
+        frame: [Vector3::x(), Vector3::y(), Vector3::z()],
+    })
+}
+
+/// A translation along `v` as a twist (no rotation).
+fn slide(v: Vector3<f64>) -> Vector6<f64> {
+    Vector6::new(0.0, 0.0, 0.0, v.x, v.y, v.z)
 }

@@ -50,6 +50,8 @@ pub struct MechanismAst {
     pub capabilities: Vec<Name>,
     /// `planar;`, if present.
     pub planar: Option<Span>,
+    /// `mobility by geometry;`, if present.
+    pub mobility_by_geometry: Option<Span>,
     /// `link 1 "AB", 2 "BCD";`.
     pub links: Vec<LinkDecl>,
     /// `joint A = R(base, 1)*;`.

@@ -14,6 +14,7 @@ pub enum Rule {
     r#title_stmt,
     r#capabilities_stmt,
     r#planar_stmt,
+    r#mobility_stmt,
     r#link_stmt,
     r#link_item,
     r#joint_stmt,
@@ -98,6 +99,8 @@ pub enum Rule {
     r#kw_title,
     r#kw_capabilities,
     r#kw_planar,
+    r#kw_mobility,
+    r#kw_by,
     r#kw_link,
     r#kw_joint,
     r#kw_branch,
@@ -146,6 +149,7 @@ impl Rule {
             Rule::r#title_stmt,
             Rule::r#capabilities_stmt,
             Rule::r#planar_stmt,
+            Rule::r#mobility_stmt,
             Rule::r#link_stmt,
             Rule::r#link_item,
             Rule::r#joint_stmt,
@@ -230,6 +234,8 @@ impl Rule {
             Rule::r#kw_title,
             Rule::r#kw_capabilities,
             Rule::r#kw_planar,
+            Rule::r#kw_mobility,
+            Rule::r#kw_by,
             Rule::r#kw_link,
             Rule::r#kw_joint,
             Rule::r#kw_branch,
@@ -464,6 +470,7 @@ impl ::pest::Parser<Rule> for DslParser {
                         .or_else(|state| { self::r#title_stmt(state) })
                         .or_else(|state| { self::r#capabilities_stmt(state) })
                         .or_else(|state| { self::r#planar_stmt(state) })
+                        .or_else(|state| { self::r#mobility_stmt(state) })
                         .or_else(|state| { self::r#link_stmt(state) })
                         .or_else(|state| { self::r#joint_stmt(state) })
                         .or_else(|state| { self::r#branch_stmt(state) })
@@ -574,6 +581,30 @@ impl ::pest::Parser<Rule> for DslParser {
                                 state
                                     .sequence(|state| {
                                         self::r#kw_planar(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { state.match_string(";") })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#mobility_stmt(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#mobility_stmt,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        self::r#kw_mobility(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#kw_by(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#kw_geometry(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { state.match_string(";") })
                                     })
@@ -3387,6 +3418,58 @@ impl ::pest::Parser<Rule> for DslParser {
                 }
                 #[inline]
                 #[allow(non_snake_case, unused_variables)]
+                pub fn r#kw_mobility(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#kw_mobility,
+                            |state| {
+                                state
+                                    .atomic(
+                                        ::pest::Atomicity::Atomic,
+                                        |state| {
+                                            state
+                                                .sequence(|state| {
+                                                    state
+                                                        .match_string("mobility")
+                                                        .and_then(|state| { self::r#word_end(state) })
+                                                })
+                                        },
+                                    )
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#kw_by(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#kw_by,
+                            |state| {
+                                state
+                                    .atomic(
+                                        ::pest::Atomicity::Atomic,
+                                        |state| {
+                                            state
+                                                .sequence(|state| {
+                                                    state
+                                                        .match_string("by")
+                                                        .and_then(|state| { self::r#word_end(state) })
+                                                })
+                                        },
+                                    )
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
                 pub fn r#kw_link(
                     state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
                 ) -> ::pest::ParseResult<
@@ -4395,6 +4478,7 @@ impl ::pest::Parser<Rule> for DslParser {
                     Rule::r#title_stmt => rules::r#title_stmt(state),
                     Rule::r#capabilities_stmt => rules::r#capabilities_stmt(state),
                     Rule::r#planar_stmt => rules::r#planar_stmt(state),
+                    Rule::r#mobility_stmt => rules::r#mobility_stmt(state),
                     Rule::r#link_stmt => rules::r#link_stmt(state),
                     Rule::r#link_item => rules::r#link_item(state),
                     Rule::r#joint_stmt => rules::r#joint_stmt(state),
@@ -4479,6 +4563,8 @@ impl ::pest::Parser<Rule> for DslParser {
                     Rule::r#kw_title => rules::r#kw_title(state),
                     Rule::r#kw_capabilities => rules::r#kw_capabilities(state),
                     Rule::r#kw_planar => rules::r#kw_planar(state),
+                    Rule::r#kw_mobility => rules::r#kw_mobility(state),
+                    Rule::r#kw_by => rules::r#kw_by(state),
                     Rule::r#kw_link => rules::r#kw_link(state),
                     Rule::r#kw_joint => rules::r#kw_joint(state),
                     Rule::r#kw_branch => rules::r#kw_branch(state),

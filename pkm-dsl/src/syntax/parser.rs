@@ -266,6 +266,8 @@ fn rule_name(r: Rule) -> &'static str {
         Rule::title_stmt | Rule::kw_title => "`title`",
         Rule::capabilities_stmt | Rule::kw_capabilities => "`capabilities`",
         Rule::planar_stmt | Rule::kw_planar => "`planar`",
+        Rule::mobility_stmt | Rule::kw_mobility => "`mobility by geometry`",
+        Rule::kw_by => "`by`",
         Rule::link_stmt | Rule::kw_link => "`link`",
         Rule::link_item => "a link",
         Rule::joint_stmt | Rule::kw_joint => "`joint`",
@@ -407,6 +409,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
         title: None,
         capabilities: Vec::new(),
         planar: None,
+        mobility_by_geometry: None,
         links: Vec::new(),
         joints: Vec::new(),
         chains: Vec::new(),
@@ -435,6 +438,7 @@ fn build(mechanism: Pair<Rule>) -> MechanismAst {
                     .extend(stmt.into_inner().filter(|p| p.as_rule() == Rule::ident).map(name));
             }
             Rule::planar_stmt => ast.planar = Some(span_of(&stmt)),
+            Rule::mobility_stmt => ast.mobility_by_geometry = Some(span_of(&stmt)),
             Rule::link_stmt => {
                 for item in stmt.into_inner().filter(|p| p.as_rule() == Rule::link_item) {
                     let mut it = item.into_inner();

@@ -166,6 +166,13 @@ impl Analysis {
                 delta_unicode(soc.delta)
             );
         }
+        if let Some(generic) = t.generic_dof {
+            let _ = writeln!(
+                s,
+                "\nmobility by geometry: counted at configurations of the declared dimensions, where generic instances \
+                 of the declared relations give F = {generic}"
+            );
+        }
         let _ = writeln!(
             s,
             "\nF = Σf − Σξ_L = {} − {} = {}",

@@ -164,6 +164,13 @@ pub(super) fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
     };
     let primary = realize(&PRIMARY_SEEDS)?;
     let check = realize(&CHECK_SEEDS)?;
+    Ok(context_at(mech, primary, check))
+}
+
+/// The analysis's context at given configurations: `primary` for the
+/// ranks, `check` for the cross-check.
+pub(super) fn context_at(mech: &Mechanism, primary: Vec<Instance>, check: Vec<Instance>) -> Context<'_> {
+    let classes = DirectionClasses::new(&mech.joints, &mech.relations);
     let whole: Vec<(VelocitySystem, DMatrix<f64>)> = primary
         .iter()
         .map(|inst| {
@@ -177,7 +184,7 @@ pub(super) fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
         .zip(&whole)
         .map(|(inst, (sys, kernel))| idle_motions(mech, inst, sys, kernel))
         .collect();
-    Ok(Context {
+    Context {
         whole,
         idle_rates,
         mech,
@@ -189,7 +196,7 @@ pub(super) fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
         evaluations: 0,
         work: 0,
         idle_memo: HashMap::new(),
-    })
+    }
 }
 /// The idle (local) motions of the whole mechanism at one instance: motions
 /// in which no R, H, C, U or S joint's point moves (seen from either of its

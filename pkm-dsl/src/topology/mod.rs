@@ -241,6 +241,9 @@ pub struct Topology {
     pub xi_by_poc_formula: Vec<usize>,
     /// The topological expression (seed 000 eq. 9), Unicode.
     pub expression: String,
+    /// Under `mobility by geometry`: F at generic instances of the
+    /// relations, where this topology was counted at the declared geometry.
+    pub generic_dof: Option<usize>,
 }
 
 impl Topology {
@@ -292,21 +295,46 @@ impl Topology {
 /// assert_eq!((topo.dof, topo.xi(), topo.delta(), topo.kappa), (1, vec![3], vec![0], 0));
 /// ```
 pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
-    let mut ctx = context(mech)?;
+    if mech.mobility_by_geometry.is_some() {
+        // With `mobility by geometry` the actuators are counted against
+        // the F of the declared geometry ([`analyze_at`]): the generic
+        // topology here counts none (I = 0), for its F alone.
+        let mut generic = mech.clone();
+        generic.joints.iter_mut().for_each(|j| j.actuated = false);
+        return analyze_in(&generic, context(&generic)?, false);
+    }
+    analyze_in(mech, context(mech)?, true)
+}
+
+/// The analysis at given configurations of the mechanism instead of
+/// generic instances of its relations: `primary` for the ranks, `check`
+/// for the cross-check (the declared geometry's, for `mobility by
+/// geometry`; `lowering::mobility::accept`).
+pub fn analyze_at(
+    mech: &Mechanism,
+    primary: Vec<screw::Instance>,
+    check: Vec<screw::Instance>,
+) -> Result<Topology, Diagnostics> {
+    analyze_in(mech, context_at(mech, primary, check), true)
+}
+
+fn analyze_in(mech: &Mechanism, mut ctx: Context<'_>, count_actuators: bool) -> Result<Topology, Diagnostics> {
     let n = mech.joints.len();
     let all = all_joints(n);
     let total_f = ctx.f_of(all);
     let total_rank = ctx.loop_rank(all);
     let dof = total_f - total_rank;
     let loops = n + 1 - mech.links.len();
-    check_actuator_count(mech, dof, total_f, total_rank).map_err(|mut d| {
-        if mech.actuator_count() > dof && !mech.branches.is_empty() {
-            let notes = &mut d.0[0].notes;
-            notes.extend(overconstrained_branches(mech, &ctx, dof));
-        }
-        d
-    })?;
-    check_actuators_drive(mech, &ctx, dof)?;
+    if count_actuators {
+        check_actuator_count(mech, dof, total_f, total_rank).map_err(|mut d| {
+            if mech.actuator_count() > dof && !mech.branches.is_empty() {
+                let notes = &mut d.0[0].notes;
+                notes.extend(overconstrained_branches(mech, &ctx, dof));
+            }
+            d
+        })?;
+        check_actuators_drive(mech, &ctx, dof)?;
+    }
     let order = soc_order(mech, &mut ctx, all, loops)?;
     let socs = ordered_socs(&mut ctx, order);
     let (mut skcs, kappa) = sub_kinematic_chains(&socs);
@@ -338,6 +366,7 @@ pub fn analyze(mech: &Mechanism) -> Result<Topology, Diagnostics> {
         decoupling,
         xi_by_poc_formula,
         expression,
+        generic_dof: None,
     })
 }
 

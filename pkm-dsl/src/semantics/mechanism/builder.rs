@@ -400,6 +400,7 @@ pub fn build(ast: &MechanismAst) -> Result<Mechanism, Diagnostics> {
         name: ast.name.text.clone(),
         title: ast.title.clone(),
         planar,
+        mobility_by_geometry: ast.mobility_by_geometry,
         links,
         joints,
         branches,

@@ -256,6 +256,10 @@ pub struct Mechanism {
     pub title: Option<String>,
     /// Declared `planar;`.
     pub planar: bool,
+    /// Where `mobility by geometry;` is declared: the topology is then
+    /// counted at configurations of the declared geometry, not at generic
+    /// instances of its relations (`lowering::mobility::accept`).
+    pub mobility_by_geometry: Option<Span>,
     /// Links; 0 is the base.
     pub links: Vec<Link>,
     /// Joints in declaration order, compound hinges expanded.
