@@ -156,6 +156,19 @@ fn mobility_by_geometry_of_the_bennett_linkage() {
     let pi = std::f64::consts::PI;
     assert!((q[2] - (pi - 0.3)).abs() < 1e-12, "{q:?}");
     assert!((q[3] - (q[1] + pi)).abs() < 1e-12, "{q:?}");
+    // Without the statement, the refusal (0 DOF, 1 actuated joint) names it.
+    let text = std::fs::read_to_string(common::root().join(file)).unwrap();
+    let without = text.replace("    mobility by geometry;\n", "");
+    assert_ne!(without, text);
+    let out = pkm(&["analyze", &scratch_file("bennett_undeclared.pkm", &without)]);
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("the mechanism has 0 DOF but 1 actuated joint"), "{err}");
+    assert!(
+        err.contains("the declared dimensions move with 1 DOF (the loops' rank 3 at an assembly, where generic instances of the declared relations give 4)"),
+        "{err}"
+    );
+    assert!(err.contains("declare `mobility by geometry;`"), "{err}");
 }
 
 /// A mechanism file written for one test (the examples have no errors).

@@ -75,7 +75,12 @@ pub enum InstanceError {
 /// assert_eq!(c.forward().unwrap().choices(), 1);
 /// ```
 pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
-    let mut analysis = crate::topology::analysis::analyze_source(source)?;
+    let mut analysis = crate::topology::analysis::analyze_source(source).map_err(|mut d| {
+        if let Some(note) = special_geometry_hint(source, &d) {
+            d.0[0].notes.push(note);
+        }
+        d
+    })?;
     if analysis.mechanism.mobility_by_geometry.is_some() {
         // The topology of the declared dimensions, not of generic instances.
         analysis.topology = crate::lowering::mobility::accept(&analysis)?;
@@ -86,6 +91,33 @@ pub fn compile(source: &str) -> Result<Compiled, Diagnostics> {
         outputs: OnceCell::new(),
         forward: OnceCell::new(),
         inverse: OnceCell::new(),
+    })
+}
+
+/// Where the mechanism is refused for more actuated joints than its F
+/// and its declared geometry moves with as many DOF as it drives (mobility
+/// from special geometry, a Bennett linkage): the declaration that would
+/// accept it.
+fn special_geometry_hint(source: &str, d: &Diagnostics) -> Option<String> {
+    if !d.0.first()?.message.contains(" DOF but ") {
+        return None;
+    }
+    let mut ast = crate::syntax::parser::parse(source).ok()?;
+    if ast.mobility_by_geometry.is_some() {
+        return None;
+    }
+    // The generic topology without the actuators, for its F alone.
+    ast.mobility_by_geometry = Some(ast.name.span);
+    let a = crate::topology::analysis::analyze_ast(&ast).ok()?;
+    let model = numeric::model(&a, &HashMap::new()).ok()?;
+    let special = crate::lowering::mobility::special_mobility(&a, &model).filter(|s| s.finite())?;
+    (special.declared == a.mechanism.actuator_count()).then(|| {
+        format!(
+            "the declared dimensions move with {} DOF (the loops' rank {} at an assembly, where generic instances of \
+             the declared relations give {}): mobility from special geometry; declare `mobility by geometry;` to count \
+             the topology at these dimensions",
+            special.declared, special.rank[0], special.rank[1]
+        )
     })
 }
 

@@ -250,7 +250,12 @@ impl Analysis {
 /// assert_eq!(a.topology.dof, 2);
 /// ```
 pub fn analyze_source(source: &str) -> Result<Analysis, crate::Diagnostics> {
-    let ast = crate::syntax::parser::parse(source)?;
+    analyze_ast(&crate::syntax::parser::parse(source)?)
+}
+
+/// [`analyze_source`] from the parsed text.
+pub fn analyze_ast(ast: &crate::syntax::ast::MechanismAst) -> Result<Analysis, crate::Diagnostics> {
+    let ast = ast.clone();
     let mechanism = crate::semantics::mechanism::build(&ast)?;
     let geometry = crate::semantics::geometry::build(&ast, &mechanism);
     let topology = crate::topology::analyze(&mechanism);
