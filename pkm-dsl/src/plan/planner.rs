@@ -320,15 +320,30 @@ mod tests {
     /// given and nothing placed but the base stalls at once; the refusal
     /// names the links not reached, that no step placed one, and the two
     /// joints left open at the base.
-    #[test]
-    fn a_stall_names_the_joints_left_open() {
-        let path = format!("{}/../examples/mechanisms/four_bar.pkm", env!("CARGO_MANIFEST_DIR"));
-        let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
+    /// The compiled file (a path under the repository's root).
+    fn compiled(file: &str) -> crate::Compiled {
+        let path = format!("{}/../{file}", env!("CARGO_MANIFEST_DIR"));
+        crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    /// A search of `c` that starts from the base alone, the joints
+    /// `given` given (input k for the k-th).
+    fn from_the_base<'a>(c: &'a crate::Compiled, given: &[usize]) -> super::Search<'a> {
         let model = c.model().unwrap();
-        let (n_joints, n_links) = (model.joints.len(), model.links.len());
+        let n_links = model.links.len();
         let mut known = vec![false; n_links];
         known[0] = true;
-        let mut search = super::Search::new(model, vec![None; n_joints], known, vec![None; n_links], vec![]);
+        let mut inputs = vec![None; model.joints.len()];
+        for (k, &j) in given.iter().enumerate() {
+            inputs[j] = Some(k);
+        }
+        super::Search::new(model, inputs, known, vec![None; n_links], vec![])
+    }
+
+    #[test]
+    fn a_stall_names_the_joints_left_open() {
+        let c = compiled("examples/mechanisms/four_bar.pkm");
+        let mut search = from_the_base(&c, &[]);
         assert!(!search.step());
         let d = super::stalled(&c.analysis, &search, "forward");
         let text = format!("{}\n{}", d.message, d.notes.join("\n"));
@@ -348,15 +363,8 @@ mod tests {
     /// geometry) the steps would solve.
     #[test]
     fn a_bennett_dyad_closes_by_circle_and_plane() {
-        let path = format!("{}/../tests/fixtures/bennett.pkm", env!("CARGO_MANIFEST_DIR"));
-        let c = crate::compile(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let model = c.model().unwrap();
-        let (n_joints, n_links) = (model.joints.len(), model.links.len());
-        let mut known = vec![false; n_links];
-        known[0] = true;
-        let mut given = vec![None; n_joints];
-        given[0] = Some(0);
-        let mut search = super::Search::new(model, given, known, vec![None; n_links], vec![]);
+        let c = compiled("tests/fixtures/bennett.pkm");
+        let mut search = from_the_base(&c, &[0]);
         while search.step() {}
         assert!(search.known().iter().all(|k| *k));
         let steps: Vec<String> = search
