@@ -177,11 +177,11 @@ fn group_note(a: &Analysis, g: &pkm_runtime::steps::search::Group) -> String {
         Shape::Spatial => {
             let [j, q, h] = [joints[0], joints[1], joints[2]];
             format!(
-                "a spatial dyad, its axes neither parallel nor through one point: the circle and line steps \
-                 need them parallel (a planar dyad), the cone step through one point, the sphere steps a \
-                 spherical joint at {q} or {h}; its closure is six equations in three unknowns, which no \
-                 step solves; a plan exists if the geometry has `{j} ∥ {q} ∥ {h}` or `{j} ∧ {q} ∧ {h}` \
-                 declared, or {q} or {h} is an S"
+                "a spatial dyad, its axes neither parallel nor through one point, and no step matched its joints' \
+                 kinds and places: the circle and line steps meet a point of {q} on one link with a locus (sphere, \
+                 plane, cylinder) of the other about {j} or {h}, the cone step needs the three axes through one \
+                 point, the sphere steps a spherical joint at {q} or {h}; a plan exists if the geometry has `{j} ∥ \
+                 {q} ∥ {h}` or `{j} ∧ {q} ∧ {h}` declared, or {q} or {h} is an S"
             )
         }
     };

@@ -169,8 +169,8 @@ impl Analysis {
         if let Some(generic) = t.generic_dof {
             let _ = writeln!(
                 s,
-                "\nmobility by geometry: counted at configurations of the declared dimensions, where generic instances \
-                 of the declared relations give F = {generic}"
+                "\nmobility by geometry: counted at configurations of the declared dimensions\n  \
+                 (generic instances of the declared relations give F = {generic})"
             );
         }
         let _ = writeln!(
