@@ -1013,7 +1013,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
 }
 
 /// The forward plans' inputs of the examples and the ranges drawn.
-const FORWARD: [(&str, &[(f64, f64)]); 23] = [
+const FORWARD: [(&str, &[(f64, f64)]); 24] = [
     ("four_bar", &[(-PI, PI)]),
     ("slider_crank", &[(-PI, PI)]),
     ("inverted_slider_crank", &[(-PI, PI)]),
@@ -1034,6 +1034,7 @@ const FORWARD: [(&str, &[(f64, f64)]); 23] = [
     ("seed000_a_u", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]),
     ("seed000_b", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]),
     ("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)]),
+    ("rrrp_2t1r", &[(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]),
     ("rssr", &[(-PI, PI)]),
     ("rssp", &[(-PI, PI)]),
     ("rsur", &[(-PI, PI)]),
@@ -1145,5 +1146,68 @@ fn bennett_linkage() {
             back.iter().any(|b| wrap(b - r1).abs() <= 1e-9),
             "R1 = {r1}: ik gives {back:?}"
         );
+    }
+}
+
+#[test]
+fn rrrp_2t1r() {
+    check("rrrp_2t1r", &[(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)], 200);
+}
+
+/// By hand, the 2T1R with an R-R-R-P branch (a = 300, l1 = 100, l2 = 200,
+/// l3 = 450, l4 = 320, l5 = 250), in the yz plane seen along x: the
+/// five-bar puts R4 (o) at y = −a, z = l1 ± √(l2² − ((P2 − P1)/2)²); R5 at
+/// (a, l1) turns R6 to (a − l4 sin θ, l1 + l4 cos θ); R7 is where the circle
+/// of radius l5 about R6 meets that of radius l3 about o (P3 slides along
+/// x, so the platform keeps R7's axis l3 from R4's). Every assembly is one
+/// of these (up to 2 × 2, where the circles meet), R7's point in y and z
+/// to 1e-9 mm, and each appears.
+#[test]
+fn rrrp_2t1r_by_hand() {
+    let (model, solve) = load("rrrp_2t1r");
+    let (a, l1, l2, l3, l4, l5) = (300.0f64, 100.0f64, 200.0f64, 450.0f64, 320.0f64, 250.0f64);
+    let r7 = model.joints.iter().position(|j| j.name == "R7").unwrap();
+    // Circle–circle in the plane, both roots.
+    let meet = |c0: [f64; 2], r0: f64, c1: [f64; 2], r1: f64| {
+        let (dy, dz) = (c1[0] - c0[0], c1[1] - c0[1]);
+        let d = dy.hypot(dz);
+        let along = (r0 * r0 - r1 * r1 + d * d) / (2.0 * d);
+        let h = (r0 * r0 - along * along).sqrt();
+        let (uy, uz) = (dy / d, dz / d);
+        let m = [c0[0] + along * uy, c0[1] + along * uz];
+        [[m[0] - h * uz, m[1] + h * uy], [m[0] + h * uz, m[1] - h * uy]]
+    };
+    for (p1, p2, theta) in [
+        (-150.0, 100.0, 0.5f64),
+        (-200.0, 50.0, 0.8),
+        (-100.0, 120.0, 0.2),
+        (-60.0, 30.0, 1.0),
+    ] {
+        let half = (l2 * l2 - ((p2 - p1) / 2.0f64).powi(2)).sqrt();
+        let r6 = [a - l4 * theta.sin(), l1 + l4 * theta.cos()];
+        let mut want = Vec::new();
+        for z in [l1 + half, l1 - half] {
+            // Where the two circles meet (the other five-bar posture may not reach).
+            want.extend(meet(r6, l5, [-a, z], l3).into_iter().filter(|p| p[0].is_finite()));
+        }
+        let got: Vec<[f64; 2]> = solve(&model, &[p1, p2, theta])
+            .iter()
+            .map(|(_, _, pts)| [pts[r7][1], pts[r7][2]])
+            .collect();
+        assert_eq!(got.len(), want.len(), "at ({p1}, {p2}, {theta}): {got:?} vs {want:?}");
+        assert!(want.len() >= 2, "at ({p1}, {p2}, {theta}): a sample that reaches");
+        let near = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).abs().max((u[1] - v[1]).abs()) < 1e-9;
+        for g in &got {
+            assert!(
+                want.iter().any(|w| near(*g, *w)),
+                "at ({p1}, {p2}, {theta}): R7 at {g:?}, none of {want:?}"
+            );
+        }
+        for w in &want {
+            assert!(
+                got.iter().any(|g| near(*g, *w)),
+                "at ({p1}, {p2}, {theta}): {w:?} missing from {got:?}"
+            );
+        }
     }
 }

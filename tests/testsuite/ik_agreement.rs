@@ -6,7 +6,7 @@
 use crate::common;
 use crate::mechanisms::{
     AgileEye, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted,
-    RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -99,6 +99,7 @@ fn spatial() {
     check!(SeedA, "seed000_a", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(SeedAU, "seed000_a_u", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
+    check!(Rrrp2t1r, "rrrp_2t1r", [(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]);
 }
 
 /// The agile eye (κ = 1, no forward solver; the example with an output,

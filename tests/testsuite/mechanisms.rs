@@ -77,3 +77,6 @@ pkm::mechanism!(pub RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.
 // Mobile by its special geometry only (`mobility by geometry`): the
 // topology counted at its declared dimensions.
 pkm::mechanism!(pub BennettDriven, file = "tests/fixtures/bennett_driven.pkm");
+// Two links one body seen along an axis (a slide along the revolutes'
+// axes): the cylinder about R4 across P3 (`steps::locus`, axial reaches).
+pkm::mechanism!(pub Rrrp2t1r, file = "examples/mechanisms/rrrp_2t1r.pkm");

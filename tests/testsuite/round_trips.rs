@@ -12,8 +12,8 @@
 
 use crate::common;
 use crate::mechanisms::{
-    BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, RrrrpTool,
-    Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, Rrrp2t1r,
+    RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
 };
 
 use common::max_error;
@@ -282,6 +282,18 @@ fn seed000_a_u() {
         SeedAU,
         [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)],
         300.0,
+        sliders_together
+    );
+}
+
+/// The 2T1R with an R-R-R-P branch: seed 000's five-bar, and R5 over
+/// the angles where branch II reaches the platform.
+#[test]
+fn rrrp_2t1r() {
+    round_trips!(
+        Rrrp2t1r,
+        [(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)],
+        450.0,
         sliders_together
     );
 }

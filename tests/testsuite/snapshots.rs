@@ -78,6 +78,7 @@ plan_snapshots! {
     rrrrp_tool,
     trammel,
     inverted_slider_crank_block_driven,
+    rrrp_2t1r,
     watt_six_bar,
     planar_3rrr,
     seed003_punch_original,

@@ -618,6 +618,26 @@ fn constraints(
             out.extend(locus::pin::find(s, to, &r, k, rot, turning, circle).map(|c| (c, true)));
         }
     }
+    // Last, links that are one body seen along the motion's axis: across a
+    // slide along it the point keeps its distance from a revolute's axis
+    // parallel to it, the cylinder about that revolute.
+    if circle && !rods {
+        for r in s.axial_reach(to, x, &[j], k) {
+            if s.known[r.link] {
+                continue;
+            }
+            let (rot, turning) = (s.rotation(&r.hops), s.hops_about(to, &r.hops, k));
+            for (q, joint) in s.model.joints.iter().enumerate() {
+                if q != j
+                    && joint.kind == JointType::R
+                    && joint.links.contains(&r.link)
+                    && r.hops.iter().all(|h| h.joint != q)
+                {
+                    out.extend(locus::cylinder::find(s, &r, q, k, rot, turning).map(|c| (c, true)));
+                }
+            }
+        }
+    }
     out
 }
 

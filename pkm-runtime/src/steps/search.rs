@@ -385,6 +385,46 @@ impl<'a> Search<'a> {
         out
     }
 
+    /// The ways out of `start` along which point `x` keeps its distance
+    /// from every axis parallel to `k` (in `start`'s frame), through at
+    /// least one slide: [`Search::fixed_reach`]'s hops, and slides along
+    /// `k` (which move the point along such an axis). Seen along `k` the
+    /// links they join are one body. Joints in `exclude` are not crossed.
+    pub(crate) fn axial_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize], k: Vector3<f64>) -> Vec<Reach> {
+        let mut out = vec![Reach {
+            hops: vec![],
+            link: start,
+            x,
+        }];
+        let mut i = 0;
+        while i < out.len() {
+            let r = out[i].clone();
+            i += 1;
+            if self.known[r.link] && !r.hops.is_empty() {
+                continue;
+            }
+            for (q, joint) in self.model.joints.iter().enumerate() {
+                if exclude.contains(&q) || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == q) {
+                    continue;
+                }
+                let next = self.other(q, r.link);
+                let along =
+                    joint.kind == JointType::P && Self::parallel(self.rotation(&r.hops) * self.axis(q, r.link), k);
+                if out.iter().any(|o| o.link == next)
+                    || !(along || self.on_axis(q, r.link, r.x) || self.at_centre(q, r.link, r.x))
+                {
+                    continue;
+                }
+                let x = self.zero(q, r.link).inverse_transform_point(&r.x.into()).coords;
+                let mut hops = r.hops.clone();
+                hops.push(self.hop(q, r.link));
+                out.push(Reach { hops, link: next, x });
+            }
+        }
+        out.retain(|r| r.hops.iter().any(|h| self.kind(h.joint) == JointType::P));
+        out
+    }
+
     /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
     pub(crate) fn rotation(&self, hops: &[Hop]) -> UnitQuaternion<f64> {
         let (frame, _) = self.geometry.across(crate::frame::Frame::identity(), 0, hops);

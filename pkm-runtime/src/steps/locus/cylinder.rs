@@ -1,7 +1,9 @@
 //! A point of the new link held on a cylinder: at a fixed distance from the
 //! axis of a known revolute parallel to the motion's axis (a planar
 //! circle–circle intersection), or, for a slide normal to that axis, a
-//! planar line–circle intersection.
+//! planar line–circle intersection. The point may reach the revolute
+//! across slides along the motion's axis, which keep its distance from
+//! that axis (links one body seen along it: [`Search::axial_reach`]).
 
 use crate::plan::v3;
 use crate::plan::{Constraint, Hop};
