@@ -3,7 +3,7 @@
 //! circle–circle intersection), or, for a slide normal to that axis, a
 //! planar line–circle intersection. The point may reach the revolute
 //! across slides along the motion's axis, which keep its distance from
-//! that axis (links one body seen along it: [`Search::axial_reach`]).
+//! that axis (links one body seen along it: `Search::axial_reach`).
 
 use crate::plan::v3;
 use crate::plan::{Constraint, Hop};
