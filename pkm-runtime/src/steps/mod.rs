@@ -628,10 +628,13 @@ fn constraints(
             }
             let (rot, turning) = (s.rotation(&r.hops), s.hops_about(to, &r.hops, k));
             for (q, joint) in s.model.joints.iter().enumerate() {
+                // A point on q's axis would meet a cylinder of radius 0 (a
+                // line through a point: a guide's one root, not a circle's two).
                 if q != j
                     && joint.kind == JointType::R
                     && joint.links.contains(&r.link)
                     && r.hops.iter().all(|h| h.joint != q)
+                    && !s.on_axis(q, r.link, r.x)
                 {
                     out.extend(locus::cylinder::find(s, &r, q, k, rot, turning).map(|c| (c, true)));
                 }
