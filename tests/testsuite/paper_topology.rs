@@ -147,7 +147,7 @@ fn motion_decoupling_of_seed000() {
 
 #[test]
 fn parasitic_motions_of_the_3_rps() {
-    // Lee & Shah (1988), Tsai (1999 §3.6): a 3-RPS platform has three
+    // Lee & Shah (1988): a 3-RPS platform has three
     // independent motions, z and the tilts rx, ry; x, y and rz follow them
     // (parasitic). The file declares `pose (z, rx, ry)`, and the POC set
     // has dim 3: the other three are printed as parasitic, not as outputs.
