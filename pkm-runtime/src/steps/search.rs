@@ -354,35 +354,7 @@ impl<'a> Search<'a> {
     /// the point `x` and spherical joints centred on it (so it does not
     /// move), stopping at known links.
     pub(crate) fn fixed_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize]) -> Vec<Reach> {
-        let mut out = vec![Reach {
-            hops: vec![],
-            link: start,
-            x,
-        }];
-        let mut i = 0;
-        while i < out.len() {
-            let r = out[i].clone();
-            i += 1;
-            if self.known[r.link] && !r.hops.is_empty() {
-                continue;
-            }
-            for (k, joint) in self.model.joints.iter().enumerate() {
-                if exclude.contains(&k) || !joint.links.contains(&r.link) || r.hops.iter().any(|h| h.joint == k) {
-                    continue;
-                }
-                let next = self.other(k, r.link);
-                if out.iter().any(|o| o.link == next)
-                    || !(self.on_axis(k, r.link, r.x) || self.at_centre(k, r.link, r.x))
-                {
-                    continue;
-                }
-                let x = self.zero(k, r.link).inverse_transform_point(&r.x.into()).coords;
-                let mut hops = r.hops.clone();
-                hops.push(self.hop(k, r.link));
-                out.push(Reach { hops, link: next, x });
-            }
-        }
-        out
+        self.reach(start, x, exclude, |_, _| false)
     }
 
     /// The ways out of `start` along which point `x` keeps its distance
@@ -391,6 +363,25 @@ impl<'a> Search<'a> {
     /// `k` (which move the point along such an axis). Seen along `k` the
     /// links they join are one body. Joints in `exclude` are not crossed.
     pub(crate) fn axial_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize], k: Vector3<f64>) -> Vec<Reach> {
+        let mut out = self.reach(start, x, exclude, |q, r| {
+            self.kind(q) == JointType::P && Self::parallel(self.rotation(&r.hops) * self.axis(q, r.link), k)
+        });
+        out.retain(|r| r.hops.iter().any(|h| self.kind(h.joint) == JointType::P));
+        out
+    }
+
+    /// The links reached from `start`, breadth first, through joints that
+    /// keep the point `x` put (a revolute's axis through it, a spherical
+    /// joint's centre on it) or that `also` lets it cross (joint, the reach
+    /// so far), each link once, stopping at known links; joints in
+    /// `exclude` are not crossed. The point is carried at joint value 0.
+    fn reach(
+        &self,
+        start: usize,
+        x: Vector3<f64>,
+        exclude: &[usize],
+        also: impl Fn(usize, &Reach) -> bool,
+    ) -> Vec<Reach> {
         let mut out = vec![Reach {
             hops: vec![],
             link: start,
@@ -408,10 +399,8 @@ impl<'a> Search<'a> {
                     continue;
                 }
                 let next = self.other(q, r.link);
-                let along =
-                    joint.kind == JointType::P && Self::parallel(self.rotation(&r.hops) * self.axis(q, r.link), k);
                 if out.iter().any(|o| o.link == next)
-                    || !(along || self.on_axis(q, r.link, r.x) || self.at_centre(q, r.link, r.x))
+                    || !(self.on_axis(q, r.link, r.x) || self.at_centre(q, r.link, r.x) || also(q, &r))
                 {
                     continue;
                 }
@@ -421,7 +410,6 @@ impl<'a> Search<'a> {
                 out.push(Reach { hops, link: next, x });
             }
         }
-        out.retain(|r| r.hops.iter().any(|h| self.kind(h.joint) == JointType::P));
         out
     }
 
