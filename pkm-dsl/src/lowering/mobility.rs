@@ -10,9 +10,9 @@
 use crate::diagnostics::{Diagnostic, Diagnostics};
 use crate::semantics::mechanism::{DirectionClasses, DirectionItem, Mechanism};
 use crate::topology::analysis::Analysis;
-use crate::topology::screw::Instance;
+use crate::topology::screw::{rotation_about, twist, Instance};
 use crate::topology::Topology;
-use nalgebra::{DMatrix, Vector3, Vector6};
+use nalgebra::{DMatrix, Vector3};
 use pkm_runtime::model::{JointType, Model, Place};
 use pkm_runtime::newton::{solve_fk, NewtonOptions};
 use std::collections::HashMap;
@@ -222,10 +222,10 @@ fn instance(m: &Mechanism, model: &Model, values: &[f64]) -> Result<Instance, St
         let pose = poses[joint.links[side]];
         let p = (pose * nalgebra::Point3::from(v(joint.places[side].at()))).coords;
         let d = (pose.rotation * v(joint.places[side].axis())).normalize();
-        let about = |w: Vector3<f64>| Vector6::new(w.x, w.y, w.z, 0.0, 0.0, 0.0) + slide(p.cross(&w));
+        let about = |w: Vector3<f64>| rotation_about(w, p);
         let t = match joint.kind {
             JointType::R => vec![about(d)],
-            JointType::P => vec![slide(d)],
+            JointType::P => vec![twist(Vector3::zeros(), d)],
             JointType::S => vec![about(Vector3::x()), about(Vector3::y()), about(Vector3::z())],
             JointType::Pa => {
                 return Err(format!(
@@ -260,9 +260,4 @@ fn instance(m: &Mechanism, model: &Model, values: &[f64]) -> Result<Instance, St
         twists,
         frame: [Vector3::x(), Vector3::y(), Vector3::z()],
     })
-}
-
-/// A translation along `v` as a twist (no rotation).
-fn slide(v: Vector3<f64>) -> Vector6<f64> {
-    Vector6::new(0.0, 0.0, 0.0, v.x, v.y, v.z)
 }

@@ -164,13 +164,27 @@ pub(super) fn context(mech: &Mechanism) -> Result<Context<'_>, Diagnostics> {
     };
     let primary = realize(&PRIMARY_SEEDS)?;
     let check = realize(&CHECK_SEEDS)?;
-    Ok(context_at(mech, primary, check))
+    Ok(context_with(mech, classes, primary, check))
 }
 
 /// The analysis's context at given configurations: `primary` for the
 /// ranks, `check` for the cross-check.
 pub(super) fn context_at(mech: &Mechanism, primary: Vec<Instance>, check: Vec<Instance>) -> Context<'_> {
-    let classes = DirectionClasses::new(&mech.joints, &mech.relations);
+    context_with(
+        mech,
+        DirectionClasses::new(&mech.joints, &mech.relations),
+        primary,
+        check,
+    )
+}
+
+/// [`context_at`] with the direction classes already made.
+fn context_with(
+    mech: &Mechanism,
+    classes: DirectionClasses,
+    primary: Vec<Instance>,
+    check: Vec<Instance>,
+) -> Context<'_> {
     let whole: Vec<(VelocitySystem, DMatrix<f64>)> = primary
         .iter()
         .map(|inst| {

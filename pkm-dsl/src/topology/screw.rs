@@ -31,11 +31,13 @@ pub struct Instance {
     pub frame: [Vector3<f64>; 3],
 }
 
-fn twist(w: Vector3<f64>, v: Vector3<f64>) -> Vector6<f64> {
+/// The twist of angular part `w` and linear part `v`.
+pub(crate) fn twist(w: Vector3<f64>, v: Vector3<f64>) -> Vector6<f64> {
     Vector6::new(w.x, w.y, w.z, v.x, v.y, v.z)
 }
 
-fn rotation_about(d: Vector3<f64>, p: Vector3<f64>) -> Vector6<f64> {
+/// The unit rotation about the axis along `d` through `p`.
+pub(crate) fn rotation_about(d: Vector3<f64>, p: Vector3<f64>) -> Vector6<f64> {
     twist(d, p.cross(&d))
 }
 
