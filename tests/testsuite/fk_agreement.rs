@@ -1013,7 +1013,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
 }
 
 /// The forward plans' inputs of the examples and the ranges drawn.
-const FORWARD: [(&str, &[(f64, f64)]); 24] = [
+const FORWARD: [(&str, &[(f64, f64)]); 25] = [
     ("four_bar", &[(-PI, PI)]),
     ("slider_crank", &[(-PI, PI)]),
     ("inverted_slider_crank", &[(-PI, PI)]),
@@ -1035,6 +1035,7 @@ const FORWARD: [(&str, &[(f64, f64)]); 24] = [
     ("seed000_b", &[(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]),
     ("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)]),
     ("rrrp_2t1r", &[(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]),
+    ("schoenflies_2limb", &SCHOENFLIES),
     ("rssr", &[(-PI, PI)]),
     ("rssp", &[(-PI, PI)]),
     ("rsur", &[(-PI, PI)]),
@@ -1147,6 +1148,94 @@ fn bennett_linkage() {
             "R1 = {r1}: ik gives {back:?}"
         );
     }
+}
+
+/// The two-limb Schönflies robot's study ranges (P1, R1, R4, R5).
+const SCHOENFLIES: [(f64, f64); 4] = [(-100.0, 200.0), (-0.5, 2.0), (-1.5, 1.5), (1.6, 2.8)];
+
+#[test]
+fn schoenflies_2limb() {
+    check("schoenflies_2limb", &SCHOENFLIES, 200);
+}
+
+/// By hand, the two-limb Schönflies robot (d = 400, l1 = 250, l2 = 200,
+/// l4 = 250, l5 = 200, l6 = 150) seen along z, at poses built first: the
+/// arm puts R2 at A = l1·(cos θ1, sin θ1); R3 at B = A + l2·(cos β, sin β);
+/// the platform turned φ has R6's axis at D = B + c·(cos φ, sin φ), where
+/// c = e + l6 is how far the platform and the wrist, one body seen along z
+/// across P2, keep R6 from R3; the SCARA arm reaches D by its two-link
+/// inverse (|D − (d, 0)| = r: cos θ5 = (r² − l4² − l5²)/(2·l4·l5)). From
+/// those inputs the forward plan must return B and φ among its branches,
+/// the turn that aims P2's line at R6 (`steps::aim_along`) to within
+/// 1e-15·400/c of φ (B and D hold a few units in the last place of the
+/// robot's 400 mm, the turn divides them by c), as c shrinks from 270 mm
+/// to 1 µm; at c = 0 (R6's image on R3's axis: every turn aims it) a typed
+/// refusal, no number.
+#[test]
+fn schoenflies_2limb_by_hand_near_the_aims_degenerate_case() {
+    let (d, l1, l2, l4, l5, l6) = (400.0f64, 250.0f64, 200.0, 250.0, 200.0, 150.0);
+    let text = common::example_text("schoenflies_2limb").0;
+    let (r3, p2) = (3, 7);
+    for c in [270.0, 30.0, 1.0, 1e-3, 1e-6] {
+        let (model, solve) = load_text(&text.replace("e = 120;", &format!("e = {};", c - l6)));
+        assert_eq!(model.joints[r3].name, "R3");
+        assert_eq!(model.joints[p2].name, "P2");
+        for (theta1, beta, phi, z) in [
+            (0.9, -0.6, 0.3, 50.0),
+            (0.4, 0.8, -2.0, -80.0),
+            (1.2, -0.9, -0.4, 150.0),
+        ] {
+            let a = [l1 * f64::cos(theta1), l1 * f64::sin(theta1)];
+            let b = [a[0] + l2 * f64::cos(beta), a[1] + l2 * f64::sin(beta)];
+            let dd = [b[0] + c * f64::cos(phi), b[1] + c * f64::sin(phi)];
+            let (u, v) = (dd[0] - d, dd[1]);
+            let theta5 = ((u * u + v * v - l4 * l4 - l5 * l5) / (2.0 * l4 * l5)).acos();
+            let theta4 = v.atan2(u) - (l5 * theta5.sin()).atan2(l4 + l5 * theta5.cos());
+            assert!(theta5.is_finite(), "c = {c}: D = {dd:?} out of the SCARA arm's reach");
+            let got = solve(&model, &[z, theta1, theta4, theta5]);
+            // The branch whose R3 is B (the other puts it at B's mirror in AD).
+            let near = got
+                .iter()
+                .find(|(_, _, pts)| (pts[r3][0] - b[0]).hypot(pts[r3][1] - b[1]) < 1e-9 * 400.0);
+            let Some((_, _, pts)) = near else {
+                panic!(
+                    "c = {c}: B = {b:?} missing from {:?}",
+                    got.iter().map(|g| g.2[r3]).collect::<Vec<_>>()
+                )
+            };
+            // P2's slider point on the wrist: D − l6·(cos φ, sin φ).
+            let want = [dd[0] - l6 * phi.cos(), dd[1] - l6 * phi.sin()];
+            let angle = (pts[p2][1] - dd[1]).atan2(pts[p2][0] - dd[0]) - (want[1] - dd[1]).atan2(want[0] - dd[0]);
+            let angle = (angle + PI).rem_euclid(2.0 * PI) - PI;
+            assert!(angle.abs() <= 1e-15 * 400.0 / c + 1e-13, "c = {c}: φ off by {angle:e}");
+            assert!(
+                (pts[r3][2] - z).abs() <= 1e-12 * 400.0,
+                "c = {c}: height {}",
+                pts[r3][2]
+            );
+        }
+    }
+    // At c = 0 (e = −l6: R6's image on R3's axis, every turn aims it; the
+    // platform then spins freely about the common axis), the declared
+    // plan run on that geometry, at inputs that put R6 where R3 can be:
+    // no branch returns a number.
+    let plan = pkm::dsl::planner::forward_plan(&pkm::dsl::analyze_source(&text).unwrap()).unwrap();
+    let flat = pkm::dsl::analyze_source(&text.replace("e = 120;", "e = -150;")).unwrap();
+    let model = pkm::dsl::numeric::model(&flat, &HashMap::new()).unwrap();
+    let (theta1, beta) = (0.9f64, -0.6f64);
+    let dd = [l1 * theta1.cos() + l2 * beta.cos(), l1 * theta1.sin() + l2 * beta.sin()];
+    let (u, v) = (dd[0] - d, dd[1]);
+    let theta5 = ((u * u + v * v - l4 * l4 - l5 * l5) / (2.0 * l4 * l5)).acos();
+    let theta4 = v.atan2(u) - (l5 * theta5.sin()).atan2(l4 + l5 * theta5.cos());
+    let results = plan::run_all(&model, &plan, &[0.0, theta1, theta4, theta5]);
+    assert!(
+        results.iter().all(|(_, r)| r.is_err()),
+        "c = 0: {:?}",
+        results
+            .iter()
+            .map(|(_, r)| r.as_ref().map(|s| s.values.clone()))
+            .collect::<Vec<_>>()
+    );
 }
 
 #[test]

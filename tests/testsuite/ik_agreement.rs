@@ -6,7 +6,8 @@
 use crate::common;
 use crate::mechanisms::{
     AgileEye, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted,
-    Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel,
+    Watt, Yoke,
 };
 
 use common::max_error;
@@ -100,7 +101,11 @@ fn spatial() {
     check!(SeedAU, "seed000_a_u", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(Rrrp2t1r, "rrrp_2t1r", [(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]);
+    check!(Schoenflies, "schoenflies_2limb", SCHOENFLIES);
 }
+
+/// The two-limb Schönflies robot's study ranges (P1, R1, R4, R5).
+const SCHOENFLIES: [(f64, f64); 4] = [(-100.0, 200.0), (-0.5, 2.0), (-1.5, 1.5), (1.6, 2.8)];
 
 /// The agile eye (κ = 1, no forward solver; the example with an output,
 /// tests/fixtures/agile_eye_ik.pkm) at the platform turned φ about

@@ -80,3 +80,6 @@ pkm::mechanism!(pub BennettDriven, file = "tests/fixtures/bennett_driven.pkm");
 // Two links one body seen along an axis (a slide along the revolutes'
 // axes): the cylinder about R4 across P3 (`steps::locus`, axial reaches).
 pkm::mechanism!(pub Rrrp2t1r, file = "examples/mechanisms/rrrp_2t1r.pkm");
+// A slide along the turning axis at the platform: the platform turned
+// until the slide's line passes a known axis (`steps::aim_along`).
+pkm::mechanism!(pub Schoenflies, file = "examples/mechanisms/schoenflies_2limb.pkm");

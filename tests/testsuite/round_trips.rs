@@ -13,7 +13,8 @@
 use crate::common;
 use crate::mechanisms::{
     BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, Rrrp2t1r,
-    RrrrpTool, Rssp, Rssr, Rsur, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt, Yoke,
+    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt,
+    Yoke,
 };
 
 use common::max_error;
@@ -295,6 +296,17 @@ fn rrrp_2t1r() {
         [(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)],
         450.0,
         sliders_together
+    );
+}
+
+/// The two-limb Schönflies robot over its study ranges.
+#[test]
+fn schoenflies_2limb() {
+    round_trips!(
+        Schoenflies,
+        [(-100.0, 200.0), (-0.5, 2.0), (-1.5, 1.5), (1.6, 2.8)],
+        400.0,
+        never
     );
 }
 

@@ -79,6 +79,7 @@ plan_snapshots! {
     trammel,
     inverted_slider_crank_block_driven,
     rrrp_2t1r,
+    schoenflies_2limb,
     watt_six_bar,
     planar_3rrr,
     seed003_punch_original,

@@ -266,6 +266,9 @@ impl Listing<'_> {
             Step::Guide {
                 slide, point, target, ..
             }
+            | Step::AimAlong {
+                slide, point, target, ..
+            }
             | Step::SlideToLine {
                 slide,
                 point,
@@ -371,6 +374,7 @@ fn kind(s: &Step) -> &'static str {
         Step::Align { .. } => "Align",
         Step::PaPlane { .. } => "PaPlane",
         Step::Guide { .. } => "Guide",
+        Step::AimAlong { .. } => "AimAlong",
         Step::Cone { .. } => "Cone",
         Step::Beyond { .. } => "Beyond",
         Step::SlideToLine { .. } => "SlideToLine",

@@ -13,6 +13,7 @@
 //! * a direction of the new link is known ([`Step::Align`]);
 //! * a parallelogram's plane must contain a known point ([`Step::PaPlane`]);
 //! * a line of the new link must pass through a known point ([`Step::Guide`]);
+//!   a line along the turning axis, seen along it, is an aim ([`Step::AimAlong`]);
 //! * a point beyond a joint whose value is given, carried rigidly at that
 //!   value, lies on a cylinder ([`Step::Beyond`]);
 //! * a slide brings a point onto a line, neither turning ([`Step::SlideToLine`]).
@@ -272,6 +273,24 @@ pub enum Step {
         /// Where it must be.
         target: Anchor,
     },
+    /// A revolute's angle that puts the line `point` travels on (`point` on
+    /// the link across prismatic `slide` from `to`, the slide along the
+    /// turning axis) through the anchored position: seen along the axis,
+    /// an aim ([`crate::steps::aim_along`]). One root.
+    AimAlong {
+        /// The revolute.
+        joint: usize,
+        /// Known link.
+        from: usize,
+        /// New link.
+        to: usize,
+        /// The prismatic along the turning axis.
+        slide: usize,
+        /// The point on the link beyond the slide.
+        point: PointRef,
+        /// Where it is known.
+        target: Anchor,
+    },
     /// The value that puts `point` of `to` on a sphere, plane or cylinder.
     Locus {
         /// The joint.
@@ -517,6 +536,7 @@ impl Step {
             Step::Aim { from, target, .. }
             | Step::PaPlane { from, target, .. }
             | Step::Guide { from, target, .. }
+            | Step::AimAlong { from, target, .. }
             | Step::PlaneThrough { from, target, .. }
             | Step::TwoTurns { from, target, .. }
             | Step::Rod { from, target, .. } => *from == link || target.link == link,
@@ -579,6 +599,10 @@ impl Step {
                 if let Some((given, _)) = carried {
                     add(*given);
                 }
+                add(*slide);
+                hops(&target.hops).into_iter().rev().for_each(&mut add);
+            }
+            Step::AimAlong { slide, target, .. } => {
                 add(*slide);
                 hops(&target.hops).into_iter().rev().for_each(&mut add);
             }
@@ -665,6 +689,7 @@ impl Step {
             Step::Place { .. }
             | Step::Transfer { .. }
             | Step::Aim { .. }
+            | Step::AimAlong { .. }
             | Step::Align { .. }
             | Step::SlideToLine { .. }
             | Step::Rod { .. } => None,
@@ -688,6 +713,7 @@ impl Step {
             | Step::Align { joint, from, to, .. }
             | Step::PaPlane { joint, from, to, .. }
             | Step::Guide { joint, from, to, .. }
+            | Step::AimAlong { joint, from, to, .. }
             | Step::Beyond { joint, from, to, .. }
             | Step::SlideToLine { joint, from, to, .. }
             | Step::Cone { joint, from, to, .. }

@@ -30,6 +30,7 @@
 //! per call.
 
 pub mod aim;
+pub mod aim_along;
 pub mod align;
 pub mod beyond;
 pub mod cone;
@@ -208,6 +209,9 @@ pub fn execute<T: Scalar>(
             branch,
             ..
         } => guide::execute(&mv, *carried, *slide, *point, target, *branch)?,
+        Step::AimAlong {
+            slide, point, target, ..
+        } => aim_along::execute(&mv, *slide, *point, target)?,
         Step::Beyond {
             given: q,
             input,
@@ -498,7 +502,9 @@ pub fn check_residual<T: Scalar>(
 /// The step kinds' matches in the order the planner tries them
 /// ([`search::Search::step`] takes the first that finds a step): a given
 /// value first, then aim, align, the parallelogram plane, a locus without
-/// a branch, a locus with one, a guide through a known point (an RPR
+/// a branch, a line along the turning axis through a known point (an aim
+/// seen along the axis, one root, where a locus's circle would only touch
+/// its cylinder, [`aim_along::find`]), a locus with one, a guide through a known point (an RPR
 /// dyad, which nothing before it solves), a point beyond a joint whose
 /// value is given on a cylinder (an input between two moving links), a
 /// slide bringing a point onto a line (the PRP and RPP dyads), an axis
@@ -513,12 +519,13 @@ pub fn check_residual<T: Scalar>(
 /// first angle of IK-Geo's subproblem 2: a U's first half before a link
 /// that reaches a known point, [`two_turns::find`]; tried last so that
 /// plans that need none are unchanged).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 13] = [
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 14] = [
     transfer::find,
     aim::find,
     align::find,
     pa_plane::find,
     |s| find_locus(s, false),
+    aim_along::find,
     |s| find_locus(s, true),
     guide::find,
     beyond::find,
@@ -684,6 +691,7 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
             ..
         } => guide::factor(at, k, *joint, *from, *to, *carried, *slide, target),
         Step::Beyond { .. } => return beyond::factor(at, k, step),
+        Step::AimAlong { .. } => return aim_along::factor(at, k, step),
         Step::SlideToLine { .. } => return slide_to_line::factor(at, k, step),
         Step::Cone {
             joint,
