@@ -38,12 +38,25 @@ fn pick<T>(command: Option<T>, study: Option<T>, default: impl FnOnce() -> T) ->
     }
 }
 
-/// The default grid nodes per input: about 64 000 nodes at most.
+/// The default grid nodes per input: about 64 000 nodes at most (40 per
+/// input for three inputs, 15 for four, 9 for five, 6 for six).
 fn default_nodes(inputs: usize) -> usize {
     match inputs {
         1 => 721,
         2 => 200,
-        _ => 40,
+        n => (2..=40usize)
+            .rev()
+            .find(|k| k.checked_pow(n as u32).is_some_and(|t| t <= 64_000))
+            .unwrap_or(2),
+    }
+}
+
+#[cfg(test)]
+#[test]
+fn default_nodes_fit_the_grid() {
+    for (n, want) in [(1, 721), (2, 200), (3, 40), (4, 15), (5, 9), (6, 6), (17, 2)] {
+        assert_eq!(default_nodes(n), want, "{n} inputs");
+        assert!(check_nodes(want, n).is_ok(), "{n} inputs");
     }
 }
 

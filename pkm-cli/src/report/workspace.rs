@@ -370,9 +370,14 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         counts: vec![s.nodes.0; n],
     };
     if n > 3 {
-        return Err(invalid(format!(
-            "the report sweeps mechanisms with 1 to 3 inputs; this one has {n}"
-        )));
+        // A volume, an area or a length is drawn from 1 to 3 inputs; with
+        // more, the point's set over every input has no figure here.
+        let _ = writeln!(
+            page,
+            "<h2>Workspace of {point_name}</h2><p>Not drawn: the report sweeps the workspace over 1 to 3 inputs, and \
+             this mechanism has {n}. <code>pkm fk FILE --csv</code> evaluates any grid of inputs.</p>"
+        );
+        return Ok(Vec::new());
     }
     let followed = follow::followed(
         at.l,
