@@ -1013,7 +1013,7 @@ fn reached(file: &str, ranges: &[(f64, f64)]) -> impl Fn(&mut SplitMix) -> Optio
 }
 
 /// The forward plans' inputs of the examples and the ranges drawn.
-const FORWARD: [(&str, &[(f64, f64)]); 25] = [
+const FORWARD: [(&str, &[(f64, f64)]); 27] = [
     ("four_bar", &[(-PI, PI)]),
     ("slider_crank", &[(-PI, PI)]),
     ("inverted_slider_crank", &[(-PI, PI)]),
@@ -1036,6 +1036,8 @@ const FORWARD: [(&str, &[(f64, f64)]); 25] = [
     ("five_bar_pa", &[(-PI, PI), (-PI, PI), (-300.0, 300.0)]),
     ("rrrp_2t1r", &[(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]),
     ("schoenflies_2limb", &SCHOENFLIES),
+    ("translational_2limb", &[(-200.0, 200.0), (0.5, 2.5), (-100.0, 300.0)]),
+    ("spherical_five_bar", &[(-PI, PI), (-PI, PI)]),
     ("rssr", &[(-PI, PI)]),
     ("rssp", &[(-PI, PI)]),
     ("rsur", &[(-PI, PI)]),
@@ -1236,6 +1238,122 @@ fn schoenflies_2limb_by_hand_near_the_aims_degenerate_case() {
             .map(|(_, r)| r.as_ref().map(|s| s.values.clone()))
             .collect::<Vec<_>>()
     );
+}
+
+#[test]
+fn translational_2limb() {
+    check(
+        "translational_2limb",
+        &[(-200.0, 200.0), (0.5, 2.5), (-100.0, 300.0)],
+        200,
+    );
+}
+
+/// By hand, the two-limb 3T (d = 400, l1 = 250, l2 = 200, l4 = 250,
+/// l5 = 200): the platform does not turn, so o = (P1, P2, z): limb I's
+/// slide gives x and its arm, in the plane x = P1, puts R2 at
+/// (l1 cos θ1, l1 sin θ1) in (y, z), so z = l1 sin θ1 ± √(l2² − (P2 −
+/// l1 cos θ1)²); limb II's arm, in the plane y = P2, reaches R6 at
+/// (P1 + d, z) from R4 at (d, 0) in two elbows where l4 − l5 ≤ √(P1² + z²)
+/// ≤ l4 + l5. The assemblies are exactly those (o to 1e-9 mm), each z once
+/// per elbow.
+#[test]
+fn translational_2limb_by_hand() {
+    let (model, solve) = load("translational_2limb");
+    let (l1, l2, l4, l5) = (250.0f64, 200.0f64, 250.0f64, 200.0f64);
+    let r3 = model.joints.iter().position(|j| j.name == "R3").unwrap();
+    for (p1, theta1, p2) in [
+        (0.0, 1.0, 100.0),
+        (-150.0, 2.0, 50.0),
+        (120.0, 0.7, 250.0),
+        (30.0, 1.6, -60.0),
+    ] {
+        let (cy, cz) = (l1 * f64::cos(theta1), l1 * f64::sin(theta1));
+        let h = (l2 * l2 - (p2 - cy).powi(2)).sqrt();
+        let mut want = Vec::new();
+        for z in [cz + h, cz - h] {
+            let r = (p1 * p1 + z * z).sqrt();
+            if (l4 - l5..=l4 + l5).contains(&r) {
+                want.extend([[p1, p2, z], [p1, p2, z]]);
+            }
+        }
+        assert!(!want.is_empty(), "at ({p1}, {theta1}, {p2}): a sample that reaches");
+        let mut got: Vec<[f64; 3]> = solve(&model, &[p1, theta1, p2])
+            .iter()
+            .map(|(_, _, pts)| pts[r3])
+            .collect();
+        assert_eq!(got.len(), want.len(), "at ({p1}, {theta1}, {p2}): {got:?} vs {want:?}");
+        for w in &want {
+            let i = got
+                .iter()
+                .position(|g| (0..3).all(|k| (g[k] - w[k]).abs() < 1e-9))
+                .unwrap_or_else(|| panic!("at ({p1}, {theta1}, {p2}): {w:?} missing from {got:?}"));
+            got.remove(i);
+        }
+    }
+}
+
+#[test]
+fn spherical_five_bar() {
+    check("spherical_five_bar", &[(-PI, PI), (-PI, PI)], 200);
+}
+
+/// By hand, the spherical five-bar's distal dyad (a2 = a3 = 60°, r = 100):
+/// with the unit axes w = R2/r and u = R4/r of a solution (the proximal
+/// links, given by the inputs alone), R3's axis v keeps 60° from both:
+/// v = α·w + β·u ± γ·(w × u), [1 c; c 1]·(α, β) = (cos a2, cos a3),
+/// c = w·u, γ² = (1 − α cos a2 − β cos a3)/|w × u|². The two branches'
+/// P/r are exactly v₊ and v₋ (1e-12), over a grid of both cranks.
+#[test]
+fn spherical_five_bar_by_hand() {
+    let (a, model) = common::example("spherical_five_bar");
+    let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
+    let r = 100.0;
+    let (ca2, ca3) = (f64::cos(PI / 3.0), f64::cos(PI / 3.0));
+    let named = |n: &str| model.joints.iter().position(|j| j.name == n).unwrap();
+    let (r2, r4) = (named("R2"), named("R4"));
+    let unit = |v: [f64; 3]| pkm::runtime::nalgebra::Vector3::from(v) / r;
+    let mut seen = 0;
+    for i in 0..12 {
+        for k in 0..12 {
+            let q = [
+                -PI + 2.0 * PI * f64::from(i) / 12.0,
+                -PI + 2.0 * PI * f64::from(k) / 12.0,
+            ];
+            let got: Vec<_> = plan::run_all(&model, &plan, &q)
+                .into_iter()
+                .filter_map(|(_, r)| r.ok())
+                .collect();
+            let Some(first) = got.first() else { continue };
+            let (w, u) = (
+                unit(kinematics::joint_point(&model, &first.poses, r2)),
+                unit(kinematics::joint_point(&model, &first.poses, r4)),
+            );
+            let c = w.dot(&u);
+            let det = 1.0 - c * c;
+            let (alpha, beta) = ((ca2 - c * ca3) / det, (ca3 - c * ca2) / det);
+            let n = w.cross(&u);
+            let g = ((1.0 - alpha * ca2 - beta * ca3) / n.norm_squared()).sqrt();
+            let want = [alpha * w + beta * u + g * n, alpha * w + beta * u - g * n];
+            assert_eq!(got.len(), 2, "at {q:?}: {} branches", got.len());
+            for s in &got {
+                let at = unit(kinematics::point(&model, &s.poses, "P").unwrap());
+                assert!(
+                    want.iter().any(|v| (v - at).norm() < 1e-12),
+                    "at {q:?}: P/r = {at:?}, not one of {want:?}"
+                );
+            }
+            assert!(
+                (unit(kinematics::point(&model, &got[0].poses, "P").unwrap())
+                    - unit(kinematics::point(&model, &got[1].poses, "P").unwrap()))
+                .norm()
+                    > 1e-6,
+                "at {q:?}: both branches at one P"
+            );
+            seen += 1;
+        }
+    }
+    assert!(seen >= 100, "only {seen} of 144 grid nodes assemble");
 }
 
 #[test]

@@ -7,7 +7,7 @@ use crate::common;
 use crate::mechanisms::{
     AgileEye, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted,
     Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel,
-    Watt, Yoke,
+    Translational, Watt, Yoke,
 };
 
 use common::max_error;
@@ -102,6 +102,11 @@ fn spatial() {
     check!(SeedB, "seed000_b", [(-250.0, 0.0), (0.0, 250.0), (-300.0, 300.0)]);
     check!(Rrrp2t1r, "rrrp_2t1r", [(-250.0, 0.0), (0.0, 250.0), (0.0, 1.2)]);
     check!(Schoenflies, "schoenflies_2limb", SCHOENFLIES);
+    check!(
+        Translational,
+        "translational_2limb",
+        [(-200.0, 200.0), (0.5, 2.5), (-100.0, 300.0)]
+    );
 }
 
 /// The two-limb Schönflies robot's study ranges (P1, R1, R4, R5).

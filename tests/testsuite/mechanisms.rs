@@ -83,3 +83,5 @@ pkm::mechanism!(pub Rrrp2t1r, file = "examples/mechanisms/rrrp_2t1r.pkm");
 // A slide along the turning axis at the platform: the platform turned
 // until the slide's line passes a known axis (`steps::aim_along`).
 pkm::mechanism!(pub Schoenflies, file = "examples/mechanisms/schoenflies_2limb.pkm");
+// The catalogue's (docs/catalogue.md) 3T: a platform that keeps its orientation.
+pkm::mechanism!(pub Translational, file = "examples/mechanisms/translational_2limb.pkm");

@@ -13,8 +13,8 @@
 use crate::common;
 use crate::mechanisms::{
     BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, Rrrp2t1r,
-    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel, Watt,
-    Yoke,
+    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel,
+    Translational, Watt, Yoke,
 };
 
 use common::max_error;
@@ -305,6 +305,17 @@ fn schoenflies_2limb() {
     round_trips!(
         Schoenflies,
         [(-100.0, 200.0), (-0.5, 2.0), (-1.5, 1.5), (1.6, 2.8)],
+        400.0,
+        never
+    );
+}
+
+/// The two-limb 3T over its study ranges.
+#[test]
+fn translational_2limb() {
+    round_trips!(
+        Translational,
+        [(-200.0, 200.0), (0.5, 2.5), (-100.0, 300.0)],
         400.0,
         never
     );

@@ -80,6 +80,8 @@ plan_snapshots! {
     inverted_slider_crank_block_driven,
     rrrp_2t1r,
     schoenflies_2limb,
+    translational_2limb,
+    spherical_five_bar,
     watt_six_bar,
     planar_3rrr,
     seed003_punch_original,
