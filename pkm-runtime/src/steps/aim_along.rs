@@ -19,7 +19,7 @@
 //! every time, two equal branches and half the digits. Degenerate where
 //! `x` is on the turning axis (every turn would do).
 
-use super::search::{reversed, Search};
+use super::search::Search;
 use super::{JointValue, Motion, Move};
 use crate::model::JointType;
 use crate::plan::{v3, Anchor, Step};
@@ -74,22 +74,16 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                 if s.on_axis(j, to, seen) {
                     continue;
                 }
-                let reach = s
-                    .fixed_reach(beyond, x, &[j, q])
-                    .into_iter()
-                    .find(|r| !r.hops.is_empty() && s.known[r.link] && s.hops_about(beyond, &r.hops, k_beyond));
-                let Some(r) = reach else { continue };
+                let Some(target) = s.known_about(beyond, point, x, &[j, q], k_beyond) else {
+                    continue;
+                };
                 let step = Step::AimAlong {
                     joint: j,
                     from,
                     to,
                     slide: q,
                     point,
-                    target: Anchor {
-                        link: r.link,
-                        hops: reversed(&r.hops),
-                        point,
-                    },
+                    target,
                 };
                 s.push(step, to, j);
                 return true;

@@ -26,7 +26,7 @@
 //! about the crank's pivot until the block's line passes the rocker's
 //! pivot).
 
-use super::search::{reversed, Search};
+use super::search::Search;
 use super::{Found, JointValue, Motion, Move};
 use crate::model::JointType;
 use crate::plan::{v3, Anchor, Step};
@@ -118,11 +118,9 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
             }
             let (k_beyond, places) = s.across(q, on, j, k_on);
             for (point, x) in places {
-                let reach = s
-                    .fixed_reach(beyond, x, &[j, q])
-                    .into_iter()
-                    .find(|r| !r.hops.is_empty() && s.known[r.link] && s.hops_about(beyond, &r.hops, k_beyond));
-                let Some(r) = reach else { continue };
+                let Some(target) = s.known_about(beyond, point, x, &[j, q], k_beyond) else {
+                    continue;
+                };
                 s.branches += 1;
                 let step = Step::Guide {
                     joint: j,
@@ -131,11 +129,7 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
                     carried,
                     slide: q,
                     point,
-                    target: Anchor {
-                        link: r.link,
-                        hops: reversed(&r.hops),
-                        point,
-                    },
+                    target,
                     branch: s.branches - 1,
                 };
                 s.push(step, to, j);

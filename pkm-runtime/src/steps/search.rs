@@ -8,7 +8,7 @@
 
 use super::Geometry;
 use crate::model::{JointType, Model, Place};
-use crate::plan::{self, Hop, Plan, Step};
+use crate::plan::{self, Anchor, Hop, Plan, Step};
 use crate::solution::PointRef;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
@@ -355,6 +355,29 @@ impl<'a> Search<'a> {
     /// move), stopping at known links.
     pub(crate) fn fixed_reach(&self, start: usize, x: Vector3<f64>, exclude: &[usize]) -> Vec<Reach> {
         self.reach(start, x, exclude, |_, _| false)
+    }
+
+    /// Where `point` (at `x` in `beyond`'s frame) is known: the first reach
+    /// out of `beyond` that keeps it put ([`Search::fixed_reach`], joints
+    /// in `exclude` not crossed) through joints turning about `k` (in
+    /// `beyond`'s frame) to a known link, as the anchor a step aims at.
+    pub(crate) fn known_about(
+        &self,
+        beyond: usize,
+        point: PointRef,
+        x: Vector3<f64>,
+        exclude: &[usize],
+        k: Vector3<f64>,
+    ) -> Option<Anchor> {
+        let r = self
+            .fixed_reach(beyond, x, exclude)
+            .into_iter()
+            .find(|r| !r.hops.is_empty() && self.known[r.link] && self.hops_about(beyond, &r.hops, k))?;
+        Some(Anchor {
+            link: r.link,
+            hops: reversed(&r.hops),
+            point,
+        })
     }
 
     /// The ways out of `start` along which point `x` keeps its distance
