@@ -1298,18 +1298,58 @@ fn spherical_five_bar() {
     check("spherical_five_bar", &[(-PI, PI), (-PI, PI)], 200);
 }
 
+/// The two unit directions at angle `a` from unit `w` and `b` from unit
+/// `u` (two cones through the centre): `α·w + β·u ± γ·(w × u)` with
+/// `[1 c; c 1]·(α, β) = (cos a, cos b)`, `c = w·u`,
+/// `γ² = (1 − α cos a − β cos b)/|w × u|²`.
+fn two_cones(
+    w: pkm::runtime::nalgebra::Vector3<f64>,
+    a: f64,
+    u: pkm::runtime::nalgebra::Vector3<f64>,
+    b: f64,
+) -> [pkm::runtime::nalgebra::Vector3<f64>; 2] {
+    let c = w.dot(&u);
+    let det = 1.0 - c * c;
+    let (alpha, beta) = ((a.cos() - c * b.cos()) / det, (b.cos() - c * a.cos()) / det);
+    let n = w.cross(&u);
+    let g = ((1.0 - alpha * a.cos() - beta * b.cos()) / n.norm_squared()).sqrt();
+    [alpha * w + beta * u + g * n, alpha * w + beta * u - g * n]
+}
+
+/// Whether the two cones of [`two_cones`] nearly touch (γ below 1e-5:
+/// their meeting is a double root, found to about √ε, not to 1e-12).
+fn cones_touch(
+    w: pkm::runtime::nalgebra::Vector3<f64>,
+    a: f64,
+    u: pkm::runtime::nalgebra::Vector3<f64>,
+    b: f64,
+) -> bool {
+    let [p, m] = two_cones(w, a, u, b);
+    // NaN (just past the tangency by rounding) counts as touching.
+    let gap = (p - m).norm();
+    gap.is_nan() || gap <= 2e-5
+}
+
 /// By hand, the spherical five-bar's distal dyad (a2 = a3 = 60°, r = 100):
 /// with the unit axes w = R2/r and u = R4/r of a solution (the proximal
 /// links, given by the inputs alone), R3's axis v keeps 60° from both:
 /// v = α·w + β·u ± γ·(w × u), [1 c; c 1]·(α, β) = (cos a2, cos a3),
 /// c = w·u, γ² = (1 − α cos a2 − β cos a3)/|w × u|². The two branches'
-/// P/r are exactly v₊ and v₋ (1e-12), over a grid of both cranks.
+/// P/r are exactly v₊ and v₋ (1e-12), over a grid of both cranks. The
+/// inverse plan, P given, returns the four arms' postures from the same
+/// two cones about each base axis (1e-12; an arm whose cones touch, where
+/// the grid puts P in the base axes' plane, is a double root found to
+/// about √ε and not compared), the cranks' q among them.
 #[test]
 fn spherical_five_bar_by_hand() {
     let (a, model) = common::example("spherical_five_bar");
     let plan = pkm::dsl::planner::forward_plan(&a).unwrap();
     let r = 100.0;
-    let (ca2, ca3) = (f64::cos(PI / 3.0), f64::cos(PI / 3.0));
+    let inverse = pkm::dsl::planner::inverse_plan(&a).unwrap();
+    let (a0, a1) = (PI / 6.0, PI / 4.0);
+    let u1 = pkm::runtime::nalgebra::Vector3::new(-a0.sin(), 0.0, a0.cos());
+    let u5 = pkm::runtime::nalgebra::Vector3::new(a0.sin(), 0.0, a0.cos());
+    let mut touching = 0;
     let named = |n: &str| model.joints.iter().position(|j| j.name == n).unwrap();
     let (r2, r4) = (named("R2"), named("R4"));
     let unit = |v: [f64; 3]| pkm::runtime::nalgebra::Vector3::from(v) / r;
@@ -1329,12 +1369,7 @@ fn spherical_five_bar_by_hand() {
                 unit(kinematics::joint_point(&model, &first.poses, r2)),
                 unit(kinematics::joint_point(&model, &first.poses, r4)),
             );
-            let c = w.dot(&u);
-            let det = 1.0 - c * c;
-            let (alpha, beta) = ((ca2 - c * ca3) / det, (ca3 - c * ca2) / det);
-            let n = w.cross(&u);
-            let g = ((1.0 - alpha * ca2 - beta * ca3) / n.norm_squared()).sqrt();
-            let want = [alpha * w + beta * u + g * n, alpha * w + beta * u - g * n];
+            let want = two_cones(w, PI / 3.0, u, PI / 3.0);
             assert_eq!(got.len(), 2, "at {q:?}: {} branches", got.len());
             for s in &got {
                 let at = unit(kinematics::point(&model, &s.poses, "P").unwrap());
@@ -1350,10 +1385,53 @@ fn spherical_five_bar_by_hand() {
                     > 1e-6,
                 "at {q:?}: both branches at one P"
             );
+            // Inverse: each P gives each arm's R2 (R4) axis at a1 (a4 = a1)
+            // from its base axis and a2 (a3) from P, two each: 4 branches,
+            // one of them the cranks' q.
+            for s in &got {
+                let p = kinematics::point(&model, &s.poses, "P").unwrap();
+                let back: Vec<_> = plan::run_all(&model, &inverse, &p)
+                    .into_iter()
+                    .filter_map(|(_, r)| r.ok())
+                    .collect();
+                let v = unit(p);
+                let (left, right) = (two_cones(u1, a1, v, PI / 3.0), two_cones(u5, a1, v, PI / 3.0));
+                let touch = [cones_touch(u1, a1, v, PI / 3.0), cones_touch(u5, a1, v, PI / 3.0)];
+                // At a tangency a branch is the other's double root, listed once.
+                let want = if touch[0] || touch[1] { 2..=4 } else { 4..=4 };
+                assert!(
+                    want.contains(&back.len()),
+                    "at P = {p:?}: {} inverse branches",
+                    back.len()
+                );
+                touching += usize::from(touch[0] || touch[1]);
+                for b in &back {
+                    let w = unit(kinematics::joint_point(&model, &b.poses, r2));
+                    let u = unit(kinematics::joint_point(&model, &b.poses, r4));
+                    assert!(
+                        touch[0] || left.iter().any(|x| (x - w).norm() < 1e-12),
+                        "at P = {p:?}: R2/r = {w:?}, not one of {left:?}"
+                    );
+                    assert!(
+                        touch[1] || right.iter().any(|x| (x - u).norm() < 1e-12),
+                        "at P = {p:?}: R4/r = {u:?}, not one of {right:?}"
+                    );
+                }
+                let values: Vec<Vec<f64>> = back.iter().map(|b| b.model_values(&model)).collect();
+                let wrap = |x: f64| (x + PI).rem_euclid(2.0 * PI) - PI;
+                let tol = if touch[0] || touch[1] { 1e-7 } else { 1e-9 };
+                assert!(
+                    values
+                        .iter()
+                        .any(|v| wrap(v[0] - q[0]).abs() < tol && wrap(v[4] - q[1]).abs() < tol),
+                    "at P = {p:?}: the cranks {q:?} not among {values:?}"
+                );
+            }
             seen += 1;
         }
     }
     assert!(seen >= 100, "only {seen} of 144 grid nodes assemble");
+    assert!(touching <= 12, "{touching} poses with an arm at its cones' tangency");
 }
 
 #[test]

@@ -6,8 +6,8 @@
 use crate::common;
 use crate::mechanisms::{
     AgileEye, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted,
-    Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel,
-    Translational, Watt, Yoke,
+    Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical,
+    SphericalFive, Trammel, Translational, Watt, Yoke,
 };
 
 use common::max_error;
@@ -92,6 +92,7 @@ fn planar() {
 #[test]
 fn spherical() {
     check!(Spherical, "spherical_four_bar", [(-PI, PI)]);
+    check!(SphericalFive, "spherical_five_bar", [(-PI, PI), (-PI, PI)]);
 }
 
 #[test]

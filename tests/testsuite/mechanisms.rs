@@ -85,3 +85,6 @@ pkm::mechanism!(pub Rrrp2t1r, file = "examples/mechanisms/rrrp_2t1r.pkm");
 pkm::mechanism!(pub Schoenflies, file = "examples/mechanisms/schoenflies_2limb.pkm");
 // The catalogue's (docs/catalogue.md) 3T: a platform that keeps its orientation.
 pkm::mechanism!(pub Translational, file = "examples/mechanisms/translational_2limb.pkm");
+// A spatial point output (the pointing direction on the sphere) pins its
+// link: the sphere about the pin (`steps::locus::pin`).
+pkm::mechanism!(pub SphericalFive, file = "examples/mechanisms/spherical_five_bar.pkm");

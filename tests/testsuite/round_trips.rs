@@ -13,8 +13,8 @@
 use crate::common;
 use crate::mechanisms::{
     BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, Rrrp2t1r,
-    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, Trammel,
-    Translational, Watt, Yoke,
+    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, SphericalFive,
+    Trammel, Translational, Watt, Yoke,
 };
 
 use common::max_error;
@@ -308,6 +308,12 @@ fn schoenflies_2limb() {
         400.0,
         never
     );
+}
+
+/// The spherical five-bar: its pointing point P given (on the sphere), both cranks over a turn.
+#[test]
+fn spherical_five_bar() {
+    round_trips!(SphericalFive, [(-PI, PI), (-PI, PI)], 100.0, never);
 }
 
 /// The two-limb 3T over its study ranges.

@@ -256,21 +256,13 @@ pub fn inverse_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
                     turn,
                 });
             }
-            OutputKind::Point { link, point } if planar => start.push(Step::Place {
+            OutputKind::Point { link, point } => start.push(Step::Place {
                 link: *link,
                 point: *point,
                 input: next,
                 planar,
                 turn: Turn::Free,
             }),
-            OutputKind::Point { .. } => {
-                return Err(Diagnostic::new(
-                    m.name_span(),
-                    "a spatial inverse plan needs each output link's pose (`pose of L at P`), not a point alone",
-                )
-                .label("in this mechanism")
-                .into())
-            }
             OutputKind::Parts { link, point, parts } if parts.all() => start.push(Step::Place {
                 link: *link,
                 point: *point,

@@ -169,8 +169,14 @@ impl Listing<'_> {
                 self.link(*link),
                 self.carried(to, hops)
             ),
-            Constraint::Pin { hops, link, pin } => format!(
-                "the circle about {}'s pin {}{}",
+            Constraint::Pin {
+                hops,
+                link,
+                pin,
+                sphere,
+            } => format!(
+                "the {} about {}'s pin {}{}",
+                if *sphere { "sphere" } else { "circle" },
                 self.link(*link),
                 self.point(*pin),
                 self.carried(to, hops)

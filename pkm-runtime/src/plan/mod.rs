@@ -160,9 +160,10 @@ pub enum Constraint {
         /// The known link.
         link: usize,
     },
-    /// At a fixed distance from the pin of `link`, a link a planar point
-    /// output pins at its point `pin` (its angle unknown): the distance
-    /// the point, carried across `hops` to `link`, keeps from the pin there
+    /// At a fixed distance from the pin of `link`, a link a point output
+    /// pins at its point `pin` (its turn unknown): the distance the point,
+    /// carried across `hops` to `link`, keeps from the pin there, in the
+    /// plane (a circle) or in space (a sphere, `sphere`)
     /// ([`crate::steps::locus::pin`]).
     Pin {
         /// From the new link to the pinned link.
@@ -171,6 +172,8 @@ pub enum Constraint {
         link: usize,
         /// Its pin: the output's point.
         pin: PointRef,
+        /// A spatial mechanism's sphere about the pin, not a planar circle.
+        sphere: bool,
     },
 }
 

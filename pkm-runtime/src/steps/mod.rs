@@ -254,7 +254,12 @@ pub fn execute<T: Scalar>(
             Constraint::Slider { hops, joint: h, link } => {
                 locus::slider::execute(&mv, *point, hops, *h, *link, *branch)?
             }
-            Constraint::Pin { hops, link, pin } => locus::pin::execute(&mv, *point, hops, *link, *pin, *branch)?,
+            Constraint::Pin {
+                hops,
+                link,
+                pin,
+                sphere,
+            } => locus::pin::execute(&mv, *point, hops, *link, *pin, *sphere, *branch)?,
         },
     };
     state.poses[to] = pose;
@@ -750,7 +755,7 @@ fn locus_factor(
         Constraint::Plane { normal, anchor } => locus::plane::normal(at, normal, anchor),
         Constraint::Cylinder { joint: h, link, .. } => locus::cylinder::normal(at, p, *h, *link),
         Constraint::Slider { joint: h, link, .. } => locus::slider::normal(at, joint, from, *h, *link),
-        Constraint::Pin { link, pin, .. } => locus::pin::normal(at, p, *link, *pin),
+        Constraint::Pin { link, pin, sphere, .. } => locus::pin::normal(at, p, *link, *pin, *sphere),
     };
     Factor {
         step: k,

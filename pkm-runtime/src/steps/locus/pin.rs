@@ -8,6 +8,13 @@
 //! about its tool point until its other joint reaches a crank's circle, as
 //! a five-bar's coupler carrying the tool point off its joints. A later
 //! step (an aim onto the pin) turns the pinned link itself.
+//!
+//! A spatial point output pins its link the same way, without its
+//! orientation: the point then lies on a sphere about the pin (radius its
+//! distance there), which the new link's circle or line meets
+//! ([`super::sphere::to_distance`], two roots). A spherical five-bar's
+//! inverse: the pointing direction given, each arm turns until its distal
+//! joint keeps the distal link's distance from the pinned point.
 
 use crate::plan::{v3, Constraint, Hop, Step, Turn};
 use crate::scalar::{norm, reject, sub, Scalar};
@@ -26,10 +33,11 @@ pub fn execute<T: Scalar>(
     hops: &[Hop],
     link: usize,
     pin: PointRef,
+    sphere: bool,
     branch: Option<usize>,
 ) -> Result<Found<T>, SolveError> {
     let (x, m) = mv.motion(point);
-    Ok(mv.found(meet(mv, m, x, hops, link, pin, branch)?))
+    Ok(mv.found(meet(mv, m, x, hops, link, pin, sphere, branch)?))
 }
 
 /// The value that puts the point moving as `m` (its carrier `x`, carried
@@ -37,6 +45,7 @@ pub fn execute<T: Scalar>(
 /// `pin`, on the circle about the pin's place in the plane (the planar
 /// axis z: the pinned link's placing keeps the base's orientation, so its
 /// z is the world's); `branch` picks the root.
+#[allow(clippy::too_many_arguments)]
 pub fn meet<T: Scalar>(
     mv: &Move<'_, T>,
     m: Motion<T>,
@@ -44,6 +53,7 @@ pub fn meet<T: Scalar>(
     hops: &[Hop],
     link: usize,
     pin: PointRef,
+    sphere: bool,
     branch: Option<usize>,
 ) -> Result<[T; 2], SolveError> {
     let g = mv.geometry;
@@ -51,8 +61,12 @@ pub fn meet<T: Scalar>(
     let z = [zero, zero, one];
     let centre = g.local(pin, link);
     let y = g.carry(x, hops);
-    let radius = norm(reject(sub(y, centre), z));
     let world = mv.state.poses[link].apply(centre);
+    if sphere {
+        // Spatial: the sphere about the pin.
+        return super::sphere::to_distance(mv, m, world, norm(sub(y, centre)), mv.choice(branch));
+    }
+    let radius = norm(reject(sub(y, centre), z));
     super::cylinder::about(mv, m, world, mv.state.poses[link].rotate(z), radius, branch)
 }
 
@@ -86,12 +100,21 @@ pub(crate) fn find(
     turning: bool,
     circle: bool,
 ) -> Option<Constraint> {
-    if !s.model.planar || r.hops.is_empty() || s.known[r.link] {
+    if r.hops.is_empty() || s.known[r.link] {
         return None;
     }
     let pin = pin_of(s, r.link)?;
     if s.pinned_at(r.link, r.x) {
         return None;
+    }
+    if !s.model.planar {
+        // The reach keeps the point put on the pinned link: a sphere.
+        return Some(Constraint::Pin {
+            hops: r.hops.clone().into(),
+            link: r.link,
+            pin,
+            sphere: true,
+        });
     }
     let normal = rot * Vector3::z();
     let held = if circle {
@@ -103,6 +126,7 @@ pub(crate) fn find(
         hops: r.hops.clone().into(),
         link: r.link,
         pin,
+        sphere: false,
     })
 }
 
@@ -114,10 +138,14 @@ pub(crate) fn normal(
     p: Vector3<f64>,
     link: usize,
     pin: PointRef,
+    sphere: bool,
 ) -> (Vector3<f64>, Condition, LinkPoint) {
     let c = v3(at.frames[link].apply(at.g.local(pin, link)));
-    let w = v3(at.frames[link].rotate([0.0, 0.0, 1.0])).normalize();
     let d = p - c;
+    if sphere {
+        return (d, Condition::TouchesSphere, LinkPoint { link, point: pin });
+    }
+    let w = v3(at.frames[link].rotate([0.0, 0.0, 1.0])).normalize();
     (
         d - w * w.dot(&d),
         Condition::TouchesCircle,
