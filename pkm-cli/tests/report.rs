@@ -277,6 +277,34 @@ fn flat_workspace_reports_an_area() {
     let _ = std::fs::remove_dir_all(out);
 }
 
+#[test]
+fn curved_workspace_reports_its_grid_image() {
+    // The spherical five-bar's pointing point P stays on the sphere of
+    // radius 100 about the centre: two inputs, a curved surface. Its area
+    // is the input grid's image, and two full crank turns reach places
+    // twice: the image (1.8e5) exceeds the whole sphere's 4π·100² = 1.26e5,
+    // which the page says can happen; no flat area, no volume.
+    let options = ReportOptions {
+        nodes: Some(60),
+        ..Default::default()
+    };
+    let (html, out) = page("spherical_five_bar", options);
+    let text = page_text(&html);
+    assert!(text.contains("The set is a curved surface"), "{text}");
+    assert!(text.contains("counts each time, so the surface's own area is at most this"));
+    assert!(!text.contains("flat (") && !text.contains("a solid, volume"));
+    let area: f64 = text
+        .split("the input grid's image has area ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|a| a.parse().ok())
+        .unwrap();
+    let sphere = 4.0 * std::f64::consts::PI * 100.0f64.powi(2);
+    assert!(area > sphere && area < 2.0 * sphere, "{area}");
+    assert!(text.contains("The curved workspace projected on its best-fitting plane"));
+    let _ = std::fs::remove_dir_all(out);
+}
+
 /// `write_report` on `name` with `options` fails with a message holding `expect`.
 fn check(name: &str, options: ReportOptions, expect: &str) {
     let (text, path) = example(name);

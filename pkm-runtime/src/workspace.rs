@@ -586,6 +586,42 @@ fn fill<const N: usize>(
     }
 }
 
+/// The area a two-input sweep's points cover, as the image of the input
+/// grid: every grid cell whose four corners are reachable is split into two
+/// triangles (along its diagonal) and the areas of their images, in space,
+/// are summed: a curved surface's area (a spherical mechanism's pointing
+/// point), which a projection onto a plane would shrink. Exact for a map
+/// linear on each triangle, so the error falls as the square of the grid
+/// spacing; a map that folds over itself counts the overlap twice.
+pub fn image_area(grid: &Grid, nodes: &[Option<[f64; 3]>]) -> f64 {
+    let [n0, n1] = match grid.counts[..] {
+        [a, b] => [a, b],
+        _ => return 0.0,
+    };
+    let at = |i: usize, j: usize| nodes.get(i * n1 + j).copied().flatten();
+    let half_cross = |o: [f64; 3], a: [f64; 3], b: [f64; 3]| {
+        let (u, v) = (
+            [a[0] - o[0], a[1] - o[1], a[2] - o[2]],
+            [b[0] - o[0], b[1] - o[1], b[2] - o[2]],
+        );
+        let c = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() / 2.0
+    };
+    let mut area = 0.0;
+    for i in 0..n0.saturating_sub(1) {
+        for j in 0..n1.saturating_sub(1) {
+            if let (Some(a), Some(b), Some(c), Some(d)) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)) {
+                area += half_cross(a, b, d) + half_cross(a, d, c);
+            }
+        }
+    }
+    area
+}
+
 /// The volume a three-input sweep's points fill, as the image of the input
 /// grid: every grid cell whose eight corners are reachable is split into
 /// six tetrahedra (along its main diagonal) and the volumes of their images
@@ -674,6 +710,44 @@ mod tests {
                 [1.0, 15.0],
                 [1.0, 20.0]
             ]
+        );
+    }
+
+    #[test]
+    fn image_area_of_a_sheared_square_and_a_sphere() {
+        // A linear map: exact. The square [0,1]² under (x + y, 2y, 3x): the
+        // parallelogram spanned by (1, 0, 3) and (1, 2, 0), |(−6, 3, 2)| = 7.
+        let g = Grid {
+            ranges: vec![(0.0, 1.0), (0.0, 1.0)],
+            counts: vec![5, 7],
+        };
+        let nodes = sweep_nodes::<2>(&g, |q| Some([q[0] + q[1], 2.0 * q[1], 3.0 * q[0]]));
+        assert!((image_area(&g, &nodes) - 7.0).abs() < 1e-12);
+        // Spherical coordinates onto the unit sphere: 4π to O(h²); a
+        // quarter of the nodes unreachable (φ > 3π/2) leaves 3π.
+        let g = Grid {
+            ranges: vec![(0.0, std::f64::consts::PI), (0.0, 2.0 * std::f64::consts::PI)],
+            counts: vec![181, 361],
+        };
+        let sphere = |t: f64, p: f64| [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
+        let nodes = sweep_nodes::<2>(&g, |q| Some(sphere(q[0], q[1])));
+        let a = image_area(&g, &nodes);
+        assert!((a / (4.0 * std::f64::consts::PI) - 1.0).abs() < 1e-4, "{a}");
+        let nodes = sweep_nodes::<2>(&g, |q| {
+            (q[1] <= 1.5 * std::f64::consts::PI + 1e-9).then(|| sphere(q[0], q[1]))
+        });
+        let a = image_area(&g, &nodes);
+        assert!((a / (3.0 * std::f64::consts::PI) - 1.0).abs() < 1e-4, "{a}");
+        // Not a two-input grid: no area.
+        assert_eq!(
+            image_area(
+                &Grid {
+                    ranges: vec![(0.0, 1.0)],
+                    counts: vec![3]
+                },
+                &[None; 3]
+            ),
+            0.0
         );
     }
 

@@ -11,7 +11,7 @@ use crate::plots;
 use pkm_runtime::model::Model;
 use pkm_runtime::nalgebra::{Matrix3, Vector3};
 use pkm_runtime::primitives::Sign;
-use pkm_runtime::workspace::{image_volume, sweep_nodes, Grid};
+use pkm_runtime::workspace::{image_area, image_volume, sweep_nodes, Grid};
 use std::fmt::Write as _;
 
 /// The world axes' names.
@@ -88,6 +88,24 @@ fn dimension(s: &Shape, inputs: usize) -> usize {
     s.spread.iter().filter(|x| **x > 1e-6 * s.spread[0]).count().min(inputs)
 }
 
+/// How far a cloud leaves the plane through its centre normal to its least
+/// spread (its best-fitting plane): the largest distance, 0 for a flat set.
+fn off_plane(s: &Shape, cloud: &[[f64; 3]]) -> f64 {
+    let n = s.axes[2];
+    cloud
+        .iter()
+        .map(|p| ((p[0] - s.centre[0]) * n[0] + (p[1] - s.centre[1]) * n[1] + (p[2] - s.centre[2]) * n[2]).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Whether a set of dimension 2 (two inputs) is curved: it spreads off its
+/// best-fitting plane by more than 1e-6 of its largest spread (the
+/// threshold [`dimension`] counts a spread by), as a spherical mechanism's
+/// pointing point on its sphere.
+fn curved(s: &Shape) -> bool {
+    s.spread[2] > 1e-6 * s.spread[0]
+}
+
 /// The world axis (0, 1, 2) a unit direction lies along, if it does.
 pub(super) fn world_axis(d: [f64; 3]) -> Option<usize> {
     (0..3).find(|&i| d[i].abs() > 1.0 - 1e-9)
@@ -135,6 +153,15 @@ pub(super) fn measure(grid: &Grid, nodes: &[Option<[f64; 3]>], unit: &str) -> St
         1 => format!(
             "a curve, length {:.4e} {unit} (the steps between consecutive reachable nodes)",
             curve_length(nodes)
+        ),
+        2 if curved(&s) => format!(
+            "a curved surface (it leaves its best-fitting plane, normal {}, by up to {:.4e} {unit}), no volume; \
+             the input grid's image has area {:.4e} {unit}² (each fully reachable grid cell split into two \
+             triangles whose images' areas are summed; a place the inputs reach more than once counts each time, \
+             so the surface's own area is at most this)",
+            tuple_text(&s.axes[2], 3),
+            off_plane(&s, &cloud),
+            image_area(grid, nodes)
         ),
         2 => {
             // Occupied cells, not the sum of the grid cells' images: the map
@@ -458,15 +485,25 @@ pub(super) fn cloud_figures(
     if !planar && dim >= 2 {
         let f = plots::solid3d(
             &page.dir.join("workspace_3d"),
-            &format!("Workspace of {point_name} as a solid"),
+            &format!(
+                "Workspace of {point_name} {}",
+                if dim == 2 { "(a surface)" } else { "as a solid" }
+            ),
             [&label(0), &label(1), &label(2)],
             cloud,
         )?;
+        let what = if dim == 2 {
+            "The workspace, a surface, drawn as"
+        } else {
+            "The workspace as a solid:"
+        };
         page.figure(
             &f,
-            "The workspace as a solid: the cells of a grid over it (about 28 along its longest extent) that hold \
-             a reached node, their outer faces shaded and coloured by height, seen from two sides; the axes are \
-             ticked on the box's near edges",
+            &format!(
+                "{what} the cells of a grid over it (about 28 along its longest extent) that hold a reached node, \
+                 their outer faces shaded and coloured by height, seen from two sides; the axes are ticked on the \
+                 box's near edges"
+            ),
         );
     }
     if !planar && dim == 2 && world_axis(shape_of.axes[2]).is_none() {
@@ -485,14 +522,29 @@ pub(super) fn cloud_figures(
             .collect();
         page.scatter(
             "workspace_plane",
-            &format!("Workspace of {point_name}, in its plane"),
+            &format!(
+                "Workspace of {point_name}, {}",
+                if curved(&shape_of) {
+                    "on its best-fitting plane"
+                } else {
+                    "in its plane"
+                }
+            ),
             [
                 &format!("along {} ({unit})", tuple_text(&u, 3)),
                 &format!("along {} ({unit})", tuple_text(&v, 3)),
             ],
             &[(point_name.to_string(), uv)],
             joined,
-            "The flat workspace in its own plane (from its centre)",
+            &if curved(&shape_of) {
+                format!(
+                    "The curved workspace projected on its best-fitting plane (from its centre; it leaves the plane \
+                     by up to {:.4e} {unit})",
+                    off_plane(&shape_of, cloud)
+                )
+            } else {
+                "The flat workspace in its own plane (from its centre)".to_string()
+            },
         )?;
     } else {
         let planes: Vec<[usize; 2]> = if planar {
