@@ -12,9 +12,9 @@
 
 use crate::common;
 use crate::mechanisms::{
-    BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar, Inverted, Rrrp2t1r,
-    RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical, SphericalFive,
-    Trammel, Translational, Watt, Yoke,
+    BennettDriven, BlockDriven, CouplerDriven, Cylinder, FiveBar, FiveBarPa, FiveBarSlide, FiveBarTool, FourBar,
+    Inverted, Rrrp2t1r, RrrrpTool, Rssp, Rssr, Rsur, Schoenflies, SeedA, SeedAU, SeedB, Shaper, SliderCrank, Spherical,
+    SphericalFive, Trammel, Translational, Watt, Yoke,
 };
 
 use common::max_error;
@@ -314,6 +314,13 @@ fn schoenflies_2limb() {
 #[test]
 fn spherical_five_bar() {
     round_trips!(SphericalFive, [(-PI, PI), (-PI, PI)], 100.0, never);
+}
+
+/// The Bennett linkage (mobile by its geometry, `mobility by geometry`),
+/// R1 over a turn, its output the opposite joint R4.
+#[test]
+fn bennett_linkage() {
+    round_trips!(BennettDriven, [(-3.1, 3.1)], 100.0, never);
 }
 
 /// The two-limb 3T over its study ranges.
