@@ -305,6 +305,47 @@ fn curved_workspace_reports_its_grid_image() {
     let _ = std::fs::remove_dir_all(out);
 }
 
+#[test]
+fn four_inputs_sweep_three_and_hold_the_fourth() {
+    // The two-limb Schönflies robot (P1, R1, R4, R5): its workspace sweeps
+    // P1, R1 and R4 and holds R5 at the study's start, 2.2 rad. Its
+    // revolutes all turn about z, so o's height is P1's alone (the
+    // decoupling table: z ← P1): a prism whose z runs over P1's range,
+    // −100 .. 200, and whose volume is at most that height times the
+    // xOy projection's bounding box.
+    let options = ReportOptions {
+        nodes: Some(20),
+        ..Default::default()
+    };
+    let (html, out) = page("schoenflies_2limb", options);
+    let text = page_text(&html);
+    assert!(text.contains("R5 held at 2.2000 rad (the sample's)"), "{text}");
+    let volume: f64 = text
+        .split("The set is a solid, volume ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap();
+    let csvs = read_csvs(&out);
+    let rows = |stem: &str| &csvs.iter().find(|(n, ..)| n == stem).unwrap().2;
+    let z: Vec<f64> = rows("workspace_xOz").iter().map(|r| r[2].parse().unwrap()).collect();
+    let (lo, hi) = z
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(
+        (lo + 100.0).abs() < 1e-9 && (hi - 200.0).abs() < 1e-9,
+        "z over [{lo}, {hi}]"
+    );
+    let xy = rows("workspace_xOy");
+    let box_area = extent(xy, 1) * extent(xy, 2);
+    assert!(
+        volume > 0.0 && volume <= 300.0 * box_area,
+        "{volume} against {}",
+        300.0 * box_area
+    );
+    let _ = std::fs::remove_dir_all(out);
+}
+
 /// `write_report` on `name` with `options` fails with a message holding `expect`.
 fn check(name: &str, options: ReportOptions, expect: &str) {
     let (text, path) = example(name);

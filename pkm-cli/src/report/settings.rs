@@ -38,9 +38,11 @@ fn pick<T>(command: Option<T>, study: Option<T>, default: impl FnOnce() -> T) ->
     }
 }
 
-/// The default grid nodes per input: about 64 000 nodes at most (40 per
-/// input for three inputs, 15 for four, 9 for five, 6 for six).
-fn default_nodes(inputs: usize) -> usize {
+/// The grid nodes per input that keep a grid over `inputs` of them within
+/// about 64 000 nodes (40 each for three, 15 for four, 9 for five, 6 for
+/// six): the default for the workspace's sweep (at most three inputs) and
+/// the singularities' cap over four or more.
+pub(super) fn default_nodes(inputs: usize) -> usize {
     match inputs {
         1 => 721,
         2 => 200,
@@ -172,8 +174,10 @@ pub(super) fn settings(
     };
     let n = r.inputs.len();
     let ranges = r.ranges()?;
-    let nodes = pick(o.nodes, study.nodes, || default_nodes(n));
-    check_nodes(nodes.0, n)?;
+    // The workspace sweeps at most three inputs (the others held); the
+    // singularities' sweep over all of them takes fewer nodes each.
+    let nodes = pick(o.nodes, study.nodes, || default_nodes(n.min(3)));
+    check_nodes(nodes.0, n.min(3))?;
     let branch_given = r.branch_given()?;
     let start = r.start(&ranges.0, branch_given)?;
     let branch = r.branch(&start.0, branch_given)?;

@@ -136,7 +136,9 @@ pub(super) fn singularities(
     let cap = match n {
         1 => s.nodes.0,
         2 => 140,
-        _ => 27,
+        3 => 27,
+        // About 64 000 nodes over four or more inputs (15 each for four).
+        n => super::settings::default_nodes(n),
     };
     let coarse = Grid {
         ranges: s.ranges.0.clone(),

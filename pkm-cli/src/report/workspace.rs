@@ -392,20 +392,26 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
     let (model, s, unit) = (&at.l.model, at.s, at.unit);
     let n = model.inputs().len();
     let point_name = s.point.0.as_str();
+    // A volume, an area or a length is drawn from 1 to 3 inputs: beyond
+    // the third, inputs are held at the sample's values (one node each, the
+    // last in the grid's order, so the nodes are those of the swept grid).
+    let swept = n.min(3);
     let grid = Grid {
-        ranges: s.ranges.0.clone(),
-        counts: vec![s.nodes.0; n],
+        ranges: (0..n)
+            .map(|i| {
+                if i < swept {
+                    s.ranges.0[i]
+                } else {
+                    (s.start.0[i], s.start.0[i])
+                }
+            })
+            .collect(),
+        counts: (0..n).map(|i| if i < swept { s.nodes.0 } else { 1 }).collect(),
     };
-    if n > 3 {
-        // A volume, an area or a length is drawn from 1 to 3 inputs; with
-        // more, the point's set over every input has no figure here.
-        let _ = writeln!(
-            page,
-            "<h2>Workspace of {point_name}</h2><p>Not drawn: the report sweeps the workspace over 1 to 3 inputs, and \
-             this mechanism has {n}. <code>pkm fk FILE --csv</code> evaluates any grid of inputs.</p>"
-        );
-        return Ok(Vec::new());
-    }
+    let swept_grid = Grid {
+        ranges: grid.ranges[..swept].to_vec(),
+        counts: grid.counts[..swept].to_vec(),
+    };
     let followed = follow::followed(
         at.l,
         at.plan,
@@ -422,29 +428,41 @@ pub(super) fn workspace(page: &mut Page, at: &Sampling, o: &ReportOptions) -> Re
         .iter()
         .map(|&j| (model.joints[j].name.clone(), joint_unit(model, j, unit)))
         .collect();
+    let held: Vec<String> = (swept..n)
+        .map(|i| {
+            format!(
+                "{} held at {:.4} {} (the sample's)",
+                names[i].0, s.start.0[i], names[i].1
+            )
+        })
+        .collect();
     let _ = writeln!(
         page,
         "<h2>Workspace of {point_name}</h2><p>The assembly of branch {} ({}) at the sample, the inputs swept over {} \
-         with {} nodes each: {} of {} nodes reached. The set is {}.</p><p>{}</p>",
+         with {} nodes each{}: {} of {} nodes reached. The set is {}.</p><p>{}</p>",
         s.branch.0,
         sign_text(&at.branch_signs),
-        s.ranges
-            .0
+        s.ranges.0[..swept]
             .iter()
             .map(|(a, b)| format!("[{a:.4}, {b:.4}]"))
             .collect::<Vec<_>>()
             .join(" × "),
         s.nodes.0,
+        if held.is_empty() {
+            String::new()
+        } else {
+            format!("; {} (the report sweeps at most three inputs)", held.join(", "))
+        },
         cloud.len(),
         grid.len(),
-        html_escape(&measure(&grid, &nodes, unit)),
+        html_escape(&measure(&swept_grid, &nodes, unit)),
         html_escape(&follow::meetings(&grid, &followed, &names, at.plan.choices()))
     );
     if n == 1 {
         displacement(page, at, &grid, &nodes)?;
     }
     // One input traces a curve: its points joined in order.
-    let dim = cloud_figures(page, model.planar, point_name, unit, &cloud, n, n == 1)?;
+    let dim = cloud_figures(page, model.planar, point_name, unit, &cloud, swept, n == 1)?;
     if !s.sections.0.is_empty() {
         if dim < 3 {
             let _ = writeln!(
