@@ -161,3 +161,59 @@ fn planar_3rrr_has_an_inverse_plan_only() {
         "#]],
     );
 }
+
+/// A spherical five-bar given its passive angles R2 and R4: every axis
+/// passes through the centre, so R2's point keeps its distance from R3's
+/// (the centre) at every turn of R1, and the sphere about that centre is
+/// no equation for R1 (it was the plan's first step, which then refused
+/// every input at run time as degenerate). The planner refuses at compile
+/// time instead; forward, the cone step as before. The pointing point
+/// given instead, the inverse plan pins the distal link there.
+#[test]
+fn a_sphere_about_the_turning_axis_is_no_locus() {
+    let five_bar = |outputs: &str| {
+        format!(
+            "mechanism sfb {{ base R1* [left] - R2 [ld] - R3 [rd] - R4 [right] - R5* base;
+               R1 ∧ R2 ∧ R3 ∧ R4 ∧ R5;
+               geometry {{ base {{ R1 = (-50, 0, 86.6025403784) along (-0.5, 0, 0.8660254038);
+                                  R5 = (50, 0, 86.6025403784) along (0.5, 0, 0.8660254038); }}
+                          left {{ R1 = (0, 0, 100) along z; R2 = (70.7106781187, 0, 70.7106781187) along (1, 0, 1); }}
+                          ld {{ R2 = (0, 0, 100) along z; R3 = (0, 0, 0) along (0.8660254038, 0, 0.5);
+                                point P = (86.6025403784, 0, 50); }}
+                          rd {{ R4 = (0, 0, 100) along z; R3 = (0, 0, 0) along (0.8660254038, 0, 0.5); }}
+                          right {{ R5 = (0, 0, 100) along z; R4 = (70.7106781187, 0, 70.7106781187) along (1, 0, 1); }} }}
+               outputs {{ {outputs} }} }}"
+        )
+    };
+    check(
+        &five_bar("b2 = joint R2; b4 = joint R4;"),
+        expect![[r#"
+            forward plan: given R1, R5; 1 ± choice, 2 branches
+              0 Transfer     R1 places left from base: given 0
+              1 Transfer     R5 places right from base: given 1
+              2 Cone         R2 places ld from left: the axis of R3 at its angle from the axis of R4 of right, ± choice 0
+              3 Aim          R3 places rd from ld: R4 onto R4 of right
+              check R4
+            no inverse plan: no closed-form inverse plan: links left, ld, rd, right are not reached by the step catalogue (aim, align, parallelogram plane, circle or line against sphere, plane, cylinder or pin, guide through a point, point beyond a given joint, slide onto a line, axes through one centre, a link between known spherical centres, a plane through a point, two turns about meeting axes)
+        "#]],
+    );
+    check(
+        &five_bar("x, y, z = point P of ld;"),
+        expect![[r#"
+            forward plan: given R1, R5; 1 ± choice, 2 branches
+              0 Transfer     R1 places left from base: given 0
+              1 Transfer     R5 places right from base: given 1
+              2 Cone         R2 places ld from left: the axis of R3 at its angle from the axis of R4 of right, ± choice 0
+              3 Aim          R3 places rd from ld: R4 onto R4 of right
+              check R4
+            inverse plan: given x, y, z of ld at P; 2 ± choices, 4 branches
+              0 Place        places ld: P at given 0, pinned, turned by a later step
+              1 Locus        R1 places left from base: R2 on the sphere about ld's pin P, carried to ld, ± choice 0
+              2 Aim          R2 places ld from left: P onto P of ld
+              3 Locus        R3 places rd from ld: R4 on the plane through R4 known from base through R5, R4 normal to the axis of R5 known from base through R5, ± choice 1
+              4 Aim          R5 places right from base: R4 onto R4 of rd
+              check R4
+              check the point step 0 pinned
+        "#]],
+    );
+}

@@ -231,6 +231,14 @@ pub(crate) fn find_sphere(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Opti
             point: PointRef::Joint(q),
         }
     };
+    // A centre on the moving joint's own axis, known on the link the joint
+    // turns from, is as far from every point of the circle: the sphere
+    // would hold at every turn or at none (a spherical chain's common
+    // centre), no equation for the joint.
+    let from = s.model.joints[j].links.into_iter().find(|&l| s.known[l])?;
+    if centre.link == from && s.on_axis(j, from, s.anchored_at(&centre)) {
+        return None;
+    }
     Some(Constraint::Sphere {
         centre,
         radius: Radius::Rod {
