@@ -282,13 +282,18 @@ impl<T: Scalar> Geometry<T> {
         (pose, link)
     }
 
-    /// An anchored point's world position. The hops are crossed at value 0
-    /// from the identity, so the point in the known link's frame depends
-    /// on the dimensions alone (solved code prepares it once), and the
-    /// link's pose is applied to it once.
+    /// An anchored point's world position: [`Geometry::anchor_local`]
+    /// with the known link's pose applied to it once.
     pub fn anchor(&self, poses: &[Frame<T>], a: &Anchor) -> [T; 3] {
+        poses[a.link].apply(self.anchor_local(a))
+    }
+
+    /// An anchored point in its known link's frame. The hops are crossed at
+    /// value 0 from the identity, so it depends on the dimensions alone
+    /// (solved code prepares it once; the planner reads it at plan time).
+    pub fn anchor_local(&self, a: &Anchor) -> [T; 3] {
         let (hops, l) = self.across(Frame::identity(), a.link, &a.hops);
-        poses[a.link].apply(hops.apply(self.local(a.point, l)))
+        hops.apply(self.local(a.point, l))
     }
 
     /// A direction known through hops: the axis of a joint's place on the

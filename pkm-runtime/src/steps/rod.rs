@@ -236,7 +236,7 @@ pub(crate) fn find_sphere(s: &Search<'_>, j: usize, r: &Reach, q: usize) -> Opti
     // would hold at every turn or at none (a spherical chain's common
     // centre), no equation for the joint.
     let from = s.model.joints[j].links.into_iter().find(|&l| s.known[l])?;
-    if centre.link == from && s.on_axis(j, from, s.anchored_at(&centre)) {
+    if centre.link == from && s.on_axis(j, from, v3(s.geometry.anchor_local(&centre))) {
         return None;
     }
     Some(Constraint::Sphere {

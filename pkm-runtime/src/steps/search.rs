@@ -436,12 +436,6 @@ impl<'a> Search<'a> {
         out
     }
 
-    /// An anchored point in its known link's frame (the hops at value 0).
-    pub(crate) fn anchored_at(&self, a: &Anchor) -> Vector3<f64> {
-        let (frame, last) = self.geometry.across(crate::frame::Frame::identity(), a.link, &a.hops);
-        v3(frame.apply(self.geometry.local(a.point, last)))
-    }
-
     /// The rotation from the frame of `start` to that of the link at the end of `hops` (value 0).
     pub(crate) fn rotation(&self, hops: &[Hop]) -> UnitQuaternion<f64> {
         let (frame, _) = self.geometry.across(crate::frame::Frame::identity(), 0, hops);
