@@ -44,7 +44,8 @@ pub fn execute<T: Scalar>(
 /// across `hops` to the pinned `link`) at its distance there from the pin
 /// `pin`, on the circle about the pin's place in the plane (the planar
 /// axis z: the pinned link's placing keeps the base's orientation, so its
-/// z is the world's); `branch` picks the root.
+/// z is the world's), or with `sphere` on the sphere about it; `branch`
+/// picks the root.
 #[allow(clippy::too_many_arguments)]
 pub fn meet<T: Scalar>(
     mv: &Move<'_, T>,
@@ -57,8 +58,6 @@ pub fn meet<T: Scalar>(
     branch: Option<usize>,
 ) -> Result<[T; 2], SolveError> {
     let g = mv.geometry;
-    let (zero, one) = (T::c(0.0), T::c(1.0));
-    let z = [zero, zero, one];
     let centre = g.local(pin, link);
     let y = g.carry(x, hops);
     let world = mv.state.poses[link].apply(centre);
@@ -66,6 +65,8 @@ pub fn meet<T: Scalar>(
         // Spatial: the sphere about the pin.
         return super::sphere::to_distance(mv, m, world, norm(sub(y, centre)), mv.choice(branch));
     }
+    let (zero, one) = (T::c(0.0), T::c(1.0));
+    let z = [zero, zero, one];
     let radius = norm(reject(sub(y, centre), z));
     super::cylinder::about(mv, m, world, mv.state.poses[link].rotate(z), radius, branch)
 }
