@@ -10,11 +10,13 @@
 pub mod __private;
 pub mod batch;
 pub mod bounded;
+pub mod certify;
 pub mod consistency;
 pub mod fk_numeric;
 pub mod force_system;
 pub mod frame;
 pub mod hyper_dual;
+pub mod interval;
 pub mod kinematics;
 pub mod lagrange;
 pub mod mass_properties;

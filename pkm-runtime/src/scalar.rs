@@ -49,6 +49,13 @@ pub trait Scalar:
     /// `then` where `a < b`, else `otherwise` (decided once, where it depends
     /// on the geometry only).
     fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self;
+    /// [`Scalar::if_less`] where the two choices agree at `a = b` (a
+    /// maximum, a sort, a clamp): a continuous selection, which an interval
+    /// that holds both outcomes encloses by their hull without doubt
+    /// ([`crate::interval`]). Every other scalar computes it as `if_less`.
+    fn if_less_continuous(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
+        Self::if_less(a, b, then, otherwise)
+    }
     /// `Ok` where `a < b`; otherwise (NaN included) the kernel fails with
     /// `failure`. `site` is the step and the joint it solves.
     fn require(a: Self, b: Self, failure: Failure<Self>, site: [usize; 2]) -> Result<(), GeomError<f64>>;
@@ -232,7 +239,7 @@ pub fn unreachable_distance(d: f64, dmax: f64, dmin: f64) -> GeomError<f64> {
 /// The larger of two values (the first where equal).
 #[inline]
 pub fn max<T: Scalar>(a: T, b: T) -> T {
-    T::if_less(a, b, b, a)
+    T::if_less_continuous(a, b, b, a)
 }
 
 /// `a · b` of two 3-vectors.

@@ -122,7 +122,7 @@ pub fn meet<T: Scalar>(
     let far = Failure::Unreachable("|the cones' common part in the axes' plane| <= |p|", v2.sqrt() - length);
     T::require(v2 - l2, T::c(2.0 * TANGENCY_TOL * (1.0 + f64::EPSILON)) * l2, far, site)?;
     // Within the tolerance beyond tangency: the double root.
-    let r2 = T::if_less(v2, l2, l2 - v2, T::c(0.0));
+    let r2 = T::if_less_continuous(v2, l2, l2 - v2, T::c(0.0));
     let gamma = (r2 / n2).sqrt();
     let v = add(scale(alpha, k1), scale(beta, k2));
     Ok(add(v, scale(T::pick(choice, gamma, -gamma), n)))

@@ -60,8 +60,8 @@ pub fn circle_distance<T: Scalar>(
     let (cos_coef, sin_coef) = (dot(pp, qp), dot(k, cross(pp, qp)));
     // The largest of length, rq, |δ| is paired with d: (x − d)(x + d) + y² + z².
     let ad = delta.abs();
-    let (x1, y1) = (max(length, rq), T::if_less(length, rq, length, rq));
-    let (x, y, z) = (max(x1, ad), T::if_less(x1, ad, x1, ad), y1);
+    let (x1, y1) = (max(length, rq), T::if_less_continuous(length, rq, length, rq));
+    let (x, y, z) = (max(x1, ad), T::if_less_continuous(x1, ad, x1, ad), y1);
     let c = ((x - d) * (x + d) + (y * y + z * z)) / T::c(2.0);
     let sum = length + rq;
     let diff = length - rq;

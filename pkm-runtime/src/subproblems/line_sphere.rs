@@ -38,7 +38,7 @@ pub fn line_distance<T: Scalar>(
     // Within the tolerance beyond tangency: the double root.
     let zero = T::c(0.0);
     let short = d - e;
-    let s = (T::if_less(short, zero, zero, short) * (d + e)).sqrt();
+    let s = (T::if_less_continuous(short, zero, zero, short) * (d + e)).sqrt();
     Ok([t0 + s, t0 - s])
 }
 

@@ -25,13 +25,13 @@ use crate::scalar::Scalar;
 #[inline]
 pub fn kahan_sine<T: Scalar>(p: T, q: T, r: T) -> T {
     use crate::scalar::max;
-    let min = |x: T, y: T| T::if_less(x, y, x, y);
+    let min = |x: T, y: T| T::if_less_continuous(x, y, x, y);
     let a = max(max(p, q), r);
     let b = max(min(p, q), min(max(p, q), r));
     let c = min(min(p, q), r);
     let zero = T::c(0.0);
     let neck = c - (a - b);
-    let neck = T::if_less(neck, zero, zero, neck);
+    let neck = T::if_less_continuous(neck, zero, zero, neck);
     let area4 = ((a + (b + c)) * (a + (b - c))).sqrt() * (neck * (c + (a - b))).sqrt();
     area4 / (T::c(2.0) * p * q)
 }

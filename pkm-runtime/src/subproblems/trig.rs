@@ -69,7 +69,7 @@ pub(crate) fn trig_turns_with_sine<T: Scalar>(
     let (a, b, c) = (a / h, b / h, c / h);
     // Within the tolerance beyond tangency: the double root.
     let one = T::c(1.0);
-    let c = T::if_less(one, c, one, T::if_less(c, -one, -one, c));
+    let c = T::if_less_continuous(one, c, one, T::if_less_continuous(c, -one, -one, c));
     let s = match known {
         Some(k) => k.sine,
         None => {
