@@ -309,7 +309,8 @@ fn plain_rrr() -> String {
 /// `pkm fk` of a κ = 1 file that asks for `fk_numeric`: the Stephenson III
 /// at crank angle 1 has two assemblies (Newton's from 10⁴ starts, see
 /// tests/testsuite/fk_numeric.rs), each with the virtual variable's value, and each
-/// keeps the crank at 1 and the binary links' lengths (by hand: 50√2, 200).
+/// keeps the crank at 1 and the binary links' lengths (by hand: 50√2, 200),
+/// each root certified (`docs/certified.md`).
 #[test]
 fn fk_numeric_lists_every_assembly() {
     let v = run_json(&["fk", "examples/mechanisms/stephenson3.pkm", "--q", "1"]);
@@ -323,6 +324,14 @@ fn fk_numeric_lists_every_assembly() {
     let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     for b in branches {
         assert!(b["virtual"]["R2"].is_number(), "{b}");
+        // Each root proven: its certificate, an interval of R2 about the
+        // residual's rounding over its slope wide (1.7e-13 here), holds
+        // the value reported.
+        assert_eq!(b["certificate"]["status"], "certified", "{b}");
+        let (v, cert) = (b["virtual"]["R2"].as_f64().unwrap(), &b["certificate"]["R2"]);
+        let (lo, hi) = (cert[0].as_f64().unwrap(), cert[1].as_f64().unwrap());
+        assert!(lo <= v && v <= hi && hi - lo <= 1e-11, "{b}");
+        assert_eq!(b["tangent"], false, "{b}");
         assert_eq!(b["joints"]["R1"].as_f64(), Some(1.0));
         assert!((d(p(b, "R4"), p(b, "R5")) - 50.0 * 2f64.sqrt()).abs() < 1e-9, "{b}");
         assert!((d(p(b, "R6"), p(b, "R7")) - 200.0).abs() < 1e-9, "{b}");

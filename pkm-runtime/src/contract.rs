@@ -25,9 +25,10 @@ pub mod primitives {
     pub use crate::primitives::{Error, Sign};
 }
 
-/// Scalar helpers generated code calls between traced operations.
+/// Scalar helpers generated code calls between traced operations, and
+/// the scalar trait a residual generic over its scalar is written for.
 pub mod scalar {
-    pub use crate::scalar::{angle, unreachable_distance};
+    pub use crate::scalar::{angle, unreachable_distance, Failure, Scalar};
 }
 
 /// Verification of every branch against its loop closure.
@@ -103,7 +104,12 @@ pub mod steps {
 
 /// The virtual-variable root driver of generated κ = 1 forward solvers.
 pub mod fk_numeric {
-    pub use crate::fk_numeric::{same_value, solve_with, Compatibility, Found, Sampling};
+    pub use crate::fk_numeric::{enclosed, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange};
+}
+
+/// The intervals a generated residual is enclosed on.
+pub mod interval {
+    pub use crate::interval::{watch, Enclosure, Interval};
 }
 
 pub use crate::topology_report::{SkcReport, SocReport, TopologyReport};

@@ -10,30 +10,51 @@
 //! one: [`Compatibility`]). Every real root of `r` on every branch is an
 //! assembly.
 //!
-//! The driver is generic: [`roots`] finds every root of a function of one
-//! variable that may be undefined on parts of its range (a branch whose
-//! closed form has no real solution there: a gap, never a NaN). It samples
-//! the whole range, brackets every sign change and every near-tangency (a
-//! local minimum of `|r|` near zero), refines a sign change by Brent's
-//! method to full precision and a tangency by golden-section search on
-//! `|r|`, and reports a root it cannot bracket as a [`RootKind::Tangency`]
-//! rather than drop it. [`solve`] runs it on a [`VirtualPlan`] with the
-//! plan interpreter; generated code runs it on its own residual function.
+//! Every root, and each one proven: the plan's steps run on intervals
+//! carrying their derivative ([`crate::interval::Enclosure`]) over a part
+//! of the virtual variable's range enclose every value `r` takes there,
+//! and [`crate::certify::roots`] drops the parts where the enclosure
+//! excludes zero, proves a root by Krawczyk's operator where it holds
+//! exactly one, splits the rest, and reports as possible
+//! ([`RootKind::Possible`]) a root it cannot prove (a double root, a
+//! branch's edge where two branches meet). No root is missed: a part of
+//! the range is left only when it is proven to hold none. [`solve`] runs
+//! it on a [`VirtualPlan`] with the plan interpreter; generated code runs
+//! the same driver ([`solve_with`]) on its own residual, written once
+//! generic over the scalar.
 
+use crate::certify::{self, Doubt, Limits};
+use crate::interval::{self, Enclosure, Interval};
 use crate::model::{JointType, Model};
 use crate::plan::{self, Plan, Solution};
 use crate::primitives::Sign;
+use crate::scalar::Scalar;
 use crate::solution::SolveError;
 
-/// How a root was found.
+/// Whether a root is proven.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RootKind {
-    /// A sign change bracketed and refined: certified.
-    Crossing,
-    /// A local minimum of `|r|` within the tolerance of zero without a
-    /// sign change (a double root, or one at the edge of a gap or of the
-    /// range): found, not certified.
-    Tangency,
+    /// Proven: its certificate ([`Root::cert`]) holds exactly one root of
+    /// the residual, and the value found.
+    Certified,
+    /// Not excluded, not proven (see [`Doubt`]): a double root, a fold
+    /// where two assemblies meet, a branch's edge.
+    Possible(Doubt),
+}
+
+impl RootKind {
+    /// Whether proven.
+    pub fn certified(self) -> bool {
+        self == RootKind::Certified
+    }
+
+    /// In words: "certified", or "possible: " and why.
+    pub fn text(self) -> String {
+        match self {
+            RootKind::Certified => "certified".into(),
+            RootKind::Possible(d) => format!("possible: {}", d.text()),
+        }
+    }
 }
 
 /// A root of the residual.
@@ -41,321 +62,91 @@ pub enum RootKind {
 pub struct Root {
     /// Where.
     pub x: f64,
-    /// The residual there.
+    /// The residual there (f64).
     pub residual: f64,
-    /// How it was found.
+    /// Whether proven.
     pub kind: RootKind,
+    /// The interval of the virtual variable proven to hold this root and
+    /// no other (certified), or the smallest one the search could not
+    /// decide (possible).
+    pub cert: Interval,
 }
 
-/// Where [`roots`] looks and what it counts as zero.
+/// Where the virtual variable is searched.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sampling {
+pub struct VirtualRange {
     /// The range's start.
     pub lo: f64,
     /// The range's end.
     pub hi: f64,
-    /// Intervals the range is sampled in.
-    pub samples: usize,
-    /// `|r| ≤ zero` at a local minimum of `|r|` is a (tangent) root.
-    pub zero: f64,
     /// The range is one period (a revolute's turn): `hi` is `lo` again.
     pub periodic: bool,
 }
 
-/// A defined sample.
-#[derive(Clone, Copy)]
-struct Pt {
-    x: f64,
-    f: f64,
-}
+/// What the search may spend, per branch ([`certify::Limits`]).
+pub const LIMITS: Limits = Limits {
+    boxes: 20_000,
+    resolution: 1e-12,
+    initial: 16,
+};
 
-/// Every root of `f` on the sampling's range, in increasing order; `f`
-/// returns `None` where it is not defined (a gap). See the module's text.
-pub fn roots(mut f: impl FnMut(f64) -> Option<f64>, s: &Sampling) -> Vec<Root> {
-    let n = s.samples.max(2);
-    let h = (s.hi - s.lo) / n as f64;
-    let mut eval = |x: f64| f(x).filter(|v| v.is_finite());
-    // The samples, a periodic range's extended by one beyond each end so
-    // that a minimum or sign change at the seam is seen.
-    let (first, last) = if s.periodic { (-1, n as i64 + 1) } else { (0, n as i64) };
-    let raw: Vec<(f64, Option<f64>)> = (first..=last)
-        .map(|i| {
-            let x = if i == n as i64 { s.hi } else { s.lo + h * i as f64 };
-            (x, eval(x))
-        })
-        .collect();
-    // Runs of defined samples; each gap's edges found by bisection and
-    // added to the run they close.
-    let mut runs: Vec<Vec<Pt>> = Vec::new();
-    let mut run: Vec<Pt> = Vec::new();
-    for w in 0..raw.len() {
-        let (x, v) = raw[w];
-        match v {
-            Some(fx) => {
-                if run.is_empty() && w > 0 {
-                    // Entering from a gap: the edge between raw[w-1] and x.
-                    if let Some(p) = edge(&mut eval, raw[w - 1].0, x) {
-                        run.push(p);
+/// The compatibility residual's enclosure over `v`'s interval, from the
+/// residual `raw` the plan's steps computed there (an aim's miss; or the
+/// value of the input the plan computes, compared to its given `given`
+/// here, an angle's difference wrapped as [`angle_miss`] does), and
+/// whether every decision of the steps went one way. `None` where the
+/// branch has no real solution anywhere in the interval.
+pub fn enclosed(
+    compatibility: &Compatibility,
+    raw: Option<Enclosure<1>>,
+    given: &[f64],
+    took: bool,
+) -> Option<certify::Enclosed<1>> {
+    let raw = raw?;
+    let r = match *compatibility {
+        Compatibility::Miss { .. } => raw,
+        Compatibility::Input { input, arc, .. } => {
+            let d = raw - Enclosure::c(*given.get(input)?);
+            match arc {
+                None => d,
+                Some(radius) => {
+                    // Shifted by whole turns into (−π, π]; where it
+                    // crosses ±π there, the wrap's jump is inside.
+                    let turn = 2.0 * std::f64::consts::PI;
+                    let k = (d.v.mid() / turn).round();
+                    let w = d - Enclosure::c(k * turn);
+                    let pi = std::f64::consts::PI;
+                    if !(w.v.lo > -pi && w.v.hi < pi) {
+                        // Across the jump at ±π the wrapped values are
+                        // near ±π·radius: no root where the interval,
+                        // less than a turn wide, stays off zero on both
+                        // sides of it.
+                        let off = |lo: f64, hi: f64| lo > 0.0 && hi < turn;
+                        if off(w.v.lo, w.v.hi) || off(w.v.lo + turn, w.v.hi + turn) {
+                            return None;
+                        }
+                        return Some(certify::Enclosed {
+                            f: [Interval::new(
+                                -std::f64::consts::PI * radius,
+                                std::f64::consts::PI * radius,
+                            )],
+                            j: [[Interval::ENTIRE]],
+                            decided: false,
+                        });
                     }
-                }
-                run.push(Pt { x, f: fx });
-            }
-            None => {
-                if !run.is_empty() {
-                    if let Some(p) = edge(&mut eval, raw[w - 1].0, x) {
-                        run.push(p);
-                    }
-                    runs.push(std::mem::take(&mut run));
+                    w * Enclosure::c(radius)
                 }
             }
-        }
-    }
-    if !run.is_empty() {
-        runs.push(run);
-    }
-    let mut out: Vec<Root> = Vec::new();
-    for run in &runs {
-        for (i, p) in run.iter().enumerate() {
-            if p.f == 0.0 {
-                out.push(Root {
-                    x: p.x,
-                    residual: 0.0,
-                    kind: RootKind::Crossing,
-                });
-            }
-            if i + 1 < run.len() {
-                let q = run[i + 1];
-                if p.f * q.f < 0.0 {
-                    out.push(brent(&mut eval, *p, q));
-                }
-            }
-            // A local minimum of |f| without a sign change about it, the
-            // run's ends included (a gap's edge, the range's end).
-            let prev = i.checked_sub(1).map(|k| run[k]);
-            let next = run.get(i + 1).copied();
-            let lower = |o: Option<Pt>| o.is_none_or(|o| p.f.abs() <= o.f.abs() && o.f * p.f > 0.0);
-            if p.f != 0.0 && lower(prev) && lower(next) && (prev.is_some() || next.is_some()) {
-                let a = prev.map_or(p.x, |o| o.x);
-                let b = next.map_or(p.x, |o| o.x);
-                let m = golden(&mut eval, a, b, *p);
-                if m.f * p.f < 0.0 {
-                    // Two crossings hidden between samples.
-                    out.push(brent(
-                        &mut eval,
-                        Pt {
-                            x: a,
-                            f: prev.map_or(p.f, |o| o.f),
-                        },
-                        m,
-                    ));
-                    out.push(brent(
-                        &mut eval,
-                        m,
-                        Pt {
-                            x: b,
-                            f: next.map_or(p.f, |o| o.f),
-                        },
-                    ));
-                } else if m.f.abs() <= s.zero {
-                    out.push(Root {
-                        x: m.x,
-                        residual: m.f,
-                        kind: RootKind::Tangency,
-                    });
-                }
-            }
-        }
-    }
-    // Into the range (a periodic one's seam once), in order, each once.
-    let period = s.hi - s.lo;
-    let mut out: Vec<Root> = out
-        .into_iter()
-        .filter_map(|mut r| {
-            if s.periodic {
-                r.x = s.lo + (r.x - s.lo).rem_euclid(period);
-                Some(r)
-            } else {
-                (r.x >= s.lo && r.x <= s.hi).then_some(r)
-            }
-        })
-        .collect();
-    out.sort_by(|a, b| a.x.total_cmp(&b.x));
-    let same = |a: f64, b: f64| {
-        let d = (a - b).abs();
-        d <= 1e-9 * (1.0 + a.abs().max(b.abs())) || (s.periodic && (period - d).abs() <= 1e-9 * (1.0 + period))
-    };
-    let mut merged: Vec<Root> = Vec::new();
-    for r in out {
-        match merged.iter_mut().find(|m| same(m.x, r.x)) {
-            // Keep the certified one, else the smaller residual.
-            Some(m) => {
-                if (r.kind == RootKind::Crossing && m.kind == RootKind::Tangency)
-                    || (r.kind == m.kind && r.residual.abs() < m.residual.abs())
-                {
-                    *m = r;
-                }
-            }
-            None => merged.push(r),
-        }
-    }
-    merged
-}
-
-/// The last defined point between a defined and an undefined sample (in
-/// either order), by 60 bisections.
-fn edge(eval: &mut impl FnMut(f64) -> Option<f64>, a: f64, b: f64) -> Option<Pt> {
-    let (mut inside, mut outside) = match (eval(a), eval(b)) {
-        (Some(_), None) => (a, b),
-        (None, Some(_)) => (b, a),
-        _ => return None,
-    };
-    let mut best = None;
-    for _ in 0..60 {
-        let m = 0.5 * (inside + outside);
-        if m == inside || m == outside {
-            break;
-        }
-        match eval(m) {
-            Some(f) => {
-                inside = m;
-                best = Some(Pt { x: m, f });
-            }
-            None => outside = m,
-        }
-    }
-    best.or_else(|| eval(inside).map(|f| Pt { x: inside, f }))
-}
-
-/// Brent's method on a bracket `a`, `b` (`f(a)·f(b) < 0`) to full precision.
-/// Where `f` is undefined inside (it should not be: a run has no gap), the
-/// bisection point stands in.
-fn brent(eval: &mut impl FnMut(f64) -> Option<f64>, a: Pt, b: Pt) -> Root {
-    let (mut a, mut fa, mut b, mut fb) = (a.x, a.f, b.x, b.f);
-    if fa == 0.0 {
-        return Root {
-            x: a,
-            residual: 0.0,
-            kind: RootKind::Crossing,
-        };
-    }
-    let (mut c, mut fc) = (a, fa);
-    let (mut d, mut e) = (b - a, b - a);
-    for _ in 0..200 {
-        if fb * fc > 0.0 {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol = 2.0 * f64::EPSILON * b.abs() + 1e-300;
-        let m = 0.5 * (c - b);
-        if m.abs() <= tol || fb == 0.0 {
-            break;
-        }
-        if e.abs() >= tol && fa.abs() > fb.abs() {
-            let s = fb / fa;
-            let (mut p, mut q);
-            if a == c {
-                p = 2.0 * m * s;
-                q = 1.0 - s;
-            } else {
-                let qq = fa / fc;
-                let r = fb / fc;
-                p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-            }
-            if p > 0.0 {
-                q = -q;
-            } else {
-                p = -p;
-            }
-            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = m;
-                e = m;
-            }
-        } else {
-            d = m;
-            e = m;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol { d } else { tol.copysign(m) };
-        fb = match eval(b) {
-            Some(f) => f,
-            None => {
-                // Undefined: fall back to bisection of what is left.
-                b = a + 0.5 * (c - a);
-                match eval(b) {
-                    Some(f) => f,
-                    None => break,
-                }
-            }
-        };
-    }
-    // The better end of the final bracket.
-    let (x, f) = if fc.abs() < fb.abs() && fc * fb <= 0.0 {
-        (c, fc)
-    } else {
-        (b, fb)
-    };
-    Root {
-        x,
-        residual: f,
-        kind: RootKind::Crossing,
-    }
-}
-
-/// The minimum of `|f|` on `[a, b]` by golden-section search, starting
-/// from the sample `p` (the smallest seen); where `f` changes sign inside,
-/// the first point of the other sign.
-fn golden(eval: &mut impl FnMut(f64) -> Option<f64>, a: f64, b: f64, p: Pt) -> Pt {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut best = p;
-    let (mut a, mut b) = (a, b);
-    let mut val = |x: f64, best: &mut Pt| -> f64 {
-        match eval(x) {
-            Some(f) => {
-                if f.abs() < best.f.abs() || (f * best.f < 0.0 && best.f * p.f > 0.0) {
-                    *best = Pt { x, f };
-                }
-                f.abs()
-            }
-            None => f64::INFINITY,
         }
     };
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (val(c, &mut best), val(d, &mut best));
-    for _ in 0..120 {
-        if best.f * p.f < 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * (1.0 + a.abs()) {
-            break;
-        }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = val(c, &mut best);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = val(d, &mut best);
-        }
+    if r.v.is_empty() {
+        return None;
     }
-    best
+    Some(certify::Enclosed {
+        f: [r.v],
+        j: [r.d],
+        decided: !took,
+    })
 }
 
 /// A forward plan with one virtual variable: the closed-form plan with
@@ -373,8 +164,6 @@ pub struct VirtualPlan {
     pub periodic: bool,
     /// What the compatibility residual is.
     pub compatibility: Compatibility,
-    /// Samples over the range.
-    pub samples: usize,
 }
 
 /// What a [`VirtualPlan`]'s compatibility residual is (a length either
@@ -440,8 +229,11 @@ pub struct Assembly {
     pub virtual_value: f64,
     /// The compatibility residual there.
     pub residual: f64,
-    /// How it was found ([`RootKind::Tangency`]: not certified).
+    /// Whether proven.
     pub kind: RootKind,
+    /// The virtual variable's interval proven to hold it (certified), or
+    /// the smallest the search could not decide (possible).
+    pub cert: Interval,
     /// Every link's pose and joint's value, verified.
     pub solution: Solution,
 }
@@ -481,18 +273,27 @@ pub fn range_of(model: &Model, joint: usize) -> ([f64; 2], bool) {
 /// where the branch's closed form has no real solution.
 pub fn residual(model: &Model, vp: &VirtualPlan, inputs: &[f64], v: f64, signs: &[Sign]) -> Option<f64> {
     let geometry = crate::steps::Geometry::of(model);
-    residual_with(model, &geometry, vp, inputs, v, signs)
+    let raw = raw_residual(&geometry, model, vp, inputs, v, signs)?;
+    let r = match vp.compatibility {
+        Compatibility::Miss { .. } => raw,
+        Compatibility::Input { input, arc, .. } => Compatibility::input_residual(arc, raw, *inputs.get(input)?),
+    };
+    Some(r).filter(|r| r.is_finite())
 }
 
-fn residual_with(
+/// What the plan's steps compute for the residual at `v` on any scalar
+/// (an f64, an interval with its derivative): the miss's row, or the value
+/// of the input the plan computes (compared to its given value by the
+/// caller). `None` where a step has no solution.
+fn raw_residual<T: Scalar<Choice = Sign>>(
+    geometry: &crate::steps::Geometry<T>,
     model: &Model,
-    geometry: &crate::steps::Geometry<f64>,
     vp: &VirtualPlan,
     inputs: &[f64],
-    v: f64,
+    v: T,
     signs: &[Sign],
-) -> Option<f64> {
-    let mut given = inputs.to_vec();
+) -> Option<T> {
+    let mut given: Vec<T> = inputs.iter().map(|&x| T::c(x)).collect();
     given.push(v);
     let name = |_: usize| -> std::borrow::Cow<'static, str> { std::borrow::Cow::Borrowed("") };
     let g = crate::steps::Given {
@@ -502,18 +303,15 @@ fn residual_with(
         sites: 0,
     };
     let state = crate::steps::run(&vp.plan, geometry, model.links.len(), &g).ok()?;
-    let r = match vp.compatibility {
+    Some(match vp.compatibility {
         Compatibility::Miss { check, row } => {
             let checks = vp.plan.checks(geometry.joints.len());
             let check = checks.get(check)?;
-            let rows = crate::steps::check_residual(geometry, &vp.plan, &[*check], &state.poses, &given, 1.0);
+            let rows = crate::steps::check_residual(geometry, &vp.plan, &[*check], &state.poses, &given, T::c(1.0));
             *rows.get(row)?
         }
-        Compatibility::Input { joint, input, arc } => {
-            Compatibility::input_residual(arc, crate::steps::value(geometry, &state, joint), *given.get(input)?)
-        }
-    };
-    Some(r).filter(|r| r.is_finite())
+        Compatibility::Input { joint, .. } => crate::steps::value(geometry, &state, joint),
+    })
 }
 
 /// A solution of the virtual plan at a root, verified: the plan's own
@@ -531,22 +329,22 @@ fn verified(model: &Model, vp: &VirtualPlan, given: &[f64], signs: &[Sign]) -> O
     Some(solution)
 }
 
-/// What [`Sampling::zero`] is for a model: a residual (a length) within
-/// [`crate::consistency::VERIFY_TOL`] of the mechanism's size at a minimum
-/// of `|r|` is a tangency, the tolerance a solution's checks are verified
-/// to (a tangency root is then kept by the verification, not dropped).
+/// What counts as zero for a model's residual: a length within
+/// [`crate::consistency::VERIFY_TOL`] of the mechanism's size, the
+/// tolerance a solution's checks are verified to.
 pub fn zero_of(model: &Model) -> f64 {
     crate::consistency::VERIFY_TOL * crate::kinematics::model_scale(model)
 }
 
 /// Every assembly at the mechanism's `inputs`: on every branch, every root
 /// of the compatibility residual over the virtual variable's range,
-/// solved and verified by the plan interpreter ([`plan::run`]); an
-/// assembly two branches share (where they meet) once.
+/// certified or possible ([`crate::certify`]), solved and verified by the
+/// plan interpreter ([`plan::run`]); an assembly two branches share (where
+/// they meet) once.
 ///
 /// # Errors
 /// [`SolveError::BadInput`] for inputs of the wrong count or not finite.
-pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Assembly>, SolveError> {
+pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Assemblies<Assembly>, SolveError> {
     if inputs.len() + 1 != vp.plan.n_inputs {
         return Err(SolveError::BadInput {
             what: format!("expected {} inputs, got {}", vp.plan.n_inputs - 1, inputs.len()).into(),
@@ -558,11 +356,10 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
         });
     }
     let geometry = crate::steps::Geometry::of(model);
-    let sampling = Sampling {
+    let enclosing = crate::steps::Geometry::<Enclosure<1>>::of(model);
+    let range = VirtualRange {
         lo: vp.range[0],
         hi: vp.range[1],
-        samples: vp.samples,
-        zero: zero_of(model),
         periodic: vp.periodic,
     };
     let scale = crate::kinematics::model_scale(model);
@@ -572,9 +369,21 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
         g
     };
     let found = solve_with(
-        &sampling,
+        &range,
         vp.plan.branches,
-        |v, signs| residual_with(model, &geometry, vp, inputs, v, signs),
+        |x, signs| {
+            let (raw, took) =
+                interval::watch(|| raw_residual(&enclosing, model, vp, inputs, Enclosure::variable(x, 0), signs));
+            enclosed(&vp.compatibility, raw, inputs, took)
+        },
+        |v, signs| {
+            let raw = raw_residual(&geometry, model, vp, inputs, v, signs)?;
+            let r = match vp.compatibility {
+                Compatibility::Miss { .. } => raw,
+                Compatibility::Input { input, arc, .. } => Compatibility::input_residual(arc, raw, inputs[input]),
+            };
+            Some(r)
+        },
         |v, signs| verified(model, vp, &given(v), signs),
         |a: &Solution, b: &Solution| {
             a.poses.iter().zip(&b.poses).all(|(p, q)| {
@@ -583,16 +392,21 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Vec<Asse
             })
         },
     );
-    Ok(found
-        .into_iter()
-        .map(|(signs, r, solution)| Assembly {
-            signs,
-            virtual_value: r.x,
-            residual: r.residual,
-            kind: r.kind,
-            solution,
-        })
-        .collect())
+    Ok(Assemblies {
+        found: found
+            .found
+            .into_iter()
+            .map(|(signs, r, solution)| Assembly {
+                signs,
+                virtual_value: r.x,
+                residual: r.residual,
+                kind: r.kind,
+                cert: r.cert,
+                solution,
+            })
+            .collect(),
+        unresolved: found.unresolved,
+    })
 }
 
 /// One assembly found by generated code (`Name::fk_numeric`): `J` joint
@@ -605,12 +419,58 @@ pub struct Found<const J: usize, const P: usize, const D: usize, const B: usize>
     pub virtual_value: f64,
     /// The compatibility residual there.
     pub residual: f64,
-    /// How it was found ([`RootKind::Tangency`]: not certified).
+    /// Whether proven.
     pub kind: RootKind,
+    /// The virtual variable's interval proven to hold it (certified), or
+    /// the smallest the search could not decide (possible).
+    pub cert: Interval,
     /// Every joint's value.
     pub q: [f64; J],
     /// Every joint's point, then the named points.
     pub points: [[f64; D]; P],
+}
+
+/// A root of the residual whose assembly could not be solved and
+/// verified at any point of its interval: reported, not dropped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Unresolved {
+    /// The branch's ± choices.
+    pub signs: Vec<Sign>,
+    /// The root.
+    pub root: Root,
+}
+
+/// Every assembly found (`found`, read as a slice), and the roots whose
+/// assembly could not be verified (`unresolved`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Assemblies<A> {
+    /// The assemblies, each verified.
+    pub found: Vec<A>,
+    /// Roots without a verified assembly.
+    pub unresolved: Vec<Unresolved>,
+}
+
+impl<A> std::ops::Deref for Assemblies<A> {
+    type Target = [A];
+    fn deref(&self) -> &[A] {
+        &self.found
+    }
+}
+
+impl<A> IntoIterator for Assemblies<A> {
+    type Item = A;
+    type IntoIter = std::vec::IntoIter<A>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.found.into_iter()
+    }
+}
+
+impl<'a, A> IntoIterator for &'a Assemblies<A> {
+    type Item = &'a A;
+    type IntoIter = std::slice::Iter<'a, A>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.found.iter()
+    }
 }
 
 /// Whether two joint values are one: within `tol`, or a whole number of
@@ -622,146 +482,78 @@ pub fn same_value(x: f64, y: f64, tol: f64) -> bool {
 }
 
 /// The driver both the interpreter ([`solve`]) and generated code run: on
-/// every branch of a plan with `branches` ± choices, every root of
-/// `residual(v, signs)` over `sampling` ([`roots`]), solved by
-/// `solution(v, signs)` (`None`: the verification failed, the root is
-/// dropped) and kept unless `same` as one found before (where two
-/// branches meet).
+/// every branch of a plan with `branches` ± choices, every root of the
+/// residual over `range` ([`certify::roots`] on `enclose(x, signs)`, its
+/// enclosure over the interval `x`), evaluated at the root by
+/// `residual(v, signs)`, solved by `solution(v, signs)` (`None`: the
+/// verification failed; a possible root is tried at its interval's ends
+/// too, and reported unresolved where none verifies), and kept unless
+/// `same` as one found before (where two branches meet: the certified
+/// one kept).
 pub fn solve_with<S>(
-    sampling: &Sampling,
+    range: &VirtualRange,
     branches: usize,
+    enclose: impl Fn(Interval, &[Sign]) -> Option<certify::Enclosed<1>>,
     residual: impl Fn(f64, &[Sign]) -> Option<f64>,
     solution: impl Fn(f64, &[Sign]) -> Option<S>,
     same: impl Fn(&S, &S) -> bool,
-) -> Vec<(Vec<Sign>, Root, S)> {
+) -> Assemblies<(Vec<Sign>, Root, S)> {
     let mut out: Vec<(Vec<Sign>, Root, S)> = Vec::new();
+    let mut unresolved = Vec::new();
+    let period = range.hi - range.lo;
     for (signs, ()) in crate::solution::every_branch(branches, |_| ()) {
-        for r in roots(|v| residual(v, &signs), sampling) {
-            let Some(s) = solution(r.x, &signs) else { continue };
-            if out.iter().any(|(_, _, o)| same(o, &s)) {
-                continue;
+        let (mut found, stats) =
+            certify::roots([Interval::new(range.lo, range.hi)], &LIMITS, |x| enclose(x[0], &signs));
+        if std::env::var("PKM_STATS").is_ok() {
+            eprintln!("boxes {}", stats.boxes);
+        }
+        found.sort_by(|a, b| a.x[0].total_cmp(&b.x[0]));
+        for c in found {
+            let kind = match c.doubt {
+                None => RootKind::Certified,
+                Some(d) => RootKind::Possible(d),
+            };
+            let mut root = Root {
+                x: c.x[0],
+                residual: f64::NAN,
+                kind,
+                cert: c.cert[0],
+            };
+            let mut tries = vec![root.x];
+            if !kind.certified() {
+                tries.extend([root.cert.lo, root.cert.hi, root.cert.mid()]);
             }
-            out.push((signs.clone(), r, s));
+            let solved = tries.into_iter().find_map(|x| solution(x, &signs).map(|s| (x, s)));
+            let Some((x, s)) = solved else {
+                root.residual = residual(root.x, &signs).unwrap_or(f64::NAN);
+                unresolved.push(Unresolved {
+                    signs: signs.clone(),
+                    root,
+                });
+                continue;
+            };
+            root.x = x;
+            root.residual = residual(x, &signs).unwrap_or(f64::NAN);
+            if range.periodic && (root.x - range.hi).abs() <= 1e-12 * period {
+                // The seam once.
+                root.x -= period;
+            }
+            match out.iter_mut().find(|(_, _, o)| same(o, &s)) {
+                Some(o) => {
+                    if root.kind.certified() && !o.1.kind.certified() {
+                        *o = (signs.clone(), root, s);
+                    }
+                }
+                None => out.push((signs.clone(), root, s)),
+            }
         }
     }
-    out
+    Assemblies { found: out, unresolved }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The roots `f` has on `[lo, hi]` (periodic or not), and their kinds.
-    fn check(f: impl Fn(f64) -> Option<f64>, lo: f64, hi: f64, periodic: bool, want: &[(f64, RootKind)]) {
-        let s = Sampling {
-            lo,
-            hi,
-            samples: 100,
-            zero: 1e-9,
-            periodic,
-        };
-        let got = roots(f, &s);
-        assert_eq!(got.len(), want.len(), "{got:?} vs {want:?}");
-        for (g, &(x, kind)) in got.iter().zip(want) {
-            let tol = if kind == RootKind::Tangency { 1e-6 } else { 1e-14 };
-            let mut d = (g.x - x).abs();
-            if periodic {
-                d = d.min((hi - lo - d).abs());
-            }
-            assert!(d <= tol, "{g:?} vs {x}");
-            assert_eq!(g.kind, kind, "{g:?}");
-        }
-    }
-
-    #[test]
-    fn simple_and_double_roots() {
-        use RootKind::*;
-        // (x − 0.3)(x + 0.7): two crossings.
-        check(
-            |x| Some((x - 0.3) * (x + 0.7)),
-            -1.0,
-            1.0,
-            false,
-            &[(-0.7, Crossing), (0.3, Crossing)],
-        );
-        // (x − 0.31)²: a double root between samples, a tangency; the
-        // crossing at −0.5 as well.
-        check(
-            |x| Some((x - 0.31) * (x - 0.31) * (x + 0.5)),
-            -1.0,
-            1.0,
-            false,
-            &[(-0.5, Crossing), (0.31, Tangency)],
-        );
-        // Two close roots between two samples (0.02 apart): 0.301, 0.305.
-        check(
-            |x| Some((x - 0.301) * (x - 0.305)),
-            -1.0,
-            1.0,
-            false,
-            &[(0.301, Crossing), (0.305, Crossing)],
-        );
-        // A minimum of |f| 1e-3 from zero is no root.
-        check(|x| Some((x - 0.31) * (x - 0.31) + 1e-3), -1.0, 1.0, false, &[]);
-    }
-
-    #[test]
-    fn roots_near_the_ends() {
-        use RootKind::*;
-        // At the very ends, and 1e-7 inside them.
-        check(
-            |x| Some(x * x - 1.0),
-            -1.0,
-            1.0,
-            false,
-            &[(-1.0, Crossing), (1.0, Crossing)],
-        );
-        let (a, b) = (-1.0 + 1e-7, 1.0 - 1e-7);
-        check(
-            |x| Some((x - a) * (x - b)),
-            -1.0,
-            1.0,
-            false,
-            &[(a, Crossing), (b, Crossing)],
-        );
-        // Periodic: sin(x − c), c = π − 2.6e-6, crosses near the seam at c
-        // and at c − π; a root at the seam (sin x at ±π) is reported once.
-        let c = std::f64::consts::PI - 2.6e-6;
-        check(
-            |x| Some((x - c).sin()),
-            -std::f64::consts::PI,
-            std::f64::consts::PI,
-            true,
-            &[(c - std::f64::consts::PI, Crossing), (c, Crossing)],
-        );
-        check(
-            |x| Some(x.sin()),
-            -std::f64::consts::PI,
-            std::f64::consts::PI,
-            true,
-            &[(-std::f64::consts::PI, Crossing), (0.0, Crossing)],
-        );
-    }
-
-    #[test]
-    fn gaps() {
-        use RootKind::*;
-        // Undefined on (−0.2, 0.4): roots at −0.5 and 0.7 found, no NaN
-        // read; a root 1e-12 before the gap's edge at 0.4 (between the
-        // last sample and the edge) is found too.
-        let f = |x: f64| (x <= -0.2 || x >= 0.4).then_some((x + 0.5) * (x - 0.7));
-        check(f, -1.0, 1.0, false, &[(-0.5, Crossing), (0.7, Crossing)]);
-        let e = 0.4 + 1e-6;
-        let f = |x: f64| (x >= 0.4).then_some(x - e);
-        check(f, -1.0, 1.0, false, &[(e, Crossing)]);
-        // A residual that ends at a gap's edge 1e-12 from zero (two
-        // branches meeting where they touch the root): found at the edge,
-        // not certified by a sign change.
-        let f = |x: f64| (x <= 0.5037).then_some(0.5037 - x + 1e-12);
-        check(f, -1.0, 1.0, false, &[(0.5037, Tangency)]);
-        // Nowhere defined: no roots.
-        check(|_| None, -1.0, 1.0, false, &[]);
-    }
 
     #[test]
     fn input_residuals() {
@@ -780,20 +572,47 @@ mod tests {
         assert_eq!(angle_miss(PI), PI);
         assert_eq!(angle_miss(-PI), PI);
         assert!((angle_miss(5.0 * PI / 2.0) - PI / 2.0).abs() <= 1e-15);
-        // The wrap's jump is a sign change that is no root: found by the
-        // driver, it keeps its size (verification then drops it).
-        let found = roots(
-            |x| Some(Compatibility::input_residual(Some(1.0), x, 0.5)),
-            &Sampling {
+    }
+
+    /// The enclosure of an angle's wrapped difference: shifted by whole
+    /// turns, and undecided where the wrap's jump is inside.
+    #[test]
+    fn input_enclosures() {
+        use std::f64::consts::PI;
+        let c = Compatibility::Input {
+            joint: 0,
+            input: 0,
+            arc: Some(2.0),
+        };
+        let x = Enclosure::variable(Interval::new(0.4 + 2.0 * PI, 0.6 + 2.0 * PI), 0);
+        let e = enclosed(&c, Some(x), &[0.5], false).unwrap();
+        assert!(e.f[0].contains(0.0) && e.f[0].width() < 0.41 && e.decided, "{e:?}");
+        assert!(e.j[0][0].contains(2.0) && e.j[0][0].width() < 1e-12);
+        // Across the jump, half a turn from the given value: no root.
+        let x = Enclosure::variable(Interval::new(0.5 + PI - 0.1, 0.5 + PI + 0.1), 0);
+        assert_eq!(enclosed(&c, Some(x), &[0.5], false), None);
+        // Across the jump and the given value: undecided.
+        let x = Enclosure::variable(Interval::new(0.4, 0.5 + PI + 0.1), 0);
+        let e = enclosed(&c, Some(x), &[0.5], false).unwrap();
+        assert!(!e.decided && e.f[0].contains(0.0));
+        // The wrapped residual's roots: one, certified.
+        let found = solve_with(
+            &VirtualRange {
                 lo: -PI,
                 hi: PI,
-                samples: 720,
-                zero: 1e-10,
                 periodic: true,
             },
+            0,
+            |x, _| enclosed(&c, Some(Enclosure::variable(x, 0)), &[0.5], false),
+            |v, _| Some(Compatibility::input_residual(Some(2.0), v, 0.5)),
+            |v, _| Some(v),
+            |a, b| (a - b).abs() < 1e-9,
         );
-        let real: Vec<_> = found.iter().filter(|r| r.residual.abs() <= 1e-10).collect();
-        assert_eq!(real.len(), 1, "{found:?}");
-        assert!((real[0].x - 0.5).abs() <= 1e-12);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let (_, root, v) = &found[0];
+        assert!(
+            root.kind.certified() && (v - 0.5).abs() <= 1e-15 && root.cert.contains(0.5),
+            "{root:?}"
+        );
     }
 }

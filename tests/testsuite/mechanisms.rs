@@ -36,6 +36,7 @@ pkm::mechanism!(pub BlockDriven, file = "examples/mechanisms/inverted_slider_cra
 pkm::mechanism!(pub ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(pub ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
 pkm::mechanism!(pub Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
+pkm::mechanism!(pub Tripteron, file = "examples/mechanisms/tripteron.pkm");
 
 // Seed 000 (2T1R mechanisms A and B) and the five-bar 2T1R.
 pkm::mechanism!(

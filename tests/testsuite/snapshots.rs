@@ -86,6 +86,7 @@ plan_snapshots! {
     planar_3rrr,
     seed003_punch_original,
     stephenson3,
+    tripteron,
     seed000_a,
     seed000_a_u,
     seed000_b,

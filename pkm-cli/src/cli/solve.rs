@@ -7,6 +7,8 @@
 use super::failure::{Failure, Kind};
 use super::table::{self, Branch, Cell, Column};
 use pkm_dsl::{Compiled, Diagnostics, InstanceError};
+use pkm_runtime::fk_numeric::RootKind;
+use pkm_runtime::interval::Interval;
 use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::newton::Output;
 use pkm_runtime::plan::{Plan, Pose3};
@@ -262,6 +264,9 @@ struct Found {
     signs: Vec<Sign>,
     verdict: Verdict,
     virtual_value: Option<f64>,
+    /// `fk_numeric`: whether the root is proven, and its interval of the
+    /// virtual variable.
+    certificate: Option<(RootKind, Interval)>,
 }
 
 /// Judges every branch: the plan's error (the runtime verifies what it
@@ -300,6 +305,7 @@ fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<Found> {
                 signs,
                 verdict,
                 virtual_value: None,
+                certificate: None,
             }
         })
         .collect()
@@ -357,6 +363,13 @@ fn branches_json(r: &Request, found: &[Found], virtual_name: Option<(&str, bool)
             };
             if let (Some((name, angle)), Some(v)) = (virtual_name, f.virtual_value) {
                 b["virtual"] = json!({ name: r.shown_value(v, angle) });
+                if let Some((kind, cert)) = f.certificate {
+                    let interval = [r.shown_value(cert.lo, angle), r.shown_value(cert.hi, angle)];
+                    b["certificate"] = match kind {
+                        RootKind::Certified => json!({ "status": "certified", name: interval }),
+                        RootKind::Possible(d) => json!({ "status": "possible", "why": d.text(), name: interval }),
+                    };
+                }
             }
             b
         })
@@ -364,8 +377,9 @@ fn branches_json(r: &Request, found: &[Found], virtual_name: Option<(&str, bool)
 }
 
 /// The columns of a position solution's rows: every 1-DOF joint's value,
-/// every declared output, whether a step met a double root.
-fn position_columns(r: &Request, l: &Loaded) -> Vec<Column> {
+/// every declared output, whether a step met a double root; with
+/// `fk_numeric` (`certified`), whether each root is proven.
+fn position_columns(r: &Request, l: &Loaded, certified: bool) -> Vec<Column> {
     let units = Units::of(r, l);
     let m = &l.model;
     let joints = one_dof_joints(m)
@@ -374,7 +388,12 @@ fn position_columns(r: &Request, l: &Loaded) -> Vec<Column> {
     let outputs = output_names(l)
         .into_iter()
         .map(|(n, angle)| Column::new(n, units.of_kind(angle)));
-    joints.chain(outputs).chain([Column::bare("tangent")]).collect()
+    let status = certified.then(|| Column::bare("root"));
+    joints
+        .chain(outputs)
+        .chain([Column::bare("tangent")])
+        .chain(status)
+        .collect()
 }
 
 /// Every branch as rows of [`position_columns`].
@@ -390,7 +409,21 @@ fn position_rows(r: &Request, found: &[Found]) -> Vec<Branch> {
             number: f.number,
             signs: f.signs.clone(),
             values: match &f.verdict {
-                Ok(s) => Ok([cells(&s.joints), cells(&s.outputs), vec![Cell::Flag(s.tangent)]].concat()),
+                Ok(s) => {
+                    let status = f.certificate.map(|(kind, _)| {
+                        Cell::Text(match kind {
+                            RootKind::Certified => "certified".into(),
+                            RootKind::Possible(_) => "possible".into(),
+                        })
+                    });
+                    Ok([
+                        cells(&s.joints),
+                        cells(&s.outputs),
+                        vec![Cell::Flag(s.tangent)],
+                        status.into_iter().collect(),
+                    ]
+                    .concat())
+                }
                 Err((_, why)) => Err(why.clone()),
             },
         })
@@ -566,15 +599,16 @@ impl<'r> Forward<'r> {
 
     /// `fk_numeric`: every assembly the virtual variable's compatibility
     /// residual has a root for ([`pkm_runtime::fk_numeric::solve`]), each
-    /// under its plan branch's number with the virtual variable's value and
-    /// `tangent` where the root was a tangency (found, not certified by a
-    /// sign change); a plan branch with no assembly listed with why.
+    /// under its plan branch's number with the virtual variable's value,
+    /// whether its root is certified or only possible (then `tangent`
+    /// too), and its certificate; a root without a verified assembly, and
+    /// a plan branch with no assembly, listed with why.
     fn numeric(&self, vp: &pkm_runtime::fk_numeric::VirtualPlan, given: &[f64]) -> Result<Vec<Found>, Failure> {
         let l = &self.l;
         let assemblies =
             pkm_runtime::fk_numeric::solve(&l.model, vp, given).map_err(|e| Failure::input(e.to_string()))?;
         let virtual_name = &l.model.joints[vp.joint].name;
-        if assemblies.is_empty() {
+        if assemblies.is_empty() && assemblies.unresolved.is_empty() {
             return Err(Failure::new(
                 Kind::Unreachable,
                 format!(
@@ -595,9 +629,31 @@ impl<'r> Forward<'r> {
         let mut found = verdicts(l, runs, &self.names());
         for (f, a) in found.iter_mut().zip(&assemblies) {
             if let Ok(s) = &mut f.verdict {
-                s.tangent = a.kind == pkm_runtime::fk_numeric::RootKind::Tangency;
+                s.tangent = !a.kind.certified();
             }
             f.virtual_value = Some(a.virtual_value);
+            f.certificate = Some((a.kind, a.cert));
+        }
+        // A root whose assembly no point of its interval verifies: listed
+        // on its branch, with why.
+        for u in &assemblies.unresolved {
+            let number = table::number_of(&u.signs);
+            let at = found.iter().position(|f| f.number > number).unwrap_or(found.len());
+            let why = format!(
+                "a {} root at {virtual_name} = {} whose assembly fails verification at every point of its interval",
+                u.root.kind.text(),
+                u.root.x
+            );
+            found.insert(
+                at,
+                Found {
+                    number,
+                    signs: u.signs.clone(),
+                    verdict: Err((Kind::Unreachable, why)),
+                    virtual_value: Some(u.root.x),
+                    certificate: Some((u.root.kind, u.root.cert)),
+                },
+            );
         }
         // The branches without an assembly, in their places.
         let choices = vp.plan.branches;
@@ -612,6 +668,7 @@ impl<'r> Forward<'r> {
                     signs: table::signs_of(n, choices),
                     verdict: Err((Kind::Unreachable, why)),
                     virtual_value: None,
+                    certificate: None,
                 };
                 found.insert(at, f);
             }
@@ -649,7 +706,8 @@ impl<'r> Forward<'r> {
             given_text(&names, q),
             count_text(&found, !how.is_empty())
         );
-        Ok(title + &table::branch_table(&position_columns(self.r, &self.l), &position_rows(self.r, &found)))
+        let columns = position_columns(self.r, &self.l, self.virtual_joint().is_some());
+        Ok(title + &table::branch_table(&columns, &position_rows(self.r, &found)))
     }
 }
 
@@ -664,7 +722,7 @@ impl super::csv::Solver for Forward<'_> {
     }
 
     fn columns(&self) -> Vec<Column> {
-        position_columns(self.r, &self.l)
+        position_columns(self.r, &self.l, self.virtual_joint().is_some())
     }
 
     fn choices(&self) -> usize {
@@ -728,7 +786,11 @@ impl<'r> Inverse<'r> {
             given_text(&names, &values),
             count_text(&found, false)
         );
-        Ok(title + &table::branch_table(&position_columns(self.r, &self.l), &position_rows(self.r, &found)))
+        Ok(title
+            + &table::branch_table(
+                &position_columns(self.r, &self.l, false),
+                &position_rows(self.r, &found),
+            ))
     }
 }
 
@@ -738,7 +800,7 @@ impl super::csv::Solver for Inverse<'_> {
     }
 
     fn columns(&self) -> Vec<Column> {
-        position_columns(self.r, &self.l)
+        position_columns(self.r, &self.l, false)
     }
 
     fn choices(&self) -> usize {

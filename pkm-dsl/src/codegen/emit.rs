@@ -23,6 +23,8 @@ pub struct Emit<'g> {
     fields: RefCell<Vec<proc_macro2::Ident>>,
     /// The name of each kernel site's loop, for errors.
     sites: Vec<String>,
+    /// Writing a function generic over the scalar `T` ([`Emit::generic`]).
+    generic: core::cell::Cell<bool>,
 }
 
 /// A literal f64 (NaN and infinities by name).
@@ -126,6 +128,7 @@ impl<'g> Emit<'g> {
             slot_of: RefCell::default(),
             fields: RefCell::default(),
             sites,
+            generic: core::cell::Cell::new(false),
         }
     }
 
@@ -263,22 +266,37 @@ impl<'g> Emit<'g> {
         (order, uses)
     }
 
+    /// An f64 expression as the scalar of the function written: itself,
+    /// or `T::c(x)` in a generic one.
+    fn scalar(&self, x: TokenStream) -> TokenStream {
+        if self.generic.get() {
+            quote! { T::c(#x) }
+        } else {
+            x
+        }
+    }
+
     /// An expression for `s`, in `scope`.
     fn expr(&self, s: Sym, scope: &Scope) -> TokenStream {
         if let Some(x) = self.g.constant(s) {
-            return lit(x);
+            return self.scalar(lit(x));
         }
         if let Some(t) = scope.bound.borrow().get(&s) {
             return t.clone();
         }
         if !self.live(s) {
-            return self.slot(s);
+            return self.scalar(self.slot(s));
         }
         self.compute(s, &|s| self.expr(s, scope))
     }
 
     /// The node's own operation on its operands' expressions.
     fn compute(&self, s: Sym, e: &dyn Fn(Sym) -> TokenStream) -> TokenStream {
+        if self.generic.get() {
+            if let Some(t) = self.compute_generic(s, e) {
+                return t;
+            }
+        }
         match self.node(s) {
             Node::Const(b) => lit(f64::from_bits(*b)),
             Node::Param(n) => {
@@ -328,7 +346,7 @@ impl<'g> Emit<'g> {
                 let (a, b) = (e(*a), e(*b));
                 quote! { ::pkm::runtime::__private::scalar::angle(#a, #b) }
             }
-            Node::IfLess(a, b, c, d) => {
+            Node::IfLess(a, b, c, d, _) => {
                 let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
                 quote! { if #a < #b { #c } else { #d } }
             }
@@ -352,6 +370,62 @@ impl<'g> Emit<'g> {
                 quote! { !(#a < #b) }
             }
         }
+    }
+
+    /// [`Self::compute`] in a function generic over `T: Scalar`: the
+    /// functions and decisions as the trait's; `None` where the f64 form
+    /// serves (arithmetic, the given values, a chosen value).
+    fn compute_generic(&self, s: Sym, e: &dyn Fn(Sym) -> TokenStream) -> Option<TokenStream> {
+        let sc = quote! { ::pkm::runtime::__private::scalar::Scalar };
+        Some(match self.node(s) {
+            Node::Const(b) => {
+                let x = lit(f64::from_bits(*b));
+                quote! { T::c(#x) }
+            }
+            Node::Param(n) => {
+                let id = format_ident!("{}", n);
+                quote! { T::c(params.#id) }
+            }
+            Node::Raw(text) => {
+                let x = text.parse().unwrap_or_else(|_| quote! { ::core::f64::NAN });
+                quote! { T::c(#x) }
+            }
+            Node::Sqrt(a) => {
+                let a = e(*a);
+                quote! { <T as #sc>::sqrt(#a) }
+            }
+            Node::Sin(a) => {
+                let a = e(*a);
+                quote! { <T as #sc>::sin(#a) }
+            }
+            Node::Cos(a) => {
+                let a = e(*a);
+                quote! { <T as #sc>::cos(#a) }
+            }
+            Node::Abs(a) => {
+                let a = e(*a);
+                quote! { <T as #sc>::abs(#a) }
+            }
+            Node::Atan2(a, b) => {
+                let (a, b) = (e(*a), e(*b));
+                quote! { <T as #sc>::atan2(#a, #b) }
+            }
+            Node::IfLess(a, b, c, d, continuous) => {
+                let (a, b, c, d) = (e(*a), e(*b), e(*c), e(*d));
+                if *continuous {
+                    quote! { <T as #sc>::if_less_continuous(#a, #b, #c, #d) }
+                } else {
+                    quote! { <T as #sc>::if_less(#a, #b, #c, #d) }
+                }
+            }
+            // The interpreter's compatibility residual measures against 1.
+            Node::Extent(_) => quote! { T::c(1.0) },
+            Node::Pick(k, p, m) => {
+                let (p, m) = (e(*p), e(*m));
+                quote! { <T as #sc>::pick(signs[#k], #p, #m) }
+            }
+            _ => return None,
+        })
     }
 
     /// A node bound by a `let` (a value used twice): its name and value;
@@ -390,6 +464,17 @@ impl<'g> Emit<'g> {
                 continue;
             }
             let node = self.node(s);
+            if let (Node::Guard(a, b, _, [step, site]), true) = (node, self.generic.get()) {
+                let (a, b) = (self.expr(*a, scope), self.expr(*b, scope));
+                let sc = quote! { ::pkm::runtime::__private::scalar };
+                out.extend(quote! {
+                    if <T as #sc::Scalar>::require(#a, #b, #sc::Failure::Degenerate("guard"), [#step, #site]).is_err() {
+                        return ::core::option::Option::None;
+                    }
+                });
+                scope.bound.borrow_mut().insert(s, quote! { () });
+                continue;
+            }
             if let Node::Guard(_, _, failure, [step, site]) = node {
                 let cond = self.compute(s, &|o| self.expr(o, scope));
                 let geom = quote! { ::pkm::runtime::__private::primitives::Error };
@@ -438,6 +523,19 @@ impl<'g> Emit<'g> {
         );
         let out = roots.iter().map(|r| self.expr(*r, &scope)).collect();
         (lets, out)
+    }
+
+    /// [`Self::straight`] for a function generic over `T: Scalar` (with
+    /// `Choice = Sign`) whose given values are `given: &[T; n]`: constants
+    /// and prepared slots become `T::c(…)`, the functions and decisions
+    /// the trait's, and a guard that fails returns `None` (the
+    /// interval enclosure of [`pkm_runtime::interval`] takes a guard that
+    /// holds on part of a box as holding, and says so).
+    pub fn straight_generic(&self, roots: &[Sym], guards: &[Sym]) -> (TokenStream, Vec<TokenStream>) {
+        self.generic.set(true);
+        let out = self.straight(roots, guards);
+        self.generic.set(false);
+        out
     }
 
     /// One lane of a batch loop computing `roots` (one branch, signs as

@@ -4,10 +4,12 @@
 //! out as straight-line Rust, in a prepared type of their own
 //! (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`):
 //! `residual(&given, signs)` (the compatibility residual, `given` the
-//! inputs then the virtual variable), `solution(&given, signs)` (every
-//! joint value and point, verified by the plan's other checks), and
-//! `fk_numeric(&q)`, which runs the runtime's generic driver
-//! (`pkm::runtime::fk_numeric::solve_with`) on them.
+//! inputs then the virtual variable), `residual_in(&given, signs)` (the
+//! same steps generic over the scalar: on intervals carrying their
+//! derivative they enclose the residual over a part of the range),
+//! `solution(&given, signs)` (every joint value and point, verified by the
+//! plan's other checks), and `fk_numeric(&q)`, which runs the runtime's
+//! certified driver (`pkm::runtime::fk_numeric::solve_with`) on them.
 
 use super::{branch, geometry, loop_names, xyz};
 use crate::codegen::emit::Emit;
@@ -58,6 +60,8 @@ pub(crate) fn generate(
         .collect();
     let guards = |roots: &[crate::codegen::trace::Sym]| emit.needed_guards(roots, &b.guards, &b.waivable);
     let (residual_lets, residual_expr) = emit.straight(&[residual], &guards(&[residual]));
+    let (generic_lets, generic_expr) = emit.straight_generic(&[residual], &guards(&[residual]));
+    let generic_expr = &generic_expr[0];
     let residual_expr = match input {
         Some(i) => of_input(&residual_expr[0], i),
         None => residual_expr[0].clone(),
@@ -95,7 +99,18 @@ pub(crate) fn generate(
     };
     let (lo_t, hi_t) = (end(lo), end(hi));
     let periodic = vp.periodic;
-    let samples = vp.samples;
+    let compatibility = match vp.compatibility {
+        Compatibility::Miss { check, row } => {
+            quote! { #rt::fk_numeric::Compatibility::Miss { check: #check, row: #row } }
+        }
+        Compatibility::Input { joint, input, arc } => {
+            let arc = match arc {
+                Some(r) => quote! { ::core::option::Option::Some(#r) },
+                None => quote! { ::core::option::Option::None },
+            };
+            quote! { #rt::fk_numeric::Compatibility::Input { joint: #joint, input: #input, arc: #arc } }
+        }
+    };
     let prepared = format_ident!("{}FkNumeric", ident);
     let params_ty = format_ident!("{}Params", ident);
     let (fields, prepare) = emit.prepared(&prepared);
@@ -111,8 +126,9 @@ pub(crate) fn generate(
     let residual_doc = format!(
         " The compatibility residual (a length) of branch `signs` at `given` ([`Self::GIVEN`]: the inputs, then the virtual variable {virtual_name}); `Err` where the branch has no real solution there."
     );
-    let sampling_doc = format!(
-        " Where {virtual_name} is sampled ({samples} intervals over [{lo}, {hi}]) and what counts as zero at a minimum of |residual| (`VERIFY_TOL` of the nominal size)."
+    let range_doc = format!(" Where {virtual_name} is searched: [{lo}, {hi}].");
+    let generic_doc = format!(
+        " The compatibility residual's steps at `given` on any scalar (an interval carrying its derivative encloses it over a part of {virtual_name}'s range): the miss, or the value of the input the plan computes; `None` where a step has no solution (on intervals: nowhere in the part)."
     );
     let verified = if n_rows == 0 {
         quote! {}
@@ -161,7 +177,7 @@ pub(crate) fn generate(
             }
 
             #[doc = #fk_doc]
-            pub fn fk_numeric(params: &#params_ty, q: &[f64; #n_inputs]) -> ::std::vec::Vec<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
+            pub fn fk_numeric(params: &#params_ty, q: &[f64; #n_inputs]) -> #rt::fk_numeric::Assemblies<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
                 Self::prepare_fk_numeric(params).fk_numeric(q)
             }
         }
@@ -171,14 +187,22 @@ pub(crate) fn generate(
             /// The joints `given` holds: the inputs, then the virtual variable.
             pub const GIVEN: [&'static str; #n_given] = [#(#given_names),*];
 
-            #[doc = #sampling_doc]
-            pub const SAMPLING: #rt::fk_numeric::Sampling = #rt::fk_numeric::Sampling {
+            #[doc = #range_doc]
+            pub const RANGE: #rt::fk_numeric::VirtualRange = #rt::fk_numeric::VirtualRange {
                 lo: #lo_t,
                 hi: #hi_t,
-                samples: #samples,
-                zero: #zero,
                 periodic: #periodic,
             };
+
+            /// What the compatibility residual is.
+            pub const COMPATIBILITY: #rt::fk_numeric::Compatibility = #compatibility;
+
+            #[doc = #generic_doc]
+            pub fn residual_in<T: #rt::scalar::Scalar<Choice = #rt::primitives::Sign>>(&self, given: &[T; #n_given], signs: [#rt::primitives::Sign; #n_choices]) -> ::core::option::Option<T> {
+                let _ = &signs;
+                #generic_lets
+                ::core::option::Option::Some(#generic_expr)
+            }
 
             #[doc = #residual_doc]
             pub fn residual(&self, given: &[f64; #n_given], signs: [#rt::primitives::Sign; #n_choices]) -> ::core::result::Result<f64, #rt::solution::SolveError> {
@@ -201,32 +225,52 @@ pub(crate) fn generate(
             }
 
             /// Every real assembly at the inputs `q`: the roots of the
-            /// compatibility residual on every branch (the runtime's
-            /// virtual-variable root driver), each solved and
-            /// verified, an assembly two branches share once.
-            pub fn fk_numeric(&self, q: &[f64; #n_inputs]) -> ::std::vec::Vec<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
+            /// compatibility residual on every branch, each certified or
+            /// possible (the runtime's certified driver on
+            /// [`Self::residual_in`] over intervals), each solved and
+            /// verified, an assembly two branches share once; roots
+            /// without a verified assembly in `unresolved`.
+            pub fn fk_numeric(&self, q: &[f64; #n_inputs]) -> #rt::fk_numeric::Assemblies<#rt::fk_numeric::Found<#n_joints, #n_points, #dim, #n_choices>> {
                 let given = |v: f64| -> [f64; #n_given] { ::core::array::from_fn(|i| if i < #n_inputs { q[i] } else { v }) };
+                let enclosing = |x: #rt::interval::Interval| -> [#rt::interval::Enclosure<1>; #n_given] {
+                    ::core::array::from_fn(|i| {
+                        if i < #n_inputs {
+                            #rt::interval::Enclosure::constant(#rt::interval::Interval::point(q[i]))
+                        } else {
+                            #rt::interval::Enclosure::variable(x, 0)
+                        }
+                    })
+                };
                 let signs_of = |s: &[#rt::primitives::Sign]| -> [#rt::primitives::Sign; #n_choices] { ::core::array::from_fn(|k| s[k]) };
-                #rt::fk_numeric::solve_with(
-                    &Self::SAMPLING,
+                let found = #rt::fk_numeric::solve_with(
+                    &Self::RANGE,
                     #n_choices,
+                    |x, s| {
+                        let (raw, took) = #rt::interval::watch(|| self.residual_in(&enclosing(x), signs_of(s)));
+                        #rt::fk_numeric::enclosed(&Self::COMPATIBILITY, raw, q, took)
+                    },
                     |v, s| self.residual(&given(v), signs_of(s)).ok(),
                     |v, s| self.solution(&given(v), signs_of(s)).ok(),
                     |a: &([f64; #n_joints], [[f64; #dim]; #n_points]), b: &([f64; #n_joints], [[f64; #dim]; #n_points])| {
                         a.1.iter().zip(&b.1).all(|(p, q)| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-7 * #scale))
                             && a.0.iter().zip(&b.0).all(|(x, y)| #rt::fk_numeric::same_value(*x, *y, 1e-7 * #scale))
                     },
-                )
-                .into_iter()
-                .map(|(s, r, (values, points))| #rt::fk_numeric::Found {
-                    signs: signs_of(&s),
-                    virtual_value: r.x,
-                    residual: r.residual,
-                    kind: r.kind,
-                    q: values,
-                    points,
-                })
-                .collect()
+                );
+                let unresolved = found.unresolved;
+                let found = found
+                    .found
+                    .into_iter()
+                    .map(|(s, r, (values, points))| #rt::fk_numeric::Found {
+                        signs: signs_of(&s),
+                        virtual_value: r.x,
+                        residual: r.residual,
+                        kind: r.kind,
+                        cert: r.cert,
+                        q: values,
+                        points,
+                    })
+                    .collect();
+                #rt::fk_numeric::Assemblies { found, unresolved }
             }
         }
     })

@@ -67,7 +67,9 @@ pub enum Node {
     /// `atan2(a, b)`.
     Atan2(Sym, Sym),
     /// `if a < b { c } else { d }`.
-    IfLess(Sym, Sym, Sym, Sym),
+    /// `then` where `a < b`, else `otherwise`; the flag: a continuous
+    /// selection ([`Scalar::if_less_continuous`]).
+    IfLess(Sym, Sym, Sym, Sym, bool),
     /// The largest finite magnitude among the values, at least 1
     /// (`consistency::extent`): what verification scales residuals by.
     Extent(Vec<Sym>),
@@ -197,7 +199,7 @@ impl Graph {
             Node::Sqrt(_) | Node::Abs(_) | Node::Extent(_) => true,
             Node::Mul(a, b) if a == b => true,
             Node::Add(a, b) | Node::Mul(a, b) | Node::Div(a, b) => nn(a) && nn(b),
-            Node::IfLess(_, _, c, d) | Node::Pick(_, c, d) => nn(c) && nn(d),
+            Node::IfLess(_, _, c, d, _) | Node::Pick(_, c, d) => nn(c) && nn(d),
             Node::Chosen(_, _, a) => nn(a),
             _ => false,
         };
@@ -219,7 +221,7 @@ pub fn operands(n: &Node) -> Vec<Sym> {
         Node::Extent(values) => values.clone(),
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => vec![*a, *b],
         Node::Neg(a) | Node::Sqrt(a) | Node::Sin(a) | Node::Cos(a) | Node::Abs(a) => vec![*a],
-        Node::IfLess(a, b, c, d) => vec![*a, *b, *c, *d],
+        Node::IfLess(a, b, c, d, _) => vec![*a, *b, *c, *d],
         Node::Guard(a, b, f, _) => {
             let mut v = vec![*a, *b];
             match f {
@@ -455,21 +457,10 @@ impl Scalar for Sym {
         }
     }
     fn if_less(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
-        if then == otherwise {
-            return then;
-        }
-        match (konst(a), konst(b)) {
-            (Some(x), Some(y)) => {
-                if x < y {
-                    then
-                } else {
-                    otherwise
-                }
-            }
-            // A value never negative is not below 0.
-            (_, Some(y)) if y <= 0.0 && non_negative(a) => otherwise,
-            _ => node(Node::IfLess(a, b, then, otherwise)),
-        }
+        select(a, b, then, otherwise, false)
+    }
+    fn if_less_continuous(a: Self, b: Self, then: Self, otherwise: Self) -> Self {
+        select(a, b, then, otherwise, true)
     }
     fn require(
         a: Self,
@@ -570,7 +561,7 @@ pub fn derivative(roots: &[Sym], rate: &dyn Fn(usize) -> Sym) -> Vec<Sym> {
             Node::Cos(a) => -(a.sin() * dd(&a)),
             Node::Abs(a) => Sym::if_less(a, zero, -dd(&a), dd(&a)),
             Node::Atan2(y, x) => (x * dd(&y) - y * dd(&x)) / (x * x + y * y),
-            Node::IfLess(a, b, c, e) => Sym::if_less(a, b, dd(&c), dd(&e)),
+            Node::IfLess(a, b, c, e, k) => select(a, b, dd(&c), dd(&e), k),
             Node::Pick(k, p, m) => Sym::pick(Choice::Given(k), dd(&p), dd(&m)),
             // The chosen value's own derivative: derivatives are written only
             // in one-branch functions, where the choice's mark plays no part.
@@ -664,9 +655,9 @@ pub fn second_derivatives(
                 let grow = two * (x * x1 + y * y1);
                 (t1, (turn - t1 * grow) / squares)
             }
-            Node::IfLess(a, b, c, e) => {
+            Node::IfLess(a, b, c, e, k) => {
                 let ((c1, c2), (e1, e2)) = (dd(&c), dd(&e));
-                (Sym::if_less(a, b, c1, e1), Sym::if_less(a, b, c2, e2))
+                (select(a, b, c1, e1, k), select(a, b, c2, e2, k))
             }
             Node::Pick(k, p, m) => {
                 let ((p1, p2), (m1, m2)) = (dd(&p), dd(&m));
@@ -685,6 +676,25 @@ pub fn second_derivatives(
             }
         })
         .unzip()
+}
+
+/// [`Scalar::if_less`] on symbols, the continuous kind flagged.
+fn select(a: Sym, b: Sym, then: Sym, otherwise: Sym, continuous: bool) -> Sym {
+    if then == otherwise {
+        return then;
+    }
+    match (konst(a), konst(b)) {
+        (Some(x), Some(y)) => {
+            if x < y {
+                then
+            } else {
+                otherwise
+            }
+        }
+        // A value never negative is not below 0.
+        (_, Some(y)) if y <= 0.0 && non_negative(a) => otherwise,
+        _ => node(Node::IfLess(a, b, then, otherwise, continuous)),
+    }
 }
 
 #[cfg(test)]
@@ -709,7 +719,7 @@ mod tests {
             Node::Cos(a) => v(a).cos(),
             Node::Abs(a) => v(a).abs(),
             Node::Atan2(a, b) => v(a).atan2(v(b)),
-            Node::IfLess(a, b, c, e) => {
+            Node::IfLess(a, b, c, e, _) => {
                 if v(a) < v(b) {
                     v(c)
                 } else {

@@ -31,10 +31,6 @@ use pkm_runtime::model::{JointType, Model};
 use pkm_runtime::plan::{Check, Plan, Step};
 use std::collections::HashMap;
 
-/// Samples of the virtual variable over its range (a revolute's turn:
-/// every half degree).
-pub const SAMPLES: usize = 720;
-
 /// A diagnostic on the mechanism's name with the coupling notes.
 fn refusal(a: &Analysis, msg: String) -> Diagnostics {
     let mut d = Diagnostic::new(a.mechanism.name_span(), msg).label("in this mechanism");
@@ -165,10 +161,9 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize, dropped: Option<usize>) -
             range,
             periodic,
             compatibility: Compatibility::Input { joint, input, arc },
-            samples: SAMPLES,
         });
     }
-    let [check] = live[..] else {
+    let [(check, row)] = live[..] else {
         return Err(format!("{} checks not closed by construction, not one", live.len()));
     };
     let by = match checks[check] {
@@ -186,20 +181,23 @@ fn with_virtual(a: &Analysis, model: &Model, v: usize, dropped: Option<usize>) -
         joint: v,
         range,
         periodic,
-        compatibility: Compatibility::Miss { check, row: 0 },
-        samples: SAMPLES,
+        compatibility: Compatibility::Miss { check, row },
     })
 }
 
 /// The checks whose rows leave rounding somewhere over random inputs
 /// (revolutes over their turn, slides over the virtual slide's range) and
-/// virtual values, on every branch where the plan runs.
-fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) -> Result<Vec<usize>, String> {
+/// virtual values, on every branch where the plan runs, each with the row
+/// that does (the miss's component: row 0 of a planar aim's, another of a
+/// spatial one's); a check with two such rows is an error (one virtual
+/// variable leaves one scalar condition).
+fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) -> Result<Vec<(usize, usize)>, String> {
     let geometry = pkm_runtime::steps::Geometry::of(model);
     let scale = pkm_runtime::kinematics::model_scale(model);
     let slide = fk_numeric::slide_range(model);
     let mut rng = SplitMix::new(0x7669_7274);
-    let mut worst = vec![0.0f64; checks.len()];
+    let rows_per = pkm_runtime::steps::RESIDUAL_ROWS;
+    let mut worst = vec![0.0f64; checks.len() * rows_per];
     let mut ran = 0;
     let joints = plan.inputs.clone();
     for _ in 0..4000 {
@@ -233,14 +231,24 @@ fn live_checks(model: &Model, plan: &Plan, checks: &[Check], range: [f64; 2]) ->
             };
             ran += 1;
             let rows = pkm_runtime::steps::check_residual(&geometry, plan, checks, &state.poses, &given, scale);
-            for (k, w) in worst.iter_mut().enumerate() {
-                let r = &rows[k * pkm_runtime::steps::RESIDUAL_ROWS..(k + 1) * pkm_runtime::steps::RESIDUAL_ROWS];
-                *w = r.iter().fold(*w, |w, x| w.max(x.abs()));
+            for (w, x) in worst.iter_mut().zip(&rows) {
+                *w = w.max(x.abs());
             }
         }
     }
     if ran == 0 {
         return Err("its plan has no real solution at any sampled input".into());
     }
-    Ok((0..checks.len()).filter(|&k| worst[k] > 1e-6 * scale).collect())
+    let mut live = Vec::new();
+    for k in 0..checks.len() {
+        let rows: Vec<usize> = (0..rows_per)
+            .filter(|&r| worst[k * rows_per + r] > 1e-6 * scale)
+            .collect();
+        match rows[..] {
+            [] => {}
+            [row] => live.push((k, row)),
+            _ => return Err(format!("a check's miss has {} components, not one", rows.len())),
+        }
+    }
+    Ok(live)
 }

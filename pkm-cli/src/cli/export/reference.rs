@@ -9,7 +9,7 @@ use crate::cli::failure::{Failure, Kind};
 use crate::cli::solve::{input_values, ordered_pose, output_names, sign_text, Loaded, Request};
 use crate::cli::table::{number_of, signs_of};
 use pkm_dsl::mechanism::Capability;
-use pkm_runtime::fk_numeric::{RootKind, VirtualPlan};
+use pkm_runtime::fk_numeric::VirtualPlan;
 use pkm_runtime::model::Model;
 use pkm_runtime::newton::Output;
 use pkm_runtime::plan::{Plan, Solution};
@@ -237,7 +237,7 @@ fn numeric_reference(
     how.insert("solver".into(), json!("fk_numeric"));
     how.insert("virtual".into(), json!({ virtual_name: assembly.virtual_value }));
     how.insert("assembly".into(), json!(within));
-    how.insert("tangent".into(), json!(assembly.kind == RootKind::Tangency));
+    how.insert("tangent".into(), json!(!assembly.kind.certified()));
     how.insert("assemblies".into(), json!(listed));
     Ok(Reference {
         inputs,
