@@ -180,6 +180,11 @@ pub(super) fn inverse_only(
              (a link with three or more joints filled), joints by type, the base hatched"
         ),
     );
+    // A coupled mechanism's forward solution, where the file asks for it:
+    // its assembly modes over two inputs.
+    let (offsets, _) = model.value_offsets();
+    let given: Vec<f64> = model.inputs().iter().map(|&j| held.sample[offsets[j]]).collect();
+    super::assembly_modes::assembly_modes(page, l, &given, unit)?;
     let nodes = o.nodes.or(study.nodes);
     let positions = held.indices(|k| matches!(k, Kind::Position(_)));
     let angles = held.indices(|k| k == Kind::Angle);

@@ -10,6 +10,7 @@
 //! its `study { … }` block (see `docs/report.md`), the command line
 //! overriding each key, and sensible defaults for the rest.
 
+mod assembly_modes;
 mod dynamics;
 mod follow;
 mod html;
