@@ -502,11 +502,7 @@ pub fn solve_with<S>(
     let mut unresolved = Vec::new();
     let period = range.hi - range.lo;
     for (signs, ()) in crate::solution::every_branch(branches, |_| ()) {
-        let (mut found, stats) =
-            certify::roots([Interval::new(range.lo, range.hi)], &LIMITS, |x| enclose(x[0], &signs));
-        if std::env::var("PKM_STATS").is_ok() {
-            eprintln!("boxes {}", stats.boxes);
-        }
+        let (mut found, _) = certify::roots([Interval::new(range.lo, range.hi)], &LIMITS, |x| enclose(x[0], &signs));
         found.sort_by(|a, b| a.x[0].total_cmp(&b.x[0]));
         for c in found {
             let kind = match c.doubt {
