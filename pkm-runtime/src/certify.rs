@@ -145,50 +145,50 @@ fn inverse<const N: usize>(a: [[f64; N]; N]) -> Option<[[f64; N]; N]> {
     inv.iter().flatten().all(|x| x.is_finite()).then_some(inv)
 }
 
-/// `Y ≈ mid(J)⁻¹` and `‖I − Y·J(X)‖∞`: Krawczyk's operator can lie inside
-/// `X` only where that norm is below 1, so the middle's residual is not
-/// computed elsewhere.
-fn preconditioner<const N: usize>(e: &Enclosed<N>) -> Option<([[f64; N]; N], f64)> {
-    let mid_j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
-    let y = inverse(mid_j)?;
-    let mut worst = 0.0f64;
-    for (r, yr) in y.iter().enumerate() {
-        let mut row = 0.0;
-        for c in 0..N {
-            let mut a = Interval::point(if r == c { 1.0 } else { 0.0 });
-            for (l, yl) in yr.iter().enumerate() {
-                a = a - Interval::point(*yl) * e.j[l][c];
-            }
-            row += a.mag();
-        }
-        worst = worst.max(row);
-    }
-    worst.is_finite().then_some((y, worst))
+/// What Krawczyk's operator needs of a box's enclosure: `Y ≈ mid(J)⁻¹`,
+/// `C = I − Y·J(X)` and `‖C‖∞`. The operator can lie inside `X` only where
+/// that norm is below 1, so the middle's residual is not computed elsewhere.
+struct Preconditioned<const N: usize> {
+    y: [[f64; N]; N],
+    c: [[Interval; N]; N],
+    norm: f64,
 }
 
-/// Krawczyk's operator on `x` (see the module's text) with the
-/// preconditioner `y`; `None` where it cannot be formed.
+fn preconditioner<const N: usize>(e: &Enclosed<N>) -> Option<Preconditioned<N>> {
+    let mid_j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
+    let y = inverse(mid_j)?;
+    let c: [[Interval; N]; N] = core::array::from_fn(|r| {
+        core::array::from_fn(|col| {
+            let mut a = Interval::point(if r == col { 1.0 } else { 0.0 });
+            for (l, yl) in y[r].iter().enumerate() {
+                a = a - Interval::point(*yl) * e.j[l][col];
+            }
+            a
+        })
+    });
+    let norm = c
+        .iter()
+        .map(|row| row.iter().map(|a| a.mag()).sum::<f64>())
+        .fold(0.0f64, f64::max);
+    norm.is_finite().then_some(Preconditioned { y, c, norm })
+}
+
+/// Krawczyk's operator `m − Y·f(m) + C·(X − m)` on `x` (see the module's
+/// text); `None` where it cannot be formed.
 fn krawczyk<const N: usize>(
     x: &[Interval; N],
-    e: &Enclosed<N>,
+    p: &Preconditioned<N>,
     at_mid: &Enclosed<N>,
     m: &[f64; N],
-    y: &[[f64; N]; N],
 ) -> Option<[Interval; N]> {
     let mut k = [Interval::point(0.0); N];
     for (r, kr) in k.iter_mut().enumerate() {
-        // m − Y f(m)
         let mut acc = Interval::point(m[r]);
-        for (yc, fc) in y[r].iter().zip(&at_mid.f) {
+        for (yc, fc) in p.y[r].iter().zip(&at_mid.f) {
             acc = acc - Interval::point(*yc) * *fc;
         }
-        // + (I − Y J) (X − m)
-        for c in 0..N {
-            let mut a = Interval::point(if r == c { 1.0 } else { 0.0 });
-            for (l, yl) in y[r].iter().enumerate() {
-                a = a - Interval::point(*yl) * e.j[l][c];
-            }
-            acc = acc + a * (x[c] - Interval::point(m[c]));
+        for (c, xc) in x.iter().enumerate() {
+            acc = acc + p.c[r][c] * (*xc - Interval::point(m[c]));
         }
         *kr = acc;
     }
@@ -277,11 +277,11 @@ pub fn roots<const N: usize>(
                 _ => {}
             }
         }
-        if let Some((y, contraction)) = preconditioner(&e) {
-            if contraction < 1.0 {
+        if let Some(p) = preconditioner(&e) {
+            if p.norm < 1.0 {
                 let m: [f64; N] = x.map(|i| i.mid());
                 stats.boxes += 1;
-                let k = enclose(&m.map(Interval::point)).and_then(|a| krawczyk(&x, &e, &a, &m, &y));
+                let k = enclose(&m.map(Interval::point)).and_then(|a| krawczyk(&x, &p, &a, &m));
                 if let Some(k) = k {
                     if e.decided && (0..N).all(|i| k[i].inside(x[i])) {
                         out.push(refine(k, &mut enclose, &mut stats));
@@ -370,9 +370,9 @@ fn certified<const N: usize>(
 ) -> Option<[Interval; N]> {
     stats.boxes += 2;
     let e = enclose(x)?;
-    let (y, _) = preconditioner(&e)?;
+    let p = preconditioner(&e)?;
     let a = enclose(&m.map(Interval::point))?;
-    let k = krawczyk(x, &e, &a, m, &y)?;
+    let k = krawczyk(x, &p, &a, m)?;
     (e.decided && (0..N).all(|i| k[i].inside(x[i]))).then(|| core::array::from_fn(|i| k[i].meet(x[i])))
 }
 

@@ -272,8 +272,19 @@ pub fn range_of(model: &Model, joint: usize) -> ([f64; 2], bool) {
 /// `inputs` and the virtual variable `v`, by the plan interpreter; `None`
 /// where the branch's closed form has no real solution.
 pub fn residual(model: &Model, vp: &VirtualPlan, inputs: &[f64], v: f64, signs: &[Sign]) -> Option<f64> {
-    let geometry = crate::steps::Geometry::of(model);
-    let raw = raw_residual(&geometry, model, vp, inputs, v, signs)?;
+    residual_with(&crate::steps::Geometry::of(model), model, vp, inputs, v, signs)
+}
+
+/// [`residual`] on a prepared geometry.
+fn residual_with(
+    geometry: &crate::steps::Geometry<f64>,
+    model: &Model,
+    vp: &VirtualPlan,
+    inputs: &[f64],
+    v: f64,
+    signs: &[Sign],
+) -> Option<f64> {
+    let raw = raw_residual(geometry, model, vp, inputs, v, signs)?;
     let r = match vp.compatibility {
         Compatibility::Miss { .. } => raw,
         Compatibility::Input { input, arc, .. } => Compatibility::input_residual(arc, raw, *inputs.get(input)?),
@@ -376,14 +387,7 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Assembli
                 interval::watch(|| raw_residual(&enclosing, model, vp, inputs, Enclosure::variable(x, 0), signs));
             enclosed(&vp.compatibility, raw, inputs, took)
         },
-        |v, signs| {
-            let raw = raw_residual(&geometry, model, vp, inputs, v, signs)?;
-            let r = match vp.compatibility {
-                Compatibility::Miss { .. } => raw,
-                Compatibility::Input { input, arc, .. } => Compatibility::input_residual(arc, raw, inputs[input]),
-            };
-            Some(r)
-        },
+        |v, signs| residual_with(&geometry, model, vp, inputs, v, signs),
         |v, signs| verified(model, vp, &given(v), signs),
         |a: &Solution, b: &Solution| {
             a.poses.iter().zip(&b.poses).all(|(p, q)| {
