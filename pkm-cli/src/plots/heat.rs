@@ -11,6 +11,26 @@ use std::path::Path;
 
 /// The width of a heat map's colour bar strip, in pixels.
 const BAR_WIDTH: u32 = 150;
+/// The mark legend's line height, and the characters of 12-pixel sans
+/// that fit its line (the strip less the cross: 126 px at ≤ 6.5 px each).
+const LINE: i32 = 14;
+const MARK_CHARS: usize = 19;
+
+/// `text` in lines of at most `width` characters, broken between words
+/// (a longer word keeps its own line).
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(l) if l.chars().count() + 1 + word.chars().count() <= width => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
 
 /// The edges of node `k`'s cell on the axis of node values `v` (at least
 /// two): half a step either side of it.
@@ -36,6 +56,9 @@ pub struct HeatStyle<'a> {
     /// What a cross means (the legend under the colour bar and the CSV's
     /// last column's name).
     pub mark_label: &'a str,
+    /// The values are counts: the colour bar is ticked at whole numbers
+    /// only.
+    pub counts: bool,
 }
 
 /// A heat map of `values` over the grid `xs` × `ys` (`values[i · ys.len() + j]`
@@ -162,10 +185,19 @@ pub fn heat_map(
                         + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))
                 });
             chart.draw_series(crosses).map_err(err)?;
-            // The colour bar: a column of 100 bands from the least value to the greatest.
+            // The colour bar: a column of 100 bands from the least value to
+            // the greatest, the mark's legend under it in lines that fit
+            // the strip.
+            let mark_lines = wrap(self.style.mark_label, MARK_CHARS);
             let (top, bottom) = (
                 CAPTION + MARGIN,
-                X_LABELS + MARGIN + if self.style.marked.is_empty() { 0 } else { 30 },
+                X_LABELS
+                    + MARGIN
+                    + if self.style.marked.is_empty() {
+                        0
+                    } else {
+                        16 + LINE * mark_lines.len() as i32
+                    },
             );
             let mut scale = ChartBuilder::on(&bar)
                 .margin_top(top)
@@ -189,6 +221,13 @@ pub fn heat_map(
                 .y_label_formatter(&|v| {
                     if self.log {
                         tick(value(*v))
+                    } else if self.style.counts {
+                        // A count's ticks: the whole numbers alone.
+                        if (v - v.round()).abs() <= 1e-9 * span.max(1.0) {
+                            format!("{}", v.round())
+                        } else {
+                            String::new()
+                        }
                     } else {
                         tick_within(snap(*v, span), span)
                     }
@@ -208,19 +247,21 @@ pub fn heat_map(
                 .map_err(err)?;
             if self.style.marked.iter().any(|&m| m) {
                 let (_, h) = bar.dim_in_pixel();
-                let y = h as i32 - 24;
+                let y = h as i32 - 10 - LINE * mark_lines.len() as i32;
                 bar.draw(
                     &(EmptyElement::at((14, y))
                         + PathElement::new(vec![(-4, -4), (4, 4)], RED.stroke_width(2))
                         + PathElement::new(vec![(-4, 4), (4, -4)], RED.stroke_width(2))),
                 )
                 .map_err(err)?;
-                bar.draw(&Text::new(
-                    self.style.mark_label.to_string(),
-                    (24, y - 7),
-                    ("sans-serif", 12),
-                ))
-                .map_err(err)?;
+                for (k, line) in mark_lines.iter().enumerate() {
+                    bar.draw(&Text::new(
+                        line.clone(),
+                        (24, y - 7 + LINE * k as i32),
+                        ("sans-serif", 12),
+                    ))
+                    .map_err(err)?;
+                }
             }
             Ok(())
         }
@@ -241,4 +282,18 @@ pub fn heat_map(
     };
     let (png, svg) = both(stem, (700 + BAR_WIDTH, 600), &d)?;
     Ok(Figure { png, svg, csv })
+}
+
+#[cfg(test)]
+mod tests {
+    /// The mark legend broken between words to the strip's width.
+    #[test]
+    fn legend_lines_fit_the_strip() {
+        assert_eq!(
+            super::wrap("a root only possible (a fold)", super::MARK_CHARS),
+            ["a root only", "possible (a fold)"]
+        );
+        assert_eq!(super::wrap("ill-conditioned", super::MARK_CHARS), ["ill-conditioned"]);
+        assert_eq!(super::wrap("", 5), Vec::<String>::new());
+    }
 }

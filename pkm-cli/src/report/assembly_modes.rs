@@ -125,6 +125,7 @@ pub(super) fn assembly_modes(page: &mut Page, l: &Loaded, given: &[f64], unit: &
             log: false,
             marked: &marks,
             mark_label: "a root only possible (a fold)",
+            counts: true,
         },
     )?;
     page.figure(

@@ -420,6 +420,7 @@ pub(super) fn stiffness_map(
                 log: true,
                 marked: &ill,
                 mark_label: "ill-conditioned",
+                counts: false,
             },
         )?;
         page.figure(
