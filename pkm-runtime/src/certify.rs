@@ -341,6 +341,86 @@ pub fn roots<const N: usize>(
     (unique, stats)
 }
 
+/// Why [`near`] could not prove the root it tracked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lost {
+    /// Newton's method from the start did not converge inside the region.
+    Diverged,
+    /// The box from the start to the root found holds another root, or
+    /// one the search cannot decide (a fold near), or none it can prove.
+    NotAlone,
+}
+
+/// The root nearest a known point, proven to be the only one between
+/// them: Newton's method from `from` (steps kept inside `region`), then
+/// [`roots`] over the box spanning `from` and the point reached, widened
+/// by the last step and a margin of `margin` of each side of `region`.
+/// Where that box holds exactly one root, certified, and nothing
+/// possible, the root is returned with its certificate: no other root
+/// lies between the start and it, so a path of roots followed in small
+/// steps this way does not jump to another root without the search
+/// seeing it (it would have to lie in the box).
+///
+/// # Errors
+/// [`Lost`]: Newton's method failed, or the box holds more than that one
+/// root or undecided boxes.
+pub fn near<const N: usize>(
+    from: [f64; N],
+    region: &[Interval; N],
+    margin: f64,
+    limits: &Limits,
+    mut enclose: impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
+) -> Result<Root<N>, Lost> {
+    let (p, step) = newton(from, region, &mut enclose).ok_or(Lost::Diverged)?;
+    let span: [Interval; N] = core::array::from_fn(|i| {
+        let pad = 8.0 * step[i] + margin * region[i].width();
+        Interval::new(from[i].min(p[i]) - pad, from[i].max(p[i]) + pad).meet(region[i])
+    });
+    // One Krawczyk test on the whole span first (a short, well-conditioned
+    // step passes it); the search where it does not.
+    let mut stats = Stats::default();
+    if let Some(k) = certified(&span, &span.map(|i| i.mid()), &mut enclose, &mut stats) {
+        return Ok(refine(k, &mut enclose, &mut stats));
+    }
+    let (found, _) = roots(span, limits, &mut enclose);
+    match found[..] {
+        [one] if one.doubt.is_none() => Ok(one),
+        _ => Err(Lost::NotAlone),
+    }
+}
+
+/// Newton's method from `from` on the residual's values and Jacobian at
+/// points (their enclosures' middles), every step kept inside `region`:
+/// where the steps fall to 10⁻¹² of the region's sides, the point and the
+/// last step's size; `None` where a step leaves the region, the Jacobian
+/// is singular, or 40 steps do not converge.
+pub fn newton<const N: usize>(
+    from: [f64; N],
+    region: &[Interval; N],
+    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
+) -> Option<([f64; N], [f64; N])> {
+    let mut p = from;
+    for _ in 0..40 {
+        let e = enclose(&p.map(Interval::point))?;
+        let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
+        let y = inverse(j)?;
+        let f = e.f.map(|f| f.mid());
+        if f.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let d: [f64; N] = core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>());
+        p = core::array::from_fn(|i| p[i] + d[i]);
+        if !(0..N).all(|i| region[i].contains(p[i])) {
+            return None;
+        }
+        let step = d.map(f64::abs);
+        if (0..N).all(|i| step[i] <= 1e-12 * region[i].width()) {
+            return Some((p, step));
+        }
+    }
+    None
+}
+
 /// Where a box is split: a little off its middle.
 const SPLIT: f64 = 0.498_730_158_2;
 
@@ -654,5 +734,36 @@ mod tests {
             );
         }
         assert!(stats.boxes < 5000, "{stats:?}");
+    }
+
+    /// Tracking: Newton's root from a start, proven alone between them;
+    /// a Newton step that jumps over other roots is caught (sin x from
+    /// 1.5: Newton lands near −4π, past −π, −2π, −3π and 0), a start where
+    /// the Jacobian vanishes or a step leaves the region diverges.
+    #[test]
+    fn near_proves_the_root_it_reaches_alone() {
+        let region = [Interval::new(-20.0, 20.0)];
+        let square = |[x]: [Enclosure<1>; 1]| Some([x * x - Enclosure::c(1.0)]);
+        let r = near([0.9], &region, 1e-6, &Limits::default(), enclosed(square)).unwrap();
+        assert!(
+            r.doubt.is_none() && r.cert[0].contains(1.0) && (r.x[0] - 1.0).abs() <= 1e-15,
+            "{r:?}"
+        );
+        assert_eq!(
+            near([0.0], &region, 1e-6, &Limits::default(), enclosed(square)),
+            Err(Lost::Diverged)
+        );
+        let sine = |[x]: [Enclosure<1>; 1]| Some([x.sin()]);
+        assert_eq!(
+            near([1.5], &region, 1e-6, &Limits::default(), enclosed(sine)),
+            Err(Lost::NotAlone)
+        );
+        let r = near([0.3], &region, 1e-6, &Limits::default(), enclosed(sine)).unwrap();
+        assert!(r.x[0].abs() <= 1e-15 && r.cert[0].contains(0.0), "{r:?}");
+        let narrow = [Interval::new(-0.5, 2.0)];
+        assert_eq!(
+            near([0.1], &narrow, 1e-6, &Limits::default(), enclosed(square)),
+            Err(Lost::Diverged)
+        );
     }
 }

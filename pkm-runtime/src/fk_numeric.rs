@@ -100,43 +100,15 @@ pub fn enclosed(
     compatibility: &Compatibility,
     raw: Option<Enclosure<1>>,
     given: &[f64],
-    took: bool,
+    mut took: bool,
 ) -> Option<certify::Enclosed<1>> {
     let raw = raw?;
     let r = match *compatibility {
         Compatibility::Miss { .. } => raw,
         Compatibility::Input { input, arc, .. } => {
-            let d = raw - Enclosure::c(*given.get(input)?);
-            match arc {
-                None => d,
-                Some(radius) => {
-                    // Shifted by whole turns into (−π, π]; where it
-                    // crosses ±π there, the wrap's jump is inside.
-                    let turn = 2.0 * std::f64::consts::PI;
-                    let k = (d.v.mid() / turn).round();
-                    let w = d - Enclosure::c(k * turn);
-                    let pi = std::f64::consts::PI;
-                    if !(w.v.lo > -pi && w.v.hi < pi) {
-                        // Across the jump at ±π the wrapped values are
-                        // near ±π·radius: no root where the interval,
-                        // less than a turn wide, stays off zero on both
-                        // sides of it.
-                        let off = |lo: f64, hi: f64| lo > 0.0 && hi < turn;
-                        if off(w.v.lo, w.v.hi) || off(w.v.lo + turn, w.v.hi + turn) {
-                            return None;
-                        }
-                        return Some(certify::Enclosed {
-                            f: [Interval::new(
-                                -std::f64::consts::PI * radius,
-                                std::f64::consts::PI * radius,
-                            )],
-                            j: [[Interval::ENTIRE]],
-                            decided: false,
-                        });
-                    }
-                    w * Enclosure::c(radius)
-                }
-            }
+            let (r, jump) = difference(raw, *given.get(input)?, arc)?;
+            took |= jump;
+            r
         }
     };
     if r.v.is_empty() {
@@ -147,6 +119,38 @@ pub fn enclosed(
         j: [r.d],
         decided: !took,
     })
+}
+
+/// An input's computed value `raw` less its given value `given`, over a
+/// box: a slide's difference (`arc` `None`), or an angle's wrapped into
+/// (−π, π] by whole turns and measured as the arc of radius `arc`. Where
+/// the wrap's jump at ±π lies inside the box, the enclosure is
+/// [−π, π]·radius with an unknown derivative and `true` (the box is
+/// undecided); `None` where the values, less than a turn wide, stay off
+/// zero on both sides of the jump (no root).
+pub fn difference<const N: usize>(raw: Enclosure<N>, given: f64, arc: Option<f64>) -> Option<(Enclosure<N>, bool)> {
+    let d = raw - Enclosure::c(given);
+    let Some(radius) = arc else {
+        return Some((d, false));
+    };
+    let turn = 2.0 * std::f64::consts::PI;
+    let pi = std::f64::consts::PI;
+    let k = (d.v.mid() / turn).round();
+    let w = d - Enclosure::c(k * turn);
+    if w.v.lo > -pi && w.v.hi < pi {
+        return Some((w * Enclosure::c(radius), false));
+    }
+    let off = |lo: f64, hi: f64| lo > 0.0 && hi < turn;
+    if off(w.v.lo, w.v.hi) || off(w.v.lo + turn, w.v.hi + turn) {
+        return None;
+    }
+    Some((
+        Enclosure {
+            v: Interval::new(-pi * radius, pi * radius),
+            d: [Interval::ENTIRE; N],
+        },
+        true,
+    ))
 }
 
 /// A forward plan with one virtual variable: the closed-form plan with
@@ -296,7 +300,7 @@ fn residual_with(
 /// (an f64, an interval with its derivative): the miss's row, or the value
 /// of the input the plan computes (compared to its given value by the
 /// caller). `None` where a step has no solution.
-fn raw_residual<T: Scalar<Choice = Sign>>(
+pub(crate) fn raw_residual<T: Scalar<Choice = Sign>>(
     geometry: &crate::steps::Geometry<T>,
     model: &Model,
     vp: &VirtualPlan,
@@ -329,7 +333,7 @@ fn raw_residual<T: Scalar<Choice = Sign>>(
 /// checks ([`plan::run`]) and, for an [`Compatibility::Input`], the
 /// computed value meets the given one to the verification tolerance
 /// ([`zero_of`]).
-fn verified(model: &Model, vp: &VirtualPlan, given: &[f64], signs: &[Sign]) -> Option<Solution> {
+pub(crate) fn verified(model: &Model, vp: &VirtualPlan, given: &[f64], signs: &[Sign]) -> Option<Solution> {
     let solution = plan::run(model, &vp.plan, given, signs).ok()?;
     if let Compatibility::Input { joint, input, arc } = vp.compatibility {
         let r = Compatibility::input_residual(arc, solution.values[joint], given[input]);

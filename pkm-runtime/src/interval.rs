@@ -39,7 +39,9 @@ thread_local! {
     static UNDECIDED: Cell<bool> = const { Cell::new(false) };
 }
 
-fn undecided() {
+/// Records a decision that went both ways over the box being enclosed
+/// (read by [`watch`]).
+pub(crate) fn undecided() {
     UNDECIDED.with(|u| u.set(true));
 }
 

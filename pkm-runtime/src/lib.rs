@@ -12,6 +12,7 @@ pub mod batch;
 pub mod bounded;
 pub mod certify;
 pub mod consistency;
+pub mod fk_follow;
 pub mod fk_numeric;
 pub mod force_system;
 pub mod frame;

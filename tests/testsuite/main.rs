@@ -18,6 +18,7 @@ mod docs;
 mod dynamics_agreement;
 mod dynamics_generated;
 mod fk_agreement;
+mod fk_follow;
 mod fk_generated;
 mod fk_numeric;
 mod fk_planar;

@@ -1,0 +1,466 @@
+//! Forward positions along a trajectory of a coupled mechanism, without
+//! a silent jump to another assembly: from the previous assembly, Newton's
+//! method at the next inputs, then a certificate that no other assembly
+//! lies between the two ([`certify::near`]); where the certificate fails,
+//! the full forward solution ([`fk_numeric::solve`], κ = 1) and the
+//! assembly nearest the previous one, said so ([`How::Resolved`]). Where no
+//! full solution exists (κ ≥ 2), a tracked assembly without the
+//! certificate is reported possible ([`How::Possible`]), never as tracked.
+//!
+//! Two unknowns serve: the virtual variable of a κ = 1 plan on the
+//! previous assembly's branch ([`by_virtual`]), or the pose the inverse
+//! plan is given, on the previous assembly's inverse branch ([`by_pose`],
+//! any mechanism with an inverse plan whose outputs fix every link: the
+//! Stewart platform's six pose values, a 3-RPS's height and two tilts).
+//! The residual is the actuated joints' values the inverse plan computes
+//! less the given ones, an angle's difference wrapped and measured as the
+//! arc at the mechanism's size ([`fk_numeric::Compatibility::input_residual`]).
+
+use crate::certify::{self, Limits, Lost};
+use crate::fk_numeric::{self, Assembly, VirtualPlan};
+use crate::interval::{self, Enclosure, Interval};
+use crate::model::{JointType, Model};
+use crate::plan::{self, Plan, Solution};
+use crate::primitives::Sign;
+use crate::scalar::Scalar;
+use crate::solution::SolveError;
+
+/// How an assembly of a trajectory was reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum How {
+    /// Newton's method from the previous assembly, and a certificate
+    /// that no other assembly lies between them: the same assembly mode.
+    Tracked,
+    /// The certificate failed (a fold near, or a step too long): the full
+    /// forward solution found `assemblies` assemblies, and this is the one
+    /// nearest the previous (by every link's pose).
+    Resolved {
+        /// How many the full solution found.
+        assemblies: usize,
+    },
+    /// Newton's method reached a verified assembly, but nothing proves it
+    /// is the previous one's continuation, and no full solution exists to
+    /// choose from (κ ≥ 2): why.
+    Possible(Lost),
+}
+
+impl How {
+    /// In words.
+    pub fn text(self) -> String {
+        match self {
+            How::Tracked => "tracked".into(),
+            How::Resolved { assemblies } => {
+                format!("resolved: the certificate failed, the nearest of {assemblies} assemblies")
+            }
+            How::Possible(Lost::Diverged) => "possible: Newton's method did not converge".into(),
+            How::Possible(Lost::NotAlone) => {
+                "possible: another assembly may lie between this one and the previous (a fold near)".into()
+            }
+        }
+    }
+}
+
+/// One assembly of a trajectory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Followed {
+    /// The branch of the plan the unknowns run on (the virtual plan's, or
+    /// the inverse plan's).
+    pub signs: Vec<Sign>,
+    /// The unknowns: the virtual variable, or the inverse plan's given
+    /// values (the declared outputs).
+    pub unknowns: Vec<f64>,
+    /// Their certificate: proven to hold this assembly and no other
+    /// (tracked), or the full solution's (resolved), or the unknowns as
+    /// points (possible).
+    pub cert: Vec<Interval>,
+    /// How it was reached.
+    pub how: How,
+    /// Every link's pose and joint's value, verified.
+    pub solution: Solution,
+}
+
+/// Why a step of a trajectory has no assembly.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FollowError {
+    /// The inputs are not valid (count, finiteness).
+    Input(SolveError),
+    /// The full forward solution has no assembly at these inputs.
+    NoAssembly,
+    /// Newton's method from the previous assembly did not reach a verified
+    /// one and no full solution exists (κ ≥ 2).
+    Lost(Lost),
+}
+
+impl std::fmt::Display for FollowError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FollowError::Input(e) => write!(f, "{e}"),
+            FollowError::NoAssembly => write!(f, "no assembly at these inputs"),
+            FollowError::Lost(Lost::Diverged) => write!(
+                f,
+                "Newton's method from the previous assembly did not converge, and κ ≥ 2 has no full forward solution to fall back on"
+            ),
+            FollowError::Lost(Lost::NotAlone) => write!(f, "the assembly reached could not be verified"),
+        }
+    }
+}
+
+impl std::error::Error for FollowError {}
+
+/// The search a certificate may spend, over the box from the previous
+/// unknowns to the new: 64 boxes (a short, well-conditioned step is
+/// decided by one Krawczyk test), the box's resolution 10⁻¹⁰ of its side.
+pub const LIMITS: Limits = Limits {
+    boxes: 64,
+    resolution: 1e-10,
+    initial: 1,
+};
+
+/// The certificate's box is widened by this fraction of each unknown's
+/// range beyond the span from the previous unknowns to the new.
+pub const MARGIN: f64 = 1e-6;
+
+fn check_inputs(inputs: &[f64], n: usize) -> Result<(), FollowError> {
+    if inputs.len() != n {
+        return Err(FollowError::Input(SolveError::BadInput {
+            what: format!("expected {n} inputs, got {}", inputs.len()).into(),
+        }));
+    }
+    if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
+        return Err(FollowError::Input(SolveError::BadInput {
+            what: format!("given value {} is {}", i + 1, inputs[i]).into(),
+        }));
+    }
+    Ok(())
+}
+
+/// Whether two solutions place every link alike, within `tol` of the
+/// mechanism's size and `tol` radians; and how far apart they are (the
+/// largest such distance, angles at the size).
+pub fn distance(a: &Solution, b: &Solution, scale: f64) -> f64 {
+    a.poses
+        .iter()
+        .zip(&b.poses)
+        .map(|(p, q)| {
+            ((p.translation.vector - q.translation.vector).norm() / scale).max(p.rotation.angle_to(&q.rotation))
+        })
+        .fold(0.0, f64::max)
+}
+
+impl Followed {
+    /// A start from an assembly of the full forward solution (κ = 1).
+    pub fn from_assembly(a: &Assembly) -> Self {
+        Followed {
+            signs: a.signs.clone(),
+            unknowns: vec![a.virtual_value],
+            cert: vec![a.cert],
+            how: How::Tracked,
+            solution: a.solution.clone(),
+        }
+    }
+}
+
+/// The next assembly at `inputs` after `previous` (a κ = 1 mechanism's
+/// virtual plan `vp`): tracked on the previous branch and certified, or
+/// resolved by the full solution ([`fk_numeric::solve`]) as the nearest.
+///
+/// # Errors
+/// [`FollowError::Input`] for inputs of the wrong count or not finite;
+/// [`FollowError::NoAssembly`] where the full solution finds none.
+pub fn by_virtual(
+    model: &Model,
+    vp: &VirtualPlan,
+    inputs: &[f64],
+    previous: &Followed,
+) -> Result<Followed, FollowError> {
+    check_inputs(inputs, vp.plan.n_inputs - 1)?;
+    let enclosing = crate::steps::Geometry::<Enclosure<1>>::of(model);
+    let signs = previous.signs.clone();
+    let region = [Interval::new(vp.range[0], vp.range[1])];
+    let from = previous.unknowns.first().copied().unwrap_or(f64::NAN);
+    let given = |v: f64| {
+        let mut g = inputs.to_vec();
+        g.push(v);
+        g
+    };
+    let actuated = &vp.plan.inputs[..vp.plan.n_inputs - 1];
+    let before: Vec<f64> = actuated.iter().map(|&j| previous.solution.values[j]).collect();
+    let turns: Vec<bool> = actuated.iter().map(|&j| model.joints[j].kind != JointType::P).collect();
+    if from.is_finite() {
+        let tracked = substepped([from], &before, inputs, &turns, |q, x| {
+            certify::near(x, &region, MARGIN, &LIMITS, |b| {
+                let (raw, took) = interval::watch(|| {
+                    fk_numeric::raw_residual(&enclosing, model, vp, q, Enclosure::variable(b[0], 0), &signs)
+                });
+                fk_numeric::enclosed(&vp.compatibility, raw, q, took)
+            })
+        });
+        if let Ok(root) = tracked {
+            if let Some(solution) = fk_numeric::verified(model, vp, &given(root.x[0]), &signs) {
+                return Ok(Followed {
+                    signs,
+                    unknowns: vec![root.x[0]],
+                    cert: vec![root.cert[0]],
+                    how: How::Tracked,
+                    solution,
+                });
+            }
+        }
+    }
+    let all = fk_numeric::solve(model, vp, inputs).map_err(FollowError::Input)?;
+    let scale = crate::kinematics::model_scale(model);
+    let nearest = all
+        .iter()
+        .min_by(|a, b| {
+            distance(&a.solution, &previous.solution, scale).total_cmp(&distance(
+                &b.solution,
+                &previous.solution,
+                scale,
+            ))
+        })
+        .ok_or(FollowError::NoAssembly)?;
+    Ok(Followed {
+        how: How::Resolved { assemblies: all.len() },
+        ..Followed::from_assembly(nearest)
+    })
+}
+
+/// The step from the inputs `before` to `after` in 1, then 4, then 16
+/// equal parts (an angle's part of its wrapped difference: `turns`), each
+/// part `step(inputs, from)` from the last part's root: the last root
+/// where every part of one subdivision passes, or the last failure.
+fn substepped<const N: usize>(
+    from: [f64; N],
+    before: &[f64],
+    after: &[f64],
+    turns: &[bool],
+    mut step: impl FnMut(&[f64], [f64; N]) -> Result<certify::Root<N>, Lost>,
+) -> Result<certify::Root<N>, Lost> {
+    let mut last = Err(Lost::Diverged);
+    for parts in SUBSTEPS {
+        let mut x = from;
+        let mut done = None;
+        for k in 1..=parts {
+            let s = k as f64 / parts as f64;
+            let q: Vec<f64> = before
+                .iter()
+                .zip(after)
+                .zip(turns)
+                .map(|((&a, &b), &turn)| {
+                    let d = if turn { fk_numeric::angle_miss(b - a) } else { b - a };
+                    if k == parts {
+                        b
+                    } else {
+                        a + s * d
+                    }
+                })
+                .collect();
+            match step(&q, x) {
+                Ok(r) => {
+                    x = r.x;
+                    done = Some(r);
+                }
+                Err(e) => {
+                    last = Err(e);
+                    done = None;
+                    break;
+                }
+            }
+        }
+        if let Some(r) = done {
+            return Ok(r);
+        }
+    }
+    last
+}
+
+/// The subdivisions [`substepped`] tries: a step whose certificate fails
+/// whole may pass in parts (the box from each part's start to its root is
+/// smaller, the Jacobian's enclosure over it tighter).
+pub const SUBSTEPS: [usize; 3] = [1, 4, 16];
+
+/// The range each of the inverse plan's given values is searched over:
+/// an angle (`angles[i]`) two turns about zero, a length the model's
+/// reach ([`fk_numeric::slide_range`]) either side.
+fn pose_region(model: &Model, angles: &[bool]) -> Vec<Interval> {
+    let reach = fk_numeric::slide_range(model);
+    let turn = 2.0 * std::f64::consts::PI;
+    angles
+        .iter()
+        .map(|&a| {
+            if a {
+                Interval::new(-turn, turn)
+            } else {
+                Interval::new(-reach, reach)
+            }
+        })
+        .collect()
+}
+
+/// The start of a trajectory at a pose: the inverse plan's branch
+/// `branch` at the given values `pose` (the declared outputs), verified.
+///
+/// # Errors
+/// The inverse solution's error on that branch.
+pub fn at_pose(model: &Model, inverse: &Plan, pose: &[f64], branch: usize) -> Result<Followed, SolveError> {
+    if branch >= 1usize << inverse.branches {
+        return Err(SolveError::BadInput {
+            what: format!("branch {branch}: the inverse plan has {}", 1usize << inverse.branches).into(),
+        });
+    }
+    // Bit k set: choice k is `Minus` (the order of every listing).
+    let signs: Vec<Sign> = (0..inverse.branches)
+        .map(|k| if branch >> k & 1 == 0 { Sign::Plus } else { Sign::Minus })
+        .collect();
+    let solution = plan::run(model, inverse, pose, &signs)?;
+    Ok(Followed {
+        signs,
+        unknowns: pose.to_vec(),
+        cert: pose.iter().map(|&p| Interval::point(p)).collect(),
+        how: How::Tracked,
+        solution,
+    })
+}
+
+/// The next assembly at `inputs` (the actuated joints in declaration
+/// order) after `previous`, by the pose the inverse plan `inverse` is
+/// given (`angles[i]`: whether its given value `i` is an angle): tracked
+/// on the previous inverse branch and certified, or reported possible.
+/// Any mechanism with an inverse plan; κ ≥ 2 has no full forward solution
+/// to resolve a failed certificate.
+///
+/// # Errors
+/// [`FollowError::Input`] for inputs of the wrong count or not finite, or
+/// a plan with more than six given values; [`FollowError::Lost`] where
+/// Newton's method reaches no verified assembly.
+pub fn by_pose(
+    model: &Model,
+    inverse: &Plan,
+    angles: &[bool],
+    inputs: &[f64],
+    previous: &Followed,
+) -> Result<Followed, FollowError> {
+    let actuated = model.inputs();
+    check_inputs(inputs, actuated.len())?;
+    if angles.len() != inverse.n_inputs || previous.unknowns.len() != inverse.n_inputs {
+        return Err(FollowError::Input(SolveError::BadInput {
+            what: format!("the inverse plan takes {} values", inverse.n_inputs).into(),
+        }));
+    }
+    let region = pose_region(model, angles);
+    let tracked = match inverse.n_inputs {
+        1 => pose_step::<1>(model, inverse, &region, &actuated, inputs, previous),
+        2 => pose_step::<2>(model, inverse, &region, &actuated, inputs, previous),
+        3 => pose_step::<3>(model, inverse, &region, &actuated, inputs, previous),
+        4 => pose_step::<4>(model, inverse, &region, &actuated, inputs, previous),
+        5 => pose_step::<5>(model, inverse, &region, &actuated, inputs, previous),
+        6 => pose_step::<6>(model, inverse, &region, &actuated, inputs, previous),
+        n => {
+            return Err(FollowError::Input(SolveError::BadInput {
+                what: format!("the inverse plan takes {n} values, more than a pose's six").into(),
+            }))
+        }
+    };
+    tracked.map_err(FollowError::Lost)
+}
+
+/// [`by_pose`] for a plan given `N` values.
+fn pose_step<const N: usize>(
+    model: &Model,
+    inverse: &Plan,
+    region: &[Interval],
+    actuated: &[usize],
+    inputs: &[f64],
+    previous: &Followed,
+) -> Result<Followed, Lost> {
+    let enclosing = crate::steps::Geometry::<Enclosure<N>>::of(model);
+    let scale = crate::kinematics::model_scale(model);
+    let signs = previous.signs.clone();
+    let region: [Interval; N] = core::array::from_fn(|i| region[i]);
+    let from: [f64; N] = core::array::from_fn(|i| previous.unknowns[i]);
+    let name = |_: usize| -> std::borrow::Cow<'static, str> { std::borrow::Cow::Borrowed("") };
+    let enclose = |inputs: &[f64], x: &[Interval; N]| -> Option<certify::Enclosed<N>> {
+        let (rows, took) = interval::watch(|| {
+            let given: Vec<Enclosure<N>> = (0..N).map(|i| Enclosure::variable(x[i], i)).collect();
+            let g = crate::steps::Given {
+                values: &given,
+                signs: &signs,
+                name: &name,
+                sites: 0,
+            };
+            let state = crate::steps::run(inverse, &enclosing, model.links.len(), &g).ok()?;
+            let mut rows = [Enclosure::<N>::c(0.0); N];
+            for (k, row) in rows.iter_mut().enumerate() {
+                let raw = crate::steps::value(&enclosing, &state, *actuated.get(k)?);
+                let arc = (model.joints[actuated[k]].kind != JointType::P).then_some(scale);
+                let (r, jump) = fk_numeric::difference(raw, inputs[k], arc)?;
+                if jump {
+                    interval::undecided();
+                }
+                *row = r;
+            }
+            Some(rows)
+        });
+        let rows = rows?;
+        if rows.iter().any(|r| r.v.is_empty()) {
+            return None;
+        }
+        Some(certify::Enclosed {
+            f: rows.map(|r| r.v),
+            j: rows.map(|r| r.d),
+            decided: !took,
+        })
+    };
+    let verify = |x: &[f64; N]| -> Option<Solution> {
+        let solution = plan::run(model, inverse, x, &signs).ok()?;
+        let zero = fk_numeric::zero_of(model);
+        actuated
+            .iter()
+            .zip(inputs)
+            .all(|(&j, &q)| {
+                let arc = (model.joints[j].kind != JointType::P).then_some(scale);
+                fk_numeric::Compatibility::input_residual(arc, solution.values[j], q).abs() <= zero
+            })
+            .then_some(solution)
+    };
+    let before: Vec<f64> = actuated.iter().map(|&j| previous.solution.values[j]).collect();
+    let turns: Vec<bool> = actuated.iter().map(|&j| model.joints[j].kind != JointType::P).collect();
+    let tracked = substepped(from, &before, inputs, &turns, |q, x| {
+        certify::near(x, &region, MARGIN, &LIMITS, |b| enclose(q, b))
+    });
+    match tracked {
+        Ok(root) => {
+            let solution = verify(&root.x).ok_or(Lost::NotAlone)?;
+            Ok(Followed {
+                signs: signs.clone(),
+                unknowns: root.x.to_vec(),
+                cert: root.cert.to_vec(),
+                how: How::Tracked,
+                solution,
+            })
+        }
+        Err(Lost::NotAlone) => {
+            // Newton converged: its point, verified, is possible.
+            let x = newton_point(from, &region, |b| enclose(inputs, b)).ok_or(Lost::Diverged)?;
+            let solution = verify(&x).ok_or(Lost::Diverged)?;
+            Ok(Followed {
+                signs: signs.clone(),
+                unknowns: x.to_vec(),
+                cert: x.iter().map(|&v| Interval::point(v)).collect(),
+                how: How::Possible(Lost::NotAlone),
+                solution,
+            })
+        }
+        Err(lost) => Err(lost),
+    }
+}
+
+/// Newton's point from `from` (as [`certify::near`] runs it), without the
+/// certificate.
+fn newton_point<const N: usize>(
+    from: [f64; N],
+    region: &[Interval; N],
+    mut enclose: impl FnMut(&[Interval; N]) -> Option<certify::Enclosed<N>>,
+) -> Option<[f64; N]> {
+    certify::newton(from, region, &mut enclose).map(|(p, _)| p)
+}
