@@ -47,6 +47,12 @@ enum Command {
         q: Vec<f64>,
         #[command(flatten)]
         many: Many,
+        /// With --csv, a trajectory: start at the assembly of this pose (the outputs by name, as `pkm ik --pose`) and follow it row by row, each row the previous row's assembly continued (`tracked`: proven the same assembly mode; `resolved`: the certificate failed, the nearest of the full forward solution's; `possible`: not proven).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, requires = "csv", value_parser = pkm_cli::report::parse_param)]
+        follow_from: Vec<(String, f64)>,
+        /// With --follow-from: the inverse branch the start pose is assembled on (as `pkm ik` numbers them; the first that solves if not given).
+        #[arg(long, requires = "follow_from")]
+        branch: Option<usize>,
         /// Override a parameter: `--param l1=120`.
         #[arg(long = "param", value_parser = pkm_cli::report::parse_param)]
         params: Vec<(String, f64)>,
@@ -240,6 +246,13 @@ fn solve_many<'r, S: cli::csv::Solver>(
         None => one(&solver).map(|text| write_out(&text)),
     };
     done.unwrap_or_else(|f| fail(json, &f))
+}
+
+/// `--follow-from` without `--csv`, which clap refuses before this runs.
+fn unreachable_follow() -> Result<String, Failure> {
+    Err(Failure::input(
+        "--follow-from needs --csv: the trajectory's inputs, one a row".to_string(),
+    ))
 }
 
 /// `pkm analyze`: the topology report, once the file meets what its
@@ -474,10 +487,22 @@ fn main() -> ExitCode {
             file,
             q,
             many,
+            follow_from,
+            branch,
             params,
             degrees,
         } => with_request(json, &file, &params, degrees, |r| {
-            solve_many(json, r, &many, cli::solve::Forward::new, |s| s.answer(&q, json))
+            if follow_from.is_empty() {
+                solve_many(json, r, &many, cli::solve::Forward::new, |s| s.answer(&q, json))
+            } else {
+                solve_many(
+                    json,
+                    r,
+                    &many,
+                    |r| cli::follow::Follow::new(r, &follow_from, branch),
+                    |_| unreachable_follow(),
+                )
+            }
         }),
         Command::Dynamics {
             file,

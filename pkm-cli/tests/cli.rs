@@ -2307,3 +2307,104 @@ fn every_assembly_and_huge_values() {
     assert_eq!(branches.len(), 8);
     assert!(branches.iter().all(|b| b["ok"] == true), "{v}");
 }
+
+/// `pkm fk --csv TRAJECTORY --follow-from POSE`: the 3-RPS (κ = 2) along a
+/// path of poses, its slides computed by `pkm ik` on the start's branch:
+/// every row is tracked (proven the same assembly mode) and puts the
+/// platform back at the path's pose; the 6-UPS's row is reached but said
+/// possible (or not reached, with why); a start pose naming an unknown
+/// output is refused with why.
+#[test]
+fn fk_follows_a_trajectory() {
+    let mut poses = String::from("ZA,alpha,beta\n");
+    let path: Vec<[f64; 3]> = (0..=10)
+        .map(|k| {
+            let t = f64::from(k) / 10.0;
+            [300.0 + 20.0 * t, 0.1 * t, -0.1 * t]
+        })
+        .collect();
+    for p in &path {
+        poses += &format!("{},{},{}\n", p[0], p[1], p[2]);
+    }
+    let poses = scratch_file("follow_poses.csv", &poses);
+    let ik = pkm(&["ik", "examples/mechanisms/rps_3.pkm", "--csv", &poses]);
+    assert!(ik.status.success());
+    let mut slides = String::from("P1,P2,P3\n");
+    let mut r = csv::Reader::from_reader(&ik.stdout[..]);
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let col = |name: &str| header.iter().position(|h| h.split(' ').next() == Some(name)).unwrap();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        if &rec[col("branch")] == "0" {
+            slides += &format!("{},{},{}\n", &rec[col("P1")], &rec[col("P2")], &rec[col("P3")]);
+        }
+    }
+    let slides = scratch_file("follow_slides.csv", &slides);
+    let out = pkm(&[
+        "fk",
+        "examples/mechanisms/rps_3.pkm",
+        "--csv",
+        &slides,
+        "--follow-from",
+        "ZA=300,alpha=0,beta=0",
+        "--branch",
+        "0",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut r = csv::Reader::from_reader(&out.stdout[..]);
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(
+        header,
+        [
+            "row",
+            "branch",
+            "signs",
+            "ok",
+            "reason",
+            "follow",
+            "ZA [mm]",
+            "alpha [rad]",
+            "beta [rad]"
+        ]
+    );
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), path.len());
+    for (rec, want) in rows.iter().zip(&path) {
+        assert_eq!((&rec[3], &rec[5]), ("true", "tracked"), "{rec:?}");
+        for i in 0..3 {
+            let got: f64 = rec[6 + i].parse().unwrap();
+            assert!(
+                (got - want[i]).abs() <= 1e-9 * want[i].abs().max(1.0),
+                "{rec:?} vs {want:?}"
+            );
+        }
+    }
+    // The 6-UPS: reached, not proven.
+    let out = pkm(&[
+        "fk",
+        "examples/mechanisms/ups_6.pkm",
+        "--csv",
+        &scratch_file("follow_legs.csv", "P1,P2,P3,P4,P5,P6\n275,276,277,275,276,277\n"),
+        "--follow-from",
+        "x=0,y=0,z=250,rx=0,ry=0,rz=0",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let row = text.lines().nth(1).unwrap();
+    assert!(row.contains(",true,,possible: ") || row.contains(",false,"), "{text}");
+    // A start pose naming an output the file does not declare.
+    let out = pkm(&[
+        "fk",
+        "examples/mechanisms/rps_3.pkm",
+        "--csv",
+        &slides,
+        "--follow-from",
+        "ZA=300,gamma=0,beta=0",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("unknown output `gamma`"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -54,7 +54,7 @@ impl How {
             }
             How::Possible(Lost::Diverged) => "possible: Newton's method did not converge".into(),
             How::Possible(Lost::NotAlone) => {
-                "possible: another assembly may lie between this one and the previous (a fold near)".into()
+                "possible: not proven the previous assembly's continuation (another assembly or a fold may lie between them, or the enclosures are too wide to tell)".into()
             }
         }
     }

@@ -4,6 +4,7 @@ pub mod csv;
 pub mod dynamics;
 pub mod export;
 pub mod failure;
+pub mod follow;
 pub mod solve;
 pub mod stiffness;
 pub mod table;

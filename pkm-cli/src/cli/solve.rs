@@ -101,9 +101,9 @@ pub(super) fn angular(kind: JointType) -> bool {
 }
 
 /// One solution: link poses and joint values.
-struct Configuration {
-    poses: Vec<Pose3>,
-    values: Vec<f64>,
+pub(super) struct Configuration {
+    pub(super) poses: Vec<Pose3>,
+    pub(super) values: Vec<f64>,
 }
 
 impl Configuration {
@@ -171,7 +171,7 @@ pub(super) fn output_names(l: &Loaded) -> Vec<(String, bool)> {
 
 /// The declared outputs' values (radians) in one configuration, in the
 /// order of [`output_names`].
-fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
+pub(super) fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
     let dim = if l.model.planar { 2 } else { 3 };
     let mut values = Vec::new();
     for (o, spec) in l.compiled.analysis.geometry.outputs.iter().zip(&l.outputs) {
