@@ -277,11 +277,40 @@ pub fn roots<const N: usize>(
                 _ => {}
             }
         }
+        // The centred form: f(X) ⊂ f(m) + J(X)·(X − m), where every
+        // decision went one way (the residual is smooth on the box). Where
+        // the residual's slope is a small difference of large terms (a
+        // flat residual of a mechanism near a singular pose), the
+        // enclosure of f itself is many times too wide, and this one
+        // excludes boxes that it cannot.
+        let m: [f64; N] = x.map(|i| i.mid());
+        let mut at_mid = None;
+        if e.decided && e.j.iter().flatten().all(|j| j.lo.is_finite() && j.hi.is_finite()) {
+            stats.boxes += 1;
+            at_mid = enclose(&m.map(Interval::point));
+            if let Some(a) = &at_mid {
+                let centred_excludes = (0..N).any(|r| {
+                    let mut acc = a.f[r];
+                    for c in 0..N {
+                        acc = acc + e.j[r][c] * (x[c] - Interval::point(m[c]));
+                    }
+                    !acc.is_empty() && !acc.contains(0.0)
+                });
+                if centred_excludes {
+                    continue;
+                }
+            }
+        }
         if let Some(p) = preconditioner(&e) {
             if p.norm < 1.0 {
-                let m: [f64; N] = x.map(|i| i.mid());
-                stats.boxes += 1;
-                let k = enclose(&m.map(Interval::point)).and_then(|a| krawczyk(&x, &p, &a, &m));
+                let a = match at_mid {
+                    Some(a) => Some(a),
+                    None => {
+                        stats.boxes += 1;
+                        enclose(&m.map(Interval::point))
+                    }
+                };
+                let k = a.and_then(|a| krawczyk(&x, &p, &a, &m));
                 if let Some(k) = k {
                     if e.decided && (0..N).all(|i| k[i].inside(x[i])) {
                         out.push(refine(k, &mut enclose, &mut stats));

@@ -35,6 +35,7 @@ pkm::mechanism!(pub BlockDriven, file = "examples/mechanisms/inverted_slider_cra
 // Planar parallel mechanisms and the κ = 1 examples (`fk_numeric`).
 pkm::mechanism!(pub ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(pub ThreeRpr, file = "examples/mechanisms/planar_3rpr.pkm");
+pkm::mechanism!(pub ThreeRprSix, file = "examples/mechanisms/planar_3rpr_six.pkm");
 pkm::mechanism!(pub Stephenson3, file = "examples/mechanisms/stephenson3.pkm");
 pkm::mechanism!(pub Tripteron, file = "examples/mechanisms/tripteron.pkm");
 

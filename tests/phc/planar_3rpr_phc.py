@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Every assembly of two planar 3-RPRs by PHCpack, for pkm's certified
+forward solution to be checked against (tests/testsuite/fk_numeric.rs,
+`planar_3rpr_against_phcpack`).
+
+The forward problem is written here from the mechanisms' dimensions alone,
+not from pkm: the platform's pose (x, y) and (c, s) = (cos φ, sin φ),
+
+    c² + s² − 1 = 0,
+    |(x, y) + R(φ)·b_i − a_i|² − ρ_i² = 0,  i = 1, 2, 3,
+
+a_i the base pivots, b_i the platform pins in the platform's frame, ρ_i
+the legs' lengths (the slides). PHCpack's blackbox solver (`phc -b`,
+polyhedral homotopy, Debian package `phcpack`) finds every complex root;
+the real ones (PHCpack's own verdict, "real regular" or "real singular")
+are written, one input a row: the mechanism, ρ1, ρ2, ρ3, PHCpack's count
+of finite solutions (regular or singular; the rest of its 16 paths go to
+infinity or fail), its count of failed paths, then each real assembly's
+x, y, φ (φ in (−π, π]) and a tag: `r` where PHCpack calls it real, `n`
+where PHCpack calls it complex but every imaginary part is below 1e-6
+(a root its path reached poorly: at one input of the 600 such a root
+stands alone, with err 3e-4, though complex roots of real polynomials come
+in conjugate pairs, and bisection on the residual finds it real). A 3-RPR
+has at most six assemblies (a sextic).
+
+The inputs: half from random platform poses (the legs' lengths that reach
+them, so at least one real assembly), half random lengths in the range the
+poses give (often none). Seeded: the same file every run.
+
+    python3 tests/phc/planar_3rpr_phc.py --make   # rewrite the fixture (needs `phc`)
+"""
+
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FIXTURE = os.path.join(HERE, "..", "fixtures", "planar_3rpr_phc.csv")
+
+# examples/mechanisms/planar_3rpr.pkm: r = 250, p = 60, 120° apart.
+def _on_circle(r, degrees):
+    return (r * math.cos(math.radians(degrees)), r * math.sin(math.radians(degrees)))
+
+
+MECHANISMS = {
+    "planar_3rpr": {
+        "a": [_on_circle(250, 210), _on_circle(250, 330), (0.0, 250.0)],
+        "b": [_on_circle(60, 210), _on_circle(60, 330), (0.0, 60.0)],
+        "poses": lambda rng: (rng.uniform(-80, 80), rng.uniform(-80, 80), rng.uniform(-1.0, 1.0)),
+    },
+    # examples/mechanisms/planar_3rpr_six.pkm.
+    "planar_3rpr_six": {
+        "a": [(0.0, 0.0), (159.1, 0.0), (0.0, 100.0)],
+        "b": [(0.0, 0.0), (170.4, 0.0), (208.4 * math.cos(0.7), 208.4 * math.sin(0.7))],
+        "poses": lambda rng: (rng.uniform(-150, 150), rng.uniform(-150, 150), rng.uniform(-math.pi, math.pi)),
+    },
+}
+
+VARS = ("x", "y", "c", "s")
+
+
+def poly_add(p, q, k=1.0):
+    out = dict(p)
+    for e, v in q.items():
+        out[e] = out.get(e, 0.0) + k * v
+    return out
+
+
+def poly_mul(p, q):
+    out = {}
+    for e1, v1 in p.items():
+        for e2, v2 in q.items():
+            e = tuple(a + b for a, b in zip(e1, e2))
+            out[e] = out.get(e, 0.0) + v1 * v2
+    return out
+
+
+def var(name):
+    e = [0, 0, 0, 0]
+    e[VARS.index(name)] = 1
+    return {tuple(e): 1.0}
+
+
+def const(v):
+    return {(0, 0, 0, 0): v}
+
+
+def text(p):
+    terms = []
+    for e, v in sorted(p.items()):
+        if v == 0.0:
+            continue
+        mono = "*".join(f"{n}^{k}" if k > 1 else n for n, k in zip(VARS, e) if k > 0)
+        coef = f"{v:+.17E}"
+        terms.append(f"{coef}*{mono}" if mono else coef)
+    return " ".join(terms) + ";"
+
+
+def system(m, rho):
+    x, y, c, s = (var(n) for n in VARS)
+    eqs = [poly_add(poly_add(poly_mul(c, c), poly_mul(s, s)), const(-1.0))]
+    for (ax, ay), (bx, by), r in zip(m["a"], m["b"], rho):
+        # (x + c·bx − s·by − ax, y + s·bx + c·by − ay)
+        u = poly_add(poly_add(poly_add(x, c, bx), s, -by), const(-ax))
+        v = poly_add(poly_add(poly_add(y, s, bx), c, by), const(-ay))
+        eqs.append(poly_add(poly_add(poly_mul(u, u), poly_mul(v, v)), const(-r * r)))
+    return f"{len(eqs)}\n" + "\n".join(text(e) for e in eqs) + "\n"
+
+
+def solve(m, rho):
+    """PHCpack's finite solutions: (count, the real ones as (x, y, φ))."""
+    with tempfile.TemporaryDirectory() as d:
+        inp, out = os.path.join(d, "in"), os.path.join(d, "out")
+        with open(inp, "w") as f:
+            f.write(system(m, rho))
+        subprocess.run(["phc", "-b", inp, out], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(out) as f:
+            lines = f.read().split("THE SOLUTIONS :")[-1].splitlines()
+    sols, cur, failed = [], {}, 0
+    for line in lines:
+        parts = line.split()
+        if len(parts) == 4 and parts[0] in VARS and parts[1] == ":":
+            cur[parts[0]] = (float(parts[2]), float(parts[3]))
+        elif line.startswith("== err"):
+            # The path's end: "real regular", "complex regular", "... singular",
+            # "at infinity", "no solution" (a failed path).
+            tag = line.rstrip("= ").rsplit("=", 1)[-1].strip()
+            if tag.endswith("regular") or tag.endswith("singular"):
+                sols.append((cur, tag))
+            elif tag == "no solution":
+                failed += 1
+            cur = {}
+    real = []
+    for sol, tag in sols:
+        near = all(abs(im) <= 1e-6 * max(1.0, abs(re)) for re, im in sol.values())
+        if tag.startswith("real") or near:
+            x, y, c, s = (sol[n][0] for n in VARS)
+            real.append((x, y, math.atan2(s, c), "r" if tag.startswith("real") else "n"))
+    return len(sols), failed, real
+
+
+def main():
+    if "--make" not in sys.argv:
+        print(__doc__)
+        return
+    rng = random.Random(20261129)
+    rows = ["mechanism,rho1,rho2,rho3,finite,failed,real assemblies (x y phi tag)..."]
+    per = 300
+    for name, m in MECHANISMS.items():
+        reach = []
+        for k in range(per):
+            if k % 2 == 0 or not reach:
+                x, y, phi = m["poses"](rng)
+                c, s = math.cos(phi), math.sin(phi)
+                rho = [
+                    math.hypot(x + c * bx - s * by - ax, y + s * bx + c * by - ay)
+                    for (ax, ay), (bx, by) in zip(m["a"], m["b"])
+                ]
+                reach.append(rho)
+            else:
+                lo = min(min(r) for r in reach)
+                hi = max(max(r) for r in reach)
+                rho = [rng.uniform(lo, hi) for _ in range(3)]
+            finite, failed, real = solve(m, rho)
+            cells = [name] + [repr(r) for r in rho] + [str(finite), str(failed)]
+            for a in real:
+                cells += [repr(v) for v in a[:3]] + [a[3]]
+            rows.append(",".join(cells))
+        print(f"{name}: {per} inputs", file=sys.stderr)
+    with open(FIXTURE, "w") as f:
+        f.write("\n".join(rows) + "\n")
+
+
+if __name__ == "__main__":
+    main()
