@@ -2340,37 +2340,26 @@ fn fk_follows_a_trajectory() {
         }
     }
     let slides = scratch_file("follow_slides.csv", &slides);
-    let out = pkm(&[
-        "fk",
+    let follow = |file: &str, csv: &str, from: &str, more: &[&str]| {
+        let args: Vec<&str> = ["fk", file, "--csv", csv, "--follow-from", from]
+            .into_iter()
+            .chain(more.iter().copied())
+            .collect();
+        pkm(&args)
+    };
+    let out = follow(
         "examples/mechanisms/rps_3.pkm",
-        "--csv",
         &slides,
-        "--follow-from",
         "ZA=300,alpha=0,beta=0",
-        "--branch",
-        "0",
-    ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let mut r = csv::Reader::from_reader(&out.stdout[..]);
-    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    assert_eq!(
-        header,
-        [
-            "row",
-            "branch",
-            "signs",
-            "ok",
-            "reason",
-            "follow",
-            "ZA [mm]",
-            "alpha [rad]",
-            "beta [rad]"
-        ]
+        &["--branch", "0"],
     );
-    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, rows) = read_csv(&out.stdout);
+    let want = "row branch signs ok reason follow ZA_[mm] alpha_[rad] beta_[rad]";
+    assert_eq!(header.join(" ").replace(" [", "_["), want);
     assert_eq!(rows.len(), path.len());
     for (rec, want) in rows.iter().zip(&path) {
-        assert_eq!((&rec[3], &rec[5]), ("true", "tracked"), "{rec:?}");
+        assert_eq!((rec[3].as_str(), rec[5].as_str()), ("true", "tracked"), "{rec:?}");
         for i in 0..3 {
             let got: f64 = rec[6 + i].parse().unwrap();
             assert!(
@@ -2380,14 +2369,13 @@ fn fk_follows_a_trajectory() {
         }
     }
     // The 6-UPS: reached, not proven.
-    let out = pkm(&[
-        "fk",
+    let legs = scratch_file("follow_legs.csv", "P1,P2,P3,P4,P5,P6\n275,276,277,275,276,277\n");
+    let out = follow(
         "examples/mechanisms/ups_6.pkm",
-        "--csv",
-        &scratch_file("follow_legs.csv", "P1,P2,P3,P4,P5,P6\n275,276,277,275,276,277\n"),
-        "--follow-from",
+        &legs,
         "x=0,y=0,z=250,rx=0,ry=0,rz=0",
-    ]);
+        &[],
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let mut r = csv::Reader::from_reader(&out.stdout[..]);
     let row = r.records().next().unwrap().unwrap();
@@ -2396,14 +2384,7 @@ fn fk_follows_a_trajectory() {
         "{row:?}"
     );
     // A start pose naming an output the file does not declare.
-    let out = pkm(&[
-        "fk",
-        "examples/mechanisms/rps_3.pkm",
-        "--csv",
-        &slides,
-        "--follow-from",
-        "ZA=300,gamma=0,beta=0",
-    ]);
+    let out = follow("examples/mechanisms/rps_3.pkm", &slides, "ZA=300,gamma=0,beta=0", &[]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
         String::from_utf8_lossy(&out.stderr).contains("unknown output `gamma`"),

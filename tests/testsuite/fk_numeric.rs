@@ -730,6 +730,25 @@ fn planar_3rpr_six_real_assemblies() {
     assert_eq!(total, 6);
 }
 
+/// Each assembly's platform pose (o, and φ the direction of R2 → R4,
+/// along the platform's x in both 3-RPR files) and whether it is
+/// certified; none unresolved.
+fn platform_poses<const J: usize, const P: usize, const B: usize>(
+    line: &str,
+    points: &[&str; P],
+    found: fk_numeric::Assemblies<fk_numeric::Found<J, P, 2, B>>,
+) -> Vec<([f64; 3], bool)> {
+    assert!(found.unresolved.is_empty(), "{line}: {:?}", found.unresolved);
+    let at = |name: &str| points.iter().position(|p| *p == name).unwrap();
+    found
+        .iter()
+        .map(|f| {
+            let (o, a, b) = (f.points[at("o")], f.points[at("R2")], f.points[at("R4")]);
+            ([o[0], o[1], (b[1] - a[1]).atan2(b[0] - a[0])], f.kind.certified())
+        })
+        .collect()
+}
+
 /// Every real assembly of the two planar 3-RPRs at 300 inputs each,
 /// against PHCpack (`tests/phc/planar_3rpr_phc.py`: the forward problem
 /// written from the dimensions alone, as four polynomials in the pose,
@@ -750,7 +769,6 @@ fn planar_3rpr_against_phcpack() {
         ThreeRpr::prepare_fk_numeric(&Default::default()),
         ThreeRprSix::prepare_fk_numeric(&Default::default()),
     );
-    let at = |points: &[&str], name: &str| points.iter().position(|p| *p == name).unwrap();
     let mut counts = std::collections::BTreeMap::new();
     let (mut worst, mut near_real) = (0.0f64, 0);
     for line in text.lines().skip(1) {
@@ -765,33 +783,11 @@ fn planar_3rpr_against_phcpack() {
             .collect();
         near_real += phc.iter().filter(|(_, real)| !real).count();
         let phc: Vec<[f64; 3]> = phc.into_iter().map(|(r, _)| r).collect();
-        // Each assembly's platform pose: o, and φ the direction of R2 → R4
-        // (along the platform's x in both files).
-        let poses: Vec<([f64; 3], bool)> = match cells[0] {
-            "planar_3rpr" => {
-                let p = &ThreeRpr::POINTS;
-                let found = plain.fk_numeric(&q);
-                assert!(found.unresolved.is_empty(), "{line}: {:?}", found.unresolved);
-                found
-                    .iter()
-                    .map(|f| {
-                        let (o, a, b) = (f.points[at(p, "o")], f.points[at(p, "R2")], f.points[at(p, "R4")]);
-                        ([o[0], o[1], (b[1] - a[1]).atan2(b[0] - a[0])], f.kind.certified())
-                    })
-                    .collect()
-            }
+        let poses = match cells[0] {
+            "planar_3rpr" => platform_poses(line, &ThreeRpr::POINTS, plain.fk_numeric(&q)),
             "planar_3rpr_six" => {
                 assert_eq!(finite, 6, "{line}");
-                let p = &ThreeRprSix::POINTS;
-                let found = six.fk_numeric(&q);
-                assert!(found.unresolved.is_empty(), "{line}: {:?}", found.unresolved);
-                found
-                    .iter()
-                    .map(|f| {
-                        let (o, a, b) = (f.points[at(p, "o")], f.points[at(p, "R2")], f.points[at(p, "R4")]);
-                        ([o[0], o[1], (b[1] - a[1]).atan2(b[0] - a[0])], f.kind.certified())
-                    })
-                    .collect()
+                platform_poses(line, &ThreeRprSix::POINTS, six.fk_numeric(&q))
             }
             other => panic!("{other}"),
         };

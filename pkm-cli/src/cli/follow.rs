@@ -15,7 +15,7 @@
 
 use super::csv::Solver;
 use super::failure::{Failure, Kind};
-use super::solve::{angular, input_values, load, ordered_pose, output_names, output_values, Configuration};
+use super::solve::{input_columns, input_values, load, ordered_pose, output_names, output_values, Configuration};
 use super::solve::{Loaded, Request, Units};
 use super::table::{number_of, Branch, Cell, Column};
 use pkm_runtime::fk_follow::{self, Followed};
@@ -121,12 +121,7 @@ impl<'r> Follow<'r> {
 
 impl Solver for Follow<'_> {
     fn given(&self) -> Vec<Column> {
-        let units = Units::of(self.r, &self.l);
-        let m = &self.l.model;
-        self.inputs
-            .iter()
-            .map(|&j| Column::new(&m.joints[j].name, units.of_kind(angular(m.joints[j].kind))))
-            .collect()
+        input_columns(self.r, &self.l, &self.inputs)
     }
 
     fn columns(&self) -> Vec<Column> {

@@ -532,6 +532,17 @@ pub(super) fn input_values(
         .collect())
 }
 
+/// The columns a row of inputs gives: the actuated joints `inputs`, each
+/// in its unit.
+pub(super) fn input_columns(r: &Request, l: &Loaded, inputs: &[usize]) -> Vec<Column> {
+    let units = Units::of(r, l);
+    let m = &l.model;
+    inputs
+        .iter()
+        .map(|&j| Column::new(&m.joints[j].name, units.of_kind(angular(m.joints[j].kind))))
+        .collect()
+}
+
 /// How the forward position is solved: the closed-form plan, or for a
 /// κ = 1 file that asks for `fk_numeric` the virtual variable's plan.
 enum Way {
@@ -713,12 +724,7 @@ impl<'r> Forward<'r> {
 
 impl super::csv::Solver for Forward<'_> {
     fn given(&self) -> Vec<Column> {
-        let units = Units::of(self.r, &self.l);
-        let m = &self.l.model;
-        self.inputs
-            .iter()
-            .map(|&j| Column::new(&m.joints[j].name, units.of_kind(angular(m.joints[j].kind))))
-            .collect()
+        input_columns(self.r, &self.l, &self.inputs)
     }
 
     fn columns(&self) -> Vec<Column> {
