@@ -574,7 +574,18 @@ impl<'r> Forward<'r> {
             let inputs = vp.plan.inputs[..vp.plan.inputs.len() - 1].to_vec();
             (Way::Numeric(Box::new(vp)), inputs)
         } else {
-            let plan = l.compiled.forward().cloned().map_err(|d| r.parse_failure(d))?;
+            let coupled = l.compiled.analysis.topology.kappa != 0 && l.compiled.inverse().is_ok();
+            let plan = l.compiled.forward().cloned().map_err(|mut d| {
+                // A coupled mechanism with an inverse plan is followed
+                // along a trajectory from a known pose.
+                if let (true, Some(first)) = (coupled, d.0.first_mut()) {
+                    *first = first.clone().note(
+                        "along a trajectory from a known pose: `pkm fk FILE --csv TRAJECTORY --follow-from POSE` \
+                         (docs/certified.md, \"Trajectories\")",
+                    );
+                }
+                r.parse_failure(d)
+            })?;
             let inputs = plan.input_joints(&l.model);
             (Way::Plan(plan), inputs)
         };
