@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Every assembly of two planar 3-RPRs by PHCpack, for pkm's certified
+"""Every assembly of two planar 3-RPRs and a planar 3-RRR by PHCpack, for pkm's certified
 forward solution to be checked against (tests/testsuite/fk_numeric.rs,
 `planar_3rpr_against_phcpack`).
 
@@ -10,10 +10,14 @@ not from pkm: the platform's pose (x, y) and (c, s) = (cos φ, sin φ),
     |(x, y) + R(φ)·b_i − a_i|² − ρ_i² = 0,  i = 1, 2, 3,
 
 a_i the base pivots, b_i the platform pins in the platform's frame, ρ_i
-the legs' lengths (the slides). PHCpack's blackbox solver (`phc -b`,
-polyhedral homotopy, Debian package `phcpack`) finds every complex root;
+the legs' lengths (the slides). A 3-RRR is the same problem once its
+inputs are given: a_i is then the elbow, l1 from the base pivot at the
+input angle q_i, (A_i + l1·(cos q_i, sin q_i)), and ρ_i the distal link's
+length l2. PHCpack's blackbox solver (`phc -b`,
+polyhedral homotopy, Debian package `phcpack`; `-0`: its fixed seed, so
+the same file every run) finds every complex root;
 the real ones (PHCpack's own verdict, "real regular" or "real singular")
-are written, one input a row: the mechanism, ρ1, ρ2, ρ3, PHCpack's count
+are written, one input a row: the mechanism, its inputs (ρ1, ρ2, ρ3, or q1, q2, q3), PHCpack's count
 of finite solutions (regular or singular; the rest of its 16 paths go to
 infinity or fail), its count of failed paths, then each real assembly's
 x, y, φ (φ in (−π, π]) and a tag: `r` where PHCpack calls it real, `n`
@@ -56,6 +60,14 @@ MECHANISMS = {
         "a": [(0.0, 0.0), (159.1, 0.0), (0.0, 100.0)],
         "b": [(0.0, 0.0), (170.4, 0.0), (208.4 * math.cos(0.7), 208.4 * math.sin(0.7))],
         "poses": lambda rng: (rng.uniform(-150, 150), rng.uniform(-150, 150), rng.uniform(-math.pi, math.pi)),
+    },
+    # (Last, so that the 3-RPRs' inputs stay those of the first fixture.)
+    # examples/mechanisms/planar_3rrr.pkm: r = 250, p = 60, l1 = 160, l2 = 140.
+    "planar_3rrr": {
+        "a": [_on_circle(250, 210), _on_circle(250, 330), (0.0, 250.0)],
+        "b": [_on_circle(60, 210), _on_circle(60, 330), (0.0, 60.0)],
+        "arms": (160.0, 140.0),
+        "poses": lambda rng: (rng.uniform(-60, 60), rng.uniform(-60, 60), rng.uniform(-0.8, 0.8)),
     },
 }
 
@@ -110,13 +122,40 @@ def system(m, rho):
     return f"{len(eqs)}\n" + "\n".join(text(e) for e in eqs) + "\n"
 
 
+def inputs_at(m, pins, rng):
+    """The inputs that put the platform's pins at `pins`: the legs'
+    lengths, or for a 3-RRR the base angles, each leg's elbow one of its
+    two at random (`None` where a pin is out of an arm's reach)."""
+    if "arms" not in m:
+        return [math.hypot(px - ax, py - ay) for (ax, ay), (px, py) in zip(m["a"], pins)]
+    l1, l2 = m["arms"]
+    q = []
+    for (ax, ay), (px, py) in zip(m["a"], pins):
+        dx, dy = px - ax, py - ay
+        d = math.hypot(dx, dy)
+        cos_a = (l1 * l1 + d * d - l2 * l2) / (2 * l1 * d)
+        if not -1.0 < cos_a < 1.0:
+            return None
+        q.append(math.atan2(dy, dx) + rng.choice((-1, 1)) * math.acos(cos_a))
+    return q
+
+
+def problem(m, given):
+    """The 3-RPR problem (mechanism, lengths) the inputs pose."""
+    if "arms" not in m:
+        return m, given
+    l1, l2 = m["arms"]
+    elbows = [(ax + l1 * math.cos(q), ay + l1 * math.sin(q)) for (ax, ay), q in zip(m["a"], given)]
+    return {"a": elbows, "b": m["b"]}, [l2, l2, l2]
+
+
 def solve(m, rho):
     """PHCpack's finite solutions: (count, the real ones as (x, y, φ))."""
     with tempfile.TemporaryDirectory() as d:
         inp, out = os.path.join(d, "in"), os.path.join(d, "out")
         with open(inp, "w") as f:
             f.write(system(m, rho))
-        subprocess.run(["phc", "-b", inp, out], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        subprocess.run(["phc", "-0", "-b", inp, out], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         with open(out) as f:
             lines = f.read().split("THE SOLUTIONS :")[-1].splitlines()
     sols, cur, failed = [], {}, 0
@@ -147,7 +186,7 @@ def main():
         print(__doc__)
         return
     rng = random.Random(20261129)
-    rows = ["mechanism,rho1,rho2,rho3,finite,failed,real assemblies (x y phi tag)..."]
+    rows = ["mechanism,input1,input2,input3,finite,failed,real assemblies (x y phi tag)..."]
     per = 300
     for name, m in MECHANISMS.items():
         reach = []
@@ -155,17 +194,19 @@ def main():
             if k % 2 == 0 or not reach:
                 x, y, phi = m["poses"](rng)
                 c, s = math.cos(phi), math.sin(phi)
-                rho = [
-                    math.hypot(x + c * bx - s * by - ax, y + s * bx + c * by - ay)
-                    for (ax, ay), (bx, by) in zip(m["a"], m["b"])
-                ]
-                reach.append(rho)
+                pins = [(x + c * bx - s * by, y + s * bx + c * by) for bx, by in m["b"]]
+                given = inputs_at(m, pins, rng)
+                if given is None:
+                    continue
+                reach.append(given)
+            elif "arms" in m:
+                given = [rng.uniform(-math.pi, math.pi) for _ in range(3)]
             else:
                 lo = min(min(r) for r in reach)
                 hi = max(max(r) for r in reach)
-                rho = [rng.uniform(lo, hi) for _ in range(3)]
-            finite, failed, real = solve(m, rho)
-            cells = [name] + [repr(r) for r in rho] + [str(finite), str(failed)]
+                given = [rng.uniform(lo, hi) for _ in range(3)]
+            finite, failed, real = solve(*problem(m, given))
+            cells = [name] + [repr(r) for r in given] + [str(finite), str(failed)]
             for a in real:
                 cells += [repr(v) for v in a[:3]] + [a[3]]
             rows.append(",".join(cells))
