@@ -20,12 +20,15 @@ the real ones (PHCpack's own verdict, "real regular" or "real singular")
 are written, one input a row: the mechanism, its inputs (ρ1, ρ2, ρ3, or q1, q2, q3), PHCpack's count
 of finite solutions (regular or singular; the rest of its 16 paths go to
 infinity or fail), its count of failed paths, then each real assembly's
-x, y, φ (φ in (−π, π]) and a tag: `r` where PHCpack calls it real, `n`
+x, y, φ (φ in (−π, π]; PHCpack's root refined by Newton's method in 60
+digits on the same equations, the inputs and dimensions as the binary
+numbers they are, then rounded to double), a tag: `r` where PHCpack calls it real, `n`
 where PHCpack calls it complex but every imaginary part is below 1e-6
 (a root its path reached poorly: at one input of the 600 such a root
 stands alone, with err 3e-4, though complex roots of real polynomials come
-in conjugate pairs, and bisection on the residual finds it real). A 3-RPR
-has at most six assemblies (a sextic).
+in conjugate pairs, and bisection on the residual finds it real), and the
+condition number of the equations' Jacobian there (lengths scaled by the
+size, 250 mm; 1-norm). A 3-RPR has at most six assemblies (a sextic).
 
 The inputs: half from random platform poses (the legs' lengths that reach
 them, so at least one real assembly), half random lengths in the range the
@@ -146,7 +149,58 @@ def problem(m, given):
         return m, given
     l1, l2 = m["arms"]
     elbows = [(ax + l1 * math.cos(q), ay + l1 * math.sin(q)) for (ax, ay), q in zip(m["a"], given)]
-    return {"a": elbows, "b": m["b"]}, [l2, l2, l2]
+    return {"a": elbows, "b": m["b"], "base": m["a"], "arms": m["arms"], "q": given}, [l2, l2, l2]
+
+
+SIZE = 250.0  # the mechanisms' size (mm): lengths are scaled by it for the condition number
+
+
+def refined(m, rho, x0):
+    """PHCpack's real root `x0` (x, y, c, s) refined by Newton's method in
+    60-digit arithmetic on the same equations (the dimensions and inputs
+    as the binary numbers they are), and the condition number of the
+    Jacobian there, lengths scaled by SIZE (1-norm)."""
+    from mpmath import mp, mpf, matrix, lu_solve, inverse, mnorm, cos, sin
+
+    mp.dps = 60
+    a = [(mpf(ax), mpf(ay)) for ax, ay in m["a"]]
+    b = [(mpf(bx), mpf(by)) for bx, by in m["b"]]
+    r = [mpf(v) for v in rho]
+    if "arms" in m:
+        l1, l2 = (mpf(v) for v in m["arms"])
+        base = [(mpf(ax), mpf(ay)) for ax, ay in m["base"]]
+        a = [(ax + l1 * cos(mpf(q)), ay + l1 * sin(mpf(q))) for (ax, ay), q in zip(base, m["q"])]
+        r = [l2, l2, l2]
+
+    def f(v):
+        x, y, c, s = v
+        out = [c * c + s * s - 1]
+        for (ax, ay), (bx, by), ri in zip(a, b, r):
+            u, w = x + c * bx - s * by - ax, y + s * bx + c * by - ay
+            out.append(u * u + w * w - ri * ri)
+        return out
+
+    def jac(v):
+        x, y, c, s = v
+        rows = [[0, 0, 2 * c, 2 * s]]
+        for (ax, ay), (bx, by), ri in zip(a, b, r):
+            u, w = x + c * bx - s * by - ax, y + s * bx + c * by - ay
+            rows.append([2 * u, 2 * w, 2 * (u * bx + w * by), 2 * (-u * by + w * bx)])
+        return matrix(rows)
+
+    v = [mpf(t) for t in x0]
+    for _ in range(30):
+        d = lu_solve(jac(v), matrix(f(v)))
+        v = [vi - di for vi, di in zip(v, d)]
+    L = mpf(SIZE)
+    j = jac(v)
+    js = matrix(4, 4)
+    for i in range(4):
+        for k in range(4):
+            js[i, k] = j[i, k] * (L if k < 2 else 1) / (1 if i == 0 else L * L)
+    cond = mnorm(js, 1) * mnorm(inverse(js), 1)
+    x, y, c, s = v
+    return float(x), float(y), float(mp.atan2(s, c)), float(cond)
 
 
 def solve(m, rho):
@@ -176,8 +230,8 @@ def solve(m, rho):
     for sol, tag in sols:
         near = all(abs(im) <= 1e-6 * max(1.0, abs(re)) for re, im in sol.values())
         if tag.startswith("real") or near:
-            x, y, c, s = (sol[n][0] for n in VARS)
-            real.append((x, y, math.atan2(s, c), "r" if tag.startswith("real") else "n"))
+            x, y, phi, cond = refined(m, rho, [sol[n][0] for n in VARS])
+            real.append((x, y, phi, "r" if tag.startswith("real") else "n", cond))
     return len(sols), failed, real
 
 
@@ -186,7 +240,7 @@ def main():
         print(__doc__)
         return
     rng = random.Random(20261129)
-    rows = ["mechanism,input1,input2,input3,finite,failed,real assemblies (x y phi tag)..."]
+    rows = ["mechanism,input1,input2,input3,finite,failed,real assemblies (x y phi tag cond)..."]
     per = 300
     for name, m in MECHANISMS.items():
         reach = []
@@ -208,7 +262,7 @@ def main():
             finite, failed, real = solve(*problem(m, given))
             cells = [name] + [repr(r) for r in given] + [str(finite), str(failed)]
             for a in real:
-                cells += [repr(v) for v in a[:3]] + [a[3]]
+                cells += [repr(v) for v in a[:3]] + [a[3], f"{a[4]:.3e}"]
             rows.append(",".join(cells))
         print(f"{name}: {per} inputs", file=sys.stderr)
     with open(FIXTURE, "w") as f:
