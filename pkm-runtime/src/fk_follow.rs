@@ -16,6 +16,8 @@
 //! less the given ones, an angle's difference wrapped and measured as the
 //! arc at the mechanism's size ([`fk_numeric::Compatibility::input_residual`]).
 
+pub use crate::fk_numeric::distance;
+
 use crate::certify::{self, Limits, Lost};
 use crate::fk_numeric::{self, Assembly, VirtualPlan};
 use crate::interval::{self, Enclosure, Interval};
@@ -120,31 +122,9 @@ pub const LIMITS: Limits = Limits {
 /// range beyond the span from the previous unknowns to the new.
 pub const MARGIN: f64 = 1e-6;
 
+/// [`fk_numeric::check_inputs`] as a step's error.
 fn check_inputs(inputs: &[f64], n: usize) -> Result<(), FollowError> {
-    if inputs.len() != n {
-        return Err(FollowError::Input(SolveError::BadInput {
-            what: format!("expected {n} inputs, got {}", inputs.len()).into(),
-        }));
-    }
-    if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
-        return Err(FollowError::Input(SolveError::BadInput {
-            what: format!("given value {} is {}", i + 1, inputs[i]).into(),
-        }));
-    }
-    Ok(())
-}
-
-/// Whether two solutions place every link alike, within `tol` of the
-/// mechanism's size and `tol` radians; and how far apart they are (the
-/// largest such distance, angles at the size).
-pub fn distance(a: &Solution, b: &Solution, scale: f64) -> f64 {
-    a.poses
-        .iter()
-        .zip(&b.poses)
-        .map(|(p, q)| {
-            ((p.translation.vector - q.translation.vector).norm() / scale).max(p.rotation.angle_to(&q.rotation))
-        })
-        .fold(0.0, f64::max)
+    fk_numeric::check_inputs(inputs, n).map_err(FollowError::Input)
 }
 
 impl Followed {
@@ -184,10 +164,8 @@ pub fn by_virtual(
         g
     };
     let actuated = &vp.plan.inputs[..vp.plan.n_inputs - 1];
-    let before: Vec<f64> = actuated.iter().map(|&j| previous.solution.values[j]).collect();
-    let turns: Vec<bool> = actuated.iter().map(|&j| model.joints[j].kind != JointType::P).collect();
     if from.is_finite() {
-        let tracked = substepped([from], &before, inputs, &turns, |q, x| {
+        let tracked = substepped(model, actuated, &previous.solution, [from], inputs, |q, x| {
             certify::near(x, &region, MARGIN, &LIMITS, |b| {
                 let (raw, took) = interval::watch(|| {
                     fk_numeric::raw_residual(&enclosing, model, vp, q, Enclosure::variable(b[0], 0), &signs)
@@ -209,15 +187,10 @@ pub fn by_virtual(
     }
     let all = fk_numeric::solve(model, vp, inputs).map_err(FollowError::Input)?;
     let scale = crate::kinematics::model_scale(model);
-    let nearest = all
+    let (_, nearest) = all
         .iter()
-        .min_by(|a, b| {
-            distance(&a.solution, &previous.solution, scale).total_cmp(&distance(
-                &b.solution,
-                &previous.solution,
-                scale,
-            ))
-        })
+        .map(|a| (distance(&a.solution, &previous.solution, scale), a))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
         .ok_or(FollowError::NoAssembly)?;
     Ok(Followed {
         how: How::Resolved { assemblies: all.len() },
@@ -225,17 +198,21 @@ pub fn by_virtual(
     })
 }
 
-/// The step from the inputs `before` to `after` in 1, then 4, then 16
-/// equal parts (an angle's part of its wrapped difference: `turns`), each
+/// The step from the actuated joints' values in the solution `before`
+/// (`actuated`, in the inputs' order) to the inputs `after`, in 1, then 4,
+/// then 16 equal parts (an angle's part of its wrapped difference), each
 /// part `step(inputs, from)` from the last part's root: the last root
 /// where every part of one subdivision passes, or the last failure.
 fn substepped<const N: usize>(
+    model: &Model,
+    actuated: &[usize],
+    before: &Solution,
     from: [f64; N],
-    before: &[f64],
     after: &[f64],
-    turns: &[bool],
     mut step: impl FnMut(&[f64], [f64; N]) -> Result<certify::Root<N>, Lost>,
 ) -> Result<certify::Root<N>, Lost> {
+    let before: Vec<f64> = actuated.iter().map(|&j| before.values[j]).collect();
+    let turns: Vec<bool> = actuated.iter().map(|&j| model.joints[j].kind != JointType::P).collect();
     let mut last = Err(Lost::Diverged);
     for parts in SUBSTEPS {
         let mut x = from;
@@ -245,7 +222,7 @@ fn substepped<const N: usize>(
             let q: Vec<f64> = before
                 .iter()
                 .zip(after)
-                .zip(turns)
+                .zip(&turns)
                 .map(|((&a, &b), &turn)| {
                     let d = if turn { fk_numeric::angle_miss(b - a) } else { b - a };
                     if k == parts {
@@ -423,9 +400,7 @@ fn pose_step<const N: usize>(
             })
             .then_some(solution)
     };
-    let before: Vec<f64> = actuated.iter().map(|&j| previous.solution.values[j]).collect();
-    let turns: Vec<bool> = actuated.iter().map(|&j| model.joints[j].kind != JointType::P).collect();
-    let tracked = substepped(from, &before, inputs, &turns, |q, x| {
+    let tracked = substepped(model, actuated, &previous.solution, from, inputs, |q, x| {
         certify::near(x, &region, MARGIN, &LIMITS, |b| enclose(q, b))
     });
     match tracked {
@@ -441,7 +416,7 @@ fn pose_step<const N: usize>(
         }
         Err(Lost::NotAlone) => {
             // Newton converged: its point, verified, is possible.
-            let x = newton_point(from, &region, |b| enclose(inputs, b)).ok_or(Lost::Diverged)?;
+            let (x, _) = certify::newton(from, &region, &mut |b| enclose(inputs, b)).ok_or(Lost::Diverged)?;
             let solution = verify(&x).ok_or(Lost::Diverged)?;
             Ok(Followed {
                 signs: signs.clone(),
@@ -453,14 +428,4 @@ fn pose_step<const N: usize>(
         }
         Err(lost) => Err(lost),
     }
-}
-
-/// Newton's point from `from` (as [`certify::near`] runs it), without the
-/// certificate.
-fn newton_point<const N: usize>(
-    from: [f64; N],
-    region: &[Interval; N],
-    mut enclose: impl FnMut(&[Interval; N]) -> Option<certify::Enclosed<N>>,
-) -> Option<[f64; N]> {
-    certify::newton(from, region, &mut enclose).map(|(p, _)| p)
 }

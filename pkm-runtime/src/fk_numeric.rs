@@ -351,6 +351,37 @@ pub fn zero_of(model: &Model) -> f64 {
     crate::consistency::VERIFY_TOL * crate::kinematics::model_scale(model)
 }
 
+/// `n` inputs, each finite.
+///
+/// # Errors
+/// [`SolveError::BadInput`] for another count or a value not finite.
+pub fn check_inputs(inputs: &[f64], n: usize) -> Result<(), SolveError> {
+    if inputs.len() != n {
+        return Err(SolveError::BadInput {
+            what: format!("expected {n} inputs, got {}", inputs.len()).into(),
+        });
+    }
+    if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
+        return Err(SolveError::BadInput {
+            what: format!("given value {} is {}", i + 1, inputs[i]).into(),
+        });
+    }
+    Ok(())
+}
+
+/// How far apart two solutions place the links: the largest distance
+/// between a link's two origins, as a fraction of the mechanism's size
+/// `scale`, or between its two orientations, in radians.
+pub fn distance(a: &Solution, b: &Solution, scale: f64) -> f64 {
+    a.poses
+        .iter()
+        .zip(&b.poses)
+        .map(|(p, q)| {
+            ((p.translation.vector - q.translation.vector).norm() / scale).max(p.rotation.angle_to(&q.rotation))
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Every assembly at the mechanism's `inputs`: on every branch, every root
 /// of the compatibility residual over the virtual variable's range,
 /// certified or possible ([`crate::certify`]), solved and verified by the
@@ -360,16 +391,7 @@ pub fn zero_of(model: &Model) -> f64 {
 /// # Errors
 /// [`SolveError::BadInput`] for inputs of the wrong count or not finite.
 pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Assemblies<Assembly>, SolveError> {
-    if inputs.len() + 1 != vp.plan.n_inputs {
-        return Err(SolveError::BadInput {
-            what: format!("expected {} inputs, got {}", vp.plan.n_inputs - 1, inputs.len()).into(),
-        });
-    }
-    if let Some(i) = inputs.iter().position(|v| !v.is_finite()) {
-        return Err(SolveError::BadInput {
-            what: format!("given value {} is {}", i + 1, inputs[i]).into(),
-        });
-    }
+    check_inputs(inputs, vp.plan.n_inputs - 1)?;
     let geometry = crate::steps::Geometry::of(model);
     let enclosing = crate::steps::Geometry::<Enclosure<1>>::of(model);
     let range = VirtualRange {
@@ -393,12 +415,7 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Assembli
         },
         |v, signs| residual_with(&geometry, model, vp, inputs, v, signs),
         |v, signs| verified(model, vp, &given(v), signs),
-        |a: &Solution, b: &Solution| {
-            a.poses.iter().zip(&b.poses).all(|(p, q)| {
-                (p.translation.vector - q.translation.vector).norm() <= 1e-7 * scale
-                    && p.rotation.angle_to(&q.rotation) <= 1e-7
-            })
-        },
+        |a: &Solution, b: &Solution| distance(a, b, scale) <= 1e-7,
     );
     Ok(Assemblies {
         found: found
