@@ -89,7 +89,8 @@ pub enum FollowError {
     /// The full forward solution has no assembly at these inputs.
     NoAssembly,
     /// Newton's method from the previous assembly did not reach a verified
-    /// one and no full solution exists (κ ≥ 2).
+    /// one and there is no full forward solution to fall back on (κ ≥ 2, or
+    /// a κ = 1 mechanism without a virtual-variable plan).
     Lost(Lost),
 }
 
@@ -100,7 +101,7 @@ impl std::fmt::Display for FollowError {
             FollowError::NoAssembly => write!(f, "no assembly at these inputs"),
             FollowError::Lost(Lost::Diverged) => write!(
                 f,
-                "Newton's method from the previous assembly did not converge, and κ ≥ 2 has no full forward solution to fall back on"
+                "Newton's method from the previous assembly did not converge, and there is no full forward solution to fall back on"
             ),
             FollowError::Lost(Lost::NotAlone) => write!(f, "the assembly reached could not be verified"),
         }
@@ -258,9 +259,18 @@ pub const SUBSTEPS: [usize; 3] = [1, 4, 16];
 
 /// The range each of the inverse plan's given values is searched over:
 /// an angle (`angles[i]`) two turns about zero, a length the model's
-/// reach ([`fk_numeric::slide_range`]) either side.
-fn pose_region(model: &Model, angles: &[bool]) -> Vec<Interval> {
-    let reach = fk_numeric::slide_range(model);
+/// reach ([`fk_numeric::slide_range`]) and the driven slides' values
+/// (`inputs`) either side.
+fn pose_region(model: &Model, angles: &[bool], inputs: &[f64]) -> Vec<Interval> {
+    // The links' spans, and as far as the driven slides carry them.
+    let slides: f64 = model
+        .inputs()
+        .iter()
+        .zip(inputs)
+        .filter(|(&j, _)| model.joints[j].kind == JointType::P)
+        .map(|(_, q)| q.abs())
+        .sum();
+    let reach = fk_numeric::slide_range(model) + slides;
     let turn = 2.0 * std::f64::consts::PI;
     angles
         .iter()
@@ -324,7 +334,7 @@ pub fn by_pose(
             what: format!("the inverse plan takes {} values", inverse.n_inputs).into(),
         }));
     }
-    let region = pose_region(model, angles);
+    let region = pose_region(model, angles, inputs);
     let tracked = match inverse.n_inputs {
         1 => pose_step::<1>(model, inverse, &region, &actuated, inputs, previous),
         2 => pose_step::<2>(model, inverse, &region, &actuated, inputs, previous),
@@ -339,6 +349,32 @@ pub fn by_pose(
         }
     };
     tracked.map_err(FollowError::Lost)
+}
+
+/// Of the inverse plan's branches whose assembly at the same pose meets
+/// the inputs (`verify`), the one nearest the previous assembly, `own` (the
+/// previous step's branch) unless another is nearer: a branch's ± label
+/// may name the other configuration of a leg's passive joints across a
+/// line where the plan's choice flips (an Orthoglide leg's revolute turned
+/// half a turn with its parallelogram the other way, the platform where it
+/// was), and the mechanism does not jump there.
+fn continued(
+    inverse: &Plan,
+    previous: &Solution,
+    scale: f64,
+    own: (Vec<Sign>, Solution),
+    verify: impl Fn(&[Sign]) -> Option<Solution>,
+) -> (Vec<Sign>, Solution) {
+    let from_own = fk_numeric::distance(&own.1, previous, scale);
+    if from_own <= 1e-6 {
+        return own;
+    }
+    crate::solution::every_branch(inverse.branches, |s| verify(s))
+        .into_iter()
+        .filter_map(|(s, solution)| solution.map(|x| (fk_numeric::distance(&x, previous, scale), s, x)))
+        .filter(|(d, _, _)| *d < from_own)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or(own, |(_, s, x)| (s, x))
 }
 
 /// [`by_pose`] for a plan given `N` values.
@@ -388,8 +424,8 @@ fn pose_step<const N: usize>(
             decided: !took,
         })
     };
-    let verify = |x: &[f64; N]| -> Option<Solution> {
-        let solution = plan::run(model, inverse, x, &signs).ok()?;
+    let verify_on = |x: &[f64; N], signs: &[Sign]| -> Option<Solution> {
+        let solution = plan::run(model, inverse, x, signs).ok()?;
         let zero = fk_numeric::zero_of(model);
         actuated
             .iter()
@@ -400,14 +436,25 @@ fn pose_step<const N: usize>(
             })
             .then_some(solution)
     };
+    // The assembly at a pose, on the branch that continues the previous.
+    let verify = |x: &[f64; N]| -> Option<(Vec<Sign>, Solution)> {
+        let own = verify_on(x, &signs)?;
+        Some(continued(
+            inverse,
+            &previous.solution,
+            scale,
+            (signs.clone(), own),
+            |s| verify_on(x, s),
+        ))
+    };
     let tracked = substepped(model, actuated, &previous.solution, from, inputs, |q, x| {
         certify::near(x, &region, MARGIN, &LIMITS, |b| enclose(q, b))
     });
     match tracked {
         Ok(root) => {
-            let solution = verify(&root.x).ok_or(Lost::NotAlone)?;
+            let (signs, solution) = verify(&root.x).ok_or(Lost::NotAlone)?;
             Ok(Followed {
-                signs: signs.clone(),
+                signs,
                 unknowns: root.x.to_vec(),
                 cert: root.cert.to_vec(),
                 how: How::Tracked,
@@ -417,9 +464,9 @@ fn pose_step<const N: usize>(
         Err(Lost::NotAlone) => {
             // Newton converged: its point, verified, is possible.
             let (x, _) = certify::newton(from, &region, &mut |b| enclose(inputs, b)).ok_or(Lost::Diverged)?;
-            let solution = verify(&x).ok_or(Lost::Diverged)?;
+            let (signs, solution) = verify(&x).ok_or(Lost::Diverged)?;
             Ok(Followed {
-                signs: signs.clone(),
+                signs,
                 unknowns: x.to_vec(),
                 cert: x.iter().map(|&v| Interval::point(v)).collect(),
                 how: How::Possible(Lost::NotAlone),

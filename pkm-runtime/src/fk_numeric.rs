@@ -245,14 +245,20 @@ pub struct Assembly {
 /// The range a slide's virtual variable is sampled over: the slide's
 /// value is a distance between two points the rest of its loop joins, so
 /// at most the sum of every link's span (the largest distance of a joint
-/// place or named point from the link's origin, twice) and the slide's
-/// own places' offsets; `±` that.
+/// place, a parallelogram's far hinge or a named point from the link's
+/// origin, twice) and the slide's own places' offsets; `±` that.
 pub fn slide_range(model: &Model) -> f64 {
     let norm = |p: [f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
     let mut span = vec![0.0f64; model.links.len()];
     for j in &model.joints {
         for (side, &l) in j.links.iter().enumerate() {
-            span[l] = span[l].max(norm(j.places[side].at()));
+            // A parallelogram's far hinge, where its arm reaches, counts
+            // as a place of the link carrying the arm.
+            let reach = match j.places[side] {
+                crate::model::Place::Arm { at, arm, .. } => norm(at) + norm(arm),
+                ref place => norm(place.at()),
+            };
+            span[l] = span[l].max(reach);
         }
     }
     for p in &model.points {
