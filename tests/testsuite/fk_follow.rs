@@ -156,3 +156,193 @@ fn planar_3rpr_six_followed_through_its_folds() {
     eprintln!("planar_3rpr_six: 6 × {steps} steps: {tracked} tracked, {resolved} resolved, {lost} lost");
     assert!(tracked > 0 && resolved + lost > 0, "{tracked} {resolved} {lost}");
 }
+
+/// The platform's point where three spheres (centre `c[k]`, radius `r[k]`)
+/// meet, by hand (trilateration in the frame the first two centres and
+/// the third span): both roots, `None` where they do not meet.
+fn three_spheres(c: [[f64; 3]; 3], r: [f64; 3]) -> Option<[[f64; 3]; 2]> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let unit = |a: [f64; 3]| {
+        let n = dot(a, a).sqrt();
+        [a[0] / n, a[1] / n, a[2] / n]
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let (u, w) = (sub(c[1], c[0]), sub(c[2], c[0]));
+    let d = dot(u, u).sqrt();
+    let ex = unit(u);
+    let i = dot(ex, w);
+    let ey = unit([w[0] - i * ex[0], w[1] - i * ex[1], w[2] - i * ex[2]]);
+    let ez = cross(ex, ey);
+    let j = dot(ey, w);
+    let x = (r[0] * r[0] - r[1] * r[1] + d * d) / (2.0 * d);
+    let y = (r[0] * r[0] - r[2] * r[2] + i * i + j * j) / (2.0 * j) - i * x / j;
+    let z2 = r[0] * r[0] - x * x - y * y;
+    (z2 >= 0.0).then(|| {
+        [1.0, -1.0].map(|s| {
+            let z = s * z2.sqrt();
+            std::array::from_fn(|k| c[0][k] + x * ex[k] + y * ey[k] + z * ez[k])
+        })
+    })
+}
+
+/// The two robots whose forward problem is three spheres, the Delta-type
+/// 3-RUU (κ = 2) and the Orthoglide-type 3-PRPaR (κ = 1, no virtual
+/// variable the catalogue takes), followed along a path of poses from
+/// the working assembly (the Delta's elbows out, the Orthoglide's
+/// carriages on the negative side of their axes). At every step the
+/// platform's point is one of the two where the three spheres meet, by
+/// hand: the Orthoglide's about (P1 + e, 0, h), (h, P2 + e, 0),
+/// (0, h, P3 + e), radius m; the Delta's about each elbow less the
+/// wrist's offset on the platform, radius l2, each elbow checked by hand
+/// on its arm's circle (l1 from the base joint, in the plane normal to
+/// the axis); and always the same of the two (the side of the centres'
+/// plane the start is on), the path's own pose to 1e-9 of the size.
+#[test]
+fn three_sphere_robots_keep_their_assembly() {
+    let deg = |d: f64| d.to_radians();
+    for stem in ["delta_3ruu", "orthoglide"] {
+        let (text, path) = common::example_text(stem);
+        let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+        let model = c.model().unwrap().clone();
+        let inverse = c.inverse().unwrap().clone();
+        let scale = kinematics::model_scale(&model);
+        let joint = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
+        let pose = |t: f64| -> Vec<f64> {
+            // The Orthoglide's path keeps off the slides' axes, where a
+            // leg's parallelogram lies along its revolutes (their angle
+            // undetermined: the inverse solution says degenerate).
+            let (a, c) = if stem == "delta_3ruu" {
+                (60.0, [0.0, 0.0, -420.0])
+            } else {
+                (40.0, [30.0, -25.0, -60.0])
+            };
+            vec![
+                c[0] + a * (2.0 * std::f64::consts::PI * t).sin(),
+                c[1] + a * (2.0 * std::f64::consts::PI * t).cos() - a,
+                c[2] + 0.5 * a * (4.0 * std::f64::consts::PI * t).sin(),
+            ]
+        };
+        // The spheres at an assembly, by hand from the inputs (and, for
+        // the Delta, the elbows, each checked on its arm's circle).
+        let spheres = |s: &pkm::runtime::plan::Solution| -> ([[f64; 3]; 3], [f64; 3]) {
+            if stem == "orthoglide" {
+                let (m, e, h) = (300.0, 40.0, 30.0);
+                let p = ["P1", "P2", "P3"].map(|n| s.values[joint(n)] + e);
+                ([[p[0], 0.0, h], [h, p[1], 0.0], [0.0, h, p[2]]], [m; 3])
+            } else {
+                let (a, b, l1, l2) = (200.0, 50.0, 200.0, 450.0);
+                let at = [0.0, 120.0, 240.0].map(deg);
+                let centres = std::array::from_fn(|k| {
+                    let elbow = kinematics::joint_point(&model, &s.poses, joint(["U11.a", "U21.a", "U31.a"][k]));
+                    let base = [a * at[k].cos(), a * at[k].sin(), 0.0];
+                    let axis = [-at[k].sin(), at[k].cos(), 0.0];
+                    let arm: [f64; 3] = std::array::from_fn(|i| elbow[i] - base[i]);
+                    let along: f64 = (0..3).map(|i| arm[i] * axis[i]).sum();
+                    let length = arm.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    assert!(
+                        along.abs() <= 1e-9 * scale && (length - l1).abs() <= 1e-9 * scale,
+                        "{stem}: elbow {k}"
+                    );
+                    [elbow[0] - b * at[k].cos(), elbow[1] - b * at[k].sin(), elbow[2]]
+                });
+                (centres, [l2; 3])
+            }
+        };
+        // The side of the centres' plane a point is on.
+        let side = |c: [[f64; 3]; 3], o: [f64; 3]| {
+            let (u, w, p): ([f64; 3], [f64; 3], [f64; 3]) = (
+                std::array::from_fn(|i| c[1][i] - c[0][i]),
+                std::array::from_fn(|i| c[2][i] - c[0][i]),
+                std::array::from_fn(|i| o[i] - c[0][i]),
+            );
+            let n = [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ];
+            (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]).signum()
+        };
+        let platform = c
+            .analysis
+            .mechanism
+            .links
+            .iter()
+            .position(|l| l.name == "platform")
+            .unwrap();
+        let point = |s: &pkm::runtime::plan::Solution| -> [f64; 3] {
+            let t = s.poses[platform].translation.vector;
+            [t[0], t[1], t[2]]
+        };
+        let working = |s: &fk_follow::Followed| {
+            let q: Vec<f64> = model.inputs().iter().map(|&j| s.solution.values[j]).collect();
+            if stem == "orthoglide" {
+                q.iter().all(|&p| p < 0.0)
+            } else {
+                (0..3).all(|k| {
+                    let e = kinematics::joint_point(&model, &s.solution.poses, joint(["U11.a", "U21.a", "U31.a"][k]));
+                    e[0].hypot(e[1]) > 200.0
+                })
+            }
+        };
+        let mut previous = (0..1usize << inverse.branches)
+            .filter_map(|b| fk_follow::at_pose(&model, &inverse, &pose(0.0), b).ok())
+            .find(working)
+            .unwrap_or_else(|| panic!("{stem}: no working assembly at the path's start"));
+        let (c0, _) = spheres(&previous.solution);
+        let start_side = side(c0, point(&previous.solution));
+        let inputs = model.inputs();
+        let steps = 40;
+        let (mut tracked, mut worst) = (0, 0.0f64);
+        for k in 1..=steps {
+            let t = k as f64 / steps as f64;
+            let want = truth(&model, &inverse, &pose(t), &previous.signs).unwrap();
+            let q: Vec<f64> = inputs.iter().map(|&j| want.solution.values[j]).collect();
+            let got = fk_follow::by_pose(&model, &inverse, &[false; 3], &q, &previous)
+                .unwrap_or_else(|e| panic!("{stem} at t = {t}: {e}"));
+            // The path's pose, and every link where it was a step before
+            // (no leg turned over: the Orthoglide's path crosses the line
+            // where its inverse plan's label for a leg's two
+            // configurations flips, at t = 0.5).
+            let off_path = got
+                .unknowns
+                .iter()
+                .zip(pose(t))
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                off_path <= 1e-9 * scale,
+                "{stem} at t = {t}: off the path by {off_path:e}"
+            );
+            let moved = fk_follow::distance(&got.solution, &previous.solution, scale);
+            assert!(moved <= 1.0, "{stem} at t = {t}: a link turned by {moved}");
+            let (centres, radii) = spheres(&got.solution);
+            let roots = three_spheres(centres, radii).unwrap_or_else(|| panic!("{stem} at t = {t}: no meeting"));
+            let o = point(&got.solution);
+            let off = roots.map(|r| (0..3).map(|i| (r[i] - o[i]).abs()).fold(0.0, f64::max));
+            let near = if off[0] < off[1] { 0 } else { 1 };
+            worst = worst.max(off[near]);
+            assert!(
+                off[near] <= 1e-9 * scale,
+                "{stem} at t = {t}: {o:?} is not where the spheres meet: {roots:?}"
+            );
+            assert_eq!(side(centres, o), start_side, "{stem} at t = {t}: the other assembly");
+            assert!(
+                off[1 - near] >= 1e-3 * scale,
+                "{stem} at t = {t}: the two assemblies meet"
+            );
+            tracked += usize::from(got.how == How::Tracked);
+            previous = got;
+        }
+        eprintln!(
+            "{stem}: {steps} steps, {tracked} tracked and certified, within {worst:e} mm of the spheres' meeting"
+        );
+        assert!(tracked >= steps / 2, "{stem}: {tracked}");
+    }
+}
