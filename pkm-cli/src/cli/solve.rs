@@ -112,11 +112,6 @@ impl Configuration {
         pkm_runtime::plan::at(&self.poses[link], local)
     }
 
-    /// The angle `link` has turned about world axis `k` (planar: about z).
-    fn angle(&self, link: usize, k: [f64; 3]) -> f64 {
-        pkm_runtime::plan::angle_about(&self.poses[link], k)
-    }
-
     fn joint_point(&self, model: &Model, j: usize) -> [f64; 3] {
         pkm_runtime::newton::joint_point(model, &self.poses, j)
     }
@@ -172,24 +167,10 @@ pub(super) fn output_names(l: &Loaded) -> Vec<(String, bool)> {
 /// The declared outputs' values (radians) in one configuration, in the
 /// order of [`output_names`].
 pub(super) fn output_values(l: &Loaded, c: &Configuration) -> Vec<f64> {
-    let dim = if l.model.planar { 2 } else { 3 };
     let mut values = Vec::new();
     for (o, spec) in l.compiled.analysis.geometry.outputs.iter().zip(&l.outputs) {
-        let these: Vec<f64> = match *spec {
-            Output::Pose { link, local, about } => {
-                let mut v = c.point(link, local)[..dim].to_vec();
-                v.extend(about.map(|k| c.angle(link, k)));
-                v
-            }
-            Output::Point { link, local } => c.point(link, local)[..dim].to_vec(),
-            Output::Parts { link, local, parts } => {
-                let frame = pkm_runtime::plan::frame_of(&c.poses[link]);
-                let six = pkm_runtime::steps::place::pose_values(&frame, local);
-                parts.given().map(|i| six[i]).collect()
-            }
-            Output::Joint(j) => vec![c.values[j]],
-        };
         // One value per declared name, whatever the declaration's shape.
+        let these = pkm_runtime::plan::output_values(&c.poses, &c.values, l.model.planar, spec);
         values.extend(these.into_iter().chain(std::iter::repeat(f64::NAN)).take(o.names.len()));
     }
     values

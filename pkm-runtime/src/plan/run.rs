@@ -46,6 +46,34 @@ impl Solution {
             })
             .collect()
     }
+
+    /// The values of one declared output here ([`output_values`]).
+    pub fn output(&self, planar: bool, output: &crate::newton::Output) -> Vec<f64> {
+        output_values(&self.poses, &self.values, planar, output)
+    }
+}
+
+/// The values of one declared output at link poses `poses` and joint
+/// values `values` (one per joint, a solution's): a point's coordinates
+/// (x, y, and z if `planar` is false), a pose's point then its angle about
+/// its axis where it has one, a pose's given parts (of x, y, z, rx, ry, rz
+/// with `R = R_z(rz)·R_y(ry)·R_x(rx)`), a joint's value.
+pub fn output_values(poses: &[Pose3], values: &[f64], planar: bool, output: &crate::newton::Output) -> Vec<f64> {
+    use crate::newton::Output;
+    let dim = if planar { 2 } else { 3 };
+    match *output {
+        Output::Pose { link, local, about } => {
+            let mut v = super::at(&poses[link], local)[..dim].to_vec();
+            v.extend(about.map(|k| super::angle_about(&poses[link], k)));
+            v
+        }
+        Output::Point { link, local } => super::at(&poses[link], local)[..dim].to_vec(),
+        Output::Parts { link, local, parts } => {
+            let six = crate::steps::place::pose_values(&frame_of(&poses[link]), local);
+            parts.given().map(|i| six[i]).collect()
+        }
+        Output::Joint(j) => vec![values[j]],
+    }
 }
 
 /// A point of a link of the model, in that link's frame.
