@@ -1209,3 +1209,107 @@ fn spherical_joints_get_a_whole_page() {
     }
     let _ = std::fs::remove_dir_all(out);
 }
+
+/// Issue 32, item 4: a κ = 1 file that asks for `fk_numeric` may give its
+/// sample as an input (`study { start (…) }`): the six-assembly 3-RPR's
+/// start, the legs (149.8, 153.8, 120) mm where all six of its assemblies
+/// are real (by bisection, `fk_numeric::planar_3rpr_six_real_assemblies`),
+/// puts its sample pose on one of them (the pose the page gives is one of
+/// `pkm fk`'s six there, the branch shown takes the start's legs) and its
+/// map of assembly modes through the region of six, with the third leg
+/// held at 120 mm and the node nearest the start counting six. A file
+/// without a forward solution still refuses `--start`.
+#[test]
+fn a_coupled_file_sampled_at_its_start() {
+    let (html, out) = page(
+        "planar_3rpr_six",
+        ReportOptions {
+            nodes: Some(8),
+            ..Default::default()
+        },
+    );
+    let words = page_text(&html);
+    assert!(
+        words
+            .contains("(the forward solution at the start (149.8000, 153.8000, 120.0000): assembly 1 of 6, certified)"),
+        "{words}"
+    );
+    let at = words.find("The sample pose: ").unwrap() + "The sample pose: ".len();
+    let pose: Vec<f64> = words[at..]
+        .split(" (")
+        .next()
+        .unwrap()
+        .split(", ")
+        .map(|kv| {
+            kv.split_once(" = ")
+                .unwrap()
+                .1
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        })
+        .collect();
+    let fk = pkm_json(&[
+        "fk",
+        "examples/mechanisms/planar_3rpr_six.pkm",
+        "--q",
+        "149.8,153.8,120",
+    ]);
+    let assemblies = fk["branches"].as_array().unwrap();
+    assert_eq!(assemblies.iter().filter(|b| b["ok"] == true).count(), 6, "{fk}");
+    let near = assemblies.iter().any(|b| {
+        ["x", "y", "phi"]
+            .iter()
+            .zip(&pose)
+            .all(|(n, v)| b["outputs"][n].as_f64().is_some_and(|o| (o - v).abs() <= 1e-4))
+    });
+    assert!(near, "{pose:?} is none of {fk}");
+    // The branch shown has the start's legs.
+    let table = &words[words.find("<code>pkm ik</code> lists them").unwrap()..];
+    let shown = table.split("<tr><td>").nth(1).unwrap();
+    assert!(
+        shown.starts_with("0 (followed)</td><td>+++</td><td>149.800000</td><td>153.800000</td><td>120.000000</td>"),
+        "{shown}"
+    );
+    let csvs = read_csvs(&out);
+    let (_, header, rows) = csvs.iter().find(|(n, _, _)| n == "assembly_modes").unwrap();
+    assert_eq!(header[..3], ["P1 (mm)", "P2 (mm)", "real assemblies"]);
+    assert!(html.contains("P3 = 120.0000 mm held"));
+    let node = |r: &Vec<String>| -> (f64, f64) { (r[0].parse().unwrap(), r[1].parse().unwrap()) };
+    let nearest = rows
+        .iter()
+        .min_by(|a, b| {
+            let d = |r: &Vec<String>| {
+                let (p, q) = node(r);
+                (p - 149.8).hypot(q - 153.8)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    assert_eq!(nearest[2], "6", "{nearest:?}");
+    let counts: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[2].as_str()).collect();
+    assert!(
+        counts.contains("2") && counts.contains("4") && counts.contains("6"),
+        "{counts:?}"
+    );
+    let _ = std::fs::remove_dir_all(out);
+    // The 3-RPS has no forward solution to start from.
+    let (text, path) = example("rps_3");
+    let e = write_report(
+        &text,
+        &path,
+        &ReportOptions {
+            start: Some(vec![300.0, 300.0, 300.0]),
+            ..Default::default()
+        },
+        &out_dir("rps_3-start"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("--ranges, --start, --amplitude and --speed sample its inputs"),
+        "{e}"
+    );
+}

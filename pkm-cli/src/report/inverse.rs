@@ -125,18 +125,39 @@ pub(super) fn inverse_only(
             return Ok(());
         }
     };
-    if !o.ranges.is_empty() || o.start.is_some() || o.amplitude.is_some() || o.speed.is_some() {
+    // A κ = 1 file that asks for `fk_numeric` solves its forward position
+    // at one input: its sample may be an input.
+    let numeric = l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric);
+    if !o.ranges.is_empty() || (o.start.is_some() && !numeric) || o.amplitude.is_some() || o.speed.is_some() {
         return Err(invalid(format!(
             "{file} has no forward plan ({why}): --ranges, --start, --amplitude and --speed sample its inputs, \
-             which it cannot solve from"
+             which it cannot solve from{}",
+            if numeric {
+                " (--start it can: the forward solution's first assembly there is the sample)"
+            } else {
+                ""
+            }
         )));
     }
     let values = values(l, unit);
     let point_name = default_point(l);
     let point = point_of(model, &point_name).ok_or_else(|| invalid(format!("no point `{point_name}`")))?;
     let size = reach(model);
-    let (pose, chosen) = sample_pose(l, plan, &values, size, file)?;
-    let branch = sample_branch(l, plan, &pose, o.branch.or(study.branch), file)?;
+    let start = o.start.clone().or_else(|| study.start.clone()).filter(|_| numeric);
+    let (pose, chosen, at_start) = match &start {
+        Some(q) => {
+            let (pose, chosen) = start_pose(l, q, file)?;
+            (pose, chosen, Some(q.as_slice()))
+        }
+        None => {
+            let (pose, chosen) = sample_pose(l, plan, &values, size, file)?;
+            (pose, chosen, None)
+        }
+    };
+    let branch = match (o.branch.or(study.branch), at_start) {
+        (None, Some(q)) => start_branch(l, plan, &pose, q, file)?,
+        (given, _) => sample_branch(l, plan, &pose, given, file)?,
+    };
     let choices = plan.choices();
     let branch_signs = signs(choices, branch);
     let sample = plan.solve(model, &pose, &branch_signs).map_err(|e| {
@@ -298,6 +319,82 @@ fn sample_pose(
         None => format!("every output 0; no pose scanned is better conditioned (σ {q:.3e})"),
     };
     Ok((pose, how))
+}
+
+/// The sample pose of a κ = 1 file from its study's (or `--start`'s)
+/// input `q`: the first certified assembly of its forward solution there
+/// (else the first possible one), the declared outputs' values on it.
+fn start_pose(l: &Loaded, q: &[f64], file: &str) -> Result<(Vec<f64>, String), ReportError> {
+    let model = &l.model;
+    let vp = pkm_dsl::planner_numeric::forward_numeric_plan(&l.analysis).map_err(|_| {
+        invalid(format!(
+            "{file}: no virtual-variable forward plan to solve the start from"
+        ))
+    })?;
+    let found = pkm_runtime::fk_numeric::solve(model, &vp, q).map_err(|e| invalid(format!("{file}: start: {e}")))?;
+    let n = found.len();
+    let (k, first) = found
+        .iter()
+        .enumerate()
+        .find(|(_, a)| a.kind.certified())
+        .or_else(|| found.iter().enumerate().next())
+        .ok_or_else(|| {
+            invalid(format!(
+                "{file}: the forward solution has no assembly at the start {}",
+                tuple_text(q, 4)
+            ))
+        })?;
+    let mut pose = Vec::new();
+    for (o, spec) in l.analysis.geometry.outputs.iter().zip(&l.outputs) {
+        let these = pkm_runtime::plan::output_values(&first.solution.poses, &first.solution.values, model.planar, spec);
+        pose.extend(these.into_iter().chain(std::iter::repeat(0.0)).take(o.names.len()));
+    }
+    let how = format!(
+        "the forward solution at the start {}: assembly {} of {n}, {}",
+        tuple_text(q, 4),
+        k + 1,
+        if first.kind.certified() {
+            "certified"
+        } else {
+            "possible"
+        }
+    );
+    Ok((pose, how))
+}
+
+/// The inverse branch at the sample `pose` of a start `q` whose actuated
+/// joints take the start's values (a leg's other sense reaches the pose
+/// too, with its slide negative).
+fn start_branch(l: &Loaded, plan: &Plan, pose: &[f64], q: &[f64], file: &str) -> Result<usize, ReportError> {
+    let model = &l.model;
+    let (offsets, _) = model.value_offsets();
+    // A slide's value to 10⁻⁹ of the size, a revolute's to 10⁻⁹ rad.
+    let scale = pkm_runtime::kinematics::model_scale(model);
+    follow::every_branch(l, plan, pose)
+        .into_iter()
+        .find(|(_, v)| {
+            model.inputs().iter().zip(q).all(|(&j, &want)| {
+                let d = v[offsets[j]] - want;
+                let d = if model.joints[j].kind == JointType::P {
+                    d
+                } else {
+                    pkm_runtime::solution::wrap_angle(d)
+                };
+                let tol = if model.joints[j].kind == JointType::P {
+                    1e-9 * scale
+                } else {
+                    1e-9
+                };
+                d.abs() <= tol
+            })
+        })
+        .map(|(b, _)| b)
+        .ok_or_else(|| {
+            invalid(format!(
+                "{file}: no branch of the inverse solution at the start's pose {} takes the start's inputs",
+                tuple_text(pose, 3)
+            ))
+        })
 }
 
 /// The branches that reach `pose`, nearest the geometry's home
