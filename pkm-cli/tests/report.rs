@@ -517,6 +517,10 @@ fn study_errors() {
     check_study("study { nodes 1; }", "grid nodes per input must be 2 to 1000");
     check_study("study { start (1, 2); }", "`start` needs 1 values");
     check_study(
+        "study { pose (1, 2); }",
+        "`pose` needs 0 values, one per declared output",
+    );
+    check_study(
         "study { trajectory sine amplitude (1) duration -2; }",
         "the duration is -2 s",
     );
@@ -1310,6 +1314,91 @@ fn a_coupled_file_sampled_at_its_start() {
     .to_string();
     assert!(
         e.contains("--ranges, --start, --amplitude and --speed sample its inputs"),
+        "{e}"
+    );
+}
+
+/// Issue 32, item 4: a file without a forward plan may give its sample
+/// pose (`study { pose (…); }`, one value per declared output): the Delta
+/// hangs at z = −420 mm below its base as it works (the report's own
+/// choice scans heights above the base). Its drawing has each wrist 50 mm
+/// from the platform's point there, each elbow at the arm's length 200 mm
+/// from its base joint and the rod's 450 mm from its wrist, by hand. `pose` with the wrong count, with `start`, or in
+/// a file that has a forward plan is an error at its place or said so.
+#[test]
+fn a_study_pose_is_the_sample() {
+    let (html, out) = page(
+        "delta_3ruu",
+        ReportOptions {
+            nodes: Some(8),
+            ..Default::default()
+        },
+    );
+    let words = page_text(&html);
+    assert!(
+        words.contains("The sample pose: x = 0.0000 mm, y = 0.0000 mm, z = -420.0000 mm (the study's `pose`)"),
+        "{words}"
+    );
+    let csvs = read_csvs(&out);
+    let (_, header, rows) = csvs.iter().find(|(n, _, _)| n == "mechanism").unwrap();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let at = |label: &str| -> [f64; 3] {
+        let row = rows
+            .iter()
+            .find(|r| r.iter().any(|c| c == label))
+            .unwrap_or_else(|| panic!("{label}: {rows:?}"));
+        [col("x (mm)"), col("y (mm)"), col("z (mm)")].map(|c| row[c].parse().unwrap())
+    };
+    let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+    for (k, deg) in [(1, 0.0f64), (2, 120.0), (3, 240.0)] {
+        let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
+        let (elbow, wrist) = (at(&format!("U{k}1.a")), at(&format!("U{k}2.a")));
+        assert!(
+            dist(wrist, [50.0 * c, 50.0 * s, -420.0]) <= 1e-9,
+            "wrist {k}: {wrist:?}"
+        );
+        assert!(
+            (dist(elbow, [200.0 * c, 200.0 * s, 0.0]) - 200.0).abs() <= 1e-9,
+            "arm {k}"
+        );
+        assert!((dist(elbow, wrist) - 450.0).abs() <= 1e-9, "rod {k}");
+    }
+    let _ = std::fs::remove_dir_all(out);
+    let fails = |name: &str, edits: &[(&str, &str)]| -> String {
+        let (text, path) = edited(name, edits);
+        write_report(
+            &text,
+            &path,
+            &ReportOptions::default(),
+            &out_dir(&format!("{name}-pose")),
+        )
+        .unwrap_err()
+        .to_string()
+    };
+    let study = "study { pose (0, 0, -420); }";
+    let e = fails("delta_3ruu", &[(study, "study { pose (0, -420); }")]);
+    assert!(
+        e.contains("`pose` needs 3 values, one per declared output") && e.contains("delta_3ruu.pkm:"),
+        "{e}"
+    );
+    let e = fails(
+        "delta_3ruu",
+        &[(study, "study { start (0.4, 0.3, 0.3); pose (0, 0, -420); }")],
+    );
+    assert!(
+        e.contains("the sample is an input (`start`) or a pose (`pose`), not both"),
+        "{e}"
+    );
+    let outputs = "outputs { x, y = point R3 of right_distal; }";
+    let e = fails(
+        "five_bar",
+        &[(
+            outputs,
+            "outputs { x, y = point R3 of right_distal; } study { pose (0, 200); }",
+        )],
+    );
+    assert!(
+        e.contains("the study's `pose` samples a file without a forward plan"),
         "{e}"
     );
 }

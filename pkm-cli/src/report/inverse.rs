@@ -144,12 +144,13 @@ pub(super) fn inverse_only(
     let point = point_of(model, &point_name).ok_or_else(|| invalid(format!("no point `{point_name}`")))?;
     let size = reach(model);
     let start = o.start.clone().or_else(|| study.start.clone()).filter(|_| numeric);
-    let (pose, chosen, at_start) = match &start {
-        Some(q) => {
+    let (pose, chosen, at_start) = match (&start, &study.pose) {
+        (Some(q), _) => {
             let (pose, chosen) = start_pose(l, q, file)?;
             (pose, chosen, Some(q.as_slice()))
         }
-        None => {
+        (None, Some(pose)) => (pose.clone(), "the study's `pose`".to_string(), None),
+        (None, None) => {
             let (pose, chosen) = sample_pose(l, plan, &values, size, file)?;
             (pose, chosen, None)
         }

@@ -258,8 +258,9 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
         .as_ref()
         .map(|l| l.values.clone())
         .unwrap_or_else(|| a.geometry.nominal());
-    let study =
-        pkm_dsl::study::resolve(&ast.studies, &input_names, &values).map_err(|d| ReportError::source(d, text, file))?;
+    let output_names: Vec<String> = a.geometry.outputs.iter().flat_map(|o| o.names.clone()).collect();
+    let study = pkm_dsl::study::resolve(&ast.studies, &input_names, &output_names, &values)
+        .map_err(|d| ReportError::source(d, text, file))?;
     let unit = length_unit(&a, o, file)?;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let m = &a.mechanism;
@@ -333,6 +334,12 @@ pub fn write_report(text: &str, file: &str, o: &ReportOptions, out: &Path) -> Re
         Some(l) => {
             match &l.forward {
                 Ok(plan) => {
+                    if study.pose.is_some() {
+                        return Err(invalid(format!(
+                            "{file}: the study's `pose` samples a file without a forward plan; this one has one: \
+                             give its sample as an input, `start (…)`"
+                        )));
+                    }
                     let s = settings(&l, plan, &study, o, file)?;
                     numeric(&mut page, &l, plan, &s, o, &unit, file)?;
                 }

@@ -6,7 +6,7 @@
 //! ```
 //! let ast = pkm_dsl::parse("mechanism m { planar; base R1* ∥ R2 ∥ R3 ∥ R4 base;
 //!     study { ranges { R1 = -pi .. pi; } trajectory constant speed (1) duration 2 * pi; nodes 90; } }").unwrap();
-//! let s = pkm_dsl::study::resolve(&ast.studies, &["R1".to_string()], &Default::default()).unwrap();
+//! let s = pkm_dsl::study::resolve(&ast.studies, &["R1".to_string()], &[], &Default::default()).unwrap();
 //! assert_eq!(s.ranges, vec![Some((-std::f64::consts::PI, std::f64::consts::PI))]);
 //! assert_eq!(s.nodes, Some(90));
 //! ```
@@ -27,6 +27,9 @@ pub struct Resolved {
     pub ranges: Vec<Option<(f64, f64)>>,
     /// The sample input.
     pub start: Option<Vec<f64>>,
+    /// The sample pose (a file without a forward plan), one value per
+    /// declared output.
+    pub pose: Option<Vec<f64>>,
     /// The trajectory's motion and amplitudes or speeds.
     pub trajectory: Option<(Motion, Vec<f64>)>,
     /// The trajectory's duration (s).
@@ -43,7 +46,7 @@ pub struct Resolved {
 
 fn item_span(item: &StudyItem) -> Span {
     match item {
-        StudyItem::Ranges(_, s) | StudyItem::Start(_, s) | StudyItem::Sections(_, s) => *s,
+        StudyItem::Ranges(_, s) | StudyItem::Start(_, s) | StudyItem::Pose(_, s) | StudyItem::Sections(_, s) => *s,
         StudyItem::Trajectory { span, .. } => *span,
         StudyItem::Point(n) | StudyItem::Branch(n) | StudyItem::Nodes(n) => n.span,
     }
@@ -53,6 +56,7 @@ fn item_key(item: &StudyItem) -> &'static str {
     match item {
         StudyItem::Ranges(..) => "ranges",
         StudyItem::Start(..) => "start",
+        StudyItem::Pose(..) => "pose",
         StudyItem::Trajectory { .. } => "trajectory",
         StudyItem::Point(_) => "point",
         StudyItem::Branch(_) => "branch",
@@ -96,14 +100,20 @@ fn values_of(
 }
 
 /// Checks the study blocks of a file (at most one) against its actuated
-/// joints `inputs` (in the model's input order) and evaluates them with the
-/// parameter values `values`.
+/// joints `inputs` (in the model's input order) and its declared outputs'
+/// names `outputs`, and evaluates them with the parameter values `values`.
 ///
 /// Errors point at the span: a second block or a repeated key, an unknown
 /// joint, a range whose low end is not below its high end, a count of
-/// values other than the inputs', a section axis other than x, y, z, a
-/// duration that is not positive, nodes outside 2..=[`MAX_NODES`].
-pub fn resolve(studies: &[Study], inputs: &[String], values: &HashMap<String, f64>) -> Result<Resolved, Diagnostics> {
+/// values other than the inputs' (the outputs' for `pose`), both `start`
+/// and `pose`, a section axis other than x, y, z, a duration that is not
+/// positive, nodes outside 2..=[`MAX_NODES`].
+pub fn resolve(
+    studies: &[Study],
+    inputs: &[String],
+    outputs: &[String],
+    values: &HashMap<String, f64>,
+) -> Result<Resolved, Diagnostics> {
     let mut errors = Diagnostics(Vec::new());
     let mut r = Resolved {
         ranges: vec![None; inputs.len()],
@@ -162,6 +172,23 @@ pub fn resolve(studies: &[Study], inputs: &[String], values: &HashMap<String, f6
                 }
             }
             StudyItem::Start(v, span) => r.start = Some(values_of(v, *span, "`start`", n, values, &mut errors)),
+            StudyItem::Pose(v, span) => {
+                if v.len() != outputs.len() {
+                    errors.push(
+                        Diagnostic::new(
+                            *span,
+                            format!("`pose` needs {} values, one per declared output", outputs.len()),
+                        )
+                        .label(format!("{} given", v.len()))
+                        .note(if outputs.is_empty() {
+                            "the file declares no outputs".to_string()
+                        } else {
+                            format!("the outputs: {}", outputs.join(", "))
+                        }),
+                    );
+                }
+                r.pose = Some(v.iter().map(|e| value(e, *span, values, &mut errors)).collect());
+            }
             StudyItem::Trajectory {
                 motion,
                 values: v,
@@ -211,6 +238,16 @@ pub fn resolve(studies: &[Study], inputs: &[String], values: &HashMap<String, f6
                 }
             }
         }
+    }
+    if let (Some((_, start)), Some((_, pose))) = (
+        seen.iter().find(|(k, _)| *k == "start"),
+        seen.iter().find(|(k, _)| *k == "pose"),
+    ) {
+        errors.push(
+            Diagnostic::new(*pose, "the sample is an input (`start`) or a pose (`pose`), not both")
+                .label("a pose")
+                .also(*start, "an input"),
+        );
     }
     errors.into_result(r)
 }

@@ -56,6 +56,7 @@ pub enum Rule {
     r#study_ranges,
     r#study_range,
     r#study_start,
+    r#study_pose,
     r#study_trajectory,
     r#study_sine,
     r#study_constant,
@@ -191,6 +192,7 @@ impl Rule {
             Rule::r#study_ranges,
             Rule::r#study_range,
             Rule::r#study_start,
+            Rule::r#study_pose,
             Rule::r#study_trajectory,
             Rule::r#study_sine,
             Rule::r#study_constant,
@@ -1889,6 +1891,7 @@ impl ::pest::Parser<Rule> for DslParser {
                     let state = state.check_stack_limit()?;
                     self::r#study_ranges(state)
                         .or_else(|state| { self::r#study_start(state) })
+                        .or_else(|state| { self::r#study_pose(state) })
                         .or_else(|state| { self::r#study_trajectory(state) })
                         .or_else(|state| { self::r#study_point(state) })
                         .or_else(|state| { self::r#study_branch(state) })
@@ -1979,6 +1982,28 @@ impl ::pest::Parser<Rule> for DslParser {
                                 state
                                     .sequence(|state| {
                                         self::r#kw_start(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#tuple(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { state.match_string(";") })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#study_pose(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#study_pose,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        self::r#kw_pose(state)
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { self::r#tuple(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
@@ -4520,6 +4545,7 @@ impl ::pest::Parser<Rule> for DslParser {
                     Rule::r#study_ranges => rules::r#study_ranges(state),
                     Rule::r#study_range => rules::r#study_range(state),
                     Rule::r#study_start => rules::r#study_start(state),
+                    Rule::r#study_pose => rules::r#study_pose(state),
                     Rule::r#study_trajectory => rules::r#study_trajectory(state),
                     Rule::r#study_sine => rules::r#study_sine(state),
                     Rule::r#study_constant => rules::r#study_constant(state),

@@ -328,6 +328,7 @@ fn rule_name(r: Rule) -> &'static str {
         | Rule::study_ranges
         | Rule::study_range
         | Rule::study_start
+        | Rule::study_pose
         | Rule::study_trajectory
         | Rule::study_sine
         | Rule::study_constant

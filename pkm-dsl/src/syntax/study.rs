@@ -32,6 +32,9 @@ pub enum StudyItem {
     Ranges(Vec<(Name, Expr, Expr)>, Span),
     /// `start (…);`: the sample input, one value per actuator.
     Start(Vec<Expr>, Span),
+    /// `pose (…);`: the sample pose of a file without a forward plan, one
+    /// value per declared output.
+    Pose(Vec<Expr>, Span),
     /// `trajectory sine amplitude (…) duration T;` or `trajectory constant speed (…) duration T;`.
     Trajectory {
         /// Sine or constant speed.
@@ -60,6 +63,7 @@ pub(crate) fn rule_name(r: Rule) -> &'static str {
         Rule::study_ranges | Rule::kw_ranges => "`ranges { JOINT = LOW .. HIGH; }`",
         Rule::study_range => "a range `JOINT = LOW .. HIGH;`",
         Rule::study_start | Rule::kw_start => "`start (…);`",
+        Rule::study_pose => "`pose (…);`",
         Rule::study_trajectory | Rule::kw_trajectory => {
             "`trajectory sine amplitude (…)` or `trajectory constant speed (…)`"
         }
@@ -101,6 +105,7 @@ pub(crate) fn build(p: Pair<Rule>) -> Study {
                 at,
             ),
             Rule::study_start => StudyItem::Start(parser::tuple(inner.next().expect("start's tuple")).items, at),
+            Rule::study_pose => StudyItem::Pose(parser::tuple(inner.next().expect("pose's tuple")).items, at),
             Rule::study_trajectory => {
                 let m = inner.next().expect("trajectory's motion");
                 let motion = if m.as_rule() == Rule::study_sine {

@@ -69,7 +69,8 @@ pub(super) fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Referenc
         .map(|j| j.name.clone())
         .collect();
     let values = pkm_dsl::numeric::parameter_values(a, &l.values).map_err(|d| r.parse_failure(d))?;
-    let study = pkm_dsl::study::resolve(&ast.studies, &names, &values).map_err(|d| r.parse_failure(d))?;
+    let outputs: Vec<String> = a.geometry.outputs.iter().flat_map(|o| o.names.clone()).collect();
+    let study = pkm_dsl::study::resolve(&ast.studies, &names, &outputs, &values).map_err(|d| r.parse_failure(d))?;
     let wanted = match (o.branch, study.branch) {
         (Some(b), _) => Some((b, "--branch")),
         (None, Some(b)) => Some((b, "the study's `branch`")),
