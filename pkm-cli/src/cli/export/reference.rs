@@ -142,7 +142,7 @@ pub(super) fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Referenc
             })
         }
         Way::Numeric(vp) => numeric_reference(r, l, &vp, &names, &study, o, wanted),
-        Way::Inverse(plan) => inverse_reference(r, l, &plan, o, wanted),
+        Way::Inverse(plan) => inverse_reference(r, l, &plan, o, wanted, study.pose.as_deref()),
     }
 }
 
@@ -256,8 +256,9 @@ fn numeric_reference(
 /// Values tried for one output when the outputs' home is singular.
 const SCAN: usize = 200;
 
-/// The inverse plan at `--pose`, else at the outputs' home: every output
-/// 0, unless no branch is regular there (the actuators cannot hold it).
+/// The inverse plan at `--pose`, else at the study's `pose`, else at the
+/// outputs' home: every output 0, unless no branch is regular there (the
+/// actuators cannot hold it).
 /// Then one output moves from home to where the forward velocity map of
 /// the first branch that assembles (or the one asked for) is best
 /// conditioned (σ_min/σ_max of the loop equations' passive columns, 0 at an
@@ -266,7 +267,14 @@ const SCAN: usize = 200;
 /// best-conditioned height; without a height, the best of each output over
 /// (−reach, reach] (an angle over (−π, π]). There the branch is the best
 /// conditioned (the first of equals).
-fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: Wanted) -> Result<Reference, Failure> {
+fn inverse_reference(
+    r: &Request,
+    l: &Loaded,
+    plan: &Plan,
+    o: &Options,
+    wanted: Wanted,
+    study_pose: Option<&[f64]>,
+) -> Result<Reference, Failure> {
     let model = &l.model;
     let inputs = model.inputs();
     let outputs = output_names(l);
@@ -300,7 +308,14 @@ fn inverse_reference(r: &Request, l: &Loaded, plan: &Plan, o: &Options, wanted: 
                 _ => Some(x),
             })
     };
-    let (pose, pose_from, preferred) = if o.pose.is_empty() {
+    let (pose, pose_from, preferred) = if let Some(pose) = study_pose.filter(|_| o.pose.is_empty()) {
+        // There, the best-conditioned branch, as at the outputs' home.
+        (
+            pose.to_vec(),
+            "the study's `pose`".to_string(),
+            best(pose).map(|(b, _)| b),
+        )
+    } else if o.pose.is_empty() {
         let home = vec![0.0; outputs.len()];
         match best(&home).filter(|(_, s)| *s > pkm_runtime::velocity::SINGULAR) {
             Some((b, _)) => (home, "the outputs' home (every output 0)".to_string(), Some(b)),
