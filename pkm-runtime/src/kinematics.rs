@@ -581,6 +581,37 @@ pub fn model_scale(model: &Model) -> f64 {
     }
 }
 
+/// The mechanism's reach: each moving link's largest distance between two
+/// of its joint places, summed, and each parallelogram's arm (the bar it
+/// swings, a link the model does not hold): an upper bound of how far a
+/// point of it can be from the base's joints, without the driven slides'
+/// travel; at least 1.
+pub fn model_reach(model: &Model) -> f64 {
+    let mut per_link = vec![0.0f64; model.links.len()];
+    for a in &model.joints {
+        for b in &model.joints {
+            for (sa, &la) in a.links.iter().enumerate() {
+                for (sb, &lb) in b.links.iter().enumerate() {
+                    if la == lb {
+                        let (p, q) = (a.places[sa].at(), b.places[sb].at());
+                        per_link[la] = per_link[la].max(norm([p[0] - q[0], p[1] - q[1], p[2] - q[2]]));
+                    }
+                }
+            }
+        }
+    }
+    let arms: f64 = model
+        .joints
+        .iter()
+        .flat_map(|j| j.places.iter())
+        .map(|p| match *p {
+            Place::Arm { arm, .. } => norm(arm),
+            _ => 0.0,
+        })
+        .sum();
+    (per_link.iter().skip(1).sum::<f64>() + arms).max(1.0)
+}
+
 /// World coordinates of the named point `name`, for link poses from
 /// [`link_poses`]; `None` if there is no such point or no pose for its link.
 pub fn point(model: &Model, poses: &[Isometry3<f64>], name: &str) -> Option<[f64; 3]> {

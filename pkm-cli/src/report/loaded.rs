@@ -112,24 +112,10 @@ pub(super) fn world(model: &Model, values: &[f64], link: usize, local: [f64; 3])
     Some([p.x, p.y, p.z])
 }
 
-/// The mechanism's size: the largest distance between two joint places on
-/// one link, summed over links (an upper bound of its reach).
+/// The mechanism's size ([`pkm_runtime::kinematics::model_reach`]: an
+/// upper bound of its reach).
 pub(super) fn reach(model: &Model) -> f64 {
-    let mut per_link = vec![0.0f64; model.links.len()];
-    for a in &model.joints {
-        for b in &model.joints {
-            for (sa, la) in a.links.iter().enumerate() {
-                for (sb, lb) in b.links.iter().enumerate() {
-                    if la == lb {
-                        let (p, q) = (a.places[sa].at(), b.places[sb].at());
-                        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
-                        per_link[*la] = per_link[*la].max(d);
-                    }
-                }
-            }
-        }
-    }
-    per_link.iter().skip(1).sum::<f64>().max(1.0)
+    pkm_runtime::kinematics::model_reach(model)
 }
 
 /// The unit of joint `j`'s value.

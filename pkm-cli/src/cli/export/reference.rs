@@ -323,7 +323,7 @@ fn inverse_reference(
                 // One output moved at a time: the platform's height over
                 // (0, R] if an output is one, else each output over (−R, R]
                 // (an angle over (−π, π]); R the mechanism's reach.
-                let reach = reach(model);
+                let reach = pkm_runtime::kinematics::model_reach(model);
                 let moved: Vec<(usize, f64, f64)> = match height_output(l) {
                     Some(z) => vec![(z, 0.0, reach)],
                     None => outputs
@@ -434,26 +434,6 @@ fn height_output(l: &Loaded) -> Option<usize> {
         at += declared.names.len();
     }
     None
-}
-
-/// The mechanism's reach: each link's largest distance between two of its
-/// joint places, summed over the moving links.
-fn reach(model: &Model) -> f64 {
-    let mut per_link = vec![0.0f64; model.links.len()];
-    for a in &model.joints {
-        for b in &model.joints {
-            for (sa, &la) in a.links.iter().enumerate() {
-                for (sb, &lb) in b.links.iter().enumerate() {
-                    if la == lb {
-                        let (p, q) = (a.places[sa].at(), b.places[sb].at());
-                        let d = (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>().sqrt();
-                        per_link[la] = per_link[la].max(d);
-                    }
-                }
-            }
-        }
-    }
-    per_link.iter().skip(1).sum::<f64>().max(1.0)
 }
 
 /// The branch to export and its solution: the one asked for (by `--branch`,
