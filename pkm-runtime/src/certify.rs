@@ -679,7 +679,7 @@ mod tests {
             Some(Enclosed {
                 f: r.map(|e| e.v),
                 j: r.map(|e| e.d),
-                decided: !took,
+                decided: !took && r.iter().all(|e| !e.doubt),
             })
         }
     }

@@ -406,10 +406,8 @@ fn pose_step<const N: usize>(
             for (k, row) in rows.iter_mut().enumerate() {
                 let raw = crate::steps::value(&enclosing, &state, *actuated.get(k)?);
                 let arc = (model.joints[actuated[k]].kind != JointType::P).then_some(scale);
-                let (r, jump) = fk_numeric::difference(raw, inputs[k], arc)?;
-                if jump {
-                    interval::undecided();
-                }
+                // A jump of the wrap marks the row in doubt.
+                let (r, _) = fk_numeric::difference(raw, inputs[k], arc)?;
                 *row = r;
             }
             Some(rows)
@@ -421,7 +419,7 @@ fn pose_step<const N: usize>(
         Some(certify::Enclosed {
             f: rows.map(|r| r.v),
             j: rows.map(|r| r.d),
-            decided: !took,
+            decided: !took && rows.iter().all(|r| !r.doubt),
         })
     };
     let verify_on = |x: &[f64; N], signs: &[Sign]| -> Option<Solution> {

@@ -117,7 +117,7 @@ pub fn enclosed(
     Some(certify::Enclosed {
         f: [r.v],
         j: [r.d],
-        decided: !took,
+        decided: !took && !r.doubt,
     })
 }
 
@@ -148,6 +148,7 @@ pub fn difference<const N: usize>(raw: Enclosure<N>, given: f64, arc: Option<f64
         Enclosure {
             v: Interval::new(-pi * radius, pi * radius),
             d: [Interval::ENTIRE; N],
+            doubt: true,
         },
         true,
     ))

@@ -26,9 +26,13 @@
 //! enclosure of every value on the part of the box where the f64 path is
 //! defined, so it can prove that a box holds no root; but the function
 //! may be undefined, or not differentiable, somewhere in the box, so it
-//! cannot prove one. Such a decision is recorded ([`watch`]), and a box
-//! whose evaluation took one is never certified: it is split until every
-//! decision is taken one way, or reported as possible.
+//! cannot prove one. Such a decision marks the values that depend on it
+//! ([`Enclosure::doubt`]: a selection, a square root, an angle), or, a
+//! requirement having no value, the whole evaluation ([`watch`]); a box
+//! whose residual is in doubt is never certified: it is split until every
+//! decision is taken one way, or reported as possible. A decision that
+//! no row of the residual depends on (a passive joint's angle at a
+//! half-turn, say) does not stand in the way.
 
 use crate::primitives::{Error as GeomError, Sign};
 use crate::scalar::{Failure, Scalar};
@@ -380,7 +384,8 @@ impl Div for Interval {
 /// f64 path's [`crate::scalar::angle`], or, where the box crosses the
 /// negative x-axis, in [0, 2π) (the same angles a turn apart: every use
 /// of a joint's angle is periodic, a sine, a cosine, a wrapped
-/// difference). A box holding the origin gives the whole turn, undecided.
+/// difference). A box holding the origin gives the whole turn (its
+/// enclosure in doubt, [`Enclosure`]'s `atan2`).
 #[inline]
 fn atan2(y: Interval, x: Interval) -> Interval {
     use core::f64::consts::PI;
@@ -388,7 +393,6 @@ fn atan2(y: Interval, x: Interval) -> Interval {
         return Interval::EMPTY;
     }
     if y.contains(0.0) && x.contains(0.0) {
-        undecided();
         return Interval::new(-PI, PI);
     }
     let across = x.lo < 0.0 && y.contains(0.0) && !(y.lo == 0.0 && y.hi == 0.0 && x.hi < 0.0);
@@ -413,6 +417,13 @@ pub struct Enclosure<const N: usize> {
     pub v: Interval,
     /// The partial derivatives.
     pub d: [Interval; N],
+    /// Whether a decision this value depends on went both ways over the
+    /// box (a selection switching inside it, a square root or an angle
+    /// undefined on part of it): the value is enclosed, the derivatives
+    /// are not those of one smooth function, and no certificate may rest
+    /// on it. A value that does not depend on such a decision keeps its
+    /// certificate though another in the same run took one.
+    pub doubt: bool,
 }
 
 impl<const N: usize> Enclosure<N> {
@@ -422,6 +433,7 @@ impl<const N: usize> Enclosure<N> {
         Enclosure {
             v: x,
             d: core::array::from_fn(|i| Interval::point(if i == k { 1.0 } else { 0.0 })),
+            doubt: false,
         }
     }
 
@@ -431,6 +443,7 @@ impl<const N: usize> Enclosure<N> {
         Enclosure {
             v: x,
             d: [Interval::point(0.0); N],
+            doubt: false,
         }
     }
 
@@ -440,6 +453,7 @@ impl<const N: usize> Enclosure<N> {
         Enclosure {
             v: f,
             d: self.d.map(|d| df * d),
+            doubt: self.doubt,
         }
     }
 }
@@ -451,6 +465,7 @@ impl<const N: usize> Add for Enclosure<N> {
         Enclosure {
             v: self.v + o.v,
             d: core::array::from_fn(|i| self.d[i] + o.d[i]),
+            doubt: self.doubt || o.doubt,
         }
     }
 }
@@ -462,6 +477,7 @@ impl<const N: usize> Sub for Enclosure<N> {
         Enclosure {
             v: self.v - o.v,
             d: core::array::from_fn(|i| self.d[i] - o.d[i]),
+            doubt: self.doubt || o.doubt,
         }
     }
 }
@@ -473,6 +489,7 @@ impl<const N: usize> Neg for Enclosure<N> {
         Enclosure {
             v: -self.v,
             d: self.d.map(|d| -d),
+            doubt: self.doubt,
         }
     }
 }
@@ -485,6 +502,7 @@ impl<const N: usize> Mul for Enclosure<N> {
         Enclosure {
             v: self.v * o.v,
             d: core::array::from_fn(|i| self.d[i] * o.v + self.v * o.d[i]),
+            doubt: self.doubt || o.doubt,
         }
     }
 }
@@ -499,6 +517,7 @@ impl<const N: usize> Div for Enclosure<N> {
         Enclosure {
             v: q,
             d: core::array::from_fn(|i| (self.d[i] - q * o.d[i]) * inv),
+            doubt: self.doubt || o.doubt,
         }
     }
 }
@@ -521,12 +540,10 @@ fn select<const N: usize>(
     } else if a.v.hi < b.v.lo {
         then
     } else {
-        if !continuous {
-            undecided();
-        }
         Enclosure {
             v: then.v.hull(otherwise.v),
             d: core::array::from_fn(|i| then.d[i].hull(otherwise.d[i])),
+            doubt: !continuous || then.doubt || otherwise.doubt,
         }
     }
 }
@@ -540,14 +557,14 @@ impl<const N: usize> Scalar for Enclosure<N> {
     }
     #[inline]
     fn sqrt(self) -> Self {
-        if self.v.lo < 0.0 && self.v.hi >= 0.0 {
-            // Undefined on part of the box: the edge of its real values.
-            // (At zero itself the derivative's enclosure is unbounded,
-            // which no certificate passes.)
-            undecided();
-        }
+        // Undefined on part of the box: the edge of its real values. (At
+        // zero itself the derivative's enclosure is unbounded, which no
+        // certificate passes.)
+        let edge = self.v.lo < 0.0 && self.v.hi >= 0.0;
         let r = self.v.sqrt();
-        self.chain(r, (r + r).recip())
+        let mut e = self.chain(r, (r + r).recip());
+        e.doubt |= edge;
+        e
     }
     #[inline]
     fn sin(self) -> Self {
@@ -559,11 +576,14 @@ impl<const N: usize> Scalar for Enclosure<N> {
     }
     #[inline]
     fn atan2(self, x: Self) -> Self {
+        // A box holding the origin: every angle, no derivative.
+        let origin = self.v.contains(0.0) && x.v.contains(0.0);
         let v = atan2(self.v, x.v);
         let r2 = x.v * x.v + self.v * self.v;
         Enclosure {
             v,
             d: core::array::from_fn(|i| (x.v * self.d[i] - self.v * x.d[i]) / r2),
+            doubt: origin || self.doubt || x.doubt,
         }
     }
     #[inline]
@@ -578,6 +598,7 @@ impl<const N: usize> Scalar for Enclosure<N> {
             Enclosure {
                 v: self.v.abs(),
                 d: self.d.map(|d| d.hull(-d)),
+                doubt: self.doubt,
             }
         }
     }
@@ -671,12 +692,23 @@ mod tests {
     fn edges_and_decisions() {
         // A square root of a negative interval is empty; across zero,
         // undecided.
-        let (r, took) = watch(|| Enclosure::<1>::variable(Interval::new(-2.0, -1.0), 0).sqrt());
-        assert!(r.v.is_empty() && !took);
-        let (r, took) = watch(|| Enclosure::<1>::variable(Interval::new(-1.0, 4.0), 0).sqrt());
-        assert!(r.v.lo == 0.0 && r.v.hi >= 2.0 && took);
-        let (_, took) = watch(|| Enclosure::<1>::variable(Interval::new(1.0, 4.0), 0).sqrt());
-        assert!(!took);
+        let r = Enclosure::<1>::variable(Interval::new(-2.0, -1.0), 0).sqrt();
+        assert!(r.v.is_empty() && !r.doubt);
+        let r = Enclosure::<1>::variable(Interval::new(-1.0, 4.0), 0).sqrt();
+        assert!(r.v.lo == 0.0 && r.v.hi >= 2.0 && r.doubt);
+        let r = Enclosure::<1>::variable(Interval::new(1.0, 4.0), 0).sqrt();
+        assert!(!r.doubt);
+        // The doubt follows the values that depend on the decision, and
+        // only those.
+        let x = Enclosure::<1>::variable(Interval::new(-1.0, 4.0), 0);
+        let (both, took) = watch(|| (x.sqrt() * x, x * x + Enclosure::c(1.0)));
+        assert!(both.0.doubt && !both.1.doubt && !took);
+        // An angle over a box holding the origin.
+        let o = Enclosure::<1>::variable(Interval::new(-1.0, 1.0), 0);
+        assert!(o.atan2(o).doubt && !x.atan2(Enclosure::c(1.0)).doubt);
+        // A requirement met on part of the box marks the whole evaluation.
+        let (_, took) = watch(|| Enclosure::<1>::require(Enclosure::c(0.0), x, Failure::Degenerate("test"), [0, 0]));
+        assert!(took);
         // Division by an interval holding zero: unbounded, not empty.
         let q = Interval::point(1.0) / Interval::new(-1.0, 1.0);
         assert_eq!(q, Interval::ENTIRE);
@@ -688,7 +720,11 @@ mod tests {
         // An undecided selection is the hull.
         type E = Enclosure<1>;
         let a = E::variable(Interval::new(-1.0, 1.0), 0);
-        let (s, took) = watch(|| E::if_less(a, E::c(0.0), E::c(2.0), E::c(5.0)));
-        assert!(took && s.v.lo <= 2.0 && s.v.hi >= 5.0);
+        let s = E::if_less(a, E::c(0.0), E::c(2.0), E::c(5.0));
+        assert!(s.doubt && s.v.lo <= 2.0 && s.v.hi >= 5.0);
+        // A continuous one (a maximum) is not in doubt; one decided is the
+        // arm taken, with its own doubt.
+        assert!(!E::if_less_continuous(a, E::c(0.0), E::c(2.0), E::c(5.0)).doubt);
+        assert!(!E::if_less(E::c(-2.0), a, E::c(2.0), a.sqrt()).doubt);
     }
 }
