@@ -369,24 +369,16 @@ fn start_pose(l: &Loaded, q: &[f64], file: &str) -> Result<(Vec<f64>, String), R
 fn start_branch(l: &Loaded, plan: &Plan, pose: &[f64], q: &[f64], file: &str) -> Result<usize, ReportError> {
     let model = &l.model;
     let (offsets, _) = model.value_offsets();
-    // A slide's value to 10⁻⁹ of the size, a revolute's to 10⁻⁹ rad.
+    let inputs = model.inputs();
+    // A slide's value to 10⁻⁹ of the size, a revolute's to 10⁻⁹ rad (as
+    // the arc of that radius, as `fk_follow` verifies its inputs).
     let scale = pkm_runtime::kinematics::model_scale(model);
     follow::every_branch(l, plan, pose)
         .into_iter()
         .find(|(_, v)| {
-            model.inputs().iter().zip(q).all(|(&j, &want)| {
-                let d = v[offsets[j]] - want;
-                let d = if model.joints[j].kind == JointType::P {
-                    d
-                } else {
-                    pkm_runtime::solution::wrap_angle(d)
-                };
-                let tol = if model.joints[j].kind == JointType::P {
-                    1e-9 * scale
-                } else {
-                    1e-9
-                };
-                d.abs() <= tol
+            inputs.iter().zip(q).all(|(&j, &want)| {
+                let arc = (model.joints[j].kind != JointType::P).then_some(scale);
+                pkm_runtime::fk_numeric::Compatibility::input_residual(arc, v[offsets[j]], want).abs() <= 1e-9 * scale
             })
         })
         .map(|(b, _)| b)

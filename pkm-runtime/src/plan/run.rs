@@ -46,11 +46,6 @@ impl Solution {
             })
             .collect()
     }
-
-    /// The values of one declared output here ([`output_values`]).
-    pub fn output(&self, planar: bool, output: &crate::newton::Output) -> Vec<f64> {
-        output_values(&self.poses, &self.values, planar, output)
-    }
 }
 
 /// The values of one declared output at link poses `poses` and joint
