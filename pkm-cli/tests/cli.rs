@@ -2394,20 +2394,20 @@ fn fk_follows_a_trajectory() {
 }
 
 /// Issue 32: the study's `pose` is where `pkm export` assembles a file
-/// without a forward plan when `--pose` is not given: the Delta hangs at
-/// z = −420 mm, on the best-conditioned branch there, and its actuators
-/// hold it; `--pose` still wins.
+/// without a forward plan when `--pose` is not given: the Orthoglide at
+/// (30, −25, −60) mm, on the best-conditioned branch there, and its
+/// actuators hold it; `--pose` still wins.
 #[test]
 fn export_at_the_study_pose() {
-    let path = scratch_file("delta_3ruu_masses.pkm", &with_test_masses("delta_3ruu"));
+    let path = scratch_file("orthoglide_masses.pkm", &with_test_masses("orthoglide"));
     let v = run_json(&["export", &path, "--mjcf"]);
     assert_eq!(v["pose_from"], "the study's `pose`");
     assert_eq!(v["branch_from"], "the best conditioned at the pose");
-    for (axis, want) in [("x", 0.0), ("y", 0.0), ("z", -420.0)] {
+    for (axis, want) in [("x", 30.0), ("y", -25.0), ("z", -60.0)] {
         assert_eq!(v["pose"][axis].as_f64(), Some(want), "{axis}");
     }
     assert_eq!(v["holding"]["ok"], true, "{}", v["holding"]);
-    let v = run_json(&["export", &path, "--mjcf", "--pose", "x=10,y=0,z=-400"]);
+    let v = run_json(&["export", &path, "--mjcf", "--pose", "x=20,y=-20,z=-50"]);
     assert_eq!(v["pose_from"], "--pose");
-    assert_eq!(v["pose"]["z"].as_f64(), Some(-400.0));
+    assert_eq!(v["pose"]["z"].as_f64(), Some(-50.0));
 }

@@ -1319,16 +1319,17 @@ fn a_coupled_file_sampled_at_its_start() {
 }
 
 /// Issue 32, item 4: a file without a forward plan may give its sample
-/// pose (`study { pose (…); }`, one value per declared output): the Delta
-/// hangs at z = −420 mm below its base as it works (the report's own
-/// choice scans heights above the base). Its drawing has each wrist 50 mm
-/// from the platform's point there, each elbow at the arm's length 200 mm
-/// from its base joint and the rod's 450 mm from its wrist, by hand. `pose` with the wrong count, with `start`, or in
-/// a file that has a forward plan is an error at its place or said so.
+/// pose (`study { pose (…); }`, one value per declared output): the
+/// Orthoglide at (30, −25, −60) mm, off the slides' axes. Its drawing has,
+/// by hand, each platform hinge e = 40 mm back from the platform's point
+/// along its leg's axis, each carriage's hinge h = 30 mm off its rail,
+/// and the parallelogram's arm m = 300 mm between the two. `pose` with
+/// the wrong count, with `start`, or in a file that has a forward plan is
+/// an error at its place or said so.
 #[test]
 fn a_study_pose_is_the_sample() {
     let (html, out) = page(
-        "delta_3ruu",
+        "orthoglide",
         ReportOptions {
             nodes: Some(8),
             ..Default::default()
@@ -1336,7 +1337,7 @@ fn a_study_pose_is_the_sample() {
     );
     let words = page_text(&html);
     assert!(
-        words.contains("The sample pose: x = 0.0000 mm, y = 0.0000 mm, z = -420.0000 mm (the study's `pose`)"),
+        words.contains("The sample pose: x = 30.0000 mm, y = -25.0000 mm, z = -60.0000 mm (the study's `pose`)"),
         "{words}"
     );
     let csvs = read_csvs(&out);
@@ -1350,18 +1351,20 @@ fn a_study_pose_is_the_sample() {
         [col("x (mm)"), col("y (mm)"), col("z (mm)")].map(|c| row[c].parse().unwrap())
     };
     let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
-    for (k, deg) in [(1, 0.0f64), (2, 120.0), (3, 240.0)] {
-        let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
-        let (elbow, wrist) = (at(&format!("U{k}1.a")), at(&format!("U{k}2.a")));
+    let (p, e, h, m) = ([30.0, -25.0, -60.0], 40.0, 30.0, 300.0);
+    // Leg k runs along axis k; its carriage's hinge is h off the rail
+    // towards the next axis (z, x, y).
+    for (k, (carriage, platform)) in [("R1", "R2"), ("R3", "R4"), ("R5", "R6")].into_iter().enumerate() {
+        let (c, w) = (at(carriage), at(platform));
+        let mut want = p;
+        want[k] -= e;
+        assert!(dist(w, want) <= 1e-9, "platform hinge {platform}: {w:?}");
+        let (off, across) = ((k + 2) % 3, (k + 1) % 3);
         assert!(
-            dist(wrist, [50.0 * c, 50.0 * s, -420.0]) <= 1e-9,
-            "wrist {k}: {wrist:?}"
+            (c[off] - h).abs() <= 1e-9 && c[across].abs() <= 1e-9,
+            "carriage hinge {carriage}: {c:?}"
         );
-        assert!(
-            (dist(elbow, [200.0 * c, 200.0 * s, 0.0]) - 200.0).abs() <= 1e-9,
-            "arm {k}"
-        );
-        assert!((dist(elbow, wrist) - 450.0).abs() <= 1e-9, "rod {k}");
+        assert!((dist(c, w) - m).abs() <= 1e-9, "arm {k}");
     }
     let _ = std::fs::remove_dir_all(out);
     let fails = |name: &str, edits: &[(&str, &str)]| -> String {
@@ -1375,15 +1378,15 @@ fn a_study_pose_is_the_sample() {
         .unwrap_err()
         .to_string()
     };
-    let study = "study { pose (0, 0, -420); }";
-    let e = fails("delta_3ruu", &[(study, "study { pose (0, -420); }")]);
+    let study = "study { pose (30, -25, -60); }";
+    let e = fails("orthoglide", &[(study, "study { pose (30, -25); }")]);
     assert!(
-        e.contains("`pose` needs 3 values, one per declared output") && e.contains("delta_3ruu.pkm:"),
+        e.contains("`pose` needs 3 values, one per declared output") && e.contains("orthoglide.pkm:"),
         "{e}"
     );
     let e = fails(
-        "delta_3ruu",
-        &[(study, "study { start (0.4, 0.3, 0.3); pose (0, 0, -420); }")],
+        "orthoglide",
+        &[(study, "study { start (-300, -300, -300); pose (30, -25, -60); }")],
     );
     assert!(
         e.contains("the sample is an input (`start`) or a pose (`pose`), not both"),

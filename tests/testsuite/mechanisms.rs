@@ -67,6 +67,7 @@ pkm::mechanism!(pub RpsTilt, file = "examples/mechanisms/rps_3_tilt.pkm");
 pkm::mechanism!(pub Prs, file = "examples/mechanisms/prs_3.pkm");
 pkm::mechanism!(pub Ups, file = "examples/mechanisms/ups_6.pkm");
 pkm::mechanism!(pub Upu, file = "examples/mechanisms/upu_3.pkm");
+pkm::mechanism!(pub Delta, file = "examples/mechanisms/delta_3ruu.pkm");
 
 // Fixtures (tests/fixtures/: each file says what it adds to its example).
 // A four-bar whose plan pins a point (the fixture says how).

@@ -30,10 +30,13 @@ pub(super) struct Recorder {
 }
 
 impl Recorder {
-    /// A recorder, if the file declares its units (masses, gravity and loads
-    /// then come with them); an error where they do not make numbers.
+    /// A recorder, if the file declares its units and masses (gravity and
+    /// loads then come with them); none where it declares units alone (for
+    /// its length's name: the Delta's), an error where the masses do not
+    /// make numbers.
     pub(super) fn new(l: &Loaded) -> Result<Option<Recorder>, ReportError> {
-        if l.analysis.mass_and_loads.units.is_none() {
+        let ml = &l.analysis.mass_and_loads;
+        if ml.units.is_none() || (ml.masses.is_empty() && ml.massless.is_empty() && ml.bars.is_empty()) {
             return Ok(None);
         }
         let loading = pkm_dsl::numeric::loading(&l.analysis, &l.model, &l.values)

@@ -184,7 +184,11 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
                 errors.0.extend(d.0);
             }
         }
-        if *cap == Capability::Fk && t.kappa != 0 {
+        // κ ≠ 0 closed in closed form all the same (three spheres) is planned.
+        if *cap == Capability::Fk
+            && t.kappa != 0
+            && !(a.geometry.complete && crate::plan::planner::forward_plan(a).is_ok())
+        {
             let mut d = Diagnostic::new(
                 *span,
                 format!(

@@ -53,6 +53,9 @@ pub(crate) fn solve(
         }
     }
     let mut search = Search::new(model, given, known, pinned, start);
+    if what == "forward" {
+        search.set_translating(translating(a, model));
+    }
     for &(link, point, input, parts) in partial {
         parasitic::start(&mut search, link, point, input, parts).map_err(|e| {
             Diagnostics::from(
@@ -70,6 +73,23 @@ pub(crate) fn solve(
         }
     }
     Ok(search.into_plan(n_inputs, inputs))
+}
+
+/// The links that keep the base's orientation: those a spatial
+/// mechanism's outputs give as a pose without a turn (`pose of L at P`,
+/// the POC set of a translating platform), as the inverse plan places
+/// them ([`Turn::Fixed`]).
+fn translating(a: &Analysis, model: &Model) -> Vec<bool> {
+    let mut out = vec![false; model.links.len()];
+    if a.mechanism.planar {
+        return out;
+    }
+    for o in &a.geometry.outputs {
+        if let OutputKind::Pose { link, about: None, .. } = o.kind {
+            out[link] = true;
+        }
+    }
+    out
 }
 
 /// The refusal of a search that stalled: the links not reached, the last
@@ -189,9 +209,14 @@ fn group_note(a: &Analysis, g: &pkm_runtime::steps::search::Group) -> String {
 }
 
 /// The spatial forward-position plan.
+///
+/// κ ≠ 0 is refused, except where the steps close the coupled loops in
+/// closed form all the same: a translating platform held by three rods on
+/// three spheres ([`Step::Trilaterate`]: a Delta's forward problem), the
+/// coupling's virtual variables then not needed.
 pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let m = &a.mechanism;
-    if a.topology.kappa != 0 {
+    let refuse_coupled = || {
         let mut d = Diagnostic::new(
             m.name_span(),
             format!("a closed-form forward plan needs κ = 0 (κ = {})", a.topology.kappa),
@@ -200,7 +225,12 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         for note in a.topology.coupling_notes() {
             d = d.note(note);
         }
-        return Err(d.into());
+        Diagnostics::from(d)
+    };
+    if a.topology.kappa != 0
+        && (m.planar || !translating(a, &crate::lowering::numeric::model(a, &HashMap::new())?).contains(&true))
+    {
+        return Err(refuse_coupled());
     }
     let model = crate::lowering::numeric::model(a, &HashMap::new())?;
     let inputs = model.inputs();
@@ -208,7 +238,13 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     for (i, &j) in inputs.iter().enumerate() {
         given[j] = Some(i);
     }
-    let mut plan = solve(a, &model, given, vec![], &[], inputs.len(), inputs, "forward")?;
+    let planned = solve(a, &model, given, vec![], &[], inputs.len(), inputs, "forward");
+    let mut plan = match planned {
+        Ok(plan) if a.topology.kappa == 0 || plan.steps.iter().any(|s| matches!(s, Step::Trilaterate { .. })) => plan,
+        Ok(_) | Err(_) if a.topology.kappa != 0 => return Err(refuse_coupled()),
+        Ok(plan) => plan,
+        Err(d) => return Err(d),
+    };
     // The outputs read their links' poses; a joint output, both of its links'.
     let mut needed = vec![false; model.links.len()];
     for o in &a.geometry.outputs {

@@ -246,6 +246,19 @@ impl Listing<'_> {
                 let held: Vec<&str> = limbs.iter().map(|l| self.point(l.point)).collect();
                 format!("{} free; {} held on planes", free.join(", "), held.join(", "))
             }
+            Step::Trilaterate { spheres, link, .. } => {
+                let held: Vec<String> = spheres
+                    .iter()
+                    .map(|s| {
+                        let c = crate::plan::Constraint::Sphere {
+                            centre: s.centre.clone(),
+                            radius: s.radius,
+                        };
+                        format!("{} on {}", self.point(s.point), self.constraint(*link, &c))
+                    })
+                    .collect();
+                format!("not turned; {}", held.join("; "))
+            }
             Step::Transfer { input, .. } => format!("given {input}"),
             Step::Aim { point, target, .. } => format!("{} onto {}", self.point(*point), self.anchor(target)),
             Step::Locus {
@@ -374,6 +387,7 @@ fn kind(s: &Step) -> &'static str {
     match s {
         Step::Place { .. } => "Place",
         Step::Parasitic { .. } => "Parasitic",
+        Step::Trilaterate { .. } => "Trilaterate",
         Step::Transfer { .. } => "Transfer",
         Step::Aim { .. } => "Aim",
         Step::Locus { .. } => "Locus",

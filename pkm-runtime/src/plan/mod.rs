@@ -177,6 +177,17 @@ pub enum Constraint {
     },
 }
 
+/// A point of a link held on a sphere ([`Step::Trilaterate`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OnSphere {
+    /// The point.
+    pub point: crate::solution::PointRef,
+    /// The sphere's centre.
+    pub centre: Anchor,
+    /// What fixes its radius.
+    pub radius: Radius,
+}
+
 /// How a placed link is turned.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Turn {
@@ -251,6 +262,18 @@ pub enum Step {
         limbs: Vec<crate::steps::parasitic::Limb>,
         /// This step's index in the sign vector (`None`: one root, no free angle).
         branch: Option<usize>,
+    },
+    /// A translating link (it keeps the base's orientation: its POC set
+    /// has no rotation) placed by three of its points, each held on a
+    /// sphere about a known point ([`crate::steps::trilaterate`]): three
+    /// spheres meeting, two roots.
+    Trilaterate {
+        /// The link.
+        link: usize,
+        /// Its three points, each with its sphere.
+        spheres: Vec<OnSphere>,
+        /// This step's index in the sign vector.
+        branch: usize,
     },
     /// Through a joint whose value is input `input`.
     Transfer {
@@ -532,6 +555,7 @@ impl Step {
     pub fn reads(&self, link: usize) -> bool {
         match self {
             Step::Place { .. } => false,
+            Step::Trilaterate { spheres, .. } => spheres.iter().any(|s| s.centre.link == link),
             Step::Parasitic { limbs, .. } => limbs
                 .iter()
                 .any(|l| l.normal.link == link || l.anchor.link == link || l.known == Some(link)),
@@ -583,6 +607,11 @@ impl Step {
             Step::Parasitic { limbs, .. } => {
                 for l in limbs {
                     hops(&l.anchor.hops).into_iter().rev().for_each(&mut add);
+                }
+            }
+            Step::Trilaterate { spheres, .. } => {
+                for s in spheres {
+                    hops(&s.centre.hops).into_iter().rev().for_each(&mut add);
                 }
             }
             Step::Aim { target, .. } => hops(&target.hops).into_iter().rev().for_each(&mut add),
@@ -686,6 +715,7 @@ impl Step {
             | Step::PlaneThrough { branch, .. }
             | Step::Beyond { branch, .. } => *branch,
             Step::Guide { branch, .. }
+            | Step::Trilaterate { branch, .. }
             | Step::Cone { branch, .. }
             | Step::TwoTurns { branch, .. }
             | Step::PaPlane { branch, .. } => Some(*branch),
@@ -709,7 +739,7 @@ impl Step {
     /// given values alone, `Place` and `Parasitic`), and the link it places.
     pub fn solves(&self) -> (Option<(usize, usize)>, usize) {
         match *self {
-            Step::Place { link, .. } | Step::Parasitic { link, .. } => (None, link),
+            Step::Place { link, .. } | Step::Parasitic { link, .. } | Step::Trilaterate { link, .. } => (None, link),
             Step::Transfer { joint, from, to, .. }
             | Step::Aim { joint, from, to, .. }
             | Step::Locus { joint, from, to, .. }

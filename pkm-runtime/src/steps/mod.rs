@@ -44,6 +44,7 @@ pub mod rod;
 pub mod search;
 pub mod slide_to_line;
 pub mod transfer;
+pub mod trilaterate;
 pub mod two_turns;
 
 use crate::frame::Frame;
@@ -161,6 +162,13 @@ pub fn execute<T: Scalar>(
             } => {
                 state.poses[link] = place::execute(link, point, input, planar, turn, geometry, given);
             }
+            Step::Trilaterate {
+                link,
+                ref spheres,
+                branch,
+            } => {
+                state.poses[link] = trilaterate::execute(k, link, spheres, branch, geometry, &state.poses, given)?;
+            }
             Step::Parasitic {
                 link,
                 point,
@@ -196,7 +204,7 @@ pub fn execute<T: Scalar>(
         given,
     };
     let (joint, to, pose, value) = match step {
-        Step::Place { .. } | Step::Parasitic { .. } => return Ok(()),
+        Step::Place { .. } | Step::Parasitic { .. } | Step::Trilaterate { .. } => return Ok(()),
         Step::Transfer { input, .. } => transfer::execute(&mv, *input),
         Step::Aim { point, target, .. } => aim::execute(&mv, *point, target)?,
         Step::Align { group, target, .. } => align::execute(&mv, group, target)?,
@@ -395,6 +403,7 @@ pub fn choice_values<T: Scalar>(plan: &Plan, state: &Solved<T>) -> Vec<T> {
     let mut out = Vec::new();
     for step in plan.steps.iter().filter(|s| s.branch().is_some()) {
         match step {
+            Step::Trilaterate { link, .. } => out.extend(state.poses[*link].t),
             Step::Parasitic { link, .. } => {
                 let p = &state.poses[*link];
                 out.extend(p.t);
@@ -524,7 +533,7 @@ pub fn check_residual<T: Scalar>(
 /// first angle of IK-Geo's subproblem 2: a U's first half before a link
 /// that reaches a known point, [`two_turns::find`]; tried last so that
 /// plans that need none are unchanged).
-pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 14] = [
+pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 15] = [
     transfer::find,
     aim::find,
     align::find,
@@ -539,6 +548,7 @@ pub(crate) const FIND_ORDER: [fn(&mut search::Search<'_>) -> bool; 14] = [
     rod::find,
     plane_through::find,
     two_turns::find,
+    trilaterate::find,
 ];
 
 /// The planner's match for a locus step: a point of the new link that the
@@ -663,7 +673,8 @@ pub(crate) fn factor(at: &crate::singular::Configuration, k: usize, step: &Step)
     Some(match step {
         // The free parts' factor is not written yet: the singularity map
         // of an inverse plan with a pose given in part misses that step's.
-        Step::Place { .. } | Step::Parasitic { .. } | Step::Transfer { .. } => return None,
+        // Nor the three spheres' (their tangency, a forward singularity).
+        Step::Place { .. } | Step::Parasitic { .. } | Step::Trilaterate { .. } | Step::Transfer { .. } => return None,
         Step::Aim {
             joint,
             from,

@@ -33,6 +33,9 @@ pub struct Search<'a> {
     /// link), not solved by a step: a link aimed from there composes no
     /// rotation.
     pub(crate) at_start: Vec<bool>,
+    /// Links that keep the base's orientation (their POC set has no
+    /// rotation): [`super::trilaterate`] may place them.
+    pub(crate) translating: Vec<bool>,
 }
 
 /// Where a stalled search stands ([`Search::stall`]).
@@ -125,7 +128,14 @@ impl<'a> Search<'a> {
             steps: start,
             branches: 0,
             at_start: vec![true; model.links.len()],
+            translating: vec![false; model.links.len()],
         }
+    }
+
+    /// Marks the links that keep the base's orientation (a platform whose
+    /// POC set has no rotation), which three spheres may place.
+    pub fn set_translating(&mut self, links: Vec<bool>) {
+        self.translating = links;
     }
 
     /// Which links are known so far.

@@ -17,6 +17,7 @@
 //! | [`line_sphere::line_distance`] | a line meeting a sphere |
 //! | [`line_sphere::line_circle`] | a slide meeting a circle in its plane |
 //! | [`line_through::through`] | a line turned about an axis through a point |
+//! | [`three_spheres::three_spheres`] | three spheres meeting (trilateration) |
 //! | [`triad::triad`] | the rotation that carries an orthonormal pair onto another |
 //!
 //! Failures are typed ([`crate::primitives::Error`]): degenerate data, or
@@ -28,6 +29,7 @@ pub mod line_plane;
 pub mod line_sphere;
 pub mod line_through;
 pub mod rotate_onto;
+pub mod three_spheres;
 pub mod triad;
 pub mod triangle;
 pub mod trig;

@@ -28,11 +28,17 @@ pub fn execute<T: Scalar>(
 ) -> Result<Found<T>, SolveError> {
     let (_, m) = mv.motion(point);
     let q = mv.geometry.anchor(&mv.state.poses, centre);
-    let radius = match radius {
-        Radius::Arm(pa) => arm_length(&mv.geometry.joints[pa].places),
-        Radius::Rod { link, point, joint } => crate::steps::rod::length(mv.geometry, link, point, joint),
-    };
+    let radius = self::radius(mv.geometry, radius);
     Ok(mv.found(to_distance(mv, m, q, radius, mv.choice(branch))?))
+}
+
+/// The length `radius` says: a parallelogram's arm, or a rod's between
+/// its centres.
+pub fn radius<T: Scalar>(geometry: &crate::steps::Geometry<T>, radius: Radius) -> T {
+    match radius {
+        Radius::Arm(pa) => arm_length(&geometry.joints[pa].places),
+        Radius::Rod { link, point, joint } => crate::steps::rod::length(geometry, link, point, joint),
+    }
 }
 
 /// The value that puts the moving point at distance `d` from `q`.
