@@ -1096,7 +1096,11 @@ fn export_of_every_example_answers() {
 /// cannot be solved without a forward solution, said so.
 #[test]
 fn export_by_the_inverse_plan() {
-    let path = scratch_file("ups_6_masses.pkm", &with_test_masses("ups_6"));
+    // Without the example's study pose: the home and its scan.
+    let study = "    study { pose (10, -5, 250, 0.05, -0.03, 0.1); }\n";
+    let text = with_test_masses("ups_6");
+    assert!(text.contains(study));
+    let path = scratch_file("ups_6_home.pkm", &text.replace(study, ""));
     let v = run_json(&["export", &path, "--mjcf"]);
     assert_eq!(v["solver"], "ik");
     assert_eq!(
@@ -2394,20 +2398,28 @@ fn fk_follows_a_trajectory() {
 }
 
 /// Issue 32: the study's `pose` is where `pkm export` assembles a file
-/// without a forward plan when `--pose` is not given: the Orthoglide at
-/// (30, −25, −60) mm, on the best-conditioned branch there, and its
-/// actuators hold it; `--pose` still wins.
+/// without a forward plan when `--pose` is not given: the 6-UPS at
+/// (10, −5, 250) mm turned by (0.05, −0.03, 0.1) rad, on the
+/// best-conditioned branch there, and its actuators hold it; `--pose`
+/// still wins.
 #[test]
 fn export_at_the_study_pose() {
-    let path = scratch_file("orthoglide_masses.pkm", &with_test_masses("orthoglide"));
+    let path = scratch_file("ups_6_masses.pkm", &with_test_masses("ups_6"));
     let v = run_json(&["export", &path, "--mjcf"]);
     assert_eq!(v["pose_from"], "the study's `pose`");
     assert_eq!(v["branch_from"], "the best conditioned at the pose");
-    for (axis, want) in [("x", 30.0), ("y", -25.0), ("z", -60.0)] {
+    for (axis, want) in [
+        ("x", 10.0),
+        ("y", -5.0),
+        ("z", 250.0),
+        ("rx", 0.05),
+        ("ry", -0.03),
+        ("rz", 0.1),
+    ] {
         assert_eq!(v["pose"][axis].as_f64(), Some(want), "{axis}");
     }
     assert_eq!(v["holding"]["ok"], true, "{}", v["holding"]);
-    let v = run_json(&["export", &path, "--mjcf", "--pose", "x=20,y=-20,z=-50"]);
+    let v = run_json(&["export", &path, "--mjcf", "--pose", "x=0,y=0,z=260,rx=0,ry=0,rz=0"]);
     assert_eq!(v["pose_from"], "--pose");
-    assert_eq!(v["pose"]["z"].as_f64(), Some(-50.0));
+    assert_eq!(v["pose"]["z"].as_f64(), Some(260.0));
 }

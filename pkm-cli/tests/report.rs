@@ -1319,17 +1319,16 @@ fn a_coupled_file_sampled_at_its_start() {
 }
 
 /// Issue 32, item 4: a file without a forward plan may give its sample
-/// pose (`study { pose (…); }`, one value per declared output): the
-/// Orthoglide at (30, −25, −60) mm, off the slides' axes. Its drawing has,
-/// by hand, each platform hinge e = 40 mm back from the platform's point
-/// along its leg's axis, each carriage's hinge h = 30 mm off its rail,
-/// and the parallelogram's arm m = 300 mm between the two. `pose` with
-/// the wrong count, with `start`, or in a file that has a forward plan is
-/// an error at its place or said so.
+/// pose (`study { pose (…); }`, one value per declared output): the 6-UPS
+/// at (10, −5, 250) mm turned by (0.05, −0.03, 0.1) rad. Its drawing has,
+/// by hand, each ball's centre at p + R·bᵢ (R = R_z·R_y·R_x, bᵢ on the
+/// platform's circle of 100 mm) and each U's centre on the base's circle
+/// of 200 mm. `pose` with the wrong count, with `start`, or in a file that
+/// has a forward plan is an error at its place or said so.
 #[test]
 fn a_study_pose_is_the_sample() {
     let (html, out) = page(
-        "orthoglide",
+        "ups_6",
         ReportOptions {
             nodes: Some(8),
             ..Default::default()
@@ -1337,7 +1336,8 @@ fn a_study_pose_is_the_sample() {
     );
     let words = page_text(&html);
     assert!(
-        words.contains("The sample pose: x = 30.0000 mm, y = -25.0000 mm, z = -60.0000 mm (the study's `pose`)"),
+        words.contains("The sample pose: x = 10.0000 mm, y = -5.0000 mm, z = 250.0000 mm")
+            && words.contains("(the study's `pose`)"),
         "{words}"
     );
     let csvs = read_csvs(&out);
@@ -1351,20 +1351,46 @@ fn a_study_pose_is_the_sample() {
         [col("x (mm)"), col("y (mm)"), col("z (mm)")].map(|c| row[c].parse().unwrap())
     };
     let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
-    let (p, e, h, m) = ([30.0, -25.0, -60.0], 40.0, 30.0, 300.0);
-    // Leg k runs along axis k; its carriage's hinge is h off the rail
-    // towards the next axis (z, x, y).
-    for (k, (carriage, platform)) in [("R1", "R2"), ("R3", "R4"), ("R5", "R6")].into_iter().enumerate() {
-        let (c, w) = (at(carriage), at(platform));
-        let mut want = p;
-        want[k] -= e;
-        assert!(dist(w, want) <= 1e-9, "platform hinge {platform}: {w:?}");
-        let (off, across) = ((k + 2) % 3, (k + 1) % 3);
+    let (p, [rx, ry, rz]) = ([10.0, -5.0, 250.0], [0.05f64, -0.03, 0.1]);
+    let turn = |v: [f64; 3]| -> [f64; 3] {
+        let x = [
+            v[0],
+            v[1] * rx.cos() - v[2] * rx.sin(),
+            v[1] * rx.sin() + v[2] * rx.cos(),
+        ];
+        let y = [
+            x[0] * ry.cos() + x[2] * ry.sin(),
+            x[1],
+            -x[0] * ry.sin() + x[2] * ry.cos(),
+        ];
+        [
+            y[0] * rz.cos() - y[1] * rz.sin(),
+            y[0] * rz.sin() + y[1] * rz.cos(),
+            y[2],
+        ]
+    };
+    for (k, (ball, base)) in [
+        (40.0f64, 20.0f64),
+        (80.0, 100.0),
+        (160.0, 140.0),
+        (200.0, 220.0),
+        (280.0, 260.0),
+        (320.0, 340.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let (b, a) = (ball.to_radians(), base.to_radians());
+        let r = turn([100.0 * b.cos(), 100.0 * b.sin(), 0.0]);
+        let want = [p[0] + r[0], p[1] + r[1], p[2] + r[2]];
+        let s = at(&format!("S{}", k + 1));
+        assert!(dist(s, want) <= 1e-9, "ball {}: {s:?} against {want:?}", k + 1);
+        let u = at(&format!("U{}.a", k + 1));
         assert!(
-            (c[off] - h).abs() <= 1e-9 && c[across].abs() <= 1e-9,
-            "carriage hinge {carriage}: {c:?}"
+            dist(u, [200.0 * a.cos(), 200.0 * a.sin(), 0.0]) <= 1e-9,
+            "U {}: {u:?}",
+            k + 1
         );
-        assert!((dist(c, w) - m).abs() <= 1e-9, "arm {k}");
     }
     let _ = std::fs::remove_dir_all(out);
     let fails = |name: &str, edits: &[(&str, &str)]| -> String {
@@ -1378,15 +1404,18 @@ fn a_study_pose_is_the_sample() {
         .unwrap_err()
         .to_string()
     };
-    let study = "study { pose (30, -25, -60); }";
-    let e = fails("orthoglide", &[(study, "study { pose (30, -25); }")]);
+    let study = "study { pose (10, -5, 250, 0.05, -0.03, 0.1); }";
+    let e = fails("ups_6", &[(study, "study { pose (10, -5, 250); }")]);
     assert!(
-        e.contains("`pose` needs 3 values, one per declared output") && e.contains("orthoglide.pkm:"),
+        e.contains("`pose` needs 6 values, one per declared output") && e.contains("ups_6.pkm:"),
         "{e}"
     );
     let e = fails(
-        "orthoglide",
-        &[(study, "study { start (-300, -300, -300); pose (30, -25, -60); }")],
+        "ups_6",
+        &[(
+            study,
+            "study { start (250, 250, 250, 250, 250, 250); pose (10, -5, 250, 0.05, -0.03, 0.1); }",
+        )],
     );
     assert!(
         e.contains("the sample is an input (`start`) or a pose (`pose`), not both"),

@@ -183,6 +183,11 @@ fn project(
                 jac[(k, c)] = (rp[k] - rm[k]) / (2.0 * h) / weight[i];
             }
         }
+        // nalgebra's SVD does not return on a non-finite matrix: a
+        // residual that is NaN beside the point ends the projection.
+        if jac.iter().chain(&r).any(|v| !v.is_finite()) {
+            return None;
+        }
         let step = jac
             .svd(true, true)
             .solve(&-DVector::from_column_slice(&r), 1e-12)

@@ -347,75 +347,66 @@ fn three_sphere_robots_keep_their_assembly() {
     }
 }
 
-/// The Delta's forward plan, closed form although κ = 2: the platform on
-/// the three spheres (each wrist centre at the rod's length from its
-/// elbow), then each forearm between its centres. At 300 inputs the
-/// inverse solution produced from random poses (the working assembly,
-/// elbows out), every branch that runs verifies, its platform is one of
-/// the two points where the spheres meet, solved by hand from the elbows
-/// (each elbow checked on its arm's circle), both points are found, and
-/// the generated code gives the interpreter's joint values on every branch.
-#[test]
-fn the_delta_forward_plan_is_its_three_spheres() {
-    use crate::mechanisms::Delta;
-    use pkm::runtime::random::SplitMix;
-    let (text, path) = common::example_text("delta_3ruu");
+/// The generated `fk`'s joint values on each branch of `$ty` (three
+/// inputs), `None` where the branch has no solution.
+macro_rules! joint_values {
+    ($ty:ident) => {
+        |q: &[f64]| -> Vec<Option<Vec<f64>>> {
+            $ty::fk(&Default::default(), &[q[0], q[1], q[2]])
+                .iter()
+                .map(|b| b.result.as_ref().ok().map(|s| s.q.to_vec()))
+                .collect()
+        }
+    };
+}
+
+/// A translating platform's forward plan by three spheres
+/// (`Step::Trilaterate`), closed form although κ ≠ 0, for `stem`: at 300
+/// inputs the inverse solution produces from random poses (`pose`, on an
+/// inverse branch `working` accepts), every branch that runs verifies, its
+/// platform's point `o` is one of the two points where the spheres that
+/// `spheres` works out by hand meet, both points are found, and the
+/// generated code (`generated`: each branch's joint values, or `None`)
+/// gives the interpreter's joint values on every branch: the platform
+/// within 10⁻¹⁴ of the mechanism's size, the joint values equal.
+fn three_spheres_forward(
+    stem: &str,
+    pose: impl Fn(&mut pkm::runtime::random::SplitMix) -> [f64; 3],
+    working: impl Fn(&pkm::runtime::model::Model, &fk_follow::Followed) -> bool,
+    spheres: impl Fn(&pkm::runtime::model::Model, &[f64], &pkm::runtime::plan::Solution) -> ([[f64; 3]; 3], [f64; 3]),
+    generated: impl Fn(&[f64]) -> Vec<Option<Vec<f64>>>,
+) {
+    let (text, path) = common::example_text(stem);
     let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
     let model = c.model().unwrap().clone();
     let (forward, inverse) = (c.forward().unwrap().clone(), c.inverse().unwrap().clone());
-    assert_eq!(1usize << forward.branches, 16);
     let scale = kinematics::model_scale(&model);
-    let joint = |name: &str| model.joints.iter().position(|j| j.name == name).unwrap();
     let platform = model.links.iter().position(|l| l == "platform").unwrap();
-    let (a, b, l1, l2) = (200.0f64, 50.0, 200.0, 450.0);
-    let at = [0.0f64, 120.0, 240.0].map(f64::to_radians);
-    let mut rng = SplitMix::new(0x0de1_7a00);
+    let mut rng = pkm::runtime::random::SplitMix::new(0x0de1_7a00);
     let (mut inputs_checked, mut worst, mut generated_worst) = (0, 0.0f64, 0.0f64);
     while inputs_checked < 300 {
-        let pose = [
-            150.0 * rng.symmetric(),
-            150.0 * rng.symmetric(),
-            -420.0 + 120.0 * rng.symmetric(),
-        ];
+        let p = pose(&mut rng);
         let Some(start) = (0..1usize << inverse.branches)
-            .filter_map(|k| fk_follow::at_pose(&model, &inverse, &pose, k).ok())
-            .find(|s| {
-                (0..3).all(|k| {
-                    let e = kinematics::joint_point(&model, &s.solution.poses, joint(["U11.a", "U21.a", "U31.a"][k]));
-                    e[0].hypot(e[1]) > a
-                })
-            })
+            .filter_map(|k| fk_follow::at_pose(&model, &inverse, &p, k).ok())
+            .find(|s| working(&model, s))
         else {
             continue;
         };
         inputs_checked += 1;
         let q: Vec<f64> = model.inputs().iter().map(|&j| start.solution.values[j]).collect();
-        // The spheres by hand: about each elbow less the wrist's offset.
-        let elbows: [[f64; 3]; 3] = std::array::from_fn(|k| {
-            let e = kinematics::joint_point(&model, &start.solution.poses, joint(["U11.a", "U21.a", "U31.a"][k]));
-            let base = [a * at[k].cos(), a * at[k].sin(), 0.0];
-            let axis = [-at[k].sin(), at[k].cos(), 0.0];
-            let arm: [f64; 3] = std::array::from_fn(|i| e[i] - base[i]);
-            let along: f64 = (0..3).map(|i| arm[i] * axis[i]).sum();
-            let length = arm.iter().map(|v| v * v).sum::<f64>().sqrt();
-            assert!(along.abs() <= 1e-9 * scale && (length - l1).abs() <= 1e-9 * scale);
-            [e[0] - b * at[k].cos(), e[1] - b * at[k].sin(), e[2]]
-        });
-        let roots = three_spheres(elbows, [l2; 3]).expect("the pose's spheres meet");
+        let (centres, radii) = spheres(&model, &q, &start.solution);
+        let roots = three_spheres(centres, radii).unwrap_or_else(|| panic!("{stem} {p:?}: the spheres do not meet"));
         let mut found = [false; 2];
-        let generated = Delta::fk(&Default::default(), &[q[0], q[1], q[2]]);
-        for (signs, solved) in
+        let by_code = generated(&q);
+        for (k, (_, solved)) in
             pkm::runtime::solution::every_branch(forward.branches, |s| pkm::runtime::plan::run(&model, &forward, &q, s))
-        {
-            let k = signs
-                .iter()
+                .into_iter()
                 .enumerate()
-                .map(|(i, s)| usize::from(*s == pkm::runtime::primitives::Sign::Minus) << i)
-                .sum::<usize>();
+        {
             let Ok(s) = solved else {
                 assert!(
-                    generated[k].result.is_err(),
-                    "{pose:?} branch {k}: generated ok, interpreter not"
+                    by_code[k].is_none(),
+                    "{stem} {p:?} branch {k}: generated ok, interpreter not"
                 );
                 continue;
             };
@@ -424,20 +415,19 @@ fn the_delta_forward_plan_is_its_three_spheres() {
             let near = usize::from(off[1] < off[0]);
             assert!(
                 off[near] <= 1e-9 * scale,
-                "{pose:?} branch {k}: platform {t:?} off {off:?}"
+                "{stem} {p:?} branch {k}: platform {t:?} off {off:?}"
             );
             worst = worst.max(off[near]);
             found[near] = true;
-            let g = generated[k]
-                .result
+            let g = by_code[k]
                 .as_ref()
-                .unwrap_or_else(|e| panic!("{pose:?} branch {k}: generated {e}"));
-            for (j, (&x, &y)) in g.q.iter().zip(&s.values).enumerate() {
+                .unwrap_or_else(|| panic!("{stem} {p:?} branch {k}: interpreter ok, generated not"));
+            for (j, (&x, &y)) in g.iter().zip(&s.values).enumerate() {
                 if x.is_finite() || y.is_finite() {
                     let d = pkm::runtime::solution::wrap_angle(x - y).abs();
                     assert!(
                         d <= 1e-9,
-                        "{pose:?} branch {k} joint {j}: generated {x}, interpreted {y}"
+                        "{stem} {p:?} branch {k} joint {j}: generated {x}, interpreted {y}"
                     );
                     generated_worst = generated_worst.max(d);
                 }
@@ -445,11 +435,108 @@ fn the_delta_forward_plan_is_its_three_spheres() {
         }
         assert!(
             found[0] && found[1],
-            "{pose:?}: the spheres' points {roots:?}, found {found:?}"
+            "{stem} {p:?}: the spheres' points {roots:?}, found {found:?}"
         );
     }
     eprintln!(
-        "Delta forward plan at {inputs_checked} inputs: both meeting points found, platform within {worst:e} mm of \
-         the hand solution; generated against interpreted joint values within {generated_worst:e} rad"
+        "{stem}: forward plan at {inputs_checked} inputs: both meeting points found, the platform within {worst:e} \
+         of the hand solution; generated against interpreted joint values within {generated_worst:e}"
+    );
+    assert!(
+        worst <= 1e-14 * scale && generated_worst == 0.0,
+        "{worst:e} {generated_worst:e}"
+    );
+}
+
+/// The Delta's forward plan, closed form although κ = 2: the platform on
+/// the three spheres, each about an elbow (checked on its arm's circle by
+/// hand) less the wrist's offset, of the rod's length; then each forearm
+/// between its centres (16 branches).
+#[test]
+fn the_delta_forward_plan_is_its_three_spheres() {
+    use crate::mechanisms::Delta;
+    let (a, b, l1, l2) = (200.0f64, 50.0, 200.0, 450.0);
+    let at = [0.0f64, 120.0, 240.0].map(f64::to_radians);
+    let elbow = |model: &pkm::runtime::model::Model, s: &pkm::runtime::plan::Solution, k: usize| {
+        let j = model
+            .joints
+            .iter()
+            .position(|j| j.name == ["U11.a", "U21.a", "U31.a"][k])
+            .unwrap();
+        kinematics::joint_point(model, &s.poses, j)
+    };
+    three_spheres_forward(
+        "delta_3ruu",
+        |rng| {
+            [
+                150.0 * rng.symmetric(),
+                150.0 * rng.symmetric(),
+                -420.0 + 120.0 * rng.symmetric(),
+            ]
+        },
+        |model, s| (0..3).all(|k| elbow(model, &s.solution, k)[0].hypot(elbow(model, &s.solution, k)[1]) > a),
+        |model, _, s| {
+            let centres = std::array::from_fn(|k| {
+                let e = elbow(model, s, k);
+                let base = [a * at[k].cos(), a * at[k].sin(), 0.0];
+                let axis = [-at[k].sin(), at[k].cos(), 0.0];
+                let arm: [f64; 3] = std::array::from_fn(|i| e[i] - base[i]);
+                let along: f64 = (0..3).map(|i| arm[i] * axis[i]).sum();
+                let length = arm.iter().map(|v| v * v).sum::<f64>().sqrt();
+                assert!(along.abs() <= 1e-9 && (length - l1).abs() <= 1e-9, "elbow {k}");
+                [e[0] - b * at[k].cos(), e[1] - b * at[k].sin(), e[2]]
+            });
+            (centres, [l2; 3])
+        },
+        joint_values!(Delta),
+    );
+}
+
+/// The 3-UPU's (κ = 2): each sphere about a base U's centre less the
+/// platform U's offset, of radius the leg's slide, by hand from the inputs
+/// alone; two platform positions mirrored through the base's plane.
+#[test]
+fn the_3upu_forward_plan_is_its_three_spheres() {
+    use crate::mechanisms::Upu;
+    let (a, b) = (200.0f64, 100.0);
+    let at = [0.0f64, 120.0, 240.0].map(f64::to_radians);
+    three_spheres_forward(
+        "upu_3",
+        |rng| {
+            [
+                60.0 * rng.symmetric(),
+                60.0 * rng.symmetric(),
+                250.0 + 50.0 * rng.symmetric(),
+            ]
+        },
+        |model, s| model.inputs().iter().all(|&j| s.solution.values[j] > 0.0),
+        |_, q, _| {
+            let centres = std::array::from_fn(|k| [(a - b) * at[k].cos(), (a - b) * at[k].sin(), 0.0]);
+            (centres, [q[0].abs(), q[1].abs(), q[2].abs()])
+        },
+        joint_values!(Upu),
+    );
+}
+
+/// The Orthoglide's (κ = 1): each sphere about the carriage's hinge moved
+/// by the platform hinge's offset, (P1 + e, 0, h), (h, P2 + e, 0),
+/// (0, h, P3 + e), of radius the parallelogram's arm m, by hand from the
+/// inputs alone.
+#[test]
+fn the_orthoglide_forward_plan_is_its_three_spheres() {
+    use crate::mechanisms::Orthoglide;
+    let (m, e, h) = (300.0, 40.0, 30.0);
+    three_spheres_forward(
+        "orthoglide",
+        |rng| {
+            [
+                30.0 + 40.0 * rng.symmetric(),
+                -25.0 + 40.0 * rng.symmetric(),
+                -60.0 + 40.0 * rng.symmetric(),
+            ]
+        },
+        |model, s| model.inputs().iter().all(|&j| s.solution.values[j] < 0.0),
+        |_, q, _| ([[q[0] + e, 0.0, h], [h, q[1] + e, 0.0], [0.0, h, q[2] + e]], [m; 3]),
+        joint_values!(Orthoglide),
     );
 }

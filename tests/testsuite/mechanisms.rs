@@ -68,6 +68,7 @@ pkm::mechanism!(pub Prs, file = "examples/mechanisms/prs_3.pkm");
 pkm::mechanism!(pub Ups, file = "examples/mechanisms/ups_6.pkm");
 pkm::mechanism!(pub Upu, file = "examples/mechanisms/upu_3.pkm");
 pkm::mechanism!(pub Delta, file = "examples/mechanisms/delta_3ruu.pkm");
+pkm::mechanism!(pub Orthoglide, file = "examples/mechanisms/orthoglide.pkm");
 
 // Fixtures (tests/fixtures/: each file says what it adds to its example).
 // A four-bar whose plan pins a point (the fixture says how).

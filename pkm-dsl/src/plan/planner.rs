@@ -211,9 +211,9 @@ fn group_note(a: &Analysis, g: &pkm_runtime::steps::search::Group) -> String {
 /// The spatial forward-position plan.
 ///
 /// κ ≠ 0 is refused, except where the steps close the coupled loops in
-/// closed form all the same: a translating platform held by three rods on
-/// three spheres ([`Step::Trilaterate`]: a Delta's forward problem), the
-/// coupling's virtual variables then not needed.
+/// closed form all the same: a translating platform held on three spheres
+/// ([`Step::Trilaterate`]: the forward problem of a Delta, a 3-UPU, an
+/// Orthoglide), the coupling's virtual variables then not needed.
 pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
     let m = &a.mechanism;
     let refuse_coupled = || {
@@ -227,12 +227,11 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         }
         Diagnostics::from(d)
     };
-    if a.topology.kappa != 0
-        && (m.planar || !translating(a, &crate::lowering::numeric::model(a, &HashMap::new())?).contains(&true))
-    {
+    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
+    // Only a translating link's three spheres close coupled loops.
+    if a.topology.kappa != 0 && !translating(a, &model).contains(&true) {
         return Err(refuse_coupled());
     }
-    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
     let inputs = model.inputs();
     let mut given = vec![None; model.joints.len()];
     for (i, &j) in inputs.iter().enumerate() {

@@ -249,12 +249,20 @@ impl Listing<'_> {
             Step::Trilaterate { spheres, link, .. } => {
                 let held: Vec<String> = spheres
                     .iter()
-                    .map(|s| {
-                        let c = crate::plan::Constraint::Sphere {
-                            centre: s.centre.clone(),
-                            radius: s.radius,
-                        };
-                        format!("{} on {}", self.point(s.point), self.constraint(*link, &c))
+                    .map(|s| match s.radius {
+                        crate::plan::Span::Rigid(radius) => {
+                            let c = crate::plan::Constraint::Sphere {
+                                centre: s.centre.clone(),
+                                radius,
+                            };
+                            format!("{} on {}", self.point(s.point), self.constraint(*link, &c))
+                        }
+                        crate::plan::Span::Slid { slide, input, .. } => format!(
+                            "{} on the sphere about {} of radius across {} (given {input})",
+                            self.point(s.point),
+                            self.anchor(&s.centre),
+                            self.joint(slide)
+                        ),
                     })
                     .collect();
                 format!("not turned; {}", held.join("; "))

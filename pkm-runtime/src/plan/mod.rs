@@ -185,7 +185,29 @@ pub struct OnSphere {
     /// The sphere's centre.
     pub centre: Anchor,
     /// What fixes its radius.
-    pub radius: Radius,
+    pub radius: Span,
+}
+
+/// The radius of a sphere a point is held on ([`OnSphere`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Span {
+    /// A length no joint changes: a rod's, a parallelogram's arm.
+    Rigid(Radius),
+    /// Across a driven slide (a U-P-U leg): the distance of `point`, on
+    /// the link across `slide` from `link`, carried across at the slide's
+    /// given value (input `input`), from the centre of `joint` on `link`.
+    Slid {
+        /// The link with the centre.
+        link: usize,
+        /// The spherical (or U) joint whose place is the centre.
+        joint: usize,
+        /// The driven slide.
+        slide: usize,
+        /// Its input.
+        input: usize,
+        /// The point on the link across the slide.
+        point: crate::solution::PointRef,
+    },
 }
 
 /// How a placed link is turned.

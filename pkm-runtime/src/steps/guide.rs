@@ -102,8 +102,17 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
         for (q, joint) in s.model.joints.iter().enumerate() {
             // A given slide is no unknown of this dyad: the point would be
             // known along the line, and the step would leave it out. With
-            // the slide given its two links are one body: `beyond`.
-            if q == j || joint.kind != JointType::P || s.used[q] || s.given[q].is_some() {
+            // the slide given its two links are one body: `beyond`. Unless
+            // the three spheres already hold the point at the slide's
+            // length ([`super::trilaterate`]: a U-P-U leg): then the line
+            // through it is all that is left, and the closure checks the rest.
+            let imposed = s.steps.iter().any(|st| match st {
+                Step::Trilaterate { spheres, .. } => spheres
+                    .iter()
+                    .any(|o| matches!(o.radius, crate::plan::Span::Slid { slide, .. } if slide == q)),
+                _ => false,
+            });
+            if q == j || joint.kind != JointType::P || s.used[q] || (s.given[q].is_some() && !imposed) {
                 continue;
             }
             let Some(&(on, carried, k_on)) = near.iter().find(|(l, ..)| joint.links.contains(l)) else {

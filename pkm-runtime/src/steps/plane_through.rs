@@ -138,7 +138,10 @@ pub(crate) fn find(s: &mut Search<'_>) -> bool {
             }
             let k_mid = s.axis(r, mid);
             for q in 0..s.model.joints.len() {
-                if q == r || !open(s, q, JointType::P) || !s.model.joints[q].links.contains(&mid) {
+                // The slide may be given (a driven U-P-U leg of a platform
+                // the three spheres placed): the plane does not read it.
+                let slide = s.kind(q) == JointType::P && !s.used[q];
+                if q == r || !slide || !s.model.joints[q].links.contains(&mid) {
                     continue;
                 }
                 if !Search::normal(s.axis(q, mid), k_mid) {
