@@ -474,3 +474,83 @@ fn pose_step<const N: usize>(
         Err(lost) => Err(lost),
     }
 }
+
+/// [`by_pose`], and where the step is not proven (possible, or Newton's
+/// method lost) on a mechanism with a closed-form forward plan `forward`
+/// (a coupled one its steps close all the same: a translating platform on
+/// three spheres), the forward solution's assembly nearest the previous
+/// by every link's pose, said so ([`How::Resolved`]), on the inverse
+/// branch that gives it: a trajectory then never stays unproven where
+/// every assembly is at hand. The inverse plan must be given its values
+/// by placed, unturned links' points (a translating platform's position);
+/// otherwise, and where the forward solution has no assembly, `by_pose`'s
+/// answer stands.
+///
+/// # Errors
+/// As [`by_pose`].
+pub fn by_pose_or_forward(
+    model: &Model,
+    inverse: &Plan,
+    forward: &Plan,
+    angles: &[bool],
+    inputs: &[f64],
+    previous: &Followed,
+) -> Result<Followed, FollowError> {
+    let step = by_pose(model, inverse, angles, inputs, previous);
+    match &step {
+        Ok(f) if f.how == How::Tracked => return step,
+        Err(FollowError::Input(_)) => return step,
+        _ => {}
+    }
+    let scale = crate::kinematics::model_scale(model);
+    let all: Vec<Solution> = crate::solution::every_branch(forward.branches, |s| plan::run(model, forward, inputs, s))
+        .into_iter()
+        .filter_map(|(_, r)| r.ok())
+        .collect();
+    let Some(nearest) = all
+        .iter()
+        .min_by(|a, b| distance(a, &previous.solution, scale).total_cmp(&distance(b, &previous.solution, scale)))
+    else {
+        return step;
+    };
+    let Some(pose) = placed_values(model, inverse, nearest) else {
+        return step;
+    };
+    let same = crate::solution::every_branch(inverse.branches, |s| plan::run(model, inverse, &pose, s))
+        .into_iter()
+        .filter_map(|(s, r)| r.ok().map(|x| (distance(&x, nearest, scale), s, x)))
+        .filter(|(d, ..)| *d <= 1e-9)
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let Some((_, signs, solution)) = same else {
+        return step;
+    };
+    Ok(Followed {
+        signs,
+        cert: pose.iter().map(|&p| Interval::point(p)).collect(),
+        unknowns: pose,
+        how: How::Resolved { assemblies: all.len() },
+        solution,
+    })
+}
+
+/// The values the inverse plan is given, read off a solution, where each
+/// comes from a [`plan::Step::Place`] of an unturned link (a point's
+/// world position); `None` for any other given value.
+fn placed_values(model: &Model, inverse: &Plan, solution: &Solution) -> Option<Vec<f64>> {
+    let mut out = vec![f64::NAN; inverse.n_inputs];
+    for step in &inverse.steps {
+        if let plan::Step::Place {
+            link,
+            point,
+            input,
+            planar: false,
+            turn: plan::Turn::Fixed,
+        } = *step
+        {
+            let x = plan::local_point(model, point, link).ok()?;
+            let p = solution.poses.get(link)? * nalgebra::Point3::from(x);
+            out.get_mut(input..input + 3)?.copy_from_slice(&[p.x, p.y, p.z]);
+        }
+    }
+    out.iter().all(|v| v.is_finite()).then_some(out)
+}

@@ -31,6 +31,9 @@ pub struct Follow<'r> {
     inverse: Plan,
     /// The virtual plan of a κ = 1 file asking for `fk_numeric`.
     numeric: Option<VirtualPlan>,
+    /// The closed-form forward plan of a coupled file its steps close all
+    /// the same (three spheres): an unproven step is resolved by it.
+    forward: Option<Plan>,
     /// The actuated joints, in the order a row gives them.
     inputs: Vec<usize>,
     /// Whether each of the inverse plan's given values is an angle.
@@ -107,11 +110,17 @@ impl<'r> Follow<'r> {
                 Followed::from_assembly(same)
             }
         };
+        let forward = if numeric.is_none() {
+            l.compiled.forward().ok().cloned()
+        } else {
+            None
+        };
         Ok(Follow {
             r,
             l,
             inverse,
             numeric,
+            forward,
             inputs,
             angles,
             last: RefCell::new(start),
@@ -150,7 +159,10 @@ impl Solver for Follow<'_> {
         let mut last = self.last.borrow_mut();
         let next = match &self.numeric {
             Some(vp) => fk_follow::by_virtual(&self.l.model, vp, &q, &last),
-            None => fk_follow::by_pose(&self.l.model, &self.inverse, &self.angles, &q, &last),
+            None => match &self.forward {
+                Some(f) => fk_follow::by_pose_or_forward(&self.l.model, &self.inverse, f, &self.angles, &q, &last),
+                None => fk_follow::by_pose(&self.l.model, &self.inverse, &self.angles, &q, &last),
+            },
         };
         let signs = last.signs.clone();
         let row = match next {
