@@ -503,13 +503,14 @@ pub fn by_pose_or_forward(
         _ => {}
     }
     let scale = crate::kinematics::model_scale(model);
-    let all: Vec<Solution> = crate::solution::every_branch(forward.branches, |s| plan::run(model, forward, inputs, s))
+    let all: Vec<Solution> = plan::run_all(model, forward, inputs)
         .into_iter()
         .filter_map(|(_, r)| r.ok())
         .collect();
-    let Some(nearest) = all
+    let Some((_, nearest)) = all
         .iter()
-        .min_by(|a, b| distance(a, &previous.solution, scale).total_cmp(&distance(b, &previous.solution, scale)))
+        .map(|a| (distance(a, &previous.solution, scale), a))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
     else {
         return step;
     };

@@ -238,12 +238,11 @@ pub fn forward_plan(a: &Analysis) -> Result<Plan, Diagnostics> {
         given[j] = Some(i);
     }
     let planned = solve(a, &model, given, vec![], &[], inputs.len(), inputs, "forward");
-    let mut plan = match planned {
-        Ok(plan) if a.topology.kappa == 0 || plan.steps.iter().any(|s| matches!(s, Step::Trilaterate { .. })) => plan,
-        Ok(_) | Err(_) if a.topology.kappa != 0 => return Err(refuse_coupled()),
-        Ok(plan) => plan,
-        Err(d) => return Err(d),
-    };
+    let spheres = |p: &Plan| p.steps.iter().any(|s| matches!(s, Step::Trilaterate { .. }));
+    if a.topology.kappa != 0 && !planned.as_ref().is_ok_and(spheres) {
+        return Err(refuse_coupled());
+    }
+    let mut plan = planned?;
     // The outputs read their links' poses; a joint output, both of its links'.
     let mut needed = vec![false; model.links.len()];
     for o in &a.geometry.outputs {
