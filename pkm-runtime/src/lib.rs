@@ -8,6 +8,7 @@
 #[doc(hidden)]
 #[path = "contract.rs"]
 pub mod __private;
+pub mod ball_legs;
 pub mod batch;
 pub mod bounded;
 pub mod certify;

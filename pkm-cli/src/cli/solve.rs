@@ -7,6 +7,7 @@
 use super::failure::{Failure, Kind};
 use super::table::{self, Branch, Cell, Column};
 use pkm_dsl::{Compiled, Diagnostics, InstanceError};
+use pkm_runtime::ball_legs::BallLegs;
 use pkm_runtime::fk_numeric::RootKind;
 use pkm_runtime::interval::Interval;
 use pkm_runtime::model::{JointType, Model};
@@ -248,6 +249,19 @@ struct Found {
     /// `fk_numeric`: whether the root is proven, and its interval of the
     /// virtual variable.
     certificate: Option<(RootKind, Interval)>,
+    /// By the pose equations: the real root's number and its certificate.
+    pose: Option<PoseFound>,
+}
+
+/// An assembly's real root of the pose equations ([`pkm_runtime::ball_legs`]).
+#[derive(Clone, Copy)]
+struct PoseFound {
+    /// Its number among the real roots, from 0.
+    root: usize,
+    /// The box of `(p / size, q)` proven to hold it alone; `None`: possible.
+    cert: Option<[Interval; 7]>,
+    /// The size `p` is over.
+    scale: f64,
 }
 
 /// Judges every branch: the plan's error (the runtime verifies what it
@@ -287,6 +301,7 @@ fn verdicts(l: &Loaded, runs: Vec<Run>, given_names: &[&str]) -> Vec<Found> {
                 verdict,
                 virtual_value: None,
                 certificate: None,
+                pose: None,
             }
         })
         .collect()
@@ -342,6 +357,17 @@ fn branches_json(r: &Request, found: &[Found], virtual_name: Option<(&str, bool)
                 }
                 Err((_, why)) => json!({ "branch": f.number, "signs": signs, "ok": false, "reason": why }),
             };
+            if let Some(pf) = f.pose {
+                b["assembly"] = json!(pf.root);
+                b["certificate"] = match pf.cert {
+                    Some(c) => {
+                        let p: Vec<[f64; 2]> = c[..3].iter().map(|i| [i.lo * pf.scale, i.hi * pf.scale]).collect();
+                        let q: Vec<[f64; 2]> = c[3..].iter().map(|i| [i.lo, i.hi]).collect();
+                        json!({ "status": "certified", "platform_origin": p, "platform_quaternion": q })
+                    }
+                    None => json!({ "status": "possible", "why": POSE_DOUBT }),
+                };
+            }
             if let (Some((name, angle)), Some(v)) = (virtual_name, f.virtual_value) {
                 b["virtual"] = json!({ name: r.shown_value(v, angle) });
                 if let Some((kind, cert)) = f.certificate {
@@ -391,12 +417,11 @@ fn position_rows(r: &Request, found: &[Found]) -> Vec<Branch> {
             signs: f.signs.clone(),
             values: match &f.verdict {
                 Ok(s) => {
-                    let status = f.certificate.map(|(kind, _)| {
-                        Cell::Text(match kind {
-                            RootKind::Certified => "certified".into(),
-                            RootKind::Possible(_) => "possible".into(),
-                        })
-                    });
+                    let status = f
+                        .certificate
+                        .map(|(kind, _)| kind.certified())
+                        .or(f.pose.map(|p| p.cert.is_some()))
+                        .map(|proven| Cell::Text(if proven { "certified" } else { "possible" }.into()));
                     Ok([
                         cells(&s.joints),
                         cells(&s.outputs),
@@ -529,7 +554,14 @@ pub(super) fn input_columns(r: &Request, l: &Loaded, inputs: &[usize]) -> Vec<Co
 enum Way {
     Plan(Plan),
     Numeric(Box<pkm_runtime::fk_numeric::VirtualPlan>),
+    /// A coupled file whose legs each end in a ball: the pose equations,
+    /// and the inverse plan that solves each root's joints.
+    Balls(Box<(BallLegs, Plan)>),
 }
+
+/// Why a real root of the pose equations is only possible.
+const POSE_DOUBT: &str =
+    "singular: Krawczyk's operator passed on no box about it (a double root, a fold, or too ill-conditioned to prove)";
 
 /// `pkm fk`: the file loaded and planned once, solved at any inputs.
 pub struct Forward<'r> {
@@ -538,6 +570,8 @@ pub struct Forward<'r> {
     way: Way,
     /// The actuated joints, in the order `--q` gives them.
     inputs: Vec<usize>,
+    /// By the pose equations: what the paths did at the last inputs.
+    summary: std::cell::RefCell<Option<String>>,
 }
 
 impl<'r> Forward<'r> {
@@ -554,6 +588,9 @@ impl<'r> Forward<'r> {
                 pkm_dsl::planner_numeric::forward_numeric_plan(&l.compiled.analysis).map_err(|d| r.parse_failure(d))?;
             let inputs = vp.plan.inputs[..vp.plan.inputs.len() - 1].to_vec();
             (Way::Numeric(Box::new(vp)), inputs)
+        } else if let Some(balls) = Self::balls(&l) {
+            let inputs = l.model.inputs();
+            (Way::Balls(Box::new(balls)), inputs)
         } else {
             let coupled = l.compiled.analysis.topology.kappa != 0 && l.compiled.inverse().is_ok();
             let plan = l.compiled.forward().cloned().map_err(|mut d| {
@@ -570,7 +607,29 @@ impl<'r> Forward<'r> {
             let inputs = plan.input_joints(&l.model);
             (Way::Plan(plan), inputs)
         };
-        Ok(Forward { r, l, way, inputs })
+        Ok(Forward {
+            r,
+            l,
+            way,
+            inputs,
+            summary: std::cell::RefCell::new(None),
+        })
+    }
+
+    /// A coupled file without a closed-form forward plan whose legs each
+    /// end in a ball: its legs and its inverse plan.
+    fn balls(l: &Loaded) -> Option<(BallLegs, Plan)> {
+        if l.compiled.analysis.topology.kappa == 0 || l.compiled.forward().is_ok() {
+            return None;
+        }
+        let inverse = l.compiled.inverse().ok()?.clone();
+        let legs = BallLegs::for_outputs(&l.model, &l.outputs).ok()?;
+        Some((legs, inverse))
+    }
+
+    /// Whether each assembly carries a root's certificate.
+    fn certifies(&self) -> bool {
+        !matches!(self.way, Way::Plan(_))
     }
 
     fn names(&self) -> Vec<&str> {
@@ -583,7 +642,7 @@ impl<'r> Forward<'r> {
     /// The virtual variable's joint name and whether it is an angle.
     fn virtual_joint(&self) -> Option<(&str, bool)> {
         match &self.way {
-            Way::Plan(_) => None,
+            Way::Plan(_) | Way::Balls(_) => None,
             Way::Numeric(vp) => {
                 let j = &self.l.model.joints[vp.joint];
                 Some((j.name.as_str(), angular(j.kind)))
@@ -597,7 +656,96 @@ impl<'r> Forward<'r> {
         match &self.way {
             Way::Plan(plan) => Ok(verdicts(&self.l, run_all(plan, &self.l.model, &given), &self.names())),
             Way::Numeric(vp) => self.numeric(vp, &given),
+            Way::Balls(b) => self.by_poses(&b.0, &b.1, &given),
         }
+    }
+
+    /// Every assembly by the pose equations ([`BallLegs::solve`]): each
+    /// under the inverse branch that solves its legs, with its root's
+    /// number and certificate; a root no branch meets, and a branch with
+    /// no assembly, listed with why.
+    fn by_poses(&self, legs: &BallLegs, inverse: &Plan, given: &[f64]) -> Result<Vec<Found>, Failure> {
+        let l = &self.l;
+        let all = legs
+            .solve(&l.model, inverse, &l.outputs, given)
+            .map_err(|e| Failure::input(e.to_string()))?;
+        let runs: Vec<Run> = all
+            .assemblies
+            .iter()
+            .map(|a| {
+                let c = Configuration {
+                    poses: a.solution.poses.clone(),
+                    values: a.solution.values.clone(),
+                };
+                (a.signs.clone(), Ok(c))
+            })
+            .collect();
+        let mut found = verdicts(l, runs, &self.names());
+        for (f, a) in found.iter_mut().zip(&all.assemblies) {
+            let root = &all.roots.roots[a.root];
+            if let Ok(s) = &mut f.verdict {
+                s.tangent = root.cert.is_none();
+            }
+            f.pose = Some(PoseFound {
+                root: a.root,
+                cert: root.cert,
+                scale: legs.scale,
+            });
+        }
+        found.sort_by_key(|f| f.number);
+        let choices = inverse.branches;
+        let mut unmet: Vec<String> = Vec::new();
+        for &k in &all.unmet {
+            let root = &all.roots.roots[k];
+            let t = root.pose.translation.vector;
+            unmet.push(format!(
+                "root {k} ({}, the platform's origin at ({}, {}, {})) meets the inputs on no branch",
+                if root.cert.is_some() { "certified" } else { "possible" },
+                t.x,
+                t.y,
+                t.z
+            ));
+        }
+        let r = &all.roots;
+        let paths = format!(
+            "{} paths: {} real roots, {} complex, {} at infinity, {} failed",
+            r.paths,
+            r.roots.len(),
+            r.complex,
+            r.infinite,
+            r.failed
+        );
+        let summary = std::iter::once(paths.clone())
+            .chain(unmet)
+            .collect::<Vec<_>>()
+            .join("; ");
+        *self.summary.borrow_mut() = Some(summary);
+        if found.is_empty() {
+            return Err(Failure::new(
+                Kind::Unreachable,
+                format!("no assembly: the pose equations have no real root ({paths})"),
+            ));
+        }
+        for n in 0..1usize << choices {
+            if !found.iter().any(|f| f.number == n) {
+                let at = found.iter().position(|f| f.number > n).unwrap_or(found.len());
+                found.insert(
+                    at,
+                    Found {
+                        number: n,
+                        signs: table::signs_of(n, choices),
+                        verdict: Err((
+                            Kind::Unreachable,
+                            "no assembly on this branch: no real root of the pose equations has its legs".to_string(),
+                        )),
+                        virtual_value: None,
+                        certificate: None,
+                        pose: None,
+                    },
+                );
+            }
+        }
+        Ok(found)
     }
 
     /// `fk_numeric`: every assembly the virtual variable's compatibility
@@ -655,6 +803,7 @@ impl<'r> Forward<'r> {
                     verdict: Err((Kind::Unreachable, why)),
                     virtual_value: Some(u.root.x),
                     certificate: Some((u.root.kind, u.root.cert)),
+                    pose: None,
                 },
             );
         }
@@ -672,6 +821,7 @@ impl<'r> Forward<'r> {
                     verdict: Err((Kind::Unreachable, why)),
                     virtual_value: None,
                     certificate: None,
+                    pose: None,
                 };
                 found.insert(at, f);
             }
@@ -697,11 +847,19 @@ impl<'r> Forward<'r> {
             if let Some((name, _)) = self.virtual_joint() {
                 v["virtual"] = json!(name);
             }
+            if let Some(summary) = self.summary.borrow().as_ref() {
+                v["paths"] = json!(summary);
+            }
             return Ok(format!("{v}\n"));
         }
-        let how = match self.virtual_joint() {
-            Some((name, _)) => format!(" (κ = 1: the assemblies found by the virtual variable {name})"),
-            None => String::new(),
+        let how = match (&self.way, self.virtual_joint()) {
+            (_, Some((name, _))) => format!(" (κ = 1: the assemblies found by the virtual variable {name})"),
+            (Way::Balls(_), _) => format!(
+                " (κ = {}: every assembly by the pose equations, each leg's ball on its circle or sphere; {})",
+                self.l.compiled.analysis.topology.kappa,
+                self.summary.borrow().as_deref().unwrap_or("")
+            ),
+            _ => String::new(),
         };
         let title = format!(
             "{}: forward position at {}{how}; {}\n\n",
@@ -709,7 +867,7 @@ impl<'r> Forward<'r> {
             given_text(&names, q),
             count_text(&found, !how.is_empty())
         );
-        let columns = position_columns(self.r, &self.l, self.virtual_joint().is_some());
+        let columns = position_columns(self.r, &self.l, self.certifies());
         Ok(title + &table::branch_table(&columns, &position_rows(self.r, &found)))
     }
 }
@@ -720,13 +878,14 @@ impl super::csv::Solver for Forward<'_> {
     }
 
     fn columns(&self) -> Vec<Column> {
-        position_columns(self.r, &self.l, self.virtual_joint().is_some())
+        position_columns(self.r, &self.l, self.certifies())
     }
 
     fn choices(&self) -> usize {
         match &self.way {
             Way::Plan(plan) => plan.branches,
             Way::Numeric(vp) => vp.plan.branches,
+            Way::Balls(b) => b.1.branches,
         }
     }
 

@@ -1,0 +1,436 @@
+//! Every complex root of the pose equations ([`super::system`]) by
+//! parameter homotopy (Morgan and Sommese 1989): the equations' roots at
+//! one generic complex choice of the loci are found once per shape of
+//! legs (how many spheres and circles, on which body) by monodromy
+//! (loops in the loci's space, each carrying the roots known round it
+//! until no loop finds a new one; Duff et al. 2019), then carried along
+//! the straight segment from those loci to the loci the inputs give. The
+//! segment meets no point where two roots meet (complex codimension one,
+//! which a real segment misses for a generic start), so every isolated
+//! root at the inputs is the end of one path (the parameter homotopy
+//! theorem); paths that end at infinity or fail are counted, never
+//! dropped.
+//!
+//! `q` and `−q` are one rotation: the equations keep both, the paths are
+//! carried for one of each pair (the other's path is its mirror).
+
+use super::system::{residual, rows, Body, Locus, Ring, UNKNOWNS};
+use crate::random::SplitMix;
+use core::ops::{Add, Mul, Neg, Sub};
+use nalgebra::Complex;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+type C = Complex<f64>;
+
+/// A complex value with its derivatives by the seven unknowns and by the
+/// path's parameter `s` (slot 7).
+#[derive(Debug, Clone, Copy)]
+pub struct Jet {
+    v: C,
+    d: [C; UNKNOWNS + 1],
+}
+
+impl Ring for Jet {
+    #[inline]
+    fn c(v: f64) -> Self {
+        Jet {
+            v: C::new(v, 0.0),
+            d: [C::new(0.0, 0.0); UNKNOWNS + 1],
+        }
+    }
+}
+
+impl Add for Jet {
+    type Output = Jet;
+    #[inline]
+    fn add(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v + o.v,
+            d: core::array::from_fn(|i| self.d[i] + o.d[i]),
+        }
+    }
+}
+
+impl Sub for Jet {
+    type Output = Jet;
+    #[inline]
+    fn sub(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v - o.v,
+            d: core::array::from_fn(|i| self.d[i] - o.d[i]),
+        }
+    }
+}
+
+impl Neg for Jet {
+    type Output = Jet;
+    #[inline]
+    fn neg(self) -> Jet {
+        Jet {
+            v: -self.v,
+            d: self.d.map(|d| -d),
+        }
+    }
+}
+
+// The product rule: the derivatives are sums.
+#[allow(clippy::suspicious_arithmetic_impl)]
+impl Mul for Jet {
+    type Output = Jet;
+    #[inline]
+    fn mul(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v * o.v,
+            d: core::array::from_fn(|i| self.d[i] * o.v + self.v * o.d[i]),
+        }
+    }
+}
+
+/// A point of `C⁷`.
+pub type Point = [C; UNKNOWNS];
+
+fn norm(x: &Point) -> f64 {
+    x.iter().map(|c| c.norm()).fold(0.0, f64::max)
+}
+
+/// The loci `from + s·(to − from)`, with their derivative by `s`.
+fn blend(from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Vec<Locus<Jet>> {
+    let one = |a: C, b: C| {
+        let mut d = [C::new(0.0, 0.0); UNKNOWNS + 1];
+        d[UNKNOWNS] = b - a;
+        Jet { v: a + (b - a) * s, d }
+    };
+    let three = |a: [C; 3], b: [C; 3]| core::array::from_fn(|i| one(a[i], b[i]));
+    from.iter()
+        .zip(to)
+        .map(|(a, b)| Locus {
+            on: a.on,
+            ball: three(a.ball, b.ball),
+            centre: three(a.centre, b.centre),
+            normal: a.normal.zip(b.normal).map(|(x, y)| three(x, y)),
+            radius2: one(a.radius2, b.radius2),
+        })
+        .collect()
+}
+
+/// The equations at `x` on the loci `legs`: values, Jacobian, and the
+/// derivative by `s`.
+fn evaluate(x: &Point, legs: &[Locus<Jet>]) -> (Point, [[C; UNKNOWNS]; UNKNOWNS], Point) {
+    let vars: [Jet; UNKNOWNS] = core::array::from_fn(|k| {
+        let mut d = [C::new(0.0, 0.0); UNKNOWNS + 1];
+        d[k] = C::new(1.0, 0.0);
+        Jet { v: x[k], d }
+    });
+    let mut out = [Jet::c(0.0); UNKNOWNS];
+    residual(&vars, legs, &mut out);
+    (
+        out.map(|r| r.v),
+        core::array::from_fn(|r| core::array::from_fn(|c| out[r].d[c])),
+        out.map(|r| r.d[UNKNOWNS]),
+    )
+}
+
+/// `a·z = b` by Gaussian elimination with partial pivoting; `None` where
+/// a pivot vanishes.
+fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
+    let n = UNKNOWNS;
+    for col in 0..n {
+        let piv = (col..n).max_by(|&i, &j| a[i][col].norm().total_cmp(&a[j][col].norm()))?;
+        if a[piv][col].norm().partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+            return None;
+        }
+        a.swap(col, piv);
+        b.swap(col, piv);
+        let inv = C::new(1.0, 0.0) / a[col][col];
+        for r in col + 1..n {
+            let f = a[r][col] * inv;
+            if f != C::new(0.0, 0.0) {
+                let pivot_row = a[col];
+                for (x, t) in a[r][col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x -= f * t;
+                }
+                let t = b[col];
+                b[r] -= f * t;
+            }
+        }
+    }
+    let mut z = [C::new(0.0, 0.0); UNKNOWNS];
+    for r in (0..n).rev() {
+        let mut acc = b[r];
+        for c in r + 1..n {
+            acc -= a[r][c] * z[c];
+        }
+        z[r] = acc / a[r][r];
+    }
+    z.iter().all(|c| c.re.is_finite() && c.im.is_finite()).then_some(z)
+}
+
+/// How a path ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum End {
+    /// At a finite point, Newton's method converged there.
+    Finite(Point),
+    /// Its unknowns grew past 10⁷ (of the size): a root at infinity.
+    Infinite,
+    /// The step fell below 10⁻¹³ of the path before its end: a singular
+    /// end (two roots meeting) or a path the tracker lost.
+    Failed,
+}
+
+/// `dx/ds` at `(x, s)`.
+fn tangent(x: &Point, from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Option<Point> {
+    let (_, j, hs) = evaluate(x, &blend(from, to, s));
+    solve(j, hs.map(|v| -v))
+}
+
+/// Newton's method at `s` from `x`: at most `steps` steps, the first at
+/// most `first`; the point where a step falls below `tol` of the
+/// unknowns' size (one plus their largest), or where the steps stop
+/// contracting (rounding) within 10⁻⁶ of it; `None` otherwise.
+fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) -> Option<Point> {
+    let mut x = x;
+    let mut last = f64::INFINITY;
+    for k in 0..steps {
+        let (f, j, _) = evaluate(&x, legs);
+        let dx = solve(j, f)?;
+        let size = norm(&dx);
+        let big = 1.0 + norm(&x);
+        if k == 0 && size > first {
+            return None;
+        }
+        if size > 0.5 * last {
+            return (last <= 1e-6 * big).then_some(x);
+        }
+        for i in 0..UNKNOWNS {
+            x[i] -= dx[i];
+        }
+        if size <= tol * big {
+            return Some(x);
+        }
+        last = size;
+    }
+    None
+}
+
+/// Carries the root `x` of the equations on `from` to `to` (predictor:
+/// the classical Runge–Kutta step on `dx/ds`; corrector: Newton's method,
+/// at most three contracting steps; the step halved where either fails,
+/// doubled after three successes, at most `hmax`).
+pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
+    let mut x = x;
+    let mut s = 0.0;
+    let mut h = hmax / 4.0;
+    let mut run = 0;
+    while s < 1.0 {
+        h = h.min(1.0 - s);
+        let step = (|| {
+            let k1 = tangent(&x, from, to, s)?;
+            let at = |k: &Point, f: f64| -> Point { core::array::from_fn(|i| x[i] + k[i] * (f * h)) };
+            let k2 = tangent(&at(&k1, 0.5), from, to, s + 0.5 * h)?;
+            let k3 = tangent(&at(&k2, 0.5), from, to, s + 0.5 * h)?;
+            let k4 = tangent(&at(&k3, 1.0), from, to, s + h)?;
+            let pred: Point = core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0));
+            let legs = blend(from, to, s + h);
+            correct(pred, &legs, 3, 1e-2 * (1.0 + norm(&pred)), 1e-10)
+        })();
+        match step {
+            Some(next) => {
+                x = next;
+                s += h;
+                run += 1;
+                if run >= 3 {
+                    h = (2.0 * h).min(hmax);
+                    run = 0;
+                }
+                if norm(&x) > 1e7 {
+                    return End::Infinite;
+                }
+            }
+            None => {
+                h *= 0.5;
+                run = 0;
+                if h < 1e-13 {
+                    return if norm(&x) > 1e4 { End::Infinite } else { End::Failed };
+                }
+            }
+        }
+    }
+    polish(x, &blend(to, to, 0.0)).map_or(End::Failed, End::Finite)
+}
+
+/// Newton's method at the path's end: steps while they shrink (at most
+/// 12); the point where the last is within 10⁻⁸ of the unknowns' size
+/// (one plus their largest), rounding having stopped it; `None`
+/// otherwise (a singular root: the steps do not contract).
+fn polish(x: Point, legs: &[Locus<Jet>]) -> Option<Point> {
+    let mut x = x;
+    let mut last = f64::INFINITY;
+    for _ in 0..12 {
+        let (f, j, _) = evaluate(&x, legs);
+        let Some(dx) = solve(j, f) else { break };
+        let size = norm(&dx);
+        if size >= last {
+            break;
+        }
+        for i in 0..UNKNOWNS {
+            x[i] -= dx[i];
+        }
+        last = size;
+        if size <= 1e-15 * (1.0 + norm(&x)) {
+            break;
+        }
+    }
+    (last <= 1e-8 * (1.0 + norm(&x))).then_some(x)
+}
+
+/// `x` or `−x`'s quaternion: the one whose largest component has a
+/// positive real part (both are one rotation).
+pub fn canonical(mut x: Point) -> Point {
+    let big = (3..UNKNOWNS)
+        .max_by(|&a, &b| x[a].norm().total_cmp(&x[b].norm()))
+        .unwrap_or(3);
+    if x[big].re < 0.0 {
+        for v in &mut x[3..] {
+            *v = -*v;
+        }
+    }
+    x
+}
+
+fn same(a: &Point, b: &Point) -> bool {
+    let d: Point = core::array::from_fn(|i| a[i] - b[i]);
+    norm(&d) <= 1e-6 * (1.0 + norm(a))
+}
+
+/// The roots of one shape of legs at a generic complex choice of loci.
+#[derive(Debug, Clone)]
+pub struct Start {
+    /// The loci.
+    pub legs: Vec<Locus<C>>,
+    /// Every root, one of each `±q` pair.
+    pub roots: Vec<Point>,
+    /// Monodromy loops run.
+    pub loops: usize,
+}
+
+fn random_c(rng: &mut SplitMix) -> C {
+    C::new(rng.symmetric(), rng.symmetric())
+}
+
+fn random_legs(shape: &[(Body, bool)], rng: &mut SplitMix) -> Vec<Locus<C>> {
+    shape
+        .iter()
+        .map(|&(on, circle)| Locus {
+            on,
+            ball: core::array::from_fn(|_| random_c(rng)),
+            centre: core::array::from_fn(|_| random_c(rng)),
+            normal: circle.then(|| core::array::from_fn(|_| random_c(rng))),
+            radius2: random_c(rng),
+        })
+        .collect()
+}
+
+/// Loci of the shape on which `x` is a root: random balls, centres and
+/// normals, each circle's centre moved along its normal onto `x`'s plane,
+/// each radius `x`'s.
+fn legs_through(shape: &[(Body, bool)], x: &Point, rng: &mut SplitMix) -> Vec<Locus<C>> {
+    let mut legs = random_legs(shape, rng);
+    let p = [x[0], x[1], x[2]];
+    let r = super::system::rotation(&[x[3], x[4], x[5], x[6]]);
+    let turn = |v: &[C; 3]| -> [C; 3] { core::array::from_fn(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]) };
+    let unturn = |v: &[C; 3]| -> [C; 3] { core::array::from_fn(|i| r[0][i] * v[0] + r[1][i] * v[1] + r[2][i] * v[2]) };
+    let dot = |a: &[C; 3], b: &[C; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    for leg in &mut legs {
+        // The ball centre, in the locus's body frame.
+        let y: [C; 3] = match leg.on {
+            Body::Base => {
+                let t = turn(&leg.ball);
+                core::array::from_fn(|i| p[i] + t[i])
+            }
+            Body::Platform => unturn(&core::array::from_fn(|i| leg.ball[i] - p[i])),
+        };
+        if let Some(n) = leg.normal {
+            let t = (dot(&n, &y) - dot(&n, &leg.centre)) / dot(&n, &n);
+            leg.centre = core::array::from_fn(|i| leg.centre[i] + n[i] * t);
+        }
+        let d: [C; 3] = core::array::from_fn(|i| y[i] - leg.centre[i]);
+        leg.radius2 = dot(&d, &d);
+    }
+    legs
+}
+
+/// How far the tracker may step along a path, at most.
+pub const STEP: f64 = 0.05;
+
+/// Loops without a new root after which monodromy stops.
+pub const STALL: usize = 10;
+
+/// The start of a shape by monodromy, from the random generator's seed.
+pub fn monodromy(shape: &[(Body, bool)], seed: u64) -> Start {
+    let mut rng = SplitMix::new(seed);
+    let mut x0: Point = core::array::from_fn(|_| random_c(&mut rng));
+    let qq = x0[3] * x0[3] + x0[4] * x0[4] + x0[5] * x0[5] + x0[6] * x0[6];
+    let inv = C::new(1.0, 0.0) / qq.sqrt();
+    for v in &mut x0[3..] {
+        *v *= inv;
+    }
+    let x0 = canonical(x0);
+    let legs = legs_through(shape, &x0, &mut rng);
+    let mut roots = vec![x0];
+    let (mut stall, mut loops) = (0, 0);
+    while stall < STALL && loops < 200 {
+        loops += 1;
+        let a = random_legs(shape, &mut rng);
+        let b = random_legs(shape, &mut rng);
+        let mut new = false;
+        for x in roots.clone() {
+            let End::Finite(y) = track(x, &legs, &a, STEP) else {
+                continue;
+            };
+            let End::Finite(y) = track(y, &a, &b, STEP) else {
+                continue;
+            };
+            let End::Finite(y) = track(y, &b, &legs, STEP) else {
+                continue;
+            };
+            let y = canonical(y);
+            if !roots.iter().any(|r| same(r, &y)) {
+                roots.push(y);
+                new = true;
+            }
+        }
+        stall = if new { 0 } else { stall + 1 };
+    }
+    Start { legs, roots, loops }
+}
+
+/// The seed every shape's monodromy starts from.
+const SEED: u64 = 0x5eed_2026;
+
+/// The start of a shape, found once per process.
+pub fn start(shape: &[(Body, bool)]) -> Arc<Start> {
+    type Starts = Mutex<HashMap<Vec<(Body, bool)>, Arc<Start>>>;
+    static STARTS: OnceLock<Starts> = OnceLock::new();
+    let starts = STARTS.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(s) = starts.lock().ok().and_then(|m| m.get(shape).cloned()) {
+        return s;
+    }
+    let s = Arc::new(monodromy(shape, SEED));
+    if let Ok(mut m) = starts.lock() {
+        m.entry(shape.to_vec()).or_insert_with(|| s.clone());
+    }
+    s
+}
+
+/// Every path's end at the real loci `target` (one per root of the start,
+/// one of each `±q` pair), in the start's order.
+pub fn ends(start: &Start, target: &[Locus<f64>]) -> Vec<End> {
+    let to: Vec<Locus<C>> = target.iter().map(|l| l.map(|v| C::new(v, 0.0))).collect();
+    start.roots.iter().map(|&x| track(x, &start.legs, &to, STEP)).collect()
+}
+
+/// Whether `shape` gives as many rows as unknowns.
+pub fn square(shape: &[(Body, bool)]) -> bool {
+    rows(shape) == UNKNOWNS
+}

@@ -1,0 +1,217 @@
+//! Every assembly at given inputs: the pose equations' paths
+//! ([`super::homotopy`]) ended, each real root certified by Krawczyk's
+//! operator on the equations in the reals (a box proven to hold exactly
+//! one root) or reported possible, then every joint solved by the inverse
+//! plan at that pose on each of its branches and verified against the
+//! inputs.
+
+use super::homotopy::{self, End, Point};
+use super::system::{residual, Locus, UNKNOWNS};
+use super::BallLegs;
+use crate::certify::{self, Enclosed};
+use crate::interval::{Enclosure, Interval};
+use crate::model::{JointType, Model};
+use crate::newton::Output;
+use crate::plan::{self, Plan, Solution};
+use crate::primitives::Sign;
+use crate::solution::SolveError;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+
+/// A real root of the pose equations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseRoot {
+    /// The platform frame's pose.
+    pub pose: Isometry3<f64>,
+    /// The unknowns `(p / size, q)` and, where certified, the box proven
+    /// to hold this root and no other.
+    pub x: [f64; UNKNOWNS],
+    /// The certificate; `None`: possible (Krawczyk's operator passed on
+    /// no box about it: singular or too ill-conditioned to prove).
+    pub cert: Option<[Interval; UNKNOWNS]>,
+}
+
+/// One assembly: a real root and an inverse branch that meets the inputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Assembly {
+    /// Which root of [`Assemblies::roots`].
+    pub root: usize,
+    /// The inverse plan's branch.
+    pub signs: Vec<Sign>,
+    /// Every joint and link.
+    pub solution: Solution,
+}
+
+/// Every real root of the pose equations, with what the paths did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roots {
+    /// The real roots, certified first then possible, each once.
+    pub roots: Vec<PoseRoot>,
+    /// Paths (one per `±q` pair of the start's roots).
+    pub paths: usize,
+    /// Paths that ended at complex roots.
+    pub complex: usize,
+    /// Paths that went to infinity.
+    pub infinite: usize,
+    /// Paths that failed (a singular end, or lost).
+    pub failed: usize,
+    /// Paths that ended at a real root another path ended at too.
+    pub coincident: usize,
+}
+
+/// Every assembly at some inputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Assemblies {
+    /// The pose equations' real roots and what the paths did.
+    pub roots: Roots,
+    /// The assemblies, by root.
+    pub assemblies: Vec<Assembly>,
+    /// Roots no inverse branch verifies at (index into `roots.roots`).
+    pub unmet: Vec<usize>,
+}
+
+/// Whether a finite end is real: its unknowns' imaginary parts below this.
+pub const REAL: f64 = 1e-6;
+
+/// The enclosure of the equations on the loci `legs` over `b`.
+fn enclose(legs: &[Locus<f64>], b: &[Interval; UNKNOWNS]) -> Option<Enclosed<UNKNOWNS>> {
+    let vars: [Enclosure<UNKNOWNS>; UNKNOWNS] = core::array::from_fn(|k| Enclosure::variable(b[k], k));
+    let legs: Vec<Locus<Enclosure<UNKNOWNS>>> = legs
+        .iter()
+        .map(|l| l.map(|v| Enclosure::constant(Interval::point(v))))
+        .collect();
+    let mut out = [Enclosure::constant(Interval::point(0.0)); UNKNOWNS];
+    residual(&vars, &legs, &mut out);
+    Some(Enclosed {
+        f: out.map(|r| r.v),
+        j: core::array::from_fn(|r| out[r].d),
+        decided: true,
+    })
+}
+
+/// The platform pose of real unknowns `x`.
+fn pose_of(x: &[f64; UNKNOWNS], scale: f64) -> Isometry3<f64> {
+    let q = UnitQuaternion::from_quaternion(Quaternion::new(x[3], x[4], x[5], x[6]));
+    Isometry3::from_parts(Translation3::new(x[0] * scale, x[1] * scale, x[2] * scale), q)
+}
+
+/// Every real root of the pose equations on the loci `loci` (lengths
+/// over `scale`, the platform's pose in lengths): every path of the
+/// shape's start carried to them ([`homotopy::ends`]); each end with
+/// imaginary parts below [`REAL`] refined and certified in the reals
+/// ([`certify::isolate`]) or, where no box passes, possible; `q` and `−q`
+/// one pose, and a pose two paths reach counted once (`coincident`).
+pub fn roots(loci: &[Locus<f64>], scale: f64) -> Roots {
+    let shape: Vec<_> = loci.iter().map(|l| (l.on, l.normal.is_some())).collect();
+    let start = homotopy::start(&shape);
+    let ends = homotopy::ends(&start, loci);
+    let mut out = Roots {
+        roots: Vec::new(),
+        paths: ends.len(),
+        complex: 0,
+        infinite: 0,
+        failed: 0,
+        coincident: 0,
+    };
+    let mut real: Vec<Point> = Vec::new();
+    for end in ends {
+        match end {
+            End::Finite(x) if x.iter().all(|c| c.im.abs() <= REAL * (1.0 + c.re.abs())) => real.push(x),
+            End::Finite(_) => out.complex += 1,
+            End::Infinite => out.infinite += 1,
+            End::Failed => out.failed += 1,
+        }
+    }
+    for x in real {
+        let x: [f64; UNKNOWNS] = homotopy::canonical(x).map(|c| c.re);
+        let (mut x, cert) = match certify::isolate(x, &mut |b| enclose(loci, b)) {
+            Some(r) => (r.x, Some(r.cert)),
+            None => (x, None),
+        };
+        // q and −q: one pose, the one whose largest component is positive.
+        if x[3..]
+            .iter()
+            .copied()
+            .fold(0.0f64, |m, v| if v.abs() > m.abs() { v } else { m })
+            < 0.0
+        {
+            for v in &mut x[3..] {
+                *v = -*v;
+            }
+        }
+        let pose = pose_of(&x, scale);
+        let near = |r: &PoseRoot| {
+            (r.pose.translation.vector - pose.translation.vector).norm() <= 1e-9 * scale
+                && r.pose.rotation.angle_to(&pose.rotation) <= 1e-9
+        };
+        if out.roots.iter().any(near) {
+            out.coincident += 1;
+            continue;
+        }
+        out.roots.push(PoseRoot { pose, x, cert });
+    }
+    out.roots.sort_by_key(|r| r.cert.is_none());
+    out
+}
+
+impl BallLegs {
+    /// Every assembly of `model` at `inputs` (the actuated joints in
+    /// declaration order): the pose equations' real roots ([`roots`]),
+    /// each solved by `inverse` (given the declared `outputs`, read off
+    /// the root's platform pose) on every branch whose actuated joints
+    /// meet the inputs (to [`crate::fk_numeric::zero_of`]).
+    ///
+    /// # Errors
+    /// Inputs of the wrong count or not finite, or loci that cannot be
+    /// formed (a leg's passive axes apart at these inputs).
+    pub fn solve(
+        &self,
+        model: &Model,
+        inverse: &Plan,
+        outputs: &[Output],
+        inputs: &[f64],
+    ) -> Result<Assemblies, SolveError> {
+        crate::fk_numeric::check_inputs(inputs, model.inputs().len())?;
+        let loci = self
+            .loci(model, inputs)
+            .map_err(|why| SolveError::BadInput { what: why.into() })?;
+        let roots = roots(&loci, self.scale);
+        let actuated = model.inputs();
+        let scale = self.scale;
+        let zero = crate::fk_numeric::zero_of(model);
+        let mut assemblies = Vec::new();
+        let mut unmet = Vec::new();
+        for (k, root) in roots.roots.iter().enumerate() {
+            let mut poses = vec![Isometry3::identity(); model.links.len()];
+            poses[self.platform] = root.pose;
+            let given: Vec<f64> = outputs
+                .iter()
+                .flat_map(|o| plan::output_values(&poses, &[], model.planar, o))
+                .collect();
+            let mut met = false;
+            for (signs, r) in crate::solution::every_branch(inverse.branches, |s| plan::run(model, inverse, &given, s))
+            {
+                let Ok(solution) = r else { continue };
+                let meets = actuated.iter().zip(inputs).all(|(&j, &q)| {
+                    let arc = (model.joints[j].kind != JointType::P).then_some(scale);
+                    crate::fk_numeric::Compatibility::input_residual(arc, solution.values[j], q).abs() <= zero
+                });
+                if meets {
+                    met = true;
+                    assemblies.push(Assembly {
+                        root: k,
+                        signs,
+                        solution,
+                    });
+                }
+            }
+            if !met {
+                unmet.push(k);
+            }
+        }
+        Ok(Assemblies {
+            roots,
+            assemblies,
+            unmet,
+        })
+    }
+}
