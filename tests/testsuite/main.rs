@@ -11,6 +11,7 @@ mod mechanisms;
 mod work_precision;
 
 mod allocations;
+mod ball_legs;
 mod batch;
 mod consistency;
 mod contract;

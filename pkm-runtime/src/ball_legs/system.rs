@@ -155,3 +155,73 @@ pub fn residual<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], out: &mut [T; UNK
 pub fn rows(shape: &[(Body, bool)]) -> usize {
     shape.iter().map(|&(_, circle)| 1 + usize::from(circle)).sum::<usize>() + 1
 }
+
+/// The rows and their Jacobian at a real point `x` (on enclosures of
+/// width zero: each the rounded value's enclosure's middle).
+pub fn at(legs: &[Locus<f64>], x: &[f64; UNKNOWNS]) -> ([f64; UNKNOWNS], [[f64; UNKNOWNS]; UNKNOWNS]) {
+    use crate::interval::{Enclosure, Interval};
+    let vars: [Enclosure<UNKNOWNS>; UNKNOWNS] = core::array::from_fn(|k| Enclosure::variable(Interval::point(x[k]), k));
+    let legs: Vec<Locus<Enclosure<UNKNOWNS>>> = legs.iter().map(|l| l.map(Enclosure::c)).collect();
+    let mut out = [Enclosure::c(0.0); UNKNOWNS];
+    residual(&vars, &legs, &mut out);
+    (
+        out.map(|r| r.v.mid()),
+        core::array::from_fn(|r| out[r].d.map(|d| d.mid())),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pose, loci through it by hand (a sphere on the base, a circle on
+    /// the platform), and the rows' Jacobian against central differences.
+    #[test]
+    fn rows_vanish_at_their_pose_and_the_jacobian_is_their_slope() {
+        let (h, c, s) = (0.3f64, 0.8f64.cos(), 0.8f64.sin());
+        // R about z by 0.8 rad: q = (cos 0.4, 0, 0, sin 0.4).
+        let x = [0.1, -0.2, h, (0.4f64).cos(), 0.0, 0.0, (0.4f64).sin()];
+        let b = [1.0, 0.0, 0.0];
+        let y = [0.1 + c, -0.2 + s, h]; // p + R·b
+        let sphere = Locus {
+            on: Body::Base,
+            ball: b,
+            centre: [0.0, 0.0, 0.0],
+            normal: None,
+            radius2: y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+        };
+        // A base point (0, 0, 0) seen from the platform: Rᵀ(−p).
+        let local = [-(c * 0.1 + s * -0.2), -(-s * 0.1 + c * -0.2), -h];
+        let circle = Locus {
+            on: Body::Platform,
+            ball: [0.0, 0.0, 0.0],
+            centre: [local[0] - 0.5, local[1], local[2]],
+            normal: Some([0.0, 1.0, 0.0]),
+            radius2: 0.25,
+        };
+        let legs = [sphere, circle];
+        let mut out = [0.0; UNKNOWNS];
+        assert_eq!(residual(&x, &legs, &mut out), 4);
+        for v in &out[..4] {
+            assert!(v.abs() < 1e-15, "{out:?}");
+        }
+        let (_, j) = at(&legs, &x);
+        for k in 0..UNKNOWNS {
+            let mut up = x;
+            let mut down = x;
+            up[k] += 1e-6;
+            down[k] -= 1e-6;
+            let (mut fu, mut fd) = ([0.0; UNKNOWNS], [0.0; UNKNOWNS]);
+            residual(&up, &legs, &mut fu);
+            residual(&down, &legs, &mut fd);
+            for r in 0..4 {
+                let slope = (fu[r] - fd[r]) / 2e-6;
+                assert!(
+                    (slope - j[r][k]).abs() < 1e-8,
+                    "row {r} column {k}: {slope} {}",
+                    j[r][k]
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,265 @@
+//! Every assembly of the mechanisms whose legs end in balls, by the pose
+//! equations (`pkm_runtime::ball_legs`): the 3-RPS, 3-PRS and 3-SPR
+//! (κ = 2) and the 6-UPS (κ = 4), each assembly's real root certified.
+//!
+//! Checked against what does not come from the method: the inverse
+//! solution (every pose it places the platform at is found again, on its
+//! branch, with its joint values), the conjugate pairs a real system's
+//! complex roots form, Newton's method from random starts (it finds no
+//! root the homotopy missed), and Dietmaier's platform with 40 real
+//! assemblies, whose 40 poses were found by another solver (E. Martyushev's
+//! elimination template, fkSGP) and refined by Newton's method
+//! (`tests/fixtures/dietmaier_40.txt`).
+
+use crate::common;
+use pkm::runtime::ball_legs::{solve, system, BallLegs};
+use pkm::runtime::fk_follow;
+use pkm::runtime::kinematics;
+use pkm::runtime::model::Model;
+use pkm::runtime::newton::Output;
+use pkm::runtime::plan::Plan;
+use pkm::runtime::random::SplitMix;
+
+struct Loaded {
+    model: Model,
+    inverse: Plan,
+    outputs: Vec<Output>,
+    legs: BallLegs,
+}
+
+fn load(stem: &str) -> Loaded {
+    let (text, path) = common::example_text(stem);
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+    let model = c.model().unwrap().clone();
+    let outputs = c.outputs().unwrap().to_vec();
+    let legs = BallLegs::for_outputs(&model, &outputs).unwrap_or_else(|why| panic!("{stem}: {why}"));
+    Loaded {
+        inverse: c.inverse().unwrap().clone(),
+        model,
+        outputs,
+        legs,
+    }
+}
+
+/// At `n` random poses (`pose`), each placed by the inverse solution on
+/// its first branch that solves: the forward solution at its inputs finds
+/// that pose among its certified roots (to 10⁻⁹ of the size and 10⁻⁹
+/// rad), an assembly on the same branch with the same joint values (to
+/// 10⁻⁹ of the size, or rad), every path ends (none failed), and the
+/// complex ends pair up. Returns the real roots' counts.
+fn every_pose_found(stem: &str, n: usize, pose: impl Fn(&mut SplitMix) -> Vec<f64>) -> Vec<usize> {
+    let l = load(stem);
+    let scale = kinematics::model_scale(&l.model);
+    let platform = l.legs.platform;
+    let mut rng = SplitMix::new(0xba11_1e95);
+    let mut counts = Vec::new();
+    while counts.len() < n {
+        let p = pose(&mut rng);
+        let Some(truth) =
+            (0..1usize << l.inverse.branches).find_map(|b| fk_follow::at_pose(&l.model, &l.inverse, &p, b).ok())
+        else {
+            continue;
+        };
+        let q: Vec<f64> = l.model.inputs().iter().map(|&j| truth.solution.values[j]).collect();
+        let all = l.legs.solve(&l.model, &l.inverse, &l.outputs, &q).unwrap();
+        let r = &all.roots;
+        assert_eq!(r.failed, 0, "{stem} at {p:?}: a path failed");
+        assert_eq!(
+            r.complex % 2,
+            0,
+            "{stem} at {p:?}: {} complex ends do not pair up",
+            r.complex
+        );
+        assert_eq!(r.roots.len() + r.complex + r.infinite + r.coincident, r.paths, "{stem}");
+        let tp = truth.solution.poses[platform];
+        let root = r
+            .roots
+            .iter()
+            .position(|x| {
+                (x.pose.translation.vector - tp.translation.vector).norm() <= 1e-9 * scale
+                    && x.pose.rotation.angle_to(&tp.rotation) <= 1e-9
+            })
+            .unwrap_or_else(|| {
+                panic!(
+                    "{stem} at {p:?}: the pose is not among the {} real roots",
+                    r.roots.len()
+                )
+            });
+        assert!(
+            r.roots[root].cert.is_some(),
+            "{stem} at {p:?}: its root is not certified"
+        );
+        let same = all.assemblies.iter().any(|a| {
+            a.root == root
+                && a.signs == truth.signs
+                && a.solution
+                    .values
+                    .iter()
+                    .zip(&truth.solution.values)
+                    // A ball's values are not solved (NaN on both sides).
+                    .all(|(x, y)| (x - y).abs() <= 1e-9 * scale.max(1.0) || (x.is_nan() && y.is_nan()))
+        });
+        assert!(
+            same,
+            "{stem} at {p:?}: no assembly on the truth's branch with its joints"
+        );
+        assert!(all.unmet.is_empty(), "{stem} at {p:?}: a root no branch meets");
+        counts.push(r.roots.len());
+    }
+    counts
+}
+
+#[test]
+fn the_3rps_finds_every_pose_its_inverse_places() {
+    let counts = every_pose_found("rps_3", 12, |rng| {
+        vec![
+            90.0 + 30.0 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ]
+    });
+    // 16 complex assemblies (the degree of the 3-RPS's forward problem);
+    // the mirror image in the base plane of each is one too.
+    assert!(counts.iter().all(|&c| c % 2 == 0 && c <= 16), "{counts:?}");
+}
+
+#[test]
+fn the_3prs_and_3spr_find_every_pose_their_inverses_place() {
+    for stem in ["prs_3", "spr_3"] {
+        let counts = every_pose_found(stem, 12, |rng| {
+            vec![
+                300.0 + 30.0 * rng.symmetric(),
+                0.2 * rng.symmetric(),
+                0.2 * rng.symmetric(),
+            ]
+        });
+        assert!(counts.iter().all(|&c| (1..=16).contains(&c)), "{stem}: {counts:?}");
+    }
+}
+
+#[test]
+fn the_6ups_finds_every_pose_its_inverse_places() {
+    let counts = every_pose_found("ups_6", 8, |rng| {
+        vec![
+            20.0 * rng.symmetric(),
+            20.0 * rng.symmetric(),
+            250.0 + 30.0 * rng.symmetric(),
+            0.1 * rng.symmetric(),
+            0.1 * rng.symmetric(),
+            0.2 * rng.symmetric(),
+        ]
+    });
+    assert!(counts.iter().all(|&c| (1..=40).contains(&c)), "{counts:?}");
+}
+
+/// Dietmaier's 6-UPS at its leg lengths: 40 real assemblies, each
+/// certified, each one of the 40 poses of the fixture (another solver's,
+/// refined by Newton's method) to 10⁻⁹ of the size, and each of those
+/// found once.
+#[test]
+fn dietmaier_has_forty_real_assemblies_each_certified() {
+    let l = load("ups_6_dietmaier");
+    let text = std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40.txt")).unwrap();
+    let k = 100.0;
+    let mut lengths = Vec::new();
+    let mut poses: Vec<([f64; 9], [f64; 3])> = Vec::new();
+    for line in text.lines().filter(|l| !l.starts_with('#')) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let num = |s: &str| s.parse::<f64>().unwrap();
+        match f.first() {
+            Some(&"len") => lengths.push(k * num(f[2])),
+            Some(&"sol") => poses.push((
+                core::array::from_fn(|i| num(f[2 + i])),
+                core::array::from_fn(|i| k * num(f[11 + i])),
+            )),
+            _ => {}
+        }
+    }
+    assert_eq!((lengths.len(), poses.len()), (6, 40));
+    let all = l.legs.solve(&l.model, &l.inverse, &l.outputs, &lengths).unwrap();
+    let r = &all.roots;
+    assert_eq!(
+        (r.paths, r.roots.len(), r.complex, r.infinite, r.failed),
+        (40, 40, 0, 0, 0)
+    );
+    assert!(r.roots.iter().all(|x| x.cert.is_some()), "a root not certified");
+    assert_eq!(all.assemblies.len(), 40);
+    let scale = kinematics::model_scale(&l.model);
+    for (rm, t) in &poses {
+        let m = pkm::runtime::nalgebra::Matrix3::from_row_slice(rm);
+        let hits = r
+            .roots
+            .iter()
+            .filter(|x| {
+                let d = (x.pose.translation.vector - pkm::runtime::nalgebra::Vector3::from(*t)).norm();
+                let e = (x.pose.rotation.to_rotation_matrix().matrix() - m).norm();
+                d <= 1e-9 * scale && e <= 1e-9
+            })
+            .count();
+        assert_eq!(hits, 1, "the fixture's pose {t:?} is found {hits} times");
+    }
+}
+
+/// Newton's method on the pose equations from 2000 random starts at each
+/// of three inputs per mechanism: every root it converges to is one the
+/// homotopy found (a root it missed would show here).
+#[test]
+fn newton_from_random_starts_finds_no_other_root() {
+    for (stem, pose) in [
+        ("rps_3", vec![90.0, 0.1, -0.2]),
+        ("spr_3", vec![300.0, 0.1, -0.05]),
+        ("ups_6", vec![10.0, -5.0, 250.0, 0.05, -0.03, 0.1]),
+    ] {
+        let l = load(stem);
+        let truth = (0..1usize << l.inverse.branches)
+            .find_map(|b| fk_follow::at_pose(&l.model, &l.inverse, &pose, b).ok())
+            .unwrap();
+        let q: Vec<f64> = l.model.inputs().iter().map(|&j| truth.solution.values[j]).collect();
+        let loci = l.legs.loci(&l.model, &q).unwrap();
+        let found = solve::roots(&loci, l.legs.scale);
+        let mut rng = SplitMix::new(0x0e70_2026);
+        let mut converged = 0;
+        for _ in 0..2000 {
+            let mut x: [f64; 7] = core::array::from_fn(|_| 2.0 * rng.symmetric());
+            let mut ok = false;
+            for _ in 0..60 {
+                let (f, j) = system::at(&loci, &x);
+                let Some(step) = pkm::runtime::nalgebra::SMatrix::<f64, 7, 7>::from_fn(|r, c| j[r][c])
+                    .lu()
+                    .solve(&pkm::runtime::nalgebra::SVector::<f64, 7>::from_fn(|r, _| f[r]))
+                else {
+                    break;
+                };
+                for i in 0..7 {
+                    x[i] -= step[i];
+                }
+                if step.norm() < 1e-13 {
+                    ok = true;
+                    break;
+                }
+            }
+            if !ok || x.iter().any(|v| !v.is_finite() || v.abs() > 100.0) {
+                continue;
+            }
+            converged += 1;
+            let sign = if x[3..]
+                .iter()
+                .fold(0.0f64, |m, v| if v.abs() > m.abs() { *v } else { m })
+                < 0.0
+            {
+                -1.0
+            } else {
+                1.0
+            };
+            let hit = found
+                .roots
+                .iter()
+                .any(|r| (0..7).all(|i| (r.x[i] - if i < 3 { x[i] } else { sign * x[i] }).abs() <= 1e-8));
+            assert!(
+                hit,
+                "{stem}: Newton's method converged to a root the homotopy did not list: {x:?}"
+            );
+        }
+        assert!(converged > 200, "{stem}: only {converged} starts converged");
+    }
+}
