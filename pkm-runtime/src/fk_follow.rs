@@ -534,6 +534,55 @@ pub fn by_pose_or_forward(
     })
 }
 
+/// [`by_pose`], and where the step is not proven (possible, or Newton's
+/// method lost) on a mechanism whose legs each end in a ball, every
+/// assembly by the pose equations ([`crate::ball_legs`]) and the one
+/// nearest the previous by every link's pose, said so
+/// ([`How::Resolved`]): a trajectory then never stays unproven where
+/// every assembly is at hand. Where the pose equations give no assembly,
+/// `by_pose`'s answer stands.
+///
+/// # Errors
+/// As [`by_pose`].
+pub fn by_pose_or_balls(
+    model: &Model,
+    inverse: &Plan,
+    legs: &crate::ball_legs::BallLegs,
+    outputs: &[crate::newton::Output],
+    angles: &[bool],
+    inputs: &[f64],
+    previous: &Followed,
+) -> Result<Followed, FollowError> {
+    let step = by_pose(model, inverse, angles, inputs, previous);
+    match &step {
+        Ok(f) if f.how == How::Tracked => return step,
+        Err(FollowError::Input(_)) => return step,
+        _ => {}
+    }
+    let Ok(all) = legs.solve(model, inverse, outputs, inputs) else {
+        return step;
+    };
+    let scale = crate::kinematics::model_scale(model);
+    let Some((_, nearest)) = all
+        .assemblies
+        .iter()
+        .map(|a| (distance(&a.solution, &previous.solution, scale), a))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+    else {
+        return step;
+    };
+    let pose = legs.given_values(model, outputs, &all.roots.roots[nearest.root].pose);
+    Ok(Followed {
+        signs: nearest.signs.clone(),
+        cert: pose.iter().map(|&p| Interval::point(p)).collect(),
+        unknowns: pose,
+        how: How::Resolved {
+            assemblies: all.assemblies.len(),
+        },
+        solution: nearest.solution.clone(),
+    })
+}
+
 /// The values the inverse plan is given, read off a solution, where each
 /// comes from a [`plan::Step::Place`] of an unturned link (a point's
 /// world position); `None` for any other given value.

@@ -34,6 +34,9 @@ pub struct Follow<'r> {
     /// The closed-form forward plan of a coupled file its steps close all
     /// the same (three spheres): an unproven step is resolved by it.
     forward: Option<Plan>,
+    /// A coupled file whose legs each end in a ball, without either: an
+    /// unproven step is resolved by every assembly of the pose equations.
+    balls: Option<pkm_runtime::ball_legs::BallLegs>,
     /// The actuated joints, in the order a row gives them.
     inputs: Vec<usize>,
     /// Whether each of the inverse plan's given values is an angle.
@@ -115,12 +118,16 @@ impl<'r> Follow<'r> {
         } else {
             None
         };
+        let balls = (numeric.is_none() && forward.is_none() && l.compiled.analysis.topology.kappa != 0)
+            .then(|| pkm_runtime::ball_legs::BallLegs::for_outputs(&l.model, &l.outputs).ok())
+            .flatten();
         Ok(Follow {
             r,
             l,
             inverse,
             numeric,
             forward,
+            balls,
             inputs,
             angles,
             last: RefCell::new(start),
@@ -159,9 +166,18 @@ impl Solver for Follow<'_> {
         let mut last = self.last.borrow_mut();
         let next = match &self.numeric {
             Some(vp) => fk_follow::by_virtual(&self.l.model, vp, &q, &last),
-            None => match &self.forward {
-                Some(f) => fk_follow::by_pose_or_forward(&self.l.model, &self.inverse, f, &self.angles, &q, &last),
-                None => fk_follow::by_pose(&self.l.model, &self.inverse, &self.angles, &q, &last),
+            None => match (&self.forward, &self.balls) {
+                (Some(f), _) => fk_follow::by_pose_or_forward(&self.l.model, &self.inverse, f, &self.angles, &q, &last),
+                (None, Some(b)) => fk_follow::by_pose_or_balls(
+                    &self.l.model,
+                    &self.inverse,
+                    b,
+                    &self.l.outputs,
+                    &self.angles,
+                    &q,
+                    &last,
+                ),
+                (None, None) => fk_follow::by_pose(&self.l.model, &self.inverse, &self.angles, &q, &last),
             },
         };
         let signs = last.signs.clone();

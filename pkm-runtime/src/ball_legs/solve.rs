@@ -154,6 +154,17 @@ pub fn roots(loci: &[Locus<f64>], scale: f64) -> Roots {
 }
 
 impl BallLegs {
+    /// The declared `outputs`' values (what the inverse plan is given)
+    /// with the platform at `pose`.
+    pub fn given_values(&self, model: &Model, outputs: &[Output], pose: &Isometry3<f64>) -> Vec<f64> {
+        let mut poses = vec![Isometry3::identity(); model.links.len()];
+        poses[self.platform] = *pose;
+        outputs
+            .iter()
+            .flat_map(|o| plan::output_values(&poses, &[], model.planar, o))
+            .collect()
+    }
+
     /// Every assembly of `model` at `inputs` (the actuated joints in
     /// declaration order): the pose equations' real roots ([`roots`]),
     /// each solved by `inverse` (given the declared `outputs`, read off
@@ -181,12 +192,7 @@ impl BallLegs {
         let mut assemblies = Vec::new();
         let mut unmet = Vec::new();
         for (k, root) in roots.roots.iter().enumerate() {
-            let mut poses = vec![Isometry3::identity(); model.links.len()];
-            poses[self.platform] = root.pose;
-            let given: Vec<f64> = outputs
-                .iter()
-                .flat_map(|o| plan::output_values(&poses, &[], model.planar, o))
-                .collect();
+            let given = self.given_values(model, outputs, &root.pose);
             let mut met = false;
             for (signs, r) in crate::solution::every_branch(inverse.branches, |s| plan::run(model, inverse, &given, s))
             {
