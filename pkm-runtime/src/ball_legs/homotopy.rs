@@ -215,8 +215,11 @@ fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) ->
 
 /// Carries the root `x` of the equations on `from` to `to` (predictor:
 /// the classical Runge–Kutta step on `dx/ds`; corrector: Newton's method,
-/// at most three contracting steps; the step halved where either fails,
-/// doubled after three successes, at most `hmax`).
+/// at most three contracting steps, the first at most 10⁻² of the
+/// unknowns' size, until a step is below 10⁻⁸ of it; the step halved
+/// where either fails, doubled after three successes, at most `hmax`).
+/// The end is polished at the target by Newton's method while its steps
+/// shrink.
 pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
     let mut x = x;
     let mut s = 0.0;
@@ -232,7 +235,7 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
             let k4 = tangent(&at(&k3, 1.0), from, to, s + h)?;
             let pred: Point = core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0));
             let legs = blend(from, to, s + h);
-            correct(pred, &legs, 3, 1e-2 * (1.0 + norm(&pred)), 1e-10)
+            correct(pred, &legs, 3, 1e-2 * (1.0 + norm(&pred)), 1e-8)
         })();
         match step {
             Some(next) => {
@@ -361,7 +364,7 @@ fn legs_through(shape: &[(Body, bool)], x: &Point, rng: &mut SplitMix) -> Vec<Lo
 }
 
 /// How far the tracker may step along a path, at most.
-pub const STEP: f64 = 0.05;
+pub const STEP: f64 = 0.1;
 
 /// Loops without a new root after which monodromy stops.
 pub const STALL: usize = 10;
