@@ -318,3 +318,140 @@ fn every_assembly_resolves_the_steps_a_certificate_cannot() {
         }
     }
 }
+
+/// One instance of `tests/fixtures/ball_legs_phc.jsonl`: its loci and
+/// PHCpack's real poses (refined in 50 digits), each with its condition
+/// number.
+struct PhcInstance {
+    kind: String,
+    id: u64,
+    loci: Vec<system::Locus<f64>>,
+    real: Vec<([f64; 7], f64)>,
+}
+
+fn phc_instances() -> Vec<PhcInstance> {
+    let path = common::root().join("tests/fixtures/ball_legs_phc.jsonl");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let three = |v: &serde_json::Value| -> [f64; 3] { core::array::from_fn(|i| v[i].as_f64().unwrap()) };
+    text.lines()
+        .map(|line| {
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            let loci = v["legs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|l| system::Locus {
+                    on: if l["on"] == "base" {
+                        system::Body::Base
+                    } else {
+                        system::Body::Platform
+                    },
+                    ball: three(&l["ball"]),
+                    centre: three(&l["centre"]),
+                    normal: (!l["normal"].is_null()).then(|| three(&l["normal"])),
+                    radius2: l["radius2"].as_f64().unwrap(),
+                })
+                .collect();
+            let real = v["real"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|r| {
+                    let p = three(&r["p"]);
+                    let q: [f64; 4] = core::array::from_fn(|i| r["q"][i].as_f64().unwrap());
+                    ([p[0], p[1], p[2], q[0], q[1], q[2], q[3]], r["cond"].as_f64().unwrap())
+                })
+                .collect();
+            PhcInstance {
+                kind: v["kind"].as_str().unwrap().to_string(),
+                id: v["id"].as_u64().unwrap(),
+                loci,
+                real,
+            }
+        })
+        .collect()
+}
+
+/// Against PHCpack (`tests/phc/ball_legs_phc.py`: 500 random instances
+/// each of 3-RPS-, 3-PRS- and 3-SPR-like legs and 300 general 6-6 Stewart
+/// platforms, written in other formulations, the 6-6 in Study's
+/// parameters, solved by polyhedral homotopy, each real root refined in 50
+/// digits): at every instance the real roots are the same (none missing,
+/// none spurious, each matched to 10⁻⁸), each of pkm's certified, and each
+/// within 10 ε·cond of the 50-digit root (cond: the equations' condition
+/// number there, the fixture's). The instances are shared between the
+/// machine's threads.
+#[test]
+fn ball_legs_against_phcpack() {
+    let instances = phc_instances();
+    assert!(instances.len() >= 400, "{} instances", instances.len());
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = instances.len().div_ceil(threads);
+    type Tally = (usize, usize, f64, Vec<String>, Vec<String>);
+    let results: Vec<Tally> = std::thread::scope(|scope| {
+        let handles: Vec<_> = instances
+            .chunks(chunk)
+            .map(|part| {
+                scope.spawn(move || {
+                    let (mut roots, mut certified, mut worst) = (0usize, 0usize, 0.0f64);
+                    let (mut wrong, mut failed) = (Vec::new(), Vec::new());
+                    for inst in part {
+                        let found = solve::roots(&inst.loci, 1.0);
+                        let name = format!("{} {}", inst.kind, inst.id);
+                        if found.failed > 0 {
+                            failed.push(format!("{name}: {} paths failed", found.failed));
+                        }
+                        for (x, cond) in &inst.real {
+                            let hit = found
+                                .roots
+                                .iter()
+                                .find(|r| (0..7).all(|i| (r.x[i] - x[i]).abs() <= 1e-8));
+                            match hit {
+                                None => wrong.push(format!("{name}: PHCpack's real root {x:?} is missing")),
+                                Some(r) => {
+                                    roots += 1;
+                                    if r.cert.is_some() {
+                                        certified += 1;
+                                    }
+                                    let err = (0..7).map(|i| (r.x[i] - x[i]).abs()).fold(0.0, f64::max);
+                                    let ratio = err / (f64::EPSILON * cond.max(1.0));
+                                    worst = worst.max(ratio);
+                                }
+                            }
+                        }
+                        for r in &found.roots {
+                            if !inst
+                                .real
+                                .iter()
+                                .any(|(x, _)| (0..7).all(|i| (r.x[i] - x[i]).abs() <= 1e-8))
+                            {
+                                wrong.push(format!("{name}: a real root PHCpack does not list: {:?}", r.x));
+                            }
+                        }
+                    }
+                    (roots, certified, worst, wrong, failed)
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let roots: usize = results.iter().map(|r| r.0).sum();
+    let certified: usize = results.iter().map(|r| r.1).sum();
+    let worst = results.iter().map(|r| r.2).fold(0.0, f64::max);
+    let wrong: Vec<&String> = results.iter().flat_map(|r| &r.3).collect();
+    let failed: Vec<&String> = results.iter().flat_map(|r| &r.4).collect();
+    eprintln!(
+        "{} instances: {roots} real roots matched, {certified} certified, worst {worst:.2} ε·cond; {} disagreements; \
+         failed paths reported at {} instances: {failed:?}",
+        instances.len(),
+        wrong.len(),
+        failed.len()
+    );
+    assert!(wrong.is_empty(), "{wrong:#?}");
+    // A path that fails is reported (`Roots::failed`), never dropped; at
+    // these instances every real root was found all the same. Measured: 9
+    // of the 1800 (8 of the 3-SPR-like, 1 of the 3-RPS-like), 1 or 2 paths.
+    assert!(failed.len() <= 12, "{failed:#?}");
+    assert_eq!(certified, roots);
+    assert!(worst <= 10.0, "worst {worst} ε·cond");
+}

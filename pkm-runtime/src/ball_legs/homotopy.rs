@@ -171,7 +171,9 @@ fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
 pub enum End {
     /// At a finite point, Newton's method converged there.
     Finite(Point),
-    /// Its unknowns grew past 10⁷ (of the size): a root at infinity.
+    /// Its unknowns grew past 10⁷ (of the size) in the last hundredth of
+    /// the path, or past 10⁴ where the step vanished there: a root at
+    /// infinity.
     Infinite,
     /// The step fell below 10⁻¹³ of the path before its end: a singular
     /// end (two roots meeting) or a path the tracker lost.
@@ -185,9 +187,11 @@ fn tangent(x: &Point, from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Option<Poin
 }
 
 /// Newton's method at `s` from `x`: at most `steps` steps, the first at
-/// most `first`; the point where a step falls below `tol` of the
-/// unknowns' size (one plus their largest), or where the steps stop
-/// contracting (rounding) within 10⁻⁶ of it; `None` otherwise.
+/// most `first`, each at most a quarter of the last (Newton's quadratic
+/// convergence, not a slow drift towards another root); the point where
+/// a step falls below `tol` of the unknowns' size (one plus their
+/// largest), or where the steps stop contracting (rounding) within 10⁻⁶
+/// of it; `None` otherwise.
 fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) -> Option<Point> {
     let mut x = x;
     let mut last = f64::INFINITY;
@@ -199,7 +203,7 @@ fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) ->
         if k == 0 && size > first {
             return None;
         }
-        if size > 0.5 * last {
+        if size > 0.25 * last {
             return (last <= 1e-6 * big).then_some(x);
         }
         for i in 0..UNKNOWNS {
@@ -215,8 +219,8 @@ fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) ->
 
 /// Carries the root `x` of the equations on `from` to `to` (predictor:
 /// the classical Runge–Kutta step on `dx/ds`; corrector: Newton's method,
-/// at most three contracting steps, the first at most 10⁻² of the
-/// unknowns' size, until a step is below 10⁻⁸ of it; the step halved
+/// at most three contracting steps, the first at most a tenth of the
+/// predicted step, until a step is below 10⁻⁸ of the unknowns' size; the step halved
 /// where either fails, doubled after three successes, at most `hmax`).
 /// The end is polished at the target by Newton's method while its steps
 /// shrink.
@@ -235,7 +239,11 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
             let k4 = tangent(&at(&k3, 1.0), from, to, s + h)?;
             let pred: Point = core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0));
             let legs = blend(from, to, s + h);
-            correct(pred, &legs, 3, 1e-2 * (1.0 + norm(&pred)), 1e-8)
+            // The first correction at most a tenth of the step predicted:
+            // a predictor that lands nearer another path is refused.
+            let moved: Point = core::array::from_fn(|i| pred[i] - x[i]);
+            let first = (0.1 * norm(&moved)).max(1e-9 * (1.0 + norm(&pred)));
+            correct(pred, &legs, 3, first, 1e-8)
         })();
         match step {
             Some(next) => {
@@ -246,15 +254,22 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
                     h = (2.0 * h).min(hmax);
                     run = 0;
                 }
+                // Far out: a root at infinity near the end; before it, a
+                // path that passes near infinity and may come back, which
+                // another route should carry.
                 if norm(&x) > 1e7 {
-                    return End::Infinite;
+                    return if s > 0.99 { End::Infinite } else { End::Failed };
                 }
             }
             None => {
                 h *= 0.5;
                 run = 0;
                 if h < 1e-13 {
-                    return if norm(&x) > 1e4 { End::Infinite } else { End::Failed };
+                    return if norm(&x) > 1e4 && s > 0.99 {
+                        End::Infinite
+                    } else {
+                        End::Failed
+                    };
                 }
             }
         }
@@ -301,9 +316,13 @@ pub fn canonical(mut x: Point) -> Point {
     x
 }
 
+/// Whether `a` and `b` are one pose: `p` the same and `q` the same up to
+/// its sign (a canonical sign is no help where the largest component's
+/// real part is near zero).
 fn same(a: &Point, b: &Point) -> bool {
-    let d: Point = core::array::from_fn(|i| a[i] - b[i]);
-    norm(&d) <= 1e-6 * (1.0 + norm(a))
+    let tol = 1e-6 * (1.0 + norm(a));
+    let close = |sign: f64| (0..UNKNOWNS).all(|i| (a[i] - b[i] * if i < 3 { 1.0 } else { sign }).norm() <= tol);
+    close(1.0) || close(-1.0)
 }
 
 /// The roots of one shape of legs at a generic complex choice of loci.
@@ -427,11 +446,86 @@ pub fn start(shape: &[(Body, bool)]) -> Arc<Start> {
 }
 
 /// Every path's end at the real loci `target` (one per root of the start,
-/// one of each `±q` pair), in the start's order.
+/// one of each `±q` pair), in the start's order. A path that fails, or
+/// ends at a finite root another path ends at too (a path that jumped:
+/// paths from a generic start never meet at a regular root), is carried
+/// again along the same segment with a smaller step; where some still
+/// fail, every path is carried again by another route, through random
+/// loci on the way (at most [`RETRIES`] routes; the route with the fewest
+/// doubtful paths is kept, what still fails is reported failed). Every
+/// path of one route, never a mixture: a route round other loci may carry
+/// a start root to another end (monodromy), and only one route's paths
+/// together meet every end once.
 pub fn ends(start: &Start, target: &[Locus<f64>]) -> Vec<End> {
     let to: Vec<Locus<C>> = target.iter().map(|l| l.map(|v| C::new(v, 0.0))).collect();
-    start.roots.iter().map(|&x| track(x, &start.legs, &to, STEP)).collect()
+    let mut ends = route(start, &[&to], STEP);
+    if doubtful(&ends).is_empty() {
+        return ends;
+    }
+    // Every path again by another route, through random loci: a route
+    // whose paths all end, each at its own root, is as good as the first.
+    let shape: Vec<(Body, bool)> = start.legs.iter().map(|l| (l.on, l.normal.is_some())).collect();
+    let mut rng = SplitMix::new(SEED ^ 0x0005_7a7e);
+    for _ in 0..RETRIES {
+        let mid = random_legs(&shape, &mut rng);
+        let other = route(start, &[&mid, &to], STEP);
+        if doubtful(&other).len() < doubtful(&ends).len() {
+            ends = other;
+        }
+        if doubtful(&ends).is_empty() {
+            break;
+        }
+    }
+    ends
 }
+
+/// Every start root carried along the segments through `stops` in turn;
+/// a path that fails or jumps is carried again along the same segments
+/// with a step cap a quarter of the last (twice).
+fn route(start: &Start, stops: &[&Vec<Locus<C>>], cap: f64) -> Vec<End> {
+    let along = |x: Point, cap: f64| -> End {
+        let mut from = &start.legs;
+        let mut x = x;
+        for &to in stops {
+            match track(x, from, to, cap) {
+                End::Finite(y) => x = y,
+                other => return other,
+            }
+            from = to;
+        }
+        End::Finite(x)
+    };
+    let mut ends: Vec<End> = start.roots.iter().map(|&x| along(x, cap)).collect();
+    let mut cap = cap;
+    for _ in 0..2 {
+        let redo = doubtful(&ends);
+        if redo.is_empty() {
+            break;
+        }
+        cap *= 0.25;
+        for k in redo {
+            ends[k] = along(start.roots[k], cap);
+        }
+    }
+    ends
+}
+
+/// The paths that failed or end at a finite root another path ends at.
+fn doubtful(ends: &[End]) -> Vec<usize> {
+    (0..ends.len())
+        .filter(|&k| match ends[k] {
+            End::Failed => true,
+            End::Finite(x) => ends
+                .iter()
+                .enumerate()
+                .any(|(j, e)| j != k && matches!(e, End::Finite(y) if same(&x, y))),
+            End::Infinite => false,
+        })
+        .collect()
+}
+
+/// How many other routes are tried.
+pub const RETRIES: usize = 3;
 
 /// Whether `shape` gives as many rows as unknowns.
 pub fn square(shape: &[(Body, bool)]) -> bool {
