@@ -1,10 +1,12 @@
 //! Forward solutions of coupled mechanisms (issue 32): every real assembly,
 //! each certified, by generated code (`fk_numeric`) and by the interpreter
-//! (`pkm::runtime::fk_numeric::solve`), and one step of a trajectory
-//! (`fk_follow`), against PHCpack on the same 3-RPR forward problem (the
-//! polynomial system of `tests/phc/planar_3rpr_phc.py`, `phc -b` as a
-//! process, the way it is used; timed only where `phc` is installed:
-//! Debian package `phcpack`). The sampled κ = 1 search these replaced is
+//! (`pkm::runtime::fk_numeric::solve`), one step of a trajectory
+//! (`fk_follow`), and every assembly of the 3-RPS and of Dietmaier's 6-UPS
+//! by the pose equations (`pkm::runtime::ball_legs`), against PHCpack on
+//! the same 3-RPR forward problem (the polynomial system of
+//! `tests/phc/planar_3rpr_phc.py`) and on Dietmaier's (the pose equations
+//! written out), `phc -b` as a process, the way it is used; timed only
+//! where `phc` is installed: Debian package `phcpack`. The sampled κ = 1 search these replaced is
 //! gone, so it is not timed here; `docs/certified.md` gives its figures.
 
 #[path = "../tests/common/mod.rs"]
@@ -35,6 +37,66 @@ fn phc_system(rho: [f64; 3]) -> String {
         );
     }
     out
+}
+
+/// PHCpack's input for Dietmaier's 6-UPS (`tests/fixtures/dietmaier_40.txt`,
+/// unscaled): the pose equations of `pkm_runtime::ball_legs::system`
+/// written out, the platform's origin and its quaternion (each pose twice,
+/// ±q: 80 finite roots).
+fn phc_dietmaier() -> String {
+    let text = std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40.txt")).unwrap();
+    let (mut a, mut b, mut l) = (Vec::new(), Vec::new(), Vec::new());
+    for line in text.lines().filter(|l| !l.starts_with('#')) {
+        let f: Vec<f64> = line.split_whitespace().skip(2).filter_map(|v| v.parse().ok()).collect();
+        match line.split_whitespace().next() {
+            Some("base") => a.push([f[0], f[1], f[2]]),
+            Some("plat") => b.push([f[0], f[1], f[2]]),
+            Some("len") => l.push(f[0]),
+            _ => {}
+        }
+    }
+    let r = [
+        ["(1 - 2*(qy^2 + qz^2))", "2*(qx*qy - qw*qz)", "2*(qx*qz + qw*qy)"],
+        ["2*(qx*qy + qw*qz)", "(1 - 2*(qx^2 + qz^2))", "2*(qy*qz - qw*qx)"],
+        ["2*(qx*qz - qw*qy)", "2*(qy*qz + qw*qx)", "(1 - 2*(qx^2 + qy^2))"],
+    ];
+    let mut out = String::from("7\nqw^2 + qx^2 + qy^2 + qz^2 - 1;\n");
+    for i in 0..6 {
+        let rows: Vec<String> = (0..3)
+            .map(|k| {
+                let p = ["px", "py", "pz"][k];
+                format!(
+                    "({p} + {}*{:e} + {}*{:e} + {}*{:e} - {:e})^2",
+                    r[k][0], b[i][0], r[k][1], b[i][1], r[k][2], b[i][2], a[i][k]
+                )
+            })
+            .collect();
+        out += &format!("{} - {:e};\n", rows.join(" + "), l[i] * l[i]);
+    }
+    out
+}
+
+/// Times `phc -b` on `system` as `name`.
+fn phc_bench(g: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>, name: &str, system: &str) {
+    let dir = std::env::temp_dir().join(format!("pkm-bench-phc-{}-{name}", std::process::id()).replace('/', "_"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join("in");
+    std::fs::write(&input, system).unwrap();
+    let output = dir.join("out");
+    g.bench_function(name, |bn| {
+        bn.iter(|| {
+            let _ = std::fs::remove_file(&output);
+            let s = std::process::Command::new("phc")
+                .arg("-b")
+                .arg(&input)
+                .arg(&output)
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .status()
+                .unwrap();
+            assert!(s.success());
+        })
+    });
 }
 
 fn coupled(c: &mut Criterion) {
@@ -75,27 +137,39 @@ fn coupled(c: &mut Criterion) {
     g.bench_function("rps_3/follow_step", |bn| {
         bn.iter(|| pkm::runtime::fk_follow::by_pose(&m3, &inverse, &angles, black_box(&q3), &start).unwrap())
     });
-    // PHCpack on the same 3-RPR, where installed.
+    // Every assembly by the pose equations: the 3-RPS (κ = 2) and
+    // Dietmaier's 6-UPS (κ = 4, 40 real), each root certified; the
+    // shapes' starts found before timing (once per process).
+    let balls = |stem: &str| {
+        let (text, path) = common::example_text(stem);
+        let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+        let model = c.model().unwrap().clone();
+        let outputs = c.outputs().unwrap().to_vec();
+        let legs = pkm::runtime::ball_legs::BallLegs::for_outputs(&model, &outputs).unwrap();
+        let _ = pkm::runtime::ball_legs::homotopy::start(&legs.shape);
+        (model, c.inverse().unwrap().clone(), outputs, legs)
+    };
+    let (mr, ir, or, lr) = balls("rps_3");
+    let qr: Vec<f64> = {
+        let s = pkm::runtime::fk_follow::at_pose(&mr, &ir, &[90.0, 0.1, -0.2], 0).unwrap();
+        mr.inputs().iter().map(|&j| s.solution.values[j]).collect()
+    };
+    g.bench_function("rps_3/every_assembly", |bn| {
+        bn.iter(|| lr.solve(&mr, &ir, &or, black_box(&qr)).unwrap())
+    });
+    let (md, id, od, ld) = balls("ups_6_dietmaier");
+    let qd = [100.0, 64.5275, 108.6284, 150.3439, 128.1933, 77.1071];
+    g.bench_function("ups_6_dietmaier/every_assembly", |bn| {
+        bn.iter(|| ld.solve(&md, &id, &od, black_box(&qd)).unwrap())
+    });
+    let loci = ld.loci(&md, &qd).unwrap();
+    g.bench_function("ups_6_dietmaier/roots_certified", |bn| {
+        bn.iter(|| pkm::runtime::ball_legs::solve::roots(black_box(&loci), ld.scale))
+    });
+    // PHCpack on the same problems, where installed.
     if std::process::Command::new("phc").arg("--version").output().is_ok() {
-        let dir = std::env::temp_dir().join(format!("pkm-bench-phc-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let input = dir.join("in");
-        std::fs::write(&input, phc_system(SIX)).unwrap();
-        let output = dir.join("out");
-        g.bench_function("planar_3rpr_six/phcpack", |bn| {
-            bn.iter(|| {
-                let _ = std::fs::remove_file(&output);
-                let s = std::process::Command::new("phc")
-                    .arg("-b")
-                    .arg(&input)
-                    .arg(&output)
-                    .stdout(std::process::Stdio::null())
-                    .stderr(std::process::Stdio::null())
-                    .status()
-                    .unwrap();
-                assert!(s.success());
-            })
-        });
+        phc_bench(&mut g, "planar_3rpr_six/phcpack", &phc_system(SIX));
+        phc_bench(&mut g, "ups_6_dietmaier/phcpack", &phc_dietmaier());
     } else {
         eprintln!("coupled: `phc` not installed (Debian package phcpack): PHCpack not timed");
     }
