@@ -462,13 +462,7 @@ pub fn isolate<const N: usize>(
 ) -> Option<Root<N>> {
     let mut p = x;
     for _ in 0..8 {
-        let Some(e) = enclose(&p.map(Interval::point)) else {
-            break;
-        };
-        let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
-        let Some(y) = inverse(j) else { break };
-        let f = e.f.map(|f| f.mid());
-        let d: [f64; N] = core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>());
+        let Some(d) = newton_step(&p, enclose) else { break };
         if d.iter().any(|v| !v.is_finite()) {
             break;
         }
@@ -491,6 +485,20 @@ pub fn isolate<const N: usize>(
         w *= 8.0;
     }
     None
+}
+
+/// Newton's step at the point `p`: `−J⁻¹·f` with the residual and its
+/// Jacobian at `p` (their enclosures' middles); `None` where they cannot
+/// be enclosed or the Jacobian is singular.
+fn newton_step<const N: usize>(
+    p: &[f64; N],
+    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
+) -> Option<[f64; N]> {
+    let e = enclose(&p.map(Interval::point))?;
+    let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
+    let y = inverse(j)?;
+    let f = e.f.map(|f| f.mid());
+    Some(core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>()))
 }
 
 /// Where a box is split: a little off its middle.
@@ -555,13 +563,7 @@ fn refine<const N: usize>(
     }
     for _ in 0..16 {
         stats.boxes += 1;
-        let Some(e) = enclose(&p.map(Interval::point)) else {
-            break;
-        };
-        let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
-        let Some(y) = inverse(j) else { break };
-        let f = e.f.map(|f| f.mid());
-        let d: [f64; N] = core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>());
+        let Some(d) = newton_step(&p, enclose) else { break };
         let next: [f64; N] = core::array::from_fn(|i| p[i] + d[i]);
         if !(0..N).all(|i| x[i].contains(next[i])) {
             break;

@@ -497,10 +497,8 @@ pub fn by_pose_or_forward(
     previous: &Followed,
 ) -> Result<Followed, FollowError> {
     let step = by_pose(model, inverse, angles, inputs, previous);
-    match &step {
-        Ok(f) if f.how == How::Tracked => return step,
-        Err(FollowError::Input(_)) => return step,
-        _ => {}
+    if settled(&step) {
+        return step;
     }
     let scale = crate::kinematics::model_scale(model);
     let all: Vec<Solution> = plan::run_all(model, forward, inputs)
@@ -554,10 +552,8 @@ pub fn by_pose_or_balls(
     previous: &Followed,
 ) -> Result<Followed, FollowError> {
     let step = by_pose(model, inverse, angles, inputs, previous);
-    match &step {
-        Ok(f) if f.how == How::Tracked => return step,
-        Err(FollowError::Input(_)) => return step,
-        _ => {}
+    if settled(&step) {
+        return step;
     }
     let Ok(all) = legs.solve(model, inverse, outputs, inputs) else {
         return step;
@@ -581,6 +577,12 @@ pub fn by_pose_or_balls(
         },
         solution: nearest.solution.clone(),
     })
+}
+
+/// Whether `by_pose`'s step stands as it is: tracked (proven), or refused
+/// for its inputs; otherwise a full forward solution may resolve it.
+fn settled(step: &Result<Followed, FollowError>) -> bool {
+    matches!(step, Ok(f) if f.how == How::Tracked) || matches!(step, Err(FollowError::Input(_)))
 }
 
 /// The values the inverse plan is given, read off a solution, where each

@@ -549,6 +549,20 @@ pub(super) fn input_columns(r: &Request, l: &Loaded, inputs: &[usize]) -> Vec<Co
         .collect()
 }
 
+/// Found assemblies (each its branch's signs and its solution) as the
+/// runs [`verdicts`] judges.
+fn runs_of<'a>(found: impl Iterator<Item = (&'a Vec<Sign>, &'a pkm_runtime::plan::Solution)>) -> Vec<Run> {
+    found
+        .map(|(signs, solution)| {
+            let c = Configuration {
+                poses: solution.poses.clone(),
+                values: solution.values.clone(),
+            };
+            (signs.clone(), Ok(c))
+        })
+        .collect()
+}
+
 /// How the forward position is solved: the closed-form plan, or for a
 /// κ = 1 file that asks for `fk_numeric` the virtual variable's plan.
 enum Way {
@@ -669,17 +683,7 @@ impl<'r> Forward<'r> {
         let all = legs
             .solve(&l.model, inverse, &l.outputs, given)
             .map_err(|e| Failure::input(e.to_string()))?;
-        let runs: Vec<Run> = all
-            .assemblies
-            .iter()
-            .map(|a| {
-                let c = Configuration {
-                    poses: a.solution.poses.clone(),
-                    values: a.solution.values.clone(),
-                };
-                (a.signs.clone(), Ok(c))
-            })
-            .collect();
+        let runs = runs_of(all.assemblies.iter().map(|a| (&a.signs, &a.solution)));
         let mut found = verdicts(l, runs, &self.names());
         for (f, a) in found.iter_mut().zip(&all.assemblies) {
             let root = &all.roots.roots[a.root];
@@ -767,16 +771,7 @@ impl<'r> Forward<'r> {
                 ),
             ));
         }
-        let runs: Vec<Run> = assemblies
-            .iter()
-            .map(|a| {
-                let c = Configuration {
-                    poses: a.solution.poses.clone(),
-                    values: a.solution.values.clone(),
-                };
-                (a.signs.clone(), Ok(c))
-            })
-            .collect();
+        let runs = runs_of(assemblies.iter().map(|a| (&a.signs, &a.solution)));
         let mut found = verdicts(l, runs, &self.names());
         for (f, a) in found.iter_mut().zip(&assemblies) {
             if let Ok(s) = &mut f.verdict {
