@@ -74,13 +74,17 @@ MUJOCO = "mujoco==4.0.0"
 
 
 def imports():
-    """Whether MuJoCo and NumPy import here."""
+    """Whether the pinned MuJoCo and NumPy import here (by the installed
+    version: `tests/mujoco` on the path imports as an empty namespace
+    package named mujoco, which must not count)."""
     try:
+        from importlib.metadata import PackageNotFoundError, version
+
         import mujoco  # noqa: F401
         import numpy  # noqa: F401
 
-        return True
-    except ImportError:
+        return version("mujoco") == MUJOCO.split("==")[1]
+    except (ImportError, PackageNotFoundError):
         return False
 
 
