@@ -141,7 +141,12 @@ fn coupled(c: &mut Criterion) {
     // Dietmaier's 6-UPS (κ = 4, 40 real), each root certified; the
     // shapes' starts found before timing (once per process).
     let balls = |stem: &str| {
-        let (text, path) = common::example_text(stem);
+        let (text, path) = if stem.ends_with(".pkm") {
+            let path = common::root().join(stem);
+            (std::fs::read_to_string(&path).unwrap(), path.display().to_string())
+        } else {
+            common::example_text(stem)
+        };
         let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
         let model = c.model().unwrap().clone();
         let outputs = c.outputs().unwrap().to_vec();
@@ -157,7 +162,7 @@ fn coupled(c: &mut Criterion) {
     g.bench_function("rps_3/every_assembly", |bn| {
         bn.iter(|| lr.solve(&mr, &ir, &or, black_box(&qr)).unwrap())
     });
-    let (md, id, od, ld) = balls("ups_6_dietmaier");
+    let (md, id, od, ld) = balls("tests/fixtures/ups_6_dietmaier.pkm");
     let qd = [100.0, 64.5275, 108.6284, 150.3439, 128.1933, 77.1071];
     g.bench_function("ups_6_dietmaier/every_assembly", |bn| {
         bn.iter(|| ld.solve(&md, &id, &od, black_box(&qd)).unwrap())

@@ -27,8 +27,14 @@ struct Loaded {
     legs: BallLegs,
 }
 
+/// An example by its stem, or a file (`….pkm`) by its path from the root.
 fn load(stem: &str) -> Loaded {
-    let (text, path) = common::example_text(stem);
+    let (text, path) = if stem.ends_with(".pkm") {
+        let path = common::root().join(stem);
+        (std::fs::read_to_string(&path).unwrap(), path.display().to_string())
+    } else {
+        common::example_text(stem)
+    };
     let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
     let model = c.model().unwrap().clone();
     let outputs = c.outputs().unwrap().to_vec();
@@ -158,7 +164,7 @@ fn the_6ups_finds_every_pose_its_inverse_places() {
 /// found once.
 #[test]
 fn dietmaier_has_forty_real_assemblies_each_certified() {
-    let l = load("ups_6_dietmaier");
+    let l = load("tests/fixtures/ups_6_dietmaier.pkm");
     let text = std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40.txt")).unwrap();
     let k = 100.0;
     let mut lengths = Vec::new();
