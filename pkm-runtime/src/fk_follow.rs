@@ -187,12 +187,7 @@ pub fn by_virtual(
         }
     }
     let all = fk_numeric::solve(model, vp, inputs).map_err(FollowError::Input)?;
-    let scale = crate::kinematics::model_scale(model);
-    let (_, nearest) = all
-        .iter()
-        .map(|a| (distance(&a.solution, &previous.solution, scale), a))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .ok_or(FollowError::NoAssembly)?;
+    let nearest = nearest(model, &all, |a| &a.solution, previous).ok_or(FollowError::NoAssembly)?;
     Ok(Followed {
         how: How::Resolved { assemblies: all.len() },
         ..Followed::from_assembly(nearest)
@@ -505,11 +500,7 @@ pub fn by_pose_or_forward(
         .into_iter()
         .filter_map(|(_, r)| r.ok())
         .collect();
-    let Some((_, nearest)) = all
-        .iter()
-        .map(|a| (distance(a, &previous.solution, scale), a))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-    else {
+    let Some(nearest) = nearest(model, &all, |a| a, previous) else {
         return step;
     };
     let Some(pose) = placed_values(model, inverse, nearest) else {
@@ -558,13 +549,7 @@ pub fn by_pose_or_balls(
     let Ok(all) = legs.solve(model, inverse, outputs, inputs) else {
         return step;
     };
-    let scale = crate::kinematics::model_scale(model);
-    let Some((_, nearest)) = all
-        .assemblies
-        .iter()
-        .map(|a| (distance(&a.solution, &previous.solution, scale), a))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-    else {
+    let Some(nearest) = nearest(model, &all.assemblies, |a| &a.solution, previous) else {
         return step;
     };
     let pose = legs.given_values(model, outputs, &all.roots.roots[nearest.root].pose);
@@ -577,6 +562,21 @@ pub fn by_pose_or_balls(
         },
         solution: nearest.solution.clone(),
     })
+}
+
+/// Of the assemblies `all` (each one's solution by `solution`), the one
+/// nearest the previous step's by every link's pose ([`distance`]).
+fn nearest<'a, A>(
+    model: &Model,
+    all: &'a [A],
+    solution: impl Fn(&A) -> &Solution,
+    previous: &Followed,
+) -> Option<&'a A> {
+    let scale = crate::kinematics::model_scale(model);
+    all.iter()
+        .map(|a| (distance(solution(a), &previous.solution, scale), a))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, a)| a)
 }
 
 /// Whether `by_pose`'s step stands as it is: tracked (proven), or refused
