@@ -141,18 +141,9 @@ fn coupled(c: &mut Criterion) {
     // Dietmaier's 6-UPS (κ = 4, 40 real), each root certified; the
     // shapes' starts found before timing (once per process).
     let balls = |stem: &str| {
-        let (text, path) = if stem.ends_with(".pkm") {
-            let path = common::root().join(stem);
-            (std::fs::read_to_string(&path).unwrap(), path.display().to_string())
-        } else {
-            common::example_text(stem)
-        };
-        let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
-        let model = c.model().unwrap().clone();
-        let outputs = c.outputs().unwrap().to_vec();
-        let legs = pkm::runtime::ball_legs::BallLegs::for_outputs(&model, &outputs).unwrap();
-        let _ = pkm::runtime::ball_legs::homotopy::start(&legs.shape);
-        (model, c.inverse().unwrap().clone(), outputs, legs)
+        let b = common::ball_legged(stem);
+        let _ = pkm::runtime::ball_legs::homotopy::start(&b.legs.shape);
+        (b.model, b.inverse, b.outputs, b.legs)
     };
     let (mr, ir, or, lr) = balls("rps_3");
     let qr: Vec<f64> = {

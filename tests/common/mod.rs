@@ -15,8 +15,13 @@ pub fn root() -> &'static Path {
         .expect("examples/mechanisms in the package's directory or above it")
 }
 
-/// The path of an example mechanism of `examples/mechanisms/` by its file stem.
+/// The path of an example mechanism of `examples/mechanisms/` by its file
+/// stem, or of any mechanism file by its path from the root (`….pkm`: a
+/// fixture).
 pub fn example_path(stem: &str) -> PathBuf {
+    if stem.ends_with(".pkm") {
+        return root().join(stem);
+    }
     root().join(format!("examples/mechanisms/{stem}.pkm"))
 }
 
@@ -100,6 +105,31 @@ pub fn example(stem: &str) -> (pkm::dsl::Analysis, pkm::runtime::model::Model) {
         .cloned()
         .unwrap_or_else(|d| panic!("{path}: {}", d.render(&text, &path)));
     (c.analysis, model)
+}
+
+/// A mechanism whose legs each end in a ball (`pkm::runtime::ball_legs`),
+/// compiled at its nominal parameters.
+pub struct BallLegged {
+    pub model: pkm::runtime::model::Model,
+    pub inverse: pkm::runtime::plan::Plan,
+    pub outputs: Vec<pkm::runtime::newton::Output>,
+    pub legs: pkm::runtime::ball_legs::BallLegs,
+}
+
+/// The example `stem` (or fixture, [`example_path`]) as a [`BallLegged`].
+pub fn ball_legged(stem: &str) -> BallLegged {
+    let (text, path) = example_text(stem);
+    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
+    let model = c.model().unwrap().clone();
+    let outputs = c.outputs().unwrap().to_vec();
+    let legs =
+        pkm::runtime::ball_legs::BallLegs::for_outputs(&model, &outputs).unwrap_or_else(|why| panic!("{stem}: {why}"));
+    BallLegged {
+        inverse: c.inverse().unwrap().clone(),
+        model,
+        outputs,
+        legs,
+    }
 }
 
 /// The largest difference of `a` from `b`: angles (where `angle` says so)

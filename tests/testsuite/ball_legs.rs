@@ -12,40 +12,10 @@
 //! (`tests/fixtures/dietmaier_40.txt`).
 
 use crate::common;
-use pkm::runtime::ball_legs::{solve, system, BallLegs};
+use pkm::runtime::ball_legs::{solve, system};
 use pkm::runtime::fk_follow;
 use pkm::runtime::kinematics;
-use pkm::runtime::model::Model;
-use pkm::runtime::newton::Output;
-use pkm::runtime::plan::Plan;
 use pkm::runtime::random::SplitMix;
-
-struct Loaded {
-    model: Model,
-    inverse: Plan,
-    outputs: Vec<Output>,
-    legs: BallLegs,
-}
-
-/// An example by its stem, or a file (`….pkm`) by its path from the root.
-fn load(stem: &str) -> Loaded {
-    let (text, path) = if stem.ends_with(".pkm") {
-        let path = common::root().join(stem);
-        (std::fs::read_to_string(&path).unwrap(), path.display().to_string())
-    } else {
-        common::example_text(stem)
-    };
-    let c = pkm::dsl::compile(&text).unwrap_or_else(|d| panic!("{}", d.render(&text, &path)));
-    let model = c.model().unwrap().clone();
-    let outputs = c.outputs().unwrap().to_vec();
-    let legs = BallLegs::for_outputs(&model, &outputs).unwrap_or_else(|why| panic!("{stem}: {why}"));
-    Loaded {
-        inverse: c.inverse().unwrap().clone(),
-        model,
-        outputs,
-        legs,
-    }
-}
 
 /// At `n` random poses (`pose`), each placed by the inverse solution on
 /// its first branch that solves: the forward solution at its inputs finds
@@ -54,7 +24,7 @@ fn load(stem: &str) -> Loaded {
 /// 10⁻⁹ of the size, or rad), every path ends (none failed), and the
 /// complex ends pair up. Returns the real roots' counts.
 fn every_pose_found(stem: &str, n: usize, pose: impl Fn(&mut SplitMix) -> Vec<f64>) -> Vec<usize> {
-    let l = load(stem);
+    let l = common::ball_legged(stem);
     let scale = kinematics::model_scale(&l.model);
     let platform = l.legs.platform;
     let mut rng = SplitMix::new(0xba11_1e95);
@@ -164,7 +134,7 @@ fn the_6ups_finds_every_pose_its_inverse_places() {
 /// found once.
 #[test]
 fn dietmaier_has_forty_real_assemblies_each_certified() {
-    let l = load("tests/fixtures/ups_6_dietmaier.pkm");
+    let l = common::ball_legged("tests/fixtures/ups_6_dietmaier.pkm");
     let text = std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40.txt")).unwrap();
     let k = 100.0;
     let mut lengths = Vec::new();
@@ -216,7 +186,7 @@ fn newton_from_random_starts_finds_no_other_root() {
         ("spr_3", vec![300.0, 0.1, -0.05]),
         ("ups_6", vec![10.0, -5.0, 250.0, 0.05, -0.03, 0.1]),
     ] {
-        let l = load(stem);
+        let l = common::ball_legged(stem);
         let truth = (0..1usize << l.inverse.branches)
             .find_map(|b| fk_follow::at_pose(&l.model, &l.inverse, &pose, b).ok())
             .unwrap();
@@ -281,21 +251,9 @@ fn every_assembly_resolves_the_steps_a_certificate_cannot() {
         ("spr_3", vec![false, true, true]),
         ("ups_6", vec![false, false, false, true, true, true]),
     ] {
-        let l = load(stem);
+        let l = common::ball_legged(stem);
         let scale = kinematics::model_scale(&l.model);
-        let pose = |t: f64| -> Vec<f64> {
-            match angles.len() {
-                6 => vec![
-                    20.0 * t.sin(),
-                    10.0 * t.cos(),
-                    250.0 + 20.0 * t,
-                    0.1 * t.sin(),
-                    -0.1 * t,
-                    0.2 * t,
-                ],
-                _ => vec![300.0 + 20.0 * t, 0.1 * t.sin(), -0.1 * t],
-            }
-        };
+        let pose = |t: f64| crate::fk_follow::path_pose(stem, t);
         let mut previous = (0..1usize << l.inverse.branches)
             .find_map(|b| fk_follow::at_pose(&l.model, &l.inverse, &pose(0.0), b).ok())
             .unwrap();

@@ -22,6 +22,24 @@ fn truth(
         .find(|s| s.signs == signs)
 }
 
+/// The declared outputs at `t` ∈ [0, 1] along the test paths of the
+/// spatial coupled examples: the 6-UPS's six pose values, the 3-UPU's
+/// point, the others' height and two tilts.
+pub(crate) fn path_pose(stem: &str, t: f64) -> Vec<f64> {
+    match stem {
+        "ups_6" => vec![
+            20.0 * t.sin(),
+            10.0 * t.cos(),
+            250.0 + 20.0 * t,
+            0.1 * t.sin(),
+            -0.1 * t,
+            0.2 * t,
+        ],
+        "upu_3" => vec![20.0 * t.sin(), 10.0 * t, 250.0 + 20.0 * t],
+        _ => vec![300.0 + 20.0 * t, 0.1 * t.sin(), -0.1 * t],
+    }
+}
+
 /// Along a path of poses of each spatial κ = 2 and κ = 4 example, the
 /// slides the inverse solution gives are followed from the first pose's
 /// assembly: each step's assembly is the path's to 1e-9 of the size (the
@@ -44,20 +62,7 @@ fn spatial_trajectories_keep_their_assembly() {
         let model = c.model().unwrap().clone();
         let inverse = c.inverse().unwrap().clone();
         let scale = kinematics::model_scale(&model);
-        let pose = |t: f64| -> Vec<f64> {
-            match angles.len() {
-                6 => vec![
-                    20.0 * t.sin(),
-                    10.0 * t.cos(),
-                    250.0 + 20.0 * t,
-                    0.1 * t.sin(),
-                    -0.1 * t,
-                    0.2 * t,
-                ],
-                _ if stem == "upu_3" => vec![20.0 * t.sin(), 10.0 * t, 250.0 + 20.0 * t],
-                _ => vec![300.0 + 20.0 * t, 0.1 * t.sin(), -0.1 * t],
-            }
-        };
+        let pose = |t: f64| path_pose(stem, t);
         let mut previous = (0..1usize << inverse.branches)
             .find_map(|b| fk_follow::at_pose(&model, &inverse, &pose(0.0), b).ok())
             .unwrap_or_else(|| panic!("{stem}: no assembly at the path's start"));
