@@ -48,7 +48,7 @@
     (semi-implicit Euler) instead, whose first-order error is larger.
 
 Run: python3 tests/mujoco/test_mujoco.py (from anywhere). Without `mujoco`
-importable, it makes a venv under target/ and installs it there with pip.
+(the pinned version) installed, it makes a venv under target/ and installs it there with pip.
 The pkm binary is $PKM, else target/release/pkm (built if missing). MuJoCo
 writes its log (MUJOCO_LOG.TXT) into the working directory: the test runs in
 target/mujoco.
@@ -73,25 +73,10 @@ ROOT = Path(__file__).resolve().parents[2]
 MUJOCO = "mujoco==4.0.0"
 
 
-def imports():
-    """Whether the pinned MuJoCo and NumPy import here (by the installed
-    version: `tests/mujoco` on the path imports as an empty namespace
-    package named mujoco, which must not count)."""
-    try:
-        from importlib.metadata import PackageNotFoundError, version
-
-        import mujoco  # noqa: F401
-        import numpy  # noqa: F401
-
-        return version("mujoco") == MUJOCO.split("==")[1]
-    except (ImportError, PackageNotFoundError):
-        return False
-
-
 sys.path.insert(0, str(ROOT / "tests"))
 from check_venv import enter  # noqa: E402
 
-enter("mujoco-venv", [MUJOCO, "numpy"], imports)
+enter("mujoco-venv", [MUJOCO, "numpy"])
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402

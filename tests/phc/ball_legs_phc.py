@@ -129,22 +129,13 @@ FIXTURE = ROOT / "tests" / "fixtures" / "ball_legs_phc.jsonl"
 MPMATH = "mpmath==1.3.0"
 
 
-def imports():
-    """Whether mpmath imports here."""
-    try:
-        import mpmath  # noqa: F401
-
-        return True
-    except ImportError:
-        return False
-
-
 sys.path.insert(0, str(ROOT / "tests"))
 from check_venv import enter  # noqa: E402
 
-enter("phc-venv", [MPMATH], imports)
+enter("phc-venv", [MPMATH])
 
 from mpmath import mp, mpf, matrix, lu_solve, inverse, mnorm  # noqa: E402
+from polynomials import padd, pconst, pdot, pmul, pscale, pvar, text  # noqa: E402
 
 KINDS = ("rps", "prs", "spr", "ups")
 PER_KIND = {"rps": 500, "prs": 500, "spr": 500, "ups": 300}
@@ -263,54 +254,7 @@ def instance(kind, ident):
 
 
 # ---------------------------------------------------------------- polynomials for PHCpack
-# A polynomial: {exponent tuple: coefficient}.
-
-
-def pconst(v, nv):
-    return {(0,) * nv: v} if v != 0.0 else {}
-
-
-def pvar(i, nv):
-    e = [0] * nv
-    e[i] = 1
-    return {tuple(e): 1.0}
-
-
-def padd(*ps):
-    out = {}
-    for p in ps:
-        for e, v in p.items():
-            out[e] = out.get(e, 0.0) + v
-    return out
-
-
-def pscale(p, k):
-    return {e: v * k for e, v in p.items()}
-
-
-def pmul(p, q):
-    out = {}
-    for e1, v1 in p.items():
-        for e2, v2 in q.items():
-            e = tuple(a + b for a, b in zip(e1, e2))
-            out[e] = out.get(e, 0.0) + v1 * v2
-    return out
-
-
-def pdot(a, b):
-    """Σ a_i·b_i, `a` numbers, `b` polynomials."""
-    return padd(*(pscale(y, x) for x, y in zip(a, b)))
-
-
-def text(p, names):
-    terms = []
-    for e, v in sorted(p.items()):
-        if v == 0.0:
-            continue
-        mono = "*".join(f"{n}^{k}" if k > 1 else n for n, k in zip(names, e) if k > 0)
-        coef = f"{v:+.17E}"
-        terms.append(f"{coef}*{mono}" if mono else coef)
-    return " ".join(terms) + ";"
+# polynomials.py: {exponent tuple: coefficient}.
 
 
 # ---------------------------------------------------------------- three circles: 16 paths

@@ -44,6 +44,8 @@ import subprocess
 import sys
 import tempfile
 
+from polynomials import padd, pconst, pmul, pscale, pvar, text
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURE = os.path.join(HERE, "..", "fixtures", "planar_3rpr_phc.csv")
 
@@ -77,52 +79,15 @@ MECHANISMS = {
 VARS = ("x", "y", "c", "s")
 
 
-def poly_add(p, q, k=1.0):
-    out = dict(p)
-    for e, v in q.items():
-        out[e] = out.get(e, 0.0) + k * v
-    return out
-
-
-def poly_mul(p, q):
-    out = {}
-    for e1, v1 in p.items():
-        for e2, v2 in q.items():
-            e = tuple(a + b for a, b in zip(e1, e2))
-            out[e] = out.get(e, 0.0) + v1 * v2
-    return out
-
-
-def var(name):
-    e = [0, 0, 0, 0]
-    e[VARS.index(name)] = 1
-    return {tuple(e): 1.0}
-
-
-def const(v):
-    return {(0, 0, 0, 0): v}
-
-
-def text(p):
-    terms = []
-    for e, v in sorted(p.items()):
-        if v == 0.0:
-            continue
-        mono = "*".join(f"{n}^{k}" if k > 1 else n for n, k in zip(VARS, e) if k > 0)
-        coef = f"{v:+.17E}"
-        terms.append(f"{coef}*{mono}" if mono else coef)
-    return " ".join(terms) + ";"
-
-
 def system(m, rho):
-    x, y, c, s = (var(n) for n in VARS)
-    eqs = [poly_add(poly_add(poly_mul(c, c), poly_mul(s, s)), const(-1.0))]
+    x, y, c, s = (pvar(i, 4) for i in range(4))
+    eqs = [padd(pmul(c, c), pmul(s, s), pconst(-1.0, 4))]
     for (ax, ay), (bx, by), r in zip(m["a"], m["b"], rho):
         # (x + c·bx − s·by − ax, y + s·bx + c·by − ay)
-        u = poly_add(poly_add(poly_add(x, c, bx), s, -by), const(-ax))
-        v = poly_add(poly_add(poly_add(y, s, bx), c, by), const(-ay))
-        eqs.append(poly_add(poly_add(poly_mul(u, u), poly_mul(v, v)), const(-r * r)))
-    return f"{len(eqs)}\n" + "\n".join(text(e) for e in eqs) + "\n"
+        u = padd(x, pscale(c, bx), pscale(s, -by), pconst(-ax, 4))
+        v = padd(y, pscale(s, bx), pscale(c, by), pconst(-ay, 4))
+        eqs.append(padd(pmul(u, u), pmul(v, v), pconst(-r * r, 4)))
+    return f"{len(eqs)}\n" + "\n".join(text(e, VARS) for e in eqs) + "\n"
 
 
 def inputs_at(m, pins, rng):
