@@ -699,11 +699,12 @@ impl<'r> Forward<'r> {
         found.sort_by_key(|f| f.number);
         let choices = inverse.branches;
         let mut unmet: Vec<String> = Vec::new();
+        let unit = Units::of(self.r, l).length;
         for &k in &all.unmet {
             let root = &all.roots.roots[k];
             let t = root.pose.translation.vector;
             unmet.push(format!(
-                "root {k} ({}, the platform's origin at ({}, {}, {})) meets the inputs on no branch",
+                "root {k} ({}, the platform's origin at ({}, {}, {}) {unit}) meets the inputs on no branch",
                 if root.cert.is_some() { "certified" } else { "possible" },
                 t.x,
                 t.y,
