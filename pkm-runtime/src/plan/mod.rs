@@ -46,7 +46,7 @@ use std::borrow::Cow;
 mod listing;
 pub use listing::Listing;
 mod run;
-pub use run::{frame_of, local_point, output_values, pose_of, run, run_all, Solution};
+pub use run::{frame_of, local_point, output_values, pose_of, run, run_all, Prepared, Solution};
 
 /// A link's pose in the world.
 pub type Pose3 = Isometry3<f64>;

@@ -95,31 +95,64 @@ pub fn local_point(model: &Model, point: PointRef, link: usize) -> Result<[f64; 
 /// joint must close ([`crate::consistency`]); where one does not, the error
 /// names the given value the others contradict (`#k`: the plan knows no
 /// names for the given values, see [`crate::consistency::name_given`]).
+/// [`Prepared`] runs one plan many times.
 pub fn run(model: &Model, plan: &Plan, inputs: &[f64], signs: &[Sign]) -> Result<Solution, SolveError> {
-    let geometry = crate::steps::Geometry::of(model);
-    let checks = plan.checks(geometry.joints.len());
-    let state = run_frames(model, &geometry, plan, inputs, signs)?;
-    let extent = crate::consistency::extent(&plan.measured(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>()));
-    let residual = crate::steps::check_residual(&geometry, plan, &checks, &state.poses, inputs, extent);
-    let rows = crate::steps::RESIDUAL_ROWS;
-    if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
-        let owner = checks[row / rows].owner(plan, |j| model.joints[j].name.clone(), |l| model.links[l].clone());
-        let angular = plan.angular_inputs(model);
-        let e = crate::consistency::inconsistent(Cow::Owned(owner), gap, inputs, &angular, extent, |g| {
-            let s = run_frames(model, &geometry, plan, g, signs).ok()?;
-            Some(crate::steps::check_residual(
-                &geometry, plan, &checks, &s.poses, g, extent,
-            ))
-        });
-        return Err(crate::consistency::name_given(e, &[]));
+    Prepared::new(model, plan).run(inputs, signs)
+}
+
+/// A plan with what every run of it needs read off the model once: the
+/// joints' geometry and the checks of its open joints.
+pub struct Prepared<'a> {
+    model: &'a Model,
+    plan: &'a Plan,
+    geometry: crate::steps::Geometry<f64>,
+    checks: Vec<super::Check>,
+}
+
+impl<'a> Prepared<'a> {
+    /// `plan` on `model`, prepared.
+    pub fn new(model: &'a Model, plan: &'a Plan) -> Prepared<'a> {
+        let geometry = crate::steps::Geometry::of(model);
+        let checks = plan.checks(geometry.joints.len());
+        Prepared {
+            model,
+            plan,
+            geometry,
+            checks,
+        }
     }
-    let values = (0..geometry.joints.len())
-        .map(|j| crate::steps::value(&geometry, &state, j))
-        .collect();
-    Ok(Solution {
-        poses: state.poses.iter().map(pose_of).collect(),
-        values,
-    })
+
+    /// One branch run and verified, as [`run`].
+    pub fn run(&self, inputs: &[f64], signs: &[Sign]) -> Result<Solution, SolveError> {
+        let Prepared {
+            model,
+            plan,
+            geometry,
+            checks,
+        } = self;
+        let state = run_frames(model, geometry, plan, inputs, signs)?;
+        let extent = crate::consistency::extent(&plan.measured(&state.poses.iter().map(|p| p.t).collect::<Vec<_>>()));
+        let residual = crate::steps::check_residual(geometry, plan, checks, &state.poses, inputs, extent);
+        let rows = crate::steps::RESIDUAL_ROWS;
+        if let Some((row, gap)) = crate::consistency::worst(&residual, extent) {
+            let owner = checks[row / rows].owner(plan, |j| model.joints[j].name.clone(), |l| model.links[l].clone());
+            let angular = plan.angular_inputs(model);
+            let e = crate::consistency::inconsistent(Cow::Owned(owner), gap, inputs, &angular, extent, |g| {
+                let s = run_frames(model, geometry, plan, g, signs).ok()?;
+                Some(crate::steps::check_residual(
+                    geometry, plan, checks, &s.poses, g, extent,
+                ))
+            });
+            return Err(crate::consistency::name_given(e, &[]));
+        }
+        let values = (0..geometry.joints.len())
+            .map(|j| crate::steps::value(geometry, &state, j))
+            .collect();
+        Ok(Solution {
+            poses: state.poses.iter().map(pose_of).collect(),
+            values,
+        })
+    }
 }
 
 /// A frame as an isometry.
