@@ -14,121 +14,77 @@
 //! `q` and `−q` are one rotation: the equations keep both, the paths are
 //! carried for one of each pair (the other's path is its mirror).
 
-use super::system::{residual, rows, Body, Locus, Ring, UNKNOWNS};
+use super::system::{dot, rotation, rows, turn, with_slopes, Body, Locus, Slopes, UNKNOWNS};
 use crate::random::SplitMix;
-use core::ops::{Add, Mul, Neg, Sub};
 use nalgebra::Complex;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 type C = Complex<f64>;
 
-/// A complex value with its derivatives by the seven unknowns and by the
-/// path's parameter `s` (slot 7).
-#[derive(Debug, Clone, Copy)]
-pub struct Jet {
-    v: C,
-    d: [C; UNKNOWNS + 1],
-}
-
-impl Ring for Jet {
-    #[inline]
-    fn c(v: f64) -> Self {
-        Jet {
-            v: C::new(v, 0.0),
-            d: [C::new(0.0, 0.0); UNKNOWNS + 1],
-        }
-    }
-}
-
-impl Add for Jet {
-    type Output = Jet;
-    #[inline]
-    fn add(self, o: Jet) -> Jet {
-        Jet {
-            v: self.v + o.v,
-            d: core::array::from_fn(|i| self.d[i] + o.d[i]),
-        }
-    }
-}
-
-impl Sub for Jet {
-    type Output = Jet;
-    #[inline]
-    fn sub(self, o: Jet) -> Jet {
-        Jet {
-            v: self.v - o.v,
-            d: core::array::from_fn(|i| self.d[i] - o.d[i]),
-        }
-    }
-}
-
-impl Neg for Jet {
-    type Output = Jet;
-    #[inline]
-    fn neg(self) -> Jet {
-        Jet {
-            v: -self.v,
-            d: self.d.map(|d| -d),
-        }
-    }
-}
-
-// The product rule: the derivatives are sums.
-#[allow(clippy::suspicious_arithmetic_impl)]
-impl Mul for Jet {
-    type Output = Jet;
-    #[inline]
-    fn mul(self, o: Jet) -> Jet {
-        Jet {
-            v: self.v * o.v,
-            d: core::array::from_fn(|i| self.d[i] * o.v + self.v * o.d[i]),
-        }
-    }
-}
-
 /// A point of `C⁷`.
 pub type Point = [C; UNKNOWNS];
 
+/// The largest modulus (one square root: paths are stopped at 10⁷, far
+/// from where |·|² overflows).
 fn norm(x: &Point) -> f64 {
-    x.iter().map(|c| c.norm()).fold(0.0, f64::max)
+    x.iter().map(|c| c.norm_sqr()).fold(0.0, f64::max).sqrt()
 }
 
-/// The loci `from + s·(to − from)`, with their derivative by `s`.
-fn blend(from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Vec<Locus<Jet>> {
-    let one = |a: C, b: C| {
-        let mut d = [C::new(0.0, 0.0); UNKNOWNS + 1];
-        d[UNKNOWNS] = b - a;
-        Jet { v: a + (b - a) * s, d }
-    };
-    let three = |a: [C; 3], b: [C; 3]| core::array::from_fn(|i| one(a[i], b[i]));
-    from.iter()
-        .zip(to)
-        .map(|(a, b)| Locus {
-            on: a.on,
-            ball: three(a.ball, b.ball),
-            centre: three(a.centre, b.centre),
-            normal: a.normal.zip(b.normal).map(|(x, y)| three(x, y)),
-            radius2: one(a.radius2, b.radius2),
-        })
-        .collect()
+/// The straight segment of loci `from + s·rate`, `rate = to − from`.
+struct Segment<'a> {
+    from: &'a [Locus<C>],
+    rate: Vec<Locus<C>>,
 }
 
-/// The equations at `x` on the loci `legs`: values, Jacobian, and the
-/// derivative by `s`.
-fn evaluate(x: &Point, legs: &[Locus<Jet>]) -> (Point, [[C; UNKNOWNS]; UNKNOWNS], Point) {
-    let vars: [Jet; UNKNOWNS] = core::array::from_fn(|k| {
-        let mut d = [C::new(0.0, 0.0); UNKNOWNS + 1];
-        d[k] = C::new(1.0, 0.0);
-        Jet { v: x[k], d }
-    });
-    let mut out = [Jet::c(0.0); UNKNOWNS];
-    residual(&vars, legs, &mut out);
-    (
-        out.map(|r| r.v),
-        core::array::from_fn(|r| core::array::from_fn(|c| out[r].d[c])),
-        out.map(|r| r.d[UNKNOWNS]),
-    )
+/// At most this many legs (six rows and the quaternion's).
+const LEGS: usize = UNKNOWNS - 1;
+
+impl<'a> Segment<'a> {
+    fn new(from: &'a [Locus<C>], to: &[Locus<C>]) -> Segment<'a> {
+        let rate = from
+            .iter()
+            .zip(to)
+            .map(|(a, b)| Locus {
+                on: a.on,
+                ball: core::array::from_fn(|i| b.ball[i] - a.ball[i]),
+                centre: core::array::from_fn(|i| b.centre[i] - a.centre[i]),
+                normal: a
+                    .normal
+                    .zip(b.normal)
+                    .map(|(x, y)| core::array::from_fn(|i| y[i] - x[i])),
+                radius2: b.radius2 - a.radius2,
+            })
+            .collect();
+        Segment { from, rate }
+    }
+
+    /// The equations at `x` on the loci at `s`: values, Jacobian, and the
+    /// derivative by `s` ([`with_slopes`]).
+    fn evaluate(&self, x: &Point, s: f64) -> Slopes<C> {
+        let zero = C::new(0.0, 0.0);
+        let mut at = [Locus {
+            on: Body::Base,
+            ball: [zero; 3],
+            centre: [zero; 3],
+            normal: None,
+            radius2: zero,
+        }; LEGS];
+        let n = self.from.len().min(LEGS);
+        for (leg, (a, v)) in at.iter_mut().zip(self.from.iter().zip(&self.rate)) {
+            *leg = Locus {
+                on: a.on,
+                ball: core::array::from_fn(|i| a.ball[i] + v.ball[i] * s),
+                centre: core::array::from_fn(|i| a.centre[i] + v.centre[i] * s),
+                normal: a
+                    .normal
+                    .zip(v.normal)
+                    .map(|(x, y)| core::array::from_fn(|i| x[i] + y[i] * s)),
+                radius2: a.radius2 + v.radius2 * s,
+            };
+        }
+        with_slopes(x, &at[..n], Some(&self.rate[..n]))
+    }
 }
 
 /// `a·z = b` by Gaussian elimination with partial pivoting; `None` where
@@ -136,8 +92,9 @@ fn evaluate(x: &Point, legs: &[Locus<Jet>]) -> (Point, [[C; UNKNOWNS]; UNKNOWNS]
 fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
     let n = UNKNOWNS;
     for col in 0..n {
-        let piv = (col..n).max_by(|&i, &j| a[i][col].norm().total_cmp(&a[j][col].norm()))?;
-        if a[piv][col].norm().partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+        // The pivot by |·|² (no square root: the same order).
+        let piv = (col..n).max_by(|&i, &j| a[i][col].norm_sqr().total_cmp(&a[j][col].norm_sqr()))?;
+        if a[piv][col].norm_sqr().partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         a.swap(col, piv);
@@ -181,9 +138,9 @@ pub enum End {
 }
 
 /// `dx/ds` at `(x, s)`.
-fn tangent(x: &Point, from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Option<Point> {
-    let (_, j, hs) = evaluate(x, &blend(from, to, s));
-    solve(j, hs.map(|v| -v))
+fn tangent(x: &Point, path: &Segment, s: f64) -> Option<Point> {
+    let e = path.evaluate(x, s);
+    solve(e.j, e.ds.map(|v| -v))
 }
 
 /// Newton's method at `s` from `x`: at most `steps` steps, the first at
@@ -192,12 +149,12 @@ fn tangent(x: &Point, from: &[Locus<C>], to: &[Locus<C>], s: f64) -> Option<Poin
 /// a step falls below `tol` of the unknowns' size (one plus their
 /// largest), or where the steps stop contracting (rounding) within 10⁻⁶
 /// of it; `None` otherwise.
-fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) -> Option<Point> {
+fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<Point> {
     let mut x = x;
     let mut last = f64::INFINITY;
     for k in 0..steps {
-        let (f, j, _) = evaluate(&x, legs);
-        let dx = solve(j, f)?;
+        let e = path.evaluate(&x, s);
+        let dx = solve(e.j, e.f)?;
         let size = norm(&dx);
         let big = 1.0 + norm(&x);
         if k == 0 && size > first {
@@ -225,6 +182,7 @@ fn correct(x: Point, legs: &[Locus<Jet>], steps: usize, first: f64, tol: f64) ->
 /// The end is polished at the target by Newton's method while its steps
 /// shrink.
 pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
+    let path = Segment::new(from, to);
     let mut x = x;
     let mut s = 0.0;
     let mut h = hmax / 4.0;
@@ -232,18 +190,17 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
     while s < 1.0 {
         h = h.min(1.0 - s);
         let step = (|| {
-            let k1 = tangent(&x, from, to, s)?;
+            let k1 = tangent(&x, &path, s)?;
             let at = |k: &Point, f: f64| -> Point { core::array::from_fn(|i| x[i] + k[i] * (f * h)) };
-            let k2 = tangent(&at(&k1, 0.5), from, to, s + 0.5 * h)?;
-            let k3 = tangent(&at(&k2, 0.5), from, to, s + 0.5 * h)?;
-            let k4 = tangent(&at(&k3, 1.0), from, to, s + h)?;
+            let k2 = tangent(&at(&k1, 0.5), &path, s + 0.5 * h)?;
+            let k3 = tangent(&at(&k2, 0.5), &path, s + 0.5 * h)?;
+            let k4 = tangent(&at(&k3, 1.0), &path, s + h)?;
             let pred: Point = core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0));
-            let legs = blend(from, to, s + h);
             // The first correction at most a tenth of the step predicted:
             // a predictor that lands nearer another path is refused.
             let moved: Point = core::array::from_fn(|i| pred[i] - x[i]);
             let first = (0.1 * norm(&moved)).max(1e-9 * (1.0 + norm(&pred)));
-            correct(pred, &legs, 3, first, 1e-8)
+            correct(pred, &path, s + h, 3, first, 1e-8)
         })();
         match step {
             Some(next) => {
@@ -274,19 +231,19 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
             }
         }
     }
-    polish(x, &blend(to, to, 0.0)).map_or(End::Failed, End::Finite)
+    polish(x, &path).map_or(End::Failed, End::Finite)
 }
 
 /// Newton's method at the path's end: steps while they shrink (at most
 /// 12); the point where the last is within 10⁻⁸ of the unknowns' size
 /// (one plus their largest), rounding having stopped it; `None`
 /// otherwise (a singular root: the steps do not contract).
-fn polish(x: Point, legs: &[Locus<Jet>]) -> Option<Point> {
+fn polish(x: Point, path: &Segment) -> Option<Point> {
     let mut x = x;
     let mut last = f64::INFINITY;
     for _ in 0..12 {
-        let (f, j, _) = evaluate(&x, legs);
-        let Some(dx) = solve(j, f) else { break };
+        let e = path.evaluate(&x, 1.0);
+        let Some(dx) = solve(e.j, e.f) else { break };
         let size = norm(&dx);
         if size >= last {
             break;
@@ -359,18 +316,17 @@ fn random_legs(shape: &[(Body, bool)], rng: &mut SplitMix) -> Vec<Locus<C>> {
 fn legs_through(shape: &[(Body, bool)], x: &Point, rng: &mut SplitMix) -> Vec<Locus<C>> {
     let mut legs = random_legs(shape, rng);
     let p = [x[0], x[1], x[2]];
-    let r = super::system::rotation(&[x[3], x[4], x[5], x[6]]);
-    let turn = |v: &[C; 3]| -> [C; 3] { core::array::from_fn(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]) };
-    let unturn = |v: &[C; 3]| -> [C; 3] { core::array::from_fn(|i| r[0][i] * v[0] + r[1][i] * v[1] + r[2][i] * v[2]) };
-    let dot = |a: &[C; 3], b: &[C; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let r = rotation(&[x[3], x[4], x[5], x[6]]);
+    // Rᵀ = R⁻¹ where q·q = 1, complex or not.
+    let rt: [[C; 3]; 3] = core::array::from_fn(|i| core::array::from_fn(|j| r[j][i]));
     for leg in &mut legs {
         // The ball centre, in the locus's body frame.
         let y: [C; 3] = match leg.on {
             Body::Base => {
-                let t = turn(&leg.ball);
+                let t = turn(&r, &leg.ball);
                 core::array::from_fn(|i| p[i] + t[i])
             }
-            Body::Platform => unturn(&core::array::from_fn(|i| leg.ball[i] - p[i])),
+            Body::Platform => turn(&rt, &core::array::from_fn(|i| leg.ball[i] - p[i])),
         };
         if let Some(n) = leg.normal {
             let t = (dot(&n, &y) - dot(&n, &leg.centre)) / dot(&n, &n);

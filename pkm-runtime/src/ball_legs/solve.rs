@@ -6,10 +6,10 @@
 //! inputs.
 
 use super::homotopy::{self, End, Point};
-use super::system::{residual, Locus, UNKNOWNS};
+use super::system::{enclosed, Locus, UNKNOWNS};
 use super::BallLegs;
 use crate::certify::{self, Enclosed};
-use crate::interval::{Enclosure, Interval};
+use crate::interval::Interval;
 use crate::model::{JointType, Model};
 use crate::newton::Output;
 use crate::plan::{self, Plan, Solution};
@@ -74,16 +74,10 @@ pub const REAL: f64 = 1e-6;
 
 /// The enclosure of the equations on the loci `legs` over `b`.
 fn enclose(legs: &[Locus<f64>], b: &[Interval; UNKNOWNS]) -> Option<Enclosed<UNKNOWNS>> {
-    let vars: [Enclosure<UNKNOWNS>; UNKNOWNS] = core::array::from_fn(|k| Enclosure::variable(b[k], k));
-    let legs: Vec<Locus<Enclosure<UNKNOWNS>>> = legs
-        .iter()
-        .map(|l| l.map(|v| Enclosure::constant(Interval::point(v))))
-        .collect();
-    let mut out = [Enclosure::constant(Interval::point(0.0)); UNKNOWNS];
-    residual(&vars, &legs, &mut out);
+    let out = enclosed(legs, b);
     Some(Enclosed {
-        f: out.map(|r| r.v),
-        j: core::array::from_fn(|r| out[r].d),
+        f: out.f,
+        j: out.j,
         decided: true,
     })
 }
@@ -191,11 +185,11 @@ impl BallLegs {
         let zero = crate::fk_numeric::zero_of(model);
         let mut assemblies = Vec::new();
         let mut unmet = Vec::new();
+        let prepared = plan::Prepared::new(model, inverse);
         for (k, root) in roots.roots.iter().enumerate() {
             let given = self.given_values(model, outputs, &root.pose);
             let mut met = false;
-            for (signs, r) in crate::solution::every_branch(inverse.branches, |s| plan::run(model, inverse, &given, s))
-            {
+            for (signs, r) in crate::solution::every_branch(inverse.branches, |s| prepared.run(&given, s)) {
                 let Ok(solution) = r else { continue };
                 let meets = actuated.iter().zip(inputs).all(|(&j, &q)| {
                     let arc = (model.joints[j].kind != JointType::P).then_some(scale);

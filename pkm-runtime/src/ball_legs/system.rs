@@ -6,10 +6,13 @@
 //! mechanism's size, and its rotation `R(q)`, quadratic in `q`), of degree
 //! at most three.
 //!
-//! Written once over a ring ([`Ring`]): run on complex numbers carrying
-//! their derivatives for the homotopy ([`super::homotopy`]), on
-//! enclosures for the certificate ([`super::solve`]).
+//! The rows ([`residual`]) and their slopes written out ([`with_slopes`]),
+//! each once over a ring ([`Ring`]): on complex numbers for the homotopy
+//! ([`super::homotopy`]), on intervals for the certificate
+//! ([`super::solve`]), on `f64` for Newton's method; the slopes are
+//! tested against the rows differentiated forward.
 
+use crate::interval::Interval;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// What the equations need of a number: sums, differences, products and
@@ -33,10 +36,10 @@ impl Ring for nalgebra::Complex<f64> {
     }
 }
 
-impl<const N: usize> Ring for crate::interval::Enclosure<N> {
+impl Ring for Interval {
     #[inline]
     fn c(v: f64) -> Self {
-        crate::interval::Enclosure::constant(crate::interval::Interval::point(v))
+        Interval::point(v)
     }
 }
 
@@ -106,14 +109,20 @@ pub fn rotation<T: Ring>(q: &[T; 4]) -> [[T; 3]; 3] {
     ]
 }
 
+/// `R·v`.
 #[inline]
-fn turn<T: Ring>(r: &[[T; 3]; 3], v: &[T; 3]) -> [T; 3] {
+pub(super) fn turn<T: Ring>(r: &[[T; 3]; 3], v: &[T; 3]) -> [T; 3] {
     core::array::from_fn(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2])
 }
 
+/// `a·b` (no conjugate: a polynomial on complex numbers too).
 #[inline]
-fn dot<T: Ring>(a: &[T; 3], b: &[T; 3]) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+pub(super) fn dot<T: Ring, const N: usize>(a: &[T; N], b: &[T; N]) -> T {
+    let mut sum = a[0] * b[0];
+    for k in 1..N {
+        sum = sum + a[k] * b[k];
+    }
+    sum
 }
 
 /// The rows at `x` for the loci `legs` (one per sphere, two per circle,
@@ -151,28 +160,319 @@ pub fn residual<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], out: &mut [T; UNK
     k + 1
 }
 
+/// `∂(R(q)·v)/∂q_k` for `q_k` = w, x, y, z: the slopes of [`rotation`]'s
+/// polynomial (not of a normalised rotation: `q·q = 1` is a row of its
+/// own), each `2·(∂R/∂q_k)/2·v` written out:
+/// `∂R/∂w = 2[u]×` with `u = (x, y, z)`,
+/// `∂R/∂x = 2[[0, y, z], [y, −2x, −w], [z, w, −2x]]`,
+/// `∂R/∂y = 2[[−2y, x, w], [x, 0, z], [−w, z, −2y]]`,
+/// `∂R/∂z = 2[[−2z, −w, x], [w, −2z, y], [x, y, 0]]`.
+#[inline]
+pub fn turn_slopes<T: Ring>(q: &[T; 4], v: &[T; 3]) -> [[T; 3]; 4] {
+    let [w, x, y, z] = *q;
+    let [a, b, c] = *v;
+    let two = T::c(2.0);
+    let t = |v: T| two * v;
+    [
+        [t(y * c - z * b), t(z * a - x * c), t(x * b - y * a)],
+        [
+            t(y * b + z * c),
+            t(y * a - w * c) - t(t(x * b)),
+            t(z * a + w * b) - t(t(x * c)),
+        ],
+        [
+            t(x * b + w * c) - t(t(y * a)),
+            t(x * a + z * c),
+            t(z * b - w * a) - t(t(y * c)),
+        ],
+        [
+            t(x * c - w * b) - t(t(z * a)),
+            t(w * a + y * c) - t(t(z * b)),
+            t(x * a + y * b),
+        ],
+    ]
+}
+
+/// The rows (as [`residual`] writes them), their Jacobian by the unknowns
+/// and their rate along a path of loci: the loci `legs` at the path's
+/// point, `rates` their derivatives along it (`None`: a fixed point, rate
+/// zero). Written out by the chain rule, no derivative carried through
+/// the products: with `d = Y − C` (the ball centre less the locus's
+/// centre, both in the locus's body), a sphere's row `d·d − ρ²` has the
+/// slopes `2d·∂d`, a circle's plane row `N·d` the slopes `∂N·d + N·∂d`;
+/// `∂d/∂p = ±I`, `∂d/∂q` from [`turn_slopes`].
+pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<&[Locus<T>]>) -> Slopes<T> {
+    let zero = T::c(0.0);
+    let two = T::c(2.0);
+    let p = [x[0], x[1], x[2]];
+    let q = [x[3], x[4], x[5], x[6]];
+    let r = rotation(&q);
+    let mut out = Slopes {
+        f: [zero; UNKNOWNS],
+        j: [[zero; UNKNOWNS]; UNKNOWNS],
+        ds: [zero; UNKNOWNS],
+    };
+    let sub = |a: [T; 3], b: [T; 3]| -> [T; 3] { [a[0] - b[0], a[1] - b[1], a[2] - b[2]] };
+    let mut k = 0;
+    for (i, leg) in legs.iter().enumerate() {
+        let rate = rates.map(|r| &r[i]);
+        // d, its slopes by p (the sign of ±I) and by q, its rate; the
+        // plane's normal, its slopes by q and its rate.
+        let (d, by_p, d_q, d_s, n, n_q, n_s) = match leg.on {
+            Body::Base => {
+                let y = turn(&r, &leg.ball);
+                let d = [
+                    p[0] + y[0] - leg.centre[0],
+                    p[1] + y[1] - leg.centre[1],
+                    p[2] + y[2] - leg.centre[2],
+                ];
+                let d_s = rate.map(|v| sub(turn(&r, &v.ball), v.centre));
+                (
+                    d,
+                    T::c(1.0),
+                    turn_slopes(&q, &leg.ball),
+                    d_s,
+                    leg.normal,
+                    None,
+                    rate.and_then(|v| v.normal),
+                )
+            }
+            Body::Platform => {
+                let c = turn(&r, &leg.centre);
+                let d = [
+                    leg.ball[0] - p[0] - c[0],
+                    leg.ball[1] - p[1] - c[1],
+                    leg.ball[2] - p[2] - c[2],
+                ];
+                let d_q = turn_slopes(&q, &leg.centre).map(|v| v.map(|e| -e));
+                let d_s = rate.map(|v| sub(v.ball, turn(&r, &v.centre)));
+                let n = leg.normal.map(|n| turn(&r, &n));
+                let n_q = leg.normal.map(|n| turn_slopes(&q, &n));
+                let n_s = rate.and_then(|v| v.normal.map(|m| turn(&r, &m)));
+                (d, T::c(-1.0), d_q, d_s, n, n_q, n_s)
+            }
+        };
+        if k < UNKNOWNS {
+            out.f[k] = dot(&d, &d) - leg.radius2;
+            for (slot, d_a) in out.j[k][..3].iter_mut().zip(d) {
+                *slot = two * by_p * d_a;
+            }
+            for (slot, d_m) in out.j[k][3..].iter_mut().zip(&d_q) {
+                *slot = two * dot(&d, d_m);
+            }
+            if let (Some(d_s), Some(v)) = (d_s, rate) {
+                out.ds[k] = two * dot(&d, &d_s) - v.radius2;
+            }
+        }
+        k += 1;
+        if let Some(n) = n {
+            if k < UNKNOWNS {
+                out.f[k] = dot(&n, &d);
+                for (slot, n_a) in out.j[k][..3].iter_mut().zip(n) {
+                    *slot = by_p * n_a;
+                }
+                for (m, (slot, d_m)) in out.j[k][3..].iter_mut().zip(&d_q).enumerate() {
+                    let turned = n_q.map_or(zero, |n_q| dot(&n_q[m], &d));
+                    *slot = turned + dot(&n, d_m);
+                }
+                if let Some(d_s) = d_s {
+                    out.ds[k] = n_s.map_or(zero, |n_s| dot(&n_s, &d)) + dot(&n, &d_s);
+                }
+            }
+            k += 1;
+        }
+    }
+    if k < UNKNOWNS {
+        out.f[k] = dot(&q, &q) - T::c(1.0);
+        for (slot, q_m) in out.j[k][3..].iter_mut().zip(q) {
+            *slot = two * q_m;
+        }
+    }
+    out
+}
+
+/// The rows at a point, their Jacobian by the unknowns and their rate
+/// along a path of loci ([`with_slopes`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Slopes<T> {
+    /// The rows.
+    pub f: [T; UNKNOWNS],
+    /// `∂f/∂x`.
+    pub j: [[T; UNKNOWNS]; UNKNOWNS],
+    /// `∂f/∂s`.
+    pub ds: [T; UNKNOWNS],
+}
+
 /// How many rows the loci `shape` give with the quaternion's.
 pub fn rows(shape: &[(Body, bool)]) -> usize {
     shape.iter().map(|&(_, circle)| 1 + usize::from(circle)).sum::<usize>() + 1
 }
 
-/// The rows and their Jacobian at a real point `x` (on enclosures of
-/// width zero: each the rounded value's enclosure's middle).
+/// The rows and their Jacobian enclosed over the box `b` ([`with_slopes`]
+/// on intervals: any expression of the slopes, evaluated in interval
+/// arithmetic rounded outward, encloses them over the box), the loci's
+/// numbers as points.
+pub fn enclosed(legs: &[Locus<f64>], b: &[Interval; UNKNOWNS]) -> Slopes<Interval> {
+    let mut at = [Locus {
+        on: Body::Base,
+        ball: [Interval::point(0.0); 3],
+        centre: [Interval::point(0.0); 3],
+        normal: None,
+        radius2: Interval::point(0.0),
+    }; UNKNOWNS - 1];
+    let n = legs.len().min(UNKNOWNS - 1);
+    for (to, leg) in at.iter_mut().zip(legs) {
+        *to = leg.map(Interval::point);
+    }
+    with_slopes(b, &at[..n], None)
+}
+
+/// The rows and their Jacobian at a real point `x` ([`with_slopes`]).
 pub fn at(legs: &[Locus<f64>], x: &[f64; UNKNOWNS]) -> ([f64; UNKNOWNS], [[f64; UNKNOWNS]; UNKNOWNS]) {
-    use crate::interval::{Enclosure, Interval};
-    let vars: [Enclosure<UNKNOWNS>; UNKNOWNS] = core::array::from_fn(|k| Enclosure::variable(Interval::point(x[k]), k));
-    let legs: Vec<Locus<Enclosure<UNKNOWNS>>> = legs.iter().map(|l| l.map(Enclosure::c)).collect();
-    let mut out = [Enclosure::c(0.0); UNKNOWNS];
-    residual(&vars, &legs, &mut out);
-    (
-        out.map(|r| r.v.mid()),
-        core::array::from_fn(|r| out[r].d.map(|d| d.mid())),
-    )
+    let s = with_slopes(x, legs, None);
+    (s.f, s.j)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::SplitMix;
+    use core::ops::{Add, Mul, Neg, Sub};
+    use nalgebra::Complex;
+
+    type C = Complex<f64>;
+
+    /// A complex value with its derivatives by the seven unknowns and by the
+    /// path's parameter `s` (slot 7): forward differentiation through
+    /// [`residual`], the other way to the same slopes.
+    #[derive(Debug, Clone, Copy)]
+    struct Jet {
+        v: C,
+        d: [C; UNKNOWNS + 1],
+    }
+
+    impl Ring for Jet {
+        #[inline]
+        fn c(v: f64) -> Self {
+            Jet {
+                v: C::new(v, 0.0),
+                d: [C::new(0.0, 0.0); UNKNOWNS + 1],
+            }
+        }
+    }
+
+    impl Add for Jet {
+        type Output = Jet;
+        #[inline]
+        fn add(self, o: Jet) -> Jet {
+            Jet {
+                v: self.v + o.v,
+                d: core::array::from_fn(|i| self.d[i] + o.d[i]),
+            }
+        }
+    }
+
+    impl Sub for Jet {
+        type Output = Jet;
+        #[inline]
+        fn sub(self, o: Jet) -> Jet {
+            Jet {
+                v: self.v - o.v,
+                d: core::array::from_fn(|i| self.d[i] - o.d[i]),
+            }
+        }
+    }
+
+    impl Neg for Jet {
+        type Output = Jet;
+        #[inline]
+        fn neg(self) -> Jet {
+            Jet {
+                v: -self.v,
+                d: self.d.map(|d| -d),
+            }
+        }
+    }
+
+    // The product rule: the derivatives are sums.
+    #[allow(clippy::suspicious_arithmetic_impl)]
+    impl Mul for Jet {
+        type Output = Jet;
+        #[inline]
+        fn mul(self, o: Jet) -> Jet {
+            Jet {
+                v: self.v * o.v,
+                d: core::array::from_fn(|i| self.d[i] * o.v + self.v * o.d[i]),
+            }
+        }
+    }
+
+    /// The written-out slopes against forward differentiation through the
+    /// rows, at random complex points on random loci of every kind (a
+    /// sphere and a circle on each body), with random rates.
+    #[test]
+    fn written_slopes_are_the_differentiated_rows() {
+        let mut rng = SplitMix::new(7);
+        let mut c = || C::new(rng.symmetric(), rng.symmetric());
+        for trial in 0..50 {
+            let kinds = [
+                (Body::Base, false),
+                (Body::Base, true),
+                (Body::Platform, false),
+                (Body::Platform, true),
+            ];
+            let mut legs = Vec::new();
+            let mut rates = Vec::new();
+            for &(on, circle) in kinds.iter().cycle().skip(trial % 4).take(3) {
+                let mut locus = || Locus {
+                    on,
+                    ball: [c(), c(), c()],
+                    centre: [c(), c(), c()],
+                    normal: circle.then(|| [c(), c(), c()]),
+                    radius2: c(),
+                };
+                legs.push(locus());
+                rates.push(locus());
+            }
+            let x: [C; UNKNOWNS] = core::array::from_fn(|_| c());
+            let got = with_slopes(&x, &legs, Some(&rates));
+            let zero = C::new(0.0, 0.0);
+            let vars: [Jet; UNKNOWNS] = core::array::from_fn(|k| {
+                let mut d = [zero; UNKNOWNS + 1];
+                d[k] = C::new(1.0, 0.0);
+                Jet { v: x[k], d }
+            });
+            let jets: Vec<Locus<Jet>> = legs
+                .iter()
+                .zip(&rates)
+                .map(|(l, r)| {
+                    let one = |v: C, dv: C| {
+                        let mut d = [zero; UNKNOWNS + 1];
+                        d[UNKNOWNS] = dv;
+                        Jet { v, d }
+                    };
+                    let three = |a: [C; 3], b: [C; 3]| core::array::from_fn(|i| one(a[i], b[i]));
+                    Locus {
+                        on: l.on,
+                        ball: three(l.ball, r.ball),
+                        centre: three(l.centre, r.centre),
+                        normal: l.normal.zip(r.normal).map(|(a, b)| three(a, b)),
+                        radius2: one(l.radius2, r.radius2),
+                    }
+                })
+                .collect();
+            let mut out = [Jet::c(0.0); UNKNOWNS];
+            let n = residual(&vars, &jets, &mut out).min(UNKNOWNS);
+            let close = |a: C, b: C| (a - b).norm() <= 1e-13 * (1.0 + b.norm());
+            for (r, row) in out[..n].iter().enumerate() {
+                assert!(close(got.f[r], row.v), "trial {trial} row {r}");
+                assert!(close(got.ds[r], row.d[UNKNOWNS]), "trial {trial} row {r} rate");
+                for k in 0..UNKNOWNS {
+                    assert!(close(got.j[r][k], row.d[k]), "trial {trial} row {r} column {k}");
+                }
+            }
+        }
+    }
 
     /// A pose, loci through it by hand (a sphere on the base, a circle on
     /// the platform), and the rows' Jacobian against central differences.
