@@ -461,11 +461,18 @@ pub fn isolate<const N: usize>(
     enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
 ) -> Option<Root<N>> {
     let mut p = x;
+    let mut last = f64::INFINITY;
     for _ in 0..8 {
         let Some(d) = newton_step(&p, enclose) else { break };
         if d.iter().any(|v| !v.is_finite()) {
             break;
         }
+        // Not half the last step: rounding, Newton's convergence is over.
+        let size = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if size > 0.5 * last {
+            break;
+        }
+        last = size;
         p = core::array::from_fn(|i| p[i] + d[i]);
         if d.iter()
             .zip(&p)
@@ -561,6 +568,7 @@ fn refine<const N: usize>(
             step = [d; N];
         }
     }
+    let mut last = f64::INFINITY;
     for _ in 0..16 {
         stats.boxes += 1;
         let Some(d) = newton_step(&p, enclose) else { break };
@@ -568,9 +576,17 @@ fn refine<const N: usize>(
         if !(0..N).all(|i| x[i].contains(next[i])) {
             break;
         }
+        // A step not half the last: Newton's convergence is over, what is
+        // left is rounding (a component at zero never meets a tolerance
+        // relative to itself).
+        let size = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if size > 0.5 * last {
+            break;
+        }
         let done = (0..N).all(|i| d[i].abs() <= 4.0 * f64::EPSILON * next[i].abs().max(f64::MIN_POSITIVE));
         p = next;
         step = d.map(f64::abs);
+        last = size;
         if done {
             break;
         }
