@@ -39,64 +39,49 @@ fn phc_system(rho: [f64; 3]) -> String {
     out
 }
 
-/// PHCpack's input for Dietmaier's 6-UPS (`tests/fixtures/dietmaier_40.txt`,
-/// unscaled): the pose equations of `pkm_runtime::ball_legs::system`
-/// written out, the platform's origin and its quaternion (each pose twice,
-/// ±q: 80 finite roots).
+/// PHCpack's input for Dietmaier's 6-UPS: his platform in Study's
+/// parameters (`tests/fixtures/dietmaier_40_phc.txt`, written by
+/// `tests/phc/ball_legs_phc.py --dietmaier`; 84 paths, each pose once, the
+/// 40 real roots the 40 poses). The quaternion form of
+/// `pkm_runtime::ball_legs::system` takes PHCpack minutes (a Bézout count
+/// of 8192 with ±q).
 fn phc_dietmaier() -> String {
-    let text = std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40.txt")).unwrap();
-    let (mut a, mut b, mut l) = (Vec::new(), Vec::new(), Vec::new());
-    for line in text.lines().filter(|l| !l.starts_with('#')) {
-        let f: Vec<f64> = line.split_whitespace().skip(2).filter_map(|v| v.parse().ok()).collect();
-        match line.split_whitespace().next() {
-            Some("base") => a.push([f[0], f[1], f[2]]),
-            Some("plat") => b.push([f[0], f[1], f[2]]),
-            Some("len") => l.push(f[0]),
-            _ => {}
-        }
-    }
-    let r = [
-        ["(1 - 2*(qy^2 + qz^2))", "2*(qx*qy - qw*qz)", "2*(qx*qz + qw*qy)"],
-        ["2*(qx*qy + qw*qz)", "(1 - 2*(qx^2 + qz^2))", "2*(qy*qz - qw*qx)"],
-        ["2*(qx*qz - qw*qy)", "2*(qy*qz + qw*qx)", "(1 - 2*(qx^2 + qy^2))"],
-    ];
-    let mut out = String::from("7\nqw^2 + qx^2 + qy^2 + qz^2 - 1;\n");
-    for i in 0..6 {
-        let rows: Vec<String> = (0..3)
-            .map(|k| {
-                let p = ["px", "py", "pz"][k];
-                format!(
-                    "({p} + {}*{:e} + {}*{:e} + {}*{:e} - {:e})^2",
-                    r[k][0], b[i][0], r[k][1], b[i][1], r[k][2], b[i][2], a[i][k]
-                )
-            })
-            .collect();
-        out += &format!("{} - {:e};\n", rows.join(" + "), l[i] * l[i]);
-    }
-    out
+    std::fs::read_to_string(common::root().join("tests/fixtures/dietmaier_40_phc.txt")).unwrap()
 }
 
-/// Times `phc -b` on `system` as `name`.
-fn phc_bench(g: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>, name: &str, system: &str) {
+/// Times `phc -0 -b` (its fixed seed) on `system` as `name`, after
+/// checking once that it finds `real` real roots.
+fn phc_bench(
+    g: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
+    name: &str,
+    system: &str,
+    real: usize,
+) {
     let dir = std::env::temp_dir().join(format!("pkm-bench-phc-{}-{name}", std::process::id()).replace('/', "_"));
     std::fs::create_dir_all(&dir).unwrap();
     let input = dir.join("in");
     std::fs::write(&input, system).unwrap();
     let output = dir.join("out");
-    g.bench_function(name, |bn| {
-        bn.iter(|| {
-            let _ = std::fs::remove_file(&output);
-            let s = std::process::Command::new("phc")
-                .arg("-b")
-                .arg(&input)
-                .arg(&output)
-                .stdout(std::process::Stdio::null())
-                .stderr(std::process::Stdio::null())
-                .status()
-                .unwrap();
-            assert!(s.success());
-        })
-    });
+    let run = || {
+        let _ = std::fs::remove_file(&output);
+        let s = std::process::Command::new("phc")
+            .args(["-0", "-b"])
+            .arg(&input)
+            .arg(&output)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert!(s.success(), "phc -0 -b {} failed", input.display());
+    };
+    run();
+    let found = std::fs::read_to_string(&output)
+        .unwrap()
+        .matches("real regular")
+        .count();
+    assert_eq!(found, real, "{name}: PHCpack's real roots");
+    g.bench_function(name, |bn| bn.iter(run));
 }
 
 fn coupled(c: &mut Criterion) {
@@ -164,8 +149,8 @@ fn coupled(c: &mut Criterion) {
     });
     // PHCpack on the same problems, where installed.
     if std::process::Command::new("phc").arg("--version").output().is_ok() {
-        phc_bench(&mut g, "planar_3rpr_six/phcpack", &phc_system(SIX));
-        phc_bench(&mut g, "ups_6_dietmaier/phcpack", &phc_dietmaier());
+        phc_bench(&mut g, "planar_3rpr_six/phcpack", &phc_system(SIX), 6);
+        phc_bench(&mut g, "ups_6_dietmaier/phcpack", &phc_dietmaier(), 40);
     } else {
         eprintln!("coupled: `phc` not installed (Debian package phcpack): PHCpack not timed");
     }

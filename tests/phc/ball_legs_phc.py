@@ -111,6 +111,7 @@ about 2 kB).
 
     python3 tests/phc/ball_legs_phc.py --make   # rewrite the fixture (needs `phc`)
     python3 tests/phc/ball_legs_phc.py --make --count 6 --out /tmp/t.jsonl   # a trial
+    python3 tests/phc/ball_legs_phc.py --dietmaier tests/fixtures/dietmaier_40_phc.txt   # PHCpack's input for the coupled bench
 """
 
 import json
@@ -656,7 +657,28 @@ def solve(kind, ident, stats):
 # ---------------------------------------------------------------- the fixture
 
 
+def dietmaier_input(out):
+    """PHCpack's input for Dietmaier's 6-6 platform
+    (tests/fixtures/dietmaier_40.txt: |R·plat_i + p − base_i| = L_i) in the
+    Study parameters above, for `cargo bench --bench coupled` to time
+    PHCpack on: its 40 real roots are the 40 real poses."""
+    pts = {"base": {}, "plat": {}, "len": {}}
+    for line in (ROOT / "tests" / "fixtures" / "dietmaier_40.txt").read_text().splitlines():
+        f = line.split()
+        if f and f[0] in pts:
+            pts[f[0]][int(f[1])] = [float(v) for v in f[2:]]
+    legs = [
+        {"on": "base", "ball": pts["plat"][i], "centre": pts["base"][i], "normal": None, "radius2": pts["len"][i][0] ** 2}
+        for i in range(1, 7)
+    ]
+    eqs = study_system(legs)
+    Path(out).write_text(f"{len(eqs)} {len(STUDY_NAMES)}\n" + "\n".join(text(e, STUDY_NAMES) for e in eqs) + "\n")
+
+
 def main():
+    if "--dietmaier" in sys.argv:
+        dietmaier_input(sys.argv[sys.argv.index("--dietmaier") + 1])
+        return
     if "--make" not in sys.argv:
         print(__doc__)
         return
