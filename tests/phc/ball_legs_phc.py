@@ -103,14 +103,16 @@ most (then the most real poses), and "phc" has "tries" (the runs made) and
 runs).  (A lost path can be a real pose: spr 71's first run ends with 15
 finite and 3 real poses, its second with 16 and 4.)
 
-Instances: rps, prs, spr 500 each (ids 0..499), ups 300 (ids 0..299):
-about 0.25 s each for the three-circle kinds, 3.5 s for ups (3.4 s of it
-PHCpack's), so 1000 Stewart-Goughs would take about an hour; and the
-fixture stays under 4 MB (an rps line, nearly always 8 real poses, is
-about 2 kB).
+Instances: 1000 of each kind (ids 0..999): about 0.25 s each for the
+three-circle kinds, 4 s for ups (3.9 s of it PHCpack's), about 75
+minutes in all on one core; the fixture is about 7.5 MB (a line, nearly
+always 4-8 real poses, is about 2 kB).  Instances are seeded by their id,
+so `--from N` makes ids N.. alone, to be added to the fixture (its rows
+by kind, then id).
 
     python3 tests/phc/ball_legs_phc.py --make   # rewrite the fixture (needs `phc`)
     python3 tests/phc/ball_legs_phc.py --make --count 6 --out /tmp/t.jsonl   # a trial
+    python3 tests/phc/ball_legs_phc.py --make --kinds ups --from 300 --out /tmp/ups.jsonl   # ids 300..999
     python3 tests/phc/ball_legs_phc.py --dietmaier tests/fixtures/dietmaier_40_phc.txt   # PHCpack's input for the coupled bench
 """
 
@@ -139,7 +141,7 @@ from mpmath import mp, mpf, matrix, lu_solve, inverse, mnorm  # noqa: E402
 from polynomials import padd, pconst, pdot, pmul, pscale, pvar, text  # noqa: E402
 
 KINDS = ("rps", "prs", "spr", "ups")
-PER_KIND = {"rps": 500, "prs": 500, "spr": 500, "ups": 300}
+PER_KIND = {"rps": 1000, "prs": 1000, "spr": 1000, "ups": 1000}
 SEED = 20261129
 DPS = 50
 
@@ -688,6 +690,7 @@ def main():
     if "--count" in args:  # a trial: N instances of each kind
         counts = {k: min(v, int(args[args.index("--count") + 1])) for k, v in counts.items()}
     kinds = args[args.index("--kinds") + 1].split(",") if "--kinds" in args else KINDS
+    first = int(args[args.index("--from") + 1]) if "--from" in args else 0
     out = Path(args[args.index("--out") + 1]) if "--out" in args else FIXTURE
     part = out.with_suffix(out.suffix + ".part")
     with open(part, "w") as f:
@@ -695,7 +698,7 @@ def main():
             stats = {"no_newton": 0, "duplicate": 0, "split": 0, "max_residual": 0.0, "posed_missing": [], "retried": []}
             reals, finites, failed, tags, phc_s = Counter(), Counter(), 0, Counter(), 0.0
             t0 = time.perf_counter()
-            for ident in range(counts[kind]):
+            for ident in range(first, counts[kind]):
                 row, seconds = solve(kind, ident, stats)
                 f.write(json.dumps(row, separators=(",", ":")) + "\n")
                 f.flush()
@@ -705,7 +708,7 @@ def main():
                 tags.update(r["tag"] for r in row["real"])
                 phc_s += seconds
             total = time.perf_counter() - t0
-            n = counts[kind]
+            n = max(1, counts[kind] - first)
             print(
                 f"{kind}: {n} instances, {total / n:.3f} s each ({phc_s / n:.3f} s PHCpack); "
                 f"real roots {dict(sorted(reals.items()))}; finite {dict(sorted(finites.items()))}; "
