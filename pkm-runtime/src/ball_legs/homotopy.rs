@@ -14,7 +14,7 @@
 //! `q` and `−q` are one rotation: the equations keep both, the paths are
 //! carried for one of each pair (the other's path is its mirror).
 
-use super::system::{dot, rotation, rows, turn, with_slopes, Body, Locus, Slopes, UNKNOWNS};
+use super::system::{dot, on_stack, rotation, rows, turn, with_slopes, Body, Locus, Slopes, UNKNOWNS};
 use crate::random::SplitMix;
 use nalgebra::Complex;
 use std::collections::HashMap;
@@ -37,52 +37,21 @@ struct Segment<'a> {
     rate: Vec<Locus<C>>,
 }
 
-/// At most this many legs (six rows and the quaternion's).
-const LEGS: usize = UNKNOWNS - 1;
-
 impl<'a> Segment<'a> {
     fn new(from: &'a [Locus<C>], to: &[Locus<C>]) -> Segment<'a> {
-        let rate = from
-            .iter()
-            .zip(to)
-            .map(|(a, b)| Locus {
-                on: a.on,
-                ball: core::array::from_fn(|i| b.ball[i] - a.ball[i]),
-                centre: core::array::from_fn(|i| b.centre[i] - a.centre[i]),
-                normal: a
-                    .normal
-                    .zip(b.normal)
-                    .map(|(x, y)| core::array::from_fn(|i| y[i] - x[i])),
-                radius2: b.radius2 - a.radius2,
-            })
-            .collect();
+        let rate = from.iter().zip(to).map(|(a, b)| a.zip_map(b, |x, y| y - x)).collect();
         Segment { from, rate }
     }
 
     /// The equations at `x` on the loci at `s`: values, Jacobian, and the
     /// derivative by `s` ([`with_slopes`]).
     fn evaluate(&self, x: &Point, s: f64) -> Slopes<C> {
-        let zero = C::new(0.0, 0.0);
-        let mut at = [Locus {
-            on: Body::Base,
-            ball: [zero; 3],
-            centre: [zero; 3],
-            normal: None,
-            radius2: zero,
-        }; LEGS];
-        let n = self.from.len().min(LEGS);
-        for (leg, (a, v)) in at.iter_mut().zip(self.from.iter().zip(&self.rate)) {
-            *leg = Locus {
-                on: a.on,
-                ball: core::array::from_fn(|i| a.ball[i] + v.ball[i] * s),
-                centre: core::array::from_fn(|i| a.centre[i] + v.centre[i] * s),
-                normal: a
-                    .normal
-                    .zip(v.normal)
-                    .map(|(x, y)| core::array::from_fn(|i| x[i] + y[i] * s)),
-                radius2: a.radius2 + v.radius2 * s,
-            };
-        }
+        let (at, n) = on_stack(
+            self.from
+                .iter()
+                .zip(&self.rate)
+                .map(|(a, v)| a.zip_map(v, |x, y| x + y * s)),
+        );
         with_slopes(x, &at[..n], Some(&self.rate[..n]))
     }
 }

@@ -84,6 +84,42 @@ impl<T: Copy> Locus<T> {
 /// How many unknowns: the platform's origin and its quaternion.
 pub const UNKNOWNS: usize = 7;
 
+/// At most this many legs (six rows and the quaternion's).
+pub const LEGS: usize = UNKNOWNS - 1;
+
+impl<T: Copy> Locus<T> {
+    /// This locus and another of its kind combined number by number.
+    pub fn zip_map<U>(&self, other: &Locus<T>, f: impl Fn(T, T) -> U) -> Locus<U> {
+        let three = |a: [T; 3], b: [T; 3]| core::array::from_fn(|i| f(a[i], b[i]));
+        Locus {
+            on: self.on,
+            ball: three(self.ball, other.ball),
+            centre: three(self.centre, other.centre),
+            normal: self.normal.zip(other.normal).map(|(a, b)| three(a, b)),
+            radius2: f(self.radius2, other.radius2),
+        }
+    }
+}
+
+/// At most [`LEGS`] loci on the stack, and how many (no allocation where
+/// the equations are evaluated many times).
+pub fn on_stack<T: Ring>(legs: impl Iterator<Item = Locus<T>>) -> ([Locus<T>; LEGS], usize) {
+    let zero = T::c(0.0);
+    let mut at = [Locus {
+        on: Body::Base,
+        ball: [zero; 3],
+        centre: [zero; 3],
+        normal: None,
+        radius2: zero,
+    }; LEGS];
+    let mut n = 0;
+    for (slot, leg) in at.iter_mut().zip(legs) {
+        *slot = leg;
+        n += 1;
+    }
+    (at, n)
+}
+
 /// `R(q)` of a unit quaternion `q = (w, x, y, z)`.
 #[inline]
 pub fn rotation<T: Ring>(q: &[T; 4]) -> [[T; 3]; 3] {
@@ -313,17 +349,7 @@ pub fn rows(shape: &[(Body, bool)]) -> usize {
 /// arithmetic rounded outward, encloses them over the box), the loci's
 /// numbers as points.
 pub fn enclosed(legs: &[Locus<f64>], b: &[Interval; UNKNOWNS]) -> Slopes<Interval> {
-    let mut at = [Locus {
-        on: Body::Base,
-        ball: [Interval::point(0.0); 3],
-        centre: [Interval::point(0.0); 3],
-        normal: None,
-        radius2: Interval::point(0.0),
-    }; UNKNOWNS - 1];
-    let n = legs.len().min(UNKNOWNS - 1);
-    for (to, leg) in at.iter_mut().zip(legs) {
-        *to = leg.map(Interval::point);
-    }
+    let (at, n) = on_stack(legs.iter().map(|l| l.map(Interval::point)));
     with_slopes(b, &at[..n], None)
 }
 
@@ -336,84 +362,28 @@ pub fn at(legs: &[Locus<f64>], x: &[f64; UNKNOWNS]) -> ([f64; UNKNOWNS], [[f64; 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::interval::Enclosure;
     use crate::random::SplitMix;
-    use core::ops::{Add, Mul, Neg, Sub};
-    use nalgebra::Complex;
 
-    type C = Complex<f64>;
-
-    /// A complex value with its derivatives by the seven unknowns and by the
-    /// path's parameter `s` (slot 7): forward differentiation through
-    /// [`residual`], the other way to the same slopes.
-    #[derive(Debug, Clone, Copy)]
-    struct Jet {
-        v: C,
-        d: [C; UNKNOWNS + 1],
-    }
+    /// Forward differentiation through [`residual`] (the other way to the
+    /// same slopes): point intervals carrying their derivatives by the
+    /// seven unknowns and by the path's parameter `s` (slot 7).
+    type Jet = Enclosure<{ UNKNOWNS + 1 }>;
 
     impl Ring for Jet {
-        #[inline]
         fn c(v: f64) -> Self {
-            Jet {
-                v: C::new(v, 0.0),
-                d: [C::new(0.0, 0.0); UNKNOWNS + 1],
-            }
-        }
-    }
-
-    impl Add for Jet {
-        type Output = Jet;
-        #[inline]
-        fn add(self, o: Jet) -> Jet {
-            Jet {
-                v: self.v + o.v,
-                d: core::array::from_fn(|i| self.d[i] + o.d[i]),
-            }
-        }
-    }
-
-    impl Sub for Jet {
-        type Output = Jet;
-        #[inline]
-        fn sub(self, o: Jet) -> Jet {
-            Jet {
-                v: self.v - o.v,
-                d: core::array::from_fn(|i| self.d[i] - o.d[i]),
-            }
-        }
-    }
-
-    impl Neg for Jet {
-        type Output = Jet;
-        #[inline]
-        fn neg(self) -> Jet {
-            Jet {
-                v: -self.v,
-                d: self.d.map(|d| -d),
-            }
-        }
-    }
-
-    // The product rule: the derivatives are sums.
-    #[allow(clippy::suspicious_arithmetic_impl)]
-    impl Mul for Jet {
-        type Output = Jet;
-        #[inline]
-        fn mul(self, o: Jet) -> Jet {
-            Jet {
-                v: self.v * o.v,
-                d: core::array::from_fn(|i| self.d[i] * o.v + self.v * o.d[i]),
-            }
+            Enclosure::constant(Interval::point(v))
         }
     }
 
     /// The written-out slopes against forward differentiation through the
-    /// rows, at random complex points on random loci of every kind (a
-    /// sphere and a circle on each body), with random rates.
+    /// rows, at random points on random loci of every kind (a sphere and a
+    /// circle on each body), with random rates. Both sides are
+    /// polynomials in the points and loci: equal at random real points,
+    /// they are equal on complex ones too.
     #[test]
     fn written_slopes_are_the_differentiated_rows() {
         let mut rng = SplitMix::new(7);
-        let mut c = || C::new(rng.symmetric(), rng.symmetric());
         for trial in 0..50 {
             let kinds = [
                 (Body::Base, false),
@@ -426,44 +396,31 @@ mod tests {
             for &(on, circle) in kinds.iter().cycle().skip(trial % 4).take(3) {
                 let mut locus = || Locus {
                     on,
-                    ball: [c(), c(), c()],
-                    centre: [c(), c(), c()],
-                    normal: circle.then(|| [c(), c(), c()]),
-                    radius2: c(),
+                    ball: [rng.symmetric(), rng.symmetric(), rng.symmetric()],
+                    centre: [rng.symmetric(), rng.symmetric(), rng.symmetric()],
+                    normal: circle.then(|| [rng.symmetric(), rng.symmetric(), rng.symmetric()]),
+                    radius2: rng.symmetric(),
                 };
                 legs.push(locus());
                 rates.push(locus());
             }
-            let x: [C; UNKNOWNS] = core::array::from_fn(|_| c());
+            let x: [f64; UNKNOWNS] = core::array::from_fn(|_| rng.symmetric());
             let got = with_slopes(&x, &legs, Some(&rates));
-            let zero = C::new(0.0, 0.0);
-            let vars: [Jet; UNKNOWNS] = core::array::from_fn(|k| {
-                let mut d = [zero; UNKNOWNS + 1];
-                d[k] = C::new(1.0, 0.0);
-                Jet { v: x[k], d }
-            });
+            let vars: [Jet; UNKNOWNS] = core::array::from_fn(|k| Enclosure::variable(Interval::point(x[k]), k));
             let jets: Vec<Locus<Jet>> = legs
                 .iter()
                 .zip(&rates)
                 .map(|(l, r)| {
-                    let one = |v: C, dv: C| {
-                        let mut d = [zero; UNKNOWNS + 1];
-                        d[UNKNOWNS] = dv;
-                        Jet { v, d }
-                    };
-                    let three = |a: [C; 3], b: [C; 3]| core::array::from_fn(|i| one(a[i], b[i]));
-                    Locus {
-                        on: l.on,
-                        ball: three(l.ball, r.ball),
-                        centre: three(l.centre, r.centre),
-                        normal: l.normal.zip(r.normal).map(|(a, b)| three(a, b)),
-                        radius2: one(l.radius2, r.radius2),
-                    }
+                    l.zip_map(r, |v, dv| {
+                        let mut e = Jet::c(v);
+                        e.d[UNKNOWNS] = Interval::point(dv);
+                        e
+                    })
                 })
                 .collect();
             let mut out = [Jet::c(0.0); UNKNOWNS];
             let n = residual(&vars, &jets, &mut out).min(UNKNOWNS);
-            let close = |a: C, b: C| (a - b).norm() <= 1e-13 * (1.0 + b.norm());
+            let close = |a: f64, b: Interval| (a - b.mid()).abs() <= 1e-13 * (1.0 + b.mid().abs());
             for (r, row) in out[..n].iter().enumerate() {
                 assert!(close(got.f[r], row.v), "trial {trial} row {r}");
                 assert!(close(got.ds[r], row.d[UNKNOWNS]), "trial {trial} row {r} rate");
