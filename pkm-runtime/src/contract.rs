@@ -104,7 +104,9 @@ pub mod steps {
 
 /// The virtual-variable root driver of generated κ = 1 forward solvers.
 pub mod fk_numeric {
-    pub use crate::fk_numeric::{enclosed, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange};
+    pub use crate::fk_numeric::{
+        enclosed, polish_found, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange,
+    };
 }
 
 /// The intervals a generated residual is enclosed on.

@@ -120,6 +120,91 @@ impl Problem<'_> {
     fn residual(&self, values: &[f64]) -> Result<DVector<f64>, ModelError> {
         Ok(DVector::from_vec(self.kinematics.scaled_residual(values, self.scale)?))
     }
+
+    /// The residual's Jacobian by the `unknowns` at `values`, by central
+    /// differences with each unknown's `steps`.
+    fn jacobian(&self, values: &[f64], unknowns: &[usize], steps: &[f64]) -> Result<DMatrix<f64>, ModelError> {
+        let mut probe = values.to_vec();
+        let mut jac = DMatrix::zeros(0, 0);
+        for (k, &i) in unknowns.iter().enumerate() {
+            probe[i] = values[i] + steps[i];
+            let plus = self.residual(&probe)?;
+            probe[i] = values[i] - steps[i];
+            let minus = self.residual(&probe)?;
+            probe[i] = values[i];
+            if k == 0 {
+                jac = DMatrix::zeros(plus.len(), unknowns.len());
+            }
+            jac.set_column(k, &((plus - minus) / (2.0 * steps[i])));
+        }
+        Ok(jac)
+    }
+}
+
+/// Finite-difference step of each joint value: `h` of the size for a
+/// slide, `h` radians for an angle.
+fn difference_steps(model: &Model, h: f64, scale: f64) -> Vec<f64> {
+    model
+        .length_values()
+        .iter()
+        .map(|&l| if l { h * scale } else { h })
+        .collect()
+}
+
+/// An assembly `values` (every joint's) polished on the loop equations at
+/// the `inputs` (as [`solve_fk`]'s; the actuated joints are set to them,
+/// where a closed form may have left one a rounding away): full
+/// Gauss–Newton steps over the other joints (the Jacobian as [`solve_fk`]'s) while each lowers the scaled
+/// residual's norm, at most `max_steps`. Where a closed form or a virtual
+/// variable carried the assembly through a step that is ill-conditioned
+/// there (two circles nearly tangent: their intersection moves far for a
+/// small change), while the loop equations themselves are not, this brings
+/// it to their accuracy; where it is already there, no step lowers the
+/// norm and `values` come back as they were.
+///
+/// # Errors
+/// As [`solve_fk`]'s model errors; [`NewtonError::Singular`] where the
+/// Jacobian vanishes.
+pub fn polish(model: &Model, inputs: &[f64], values: &[f64], max_steps: usize) -> Result<NewtonSolution, NewtonError> {
+    let kinematics = Kinematics::new(model)?;
+    kinematics.check(values).map_err(|e| bad(format!("values: {e}")))?;
+    let offsets = kinematics.offsets.clone();
+    let n = values.len();
+    let (solved, actuated) = split_entries(model, &offsets, n, inputs)?;
+    let unknowns: Vec<usize> = (0..n).filter(|&i| solved[i]).collect();
+    let scale = model_scale(model);
+    let steps = difference_steps(model, 6e-6, scale);
+    let problem = Problem { kinematics, scale };
+    let mut values = values.to_vec();
+    for (&i, &x) in actuated.iter().zip(inputs) {
+        values[i] = x;
+    }
+    let mut norm = problem.residual(&values)?.norm();
+    let mut iterations = 0;
+    while iterations < max_steps && !unknowns.is_empty() && norm > 0.0 {
+        let r = problem.residual(&values)?;
+        let jac = problem.jacobian(&values, &unknowns, &steps)?;
+        let delta = least_squares_step(&jac, &r).ok_or(NewtonError::Singular)?;
+        let mut trial = values.clone();
+        for (k, &i) in unknowns.iter().enumerate() {
+            trial[i] += delta[k];
+        }
+        match problem.residual(&trial) {
+            Ok(t) if t.norm() < norm => {
+                norm = t.norm();
+                values = trial;
+                iterations += 1;
+            }
+            _ => break,
+        }
+    }
+    let poses = problem.kinematics.poses(&values)?;
+    Ok(NewtonSolution {
+        values,
+        poses: poses.into_iter().map(Isometry3::from).collect(),
+        residual: norm,
+        iterations,
+    })
 }
 
 fn norm3(a: [f64; 3]) -> f64 {
@@ -289,12 +374,7 @@ pub fn solve_fk(
     let unknowns: Vec<usize> = (0..n).filter(|&i| solved[i]).collect();
     let scale = model_scale(model);
     // Finite-difference step of each unknown: P joints are lengths, the rest angles.
-    let h = 6e-6;
-    let steps: Vec<f64> = model
-        .length_values()
-        .iter()
-        .map(|&l| if l { h * scale } else { h })
-        .collect();
+    let steps = difference_steps(model, 6e-6, scale);
     let problem = Problem { kinematics, scale };
     let finish = |values: Vec<f64>, residual: f64, iterations: usize| -> Result<NewtonSolution, NewtonError> {
         let poses = problem.kinematics.poses(&values)?;
@@ -319,17 +399,7 @@ pub fn solve_fk(
                 iterations,
             });
         }
-        // Central-difference Jacobian.
-        let mut jac = DMatrix::zeros(r.len(), unknowns.len());
-        let mut probe = values.clone();
-        for (k, &i) in unknowns.iter().enumerate() {
-            probe[i] = values[i] + steps[i];
-            let plus = problem.residual(&probe)?;
-            probe[i] = values[i] - steps[i];
-            let minus = problem.residual(&probe)?;
-            probe[i] = values[i];
-            jac.set_column(k, &((plus - minus) / (2.0 * steps[i])));
-        }
+        let jac = problem.jacobian(&values, &unknowns, &steps)?;
         let delta = least_squares_step(&jac, &r).ok_or(NewtonError::Singular)?;
         // Step halving until the residual norm decreases.
         let mut t = 1.0;

@@ -660,16 +660,34 @@ impl<'g> Emit<'g> {
     /// (`l2: f64, abs_l3_sq: f64`), and `prepare`'s body, a value of
     /// `ty` computed from `params`.
     pub fn prepared(&self, ty: &proc_macro2::Ident) -> (TokenStream, TokenStream) {
+        self.prepared_with(ty, &TokenStream::new(), &[])
+    }
+
+    /// As [`Self::prepared`], with more fields (`extra`, each `name: Type,`)
+    /// set by `inits_extra` (each `name: value`).
+    pub fn prepared_with(
+        &self,
+        ty: &proc_macro2::Ident,
+        extra: &TokenStream,
+        inits_extra: &[TokenStream],
+    ) -> (TokenStream, TokenStream) {
         let (lets, values) = self.prepare();
         let fields = self.fields.borrow();
-        let inits = fields.iter().zip(values).map(|(f, v)| {
-            if *f == v.to_string() {
-                quote! { #f }
-            } else {
-                quote! { #f: #v }
-            }
-        });
-        (quote! { #(#fields: f64,)* }, quote! { #lets #ty { #(#inits),* } })
+        let inits = fields
+            .iter()
+            .zip(values)
+            .map(|(f, v)| {
+                if *f == v.to_string() {
+                    quote! { #f }
+                } else {
+                    quote! { #f: #v }
+                }
+            })
+            .chain(inits_extra.iter().cloned());
+        (
+            quote! { #(#fields: f64,)* #extra },
+            quote! { #lets #ty { #(#inits),* } },
+        )
     }
 
     /// Every slot handed out, computed from `params`: the `let`s of what

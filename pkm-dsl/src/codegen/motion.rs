@@ -13,7 +13,13 @@ use quote::{format_ident, quote};
 /// The items of the requested velocity capabilities; empty if none is asked for.
 pub fn generate(a: &Analysis, ident: &proc_macro2::Ident) -> Result<TokenStream, crate::Diagnostics> {
     let m = &a.mechanism;
-    let wanted = [Capability::Jacobian, Capability::Velocity, Capability::Acceleration];
+    // The forward solution by a virtual variable polishes on the model too.
+    let wanted = [
+        Capability::Jacobian,
+        Capability::Velocity,
+        Capability::Acceleration,
+        Capability::FkNumeric,
+    ];
     if !a.geometry.complete || !wanted.iter().any(|c| m.wants(*c)) {
         return Ok(TokenStream::new());
     }
@@ -154,7 +160,8 @@ fn model_fns(a: &Analysis, s: &Signature) -> TokenStream {
     });
     let (name, planar) = (&m.name, m.planar);
     quote! {
-        /// The numeric model at `params`, which the velocity analysis reads.
+        /// The numeric model at `params`, which the velocity analysis reads
+        /// and the forward solution by a virtual variable polishes on.
         pub fn model(params: &#params_ty) -> #rt::model::Model {
             let _ = params;
             #rt::model::Model {

@@ -113,7 +113,24 @@ pub(crate) fn generate(
     };
     let prepared = format_ident!("{}FkNumeric", ident);
     let params_ty = format_ident!("{}Params", ident);
-    let (fields, prepare) = emit.prepared(&prepared);
+    // The parameters, for the model the assemblies are polished on.
+    let (fields, prepare) = emit.prepared_with(
+        &prepared,
+        &quote! { params: #params_ty, },
+        &[quote! { params: *params }],
+    );
+    let virtual_joint = vp.joint;
+    let polishable = model.joints.iter().all(|j| j.kind.dof() == 1);
+    let polish = if polishable {
+        quote! {
+            let model = #ident::model(&self.params);
+            for f in &mut found {
+                #rt::fk_numeric::polish_found(&model, #virtual_joint, q, f);
+            }
+        }
+    } else {
+        quote! {}
+    };
     let virtual_name = &m.joints[vp.joint].name;
     let fk_doc = format!(
         " Every real assembly at the inputs `q` (the actuated joints in declaration order, [`{prepared}::GIVEN`] but the last), by a virtual variable ([`{prepared}::fk_numeric`])."
@@ -257,7 +274,7 @@ pub(crate) fn generate(
                     },
                 );
                 let unresolved = found.unresolved;
-                let found = found
+                let mut found: ::std::vec::Vec<_> = found
                     .found
                     .into_iter()
                     .map(|(s, r, (values, points))| #rt::fk_numeric::Found {
@@ -270,6 +287,7 @@ pub(crate) fn generate(
                         points,
                     })
                     .collect();
+                #polish
                 #rt::fk_numeric::Assemblies { found, unresolved }
             }
         }
