@@ -18,6 +18,8 @@ use std::hint::black_box;
 pkm::mechanism!(ThreeRrr, file = "examples/mechanisms/planar_3rrr.pkm");
 pkm::mechanism!(ThreeRprSix, file = "examples/mechanisms/planar_3rpr_six.pkm");
 pkm::mechanism!(Tripteron, file = "examples/mechanisms/tripteron.pkm");
+pkm::mechanism!(Rps, file = "examples/mechanisms/rps_3.pkm");
+pkm::mechanism!(UpsDietmaier, file = "tests/fixtures/ups_6_dietmaier.pkm");
 
 /// The six-assembly 3-RPR's legs where all six are real.
 const SIX: [f64; 3] = [149.8, 153.8, 120.0];
@@ -142,6 +144,17 @@ fn coupled(c: &mut Criterion) {
     let qd = [100.0, 64.5275, 108.6284, 150.3439, 128.1933, 77.1071];
     g.bench_function("ups_6_dietmaier/every_assembly", |bn| {
         bn.iter(|| ld.solve(&md, &id, &od, black_box(&qd)).unwrap())
+    });
+    // The same by generated code: the runtime's roots, each root's joints
+    // by the generated inverse solution.
+    let rps = Rps::prepare_fk_numeric(&Default::default());
+    let qr3: [f64; 3] = qr.clone().try_into().unwrap();
+    g.bench_function("rps_3/every_assembly_generated", |bn| {
+        bn.iter(|| rps.fk_numeric(black_box(&qr3)).unwrap())
+    });
+    let dietmaier = UpsDietmaier::prepare_fk_numeric(&Default::default());
+    g.bench_function("ups_6_dietmaier/every_assembly_generated", |bn| {
+        bn.iter(|| dietmaier.fk_numeric(black_box(&qd)).unwrap())
     });
     let loci = ld.loci(&md, &qd).unwrap();
     g.bench_function("ups_6_dietmaier/roots_certified", |bn| {

@@ -453,13 +453,22 @@ pub fn newton<const N: usize>(
 /// The root near `x`, proven alone in a small box about it: Newton's
 /// method from `x` (at most 8 steps, the residual and the Jacobian at
 /// points), then Krawczyk's operator on boxes about the point reached,
-/// from a few ulps wide, each 8 times the last, up to 10⁻⁴ of `x`'s size
-/// (plus one); the first that passes is the certificate. `None` where
-/// none does: a root too ill-conditioned or singular to prove, or none.
+/// from 128 ulps of `x`'s size (plus one) wide, each 8 times the last, up
+/// to 10⁻⁴ of it; the first that passes is the certificate (narrowed
+/// where it is wider than 10⁻¹² of the size or does not hold the point:
+/// Newton's method inside it and a box about where that stops). `None`
+/// where none does: a root too ill-conditioned or singular to prove, or
+/// none.
 pub fn isolate<const N: usize>(
     x: [f64; N],
     enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
 ) -> Option<Root<N>> {
+    isolate_with(x, enclose)
+}
+
+/// [`isolate`] on a [`Residual`] that gives its values at points in plain
+/// floats (Newton's steps); the proofs on its enclosures alike.
+pub fn isolate_with<const N: usize>(x: [f64; N], enclose: &mut impl Residual<N>) -> Option<Root<N>> {
     let mut p = x;
     let mut last = f64::INFINITY;
     for _ in 0..8 {
@@ -483,10 +492,19 @@ pub fn isolate<const N: usize>(
     }
     let size = 1.0 + p.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut stats = Stats::default();
-    let mut w = 16.0 * f64::EPSILON * size;
+    let mut w = 128.0 * f64::EPSILON * size;
     while w <= 1e-4 * size {
         let b: [Interval; N] = p.map(|v| Interval::new(v - w, v + w));
         if let Some(k) = certified(&b, &p, enclose, &mut stats) {
+            // A box a few hundred ulps wide that holds Newton's point is
+            // the certificate already; a wider one is narrowed.
+            if w <= 1e-12 * size && (0..N).all(|i| k[i].contains(p[i])) {
+                return Some(Root {
+                    x: p,
+                    cert: k,
+                    doubt: None,
+                });
+            }
             return Some(refine(k, enclose, &mut stats));
         }
         w *= 8.0;
@@ -497,15 +515,34 @@ pub fn isolate<const N: usize>(
 /// Newton's step at the point `p`: `−J⁻¹·f` with the residual and its
 /// Jacobian at `p` (their enclosures' middles); `None` where they cannot
 /// be enclosed or the Jacobian is singular.
-fn newton_step<const N: usize>(
-    p: &[f64; N],
-    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
-) -> Option<[f64; N]> {
-    let e = enclose(&p.map(Interval::point))?;
-    let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
+fn newton_step<const N: usize>(p: &[f64; N], enclose: &mut impl Residual<N>) -> Option<[f64; N]> {
+    let (f, j) = enclose.at(p)?;
     let y = inverse(j)?;
-    let f = e.f.map(|f| f.mid());
     Some(core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>()))
+}
+
+/// A residual of `N` unknowns: its enclosure with its Jacobian's over a
+/// box (what a proof needs), and its value and Jacobian at a point (what
+/// Newton's steps need; by default the enclosure of the point's middles,
+/// but a residual written over a ring gives them in plain floats, at a
+/// twentieth of the cost). Every `FnMut` from boxes to enclosures is one.
+pub trait Residual<const N: usize> {
+    /// The enclosures over `x`; `None` where the residual is undefined.
+    fn enclose(&mut self, x: &[Interval; N]) -> Option<Enclosed<N>>;
+
+    /// The value and Jacobian at `p`; `None` where undefined.
+    fn at(&mut self, p: &[f64; N]) -> Option<([f64; N], [[f64; N]; N])> {
+        let e = self.enclose(&p.map(Interval::point))?;
+        let f = e.f.map(|f| f.mid());
+        f.iter().all(|v| v.is_finite()).then_some(())?;
+        Some((f, core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()))))
+    }
+}
+
+impl<const N: usize, F: FnMut(&[Interval; N]) -> Option<Enclosed<N>>> Residual<N> for F {
+    fn enclose(&mut self, x: &[Interval; N]) -> Option<Enclosed<N>> {
+        self(x)
+    }
 }
 
 /// Where a box is split: a little off its middle.
@@ -513,11 +550,7 @@ const SPLIT: f64 = 0.498_730_158_2;
 
 /// `x` inflated to four times its width about its middle and certified
 /// there, if it can be.
-fn inflated<const N: usize>(
-    x: &[Interval; N],
-    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
-    stats: &mut Stats,
-) -> Option<Root<N>> {
+fn inflated<const N: usize>(x: &[Interval; N], enclose: &mut impl Residual<N>, stats: &mut Stats) -> Option<Root<N>> {
     let wide: [Interval; N] = x.map(|i| {
         let (m, w) = (i.mid(), 2.0 * i.width().max(f64::EPSILON * i.mag()));
         Interval::new(m - w, m + w)
@@ -532,13 +565,13 @@ fn inflated<const N: usize>(
 fn certified<const N: usize>(
     x: &[Interval; N],
     m: &[f64; N],
-    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
+    enclose: &mut impl Residual<N>,
     stats: &mut Stats,
 ) -> Option<[Interval; N]> {
     stats.boxes += 2;
-    let e = enclose(x)?;
+    let e = enclose.enclose(x)?;
     let p = preconditioner(&e)?;
-    let a = enclose(&m.map(Interval::point))?;
+    let a = enclose.enclose(&m.map(Interval::point))?;
     let k = krawczyk(x, &p, &a, m)?;
     (e.decided && (0..N).all(|i| k[i].inside(x[i]))).then(|| core::array::from_fn(|i| k[i].meet(x[i])))
 }
@@ -549,11 +582,7 @@ fn certified<const N: usize>(
 /// inflated until it passes (a box inside `x` holds `x`'s one root).
 /// Where none passes, `x` stays the certificate and the root is Newton's
 /// last point inside `x`.
-fn refine<const N: usize>(
-    x: [Interval; N],
-    enclose: &mut impl FnMut(&[Interval; N]) -> Option<Enclosed<N>>,
-    stats: &mut Stats,
-) -> Root<N> {
+fn refine<const N: usize>(x: [Interval; N], enclose: &mut impl Residual<N>, stats: &mut Stats) -> Root<N> {
     let mut p: [f64; N] = x.map(|i| i.mid());
     let mut step = x.map(|i| i.width());
     if N == 1 {
@@ -561,7 +590,7 @@ fn refine<const N: usize>(
         // where one would leave it (the sign at the ends tells which half).
         let x0 = safe_newton(x[0], &mut |t: f64| {
             stats.boxes += 1;
-            enclose(&[Interval::point(t); N]).map(|e| (e.f[0].mid(), e.j[0][0].mid()))
+            enclose.at(&[t; N]).map(|(f, j)| (f[0], j[0][0]))
         });
         if let Some((t, d)) = x0 {
             p = [t; N];

@@ -151,6 +151,10 @@ fn difference_steps(model: &Model, h: f64, scale: f64) -> Vec<f64> {
         .collect()
 }
 
+/// A scaled loop residual's norm at rounding: [`polish`] takes no step
+/// below it.
+pub const ROUNDING: f64 = 32.0 * f64::EPSILON;
+
 /// An assembly `values` (every joint's) polished on the loop equations at
 /// the `inputs` (as [`solve_fk`]'s; the actuated joints are set to them,
 /// where a closed form may have left one a rounding away): full
@@ -159,8 +163,8 @@ fn difference_steps(model: &Model, h: f64, scale: f64) -> Vec<f64> {
 /// variable carried the assembly through a step that is ill-conditioned
 /// there (two circles nearly tangent: their intersection moves far for a
 /// small change), while the loop equations themselves are not, this brings
-/// it to their accuracy; where it is already there, no step lowers the
-/// norm and `values` come back as they were.
+/// it to their accuracy; where it is already there (the norm at
+/// [`ROUNDING`], or no step lowers it) `values` come back as they were.
 ///
 /// # Errors
 /// As [`solve_fk`]'s model errors; [`NewtonError::Singular`] where the
@@ -181,7 +185,8 @@ pub fn polish(model: &Model, inputs: &[f64], values: &[f64], max_steps: usize) -
     }
     let mut norm = problem.residual(&values)?.norm();
     let mut iterations = 0;
-    while iterations < max_steps && !unknowns.is_empty() && norm > 0.0 {
+    // At rounding already: no step can lower it (and the Jacobian is not made).
+    while iterations < max_steps && !unknowns.is_empty() && norm > ROUNDING {
         let r = problem.residual(&values)?;
         let jac = problem.jacobian(&values, &unknowns, &steps)?;
         let delta = least_squares_step(&jac, &r).ok_or(NewtonError::Singular)?;

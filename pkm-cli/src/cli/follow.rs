@@ -81,11 +81,7 @@ impl<'r> Follow<'r> {
                 format!("--follow-from: no assembly at the start pose ({why})"),
             ));
         };
-        let wants_numeric = l.compiled.analysis.topology.kappa != 0
-            && l.compiled
-                .analysis
-                .mechanism
-                .wants(pkm_dsl::mechanism::Capability::FkNumeric);
+        let wants_numeric = pkm_dsl::planner_numeric::by_virtual_variable(&l.compiled.analysis);
         let numeric = if wants_numeric {
             Some(pkm_dsl::planner_numeric::forward_numeric_plan(&l.compiled.analysis).map_err(|d| r.parse_failure(d))?)
         } else {

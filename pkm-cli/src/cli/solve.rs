@@ -592,11 +592,7 @@ impl<'r> Forward<'r> {
     /// Loads and plans the file of `r`.
     pub fn new(r: &'r Request<'r>) -> Result<Forward<'r>, Failure> {
         let l = load(r)?;
-        let numeric = l.compiled.analysis.topology.kappa != 0
-            && l.compiled
-                .analysis
-                .mechanism
-                .wants(pkm_dsl::mechanism::Capability::FkNumeric);
+        let numeric = pkm_dsl::planner_numeric::by_virtual_variable(&l.compiled.analysis);
         let (way, inputs) = if numeric {
             let vp =
                 pkm_dsl::planner_numeric::forward_numeric_plan(&l.compiled.analysis).map_err(|d| r.parse_failure(d))?;

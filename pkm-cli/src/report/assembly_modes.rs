@@ -43,7 +43,7 @@ impl Forward {
         if a.topology.kappa == 0 {
             return None;
         }
-        if a.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric) {
+        if pkm_dsl::planner_numeric::by_virtual_variable(a) {
             return pkm_dsl::planner_numeric::forward_numeric_plan(a)
                 .ok()
                 .map(|vp| Forward::Virtual(Box::new(vp)));

@@ -127,7 +127,7 @@ pub(super) fn inverse_only(
     };
     // A κ = 1 file that asks for `fk_numeric` solves its forward position
     // at one input: its sample may be an input.
-    let numeric = l.analysis.mechanism.wants(pkm_dsl::mechanism::Capability::FkNumeric);
+    let numeric = pkm_dsl::planner_numeric::by_virtual_variable(&l.analysis);
     if !o.ranges.is_empty() || (o.start.is_some() && !numeric) || o.amplitude.is_some() || o.speed.is_some() {
         return Err(invalid(format!(
             "{file} has no forward plan ({why}): --ranges, --start, --amplitude and --speed sample its inputs, \

@@ -3,6 +3,7 @@
 //! requested capabilities need, and emit the type. Nothing is generated for
 //! a capability that was not requested.
 
+mod ball_legs;
 pub(crate) mod emit;
 mod motion;
 mod solution;
@@ -176,10 +177,19 @@ pub fn check_capabilities(a: &Analysis) -> Diagnostics {
             dynamics_needs(a, *span, &mut errors);
         }
         if *cap == Capability::FkNumeric {
-            let planned = crate::plan::planner_numeric::coupling(a).and_then(|()| match a.geometry.complete {
-                true => crate::plan::planner_numeric::forward_numeric_plan(a).map(|_| ()),
-                false => Ok(()),
-            });
+            use crate::plan::planner_numeric::{ball_legs, by_virtual_variable, forward_numeric_plan};
+            let planned = match (by_virtual_variable(a), a.geometry.complete) {
+                (true, true) => forward_numeric_plan(a).map(|_| ()),
+                (false, true) => ball_legs(a).map(|_| ()),
+                (true, false) => Ok(()),
+                (false, false) => crate::plan::planner_numeric::coupling(a).or_else(|refused| {
+                    if a.topology.kappa >= 1 && m.wants(Capability::Ik) {
+                        Ok(())
+                    } else {
+                        Err(refused)
+                    }
+                }),
+            };
             if let Err(d) = planned {
                 errors.0.extend(d.0);
             }
@@ -544,7 +554,13 @@ fn solver_items(input: &MacroInput, compiled: &crate::compile::Compiled) -> Resu
             solvers.push(crate::codegen::solution::generate(a, plan, ident, direction));
         }
     }
-    if a.geometry.complete && m.wants(Capability::FkNumeric) && a.topology.kappa == 1 {
+    let virtual_variable = crate::plan::planner_numeric::by_virtual_variable(a);
+    if a.geometry.complete && m.wants(Capability::FkNumeric) && !virtual_variable {
+        // κ ≥ 2: the ball legs' pose equations, each root by the generated `ik`.
+        crate::plan::planner_numeric::ball_legs(a)?;
+        solvers.push(crate::codegen::ball_legs::generate(a, ident, vis, compiled.inverse()?));
+    }
+    if a.geometry.complete && virtual_variable {
         let vp = crate::plan::planner_numeric::forward_numeric_plan(a)?;
         let items = crate::codegen::solver::numeric::generate(a, ident, vis, &vp).map_err(|e| {
             Diagnostic::new(

@@ -1,5 +1,7 @@
 //! The forward plan of a κ = 1 mechanism with one virtual variable
-//! (capability `fk_numeric`, [`pkm_runtime::fk_numeric`]): one joint of the
+//! (capability `fk_numeric`, [`pkm_runtime::fk_numeric`]; at κ ≥ 2 the same
+//! capability solves legs that end in balls by their pose equations,
+//! [`ball_legs`]): one joint of the
 //! coupled SKC's SOCs is given as if it were an input, the closed-form
 //! planner ([`crate::plan::planner`]) solves the rest, and the one check the plan
 //! cannot make hold by construction is the compatibility residual.
@@ -65,6 +67,53 @@ pub fn coupling(a: &Analysis) -> Result<(), Diagnostics> {
         ));
     }
     Ok(())
+}
+
+/// Whether `fk_numeric` solves this mechanism by one virtual variable: it
+/// asks for `fk_numeric` and its topology passes [`coupling`] (else, at
+/// κ ≥ 2, by its ball legs' pose equations, [`ball_legs`]).
+pub fn by_virtual_variable(a: &Analysis) -> bool {
+    a.mechanism.wants(crate::semantics::mechanism::Capability::FkNumeric) && coupling(a).is_ok()
+}
+
+/// What `fk_numeric` needs where one virtual variable does not do
+/// ([`coupling`] refuses the topology, κ ≥ 2): legs that each end in one
+/// ball between the base and the platform the declared outputs place
+/// ([`pkm_runtime::ball_legs::BallLegs::for_outputs`], at the nominal
+/// dimensions), whose pose equations are solved, and the inverse solution
+/// (`ik`), which solves each root's joints.
+///
+/// # Errors
+/// The refusal of [`coupling`] with why the legs do not serve, or that
+/// `ik` is not asked for.
+pub fn ball_legs(a: &Analysis) -> Result<pkm_runtime::ball_legs::BallLegs, Diagnostics> {
+    let Err(refused) = coupling(a) else {
+        return Err(refusal(
+            a,
+            "`fk_numeric` solves this mechanism by one virtual variable".into(),
+        ));
+    };
+    let why = |why: String| -> Diagnostics {
+        let mut d = refused.clone();
+        if let Some(first) = d.0.first_mut() {
+            first.message = format!(
+                "{}; at κ ≥ 2 it solves legs that each end in a ball, by the platform's pose equations, but {why}",
+                first.message
+            );
+        }
+        d
+    };
+    if a.topology.kappa == 0 {
+        return Err(refused);
+    }
+    if !a.mechanism.wants(crate::semantics::mechanism::Capability::Ik) {
+        return Err(why(
+            "each root's joints are solved by the inverse solution: request `ik` too".into(),
+        ));
+    }
+    let model = crate::lowering::numeric::model(a, &HashMap::new())?;
+    let outputs = crate::lowering::numeric::newton_outputs(a, &model, &HashMap::new())?;
+    pkm_runtime::ball_legs::BallLegs::for_outputs(&model, &outputs).map_err(why)
 }
 
 /// The virtual-variable forward plan of a κ = 1 mechanism.

@@ -58,7 +58,12 @@ impl<'a> Segment<'a> {
 
 /// `a·z = b` by Gaussian elimination with partial pivoting; `None` where
 /// a pivot vanishes.
-fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
+fn solve(a: [[C; UNKNOWNS]; UNKNOWNS], b: Point) -> Option<Point> {
+    solve_both(a, [b]).map(|[z]| z)
+}
+
+/// `a·z = b` for each of `K` right-hand sides, one elimination.
+fn solve_both<const K: usize>(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: [Point; K]) -> Option<[Point; K]> {
     let n = UNKNOWNS;
     for col in 0..n {
         // The pivot by |·|² (no square root: the same order).
@@ -67,7 +72,9 @@ fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
             return None;
         }
         a.swap(col, piv);
-        b.swap(col, piv);
+        for b in &mut b {
+            b.swap(col, piv);
+        }
         let inv = C::new(1.0, 0.0) / a[col][col];
         for r in col + 1..n {
             let f = a[r][col] * inv;
@@ -76,20 +83,27 @@ fn solve(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: Point) -> Option<Point> {
                 for (x, t) in a[r][col..].iter_mut().zip(&pivot_row[col..]) {
                     *x -= f * t;
                 }
-                let t = b[col];
-                b[r] -= f * t;
+                for b in &mut b {
+                    let t = b[col];
+                    b[r] -= f * t;
+                }
             }
         }
     }
-    let mut z = [C::new(0.0, 0.0); UNKNOWNS];
-    for r in (0..n).rev() {
-        let mut acc = b[r];
-        for c in r + 1..n {
-            acc -= a[r][c] * z[c];
+    let mut out = [[C::new(0.0, 0.0); UNKNOWNS]; K];
+    for (z, b) in out.iter_mut().zip(&b) {
+        for r in (0..n).rev() {
+            let mut acc = b[r];
+            for c in r + 1..n {
+                acc -= a[r][c] * z[c];
+            }
+            z[r] = acc / a[r][r];
         }
-        z[r] = acc / a[r][r];
     }
-    z.iter().all(|c| c.re.is_finite() && c.im.is_finite()).then_some(z)
+    out.iter()
+        .flatten()
+        .all(|c| c.re.is_finite() && c.im.is_finite())
+        .then_some(out)
 }
 
 /// How a path ended.
@@ -117,26 +131,28 @@ fn tangent(x: &Point, path: &Segment, s: f64) -> Option<Point> {
 /// convergence, not a slow drift towards another root); the point where
 /// a step falls below `tol` of the unknowns' size (one plus their
 /// largest), or where the steps stop contracting (rounding) within 10⁻⁶
-/// of it; `None` otherwise.
-fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<Point> {
+/// of it; `None` otherwise. With the point, `dx/ds` from the last
+/// evaluation (one elimination for both; at the point before the last
+/// step, which is below `tol`: the next step's first slope).
+fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<(Point, Point)> {
     let mut x = x;
     let mut last = f64::INFINITY;
     for k in 0..steps {
         let e = path.evaluate(&x, s);
-        let dx = solve(e.j, e.f)?;
+        let [dx, slope] = solve_both(e.j, [e.f, e.ds.map(|v| -v)])?;
         let size = norm(&dx);
         let big = 1.0 + norm(&x);
         if k == 0 && size > first {
             return None;
         }
         if size > 0.25 * last {
-            return (last <= 1e-6 * big).then_some(x);
+            return (last <= 1e-6 * big).then_some((x, slope));
         }
         for i in 0..UNKNOWNS {
             x[i] -= dx[i];
         }
         if size <= tol * big {
-            return Some(x);
+            return Some((x, slope));
         }
         last = size;
     }
@@ -148,6 +164,8 @@ fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64)
 /// at most three contracting steps, the first at most a tenth of the
 /// predicted step, until a step is below 10⁻⁸ of the unknowns' size; the step halved
 /// where either fails, doubled after three successes, at most `hmax`).
+/// The corrector's last evaluation gives the next step's first slope too
+/// (one elimination for the Newton step and `dx/ds`).
 /// The end is polished at the target by Newton's method while its steps
 /// shrink.
 pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
@@ -156,10 +174,15 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
     let mut s = 0.0;
     let mut h = hmax / 4.0;
     let mut run = 0;
+    // The slope at `x`, where the last corrector left it.
+    let mut slope: Option<Point> = None;
     while s < 1.0 {
         h = h.min(1.0 - s);
         let step = (|| {
-            let k1 = tangent(&x, &path, s)?;
+            let k1 = match slope {
+                Some(k) => k,
+                None => tangent(&x, &path, s)?,
+            };
             let at = |k: &Point, f: f64| -> Point { core::array::from_fn(|i| x[i] + k[i] * (f * h)) };
             let k2 = tangent(&at(&k1, 0.5), &path, s + 0.5 * h)?;
             let k3 = tangent(&at(&k2, 0.5), &path, s + 0.5 * h)?;
@@ -172,8 +195,9 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
             correct(pred, &path, s + h, 3, first, 1e-8)
         })();
         match step {
-            Some(next) => {
+            Some((next, at)) => {
                 x = next;
+                slope = Some(at);
                 s += h;
                 run += 1;
                 if run >= 3 {

@@ -58,28 +58,74 @@ pub struct Roots {
     pub coincident: usize,
 }
 
-/// Every assembly at some inputs.
+/// One assembly generated code found (`Name::fk_numeric` of a mechanism
+/// whose legs end in balls): a real root, the generated inverse solution's
+/// branch `signs` (`B` ± choices) that meets the inputs there, and its
+/// solution `S` (every joint's value and point).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Found<S, const B: usize> {
+    /// Which root of [`Assemblies::roots`].
+    pub root: usize,
+    /// The inverse solution's branch.
+    pub signs: [Sign; B],
+    /// Every joint and point.
+    pub solution: S,
+}
+
+/// Every assembly at some inputs (`A`: the interpreter's [`Assembly`] or
+/// generated code's [`Found`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Assemblies {
+pub struct Assemblies<A = Assembly> {
     /// The pose equations' real roots and what the paths did.
     pub roots: Roots,
     /// The assemblies, by root.
-    pub assemblies: Vec<Assembly>,
+    pub assemblies: Vec<A>,
     /// Roots no inverse branch verifies at (index into `roots.roots`).
     pub unmet: Vec<usize>,
+}
+
+/// Every assembly of the real roots `roots`: those `at(k, root)` gives for
+/// each (the inverse solution's branches that meet the inputs there), a
+/// root where it gives none in `unmet`.
+pub fn assemble<A>(roots: Roots, mut at: impl FnMut(usize, &PoseRoot) -> Vec<A>) -> Assemblies<A> {
+    let mut assemblies = Vec::new();
+    let mut unmet = Vec::new();
+    for (k, root) in roots.roots.iter().enumerate() {
+        let found = at(k, root);
+        if found.is_empty() {
+            unmet.push(k);
+        }
+        assemblies.extend(found);
+    }
+    Assemblies {
+        roots,
+        assemblies,
+        unmet,
+    }
 }
 
 /// Whether a finite end is real: its unknowns' imaginary parts below this.
 pub const REAL: f64 = 1e-6;
 
-/// The enclosure of the equations on the loci `legs` over `b`.
-fn enclose(legs: &[Locus<f64>], b: &[Interval; UNKNOWNS]) -> Option<Enclosed<UNKNOWNS>> {
-    let out = enclosed(legs, b);
-    Some(Enclosed {
-        f: out.f,
-        j: out.j,
-        decided: true,
-    })
+/// The equations on some loci, as a residual to certify: enclosed over
+/// boxes on intervals, evaluated at points in plain floats (the same rows,
+/// [`super::system::with_slopes`] over either ring).
+struct Equations<'a>(&'a [Locus<f64>]);
+
+impl certify::Residual<UNKNOWNS> for Equations<'_> {
+    fn enclose(&mut self, b: &[Interval; UNKNOWNS]) -> Option<Enclosed<UNKNOWNS>> {
+        let out = enclosed(self.0, b);
+        Some(Enclosed {
+            f: out.f,
+            j: out.j,
+            decided: true,
+        })
+    }
+
+    fn at(&mut self, p: &[f64; UNKNOWNS]) -> Option<([f64; UNKNOWNS], [[f64; UNKNOWNS]; UNKNOWNS])> {
+        let (f, j) = super::system::at(self.0, p);
+        f.iter().all(|v| v.is_finite()).then_some((f, j))
+    }
 }
 
 /// The platform pose of real unknowns `x`.
@@ -117,7 +163,7 @@ pub fn roots(loci: &[Locus<f64>], scale: f64) -> Roots {
     }
     for x in real {
         let x: [f64; UNKNOWNS] = homotopy::canonical(x).map(|c| c.re);
-        let (mut x, cert) = match certify::isolate(x, &mut |b| enclose(loci, b)) {
+        let (mut x, cert) = match certify::isolate_with(x, &mut Equations(loci)) {
             Some(r) => (r.x, Some(r.cert)),
             None => (x, None),
         };
@@ -145,6 +191,18 @@ pub fn roots(loci: &[Locus<f64>], scale: f64) -> Roots {
     }
     out.roots.sort_by_key(|r| r.cert.is_none());
     out
+}
+
+/// Whether a solution's joint values `values` (one per joint) meet the
+/// `inputs` (the actuated joints in declaration order): each within
+/// [`crate::fk_numeric::zero_of`], an angle as an arc of the size.
+pub fn meets(model: &Model, inputs: &[f64], values: &[f64]) -> bool {
+    let scale = crate::kinematics::model_scale(model);
+    let zero = crate::fk_numeric::zero_of(model);
+    model.inputs().iter().zip(inputs).all(|(&j, &q)| {
+        let arc = (model.joints[j].kind != JointType::P).then_some(scale);
+        crate::fk_numeric::Compatibility::input_residual(arc, values[j], q).abs() <= zero
+    })
 }
 
 impl BallLegs {
@@ -180,38 +238,20 @@ impl BallLegs {
             .loci(model, inputs)
             .map_err(|why| SolveError::BadInput { what: why.into() })?;
         let roots = roots(&loci, self.scale);
-        let actuated = model.inputs();
-        let scale = self.scale;
-        let zero = crate::fk_numeric::zero_of(model);
-        let mut assemblies = Vec::new();
-        let mut unmet = Vec::new();
         let prepared = plan::Prepared::new(model, inverse);
-        for (k, root) in roots.roots.iter().enumerate() {
+        Ok(assemble(roots, |k, root| {
             let given = self.given_values(model, outputs, &root.pose);
-            let mut met = false;
-            for (signs, r) in crate::solution::every_branch(inverse.branches, |s| prepared.run(&given, s)) {
-                let Ok(solution) = r else { continue };
-                let meets = actuated.iter().zip(inputs).all(|(&j, &q)| {
-                    let arc = (model.joints[j].kind != JointType::P).then_some(scale);
-                    crate::fk_numeric::Compatibility::input_residual(arc, solution.values[j], q).abs() <= zero
-                });
-                if meets {
-                    met = true;
-                    assemblies.push(Assembly {
+            crate::solution::every_branch(inverse.branches, |s| prepared.run(&given, s))
+                .into_iter()
+                .filter_map(|(signs, r)| {
+                    let solution = r.ok()?;
+                    meets(model, inputs, &solution.values).then_some(Assembly {
                         root: k,
                         signs,
                         solution,
-                    });
-                }
-            }
-            if !met {
-                unmet.push(k);
-            }
-        }
-        Ok(Assemblies {
-            roots,
-            assemblies,
-            unmet,
-        })
+                    })
+                })
+                .collect()
+        }))
     }
 }

@@ -8,7 +8,6 @@ use super::Options;
 use crate::cli::failure::{Failure, Kind};
 use crate::cli::solve::{input_values, ordered_pose, output_names, sign_text, Loaded, Request};
 use crate::cli::table::{number_of, signs_of};
-use pkm_dsl::mechanism::Capability;
 use pkm_runtime::fk_numeric::VirtualPlan;
 use pkm_runtime::model::Model;
 use pkm_runtime::newton::Output;
@@ -76,7 +75,7 @@ pub(super) fn reference(r: &Request, l: &Loaded, o: &Options) -> Result<Referenc
         (None, Some(b)) => Some((b, "the study's `branch`")),
         (None, None) => None,
     };
-    let numeric = a.topology.kappa == 1 && a.mechanism.wants(Capability::FkNumeric);
+    let numeric = pkm_dsl::planner_numeric::by_virtual_variable(a);
     let way = if !o.pose.is_empty() {
         Way::Inverse(l.compiled.inverse().cloned().map_err(|d| r.parse_failure(d))?)
     } else if a.topology.kappa == 0 {

@@ -1,0 +1,109 @@
+//! Generated forward solution of a coupled mechanism whose legs each end in
+//! one ball joint (capability `fk_numeric` at κ ≥ 2: the 6-UPS, the 3-RPS,
+//! the 3-SPR, the 3-PRS; [`pkm_runtime::ball_legs`]). Every real root of
+//! the platform's pose equations comes from the runtime (parameter
+//! homotopy, each real root certified by Krawczyk's operator: the
+//! equations are the same few rows for every such mechanism, written once
+//! over a ring); each root's assembly on every branch from the generated
+//! inverse solution, straight-line code like every other solver's, kept
+//! where its actuated joints meet the inputs. In a prepared type of its
+//! own (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`), which
+//! holds the model the pose equations are read from, the declared outputs
+//! and the prepared inverse solver.
+
+use crate::topology::analysis::Analysis;
+use pkm_runtime::plan::Plan;
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// The items of `fk_numeric` for a mechanism whose legs end in balls, its
+/// inverse plan `inverse` (generated as `ik`).
+pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visibility, inverse: &Plan) -> TokenStream {
+    let m = &a.mechanism;
+    let rt = quote! { ::pkm::runtime::__private };
+    let prepared = format_ident!("{}FkNumeric", ident);
+    let solver = format_ident!("{}Prepared", ident);
+    let params_ty = format_ident!("{}Params", ident);
+    let sol_ty = format_ident!("{}Solution", ident);
+    let n_inputs = m.joints.iter().filter(|j| j.actuated).count();
+    let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
+    let n_choices = inverse.branches;
+    let n_solutions = 1usize << n_choices;
+    let assemblies = quote! { #rt::ball_legs::Assemblies<#rt::ball_legs::Found<#sol_ty, #n_choices>> };
+    let doc = format!(
+        " `{}`'s forward solution by its platform's pose equations ([`{ident}::prepare_fk_numeric`]): the model, the declared outputs and the inverse solver, prepared once.",
+        m.name
+    );
+    let fk_doc = format!(
+        " Every real assembly at the inputs `q` (the actuated joints in declaration order, [`{ident}::INPUTS`]'s order of the model), by the platform's pose equations ([`{prepared}::fk_numeric`])."
+    );
+    quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone)]
+        #vis struct #prepared {
+            model: #rt::model::Model,
+            outputs: ::std::vec::Vec<#rt::newton::Output>,
+            legs: ::core::result::Result<#rt::ball_legs::BallLegs, ::std::string::String>,
+            inverse: #solver,
+        }
+
+        #[automatically_derived]
+        impl #ident {
+            /// The forward solution by the pose equations prepared at `params`.
+            pub fn prepare_fk_numeric(params: &#params_ty) -> #prepared {
+                let model = Self::model(params);
+                let outputs = Self::output_specs(params);
+                let legs = #rt::ball_legs::BallLegs::for_outputs(&model, &outputs);
+                #prepared { model, outputs, legs, inverse: Self::prepare(params) }
+            }
+
+            #[doc = #fk_doc]
+            ///
+            /// # Errors
+            /// Inputs not finite, or legs without a locus at these inputs.
+            pub fn fk_numeric(params: &#params_ty, q: &[f64; #n_inputs]) -> ::core::result::Result<#assemblies, #rt::solution::SolveError> {
+                Self::prepare_fk_numeric(params).fk_numeric(q)
+            }
+        }
+
+        #[automatically_derived]
+        impl #prepared {
+            /// Every real assembly at the inputs `q`: every real root of the
+            /// platform's pose equations (`roots`: certified, or possible
+            /// with the paths' counts), each solved by the generated
+            /// inverse solution on every branch and kept where its actuated
+            /// joints meet `q`; a root no branch meets in `unmet`.
+            ///
+            /// # Errors
+            /// Inputs not finite, or legs without a locus at these inputs
+            /// (a leg's two passive axes apart).
+            pub fn fk_numeric(&self, q: &[f64; #n_inputs]) -> ::core::result::Result<#assemblies, #rt::solution::SolveError> {
+                let bad = |what: ::std::string::String| #rt::solution::SolveError::BadInput {
+                    what: ::std::borrow::Cow::Owned(what),
+                };
+                let legs = self.legs.as_ref().map_err(|why| bad(why.clone()))?;
+                if !q.iter().all(|v| v.is_finite()) {
+                    return ::core::result::Result::Err(bad(::std::string::String::from("an input is not finite")));
+                }
+                let loci = legs.loci(&self.model, q).map_err(bad)?;
+                let roots = #rt::ball_legs::roots(&loci, legs.scale);
+                ::core::result::Result::Ok(#rt::ball_legs::assemble(roots, |k, root| {
+                    let given = legs.given_values(&self.model, &self.outputs, &root.pose);
+                    let given: [f64; #n_outputs] =
+                        ::core::array::from_fn(|i| given.get(i).copied().unwrap_or(f64::NAN));
+                    (0..#n_solutions)
+                        .filter_map(|i| {
+                            let signs = #rt::solution::signs_of::<#n_choices>(i);
+                            let solution = self.inverse.ik_solution(&given, signs).ok()?;
+                            #rt::ball_legs::meets(&self.model, q, &solution.q).then_some(#rt::ball_legs::Found {
+                                root: k,
+                                signs,
+                                solution,
+                            })
+                        })
+                        .collect()
+                }))
+            }
+        }
+    }
+}
