@@ -112,7 +112,7 @@ pub mod fk_numeric {
 /// The pose equations of legs that end in balls, for a generated
 /// `fk_numeric` at κ ≥ 2.
 pub mod ball_legs {
-    pub use crate::ball_legs::solve::{assemble, meets, roots, Assemblies, Found};
+    pub use crate::ball_legs::solve::{assemble, roots, Assemblies, Found, Meets};
     pub use crate::ball_legs::BallLegs;
 }
 

@@ -212,7 +212,7 @@ fn generated_fk_numeric_equals_the_interpreter() {
         for (a, b) in generated.assemblies.iter().zip(&all.assemblies) {
             assert_eq!((a.root, a.signs.to_vec()), (b.root, b.signs.clone()), "{stem} at {q:?}");
             let values = joints(&a.solution);
-            assert!(solve::meets(&l.model, q, &values), "{stem} at {q:?}");
+            assert!(solve::Meets::of(&l.model).at(q, &values), "{stem} at {q:?}");
             for (j, (x, y)) in values.iter().zip(&b.solution.values).enumerate() {
                 let angle = l.model.joints[j].kind != pkm::runtime::model::JointType::P;
                 let d = if angle {

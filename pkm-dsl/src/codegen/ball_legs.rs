@@ -8,8 +8,8 @@
 //! inverse solution, straight-line code like every other solver's, kept
 //! where its actuated joints meet the inputs. In a prepared type of its
 //! own (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`), which
-//! holds the model the pose equations are read from, the declared outputs
-//! and the prepared inverse solver.
+//! holds the model the pose equations are read from, the declared outputs,
+//! the actuated joints' check and the prepared inverse solver.
 
 use crate::topology::analysis::Analysis;
 use pkm_runtime::plan::Plan;
@@ -44,6 +44,7 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
             model: #rt::model::Model,
             outputs: ::std::vec::Vec<#rt::newton::Output>,
             legs: ::core::result::Result<#rt::ball_legs::BallLegs, ::std::string::String>,
+            meets: #rt::ball_legs::Meets,
             inverse: #solver,
         }
 
@@ -54,7 +55,8 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
                 let model = Self::model(params);
                 let outputs = Self::output_specs(params);
                 let legs = #rt::ball_legs::BallLegs::for_outputs(&model, &outputs);
-                #prepared { model, outputs, legs, inverse: Self::prepare(params) }
+                let meets = #rt::ball_legs::Meets::of(&model);
+                #prepared { model, outputs, legs, meets, inverse: Self::prepare(params) }
             }
 
             #[doc = #fk_doc]
@@ -95,7 +97,7 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
                         .filter_map(|i| {
                             let signs = #rt::solution::signs_of::<#n_choices>(i);
                             let solution = self.inverse.ik_solution(&given, signs).ok()?;
-                            #rt::ball_legs::meets(&self.model, q, &solution.q).then_some(#rt::ball_legs::Found {
+                            self.meets.at(q, &solution.q).then_some(#rt::ball_legs::Found {
                                 root: k,
                                 signs,
                                 solution,

@@ -656,6 +656,42 @@ mod tests {
         );
     }
 
+    /// At κ ≥ 2 `fk_numeric` solves legs that end in balls (seed 004's
+    /// 3-RPS): it needs `ik`, and outputs that place the platform.
+    #[test]
+    fn fk_numeric_at_kappa_two_needs_ball_legs_and_ik() {
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/rps_3.pkm")).unwrap();
+        let messages = |t: &str| -> Vec<String> {
+            let a = crate::topology::analysis::analyze_source(t).unwrap();
+            super::check_capabilities(&a).0.into_iter().map(|d| d.message).collect()
+        };
+        assert!(messages(&text).is_empty());
+        let refused =
+            "`fk_numeric` solves one SKC with κ = 1 (one virtual variable); this mechanism has κ = 2 in 1 SKC; \
+                       at κ ≥ 2 it solves legs that each end in a ball, by the platform's pose equations, but ";
+        let no_ik = text.replace("capabilities ik, fk_numeric, stiffness;", "capabilities fk_numeric;");
+        assert_eq!(
+            messages(&no_ik),
+            [format!(
+                "{refused}each root's joints are solved by the inverse solution: request `ik` too"
+            )]
+        );
+        let joints = text
+            .replace(
+                "capabilities ik, fk_numeric, stiffness;",
+                "capabilities ik, fk_numeric;",
+            )
+            .replace(
+                "outputs { ZA, alpha, beta = pose (z, rx, ry) of platform at o; }",
+                "outputs { a = joint P1; b = joint P2; c = joint P3; }",
+            );
+        assert_eq!(
+            messages(&joints),
+            [format!("{refused}the outputs are not one platform's pose or point")]
+        );
+    }
+
     /// What `check_capabilities` says of a whole text: line, column and message of each error.
     fn check_text(text: &str, want: &[(usize, usize, &str)]) {
         let a = crate::topology::analysis::analyze_source(text).unwrap();
@@ -716,17 +752,21 @@ mod tests {
     fn stiffness_needs_a_reference_on_the_limbs_platform() {
         let text =
             std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/rps_3.pkm")).unwrap();
+        // (`fk_numeric` left out: these outputs are no platform pose for it either.)
         let with = |outputs: &str| {
-            let t = text.replace(
-                "outputs { ZA, alpha, beta = pose (z, rx, ry) of platform at o; }",
-                outputs,
-            );
+            let t = text
+                .replace(
+                    "outputs { ZA, alpha, beta = pose (z, rx, ry) of platform at o; }",
+                    outputs,
+                )
+                .replace("capabilities ik, fk_numeric, stiffness;", "capabilities ik, stiffness;");
             assert_ne!(t, text, "the outputs line was replaced");
             t
         };
         check_text(&text, &[]);
-        let at = text.find("stiffness;").unwrap();
-        let (line, col) = crate::diagnostics::Span { start: at, end: at }.line_col(&text);
+        let plain = with("outputs { a = joint P1; b = joint P2; c = joint P3; }");
+        let at = plain.find("stiffness;").unwrap();
+        let (line, col) = crate::diagnostics::Span { start: at, end: at }.line_col(&plain);
         check_text(
             &with("outputs { a = joint P1; b = joint P2; c = joint P3; }"),
             &[(

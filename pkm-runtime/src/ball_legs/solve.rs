@@ -193,16 +193,38 @@ pub fn roots(loci: &[Locus<f64>], scale: f64) -> Roots {
     out
 }
 
-/// Whether a solution's joint values `values` (one per joint) meet the
-/// `inputs` (the actuated joints in declaration order): each within
-/// [`crate::fk_numeric::zero_of`], an angle as an arc of the size.
-pub fn meets(model: &Model, inputs: &[f64], values: &[f64]) -> bool {
-    let scale = crate::kinematics::model_scale(model);
-    let zero = crate::fk_numeric::zero_of(model);
-    model.inputs().iter().zip(inputs).all(|(&j, &q)| {
-        let arc = (model.joints[j].kind != JointType::P).then_some(scale);
-        crate::fk_numeric::Compatibility::input_residual(arc, values[j], q).abs() <= zero
-    })
+/// Whether a solution meets the inputs, read off a model once: its
+/// actuated joints, each with the size its angle is an arc of (`None`: a
+/// slide), and the verification's zero ([`crate::fk_numeric::zero_of`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Meets {
+    joints: Vec<(usize, Option<f64>)>,
+    zero: f64,
+}
+
+impl Meets {
+    /// The check of `model`'s actuated joints.
+    pub fn of(model: &Model) -> Meets {
+        let scale = crate::kinematics::model_scale(model);
+        Meets {
+            joints: model
+                .inputs()
+                .into_iter()
+                .map(|j| (j, (model.joints[j].kind != JointType::P).then_some(scale)))
+                .collect(),
+            zero: crate::fk_numeric::zero_of(model),
+        }
+    }
+
+    /// Whether joint values `values` (one per joint) meet the `inputs`
+    /// (the actuated joints in declaration order): each within the zero,
+    /// an angle as an arc of the size.
+    pub fn at(&self, inputs: &[f64], values: &[f64]) -> bool {
+        self.joints.len() == inputs.len()
+            && self.joints.iter().zip(inputs).all(|(&(j, arc), &q)| {
+                crate::fk_numeric::Compatibility::input_residual(arc, values[j], q).abs() <= self.zero
+            })
+    }
 }
 
 impl BallLegs {
@@ -239,13 +261,14 @@ impl BallLegs {
             .map_err(|why| SolveError::BadInput { what: why.into() })?;
         let roots = roots(&loci, self.scale);
         let prepared = plan::Prepared::new(model, inverse);
+        let meets = Meets::of(model);
         Ok(assemble(roots, |k, root| {
             let given = self.given_values(model, outputs, &root.pose);
             crate::solution::every_branch(inverse.branches, |s| prepared.run(&given, s))
                 .into_iter()
                 .filter_map(|(signs, r)| {
                     let solution = r.ok()?;
-                    meets(model, inputs, &solution.values).then_some(Assembly {
+                    meets.at(inputs, &solution.values).then_some(Assembly {
                         root: k,
                         signs,
                         solution,
