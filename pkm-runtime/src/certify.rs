@@ -430,13 +430,8 @@ pub fn newton<const N: usize>(
 ) -> Option<([f64; N], [f64; N])> {
     let mut p = from;
     for _ in 0..40 {
-        let e = enclose(&p.map(Interval::point))?;
-        let j: [[f64; N]; N] = core::array::from_fn(|r| core::array::from_fn(|c| e.j[r][c].mid()));
+        let (f, j) = enclose.at(&p)?;
         let y = inverse(j)?;
-        let f = e.f.map(|f| f.mid());
-        if f.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
         let d: [f64; N] = core::array::from_fn(|r| -(0..N).map(|c| y[r][c] * f[c]).sum::<f64>());
         p = core::array::from_fn(|i| p[i] + d[i]);
         if !(0..N).all(|i| region[i].contains(p[i])) {

@@ -102,10 +102,11 @@ pub mod steps {
     }
 }
 
-/// The virtual-variable root driver of generated κ = 1 forward solvers.
+/// The virtual-variable root driver of generated κ = 1 forward solvers, and
+/// the inputs' check every generated `fk_numeric` makes.
 pub mod fk_numeric {
     pub use crate::fk_numeric::{
-        enclosed, polish_found, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange,
+        check_inputs, enclosed, polish_found, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange,
     };
 }
 

@@ -83,10 +83,8 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
                 let bad = |what: ::std::string::String| #rt::solution::SolveError::BadInput {
                     what: ::std::borrow::Cow::Owned(what),
                 };
+                #rt::fk_numeric::check_inputs(q, #n_inputs)?;
                 let legs = self.legs.as_ref().map_err(|why| bad(why.clone()))?;
-                if !q.iter().all(|v| v.is_finite()) {
-                    return ::core::result::Result::Err(bad(::std::string::String::from("an input is not finite")));
-                }
                 let loci = legs.loci(&self.model, q).map_err(bad)?;
                 let roots = #rt::ball_legs::roots(&loci, legs.scale);
                 ::core::result::Result::Ok(#rt::ball_legs::assemble(roots, |k, root| {
