@@ -130,52 +130,90 @@ fn tangent(x: &Point, path: &Segment, s: f64) -> Option<Point> {
 /// most `first`, each at most a quarter of the last (Newton's quadratic
 /// convergence, not a slow drift towards another root); the point where
 /// a step falls below `tol` of the unknowns' size (one plus their
-/// largest), or where the steps stop contracting (rounding) within 10⁻⁶
-/// of it; `None` otherwise. With the point, `dx/ds` from the last
+/// largest), or where the next one would by the contraction so far
+/// (`size²/last`, no evaluation spent to confirm it), or where the steps
+/// stop contracting (rounding) within 10⁻⁶ of it; `None` otherwise. With the point, `dx/ds` from the last
 /// evaluation (one elimination for both; at the point before the last
-/// step, which is below `tol`: the next step's first slope).
-fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<(Point, Point)> {
+/// step, which is below `tol`: the next step's first slope), and the
+/// first step's length (how far the prediction missed).
+fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<(Point, Point, f64)> {
     let mut x = x;
     let mut last = f64::INFINITY;
+    let mut miss = 0.0;
     for k in 0..steps {
         let e = path.evaluate(&x, s);
         let [dx, slope] = solve_both(e.j, [e.f, e.ds.map(|v| -v)])?;
         let size = norm(&dx);
         let big = 1.0 + norm(&x);
-        if k == 0 && size > first {
-            return None;
+        if k == 0 {
+            if size > first {
+                return None;
+            }
+            miss = size;
         }
         if size > 0.25 * last {
-            return (last <= 1e-6 * big).then_some((x, slope));
+            return (last <= 1e-6 * big).then_some((x, slope, miss));
         }
         for i in 0..UNKNOWNS {
             x[i] -= dx[i];
         }
-        if size <= tol * big {
-            return Some((x, slope));
+        // Below `tol`, or the next step, by the contraction so far
+        // (Newton's: the next is about size²/last), would be.
+        if size <= tol * big || (k > 0 && size * (size / last) <= tol * big) {
+            return Some((x, slope, miss));
         }
         last = size;
     }
     None
 }
 
-/// Carries the root `x` of the equations on `from` to `to` (predictor:
-/// the classical Runge–Kutta step on `dx/ds`; corrector: Newton's method,
-/// at most three contracting steps, the first at most a tenth of the
-/// predicted step, until a step is below 10⁻⁸ of the unknowns' size; the step halved
-/// where either fails, doubled after three successes, at most `hmax`).
-/// The corrector's last evaluation gives the next step's first slope too
-/// (one elimination for the Newton step and `dx/ds`).
-/// The end is polished at the target by Newton's method while its steps
-/// shrink.
+/// How near the path the corrector brings each step's point, of the
+/// unknowns' size (the end is polished to rounding).
+const TOL: f64 = 1e-6;
+
+/// The cubic through `(s0, x0)` and `(s1, x1)` with slopes `d0`, `d1`
+/// there (Hermite's), at `s`: the predictor once a path has two points,
+/// from what the corrector already computed (no evaluation).
+fn hermite(s0: f64, x0: &Point, d0: &Point, s1: f64, x1: &Point, d1: &Point, s: f64) -> Point {
+    let h0 = s1 - s0;
+    let t = (s - s0) / h0;
+    let (t2, t3) = (t * t, t * t * t);
+    let a = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let b = (t3 - 2.0 * t2 + t) * h0;
+    let c = -2.0 * t3 + 3.0 * t2;
+    let d = (t3 - t2) * h0;
+    core::array::from_fn(|i| x0[i] * a + d0[i] * b + x1[i] * c + d1[i] * d)
+}
+
+/// How far the corrector's first step may be, of the step predicted: a
+/// prediction that lands farther from the path may lie nearer another.
+const FIRST: f64 = 0.1;
+
+/// The ratio of the corrector's first step to the step predicted that
+/// the step length aims at (well inside [`FIRST`]).
+const AIM: f64 = 0.05;
+
+/// Carries the root `x` of the equations on `from` to `to`. Predictor:
+/// the classical Runge–Kutta step on `dx/ds` for the first step, then
+/// Hermite's cubic through the last two points and their slopes (which
+/// the corrector's last elimination gives: no evaluation); corrector:
+/// Newton's method, at most three contracting steps, the first at most
+/// [`FIRST`] of the predicted step, until a step is below [`TOL`] of the
+/// unknowns' size or its contraction says the next would be. The step
+/// is halved where either fails; after a
+/// success it is scaled by `(AIM / ρ)^⅓` within `[½, 2]` (ρ: the
+/// corrector's first step over the predicted one, which grows as the
+/// step's cube), at most `hmax`. The end is polished at the target by
+/// Newton's method while its steps shrink.
 pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
     let path = Segment::new(from, to);
     let mut x = x;
     let mut s = 0.0;
     let mut h = hmax / 4.0;
-    let mut run = 0;
-    // The slope at `x`, where the last corrector left it.
+    // The slope at `x`, where the last corrector left it, and the point
+    // before with its slope.
     let mut slope: Option<Point> = None;
+    let mut before: Option<(f64, Point, Point)> = None;
     while s < 1.0 {
         h = h.min(1.0 - s);
         let step = (|| {
@@ -183,27 +221,33 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
                 Some(k) => k,
                 None => tangent(&x, &path, s)?,
             };
-            let at = |k: &Point, f: f64| -> Point { core::array::from_fn(|i| x[i] + k[i] * (f * h)) };
-            let k2 = tangent(&at(&k1, 0.5), &path, s + 0.5 * h)?;
-            let k3 = tangent(&at(&k2, 0.5), &path, s + 0.5 * h)?;
-            let k4 = tangent(&at(&k3, 1.0), &path, s + h)?;
-            let pred: Point = core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0));
-            // The first correction at most a tenth of the step predicted:
-            // a predictor that lands nearer another path is refused.
-            let moved: Point = core::array::from_fn(|i| pred[i] - x[i]);
-            let first = (0.1 * norm(&moved)).max(1e-9 * (1.0 + norm(&pred)));
-            correct(pred, &path, s + h, 3, first, 1e-8)
+            let pred: Point = match &before {
+                Some((s0, x0, d0)) => hermite(*s0, x0, d0, s, &x, &k1, s + h),
+                None => {
+                    let at = |k: &Point, f: f64| -> Point { core::array::from_fn(|i| x[i] + k[i] * (f * h)) };
+                    let k2 = tangent(&at(&k1, 0.5), &path, s + 0.5 * h)?;
+                    let k3 = tangent(&at(&k2, 0.5), &path, s + 0.5 * h)?;
+                    let k4 = tangent(&at(&k3, 1.0), &path, s + h)?;
+                    core::array::from_fn(|i| x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0))
+                }
+            };
+            let moved = norm(&core::array::from_fn(|i| pred[i] - x[i]));
+            let first = (FIRST * moved).max(1e-9 * (1.0 + norm(&pred)));
+            let (next, at, miss) = correct(pred, &path, s + h, 3, first, TOL)?;
+            Some((next, at, k1, miss / moved.max(f64::MIN_POSITIVE)))
         })();
         match step {
-            Some((next, at)) => {
+            Some((next, at, k1, ratio)) => {
+                before = Some((s, x, k1));
                 x = next;
                 slope = Some(at);
                 s += h;
-                run += 1;
-                if run >= 3 {
-                    h = (2.0 * h).min(hmax);
-                    run = 0;
-                }
+                let grow = if ratio > 0.0 {
+                    (AIM / ratio).cbrt().clamp(0.5, 2.0)
+                } else {
+                    2.0
+                };
+                h = (h * grow).min(hmax);
                 // Far out: a root at infinity near the end; before it, a
                 // path that passes near infinity and may come back, which
                 // another route should carry.
@@ -213,7 +257,6 @@ pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
             }
             None => {
                 h *= 0.5;
-                run = 0;
                 if h < 1e-13 {
                     return if norm(&x) > 1e4 && s > 0.99 {
                         End::Infinite
