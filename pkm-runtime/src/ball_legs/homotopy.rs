@@ -76,10 +76,10 @@ fn solve_both<const K: usize>(mut a: [[C; UNKNOWNS]; UNKNOWNS], mut b: [Point; K
             b.swap(col, piv);
         }
         let inv = C::new(1.0, 0.0) / a[col][col];
+        let pivot_row = a[col];
         for r in col + 1..n {
             let f = a[r][col] * inv;
             if f != C::new(0.0, 0.0) {
-                let pivot_row = a[col];
                 for (x, t) in a[r][col..].iter_mut().zip(&pivot_row[col..]) {
                     *x -= f * t;
                 }

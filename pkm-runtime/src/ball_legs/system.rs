@@ -120,28 +120,22 @@ pub fn on_stack<T: Ring>(legs: impl Iterator<Item = Locus<T>>) -> ([Locus<T>; LE
     (at, n)
 }
 
+/// `v + v`: twice `v`, exactly (no product by a constant 2, which on
+/// complex numbers is four products).
+#[inline]
+fn twice<T: Ring>(v: T) -> T {
+    v + v
+}
+
 /// `R(q)` of a unit quaternion `q = (w, x, y, z)`.
 #[inline]
 pub fn rotation<T: Ring>(q: &[T; 4]) -> [[T; 3]; 3] {
     let [w, x, y, z] = *q;
     let one = T::c(1.0);
-    let two = T::c(2.0);
     [
-        [
-            one - two * (y * y + z * z),
-            two * (x * y - w * z),
-            two * (x * z + w * y),
-        ],
-        [
-            two * (x * y + w * z),
-            one - two * (x * x + z * z),
-            two * (y * z - w * x),
-        ],
-        [
-            two * (x * z - w * y),
-            two * (y * z + w * x),
-            one - two * (x * x + y * y),
-        ],
+        [one - twice(y * y + z * z), twice(x * y - w * z), twice(x * z + w * y)],
+        [twice(x * y + w * z), one - twice(x * x + z * z), twice(y * z - w * x)],
+        [twice(x * z - w * y), twice(y * z + w * x), one - twice(x * x + y * y)],
     ]
 }
 
@@ -207,8 +201,7 @@ pub fn residual<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], out: &mut [T; UNK
 pub fn turn_slopes<T: Ring>(q: &[T; 4], v: &[T; 3]) -> [[T; 3]; 4] {
     let [w, x, y, z] = *q;
     let [a, b, c] = *v;
-    let two = T::c(2.0);
-    let t = |v: T| two * v;
+    let t = twice::<T>;
     [
         [t(y * c - z * b), t(z * a - x * c), t(x * b - y * a)],
         [
@@ -239,7 +232,6 @@ pub fn turn_slopes<T: Ring>(q: &[T; 4], v: &[T; 3]) -> [[T; 3]; 4] {
 /// `∂d/∂p = ±I`, `∂d/∂q` from [`turn_slopes`].
 pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<&[Locus<T>]>) -> Slopes<T> {
     let zero = T::c(0.0);
-    let two = T::c(2.0);
     let p = [x[0], x[1], x[2]];
     let q = [x[3], x[4], x[5], x[6]];
     let r = rotation(&q);
@@ -252,9 +244,9 @@ pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<
     let mut k = 0;
     for (i, leg) in legs.iter().enumerate() {
         let rate = rates.map(|r| &r[i]);
-        // d, its slopes by p (the sign of ±I) and by q, its rate; the
+        // d, its slopes by p (whether +I or −I) and by q, its rate; the
         // plane's normal, its slopes by q and its rate.
-        let (d, by_p, d_q, d_s, n, n_q, n_s) = match leg.on {
+        let (d, plus_p, d_q, d_s, n, n_q, n_s) = match leg.on {
             Body::Base => {
                 let y = turn(&r, &leg.ball);
                 let d = [
@@ -265,7 +257,7 @@ pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<
                 let d_s = rate.map(|v| sub(turn(&r, &v.ball), v.centre));
                 (
                     d,
-                    T::c(1.0),
+                    true,
                     turn_slopes(&q, &leg.ball),
                     d_s,
                     leg.normal,
@@ -285,19 +277,19 @@ pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<
                 let n = leg.normal.map(|n| turn(&r, &n));
                 let n_q = leg.normal.map(|n| turn_slopes(&q, &n));
                 let n_s = rate.and_then(|v| v.normal.map(|m| turn(&r, &m)));
-                (d, T::c(-1.0), d_q, d_s, n, n_q, n_s)
+                (d, false, d_q, d_s, n, n_q, n_s)
             }
         };
         if k < UNKNOWNS {
             out.f[k] = dot(&d, &d) - leg.radius2;
             for (slot, d_a) in out.j[k][..3].iter_mut().zip(d) {
-                *slot = two * by_p * d_a;
+                *slot = if plus_p { twice(d_a) } else { -twice(d_a) };
             }
             for (slot, d_m) in out.j[k][3..].iter_mut().zip(&d_q) {
-                *slot = two * dot(&d, d_m);
+                *slot = twice(dot(&d, d_m));
             }
             if let (Some(d_s), Some(v)) = (d_s, rate) {
-                out.ds[k] = two * dot(&d, &d_s) - v.radius2;
+                out.ds[k] = twice(dot(&d, &d_s)) - v.radius2;
             }
         }
         k += 1;
@@ -305,7 +297,7 @@ pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<
             if k < UNKNOWNS {
                 out.f[k] = dot(&n, &d);
                 for (slot, n_a) in out.j[k][..3].iter_mut().zip(n) {
-                    *slot = by_p * n_a;
+                    *slot = if plus_p { n_a } else { -n_a };
                 }
                 for (m, (slot, d_m)) in out.j[k][3..].iter_mut().zip(&d_q).enumerate() {
                     let turned = n_q.map_or(zero, |n_q| dot(&n_q[m], &d));
@@ -321,7 +313,7 @@ pub fn with_slopes<T: Ring>(x: &[T; UNKNOWNS], legs: &[Locus<T>], rates: Option<
     if k < UNKNOWNS {
         out.f[k] = dot(&q, &q) - T::c(1.0);
         for (slot, q_m) in out.j[k][3..].iter_mut().zip(q) {
-            *slot = two * q_m;
+            *slot = twice(q_m);
         }
     }
     out
