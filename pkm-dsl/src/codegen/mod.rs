@@ -768,7 +768,7 @@ mod tests {
         let at = plain.find("stiffness;").unwrap();
         let (line, col) = crate::diagnostics::Span { start: at, end: at }.line_col(&plain);
         check_text(
-            &with("outputs { a = joint P1; b = joint P2; c = joint P3; }"),
+            &plain,
             &[(
                 line,
                 col,

@@ -132,10 +132,11 @@ fn tangent(x: &Point, path: &Segment, s: f64) -> Option<Point> {
 /// a step falls below `tol` of the unknowns' size (one plus their
 /// largest), or where the next one would by the contraction so far
 /// (`size²/last`, no evaluation spent to confirm it), or where the steps
-/// stop contracting (rounding) within 10⁻⁶ of it; `None` otherwise. With the point, `dx/ds` from the last
-/// evaluation (one elimination for both; at the point before the last
-/// step, which is below `tol`: the next step's first slope), and the
-/// first step's length (how far the prediction missed).
+/// stop contracting (rounding) within 10⁻⁶ of it; `None` otherwise. With
+/// the point, `dx/ds` from the last evaluation (one elimination for both;
+/// at the point before the last step, which is small: the next step's
+/// first slope), and the first step's length (how far the prediction
+/// missed).
 fn correct(x: Point, path: &Segment, s: f64, steps: usize, first: f64, tol: f64) -> Option<(Point, Point, f64)> {
     let mut x = x;
     let mut last = f64::INFINITY;
@@ -199,12 +200,12 @@ const AIM: f64 = 0.05;
 /// the corrector's last elimination gives: no evaluation); corrector:
 /// Newton's method, at most three contracting steps, the first at most
 /// [`FIRST`] of the predicted step, until a step is below [`TOL`] of the
-/// unknowns' size or its contraction says the next would be. The step
-/// is halved where either fails; after a
-/// success it is scaled by `(AIM / ρ)^⅓` within `[½, 2]` (ρ: the
-/// corrector's first step over the predicted one, which grows as the
-/// step's cube), at most `hmax`. The end is polished at the target by
-/// Newton's method while its steps shrink.
+/// unknowns' size or its contraction says the next would be. The step is
+/// halved where either fails; after a success it is scaled by
+/// `(AIM / ρ)^⅓` within `[½, 2]` (ρ: the corrector's first step over the
+/// predicted one, which grows as the step's cube), at most `hmax`. The
+/// end is polished at the target by Newton's method while its steps
+/// shrink.
 pub fn track(x: Point, from: &[Locus<C>], to: &[Locus<C>], hmax: f64) -> End {
     let path = Segment::new(from, to);
     let mut x = x;
