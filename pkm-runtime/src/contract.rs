@@ -113,7 +113,7 @@ pub mod fk_numeric {
 /// The pose equations of legs that end in balls, for a generated
 /// `fk_numeric` at κ ≥ 2.
 pub mod ball_legs {
-    pub use crate::ball_legs::solve::{assemble, roots, Assemblies, Found, Meets};
+    pub use crate::ball_legs::solve::{assemble, branches_to_solve, roots, Assemblies, ChoiceGroup, Found, Meets};
     pub use crate::ball_legs::BallLegs;
 }
 

@@ -276,6 +276,25 @@ fn generated_fk_numeric_equals_the_interpreter() {
     total += compare("tests/fixtures/ups_6_dietmaier.pkm", &q, found, |s| s.q.to_vec());
     // Inputs that are not finite: refused.
     assert!(prepared.fk_numeric(&[f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0]).is_err());
+    // A slide beyond 1e10 sizes of the mechanism: refused before any
+    // path, naming the limit, by generated code and the interpreter
+    // alike; just inside it, solved (no real root).
+    let limit = |r: Result<(), pkm::runtime::solution::SolveError>| match r {
+        Err(pkm::runtime::solution::SolveError::BadInput { what }) => what.contains("|given length| <= 1e10 sizes"),
+        _ => false,
+    };
+    let l = common::ball_legged("tests/fixtures/ups_6_dietmaier.pkm");
+    let size = l.legs.scale;
+    for far in [1.01e10 * size, -1e30, 1e308] {
+        let q = [100.0, 100.0, 100.0, far, 100.0, 100.0];
+        assert!(limit(prepared.fk_numeric(&q).map(|_| ())), "{far:e}");
+        assert!(
+            limit(l.legs.solve(&l.model, &l.inverse, &l.outputs, &q).map(|_| ())),
+            "{far:e}"
+        );
+    }
+    let inside = [100.0, 100.0, 100.0, 0.99e10 * size, 100.0, 100.0];
+    assert!(!limit(prepared.fk_numeric(&inside).map(|_| ())));
     eprintln!("generated fk_numeric at κ ≥ 2: {total} assemblies, each the interpreter's");
 }
 

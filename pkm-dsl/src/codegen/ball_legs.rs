@@ -4,13 +4,16 @@
 //! the platform's pose equations comes from the runtime (parameter
 //! homotopy, each real root certified by Krawczyk's operator: the
 //! equations are the same few rows for every such mechanism, written once
-//! over a ring); each root's assembly on every branch from the generated
-//! inverse solution, straight-line code like every other solver's, kept
-//! where its actuated joints meet the inputs. In a prepared type of its
+//! over a ring); each root's assemblies from the generated inverse
+//! solution, straight-line code like every other solver's, on the branches
+//! whose actuated joints meet the inputs (found by probing the groups of ±
+//! choices the trace proves independent, where there are several, else
+//! every branch). In a prepared type of its
 //! own (`NameFkNumeric`, from `Name::prepare_fk_numeric(&params)`), which
 //! holds the model the pose equations are read from, the declared outputs,
 //! the actuated joints' check and the prepared inverse solver.
 
+use crate::codegen::solver::ChoiceGroup;
 use crate::topology::analysis::Analysis;
 use pkm_runtime::plan::Plan;
 use proc_macro2::TokenStream;
@@ -18,7 +21,19 @@ use quote::{format_ident, quote};
 
 /// The items of `fk_numeric` for a mechanism whose legs end in balls, its
 /// inverse plan `inverse` (generated as `ik`).
-pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visibility, inverse: &Plan) -> TokenStream {
+/// Its inverse solution's branches come from `groups` (the plan's ±
+/// choices grouped by the actuated joints they move, proven on the traced
+/// solver): where no group holds every choice, each root's branches are
+/// found by probing the groups (`ball_legs::branches_to_solve`: the
+/// 6-UPS's six legs, each its own slide's sense, take two probes and one
+/// solution instead of 64 solutions), else every branch is solved.
+pub(crate) fn generate(
+    a: &Analysis,
+    ident: &proc_macro2::Ident,
+    vis: &syn::Visibility,
+    inverse: &Plan,
+    groups: &[ChoiceGroup],
+) -> TokenStream {
     let m = &a.mechanism;
     let rt = quote! { ::pkm::runtime::__private };
     let prepared = format_ident!("{}FkNumeric", ident);
@@ -29,6 +44,30 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
     let n_outputs: usize = a.geometry.outputs.iter().map(|o| o.names.len()).sum();
     let n_choices = inverse.branches;
     let n_solutions = 1usize << n_choices;
+    let widest = groups
+        .iter()
+        .filter(|g| !g.joints.is_empty())
+        .map(|g| g.choices.len())
+        .max()
+        .unwrap_or(0);
+    let branches = if widest < n_choices {
+        let groups = groups.iter().map(|g| {
+            let (c, j) = (&g.choices, &g.joints);
+            quote! { #rt::ball_legs::ChoiceGroup { choices: &[#(#c),*], joints: &[#(#j),*] } }
+        });
+        quote! {
+            // The inverse solution's choices, grouped by the actuated joints they move.
+            const GROUPS: &[#rt::ball_legs::ChoiceGroup] = &[#(#groups),*];
+            #rt::ball_legs::branches_to_solve::<#n_choices, #n_inputs>(
+                GROUPS,
+                |signs| self.inverse.ik_branch(&given, signs).ok(),
+                |i, v| self.meets.input(i, v, q[i]),
+            )
+            .unwrap_or_else(|| (0..#n_solutions).collect())
+        }
+    } else {
+        quote! { 0..#n_solutions }
+    };
     let assemblies = quote! { #rt::ball_legs::Assemblies<#rt::ball_legs::Found<#sol_ty, #n_choices>> };
     let doc = format!(
         " `{}`'s forward solution by its platform's pose equations ([`{ident}::prepare_fk_numeric`]): the model, the declared outputs and the inverse solver, prepared once.",
@@ -91,7 +130,9 @@ pub(crate) fn generate(a: &Analysis, ident: &proc_macro2::Ident, vis: &syn::Visi
                     let given = legs.given_values(&self.model, &self.outputs, &root.pose);
                     let given: [f64; #n_outputs] =
                         ::core::array::from_fn(|i| given.get(i).copied().unwrap_or(f64::NAN));
-                    (0..#n_solutions)
+                    let branches = { #branches };
+                    branches
+                        .into_iter()
                         .filter_map(|i| {
                             let signs = #rt::solution::signs_of::<#n_choices>(i);
                             let solution = self.inverse.ik_solution(&given, signs).ok()?;

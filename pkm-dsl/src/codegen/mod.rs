@@ -514,6 +514,7 @@ fn solver_items(input: &MacroInput, compiled: &crate::compile::Compiled) -> Resu
     let m = &a.mechanism;
     let MacroInput { vis, ident, .. } = input;
     let mut solvers = Vec::new();
+    let mut inverse_groups = Vec::new();
     if a.geometry.complete && (m.wants(Capability::Fk) || m.wants(Capability::Ik)) {
         use crate::codegen::solution::Direction;
         let fk = if m.wants(Capability::Fk) {
@@ -548,7 +549,8 @@ fn solver_items(input: &MacroInput, compiled: &crate::compile::Compiled) -> Resu
                 format!("internal error: the solver's steps failed on symbols: {e}"),
             )
         })?;
-        solvers.push(prepared);
+        inverse_groups = prepared.inverse_groups;
+        solvers.push(prepared.items);
         for (plan, direction) in [(fk, Direction::Forward), (ik, Direction::Inverse)] {
             let Some(plan) = plan else { continue };
             solvers.push(crate::codegen::solution::generate(a, plan, ident, direction));
@@ -558,7 +560,13 @@ fn solver_items(input: &MacroInput, compiled: &crate::compile::Compiled) -> Resu
     if a.geometry.complete && m.wants(Capability::FkNumeric) && !virtual_variable {
         // κ ≥ 2: the ball legs' pose equations, each root by the generated `ik`.
         crate::plan::planner_numeric::ball_legs(a)?;
-        solvers.push(crate::codegen::ball_legs::generate(a, ident, vis, compiled.inverse()?));
+        solvers.push(crate::codegen::ball_legs::generate(
+            a,
+            ident,
+            vis,
+            compiled.inverse()?,
+            &inverse_groups,
+        ));
     }
     if a.geometry.complete && virtual_variable {
         let vp = crate::plan::planner_numeric::forward_numeric_plan(a)?;

@@ -5,7 +5,7 @@
 //! branches share), `fk_solution` and their `ik` twins compute the rest.
 
 use crate::codegen::emit::Emit;
-use crate::codegen::trace::{record, Choice, Sym};
+use crate::codegen::trace::{record, Choice, Graph, Sym};
 use crate::semantics::geometry::{OutputKind, Vec3};
 use crate::semantics::mechanism::JointKind;
 use crate::syntax::expr::Expr;
@@ -332,13 +332,108 @@ fn xyz(p: &[TokenStream]) -> TokenStream {
 
 /// The prepared solver of a spatial mechanism: `NamePrepared` and its
 /// functions, `Name::prepare`. `Err` names a step the symbols could not run.
+/// The generated solvers, and the inverse solution's choice groups.
+pub struct Generated {
+    /// The prepared struct and every direction's functions.
+    pub items: TokenStream,
+    /// The inverse plan's ± choices grouped by the actuated joints they
+    /// move ([`choice_groups`]); empty without an inverse plan.
+    pub inverse_groups: Vec<ChoiceGroup>,
+}
+
+/// Some ± choices and the actuated joints (indices into the inputs) whose
+/// values depend on them alone (`pkm_runtime::ball_legs::solve::ChoiceGroup`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChoiceGroup {
+    /// The choices.
+    pub choices: Vec<usize>,
+    /// The actuated joints.
+    pub joints: Vec<usize>,
+}
+
+/// The inverse plan's ± choices in groups, each with the actuated joints
+/// that depend on its choices alone, read off the traced branches: a
+/// joint's value depends on the choices some branch's value of it was
+/// chosen by (the graph's sign marks), proven by the value being the same
+/// recorded operation on every two branches that differ only in other
+/// choices; choices that share a joint are one group. Where the proof
+/// fails (a sign that picks a constant leaves no mark) the whole plan is
+/// one group.
+fn choice_groups(graph: &Graph, d: &Direction) -> Vec<ChoiceGroup> {
+    let n = d.plan.branches;
+    let joints = d.given.result.len();
+    let whole = vec![ChoiceGroup {
+        choices: (0..n).collect(),
+        joints: (0..joints).collect(),
+    }];
+    let mut depends = vec![0u64; joints];
+    for b in &d.every {
+        for (i, r) in b.result.iter().enumerate() {
+            depends[i] |= graph.signs[r.0 as usize].0;
+        }
+    }
+    for (i, &mask) in depends.iter().enumerate() {
+        for k in (0..n).filter(|k| mask >> k & 1 == 0) {
+            if (0..d.every.len()).any(|b| d.every[b].result[i] != d.every[b ^ 1 << k].result[i]) {
+                return whole;
+            }
+        }
+    }
+    // Choices that share a joint are one group (smallest choice as root).
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], k: usize) -> usize {
+        let mut r = k;
+        while root[r] != r {
+            r = root[r];
+        }
+        root[k] = r;
+        r
+    }
+    for &mask in &depends {
+        let ks: Vec<usize> = (0..n).filter(|k| mask >> k & 1 == 1).collect();
+        for w in ks.windows(2) {
+            let (x, y) = (find(&mut root, w[0]), find(&mut root, w[1]));
+            root[x.max(y)] = x.min(y);
+        }
+    }
+    let mut groups: Vec<ChoiceGroup> = Vec::new();
+    for k in 0..n {
+        if find(&mut root, k) == k {
+            groups.push(ChoiceGroup {
+                choices: (k..n).filter(|&c| find(&mut root, c) == k).collect(),
+                joints: Vec::new(),
+            });
+        }
+    }
+    // Joints no choice moves: a group of their own, without choices.
+    let mut fixed = ChoiceGroup {
+        choices: Vec::new(),
+        joints: Vec::new(),
+    };
+    for (i, &mask) in depends.iter().enumerate() {
+        match (0..n).find(|k| mask >> k & 1 == 1) {
+            Some(k) => {
+                let r = find(&mut root, k);
+                if let Some(g) = groups.iter_mut().find(|g| g.choices[0] == r) {
+                    g.joints.push(i);
+                }
+            }
+            None => fixed.joints.push(i),
+        }
+    }
+    if !fixed.joints.is_empty() {
+        groups.push(fixed);
+    }
+    groups
+}
+
 pub fn generate(
     a: &Analysis,
     ident: &proc_macro2::Ident,
     vis: &syn::Visibility,
     fk: Option<&Plan>,
     ik: Option<&Plan>,
-) -> Result<TokenStream, String> {
+) -> Result<Generated, String> {
     let (directions, graph) = record(|| -> Result<Vec<Direction>, String> {
         let g = geometry(a);
         let mut out = Vec::new();
@@ -410,6 +505,10 @@ pub fn generate(
         Ok(out)
     });
     let mut directions = directions?;
+    let inverse_groups = directions
+        .iter()
+        .find(|d| !d.forward)
+        .map_or_else(Vec::new, |d| choice_groups(&graph, d));
     let sites = [fk, ik].into_iter().flatten().flat_map(|p| loop_names(a, p)).collect();
     let emit = Emit::new(&graph, sites);
     for d in &mut directions {
@@ -437,7 +536,7 @@ pub fn generate(
         a.mechanism.name
     );
     let prepared_struct = prepared_struct(&doc, vis, &prepared, &fields);
-    Ok(quote! {
+    let items = quote! {
         #prepared_struct
 
         #[automatically_derived]
@@ -451,7 +550,8 @@ pub fn generate(
         }
 
         #(#fns)*
-    })
+    };
+    Ok(Generated { items, inverse_groups })
 }
 
 /// The prepared struct of a solver (`NamePrepared`, `NameFkNumeric`): the
@@ -948,5 +1048,36 @@ fn derivative_fns(
             #jcheck
             ::core::result::Result::Ok([#(#rows),*])
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The inverse plan's choice groups of an example, as
+    /// `(choices, actuated joints)`.
+    fn groups(file: &str) -> Vec<(Vec<usize>, Vec<usize>)> {
+        let path = format!("{}/../examples/mechanisms/{file}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(path).unwrap();
+        let a = crate::topology::analysis::analyze_source(&text).unwrap();
+        let ik = crate::plan::planner::inverse_plan(&a).unwrap();
+        let ident = quote::format_ident!("M");
+        let vis: syn::Visibility = syn::parse_quote!(pub);
+        let g = super::generate(&a, &ident, &vis, None, Some(&ik)).unwrap();
+        g.inverse_groups.into_iter().map(|g| (g.choices, g.joints)).collect()
+    }
+
+    /// The 6-UPS (Dietmaier's `fk_numeric` solves each root by these):
+    /// each leg's sense is its own choice and moves only its own slide (the
+    /// file's comment: 2⁶ branches, one with every slide positive), so six
+    /// groups of one. The 3-UPU: the same, three legs. The 3-RPS: the
+    /// platform's parasitic motion (its x, y and turn about z, solved from
+    /// the declared z, rx, ry with ± choices) moves every leg, so one group
+    /// holds every choice and every slide, and every branch is solved.
+    #[test]
+    fn choices_are_grouped_by_the_actuated_joints_they_move() {
+        let one_each = |n: usize| (0..n).map(|k| (vec![k], vec![k])).collect::<Vec<_>>();
+        assert_eq!(groups("ups_6.pkm"), one_each(6));
+        assert_eq!(groups("upu_3.pkm"), one_each(3));
+        assert_eq!(groups("rps_3.pkm"), [(vec![0, 1, 2, 3], vec![0, 1, 2])]);
     }
 }

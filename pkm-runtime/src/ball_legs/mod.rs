@@ -192,6 +192,17 @@ impl BallLegs {
     pub fn loci(&self, model: &Model, inputs: &[f64]) -> Result<Vec<Locus<f64>>, Why> {
         let actuated = model.inputs();
         let s = self.scale;
+        // A slide's length is limited as the plans limit a given length
+        // (`steps::REACH` sizes): beyond it rounding merges assemblies.
+        for (&j, &v) in actuated.iter().zip(inputs) {
+            if model.joints[j].kind == JointType::P && v.abs() > crate::steps::REACH * s {
+                return Err(format!(
+                    "{} = {v:e}: |given length| <= 1e10 sizes of the mechanism ({:e})",
+                    model.joints[j].name,
+                    crate::steps::REACH * s
+                ));
+            }
+        }
         let mut out = Vec::with_capacity(self.legs.len());
         for leg in &self.legs {
             let mut pose = Isometry3::identity();

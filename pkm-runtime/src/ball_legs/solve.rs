@@ -104,6 +104,70 @@ pub fn assemble<A>(roots: Roots, mut at: impl FnMut(usize, &PoseRoot) -> Vec<A>)
     }
 }
 
+/// Some of the inverse solution's ± choices and the actuated joints whose
+/// values depend on those choices alone (indices into the inputs), found
+/// and proven on the traced solver at compile time: two branches that
+/// agree on a group's choices give its joints the same values. A group
+/// without joints: choices no actuated joint depends on (every sign of
+/// them is an assembly where the rest is); without choices: joints no
+/// choice moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChoiceGroup {
+    /// The choices (bit k of a branch's index in `signs_of` order).
+    pub choices: &'static [usize],
+    /// The actuated joints they move.
+    pub joints: &'static [usize],
+}
+
+/// The branches (indices in `signs_of` order, ascending) whose actuated
+/// joints can meet the inputs, found by probing each group's choices
+/// rather than solving every branch: `probe(signs)` gives the actuated
+/// joints' values on a branch (`None`: the branch failed), `meets(i, v)`
+/// whether joint `i`'s value `v` meets its input. Branches run for every
+/// sign of the widest group at once (the other groups' signs cycled
+/// alongside); a group's signs are kept where its joints meet, and the
+/// branches returned are every combination of the kept signs with every
+/// sign of the free choices. A branch left out has some group's joints at
+/// the values of a probe where they did not meet: it cannot meet the
+/// inputs. `None` where a probe failed (a failure cannot be put down to
+/// one group): the caller then solves every branch.
+pub fn branches_to_solve<const B: usize, const N: usize>(
+    groups: &[ChoiceGroup],
+    mut probe: impl FnMut([Sign; B]) -> Option<[f64; N]>,
+    meets: impl Fn(usize, f64) -> bool,
+) -> Option<Vec<usize>> {
+    let bits = |g: &ChoiceGroup, a: usize| -> usize {
+        g.choices.iter().enumerate().fold(0, |b, (i, &k)| b | (a >> i & 1) << k)
+    };
+    let probed = |g: &&ChoiceGroup| !g.joints.is_empty();
+    let widest = groups.iter().filter(probed).map(|g| g.choices.len()).max().unwrap_or(0);
+    let mut kept: Vec<Vec<usize>> = vec![Vec::new(); groups.len()];
+    for a in 0..1usize << widest {
+        let index = groups
+            .iter()
+            .filter(probed)
+            .fold(0, |b, g| b | bits(g, a % (1 << g.choices.len())));
+        let values = probe(crate::solution::signs_of::<B>(index))?;
+        for (g, kept) in groups.iter().zip(&mut kept) {
+            if probed(&g) && a < 1 << g.choices.len() && g.joints.iter().all(|&i| meets(i, values[i])) {
+                kept.push(bits(g, a));
+            }
+        }
+    }
+    // Every combination: the free choices take every sign.
+    let mut out = vec![0usize];
+    for (g, kept) in groups.iter().zip(kept) {
+        let options: Vec<usize> = if probed(&g) {
+            kept
+        } else {
+            (0..1usize << g.choices.len()).map(|a| bits(g, a)).collect()
+        };
+        out = out.iter().flat_map(|&b| options.iter().map(move |&o| b | o)).collect();
+    }
+    out.sort_unstable();
+    Some(out)
+}
+
 /// Whether a finite end is real: its unknowns' imaginary parts below this.
 pub const REAL: f64 = 1e-6;
 
@@ -216,14 +280,25 @@ impl Meets {
         }
     }
 
+    /// Whether the value `value` of the `i`-th actuated joint meets its
+    /// input `q` (as [`Meets::at`] checks each).
+    pub fn input(&self, i: usize, value: f64, q: f64) -> bool {
+        self.joints
+            .get(i)
+            .is_some_and(|&(_, arc)| crate::fk_numeric::Compatibility::input_residual(arc, value, q).abs() <= self.zero)
+    }
+
     /// Whether joint values `values` (one per joint) meet the `inputs`
     /// (the actuated joints in declaration order): each within the zero,
     /// an angle as an arc of the size.
     pub fn at(&self, inputs: &[f64], values: &[f64]) -> bool {
         self.joints.len() == inputs.len()
-            && self.joints.iter().zip(inputs).all(|(&(j, arc), &q)| {
-                crate::fk_numeric::Compatibility::input_residual(arc, values[j], q).abs() <= self.zero
-            })
+            && self
+                .joints
+                .iter()
+                .zip(inputs)
+                .enumerate()
+                .all(|(i, (&(j, _), &q))| self.input(i, values[j], q))
     }
 }
 
@@ -276,5 +351,61 @@ impl BallLegs {
                 })
                 .collect()
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Groups probed instead of every branch give the same branches as
+    /// every branch solved and checked: joints that depend on their own
+    /// group's choices alone (joint 0 on choice 0; joint 1 on choices 1
+    /// and 3, meeting on two of their four signs; joint 2 on none), choice
+    /// 2 free. Every subset of the meeting signs tried.
+    #[test]
+    fn probed_groups_give_every_branch_that_meets() {
+        const GROUPS: &[ChoiceGroup] = &[
+            ChoiceGroup {
+                choices: &[0],
+                joints: &[0],
+            },
+            ChoiceGroup {
+                choices: &[1, 3],
+                joints: &[1],
+            },
+            ChoiceGroup {
+                choices: &[2],
+                joints: &[],
+            },
+            ChoiceGroup {
+                choices: &[],
+                joints: &[2],
+            },
+        ];
+        let minus = |s: &[Sign; 4], k: usize| f64::from(u8::from(s[k] == Sign::Minus));
+        // Joint values that name their group's signs.
+        let values = |s: [Sign; 4]| [minus(&s, 0), 10.0 + minus(&s, 1) + 2.0 * minus(&s, 3), 7.0];
+        for wanted in 0..1u32 << 7 {
+            // Which values of each joint meet: joint 0's two, joint 1's four, joint 2's one.
+            let meets = |i: usize, v: f64| {
+                let bit = match i {
+                    0 => v as u32,
+                    1 => 2 + (v - 10.0) as u32,
+                    _ => 6,
+                };
+                wanted >> bit & 1 == 1
+            };
+            let got = branches_to_solve::<4, 3>(GROUPS, |s| Some(values(s)), meets).unwrap();
+            let every: Vec<usize> = (0..16)
+                .filter(|&b| {
+                    let v = values(crate::solution::signs_of::<4>(b));
+                    (0..3).all(|i| meets(i, v[i]))
+                })
+                .collect();
+            assert_eq!(got, every, "meeting values {wanted:07b}");
+        }
+        // A probe that fails: every branch is to be solved.
+        assert_eq!(branches_to_solve::<4, 3>(GROUPS, |_| None, |_, _| true), None);
     }
 }
