@@ -247,9 +247,16 @@ pub fn roots<const N: usize>(
             })
             .collect();
     }
-    stack.reverse();
+    // The widest box first (a budget spent at one hard place, a fold where
+    // two roots nearly meet, leaves the rest of the range explored and
+    // only boxes narrower than any explored one undecided; under the
+    // budget the order changes nothing: every box is decided by itself).
+    let mut pending = Pending::default();
+    for x in stack {
+        pending.push(x, &scale);
+    }
     let excludes = |e: &Enclosed<N>| e.f.iter().any(|f| f.is_empty() || !f.contains(0.0));
-    while let Some(mut x) = stack.pop() {
+    while let Some(mut x) = pending.pop() {
         if stats.boxes >= limits.boxes {
             doubtful.push((x, Doubt::Budget));
             continue;
@@ -322,7 +329,7 @@ pub fn roots<const N: usize>(
                     }
                     // Narrowed well: look again.
                     if (0..N).all(|i| met[i].width() <= 0.7 * x[i].width()) {
-                        stack.push(met);
+                        pending.push(met, &scale);
                         continue;
                     }
                     x = met;
@@ -349,8 +356,8 @@ pub fn roots<const N: usize>(
         let (mut a, mut b) = (x, x);
         a[i] = Interval::new(x[i].lo, c);
         b[i] = Interval::new(c, x[i].hi);
-        stack.push(b);
-        stack.push(a);
+        pending.push(a, &scale);
+        pending.push(b, &scale);
     }
     // A root certified twice (from both sides of a split) once.
     let mut unique: Vec<Root<N>> = Vec::new();
@@ -368,6 +375,63 @@ pub fn roots<const N: usize>(
         .collect();
     unique.extend(merge(doubtful, &mut enclose, &mut stats));
     (unique, stats)
+}
+
+/// The boxes [`roots`] has still to look at, the widest first (its widest
+/// side over the search box's), then the first pushed.
+struct Pending<const N: usize> {
+    heap: std::collections::BinaryHeap<Waiting<N>>,
+    pushed: usize,
+}
+
+impl<const N: usize> Default for Pending<N> {
+    fn default() -> Self {
+        Pending {
+            heap: std::collections::BinaryHeap::new(),
+            pushed: 0,
+        }
+    }
+}
+
+struct Waiting<const N: usize> {
+    width: f64,
+    order: usize,
+    x: [Interval; N],
+}
+
+impl<const N: usize> PartialEq for Waiting<N> {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == core::cmp::Ordering::Equal
+    }
+}
+
+impl<const N: usize> Eq for Waiting<N> {}
+
+impl<const N: usize> PartialOrd for Waiting<N> {
+    fn partial_cmp(&self, o: &Self) -> Option<core::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+impl<const N: usize> Ord for Waiting<N> {
+    fn cmp(&self, o: &Self) -> core::cmp::Ordering {
+        self.width.total_cmp(&o.width).then(o.order.cmp(&self.order))
+    }
+}
+
+impl<const N: usize> Pending<N> {
+    fn push(&mut self, x: [Interval; N], scale: &[f64; N]) {
+        self.heap.push(Waiting {
+            width: widest(&x, scale).1,
+            order: self.pushed,
+            x,
+        });
+        self.pushed += 1;
+    }
+
+    fn pop(&mut self) -> Option<[Interval; N]> {
+        self.heap.pop().map(|w| w.x)
+    }
 }
 
 /// Why [`near`] could not prove the root it tracked.

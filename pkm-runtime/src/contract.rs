@@ -106,7 +106,8 @@ pub mod steps {
 /// the inputs' check every generated `fk_numeric` makes.
 pub mod fk_numeric {
     pub use crate::fk_numeric::{
-        check_inputs, enclosed, polish_found, same_value, solve_with, Assemblies, Compatibility, Found, VirtualRange,
+        check_inputs, enclosed, polish_found, solve_with, value_distance, Assemblies, Compatibility, Found,
+        VirtualRange,
     };
 }
 

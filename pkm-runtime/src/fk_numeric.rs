@@ -422,7 +422,7 @@ pub fn solve(model: &Model, vp: &VirtualPlan, inputs: &[f64]) -> Result<Assembli
         },
         |v, signs| residual_with(&geometry, model, vp, inputs, v, signs),
         |v, signs| verified(model, vp, &given(v), signs),
-        |a: &Solution, b: &Solution| distance(a, b, scale) <= 1e-7,
+        |a: &Solution, b: &Solution| distance(a, b, scale),
     );
     Ok(Assemblies {
         found: found
@@ -610,24 +610,38 @@ pub fn same_value(x: f64, y: f64, tol: f64) -> bool {
     d <= tol || (d - turn * (d / turn).round()).abs() <= 1e-9
 }
 
+/// How far apart two joint values are (the same where a whole number of
+/// turns apart to 1e-9: an angle).
+pub fn value_distance(x: f64, y: f64) -> f64 {
+    if same_value(x, y, 0.0) {
+        0.0
+    } else {
+        (x - y).abs()
+    }
+}
+
 /// The driver both the interpreter ([`solve`]) and generated code run: on
 /// every branch of a plan with `branches` ± choices, every root of the
 /// residual over `range` ([`certify::roots`] on `enclose(x, signs)`, its
 /// enclosure over the interval `x`), evaluated at the root by
 /// `residual(v, signs)`, solved by `solution(v, signs)` (`None`: the
 /// verification failed; a possible root is tried at its interval's ends
-/// too, and reported unresolved where none verifies), and kept unless
-/// `same` as one found before (where two branches meet: the certified
-/// one kept).
+/// too, and reported unresolved where none verifies), and kept unless it
+/// is one found before (where two branches meet: the certified one kept).
+/// Two are one where `far` (their distance, of the mechanism's size or in
+/// radians) is within 1e-7 and both spreads: a possible root's spread is
+/// how far apart its part's assemblies are (at its value and its part's
+/// ends, those that verify), as far as the search can place it; a
+/// certified root's is 0.
 pub fn solve_with<S>(
     range: &VirtualRange,
     branches: usize,
     enclose: impl Fn(Interval, &[Sign]) -> Option<certify::Enclosed<1>>,
     residual: impl Fn(f64, &[Sign]) -> Option<f64>,
     solution: impl Fn(f64, &[Sign]) -> Option<S>,
-    same: impl Fn(&S, &S) -> bool,
+    far: impl Fn(&S, &S) -> f64,
 ) -> Assemblies<(Vec<Sign>, Root, S)> {
-    let mut out: Vec<(Vec<Sign>, Root, S)> = Vec::new();
+    let mut out: Vec<(Vec<Sign>, Root, S, f64)> = Vec::new();
     let mut unresolved = Vec::new();
     let period = range.hi - range.lo;
     for (signs, ()) in crate::solution::every_branch(branches, |_| ()) {
@@ -648,8 +662,15 @@ pub fn solve_with<S>(
             if !kind.certified() {
                 tries.extend([root.cert.lo, root.cert.hi, root.cert.mid()]);
             }
-            let solved = tries.into_iter().find_map(|x| solution(x, &signs).map(|s| (x, s)));
-            let Some((x, s)) = solved else {
+            let solved: Vec<(f64, S)> = tries
+                .into_iter()
+                .filter_map(|x| solution(x, &signs).map(|s| (x, s)))
+                .collect();
+            let spread = solved
+                .iter()
+                .flat_map(|a| solved.iter().map(|b| far(&a.1, &b.1)))
+                .fold(0.0, f64::max);
+            let Some((x, s)) = solved.into_iter().next() else {
                 root.residual = residual(root.x, &signs).unwrap_or(f64::NAN);
                 unresolved.push(Unresolved {
                     signs: signs.clone(),
@@ -663,17 +684,23 @@ pub fn solve_with<S>(
                 // The seam once.
                 root.x -= period;
             }
-            match out.iter_mut().find(|(_, _, o)| same(o, &s)) {
+            match out
+                .iter_mut()
+                .find(|(_, _, o, o_spread)| far(o, &s) <= 1e-7 + spread + *o_spread)
+            {
                 Some(o) => {
                     if root.kind.certified() && !o.1.kind.certified() {
-                        *o = (signs.clone(), root, s);
+                        *o = (signs.clone(), root, s, spread);
                     }
                 }
-                None => out.push((signs.clone(), root, s)),
+                None => out.push((signs.clone(), root, s, spread)),
             }
         }
     }
-    Assemblies { found: out, unresolved }
+    Assemblies {
+        found: out.into_iter().map(|(signs, root, s, _)| (signs, root, s)).collect(),
+        unresolved,
+    }
 }
 
 #[cfg(test)]
@@ -731,7 +758,7 @@ mod tests {
             |x, _| enclosed(&c, Some(Enclosure::variable(x, 0)), &[0.5], false),
             |v, _| Some(Compatibility::input_residual(Some(2.0), v, 0.5)),
             |v, _| Some(v),
-            |a, b| (a - b).abs() < 1e-9,
+            |a: &f64, b: &f64| (a - b).abs(),
         );
         assert_eq!(found.len(), 1, "{found:?}");
         let (_, root, v) = &found[0];

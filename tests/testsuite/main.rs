@@ -30,6 +30,7 @@ mod limits;
 mod near_coincident;
 mod newton_euler;
 mod paper_topology;
+mod planar_univariate;
 mod pose_parts;
 mod rates;
 mod reference;

@@ -269,8 +269,9 @@ pub(crate) fn generate(
                     |v, s| self.residual(&given(v), signs_of(s)).ok(),
                     |v, s| self.solution(&given(v), signs_of(s)).ok(),
                     |a: &([f64; #n_joints], [[f64; #dim]; #n_points]), b: &([f64; #n_joints], [[f64; #dim]; #n_points])| {
-                        a.1.iter().zip(&b.1).all(|(p, q)| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-7 * #scale))
-                            && a.0.iter().zip(&b.0).all(|(x, y)| #rt::fk_numeric::same_value(*x, *y, 1e-7 * #scale))
+                        let points = a.1.iter().zip(&b.1).flat_map(|(p, q)| p.iter().zip(q)).map(|(x, y)| (x - y).abs());
+                        let values = a.0.iter().zip(&b.0).map(|(x, y)| #rt::fk_numeric::value_distance(*x, *y));
+                        points.chain(values).fold(0.0, f64::max) / #scale
                     },
                 );
                 let unresolved = found.unresolved;
