@@ -610,6 +610,10 @@ pub fn same_value(x: f64, y: f64, tol: f64) -> bool {
     d <= tol || (d - turn * (d / turn).round()).abs() <= 1e-9
 }
 
+/// Two assemblies within this (of the mechanism's size, or radians) are
+/// one ([`solve_with`]).
+pub const SAME: f64 = 1e-7;
+
 /// How far apart two joint values are (the same where a whole number of
 /// turns apart to 1e-9: an angle).
 pub fn value_distance(x: f64, y: f64) -> f64 {
@@ -629,10 +633,9 @@ pub fn value_distance(x: f64, y: f64) -> f64 {
 /// too, and reported unresolved where none verifies), and kept unless it
 /// is one found before (where two branches meet: the certified one kept).
 /// Two are one where `far` (their distance, of the mechanism's size or in
-/// radians) is within 1e-7 and both spreads: a possible root's spread is
-/// how far apart its part's assemblies are (at its value and its part's
-/// ends, those that verify), as far as the search can place it; a
-/// certified root's is 0.
+/// radians) is within [`SAME`]: near a fold two roots closer than the
+/// search can place a possible one stay two rows, and one root at the
+/// edge of two branches may be listed on both.
 pub fn solve_with<S>(
     range: &VirtualRange,
     branches: usize,
@@ -641,7 +644,7 @@ pub fn solve_with<S>(
     solution: impl Fn(f64, &[Sign]) -> Option<S>,
     far: impl Fn(&S, &S) -> f64,
 ) -> Assemblies<(Vec<Sign>, Root, S)> {
-    let mut out: Vec<(Vec<Sign>, Root, S, f64)> = Vec::new();
+    let mut out: Vec<(Vec<Sign>, Root, S)> = Vec::new();
     let mut unresolved = Vec::new();
     let period = range.hi - range.lo;
     for (signs, ()) in crate::solution::every_branch(branches, |_| ()) {
@@ -662,15 +665,8 @@ pub fn solve_with<S>(
             if !kind.certified() {
                 tries.extend([root.cert.lo, root.cert.hi, root.cert.mid()]);
             }
-            let solved: Vec<(f64, S)> = tries
-                .into_iter()
-                .filter_map(|x| solution(x, &signs).map(|s| (x, s)))
-                .collect();
-            let spread = solved
-                .iter()
-                .flat_map(|a| solved.iter().map(|b| far(&a.1, &b.1)))
-                .fold(0.0, f64::max);
-            let Some((x, s)) = solved.into_iter().next() else {
+            let solved = tries.into_iter().find_map(|x| solution(x, &signs).map(|s| (x, s)));
+            let Some((x, s)) = solved else {
                 root.residual = residual(root.x, &signs).unwrap_or(f64::NAN);
                 unresolved.push(Unresolved {
                     signs: signs.clone(),
@@ -684,23 +680,17 @@ pub fn solve_with<S>(
                 // The seam once.
                 root.x -= period;
             }
-            match out
-                .iter_mut()
-                .find(|(_, _, o, o_spread)| far(o, &s) <= 1e-7 + spread + *o_spread)
-            {
+            match out.iter_mut().find(|(_, _, o)| far(o, &s) <= SAME) {
                 Some(o) => {
                     if root.kind.certified() && !o.1.kind.certified() {
-                        *o = (signs.clone(), root, s, spread);
+                        *o = (signs.clone(), root, s);
                     }
                 }
-                None => out.push((signs.clone(), root, s, spread)),
+                None => out.push((signs.clone(), root, s)),
             }
         }
     }
-    Assemblies {
-        found: out.into_iter().map(|(signs, root, s, _)| (signs, root, s)).collect(),
-        unresolved,
-    }
+    Assemblies { found: out, unresolved }
 }
 
 #[cfg(test)]
