@@ -197,7 +197,7 @@ impl BallLegs {
         for (&j, &v) in actuated.iter().zip(inputs) {
             if model.joints[j].kind == JointType::P && v.abs() > crate::steps::REACH * s {
                 return Err(format!(
-                    "{} = {v:e}: |given length| <= 1e10 sizes of the mechanism ({:e})",
+                    "{} = {v:e}: |given length| <= 1e10 sizes of the mechanism ({:.3e})",
                     model.joints[j].name,
                     crate::steps::REACH * s
                 ));
